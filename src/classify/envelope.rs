@@ -1,0 +1,203 @@
+//! Long integration with envelope tracking: the fallback when shooting fails, the hard-excitation
+//! check, and the brute-force reference that the fast classifier is tested against.
+
+use super::section::crossing_in_step;
+use super::Scales;
+use crate::model::{State, TreadOde};
+use crate::solver::{integrate, Control, SolverOptions};
+
+/// Where a trajectory was heading when envelope tracking stopped.
+#[derive(Debug, Clone, Copy)]
+pub enum Envelope {
+    /// Section amplitudes decay geometrically to zero.
+    Decays,
+    /// Section amplitudes converge to a positive value: a point near the cycle on the section.
+    Settles { z: f64, v: f64 },
+    /// No verdict within the time limit.
+    Undecided { last_v: f64 },
+}
+
+/// Follows the trajectory from `start`, recording the velocity at each upward section crossing,
+/// and extrapolates the sequence (Aitken Δ²) to decide early where it goes.
+pub fn track(
+    ode: &TreadOde,
+    scales: &Scales,
+    start: State,
+    max_time_s: f64,
+    rtol: f64,
+) -> Result<(Envelope, usize), String> {
+    let opts = SolverOptions {
+        rtol,
+        atol: scales.atol(rtol),
+        h_max: 1e-3,
+        h0: None,
+        max_steps: 50_000_000,
+    };
+    let mut hist: Vec<(f64, f64)> = Vec::new(); // (z, v) at crossings
+    let mut verdict = None;
+    let mut steady = 0;
+    let out = integrate(ode, 0.0, start, max_time_s, &opts, |step| {
+        let Some((_, x)) = crossing_in_step(step, scales.y_eq) else {
+            return Control::Continue;
+        };
+        hist.push((x[0], x[2]));
+        let n = hist.len();
+        if x[2] < 1e-9 * scales.v {
+            verdict = Some(Envelope::Decays);
+            return Control::Stop;
+        }
+        if n < 4 {
+            return Control::Continue;
+        }
+        let (v0, v1, v2) = (hist[n - 3].1, hist[n - 2].1, hist[n - 1].1);
+        let (d1, d2) = (v1 - v0, v2 - v1);
+        if d2.abs() <= 1e-10 * v2 {
+            verdict = Some(Envelope::Settles { z: x[0], v: v2 });
+            return Control::Stop;
+        }
+        let ratio = d2 / d1;
+        let prev_ratio = {
+            let d0 = v0 - hist[n - 4].1;
+            d1 / d0
+        };
+        // A steady contraction ratio in (0, 1) means geometric convergence: extrapolate.
+        if ratio > 0.0 && ratio < 1.0 && (ratio - prev_ratio).abs() < 1e-3 {
+            steady += 1;
+        } else {
+            steady = 0;
+        }
+        if steady >= 3 {
+            let limit_v = v2 + d2 * ratio / (1.0 - ratio);
+            if limit_v <= 1e-3 * v2.max(1e-9 * scales.v) {
+                verdict = Some(Envelope::Decays);
+            } else {
+                let (z1, z2) = (hist[n - 2].0, hist[n - 1].0);
+                let limit_z = z2 + (z2 - z1) * ratio / (1.0 - ratio);
+                verdict = Some(Envelope::Settles {
+                    z: limit_z,
+                    v: limit_v,
+                });
+            }
+            return Control::Stop;
+        }
+        Control::Continue
+    })
+    .map_err(|e| e.to_string())?;
+    let env = verdict.unwrap_or(Envelope::Undecided {
+        last_v: hist.last().map_or(0.0, |h| h.1),
+    });
+    Ok((env, out.rhs_evals))
+}
+
+/// Amplitudes and frequency measured on a trajectory window, the way MODEL.md's reference does.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct WindowMeasure {
+    pub amp_y_m: f64,
+    pub amp_v_mps: f64,
+    pub freq_hz: f64,
+}
+
+/// Brute-force reference (MODEL.md step 9 and `reference/points.csv`): integrate `duration_s`
+/// from the equilibrium plus `disturbance_m` in y at `rtol`, and measure amplitudes (half
+/// peak-to-peak) and frequency over the last `window_s`. Also returns the same measure on the
+/// window before it, so callers can tell a settled cycle from a slow transient.
+pub fn brute_force(
+    ode: &TreadOde,
+    scales: &Scales,
+    disturbance_m: f64,
+    duration_s: f64,
+    window_s: f64,
+    rtol: f64,
+) -> Result<(WindowMeasure, WindowMeasure, usize), String> {
+    let opts = SolverOptions {
+        rtol,
+        atol: scales.atol(rtol),
+        h_max: 1e-3,
+        h0: None,
+        max_steps: 500_000_000,
+    };
+    let start = [scales.z_eq, scales.y_eq + disturbance_m, 0.0];
+    let mut windows = [WindowStats::new(), WindowStats::new()];
+    let w_prev = duration_s - 2.0 * window_s;
+    let w_last = duration_s - window_s;
+    let out = integrate(ode, 0.0, start, duration_s, &opts, |step| {
+        if step.t1 <= w_prev {
+            return Control::Continue;
+        }
+        const SUB: usize = 8;
+        for j in 0..=SUB {
+            let t = step.t0 + (step.t1 - step.t0) * j as f64 / SUB as f64;
+            let idx = if t >= w_last {
+                1
+            } else if t >= w_prev {
+                0
+            } else {
+                continue;
+            };
+            let x = if j == SUB {
+                *step.x1
+            } else {
+                step.interpolate(t)
+            };
+            windows[idx].add(t, x);
+        }
+        Control::Continue
+    })
+    .map_err(|e| e.to_string())?;
+    let [prev, last] = windows;
+    Ok((prev.finish(), last.finish(), out.rhs_evals))
+}
+
+/// Running extremes and mean-level crossings of one window.
+struct WindowStats {
+    y: (f64, f64),
+    v: (f64, f64),
+    prev: Option<(f64, f64)>,
+    crossings: Vec<f64>,
+    samples: Vec<(f64, f64)>,
+}
+
+impl WindowStats {
+    fn new() -> Self {
+        WindowStats {
+            y: (f64::INFINITY, f64::NEG_INFINITY),
+            v: (f64::INFINITY, f64::NEG_INFINITY),
+            prev: None,
+            crossings: Vec::new(),
+            samples: Vec::new(),
+        }
+    }
+
+    fn add(&mut self, t: f64, x: State) {
+        self.y = (self.y.0.min(x[1]), self.y.1.max(x[1]));
+        self.v = (self.v.0.min(x[2]), self.v.1.max(x[2]));
+        self.samples.push((t, x[2]));
+    }
+
+    fn finish(mut self) -> WindowMeasure {
+        if self.samples.is_empty() {
+            return WindowMeasure::default();
+        }
+        // Frequency from upward crossings of the velocity's mid-range level, linearly interpolated.
+        let mid = 0.5 * (self.v.0 + self.v.1);
+        for &(t, v) in &self.samples {
+            if let Some((tp, vp)) = self.prev {
+                if vp < mid && v >= mid {
+                    self.crossings.push(tp + (t - tp) * (mid - vp) / (v - vp));
+                }
+            }
+            self.prev = Some((t, v));
+        }
+        let n = self.crossings.len();
+        let freq_hz = if n >= 2 {
+            (n - 1) as f64 / (self.crossings[n - 1] - self.crossings[0])
+        } else {
+            0.0
+        };
+        WindowMeasure {
+            amp_y_m: 0.5 * (self.y.1 - self.y.0),
+            amp_v_mps: 0.5 * (self.v.1 - self.v.0),
+            freq_hz,
+        }
+    }
+}

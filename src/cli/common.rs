@@ -1,0 +1,155 @@
+//! Flags shared by the commands that evaluate operating points, and the error type of the CLI.
+
+use std::path::Path;
+
+use clap::{Args, ValueEnum};
+
+use polywear::model::{Variant, Wheel};
+use polywear::params::{ParamError, Params};
+
+/// An error that ends the program: printed as `error: …`, exit code 2.
+#[derive(Debug)]
+pub struct CliError(pub String);
+
+impl std::fmt::Display for CliError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl From<ParamError> for CliError {
+    fn from(e: ParamError) -> Self {
+        CliError(e.to_string())
+    }
+}
+
+impl From<polywear::parquet_out::WriteError> for CliError {
+    fn from(e: polywear::parquet_out::WriteError) -> Self {
+        CliError(format!("cannot write output: {e}"))
+    }
+}
+
+pub type CliResult<T = ()> = Result<T, CliError>;
+
+/// The operating point and any other model parameter.
+#[derive(Debug, Args, Clone)]
+pub struct PointArgs {
+    /// Vehicle speed [km/h], accepted (0, 400]
+    #[arg(long, value_name = "KMH", allow_negative_numbers = true)]
+    pub speed: Option<f64>,
+    /// Toe-in (slip) angle [deg], accepted (0, 10]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    pub toe: Option<f64>,
+    /// Vertical load on the tire [N], accepted (0, 50000]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub load: Option<f64>,
+    /// Tire pressure [kPa], accepted (0, 2000]
+    #[arg(long, value_name = "KPA", allow_negative_numbers = true)]
+    pub pressure: Option<f64>,
+    /// Any model parameter by name, e.g. `--set g_mod=0.9e6` (repeatable; `polywear params`
+    /// lists names, units, defaults and ranges)
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_assignment)]
+    pub set: Vec<(String, f64)>,
+    /// Friction variant: `paper` (Eq. 21, w_t = |w|) or `combined` (2-D LuGre with the
+    /// driving wheel's longitudinal sliding)
+    #[arg(long, value_enum, default_value_t = VariantArg::Paper)]
+    pub variant: VariantArg,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
+pub enum VariantArg {
+    Paper,
+    Combined,
+}
+
+impl From<VariantArg> for Variant {
+    fn from(v: VariantArg) -> Self {
+        match v {
+            VariantArg::Paper => Variant::Paper,
+            VariantArg::Combined => Variant::Combined,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
+pub enum WheelArg {
+    Follower,
+    Driving,
+    Both,
+}
+
+impl WheelArg {
+    pub fn wheels(self) -> Vec<Wheel> {
+        match self {
+            WheelArg::Follower => vec![Wheel::Follower],
+            WheelArg::Driving => vec![Wheel::Driving],
+            WheelArg::Both => Wheel::BOTH.to_vec(),
+        }
+    }
+}
+
+fn parse_assignment(s: &str) -> Result<(String, f64), String> {
+    let (name, value) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected NAME=VALUE, got `{s}`"))?;
+    let name = name.trim();
+    let value: f64 = value
+        .trim()
+        .parse()
+        .map_err(|_| format!("value of `{name}` is not a number: `{}`", value.trim()))?;
+    Ok((name.to_string(), value))
+}
+
+impl PointArgs {
+    /// Defaults, then `--set`, then the four named flags; everything validated before work starts.
+    pub fn params(&self) -> CliResult<Params> {
+        let mut p = Params::default();
+        for (name, value) in &self.set {
+            p.set(name, *value)?;
+        }
+        for (name, value) in [
+            ("speed_kmh", self.speed),
+            ("toe_deg", self.toe),
+            ("load_n", self.load),
+            ("pressure_kpa", self.pressure),
+        ] {
+            if let Some(v) = value {
+                p.set(name, v)?;
+            }
+        }
+        p.validate()?;
+        Ok(p)
+    }
+}
+
+/// Refuses output paths whose extension we cannot write, before any work starts.
+pub fn check_extension(path: &Path, accepted: &[&str], flag: &str) -> CliResult {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if accepted.contains(&ext) {
+        Ok(())
+    } else {
+        Err(CliError(format!(
+            "{flag} {}: unsupported file type `.{ext}`; accepted: {}",
+            path.display(),
+            accepted
+                .iter()
+                .map(|e| format!(".{e}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )))
+    }
+}
+
+/// Metadata written into every output file: program version, command line, parameters.
+pub fn base_metadata(p: &Params, variant: Variant) -> Vec<(String, String)> {
+    let args: Vec<String> = std::env::args().collect();
+    vec![
+        ("polywear_version".into(), env!("CARGO_PKG_VERSION").into()),
+        ("command".into(), args.join(" ")),
+        ("variant".into(), variant.as_str().into()),
+        (
+            "params".into(),
+            serde_json::to_string(p).expect("params serialize"),
+        ),
+    ]
+}

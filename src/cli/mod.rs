@@ -1,0 +1,5 @@
+//! The command line: one module per subcommand, all errors mapped to exit code 2.
+
+pub mod common;
+pub mod params;
+pub mod simulate;

@@ -1,0 +1,13 @@
+//! polywear: how likely a tire is to develop polygonal wear through lateral self-excited
+//! vibration of the tread (Zuo, Duan, Li 2014). The modules follow the data flow:
+//! [`params`] → [`model`] (MODEL.md steps 1–8) → [`solver`] → [`classify`] (step 9) →
+//! [`records`] → [`parquet_out`]; [`plot`] draws what people would rather look at.
+
+pub mod classify;
+pub mod model;
+pub mod numeric;
+pub mod params;
+pub mod parquet_out;
+pub mod plot;
+pub mod records;
+pub mod solver;

@@ -1,0 +1,45 @@
+//! `polywear`: command-line entry point. See `polywear --help`.
+
+mod cli;
+
+use clap::{Parser, Subcommand};
+
+/// Polygonal tire wear risk from tread lateral self-excited vibration (Zuo, Duan, Li 2014).
+///
+/// A brush tire model gives the contact patch and friction levels, a LuGre friction law drives a
+/// 3-state ODE of the tread's lateral motion, and each wheel either settles (stable) or falls
+/// into a limit cycle (self-excited vibration, the cause of polygonal wear). Driving and follower
+/// wheels differ by their slip ratio.
+#[derive(Debug, Parser)]
+#[command(name = "polywear", version, about, long_about, max_term_width = 100)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Evaluate one operating point for both wheels: verdict table, JSON, time series, plot
+    Simulate(cli::simulate::SimulateArgs),
+    /// List every model parameter: name, unit, default, provenance and accepted range
+    Params {
+        /// Print a Markdown table (as in README.md)
+        #[arg(long)]
+        markdown: bool,
+    },
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Simulate(a) => cli::simulate::run(a),
+        Command::Params { markdown } => {
+            cli::params::run(*markdown);
+            Ok(())
+        }
+    };
+    if let Err(e) = result {
+        eprintln!("error: {e}");
+        std::process::exit(2);
+    }
+}

@@ -1,0 +1,179 @@
+//! The physics of MODEL.md, steps 1–8: from an operating point and a wheel kind to the
+//! coefficients of the tread ODE. Pure functions of [`Params`]; no integration happens here.
+
+pub mod brush;
+pub mod tire;
+pub mod tread;
+
+use std::fmt;
+use std::str::FromStr;
+
+use crate::params::Params;
+pub use brush::{FrictionLevels, NoTraction};
+pub use tire::{ContactPatch, TreadBlock};
+pub use tread::{LinearStability, State, TreadOde};
+
+/// Driving wheels transmit the drive force through a slip ratio; followers roll freely (S = 0).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Wheel {
+    Follower,
+    Driving,
+}
+
+impl Wheel {
+    pub const BOTH: [Wheel; 2] = [Wheel::Follower, Wheel::Driving];
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Wheel::Follower => "follower",
+            Wheel::Driving => "driving",
+        }
+    }
+}
+
+/// How the Stribeck curve sees sliding (MODEL.md step 6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Variant {
+    /// The paper's Eq. 21: only the lateral sliding speed, w_t = |w|.
+    Paper,
+    /// 2-D LuGre extension: w_t = sqrt(w² + V_sx²) with the driving wheel's longitudinal slip.
+    Combined,
+}
+
+impl Variant {
+    pub const ALL: [Variant; 2] = [Variant::Paper, Variant::Combined];
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Variant::Paper => "paper",
+            Variant::Combined => "combined",
+        }
+    }
+}
+
+impl fmt::Display for Wheel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl fmt::Display for Variant {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl FromStr for Wheel {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "follower" => Ok(Wheel::Follower),
+            "driving" => Ok(Wheel::Driving),
+            _ => Err(format!("unknown wheel `{s}`; accepted: follower, driving")),
+        }
+    }
+}
+
+impl FromStr for Variant {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "paper" => Ok(Variant::Paper),
+            "combined" => Ok(Variant::Combined),
+            _ => Err(format!("unknown variant `{s}`; accepted: paper, combined")),
+        }
+    }
+}
+
+/// Everything steps 1–8 say about one wheel at one operating point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WheelModel {
+    pub wheel: Wheel,
+    pub variant: Variant,
+    pub patch: ContactPatch,
+    pub tread: TreadBlock,
+    pub slip_ratio: f64,
+    pub friction: FrictionLevels,
+    pub ode: TreadOde,
+}
+
+/// Why no tread ODE exists for a wheel.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ModelFailure {
+    /// The driving wheel cannot transmit the drive force (MODEL.md step 4): a result.
+    NoTraction {
+        patch: ContactPatch,
+        tread: TreadBlock,
+        limit: NoTraction,
+    },
+    /// The static model is undefined at this point (e.g. no contact patch).
+    Invalid(String),
+}
+
+impl fmt::Display for ModelFailure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ModelFailure::NoTraction { limit, .. } => write!(
+                f,
+                "drive force {:.1} N exceeds the adhesion limit {:.1} N",
+                limit.drive_force_n, limit.max_force_n
+            ),
+            ModelFailure::Invalid(msg) => f.write_str(msg),
+        }
+    }
+}
+
+impl WheelModel {
+    /// Evaluates MODEL.md steps 1–5 and assembles the step-6 ODE.
+    pub fn build(p: &Params, wheel: Wheel, variant: Variant) -> Result<Self, ModelFailure> {
+        let patch = tire::contact_patch(p).map_err(ModelFailure::Invalid)?;
+        let tread = tire::tread_block(p, &patch);
+        let slip_ratio = match wheel {
+            Wheel::Follower => 0.0,
+            Wheel::Driving => brush::slip_ratio_for_force(p, &patch, brush::drive_force_n(p))
+                .map_err(|limit| ModelFailure::NoTraction {
+                    patch,
+                    tread,
+                    limit,
+                })?,
+        };
+        let friction = brush::friction_levels(p, &patch, slip_ratio);
+        let alpha = p.toe_rad();
+        let v = p.speed_mps();
+        let ode = TreadOde {
+            sigma0: tread.stiffness_n_per_m,
+            k_s: tread.stiffness_n_per_m,
+            mass_kg: tread.mass_kg,
+            c_s: p.c_s,
+            sigma1: p.sigma1,
+            f_m: friction.f_m,
+            f_s: friction.f_s,
+            v_s: p.v_s,
+            phi: p.phi,
+            u_mps: v * alpha.sin(),
+            v_sx_mps: v * alpha.cos() * slip_ratio / (1.0 + slip_ratio),
+            variant,
+        };
+        let ok = [ode.sigma0, ode.mass_kg, ode.f_m, ode.f_s]
+            .iter()
+            .all(|x| x.is_finite() && *x > 0.0);
+        if !ok {
+            return Err(ModelFailure::Invalid(format!(
+                "static model degenerate: K_s = {:.4e} N/m, m = {:.4e} kg, F_m = {:.4e} N, F_s = {:.4e} N",
+                ode.sigma0, ode.mass_kg, ode.f_m, ode.f_s
+            )));
+        }
+        Ok(WheelModel {
+            wheel,
+            variant,
+            patch,
+            tread,
+            slip_ratio,
+            friction,
+            ode,
+        })
+    }
+
+    /// Wheel rotation frequency f_rot = V / (2π r_B) [Hz] (MODEL.md step 9).
+    pub fn rotation_hz(p: &Params) -> f64 {
+        p.speed_mps() / (2.0 * std::f64::consts::PI * p.r_b)
+    }
+}

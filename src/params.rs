@@ -1,0 +1,327 @@
+//! Model parameters: the one place where names, units, defaults, provenance and accepted ranges
+//! live (MODEL.md, "Inputs"). Every other module reads a [`Params`] value; the CLI, study files
+//! and output metadata all use the names defined here.
+
+use std::fmt;
+
+/// Where a default value comes from (MODEL.md, "Read this first").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Provenance {
+    /// Legible in the paper, or only one reading fits the lost-digit rule.
+    Paper,
+    /// Several readings fit the lost-digit rule; the physically plausible one was chosen.
+    Decoded,
+    /// Illegible or absent in the paper; chosen so that the model reproduces the paper's results.
+    Reconstructed,
+}
+
+impl Provenance {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Provenance::Paper => "paper",
+            Provenance::Decoded => "decoded",
+            Provenance::Reconstructed => "reconstructed",
+        }
+    }
+}
+
+/// Which group a parameter belongs to; the operating point is what studies explore.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Group {
+    OperatingPoint,
+    TireStructure,
+    Friction,
+    Vehicle,
+}
+
+/// Static description of one parameter.
+#[derive(Debug, Clone, Copy)]
+pub struct ParamSpec {
+    /// Name used on the command line (`--set name=value`), in study files and in output columns.
+    pub name: &'static str,
+    /// Symbol in MODEL.md and the paper.
+    pub symbol: &'static str,
+    pub unit: &'static str,
+    pub default: f64,
+    pub provenance: Provenance,
+    pub group: Group,
+    /// Smallest accepted value; excluded when `min_exclusive`.
+    pub min: f64,
+    pub min_exclusive: bool,
+    pub max: f64,
+    /// Counts (wheels) must be whole numbers.
+    pub integer: bool,
+    pub description: &'static str,
+}
+
+impl ParamSpec {
+    /// The accepted range written for people, e.g. `(0, 400]`.
+    pub fn range_text(&self) -> String {
+        let open = if self.min_exclusive { '(' } else { '[' };
+        let kind = if self.integer { " (whole number)" } else { "" };
+        format!("{open}{}, {}]{kind}", self.min, self.max)
+    }
+
+    /// Checks one value against this parameter's accepted range.
+    pub fn check(&self, value: f64) -> Result<(), ParamError> {
+        let below = if self.min_exclusive {
+            value <= self.min
+        } else {
+            value < self.min
+        };
+        let bad = !value.is_finite()
+            || below
+            || value > self.max
+            || (self.integer && value.fract() != 0.0);
+        if bad {
+            return Err(ParamError::OutOfRange {
+                name: self.name,
+                value,
+                range: self.range_text(),
+                unit: self.unit,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// A parameter problem found before any work starts.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ParamError {
+    Unknown {
+        name: String,
+    },
+    OutOfRange {
+        name: &'static str,
+        value: f64,
+        range: String,
+        unit: &'static str,
+    },
+    Inconsistent {
+        message: String,
+    },
+}
+
+impl fmt::Display for ParamError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ParamError::Unknown { name } => {
+                let names: Vec<&str> = SPECS.iter().map(|s| s.name).collect();
+                write!(
+                    f,
+                    "unknown parameter `{name}`; known parameters: {}",
+                    names.join(", ")
+                )
+            }
+            ParamError::OutOfRange {
+                name,
+                value,
+                range,
+                unit,
+            } => write!(
+                f,
+                "parameter `{name}` = {value} is outside its accepted range {range} {unit}"
+            ),
+            ParamError::Inconsistent { message } => write!(f, "{message}"),
+        }
+    }
+}
+
+impl std::error::Error for ParamError {}
+
+/// Declares the [`Params`] struct, its defaults and the [`SPECS`] table from one list, so that a
+/// field, its name and its range can never drift apart.
+macro_rules! define_params {
+    ($( $field:ident : $symbol:literal, $unit:literal, $default:expr, $prov:ident, $group:ident,
+        $min:expr, $minx:literal, $max:expr, $int:literal, $desc:literal; )*) => {
+        /// All model inputs in the units of their names (km/h, deg, N, kPa; SI otherwise).
+        #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+        pub struct Params { $( #[doc = $desc] pub $field: f64, )* }
+
+        impl Default for Params {
+            fn default() -> Self { Params { $( $field: $default, )* } }
+        }
+
+        /// Every parameter, in the canonical column order.
+        pub const SPECS: &[ParamSpec] = &[ $( ParamSpec {
+            name: stringify!($field), symbol: $symbol, unit: $unit, default: $default,
+            provenance: Provenance::$prov, group: Group::$group, min: $min,
+            min_exclusive: $minx, max: $max, integer: $int, description: $desc,
+        }, )* ];
+
+        impl Params {
+            /// Value of a parameter by its name.
+            pub fn get(&self, name: &str) -> Option<f64> {
+                match name { $( stringify!($field) => Some(self.$field), )* _ => None }
+            }
+
+            /// Mutable access by name, for `--set name=value`, studies and sweeps.
+            pub fn get_mut(&mut self, name: &str) -> Option<&mut f64> {
+                match name { $( stringify!($field) => Some(&mut self.$field), )* _ => None }
+            }
+        }
+    };
+}
+
+define_params! {
+    speed_kmh: "V", "km/h", 100.0, Decoded, OperatingPoint, 0.0, true, 400.0, false,
+        "Vehicle speed.";
+    toe_deg: "alpha", "deg", 0.3, Decoded, OperatingPoint, 0.0, true, 10.0, false,
+        "Toe-in (slip) angle between wheel plane and vehicle velocity.";
+    load_n: "F_Z", "N", 4000.0, Decoded, OperatingPoint, 0.0, true, 50000.0, false,
+        "Vertical load on the tire.";
+    pressure_kpa: "P", "kPa", 240.0, Decoded, OperatingPoint, 0.0, true, 2000.0, false,
+        "Tire inflation pressure.";
+    r_b: "r_B", "m", 0.317, Paper, TireStructure, 0.0, true, 2.0, false,
+        "Tire radius.";
+    r_w: "r_w", "m", 0.155, Paper, TireStructure, 0.0, true, 10.0, false,
+        "Tread lateral curvature radius.";
+    b0: "b0", "m", 0.166, Paper, TireStructure, 0.0, true, 1.0, false,
+        "Crown width.";
+    xi: "xi", "-", 0.67, Decoded, TireStructure, 0.0, true, 10.0, false,
+        "Structure constant of the contact length.";
+    psi: "psi", "1/m", 115.0, Decoded, TireStructure, 0.0, true, 1.0e4, false,
+        "Structure constant of the contact width.";
+    tread_height: "h", "m", 0.015, Decoded, TireStructure, 0.0, true, 0.2, false,
+        "Tread height.";
+    rho: "rho", "kg/m^3", 1250.0, Decoded, TireStructure, 0.0, true, 2.0e4, false,
+        "Tread mass density.";
+    g_mod: "G", "Pa", 0.8645e6, Reconstructed, TireStructure, 0.0, true, 1.0e10, false,
+        "Shear modulus of the tread rubber (reconstructed: gives about 270 Hz at defaults).";
+    c_brush: "C", "N/m^3", 3.6e7, Reconstructed, TireStructure, 0.0, true, 1.0e13, false,
+        "Tangential elastic constant of rubber (brush stiffness per area).";
+    alpha2: "alpha2", "m^2/N", 4.0e-8, Decoded, TireStructure, 0.0, false, 1.0e-3, false,
+        "Carcass deflection constant (digits all lost in the paper).";
+    mu_m: "mu_m", "-", 0.76, Decoded, Friction, 0.0, true, 5.0, false,
+        "Maximum static friction coefficient.";
+    mu_s: "mu_s", "-", 0.63, Decoded, Friction, 0.0, true, 5.0, false,
+        "Sliding friction coefficient (at most mu_m).";
+    v_s: "V_s", "m/s", 0.126, Decoded, Friction, 0.0, true, 100.0, false,
+        "Stribeck speed.";
+    phi: "phi", "-", 0.94, Decoded, Friction, 0.0, true, 10.0, false,
+        "Stribeck index (normally 0.5..2).";
+    sigma1: "sigma1", "N s/m", 10.0, Decoded, Friction, 0.0, false, 1.0e6, false,
+        "LuGre bristle damping.";
+    c_s: "C_s", "N s/m", 18.0, Decoded, Friction, 0.0, false, 1.0e6, false,
+        "Tread lateral damping.";
+    c_d: "C_D", "-", 0.315, Paper, Vehicle, 0.0, false, 5.0, false,
+        "Air-resistance coefficient (driving wheel only).";
+    area: "A", "m^2", 2.2, Decoded, Vehicle, 0.0, false, 50.0, false,
+        "Windward (frontal) area (driving wheel only).";
+    f0: "f0", "-", 0.0076, Reconstructed, Vehicle, 0.0, false, 1.0, false,
+        "Rolling resistance, constant term (textbook radial-tire formula).";
+    f1: "f1", "h/km", 0.000056, Reconstructed, Vehicle, 0.0, false, 0.1, false,
+        "Rolling resistance, speed term: f = f0 + f1 * V[km/h].";
+    n_wheels: "n_w", "-", 4.0, Reconstructed, Vehicle, 1.0, false, 64.0, true,
+        "Wheels sharing the rolling resistance.";
+    n_driven: "n_d", "-", 2.0, Reconstructed, Vehicle, 1.0, false, 64.0, true,
+        "Driven wheels sharing the drive force.";
+}
+
+/// Looks a parameter up by name.
+pub fn spec(name: &str) -> Option<&'static ParamSpec> {
+    SPECS.iter().find(|s| s.name == name)
+}
+
+impl Params {
+    /// Sets a parameter by name, checking its range.
+    pub fn set(&mut self, name: &str, value: f64) -> Result<(), ParamError> {
+        let spec = spec(name).ok_or_else(|| ParamError::Unknown {
+            name: name.to_string(),
+        })?;
+        spec.check(value)?;
+        *self.get_mut(name).expect("SPECS and Params agree") = value;
+        Ok(())
+    }
+
+    /// Checks every value and the rules that tie several together. Called before any work.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        for s in SPECS {
+            s.check(self.get(s.name).expect("SPECS and Params agree"))?;
+        }
+        if self.mu_s > self.mu_m {
+            return Err(ParamError::Inconsistent {
+                message: format!(
+                    "parameter `mu_s` = {} must not exceed `mu_m` = {} (sliding friction is at most the static maximum)",
+                    self.mu_s, self.mu_m
+                ),
+            });
+        }
+        if self.n_driven > self.n_wheels {
+            return Err(ParamError::Inconsistent {
+                message: format!(
+                    "parameter `n_driven` = {} must not exceed `n_wheels` = {}",
+                    self.n_driven, self.n_wheels
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// Vehicle speed in m/s (MODEL.md: SI units inside).
+    pub fn speed_mps(&self) -> f64 {
+        self.speed_kmh / 3.6
+    }
+
+    /// Toe-in angle in radians.
+    pub fn toe_rad(&self) -> f64 {
+        self.toe_deg.to_radians()
+    }
+
+    /// Tire pressure in Pa.
+    pub fn pressure_pa(&self) -> f64 {
+        self.pressure_kpa * 1.0e3
+    }
+
+    /// `(name, value)` for every parameter, in canonical order (for metadata and records).
+    pub fn pairs(&self) -> Vec<(&'static str, f64)> {
+        SPECS
+            .iter()
+            .map(|s| (s.name, self.get(s.name).expect("SPECS and Params agree")))
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid_and_match_specs() {
+        let p = Params::default();
+        p.validate().unwrap();
+        for s in SPECS {
+            assert_eq!(p.get(s.name), Some(s.default), "{}", s.name);
+        }
+        assert_eq!(SPECS.len(), 26);
+    }
+
+    #[test]
+    fn set_rejects_unknown_and_out_of_range() {
+        let mut p = Params::default();
+        assert!(matches!(
+            p.set("nope", 1.0),
+            Err(ParamError::Unknown { .. })
+        ));
+        let e = p.set("toe_deg", 0.0).unwrap_err().to_string();
+        assert!(e.contains("toe_deg") && e.contains("(0, 10]"), "{e}");
+        assert!(p.set("load_n", f64::NAN).is_err());
+        assert!(p.set("n_wheels", 2.5).is_err());
+        p.set("load_n", 5000.0).unwrap();
+        assert_eq!(p.load_n, 5000.0);
+    }
+
+    #[test]
+    fn cross_field_rules() {
+        let p = Params {
+            mu_s: 0.9,
+            ..Params::default()
+        };
+        assert!(p.validate().unwrap_err().to_string().contains("mu_s"));
+        let p = Params {
+            n_driven: 6.0,
+            ..Params::default()
+        };
+        assert!(p.validate().unwrap_err().to_string().contains("n_driven"));
+    }
+}

@@ -1,0 +1,165 @@
+//! PNG figures with plotters: what the paper shows for one point (time history, phase portrait,
+//! spectrum: its Figs. 8–10) and bifurcation diagrams (its Figs. 6, 7, 12, ...).
+
+use std::path::Path;
+use std::sync::Once;
+
+use plotters::prelude::*;
+
+pub mod spectrum;
+
+/// One curve of a figure, in a colour picked by the caller.
+pub struct Series<'a> {
+    pub label: &'a str,
+    pub points: Vec<(f64, f64)>,
+}
+
+/// The embedded font (DejaVu Sans, Bitstream Vera licence) so plots need no system fonts.
+static FONT: &[u8] = include_bytes!("DejaVuSans.ttf");
+static FONT_ONCE: Once = Once::new();
+
+fn ensure_font() {
+    FONT_ONCE.call_once(|| {
+        // Plotters keeps its font table globally; register ours once per process.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    });
+}
+
+pub const PALETTE: [RGBColor; 4] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+];
+
+fn err(path: &Path, e: impl std::fmt::Display) -> String {
+    format!("{}: {e}", path.display())
+}
+
+/// Padded bounds of all series' points.
+fn bounds<'a>(series: impl Iterator<Item = &'a (f64, f64)> + Clone) -> ((f64, f64), (f64, f64)) {
+    let fold = |f: fn(&(f64, f64)) -> f64| {
+        series
+            .clone()
+            .map(f)
+            .filter(|v| v.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            })
+    };
+    let pad = |(lo, hi): (f64, f64)| {
+        if !lo.is_finite() {
+            return (0.0, 1.0);
+        }
+        let span = if hi > lo {
+            hi - lo
+        } else {
+            lo.abs().max(1e-12)
+        };
+        (lo - 0.05 * span, hi + 0.05 * span)
+    };
+    (pad(fold(|p| p.0)), pad(fold(|p| p.1)))
+}
+
+/// Draws line series into one panel with axis labels and a legend.
+pub fn line_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series<'_>],
+    points_only: bool,
+) -> Result<(), String> {
+    let ((x0, x1), (y0, y1)) = bounds(series.iter().flat_map(|s| s.points.iter()));
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(42)
+        .y_label_area_size(72)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .label_style(("sans-serif", 14))
+        .axis_desc_style(("sans-serif", 15))
+        .y_label_formatter(&|v| format_tick(*v))
+        .x_label_formatter(&|v| format_tick(*v))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    for (i, s) in series.iter().enumerate() {
+        let color = PALETTE[i % PALETTE.len()];
+        let anno = if points_only {
+            chart
+                .draw_series(
+                    s.points
+                        .iter()
+                        .filter(|p| p.1.is_finite())
+                        .map(|p| Circle::new(*p, 2, color.filled())),
+                )
+                .map_err(|e| e.to_string())?
+        } else {
+            chart
+                .draw_series(LineSeries::new(
+                    s.points
+                        .iter()
+                        .copied()
+                        .filter(|p| p.0.is_finite() && p.1.is_finite()),
+                    color.stroke_width(2),
+                ))
+                .map_err(|e| e.to_string())?
+        };
+        anno.label(s.label).legend(move |(x, y)| {
+            PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(3))
+        });
+    }
+    if series.len() > 1 || series.first().is_some_and(|s| !s.label.is_empty()) {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .draw()
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+fn format_tick(v: f64) -> String {
+    let a = v.abs();
+    if a < 1e-15 {
+        return "0".into();
+    }
+    if a != 0.0 && !(1e-2..1e5).contains(&a) {
+        format!("{v:.2e}")
+    } else {
+        let s = format!("{v:.3}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    }
+}
+
+/// A figure of several panels laid out in a grid, each drawn by `draw`.
+pub fn panels(
+    path: &Path,
+    size: (u32, u32),
+    grid: (usize, usize),
+    title: &str,
+    mut draw: impl FnMut(
+        usize,
+        &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    ) -> Result<(), String>,
+) -> Result<(), String> {
+    ensure_font();
+    let root = BitMapBackend::new(path, size).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(path, e))?;
+    let root = root
+        .titled(title, ("sans-serif", 24))
+        .map_err(|e| err(path, e))?;
+    for (i, area) in root.split_evenly(grid).iter().enumerate() {
+        draw(i, area).map_err(|e| err(path, e))?;
+    }
+    root.present().map_err(|e| err(path, e))?;
+    Ok(())
+}

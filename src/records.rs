@@ -1,0 +1,140 @@
+//! One output row per wheel and operating point: the inputs, the static model (steps 1–7), the
+//! linear stability (step 8) and the verdict (step 9). The first 24 fields carry exactly the
+//! column names of `reference/points.csv`; the rest extend it.
+
+use serde::Serialize;
+
+use crate::classify::WheelVerdict;
+use crate::model::{ModelFailure, Variant, Wheel, WheelModel};
+use crate::params::Params;
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct WheelRecord {
+    pub wheel: &'static str,
+    pub variant: &'static str,
+    pub speed_kmh: f64,
+    pub toe_deg: f64,
+    pub load_n: f64,
+    pub pressure_kpa: f64,
+    pub deflection_m: f64,
+    pub contact_length_m: f64,
+    pub contact_width_m: f64,
+    /// Tread lateral stiffness K_s = σ0 [N/m].
+    pub k_s: f64,
+    pub tread_mass_kg: f64,
+    pub slip_ratio: f64,
+    /// Sliding share of the contact length.
+    pub q: f64,
+    pub f_m: f64,
+    pub f_s: f64,
+    pub z0_m: f64,
+    pub y0_m: f64,
+    pub eig_re_max: f64,
+    pub eig_freq_hz: f64,
+    pub class: &'static str,
+    pub amp_y_m: f64,
+    pub amp_v_mps: f64,
+    pub freq_hz: f64,
+    pub polygon_order: f64,
+    pub energy_per_cycle_j: f64,
+    pub floquet_max: f64,
+    pub rhs_evals: u64,
+    pub method: &'static str,
+    pub reason: String,
+}
+
+impl WheelRecord {
+    /// Assembles the row; static fields are NaN where the model does not define them.
+    pub fn new(
+        p: &Params,
+        wheel: Wheel,
+        variant: Variant,
+        model: &Result<WheelModel, ModelFailure>,
+        verdict: &WheelVerdict,
+    ) -> Self {
+        let nan = f64::NAN;
+        let (patch, tread) = match model {
+            Ok(m) => (Some(m.patch), Some(m.tread)),
+            Err(ModelFailure::NoTraction { patch, tread, .. }) => (Some(*patch), Some(*tread)),
+            Err(ModelFailure::Invalid(_)) => (None, None),
+        };
+        let (slip, q, f_m, f_s, z0, y0) = match model {
+            Ok(m) => {
+                let eq = m.ode.equilibrium();
+                (
+                    m.slip_ratio,
+                    m.friction.q,
+                    m.friction.f_m,
+                    m.friction.f_s,
+                    eq[0],
+                    eq[1],
+                )
+            }
+            Err(_) => (nan, nan, nan, nan, nan, nan),
+        };
+        WheelRecord {
+            wheel: wheel.as_str(),
+            variant: variant.as_str(),
+            speed_kmh: p.speed_kmh,
+            toe_deg: p.toe_deg,
+            load_n: p.load_n,
+            pressure_kpa: p.pressure_kpa,
+            deflection_m: patch.map_or(nan, |c| c.deflection_m),
+            contact_length_m: patch.map_or(nan, |c| c.length_m),
+            contact_width_m: patch.map_or(nan, |c| c.width_m),
+            k_s: tread.map_or(nan, |t| t.stiffness_n_per_m),
+            tread_mass_kg: tread.map_or(nan, |t| t.mass_kg),
+            slip_ratio: slip,
+            q,
+            f_m,
+            f_s,
+            z0_m: z0,
+            y0_m: y0,
+            eig_re_max: verdict.eig_re_max,
+            eig_freq_hz: verdict.eig_freq_hz,
+            class: verdict.class.as_str(),
+            amp_y_m: verdict.amp_y_m,
+            amp_v_mps: verdict.amp_v_mps,
+            freq_hz: verdict.freq_hz,
+            polygon_order: verdict.polygon_order,
+            energy_per_cycle_j: verdict.energy_per_cycle_j,
+            floquet_max: verdict.floquet_max,
+            rhs_evals: verdict.rhs_evals,
+            method: verdict.method.as_str(),
+            reason: verdict.reason.clone(),
+        }
+    }
+}
+
+/// Builds typed columns from a slice of rows: one list says each field's name, unit and type.
+macro_rules! columns_of {
+    ($rows:expr; $( $kind:ident $field:ident $unit:literal ),* $(,)?) => {
+        vec![ $( columns_of!(@col $kind, $rows, $field, $unit), )* ]
+    };
+    (@col f64, $rows:expr, $field:ident, $unit:literal) => {
+        Column::f64(stringify!($field), $unit, $rows.iter().map(|r| r.$field).collect())
+    };
+    (@col i64, $rows:expr, $field:ident, $unit:literal) => {
+        Column::i64(stringify!($field), $unit, $rows.iter().map(|r| r.$field as i64).collect())
+    };
+    (@col str, $rows:expr, $field:ident, $unit:literal) => {
+        Column::str(stringify!($field), $rows.iter().map(|r| r.$field.to_string()).collect())
+    };
+}
+
+use crate::parquet_out::Column;
+
+/// The rows as typed columns with units, in field order.
+pub fn record_columns(rows: &[WheelRecord]) -> Vec<Column> {
+    columns_of![rows;
+        str wheel "", str variant "",
+        f64 speed_kmh "km/h", f64 toe_deg "deg", f64 load_n "N", f64 pressure_kpa "kPa",
+        f64 deflection_m "m", f64 contact_length_m "m", f64 contact_width_m "m",
+        f64 k_s "N/m", f64 tread_mass_kg "kg", f64 slip_ratio "-", f64 q "-",
+        f64 f_m "N", f64 f_s "N", f64 z0_m "m", f64 y0_m "m",
+        f64 eig_re_max "1/s", f64 eig_freq_hz "Hz", str class "",
+        f64 amp_y_m "m", f64 amp_v_mps "m/s", f64 freq_hz "Hz", f64 polygon_order "-",
+        f64 energy_per_cycle_j "J", f64 floquet_max "-", i64 rhs_evals "",
+        str method "", str reason "",
+    ]
+}

@@ -1,0 +1,397 @@
+//! Dormand–Prince 5(4) with Hairer's PI step-size control and dense output (Hairer, Nørsett,
+//! Wanner, "Solving ODEs I", DOPRI5).
+
+use super::OdeSystem;
+
+/// Tolerances and limits of one integration.
+#[derive(Debug, Clone, Copy)]
+pub struct SolverOptions<const N: usize> {
+    pub rtol: f64,
+    /// Absolute tolerance per state component (the states have very different scales).
+    pub atol: [f64; N],
+    /// Largest step [s].
+    pub h_max: f64,
+    /// First step [s]; chosen automatically when `None`.
+    pub h0: Option<f64>,
+    /// Accepted plus rejected steps before giving up.
+    pub max_steps: usize,
+}
+
+/// What the step callback wants next.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Control {
+    Continue,
+    /// Stop after this step (the outcome then holds the step's end).
+    Stop,
+}
+
+/// Why an integration gave up.
+#[derive(Debug, Clone, PartialEq)]
+pub enum IntegrationError {
+    StepSizeUnderflow { t: f64 },
+    NonFinite { t: f64 },
+    TooManySteps { t: f64, steps: usize },
+}
+
+impl std::fmt::Display for IntegrationError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            IntegrationError::StepSizeUnderflow { t } => {
+                write!(f, "step size underflow at t = {t:.6} s")
+            }
+            IntegrationError::NonFinite { t } => write!(f, "non-finite state at t = {t:.6} s"),
+            IntegrationError::TooManySteps { t, steps } => {
+                write!(f, "step limit {steps} reached at t = {t:.6} s")
+            }
+        }
+    }
+}
+
+/// One accepted step, with the dense-output polynomial over it.
+pub struct Step<'a, const N: usize> {
+    pub t0: f64,
+    pub t1: f64,
+    pub x0: &'a [f64; N],
+    pub x1: &'a [f64; N],
+    cont: &'a [[f64; N]; 5],
+}
+
+impl<const N: usize> Step<'_, N> {
+    /// State at any t in [t0, t1] (4th-order accurate).
+    #[inline]
+    pub fn interpolate(&self, t: f64) -> [f64; N] {
+        let theta = (t - self.t0) / (self.t1 - self.t0);
+        let theta1 = 1.0 - theta;
+        let c = self.cont;
+        std::array::from_fn(|i| {
+            c[0][i] + theta * (c[1][i] + theta1 * (c[2][i] + theta * (c[3][i] + theta1 * c[4][i])))
+        })
+    }
+}
+
+/// Where an integration ended and what it cost.
+#[derive(Debug, Clone, Copy)]
+pub struct Outcome<const N: usize> {
+    pub t: f64,
+    pub x: [f64; N],
+    pub accepted_steps: usize,
+    pub rejected_steps: usize,
+    pub rhs_evals: usize,
+    /// True when the callback stopped the integration before `t_end`.
+    pub stopped: bool,
+    /// Last step size tried, a good first step for a continuation.
+    pub h_last: f64,
+}
+
+const A21: f64 = 1.0 / 5.0;
+const A31: f64 = 3.0 / 40.0;
+const A32: f64 = 9.0 / 40.0;
+const A41: f64 = 44.0 / 45.0;
+const A42: f64 = -56.0 / 15.0;
+const A43: f64 = 32.0 / 9.0;
+const A51: f64 = 19372.0 / 6561.0;
+const A52: f64 = -25360.0 / 2187.0;
+const A53: f64 = 64448.0 / 6561.0;
+const A54: f64 = -212.0 / 729.0;
+const A61: f64 = 9017.0 / 3168.0;
+const A62: f64 = -355.0 / 33.0;
+const A63: f64 = 46732.0 / 5247.0;
+const A64: f64 = 49.0 / 176.0;
+const A65: f64 = -5103.0 / 18656.0;
+const A71: f64 = 35.0 / 384.0;
+const A73: f64 = 500.0 / 1113.0;
+const A74: f64 = 125.0 / 192.0;
+const A75: f64 = -2187.0 / 6784.0;
+const A76: f64 = 11.0 / 84.0;
+const E1: f64 = 71.0 / 57600.0;
+const E3: f64 = -71.0 / 16695.0;
+const E4: f64 = 71.0 / 1920.0;
+const E5: f64 = -17253.0 / 339200.0;
+const E6: f64 = 22.0 / 525.0;
+const E7: f64 = -1.0 / 40.0;
+const D1: f64 = -12715105075.0 / 11282082432.0;
+const D3: f64 = 87487479700.0 / 32700410799.0;
+const D4: f64 = -10690763975.0 / 1880347072.0;
+const D5: f64 = 701980252875.0 / 199316789632.0;
+const D6: f64 = -1453857185.0 / 822651844.0;
+const D7: f64 = 69997945.0 / 29380423.0;
+
+#[inline(always)]
+fn axpy<const N: usize>(x: &[f64; N], h: f64, terms: &[(f64, &[f64; N])]) -> [f64; N] {
+    std::array::from_fn(|i| {
+        let mut s = 0.0;
+        for (c, k) in terms {
+            s += c * k[i];
+        }
+        x[i] + h * s
+    })
+}
+
+#[inline(always)]
+fn error_norm<const N: usize>(
+    err: &[f64; N],
+    x0: &[f64; N],
+    x1: &[f64; N],
+    opts: &SolverOptions<N>,
+) -> f64 {
+    let mut s = 0.0;
+    for i in 0..N {
+        let sc = opts.atol[i] + opts.rtol * x0[i].abs().max(x1[i].abs());
+        let r = err[i] / sc;
+        s += r * r;
+    }
+    (s / N as f64).sqrt()
+}
+
+/// Hairer's starting step guess.
+fn initial_step<const N: usize, S: OdeSystem<N>>(
+    sys: &S,
+    x0: &[f64; N],
+    f0: &[f64; N],
+    opts: &SolverOptions<N>,
+) -> (f64, usize) {
+    let sc: [f64; N] = std::array::from_fn(|i| opts.atol[i] + opts.rtol * x0[i].abs());
+    let norm = |v: &[f64; N]| {
+        (v.iter().zip(&sc).map(|(a, s)| (a / s).powi(2)).sum::<f64>() / N as f64).sqrt()
+    };
+    let d0 = norm(x0);
+    let d1 = norm(f0);
+    let mut h = if d0 < 1e-10 || d1 < 1e-10 {
+        1e-6
+    } else {
+        0.01 * d0 / d1
+    };
+    h = h.min(opts.h_max);
+    let x1 = axpy(x0, h, &[(1.0, f0)]);
+    let f1 = sys.rhs(&x1);
+    let df: [f64; N] = std::array::from_fn(|i| f1[i] - f0[i]);
+    let d2 = norm(&df) / h;
+    let h1 = if d1.max(d2) <= 1e-15 {
+        (h * 1e-3).max(1e-6)
+    } else {
+        (0.01 / d1.max(d2)).powf(1.0 / 5.0)
+    };
+    ((100.0 * h).min(h1).min(opts.h_max), 1)
+}
+
+/// Integrates `sys` from (t0, x0) to `t_end`, calling `on_step` after every accepted step.
+pub fn integrate<const N: usize, S: OdeSystem<N>>(
+    sys: &S,
+    t0: f64,
+    x0: [f64; N],
+    t_end: f64,
+    opts: &SolverOptions<N>,
+    mut on_step: impl FnMut(&Step<'_, N>) -> Control,
+) -> Result<Outcome<N>, IntegrationError> {
+    const SAFE: f64 = 0.9;
+    const BETA: f64 = 0.04;
+    const EXPO1: f64 = 0.2 - BETA * 0.75;
+    let mut t = t0;
+    let mut x = x0;
+    let mut k1 = sys.rhs(&x);
+    let mut evals = 1;
+    let (mut h, extra) = match opts.h0 {
+        Some(h) => (h.min(opts.h_max), 0),
+        None => initial_step(sys, &x, &k1, opts),
+    };
+    evals += extra;
+    let mut facold: f64 = 1e-4;
+    let mut accepted = 0;
+    let mut rejected = 0;
+    let mut last_rejected = false;
+    let mut cont = [[0.0; N]; 5];
+    let h_min_rel = 16.0 * f64::EPSILON;
+    while t < t_end {
+        if accepted + rejected >= opts.max_steps {
+            return Err(IntegrationError::TooManySteps {
+                t,
+                steps: accepted + rejected,
+            });
+        }
+        if h < h_min_rel * t.abs().max(1e-300) {
+            return Err(IntegrationError::StepSizeUnderflow { t });
+        }
+        let last = t + 1.01 * h >= t_end;
+        if last {
+            h = t_end - t;
+        }
+        let k2 = sys.rhs(&axpy(&x, h, &[(A21, &k1)]));
+        let k3 = sys.rhs(&axpy(&x, h, &[(A31, &k1), (A32, &k2)]));
+        let k4 = sys.rhs(&axpy(&x, h, &[(A41, &k1), (A42, &k2), (A43, &k3)]));
+        let k5 = sys.rhs(&axpy(
+            &x,
+            h,
+            &[(A51, &k1), (A52, &k2), (A53, &k3), (A54, &k4)],
+        ));
+        let k6 = sys.rhs(&axpy(
+            &x,
+            h,
+            &[(A61, &k1), (A62, &k2), (A63, &k3), (A64, &k4), (A65, &k5)],
+        ));
+        let x_new = axpy(
+            &x,
+            h,
+            &[(A71, &k1), (A73, &k3), (A74, &k4), (A75, &k5), (A76, &k6)],
+        );
+        let k7 = sys.rhs(&x_new);
+        evals += 6;
+        let err: [f64; N] = std::array::from_fn(|i| {
+            h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i])
+        });
+        let err = error_norm(&err, &x, &x_new, opts);
+        if !err.is_finite() || x_new.iter().any(|v| !v.is_finite()) {
+            // Retry with a much smaller step before declaring the state broken.
+            if h > h_min_rel * t.abs().max(1e-12) * 1e3 {
+                h *= 0.1;
+                rejected += 1;
+                last_rejected = true;
+                continue;
+            }
+            return Err(IntegrationError::NonFinite { t });
+        }
+        let fac11 = err.powf(EXPO1);
+        if err <= 1.0 {
+            let fac = (fac11 / facold.powf(BETA) / SAFE).clamp(0.2, 10.0);
+            facold = err.max(1e-4);
+            let mut h_new = (h / fac).min(opts.h_max);
+            if last_rejected {
+                h_new = h_new.min(h);
+            }
+            for i in 0..N {
+                let ydiff = x_new[i] - x[i];
+                let bspl = h * k1[i] - ydiff;
+                cont[0][i] = x[i];
+                cont[1][i] = ydiff;
+                cont[2][i] = bspl;
+                cont[3][i] = ydiff - h * k7[i] - bspl;
+                cont[4][i] = h
+                    * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
+            }
+            let t_new = if last { t_end } else { t + h };
+            accepted += 1;
+            let control = on_step(&Step {
+                t0: t,
+                t1: t_new,
+                x0: &x,
+                x1: &x_new,
+                cont: &cont,
+            });
+            t = t_new;
+            x = x_new;
+            k1 = k7;
+            h = h_new;
+            last_rejected = false;
+            if control == Control::Stop {
+                return Ok(Outcome {
+                    t,
+                    x,
+                    accepted_steps: accepted,
+                    rejected_steps: rejected,
+                    rhs_evals: evals,
+                    stopped: true,
+                    h_last: h,
+                });
+            }
+        } else {
+            h /= (fac11 / SAFE).min(5.0);
+            rejected += 1;
+            last_rejected = true;
+        }
+    }
+    Ok(Outcome {
+        t,
+        x,
+        accepted_steps: accepted,
+        rejected_steps: rejected,
+        rhs_evals: evals,
+        stopped: false,
+        h_last: h,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Oscillator;
+    impl OdeSystem<2> for Oscillator {
+        fn rhs(&self, x: &[f64; 2]) -> [f64; 2] {
+            [x[1], -x[0]]
+        }
+    }
+
+    fn opts(rtol: f64) -> SolverOptions<2> {
+        SolverOptions {
+            rtol,
+            atol: [rtol; 2],
+            h_max: 1.0,
+            h0: None,
+            max_steps: 1_000_000,
+        }
+    }
+
+    #[test]
+    fn harmonic_oscillator_is_accurate_and_converges_at_order_five() {
+        let t_end = 20.0;
+        let mut errs = vec![];
+        for rtol in [1e-6, 1e-9, 1e-12] {
+            let out = integrate(&Oscillator, 0.0, [1.0, 0.0], t_end, &opts(rtol), |_| {
+                Control::Continue
+            })
+            .unwrap();
+            let e = (out.x[0] - t_end.cos()).abs() + (out.x[1] + t_end.sin()).abs();
+            assert_eq!(out.t, t_end);
+            errs.push((e, out.accepted_steps));
+        }
+        assert!(errs[2].0 < 1e-9, "{errs:?}");
+        assert!(errs[0].0 > errs[1].0 && errs[1].0 > errs[2].0, "{errs:?}");
+        // Fifth order: 1000x tighter tolerance costs about 1000^(1/5) ≈ 4x the steps.
+        let ratio = errs[2].1 as f64 / errs[1].1 as f64;
+        assert!(ratio > 2.5 && ratio < 6.5, "{errs:?}");
+    }
+
+    #[test]
+    fn dense_output_is_accurate_inside_steps() {
+        let mut worst: f64 = 0.0;
+        integrate(&Oscillator, 0.0, [1.0, 0.0], 10.0, &opts(1e-10), |s| {
+            for j in 1..4 {
+                let t = s.t0 + (s.t1 - s.t0) * j as f64 / 4.0;
+                let x = s.interpolate(t);
+                worst = worst.max((x[0] - t.cos()).abs());
+            }
+            Control::Continue
+        })
+        .unwrap();
+        assert!(worst < 1e-8, "{worst}");
+    }
+
+    #[test]
+    fn callback_can_stop_and_blowup_is_an_error() {
+        let out = integrate(&Oscillator, 0.0, [1.0, 0.0], 10.0, &opts(1e-8), |s| {
+            if s.t1 > 1.0 {
+                Control::Stop
+            } else {
+                Control::Continue
+            }
+        })
+        .unwrap();
+        assert!(out.stopped && out.t > 1.0 && out.t < 10.0);
+
+        struct Blowup;
+        impl OdeSystem<1> for Blowup {
+            fn rhs(&self, x: &[f64; 1]) -> [f64; 1] {
+                [x[0] * x[0]]
+            }
+        }
+        let o = SolverOptions {
+            rtol: 1e-8,
+            atol: [1e-8],
+            h_max: 1.0,
+            h0: None,
+            max_steps: 100_000,
+        };
+        // x' = x² from 1 blows up at t = 1.
+        let r = integrate(&Blowup, 0.0, [1.0], 2.0, &o, |_| Control::Continue);
+        assert!(r.is_err(), "{r:?}");
+    }
+}

@@ -1,0 +1,71 @@
+//! Time integration: an adaptive Dormand–Prince 5(4) Runge–Kutta method with error control and
+//! 4th-order dense output, on fixed-size state (no allocation per step).
+//!
+//! The split follows DifferentialEquations.jl: an [`OdeSystem`] is the problem, [`integrate`] is
+//! the solver, and the caller sees each accepted [`Step`] through a callback (for section
+//! crossings, envelope tracking or recording), which decides whether to go on.
+
+mod dopri5;
+
+pub use dopri5::{integrate, Control, IntegrationError, Outcome, SolverOptions, Step};
+
+/// An autonomous ODE dx/dt = f(x) on N states.
+pub trait OdeSystem<const N: usize> {
+    fn rhs(&self, x: &[f64; N]) -> [f64; N];
+}
+
+impl OdeSystem<3> for crate::model::TreadOde {
+    #[inline(always)]
+    fn rhs(&self, x: &[f64; 3]) -> [f64; 3] {
+        crate::model::TreadOde::rhs(self, x)
+    }
+}
+
+/// The tread ODE together with its variational equations dΦ/dt = J(x) Φ (Φ stored column by
+/// column after x), whose value after one period is the monodromy matrix used by shooting.
+pub struct Variational<'a>(pub &'a crate::model::TreadOde);
+
+impl OdeSystem<12> for Variational<'_> {
+    #[inline(always)]
+    fn rhs(&self, s: &[f64; 12]) -> [f64; 12] {
+        let x = [s[0], s[1], s[2]];
+        let f = self.0.rhs(&x);
+        let j = self.0.jacobian(&x);
+        let mut out = [0.0; 12];
+        out[..3].copy_from_slice(&f);
+        for col in 0..3 {
+            let phi = [s[3 + 3 * col], s[4 + 3 * col], s[5 + 3 * col]];
+            for row in 0..3 {
+                out[3 + 3 * col + row] =
+                    j[(row, 0)] * phi[0] + j[(row, 1)] * phi[1] + j[(row, 2)] * phi[2];
+            }
+        }
+        out
+    }
+}
+
+/// Uniform samples of a trajectory and how the integration ended.
+pub type SampledTrajectory<const N: usize> =
+    (Vec<(f64, [f64; N])>, Result<Outcome<N>, IntegrationError>);
+
+/// Samples a trajectory on a uniform time grid through the dense output (for plots and files).
+/// Returns the samples and the outcome (whose error, if any, ends the series early).
+pub fn sample_uniform<const N: usize, S: OdeSystem<N>>(
+    sys: &S,
+    x0: [f64; N],
+    duration_s: f64,
+    sample_dt_s: f64,
+    opts: &SolverOptions<N>,
+) -> SampledTrajectory<N> {
+    let mut samples = vec![(0.0, x0)];
+    let mut next = 1usize;
+    let out = integrate(sys, 0.0, x0, duration_s, opts, |step| {
+        while (next as f64) * sample_dt_s <= step.t1 {
+            let t = next as f64 * sample_dt_s;
+            samples.push((t, step.interpolate(t)));
+            next += 1;
+        }
+        Control::Continue
+    });
+    (samples, out)
+}
