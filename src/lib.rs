@@ -10,4 +10,5 @@ pub mod params;
 pub mod parquet_out;
 pub mod plot;
 pub mod records;
+pub mod sampling;
 pub mod solver;

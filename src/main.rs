@@ -21,6 +21,11 @@ struct Cli {
 enum Command {
     /// Evaluate one operating point for both wheels: verdict table, JSON, time series, plot
     Simulate(cli::simulate::SimulateArgs),
+    /// Sweep one parameter for both wheels: eigenvalue and limit-cycle envelope, Hopf points,
+    /// Parquet table and PNG
+    Bifurcation(cli::bifurcation::BifurcationArgs),
+    /// Check the fast classifier against brute-force integration on random points (slow)
+    Validate(cli::validate::ValidateArgs),
     /// List every model parameter: name, unit, default, provenance and accepted range
     Params {
         /// Print a Markdown table (as in README.md)
@@ -33,6 +38,8 @@ fn main() {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Simulate(a) => cli::simulate::run(a),
+        Command::Bifurcation(a) => cli::bifurcation::run(a),
+        Command::Validate(a) => cli::validate::run(a),
         Command::Params { markdown } => {
             cli::params::run(*markdown);
             Ok(())

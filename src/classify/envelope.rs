@@ -201,3 +201,48 @@ impl WindowStats {
         }
     }
 }
+
+/// Relative tolerance of the brute-force reference (as in `reference/points.csv`).
+pub const REFERENCE_RTOL: f64 = 1e-10;
+
+/// The brute-force verdict used to test the fast classifier: MODEL.md's reference method (a long
+/// trajectory at rtol 1e-10 from the disturbed equilibrium, amplitudes over its last 0.5 s,
+/// `limit_cycle` where the velocity amplitude exceeds 1e-4 m/s), with the horizon stretched to
+/// 24 s + 10/|Re λ| (at most 224 s) so that transients have died by a factor e^10 at its end.
+pub fn reference_verdict(ode: &TreadOde, rotation_hz: f64) -> super::WheelVerdict {
+    use super::{Class, Method, WheelVerdict};
+    let lin = ode.linear_stability();
+    let scales = Scales::new(ode);
+    let duration = 24.0 + 10.0 / lin.eig_re_max.abs().max(0.05);
+    let mut v = WheelVerdict {
+        class: Class::Stable,
+        eig_re_max: lin.eig_re_max,
+        eig_freq_hz: lin.eig_freq_hz,
+        amp_y_m: 0.0,
+        amp_v_mps: 0.0,
+        freq_hz: 0.0,
+        polygon_order: 0.0,
+        energy_per_cycle_j: 0.0,
+        floquet_max: f64::NAN,
+        rhs_evals: 0,
+        method: Method::Reference,
+        reason: String::new(),
+    };
+    match brute_force(ode, &scales, 1e-5, duration, 0.5, REFERENCE_RTOL) {
+        Ok((_, last, evals)) => {
+            v.rhs_evals = evals as u64;
+            if last.amp_v_mps > 1e-4 {
+                v.class = Class::LimitCycle;
+                v.amp_y_m = last.amp_y_m;
+                v.amp_v_mps = last.amp_v_mps;
+                v.freq_hz = last.freq_hz;
+                v.polygon_order = last.freq_hz / rotation_hz;
+            }
+        }
+        Err(reason) => {
+            v.class = Class::Failed;
+            v.reason = reason;
+        }
+    }
+    v
+}

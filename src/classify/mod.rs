@@ -11,6 +11,7 @@
 pub mod envelope;
 pub mod section;
 pub mod shooting;
+pub mod validation;
 
 use nalgebra::{Complex, Vector3};
 
@@ -340,7 +341,7 @@ pub fn classify(ode: &TreadOde, rotation_hz: f64, opts: &ClassifierOptions) -> W
 }
 
 /// Direction of the Hopf eigenvector on the section y = y_eq, as dz per unit v.
-fn hopf_dz_per_v(ode: &TreadOde, lambda: Complex<f64>) -> f64 {
+pub fn hopf_dz_per_v(ode: &TreadOde, lambda: Complex<f64>) -> f64 {
     let jac = ode.jacobian(&ode.equilibrium());
     let row = |i: usize| {
         Vector3::new(

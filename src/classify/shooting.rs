@@ -19,7 +19,7 @@ pub struct PeriodicOrbit {
 }
 
 /// Newton iterations before giving up.
-const MAX_NEWTON: usize = 12;
+const MAX_NEWTON: usize = 40;
 
 /// Refines a guess `(z, v)` on the section into the periodic orbit through it.
 pub fn newton_orbit(
@@ -94,8 +94,8 @@ pub fn newton_orbit(
         }
         z += dz;
         v += dv;
-        if v.is_nan() || v <= 0.0 || !z.is_finite() {
-            return Err("shooting: Newton left the section's positive half".into());
+        if v.is_nan() || v <= 1e-6 * scales.v || !z.is_finite() {
+            return Err("shooting: Newton fell back onto the equilibrium".into());
         }
     }
     Err(format!(
@@ -136,17 +136,24 @@ pub fn amplitude_guess(
     };
     let mut evals = 0;
     let mut map = |a: f64| -> Result<(f64, (f64, f64)), String> {
-        let start = [scales.z_eq + a * dz_per_v, y_sec, a];
-        let ret = first_return(
-            ode,
-            start,
-            y_sec,
-            0.3 * linear_period_s,
-            30.0 * linear_period_s,
-            &opts,
-        )?;
-        evals += ret.rhs_evals;
-        Ok((ret.state[2] - a, (ret.state[0], ret.state[2])))
+        // The first return lets the fast bristle mode (multiplier ~0.02 per period) die out; the
+        // growth is read over the second return, which starts near the slow manifold.
+        let mut x = [scales.z_eq + a * dz_per_v, y_sec, a];
+        let mut growth = 0.0;
+        for _ in 0..2 {
+            let ret = first_return(
+                ode,
+                x,
+                y_sec,
+                0.3 * linear_period_s,
+                30.0 * linear_period_s,
+                &opts,
+            )?;
+            evals += ret.rhs_evals;
+            growth = ret.state[2] - x[2];
+            x = ret.state;
+        }
+        Ok((growth, (x[0], x[2])))
     };
     let a_min = 1e-7 * scales.v;
     let a_max = 50.0 * scales.v;

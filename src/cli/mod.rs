@@ -1,5 +1,7 @@
 //! The command line: one module per subcommand, all errors mapped to exit code 2.
 
+pub mod bifurcation;
 pub mod common;
 pub mod params;
 pub mod simulate;
+pub mod validate;

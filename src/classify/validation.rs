@@ -1,0 +1,124 @@
+//! The fast classifier against the brute-force reference on random operating points (issue 3):
+//! class agreement outside the Hopf band, amplitude and frequency errors, and the cost of each.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use super::envelope::reference_verdict;
+use super::{classify, Class, ClassifierOptions, WheelVerdict};
+use crate::model::{Variant, Wheel, WheelModel};
+use crate::params::Params;
+use crate::sampling::uniform;
+
+/// Points closer to the Hopf boundary than this (|Re λ| in 1/s) are not compared: there even
+/// the reference's horizon is too short to settle.
+pub const HOPF_BAND: f64 = 0.05;
+
+/// Operating point `index` of the validation set: speed 40–250 km/h, toe 0.05–1.0°,
+/// load 2000–7000 N, pressure 150–450 kPa, other parameters at their defaults.
+pub fn random_point(seed: u64, index: u64) -> Params {
+    Params {
+        speed_kmh: uniform(seed, index, 0, 40.0, 250.0),
+        toe_deg: uniform(seed, index, 1, 0.05, 1.0),
+        load_n: uniform(seed, index, 2, 2000.0, 7000.0),
+        pressure_kpa: uniform(seed, index, 3, 150.0, 450.0),
+        ..Params::default()
+    }
+}
+
+/// One wheel of one point, judged both ways.
+#[derive(Debug, Clone)]
+pub struct Comparison {
+    pub index: u64,
+    pub params: Params,
+    pub wheel: Wheel,
+    pub variant: Variant,
+    pub fast: WheelVerdict,
+    pub fast_us: f64,
+    pub reference: WheelVerdict,
+    pub reference_us: f64,
+}
+
+impl Comparison {
+    /// Whether this wheel is outside the Hopf band and so must agree.
+    pub fn compared(&self) -> bool {
+        self.fast.eig_re_max.abs() >= HOPF_BAND
+    }
+
+    pub fn classes_agree(&self) -> bool {
+        self.fast.class.vibrates() == (self.reference.class == Class::LimitCycle)
+            && self.fast.class != Class::Failed
+    }
+
+    /// Largest relative error of amp_y, amp_v and frequency (0 when both are stable).
+    pub fn worst_relative_error(&self) -> f64 {
+        let rel = |a: f64, b: f64| {
+            if b == 0.0 {
+                a.abs()
+            } else {
+                ((a - b) / b).abs()
+            }
+        };
+        rel(self.fast.amp_y_m, self.reference.amp_y_m)
+            .max(rel(self.fast.amp_v_mps, self.reference.amp_v_mps))
+            .max(rel(self.fast.freq_hz, self.reference.freq_hz))
+    }
+}
+
+/// Evaluates `n_points` random points × both wheels × both variants. The fast classifier runs
+/// one call at a time on one thread (its timings are single-thread costs); the reference runs
+/// in parallel, each call still on one thread.
+pub fn compare(seed: u64, n_points: u64) -> Vec<Comparison> {
+    let opts = ClassifierOptions::default();
+    let mut jobs = Vec::new();
+    for index in 0..n_points {
+        let p = random_point(seed, index);
+        for variant in Variant::ALL {
+            for wheel in Wheel::BOTH {
+                if let Ok(m) = WheelModel::build(&p, wheel, variant) {
+                    jobs.push((index, p, m));
+                }
+            }
+        }
+    }
+    let fast: Vec<(WheelVerdict, f64)> = jobs
+        .iter()
+        .map(|(_, p, m)| {
+            let t = Instant::now();
+            let v = classify(&m.ode, WheelModel::rotation_hz(p), &opts);
+            (v, t.elapsed().as_secs_f64() * 1e6)
+        })
+        .collect();
+    jobs.par_iter()
+        .zip(fast.into_par_iter())
+        .map(|((index, p, m), (fast, fast_us))| {
+            let t = Instant::now();
+            let reference = reference_verdict(&m.ode, WheelModel::rotation_hz(p));
+            Comparison {
+                index: *index,
+                params: *p,
+                wheel: m.wheel,
+                variant: m.variant,
+                fast,
+                fast_us,
+                reference,
+                reference_us: t.elapsed().as_secs_f64() * 1e6,
+            }
+        })
+        .collect()
+}
+
+/// Median of a list (NaN when empty).
+pub fn median(mut xs: Vec<f64>) -> f64 {
+    if xs.is_empty() {
+        return f64::NAN;
+    }
+    xs.sort_by(f64::total_cmp);
+    let n = xs.len();
+    if n % 2 == 1 {
+        xs[n / 2]
+    } else {
+        0.5 * (xs[n / 2 - 1] + xs[n / 2])
+    }
+}
