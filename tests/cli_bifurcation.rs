@@ -3,17 +3,8 @@
 
 use std::process::Command;
 
-fn polywear(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_polywear"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+mod common;
+use common::polywear;
 
 #[test]
 fn speed_sweep_finds_both_hopf_points_and_writes_files() {

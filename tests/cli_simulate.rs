@@ -2,17 +2,8 @@
 
 use std::process::Command;
 
-fn polywear(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_polywear"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+mod common;
+use common::polywear;
 
 #[test]
 fn json_has_exactly_the_reference_columns_first() {

@@ -214,20 +214,12 @@ pub fn reference_verdict(ode: &TreadOde, rotation_hz: f64) -> super::WheelVerdic
     let lin = ode.linear_stability();
     let scales = Scales::new(ode);
     let duration = 24.0 + 10.0 / lin.eig_re_max.abs().max(0.05);
-    let mut v = WheelVerdict {
-        class: Class::Stable,
-        eig_re_max: lin.eig_re_max,
-        eig_freq_hz: lin.eig_freq_hz,
-        amp_y_m: 0.0,
-        amp_v_mps: 0.0,
-        freq_hz: 0.0,
-        polygon_order: 0.0,
-        energy_per_cycle_j: 0.0,
-        floquet_max: f64::NAN,
-        rhs_evals: 0,
-        method: Method::Reference,
-        reason: String::new(),
-    };
+    let mut v = WheelVerdict::without_cycle(
+        Class::Stable,
+        lin.eig_re_max,
+        lin.eig_freq_hz,
+        Method::Reference,
+    );
     match brute_force(ode, &scales, 1e-5, duration, 0.5, REFERENCE_RTOL) {
         Ok((_, last, evals)) => {
             v.rhs_evals = evals as u64;

@@ -103,7 +103,12 @@ pub struct WheelVerdict {
 }
 
 impl WheelVerdict {
-    fn without_cycle(class: Class, eig_re_max: f64, eig_freq_hz: f64, method: Method) -> Self {
+    pub(crate) fn without_cycle(
+        class: Class,
+        eig_re_max: f64,
+        eig_freq_hz: f64,
+        method: Method,
+    ) -> Self {
         WheelVerdict {
             class,
             eig_re_max,

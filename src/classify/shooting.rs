@@ -3,10 +3,10 @@
 
 use nalgebra::{Matrix2, Matrix3, Vector2};
 
-use super::section::first_return;
+use super::section::{first_return, Return};
 use super::Scales;
 use crate::model::{State, TreadOde};
-use crate::solver::{SolverOptions, Variational};
+use crate::solver::{OdeSystem, SolverOptions, Variational};
 
 /// A converged limit cycle, represented by its point on the section y = y_eq.
 #[derive(Debug, Clone, Copy)]
@@ -16,6 +16,24 @@ pub struct PeriodicOrbit {
     /// Modulus of the largest non-trivial Floquet multiplier (< 1: the cycle attracts).
     pub floquet_max: f64,
     pub rhs_evals: usize,
+}
+
+/// The next return to the section, looked for between 0.3 and 30 linear periods.
+fn next_return<const N: usize, S: OdeSystem<N>>(
+    sys: &S,
+    start: [f64; N],
+    y_sec: f64,
+    linear_period_s: f64,
+    opts: &SolverOptions<N>,
+) -> Result<Return<N>, String> {
+    first_return(
+        sys,
+        start,
+        y_sec,
+        0.3 * linear_period_s,
+        30.0 * linear_period_s,
+        opts,
+    )
 }
 
 /// Newton iterations before giving up.
@@ -45,14 +63,7 @@ pub fn newton_orbit(
     let mut evals = 0;
     for _ in 0..MAX_NEWTON {
         let start = [z, y_sec, v, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
-        let ret = first_return(
-            &Variational(ode),
-            start,
-            y_sec,
-            0.3 * linear_period_s,
-            30.0 * linear_period_s,
-            &opts,
-        )?;
+        let ret = next_return(&Variational(ode), start, y_sec, linear_period_s, &opts)?;
         evals += ret.rhs_evals;
         let s = ret.state;
         let x_t = [s[0], s[1], s[2]];
@@ -141,14 +152,7 @@ pub fn amplitude_guess(
         let mut x = [scales.z_eq + a * dz_per_v, y_sec, a];
         let mut growth = 0.0;
         for _ in 0..2 {
-            let ret = first_return(
-                ode,
-                x,
-                y_sec,
-                0.3 * linear_period_s,
-                30.0 * linear_period_s,
-                &opts,
-            )?;
+            let ret = next_return(ode, x, y_sec, linear_period_s, &opts)?;
             evals += ret.rhs_evals;
             growth = ret.state[2] - x[2];
             x = ret.state;
