@@ -57,6 +57,11 @@ fn bench_classify(c: &mut Criterion) {
     g.bench_function("polywear_classifier", |b| {
         b.iter(|| classify(black_box(&m.ode), rot, &opts))
     });
+    // The same classifier at a looser shooting tolerance, for the speed/accuracy trade-off.
+    let loose = ClassifierOptions { rtol: 1e-8, ..opts };
+    g.bench_function("polywear_classifier_rtol1e-8", |b| {
+        b.iter(|| classify(black_box(&m.ode), rot, &loose))
+    });
     g.sample_size(10);
     let s = Scales::new(&m.ode);
     g.bench_function("brute_force_24s_rtol1e-10", |b| {
