@@ -4,6 +4,7 @@
 //! [`records`] → [`parquet_out`]; [`plot`] draws what people would rather look at.
 
 pub mod classify;
+pub mod explore;
 pub mod model;
 pub mod numeric;
 pub mod params;
@@ -12,3 +13,4 @@ pub mod plot;
 pub mod records;
 pub mod sampling;
 pub mod solver;
+pub mod study;

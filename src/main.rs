@@ -19,6 +19,9 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// The batch study: sample speed, toe-in, load, pressure and tire structure, classify both
+    /// wheels of every sample in parallel, stream the rows to Parquet
+    Explore(cli::explore::ExploreArgs),
     /// Evaluate one operating point for both wheels: verdict table, JSON, time series, plot
     Simulate(cli::simulate::SimulateArgs),
     /// Sweep one parameter for both wheels: eigenvalue and limit-cycle envelope, Hopf points,
@@ -37,6 +40,7 @@ enum Command {
 fn main() {
     let cli = Cli::parse();
     let result = match &cli.command {
+        Command::Explore(a) => cli::explore::run(a),
         Command::Simulate(a) => cli::simulate::run(a),
         Command::Bifurcation(a) => cli::bifurcation::run(a),
         Command::Validate(a) => cli::validate::run(a),

@@ -138,7 +138,12 @@ impl TableWriter {
             .set_key_value_metadata(Some(kv))
             .set_created_by(format!("polywear {}", env!("CARGO_PKG_VERSION")))
             .build();
-        let tmp_path = path.with_extension("parquet.partial");
+        // A leading underscore hides the unfinished file from pyarrow/pandas directory reads.
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let tmp_path = path.with_file_name(format!("_{name}.partial"));
         let file = File::create(&tmp_path).map_err(|e| err(&e))?;
         let writer =
             SerializedFileWriter::new(file, schema, Arc::new(props)).map_err(|e| err(&e))?;

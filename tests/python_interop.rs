@@ -45,3 +45,54 @@ print("ok", len(df))
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn pandas_and_pyarrow_read_an_explore_directory() {
+    let dir = std::env::temp_dir().join(format!("polywear-py-explore-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    let st = Command::new(env!("CARGO_BIN_EXE_polywear"))
+        .args([
+            "explore",
+            "--quiet",
+            "--samples",
+            "300",
+            "--out",
+            dir.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        st.status.success(),
+        "{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
+    let script = r#"
+import sys, glob, pandas as pd, pyarrow.parquet as pq
+d = sys.argv[1]
+df = pd.read_parquet(d)                      # the whole directory as one table
+assert len(df) == 600, len(df)               # 300 samples x 2 wheels
+assert df.sample_id.nunique() == 300 and set(df.wheel) == {"follower", "driving"}
+for c in ["sample_id", "wheel", "variant", "speed_kmh", "g_mod", "class", "amp_v_mps", "polygon_order"]:
+    assert c in df.columns, c
+assert str(df.amp_v_mps.dtype) == "float64" and str(df.sample_id.dtype) == "int64"
+p = df.groupby("wheel")["class"].apply(lambda s: (s == "limit_cycle").mean())
+assert 0.0 < p["follower"] < 1.0, p
+md = pq.read_metadata(glob.glob(d + "/*.parquet")[0]).metadata
+for k in [b"study", b"seed", b"variant", b"params", b"polywear_version", b"command", b"units"]:
+    assert k in md, k
+assert md[b"seed"] == b"2014"
+print("ok")
+"#;
+    let out = Command::new("python3")
+        .arg("-c")
+        .arg(script)
+        .arg(&dir)
+        .output()
+        .expect("python3 runs");
+    assert!(
+        out.status.success(),
+        "pandas could not read the directory: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

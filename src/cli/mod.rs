@@ -2,6 +2,7 @@
 
 pub mod bifurcation;
 pub mod common;
+pub mod explore;
 pub mod params;
 pub mod simulate;
 pub mod validate;

@@ -1,0 +1,145 @@
+//! `polywear explore`: the batch study, with progress bar, summary, resume and shards.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use super::common::{CliError, CliResult};
+use polywear::explore::{default_out_dir, parse_samples, parse_shard, RunPlan};
+use polywear::study::{Study, DEFAULT_STUDY};
+
+#[derive(Debug, Args)]
+pub struct ExploreArgs {
+    /// Study file (TOML; see studies/ and README). Without it: the built-in highway-fleet study
+    /// (studies/default.toml)
+    #[arg(value_name = "STUDY.toml")]
+    pub study: Option<PathBuf>,
+    /// Number of samples (1e6, 1_000_000 and 1000000 all work); default: the study's `samples`.
+    /// For a grid design it must equal the grid's size
+    #[arg(long, value_name = "N", value_parser = parse_samples)]
+    pub samples: Option<u64>,
+    /// Seed; default: the study's `seed`. Same study + seed = same rows, whatever the threads
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Worker threads (default: all cores)
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Output directory (must be empty or absent unless --resume)
+    /// [default: data/explore_<study>_seed<seed>]
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Continue a killed run in --out: complete chunk files are kept, the rest is redone
+    /// (starts the run if --out is absent or empty)
+    #[arg(long)]
+    pub resume: bool,
+    /// Evaluate only shard k of N (k from 0), e.g. `--shard $SLURM_ARRAY_TASK_ID/16`; the N
+    /// shards' files together are the single-machine output
+    #[arg(long, value_name = "k/N", value_parser = parse_shard)]
+    pub shard: Option<(u64, u64)>,
+    /// No progress bar and no summary
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+pub fn run(args: &ExploreArgs) -> CliResult {
+    let (source, origin) = match &args.study {
+        Some(path) => (
+            std::fs::read_to_string(path)
+                .map_err(|e| CliError(format!("study {}: {e}", path.display())))?,
+            path.display().to_string(),
+        ),
+        None => (
+            DEFAULT_STUDY.to_string(),
+            "built-in default study".to_string(),
+        ),
+    };
+    let study = Study::parse(&source).map_err(|e| CliError(format!("{origin}: {e}")))?;
+    let samples = args.samples.unwrap_or(study.samples);
+    study
+        .check_samples(samples)
+        .map_err(|e| CliError(format!("{origin}: {e}")))?;
+    let seed = args.seed.unwrap_or(study.seed);
+    let out_dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| default_out_dir(&study, seed));
+    let threads = args.threads.unwrap_or(0);
+    if args.threads == Some(0) {
+        return Err(CliError("--threads must be at least 1".into()));
+    }
+    let plan = RunPlan {
+        study,
+        seed,
+        samples,
+        shard: args.shard.unwrap_or((0, 1)),
+        out_dir,
+        resume: args.resume,
+        command: std::env::args().collect::<Vec<_>>().join(" "),
+    };
+    plan.prepare_output().map_err(|e| CliError(e.to_string()))?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| CliError(format!("cannot start threads: {e}")))?;
+
+    let pending = plan.pending_chunks();
+    let todo: u64 = pending.iter().map(|c| plan.chunk_len(*c)).sum();
+    let bar = if args.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::with_draw_target(Some(todo), ProgressDrawTarget::stderr())
+    };
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} samples  {per_sec}  ETA {eta}",
+        )
+        .expect("valid template"),
+    );
+    if !args.quiet {
+        eprintln!(
+            "{}: {} samples ({} design, seed {seed}, variants {}), shard {}/{}, {} threads -> {}",
+            plan.study.name,
+            plan.samples,
+            plan.study.design.as_str(),
+            plan.study
+                .variants
+                .iter()
+                .map(|v| v.as_str())
+                .collect::<Vec<_>>()
+                .join("+"),
+            plan.shard.0,
+            plan.shard.1,
+            pool.current_num_threads(),
+            plan.out_dir.display()
+        );
+    }
+    let start = Instant::now();
+    let result = pool.install(|| plan.run(&|n| bar.inc(n)));
+    bar.finish_and_clear();
+    let summary = result.map_err(|e| CliError(e.to_string()))?;
+    let secs = start.elapsed().as_secs_f64();
+    if !args.quiet {
+        println!(
+            "{} samples evaluated in {secs:.1} s ({:.0} samples/s); {} already done; {} chunk files in {}",
+            summary.samples_evaluated,
+            summary.samples_evaluated as f64 / secs.max(1e-9),
+            summary.samples_skipped,
+            summary.chunks_written,
+            plan.out_dir.display()
+        );
+        for ((variant, wheel), classes) in &summary.classes {
+            let total: u64 = classes.values().sum();
+            let vib = classes.get("limit_cycle").copied().unwrap_or(0)
+                + classes.get("bistable").copied().unwrap_or(0);
+            let rest: Vec<String> = classes.iter().map(|(c, n)| format!("{c} {n}")).collect();
+            println!(
+                "  {variant:>8} {wheel:>8}: limit cycle in {:.2}% ({})",
+                100.0 * vib as f64 / total.max(1) as f64,
+                rest.join(", ")
+            );
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,23 @@
+//! Reads Parquet files back as text rows, for comparing outputs in tests.
+
+use std::path::Path;
+
+use parquet::file::reader::{FileReader, SerializedFileReader};
+
+/// Every row of every `*.parquet` file in `dir` (sorted by file name), as text.
+pub fn rows_in_dir(dirs: &[&Path]) -> Vec<String> {
+    let mut files: Vec<std::path::PathBuf> = dirs
+        .iter()
+        .flat_map(|d| std::fs::read_dir(d).unwrap().map(|e| e.unwrap().path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "parquet"))
+        .collect();
+    files.sort_by_key(|p| p.file_name().unwrap().to_owned());
+    let mut rows = Vec::new();
+    for f in files {
+        let reader = SerializedFileReader::new(std::fs::File::open(&f).unwrap()).unwrap();
+        for row in reader.get_row_iter(None).unwrap() {
+            rows.push(row.unwrap().to_string());
+        }
+    }
+    rows
+}
