@@ -214,6 +214,13 @@ impl RunPlan {
                     .join(","),
             ),
             ("chunk".into(), chunk.to_string()),
+            (
+                "drawn_names".into(),
+                serde_json::Value::from(
+                    self.study.drawn.iter().map(|d| d.name).collect::<Vec<_>>(),
+                )
+                .to_string(),
+            ),
             ("chunk_size".into(), self.study.chunk_size.to_string()),
             ("shard".into(), format!("{}/{}", self.shard.0, self.shard.1)),
             (

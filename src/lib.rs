@@ -3,6 +3,7 @@
 //! [`params`] → [`model`] (MODEL.md steps 1–8) → [`solver`] → [`classify`] (step 9) →
 //! [`records`] → [`parquet_out`]; [`plot`] draws what people would rather look at.
 
+pub mod analysis;
 pub mod classify;
 pub mod explore;
 pub mod model;

@@ -22,6 +22,9 @@ enum Command {
     /// The batch study: sample speed, toe-in, load, pressure and tire structure, classify both
     /// wheels of every sample in parallel, stream the rows to Parquet
     Explore(cli::explore::ExploreArgs),
+    /// Analyse an explore output: occurrence probabilities, driving vs follower, risk maps,
+    /// severity, Sobol sensitivity; writes tables, PNGs and report.md
+    Analyze(cli::analyze::AnalyzeArgs),
     /// Evaluate one operating point for both wheels: verdict table, JSON, time series, plot
     Simulate(cli::simulate::SimulateArgs),
     /// Sweep one parameter for both wheels: eigenvalue and limit-cycle envelope, Hopf points,
@@ -41,6 +44,7 @@ fn main() {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Explore(a) => cli::explore::run(a),
+        Command::Analyze(a) => cli::analyze::run(a),
         Command::Simulate(a) => cli::simulate::run(a),
         Command::Bifurcation(a) => cli::bifurcation::run(a),
         Command::Validate(a) => cli::validate::run(a),

@@ -242,7 +242,7 @@ impl Study {
                 let s = text(v, "design")?;
                 Design::parse(&s).ok_or_else(|| {
                     StudyError(format!(
-                        "`design` = \"{s}\" is unknown; accepted: random, lhs, sobol, grid"
+                        "`design` = \"{s}\" is unknown; accepted: random, lhs, sobol, grid, saltelli"
                     ))
                 })?
             }
@@ -350,6 +350,7 @@ impl Study {
             }
             _ => match table.get("samples") {
                 Some(v) => whole(v, "samples", 1, 1u64 << 40)?,
+                None if design == Design::Saltelli => 1024,
                 None => 10_000,
             },
         };
@@ -384,10 +385,19 @@ impl Study {
                 self.samples
             ));
         }
-        if self.design == Design::Sobol && samples > u32::MAX as u64 {
+        if matches!(self.design, Design::Sobol | Design::Saltelli) && samples > u32::MAX as u64 {
             return err("a sobol design supports at most 2^32 samples");
         }
         Ok(())
+    }
+
+    /// Model evaluations (sample indices) for `samples`: the same number, except for a Saltelli
+    /// design, where `samples` counts base points and each needs k + 2 evaluations.
+    pub fn evaluations(&self, samples: u64) -> u64 {
+        match self.design {
+            Design::Saltelli => samples * (self.drawn.len() as u64 + 2),
+            _ => samples,
+        }
     }
 
     /// The sampler for a run of `samples` points with `seed`.

@@ -96,3 +96,59 @@ print("ok")
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn readme_pandas_snippet_agrees_with_analyze() {
+    let dir = std::env::temp_dir().join(format!("polywear-py-snippet-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    let st = Command::new(env!("CARGO_BIN_EXE_polywear"))
+        .args([
+            "explore",
+            "--quiet",
+            "--samples",
+            "2000",
+            "--out",
+            dir.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        st.status.success(),
+        "{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
+    // The snippet is the one printed in README.md, run against this output.
+    let snippet = include_str!("data/readme_snippet.py");
+    assert!(
+        include_str!("../README.md").contains(snippet.trim()),
+        "README.md must show tests/data/readme_snippet.py"
+    );
+    let script = snippet.replace("data/explore_highway_fleet_seed2014", dir.to_str().unwrap())
+        + r#"
+ours = pd.read_csv(sys.argv[1] + "/_report/occurrence.csv").set_index(["variant", "wheel"])
+mine = pd.DataFrame({"p": p, "lo": centre - half, "hi": centre + half})
+for key in mine.index:
+    for a, b in [("p", "p"), ("lo", "wilson95_lo"), ("hi", "wilson95_hi")]:
+        assert abs(mine.loc[key, a] - ours.loc[key, b]) < 1e-12, (key, a, mine.loc[key, a], ours.loc[key, b])
+t = pd.crosstab(pair["follower"], pair["driving"]).reindex(index=[False, True], columns=[False, True], fill_value=0)
+paired = pd.read_csv(sys.argv[1] + "/_report/paired.csv").iloc[0]
+assert t.loc[True, False] == paired.only_follower and t.loc[False, True] == paired.only_driving
+assert t.loc[True, True] == paired.both and t.loc[False, False] == paired.neither
+print("agree")
+"#;
+    let script = format!("import sys\n{script}");
+    let out = Command::new("python3")
+        .arg("-c")
+        .arg(&script)
+        .arg(&dir)
+        .output()
+        .expect("python3 runs");
+    assert!(
+        out.status.success(),
+        "snippet failed: {}\n{}",
+        String::from_utf8_lossy(&out.stderr),
+        String::from_utf8_lossy(&out.stdout)
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("agree"));
+    std::fs::remove_dir_all(&dir).ok();
+}

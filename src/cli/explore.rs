@@ -41,6 +41,9 @@ pub struct ExploreArgs {
     /// No progress bar and no summary
     #[arg(long, short)]
     pub quiet: bool,
+    /// Skip the analysis report (risk maps, probabilities) written to DIR/_report at the end
+    #[arg(long)]
+    pub no_report: bool,
 }
 
 pub fn run(args: &ExploreArgs) -> CliResult {
@@ -56,10 +59,12 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         ),
     };
     let study = Study::parse(&source).map_err(|e| CliError(format!("{origin}: {e}")))?;
-    let samples = args.samples.unwrap_or(study.samples);
+    let base_samples = args.samples.unwrap_or(study.samples);
     study
-        .check_samples(samples)
+        .check_samples(base_samples)
         .map_err(|e| CliError(format!("{origin}: {e}")))?;
+    // A Saltelli design needs k + 2 evaluations per base sample.
+    let samples = study.evaluations(base_samples);
     let seed = args.seed.unwrap_or(study.seed);
     let out_dir = args
         .out
@@ -140,6 +145,13 @@ pub fn run(args: &ExploreArgs) -> CliResult {
                 rest.join(", ")
             );
         }
+    }
+    // The analysis of the whole output directory (this shard's files), unless asked not to.
+    if !args.no_report {
+        super::analyze::run_with(
+            &super::analyze::AnalyzeArgs::for_dir(plan.out_dir.clone()),
+            !args.quiet,
+        )?;
     }
     Ok(())
 }

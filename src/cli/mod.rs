@@ -1,5 +1,6 @@
 //! The command line: one module per subcommand, all errors mapped to exit code 2.
 
+pub mod analyze;
 pub mod bifurcation;
 pub mod common;
 pub mod explore;

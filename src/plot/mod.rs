@@ -6,6 +6,7 @@ use std::sync::Once;
 
 use plotters::prelude::*;
 
+pub mod maps;
 pub mod spectrum;
 
 /// One curve of a figure, in a colour picked by the caller.
@@ -127,17 +128,41 @@ pub fn line_panel<DB: DrawingBackend>(
     Ok(())
 }
 
-fn format_tick(v: f64) -> String {
+/// Tick label: plain for ordinary magnitudes, scientific for very small or large ones.
+pub fn format_tick(v: f64) -> String {
     let a = v.abs();
     if a < 1e-15 {
         return "0".into();
     }
-    if a != 0.0 && !(1e-2..1e5).contains(&a) {
-        format!("{v:.2e}")
-    } else {
-        let s = format!("{v:.3}");
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    if !(1e-2..1e5).contains(&a) {
+        return format!("{v:.2e}");
     }
+    // Four significant digits, trailing zeros trimmed.
+    let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// A PNG figure with a title; `draw` lays out and draws the area under the title.
+pub fn figure(
+    path: &Path,
+    size: (u32, u32),
+    title: &str,
+    draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>) -> Result<(), String>,
+) -> Result<(), String> {
+    ensure_font();
+    let root = BitMapBackend::new(path, size).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(path, e))?;
+    let area = root
+        .titled(title, ("sans-serif", 22))
+        .map_err(|e| err(path, e))?;
+    draw(&area).map_err(|e| err(path, e))?;
+    root.present().map_err(|e| err(path, e))?;
+    Ok(())
 }
 
 /// A figure of several panels laid out in a grid, each drawn by `draw`.
@@ -151,15 +176,10 @@ pub fn panels(
         &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
     ) -> Result<(), String>,
 ) -> Result<(), String> {
-    ensure_font();
-    let root = BitMapBackend::new(path, size).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(path, e))?;
-    let root = root
-        .titled(title, ("sans-serif", 24))
-        .map_err(|e| err(path, e))?;
-    for (i, area) in root.split_evenly(grid).iter().enumerate() {
-        draw(i, area).map_err(|e| err(path, e))?;
-    }
-    root.present().map_err(|e| err(path, e))?;
-    Ok(())
+    figure(path, size, title, |area| {
+        for (i, a) in area.split_evenly(grid).iter().enumerate() {
+            draw(i, a)?;
+        }
+        Ok(())
+    })
 }

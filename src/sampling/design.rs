@@ -14,6 +14,9 @@ pub enum Design {
     Sobol,
     /// Full factorial grid of each axis's levels.
     Grid,
+    /// Saltelli's design for Sobol indices: per base point j, the rows A_j, B_j and A_j with
+    /// axis m taken from B_j (m = 0..k), at sample indices j·(k+2) + 0, 1, 2 + m.
+    Saltelli,
 }
 
 impl Design {
@@ -23,6 +26,7 @@ impl Design {
             Design::LatinHypercube => "lhs",
             Design::Sobol => "sobol",
             Design::Grid => "grid",
+            Design::Saltelli => "saltelli",
         }
     }
 
@@ -32,6 +36,7 @@ impl Design {
             "lhs" | "latin_hypercube" => Some(Design::LatinHypercube),
             "sobol" => Some(Design::Sobol),
             "grid" => Some(Design::Grid),
+            "saltelli" => Some(Design::Saltelli),
             _ => None,
         }
     }
@@ -46,22 +51,26 @@ pub struct Coordinates {
     design: Design,
     seed: u64,
     samples: u64,
+    n_axes: usize,
     sobol_dirs: Vec<[u32; 32]>,
 }
 
 impl Coordinates {
     pub fn new(design: Design, seed: u64, samples: u64, n_axes: usize) -> Self {
-        let sobol_dirs = if design == Design::Sobol {
-            (0..n_axes.min(MAX_DIMENSIONS))
-                .map(direction_numbers)
-                .collect()
-        } else {
-            Vec::new()
+        let sobol_dims = match design {
+            Design::Sobol => n_axes,
+            // The A and B matrices of a Saltelli design are two halves of one Sobol point set.
+            Design::Saltelli => 2 * n_axes,
+            _ => 0,
         };
+        let sobol_dirs = (0..sobol_dims.min(MAX_DIMENSIONS))
+            .map(direction_numbers)
+            .collect();
         Coordinates {
             design,
             seed,
             samples,
+            n_axes,
             sobol_dirs,
         }
     }
@@ -78,11 +87,30 @@ impl Coordinates {
                 );
                 (stratum as f64 + uniform01(self.seed, index, dim as u64)) / self.samples as f64
             }
-            Design::Sobol => {
-                let x = sobol_u32(index as u32, &self.sobol_dirs[dim]);
+            Design::Sobol => self.sobol(index, dim),
+            Design::Saltelli => {
+                let k = self.n_axes;
+                let (j, block) = (index / (k as u64 + 2), (index % (k as u64 + 2)) as usize);
+                let source = match block {
+                    0 => dim,
+                    1 => k + dim,
+                    b if b - 2 == dim => k + dim,
+                    _ => dim,
+                };
+                self.sobol(j, source)
+            }
+        }
+    }
+
+    /// Scrambled Sobol coordinate (independent draws beyond the table's dimensions).
+    fn sobol(&self, index: u64, dim: usize) -> f64 {
+        match self.sobol_dirs.get(dim) {
+            Some(dirs) => {
+                let x = sobol_u32(index as u32, dirs);
                 let seed = bits(self.seed, dim as u64, u64::MAX) as u32;
                 (owen_scramble(x, seed) as f64 + 0.5) / 4_294_967_296.0
             }
+            None => uniform01(self.seed, index, dim as u64),
         }
     }
 }
@@ -148,6 +176,27 @@ mod tests {
                 strata[(c.coordinate(i, dim) * n as f64) as usize] += 1;
             }
             assert!(strata.iter().all(|k| *k == 1));
+        }
+    }
+
+    #[test]
+    fn saltelli_rows_share_columns_as_designed() {
+        let k = 3;
+        let c = Coordinates::new(Design::Saltelli, 5, 100, k);
+        for j in 0..20u64 {
+            let row = |b: u64| -> Vec<f64> {
+                (0..k)
+                    .map(|d| c.coordinate(j * (k as u64 + 2) + b, d))
+                    .collect()
+            };
+            let (a, b) = (row(0), row(1));
+            assert!((0..k).all(|d| a[d] != b[d]));
+            for m in 0..k {
+                let ab = row(2 + m as u64);
+                for d in 0..k {
+                    assert_eq!(ab[d], if d == m { b[d] } else { a[d] });
+                }
+            }
         }
     }
 

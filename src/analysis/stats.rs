@@ -1,0 +1,201 @@
+//! Statistics of the analysis: Wilson score intervals, McNemar's test for paired outcomes, and
+//! Sobol sensitivity indices (Saltelli/Jansen estimators) with bootstrap intervals.
+
+/// A p-value for people: below 1e-300 it reads "< 1e-300" rather than an underflowed 0.
+pub fn format_p(p: f64) -> String {
+    if p < 1e-300 {
+        "< 1e-300".into()
+    } else {
+        format!("{p:.3e}")
+    }
+}
+
+/// z for a two-sided 95% interval.
+pub const Z95: f64 = 1.959_963_984_540_054;
+
+/// Wilson score interval for `k` successes in `n` trials (95%); (NaN, NaN) when n = 0.
+pub fn wilson(k: u64, n: u64) -> (f64, f64) {
+    if n == 0 {
+        return (f64::NAN, f64::NAN);
+    }
+    let (k, n) = (k as f64, n as f64);
+    let p = k / n;
+    let z2 = Z95 * Z95;
+    let denom = 1.0 + z2 / n;
+    let center = (p + z2 / (2.0 * n)) / denom;
+    let half = Z95 / denom * (p * (1.0 - p) / n + z2 / (4.0 * n * n)).sqrt();
+    ((center - half).max(0.0), (center + half).min(1.0))
+}
+
+/// McNemar's test on the discordant pairs `b` (only the first vibrates) and `c` (only the
+/// second): the exact two-sided binomial p-value up to 10,000 discordant pairs, the
+/// continuity-corrected chi-square beyond. Returns (statistic, p-value, method).
+pub fn mcnemar(b: u64, c: u64) -> (f64, f64, &'static str) {
+    let n = b + c;
+    if n == 0 {
+        return (0.0, 1.0, "exact");
+    }
+    let chi2 = ((b as f64 - c as f64).abs() - 1.0).max(0.0).powi(2) / n as f64;
+    if n <= 10_000 {
+        // 2 * P(X <= min(b, c)) for X ~ Binomial(n, 1/2), summed in log space.
+        let k = b.min(c);
+        let ln_half_n = n as f64 * 0.5f64.ln();
+        let ln_choose = |i: u64| {
+            libm::lgamma(n as f64 + 1.0)
+                - libm::lgamma(i as f64 + 1.0)
+                - libm::lgamma((n - i) as f64 + 1.0)
+        };
+        let tail: f64 = (0..=k).map(|i| (ln_choose(i) + ln_half_n).exp()).sum();
+        (chi2, (2.0 * tail).min(1.0), "exact")
+    } else {
+        (chi2, libm::erfc((chi2 / 2.0).sqrt()), "chi2")
+    }
+}
+
+/// First-order and total Sobol indices of one input from a Saltelli design:
+/// `f_a`, `f_b` the outputs on the two base matrices and `f_ab` on A with column i from B.
+/// First order: Saltelli et al. (2010), mean(f_B (f_ABi − f_A)) / V; total: Jansen (1999),
+/// mean((f_A − f_ABi)²) / 2V; V the variance of f_A and f_B together.
+pub fn sobol_indices(f_a: &[f64], f_b: &[f64], f_ab: &[f64]) -> (f64, f64) {
+    let n = f_a.len() as f64;
+    let all = f_a.iter().chain(f_b);
+    let mean = all.clone().sum::<f64>() / (2.0 * n);
+    let var = all.map(|y| (y - mean).powi(2)).sum::<f64>() / (2.0 * n);
+    if var == 0.0 {
+        return (f64::NAN, f64::NAN);
+    }
+    let mut first = 0.0;
+    let mut total = 0.0;
+    for j in 0..f_a.len() {
+        first += f_b[j] * (f_ab[j] - f_a[j]);
+        total += (f_a[j] - f_ab[j]).powi(2);
+    }
+    (first / n / var, total / (2.0 * n) / var)
+}
+
+/// Sobol indices with percentile bootstrap 95% intervals (resampling the base rows).
+/// Returns ((S, lo, hi), (ST, lo, hi)).
+pub fn sobol_with_bootstrap(
+    f_a: &[f64],
+    f_b: &[f64],
+    f_ab: &[f64],
+    resamples: usize,
+    seed: u64,
+) -> ((f64, f64, f64), (f64, f64, f64)) {
+    let (s, st) = sobol_indices(f_a, f_b, f_ab);
+    let n = f_a.len();
+    let mut ss = Vec::with_capacity(resamples);
+    let mut sts = Vec::with_capacity(resamples);
+    let (mut a, mut b, mut ab) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    for r in 0..resamples {
+        for j in 0..n {
+            let k = (crate::sampling::bits(seed, r as u64, j as u64) % n as u64) as usize;
+            a[j] = f_a[k];
+            b[j] = f_b[k];
+            ab[j] = f_ab[k];
+        }
+        let (x, y) = sobol_indices(&a, &b, &ab);
+        if x.is_finite() && y.is_finite() {
+            ss.push(x);
+            sts.push(y);
+        }
+    }
+    let pct = |v: &mut Vec<f64>, q: f64| {
+        if v.is_empty() {
+            return f64::NAN;
+        }
+        v.sort_by(f64::total_cmp);
+        v[((q * (v.len() - 1) as f64).round() as usize).min(v.len() - 1)]
+    };
+    (
+        (s, pct(&mut ss, 0.025), pct(&mut ss, 0.975)),
+        (st, pct(&mut sts, 0.025), pct(&mut sts, 0.975)),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wilson_matches_newcombe_1998() {
+        // Newcombe, Stat. Med. 17 (1998) 857-872, Table I, method 3 (score, no correction).
+        for (k, n, lo, hi) in [
+            (81, 263, 0.2553, 0.3662),
+            (15, 148, 0.0624, 0.1605),
+            (0, 20, 0.0, 0.1611),
+            (1, 29, 0.0061, 0.1718),
+        ] {
+            let (a, b) = wilson(k, n);
+            assert!(
+                (a - lo).abs() < 5e-5 && (b - hi).abs() < 5e-5,
+                "{k}/{n}: ({a:.4}, {b:.4}) vs ({lo}, {hi})"
+            );
+        }
+        assert!(wilson(0, 0).0.is_nan());
+    }
+
+    #[test]
+    fn mcnemar_exact_and_chi_square() {
+        let (_, p, m) = mcnemar(0, 10);
+        assert_eq!(m, "exact");
+        assert!((p - 2.0 * 0.5f64.powi(10)).abs() < 1e-12);
+        let (_, p, _) = mcnemar(5, 5);
+        assert_eq!(p, 1.0);
+        // Large samples: chi-square with continuity correction.
+        let (chi2, p, m) = mcnemar(6000, 5500);
+        assert_eq!(m, "chi2");
+        assert!((chi2 - 499.0f64.powi(2) / 11500.0).abs() < 1e-9);
+        assert!(p < 1e-5);
+        // The exact test agrees with chi-square where both apply.
+        let (chi2, p_exact, _) = mcnemar(250, 200);
+        let p_chi = libm::erfc((chi2 / 2.0).sqrt());
+        assert!((p_exact - p_chi).abs() < 0.005, "{p_exact} vs {p_chi}");
+    }
+
+    #[test]
+    fn sobol_indices_of_the_ishigami_function() {
+        use std::f64::consts::PI;
+        let f =
+            |x: [f64; 3]| x[0].sin() + 7.0 * x[1].sin().powi(2) + 0.1 * x[2].powi(4) * x[0].sin();
+        let n = 20_000u64;
+        let draw = |j: u64, d: u64| -PI + 2.0 * PI * crate::sampling::uniform01(5, j, d);
+        let a: Vec<[f64; 3]> = (0..n)
+            .map(|j| [draw(j, 0), draw(j, 1), draw(j, 2)])
+            .collect();
+        let b: Vec<[f64; 3]> = (0..n)
+            .map(|j| [draw(j, 3), draw(j, 4), draw(j, 5)])
+            .collect();
+        let fa: Vec<f64> = a.iter().map(|x| f(*x)).collect();
+        let fb: Vec<f64> = b.iter().map(|x| f(*x)).collect();
+        // Analytic values (Ishigami & Homma 1990, a = 7, b = 0.1).
+        let want_s = [0.3139, 0.4424, 0.0];
+        let want_st = [0.5576, 0.4424, 0.2437];
+        for i in 0..3 {
+            let fab: Vec<f64> = (0..n as usize)
+                .map(|j| {
+                    let mut x = a[j];
+                    x[i] = b[j][i];
+                    f(x)
+                })
+                .collect();
+            let ((s, slo, shi), (st, stlo, sthi)) = sobol_with_bootstrap(&fa, &fb, &fab, 200, 9);
+            assert!(
+                slo <= want_s[i] && want_s[i] <= shi,
+                "S{}: {s} [{slo}, {shi}] vs {}",
+                i + 1,
+                want_s[i]
+            );
+            assert!(
+                stlo <= want_st[i] && want_st[i] <= sthi,
+                "ST{}: {st} [{stlo}, {sthi}] vs {}",
+                i + 1,
+                want_st[i]
+            );
+            assert!(
+                (shi - slo) < 0.1 && (sthi - stlo) < 0.1,
+                "intervals too wide to mean anything"
+            );
+        }
+    }
+}

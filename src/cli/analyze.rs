@@ -1,0 +1,162 @@
+//! `polywear analyze`: occurrence probabilities, driving vs follower, risk maps, severity and
+//! sensitivity from an explore output.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+
+use super::common::{CliError, CliResult};
+use polywear::analysis::load::load;
+use polywear::analysis::report::{analyze, Analysis, ReportOptions};
+
+#[derive(Debug, Args, Clone)]
+pub struct AnalyzeArgs {
+    /// Explore output: a directory of chunk files, a Parquet file, or several (e.g. shard
+    /// directories)
+    #[arg(value_name = "DIR", required = true)]
+    pub inputs: Vec<PathBuf>,
+    /// Where the report goes [default: <first input>/_report]
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Bins per axis for conditional probabilities, accepted [2, 200]
+    #[arg(long, default_value_t = 20)]
+    pub bins: usize,
+    /// Bins per axis for risk maps, accepted [2, 200]
+    #[arg(long, default_value_t = 24)]
+    pub map_bins: usize,
+    /// Cells and bins with fewer samples are shown as "too few", accepted [1, 1e9]
+    #[arg(long, default_value_t = 30)]
+    pub min_count: u64,
+    /// Extra risk map over two drawn parameters, e.g. `--pair g_mod,load_n` (repeatable); the
+    /// maps speed_kmh,toe_deg and load_n,pressure_kpa are always drawn
+    #[arg(long, value_name = "X,Y", value_parser = parse_pair)]
+    pub pair: Vec<(String, String)>,
+    /// Bootstrap resamples for the Sobol indices' intervals, accepted [10, 100000]
+    #[arg(long, default_value_t = 200)]
+    pub bootstrap: usize,
+}
+
+fn parse_pair(s: &str) -> Result<(String, String), String> {
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| format!("--pair `{s}`: expected X,Y"))?;
+    let (a, b) = (a.trim(), b.trim());
+    for n in [a, b] {
+        if polywear::params::spec(n).is_none() {
+            return Err(format!("--pair: unknown parameter `{n}`"));
+        }
+    }
+    if a == b {
+        return Err(format!("--pair `{s}`: the two axes must differ"));
+    }
+    Ok((a.to_string(), b.to_string()))
+}
+
+impl AnalyzeArgs {
+    /// Default settings for the report that `explore` writes at the end of a run.
+    pub fn for_dir(dir: PathBuf) -> Self {
+        AnalyzeArgs {
+            inputs: vec![dir],
+            out: None,
+            bins: 20,
+            map_bins: 24,
+            min_count: 30,
+            pair: vec![],
+            bootstrap: 200,
+        }
+    }
+}
+
+pub fn run(args: &AnalyzeArgs) -> CliResult {
+    run_with(args, true)
+}
+
+/// Runs the analysis; prints the summary when `verbose`.
+pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
+    for (flag, v, lo, hi) in [
+        ("--bins", args.bins as u64, 2, 200),
+        ("--map-bins", args.map_bins as u64, 2, 200),
+        ("--min-count", args.min_count, 1, 1_000_000_000),
+        ("--bootstrap", args.bootstrap as u64, 10, 100_000),
+    ] {
+        if !(lo..=hi).contains(&v) {
+            return Err(CliError(format!(
+                "{flag} = {v} is outside its accepted range [{lo}, {hi}]"
+            )));
+        }
+    }
+    let start = Instant::now();
+    let ds = load(&args.inputs).map_err(CliError)?;
+    if ds.is_empty() {
+        return Err(CliError("the inputs hold no rows".into()));
+    }
+    let out_dir = args.out.clone().unwrap_or_else(|| {
+        let first = &args.inputs[0];
+        if first.is_dir() {
+            // Underscore: pyarrow/pandas skip it, so `pd.read_parquet(DIR)` still reads only the rows.
+            first.join("_report")
+        } else {
+            first.with_extension("report")
+        }
+    });
+    let mut pairs = vec![
+        ("speed_kmh".to_string(), "toe_deg".to_string()),
+        ("load_n".to_string(), "pressure_kpa".to_string()),
+    ];
+    for p in &args.pair {
+        if !pairs.contains(p) {
+            pairs.push(p.clone());
+        }
+    }
+    let opts = ReportOptions {
+        out_dir: out_dir.clone(),
+        bins: args.bins,
+        map_bins: args.map_bins,
+        min_count: args.min_count,
+        pairs,
+        bootstrap: args.bootstrap,
+    };
+    let a = analyze(&ds, &opts).map_err(CliError)?;
+    if !verbose {
+        return Ok(());
+    }
+    print_summary(&a);
+    println!(
+        "analysed {} rows in {:.1} s; report: {}",
+        ds.len(),
+        start.elapsed().as_secs_f64(),
+        out_dir.join("report.md").display()
+    );
+    Ok(())
+}
+
+fn print_summary(a: &Analysis) {
+    println!("P(limit cycle) with 95% Wilson interval:");
+    for o in &a.occurrence {
+        println!(
+            "  {:>8} {:>8}: {:>7.3}%  [{:.3}%, {:.3}%]  ({} of {})",
+            o.variant,
+            o.wheel,
+            100.0 * o.p,
+            100.0 * o.lo,
+            100.0 * o.hi,
+            o.k,
+            o.n
+        );
+    }
+    for p in &a.paired {
+        println!(
+            "  {:>8} paired: only follower {}, only driving {}, both {}, neither {}; McNemar p = {}",
+            p.variant,
+            p.only_follower,
+            p.only_driving,
+            p.both,
+            p.neither,
+            polywear::analysis::stats::format_p(p.p_value)
+        );
+    }
+    for n in &a.notes {
+        println!("  note: {n}");
+    }
+}

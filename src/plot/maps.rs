@@ -1,0 +1,229 @@
+//! Heatmaps with colour bars (risk maps) and probability curves with interval bands.
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::{format_tick, PALETTE};
+
+/// A colour scale from a value in [0, 1].
+pub type ColorMap = fn(f64) -> RGBColor;
+
+fn lerp_anchors(anchors: &[(f64, (u8, u8, u8))], t: f64) -> RGBColor {
+    let t = t.clamp(0.0, 1.0);
+    for w in anchors.windows(2) {
+        let ((t0, c0), (t1, c1)) = (w[0], w[1]);
+        if t <= t1 {
+            let f = (t - t0) / (t1 - t0);
+            let mix = |a: u8, b: u8| (a as f64 + f * (b as f64 - a as f64)).round() as u8;
+            return RGBColor(mix(c0.0, c1.0), mix(c0.1, c1.1), mix(c0.2, c1.2));
+        }
+    }
+    let c = anchors.last().unwrap().1;
+    RGBColor(c.0, c.1, c.2)
+}
+
+/// Viridis (perceptually uniform, colour-blind safe), for probabilities.
+pub fn viridis(t: f64) -> RGBColor {
+    lerp_anchors(
+        &[
+            (0.0, (68, 1, 84)),
+            (0.25, (59, 82, 139)),
+            (0.5, (33, 145, 140)),
+            (0.75, (94, 201, 98)),
+            (1.0, (253, 231, 37)),
+        ],
+        t,
+    )
+}
+
+/// Blue–white–red, for differences centred on zero.
+pub fn diverging(t: f64) -> RGBColor {
+    lerp_anchors(
+        &[
+            (0.0, (33, 102, 172)),
+            (0.5, (247, 247, 247)),
+            (1.0, (178, 24, 43)),
+        ],
+        t,
+    )
+}
+
+/// Colour of cells with too few samples.
+pub const EMPTY: RGBColor = RGBColor(200, 200, 200);
+
+/// One heatmap: `values[ix][iy]` over cells with edges `x_edges` × `y_edges` (NaN: too few
+/// samples, drawn grey), values mapped from [vmin, vmax] by `cmap`.
+#[allow(clippy::too_many_arguments)]
+pub fn heatmap<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    x_edges: &[f64],
+    y_edges: &[f64],
+    values: &[Vec<f64>],
+    (vmin, vmax): (f64, f64),
+    cmap: ColorMap,
+) -> Result<(), String> {
+    let (x0, x1) = (x_edges[0], *x_edges.last().unwrap());
+    let (y0, y1) = (y_edges[0], *y_edges.last().unwrap());
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 17))
+        .margin(8)
+        .x_label_area_size(40)
+        .y_label_area_size(62)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .label_style(("sans-serif", 13))
+        .axis_desc_style(("sans-serif", 14))
+        .x_label_formatter(&|v| format_tick(*v))
+        .y_label_formatter(&|v| format_tick(*v))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    let mut rects = Vec::new();
+    for (ix, col) in values.iter().enumerate() {
+        for (iy, v) in col.iter().enumerate() {
+            let color = if v.is_finite() {
+                cmap((v - vmin) / (vmax - vmin))
+            } else {
+                EMPTY
+            };
+            rects.push(Rectangle::new(
+                [
+                    (x_edges[ix], y_edges[iy]),
+                    (x_edges[ix + 1], y_edges[iy + 1]),
+                ],
+                color.filled(),
+            ));
+        }
+    }
+    chart.draw_series(rects).map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+/// A vertical colour bar for [vmin, vmax].
+pub fn colorbar<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    label: &str,
+    (vmin, vmax): (f64, f64),
+    cmap: ColorMap,
+) -> Result<(), String> {
+    let mut chart = ChartBuilder::on(area)
+        .margin_top(40)
+        .margin_bottom(48)
+        .margin_right(8)
+        .y_label_area_size(58)
+        .build_cartesian_2d(0.0..1.0, vmin..vmax)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_desc(label)
+        .label_style(("sans-serif", 13))
+        .axis_desc_style(("sans-serif", 14))
+        .y_label_formatter(&|v| format_tick(*v))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    let n = 100;
+    chart
+        .draw_series((0..n).map(|i| {
+            let a = vmin + (vmax - vmin) * i as f64 / n as f64;
+            let b = vmin + (vmax - vmin) * (i + 1) as f64 / n as f64;
+            Rectangle::new(
+                [(0.0, a), (1.0, b)],
+                cmap((i as f64 + 0.5) / n as f64).filled(),
+            )
+        }))
+        .map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+/// One probability curve with its interval band.
+pub struct Band<'a> {
+    pub label: &'a str,
+    /// (x, p, lo, hi)
+    pub points: Vec<(f64, f64, f64, f64)>,
+}
+
+/// Probability curves with shaded 95% intervals, y in [0, 1].
+pub fn band_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    bands: &[Band<'_>],
+) -> Result<(), String> {
+    let xs = bands
+        .iter()
+        .flat_map(|b| b.points.iter().map(|p| p.0))
+        .filter(|x| x.is_finite());
+    let (mut x0, mut x1) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+        (a.min(x), b.max(x))
+    });
+    if !x0.is_finite() {
+        (x0, x1) = (0.0, 1.0);
+    }
+    if x1 <= x0 {
+        (x0, x1) = (x0 - 0.5, x0 + 0.5);
+    }
+    let pad = 0.02 * (x1 - x0);
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 16))
+        .margin(8)
+        .x_label_area_size(38)
+        .y_label_area_size(48)
+        .build_cartesian_2d(x0 - pad..x1 + pad, 0.0..1.0)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .label_style(("sans-serif", 12))
+        .axis_desc_style(("sans-serif", 13))
+        .x_label_formatter(&|v| format_tick(*v))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    for (i, b) in bands.iter().enumerate() {
+        let color = PALETTE[i % PALETTE.len()];
+        let pts: Vec<&(f64, f64, f64, f64)> = b.points.iter().filter(|p| p.1.is_finite()).collect();
+        if pts.is_empty() {
+            continue;
+        }
+        let mut poly: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.3)).collect();
+        poly.extend(pts.iter().rev().map(|p| (p.0, p.2)));
+        chart
+            .draw_series(std::iter::once(Polygon::new(poly, color.mix(0.2).filled())))
+            .map_err(|e| e.to_string())?;
+        chart
+            .draw_series(LineSeries::new(
+                pts.iter().map(|p| (p.0, p.1)),
+                color.stroke_width(2),
+            ))
+            .map_err(|e| e.to_string())?
+            .label(b.label)
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(3))
+            });
+        chart
+            .draw_series(
+                pts.iter()
+                    .map(|p| Circle::new((p.0, p.1), 2, color.filled())),
+            )
+            .map_err(|e| e.to_string())?;
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 12))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(())
+}
