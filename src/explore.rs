@@ -79,6 +79,7 @@ impl RunPlan {
             "polywear_version": env!("CARGO_PKG_VERSION"),
             "study_name": self.study.name,
             "study": self.study.source,
+            "params": serde_json::to_value(self.study.base).expect("json"),
             "seed": self.seed,
             "samples": self.samples,
             "chunk_size": self.study.chunk_size,
@@ -113,6 +114,7 @@ impl RunPlan {
             for key in [
                 "polywear_version",
                 "study",
+                "params",
                 "seed",
                 "samples",
                 "chunk_size",

@@ -4,6 +4,8 @@
 //! [`records`] → [`parquet_out`]; [`plot`] draws what people would rather look at.
 
 pub mod analysis;
+pub mod bifurcation;
+pub mod calibrate;
 pub mod classify;
 pub mod explore;
 pub mod model;
@@ -12,6 +14,8 @@ pub mod params;
 pub mod parquet_out;
 pub mod plot;
 pub mod records;
+pub mod reproduce;
 pub mod sampling;
 pub mod solver;
 pub mod study;
+pub mod trajectory;

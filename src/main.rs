@@ -30,6 +30,10 @@ enum Command {
     /// Sweep one parameter for both wheels: eigenvalue and limit-cycle envelope, Hopf points,
     /// Parquet table and PNG
     Bifurcation(cli::bifurcation::BifurcationArgs),
+    /// Regenerate the paper's analyses (Figs. 4, 6-10, 12-23, Table 3) with a comparison report
+    Reproduce(cli::reproduce::ReproduceArgs),
+    /// Fit parameters to target observations (Hopf points, frequency); writes a --params file
+    Calibrate(cli::calibrate::CalibrateArgs),
     /// Check the fast classifier against brute-force integration on random points (slow)
     Validate(cli::validate::ValidateArgs),
     /// List every model parameter: name, unit, default, provenance and accepted range
@@ -47,6 +51,8 @@ fn main() {
         Command::Analyze(a) => cli::analyze::run(a),
         Command::Simulate(a) => cli::simulate::run(a),
         Command::Bifurcation(a) => cli::bifurcation::run(a),
+        Command::Reproduce(a) => cli::reproduce::run(a),
+        Command::Calibrate(a) => cli::calibrate::run(a),
         Command::Validate(a) => cli::validate::run(a),
         Command::Params { markdown } => {
             cli::params::run(*markdown);

@@ -200,9 +200,41 @@ fn parse_param(
     Ok((None, Some(d)))
 }
 
+/// Reads a parameter file (`--params FILE`, as `polywear calibrate` writes): a `[params]` table
+/// of numbers, applied on top of `base` and checked.
+pub fn apply_param_file(base: &Params, text: &str) -> Result<Params, StudyError> {
+    let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+        StudyError(format!("malformed TOML: {}", e.to_string().trim()))
+    })?;
+    let mut p = *base;
+    for (k, v) in &table {
+        if k != "params" {
+            return err(format!(
+                "unknown key `{k}`; a parameter file holds only a [params] table"
+            ));
+        }
+        let t = v
+            .as_table()
+            .ok_or_else(|| StudyError("`params` must be a table".into()))?;
+        for (name, value) in t {
+            let x = number(value, &format!("params.{name}"))?;
+            p.set(name, x)
+                .map_err(|e| StudyError(format!("`params.{name}`: {e}")))?;
+        }
+    }
+    p.validate().map_err(|e| StudyError(e.to_string()))?;
+    Ok(p)
+}
+
 impl Study {
     /// Parses and checks a study file's text.
     pub fn parse(source: &str) -> Result<Study, StudyError> {
+        Self::parse_with_base(source, Params::default())
+    }
+
+    /// Parses a study whose unnamed parameters take their values from `base` (defaults, or a
+    /// `--params` file) instead of the built-in defaults.
+    pub fn parse_with_base(source: &str, base: Params) -> Result<Study, StudyError> {
         let table: toml::Table = source.parse().map_err(|e: toml::de::Error| {
             StudyError(format!("malformed TOML: {}", e.to_string().trim()))
         })?;
@@ -276,7 +308,7 @@ impl Study {
             None => 4096,
         };
 
-        let mut base = Params::default();
+        let mut base = base;
         let mut drawn = Vec::new();
         if let Some(p) = table.get("params") {
             let p = p

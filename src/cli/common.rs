@@ -50,6 +50,10 @@ pub struct PointArgs {
     /// lists names, units, defaults and ranges)
     #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_assignment)]
     pub set: Vec<(String, f64)>,
+    /// Parameter file (TOML `[params]` table, e.g. from `polywear calibrate`), applied before
+    /// --set and the operating-point flags
+    #[arg(long, value_name = "FILE")]
+    pub params: Option<std::path::PathBuf>,
     /// Friction variant: `paper` (Eq. 21, w_t = |w|) or `combined` (2-D LuGre with the
     /// driving wheel's longitudinal sliding)
     #[arg(long, value_enum, default_value_t = VariantArg::Paper)]
@@ -103,7 +107,10 @@ fn parse_assignment(s: &str) -> Result<(String, f64), String> {
 impl PointArgs {
     /// Defaults, then `--set`, then the four named flags; everything validated before work starts.
     pub fn params(&self) -> CliResult<Params> {
-        let mut p = Params::default();
+        let mut p = match &self.params {
+            Some(path) => read_param_file(path)?,
+            None => Params::default(),
+        };
         for (name, value) in &self.set {
             p.set(name, *value)?;
         }
@@ -120,6 +127,14 @@ impl PointArgs {
         p.validate()?;
         Ok(p)
     }
+}
+
+/// Defaults with a parameter file applied.
+pub fn read_param_file(path: &Path) -> CliResult<Params> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| CliError(format!("--params {}: {e}", path.display())))?;
+    polywear::study::apply_param_file(&Params::default(), &text)
+        .map_err(|e| CliError(format!("--params {}: {e}", path.display())))
 }
 
 /// Refuses output paths whose extension we cannot write, before any work starts.

@@ -38,6 +38,10 @@ pub struct ExploreArgs {
     /// shards' files together are the single-machine output
     #[arg(long, value_name = "k/N", value_parser = parse_shard)]
     pub shard: Option<(u64, u64)>,
+    /// Parameter file (TOML `[params]`, e.g. from `polywear calibrate`): values for every
+    /// parameter the study does not name
+    #[arg(long, value_name = "FILE")]
+    pub params: Option<PathBuf>,
     /// No progress bar and no summary
     #[arg(long, short)]
     pub quiet: bool,
@@ -58,7 +62,12 @@ pub fn run(args: &ExploreArgs) -> CliResult {
             "built-in default study".to_string(),
         ),
     };
-    let study = Study::parse(&source).map_err(|e| CliError(format!("{origin}: {e}")))?;
+    let base = match &args.params {
+        Some(path) => super::common::read_param_file(path)?,
+        None => polywear::params::Params::default(),
+    };
+    let study =
+        Study::parse_with_base(&source, base).map_err(|e| CliError(format!("{origin}: {e}")))?;
     let base_samples = args.samples.unwrap_or(study.samples);
     study
         .check_samples(base_samples)

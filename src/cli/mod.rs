@@ -2,8 +2,10 @@
 
 pub mod analyze;
 pub mod bifurcation;
+pub mod calibrate;
 pub mod common;
 pub mod explore;
 pub mod params;
+pub mod reproduce;
 pub mod simulate;
 pub mod validate;

@@ -5,12 +5,11 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::common::{base_metadata, check_extension, CliError, CliResult, PointArgs, WheelArg};
-use polywear::classify::{classify_point, ClassifierOptions, Scales};
-use polywear::model::{Variant, Wheel, WheelModel};
+use polywear::classify::{classify_point, ClassifierOptions};
+use polywear::model::{Variant, Wheel};
 use polywear::parquet_out::{write_csv, write_table, Column};
-use polywear::plot::{self, Series};
 use polywear::records::WheelRecord;
-use polywear::solver::{sample_uniform, SolverOptions};
+use polywear::trajectory::{plot_point, time_series, Samples};
 
 #[derive(Debug, Args)]
 pub struct SimulateArgs {
@@ -86,7 +85,10 @@ pub fn run(args: &SimulateArgs) -> CliResult {
         records.push(WheelRecord::new(&p, wheel, variant, &model, &verdict));
         if let Ok(m) = &model {
             if args.out.is_some() || args.plot.is_some() {
-                series.push((wheel, time_series(m, args, &opts)));
+                series.push((
+                    wheel,
+                    time_series(m, args.duration, args.sample_rate, opts.disturbance_m),
+                ));
             }
         }
     }
@@ -107,27 +109,6 @@ pub fn run(args: &SimulateArgs) -> CliResult {
         eprintln!("wrote plot to {}", path.display());
     }
     Ok(())
-}
-
-type Samples = Vec<(f64, [f64; 3])>;
-
-/// Trajectory from the disturbed equilibrium (MODEL.md step 9) on a uniform grid.
-fn time_series(m: &WheelModel, args: &SimulateArgs, opts: &ClassifierOptions) -> Samples {
-    let scales = Scales::new(&m.ode);
-    let x0 = [scales.z_eq, scales.y_eq + opts.disturbance_m, 0.0];
-    let sopts = SolverOptions {
-        rtol: 1e-9,
-        atol: scales.atol(1e-9),
-        h_max: 1e-3,
-        h0: None,
-        max_steps: 100_000_000,
-    };
-    let (samples, outcome) =
-        sample_uniform(&m.ode, x0, args.duration, 1.0 / args.sample_rate, &sopts);
-    if let Err(e) = outcome {
-        eprintln!("warning: {} wheel time series ends early: {e}", m.wheel);
-    }
-    samples
 }
 
 fn print_table(records: &[WheelRecord]) {
@@ -201,117 +182,4 @@ fn write_series(
         write_table(path, &cols, &base_metadata(p, variant))?;
     }
     Ok(())
-}
-
-fn plot_point(
-    path: &Path,
-    series: &[(Wheel, Samples)],
-    records: &[WheelRecord],
-    sample_rate: f64,
-) -> Result<(), String> {
-    let r0 = records.first().ok_or("nothing to plot")?;
-    let title = format!(
-        "{} km/h, toe {} deg, {} N, {} kPa ({} variant)",
-        r0.speed_kmh, r0.toe_deg, r0.load_n, r0.pressure_kpa, r0.variant
-    );
-    let label = |w: Wheel| {
-        let class = records
-            .iter()
-            .find(|r| r.wheel == w.as_str())
-            .map_or("", |r| r.class);
-        format!("{w} ({class})")
-    };
-    let labels: Vec<String> = series.iter().map(|(w, _)| label(*w)).collect();
-    // Displacements are drawn about each wheel's equilibrium y0.
-    let y0 = |w: Wheel| {
-        records
-            .iter()
-            .find(|r| r.wheel == w.as_str())
-            .map_or(0.0, |r| r.y0_m)
-    };
-    let series: Vec<(Wheel, Samples)> = series
-        .iter()
-        .map(|(w, s)| {
-            (
-                *w,
-                s.iter()
-                    .map(|(t, x)| (*t, [x[0], x[1] - y0(*w), x[2]]))
-                    .collect(),
-            )
-        })
-        .collect();
-    let series = &series;
-    plot::panels(path, (1500, 1000), (2, 2), &title, |i, area| {
-        let make = |f: &dyn Fn(&Samples) -> Vec<(f64, f64)>| -> Vec<Series<'_>> {
-            series
-                .iter()
-                .zip(&labels)
-                .map(|((_, s), l)| Series {
-                    label: l,
-                    points: f(s),
-                })
-                .collect()
-        };
-        match i {
-            0 => plot::line_panel(
-                area,
-                "Lateral velocity",
-                "t [s]",
-                "v [m/s]",
-                &make(&|s| s.iter().map(|x| (x.0, x.1[2])).collect()),
-                false,
-            ),
-            1 => {
-                let tail = |s: &Samples| -> Vec<(f64, f64)> {
-                    let t_end = s.last().map_or(0.0, |x| x.0);
-                    s.iter()
-                        .filter(|x| x.0 >= t_end - 0.05)
-                        .map(|x| (x.0, x.1[1]))
-                        .collect()
-                };
-                plot::line_panel(
-                    area,
-                    "Lateral displacement, last 50 ms",
-                    "t [s]",
-                    "y - y0 [m]",
-                    &make(&tail),
-                    false,
-                )
-            }
-            2 => {
-                let phase = |s: &Samples| -> Vec<(f64, f64)> {
-                    let t_end = s.last().map_or(0.0, |x| x.0);
-                    s.iter()
-                        .filter(|x| x.0 >= t_end * 0.5)
-                        .map(|x| (x.1[1], x.1[2]))
-                        .collect()
-                };
-                plot::line_panel(
-                    area,
-                    "Phase portrait (second half)",
-                    "y - y0 [m]",
-                    "v [m/s]",
-                    &make(&phase),
-                    false,
-                )
-            }
-            _ => {
-                let spec = |s: &Samples| -> Vec<(f64, f64)> {
-                    let half: Vec<f64> = s[s.len() / 2..].iter().map(|x| x.1[2]).collect();
-                    plot::spectrum::amplitude_spectrum(&half, sample_rate)
-                        .into_iter()
-                        .filter(|(f, _)| *f <= 1000.0)
-                        .collect()
-                };
-                plot::line_panel(
-                    area,
-                    "Spectrum of v (second half)",
-                    "frequency [Hz]",
-                    "amplitude [m/s]",
-                    &make(&spec),
-                    false,
-                )
-            }
-        }
-    })
 }

@@ -91,3 +91,16 @@ pub fn friction_levels(p: &Params, patch: &ContactPatch, slip_ratio: f64) -> Fri
         f_s: p.mu_s * p.load_n * lateral_share,
     }
 }
+
+/// Lateral force F_Y(S) of the contact at slip ratio S: the brush model's lateral counterpart of
+/// F_X (step 4 with S replaced by (1+S) tan α in the adhesion term; the sliding term is the
+/// paper's Eq. 17). With F_X it traces the adhesion ellipse of the paper's Fig. 4.
+pub fn lateral_force_n(p: &Params, patch: &ContactPatch, slip_ratio: f64) -> f64 {
+    let tan_a = p.toe_rad().tan();
+    let r = combined_slip(slip_ratio, tan_a);
+    let q = sliding_share(p, patch, slip_ratio);
+    let a = patch.length_m;
+    let sy = (1.0 + slip_ratio) * tan_a;
+    0.5 * p.c_brush * patch.width_m * sy * a * a * (1.0 - q).powi(2)
+        + p.mu_s * p.load_n * q * q * (3.0 - 2.0 * q) * sy / r
+}

@@ -134,7 +134,7 @@ pub fn format_tick(v: f64) -> String {
     if a < 1e-15 {
         return "0".into();
     }
-    if !(1e-2..1e5).contains(&a) {
+    if !(9.99e-3..1e5).contains(&a) {
         return format!("{v:.2e}");
     }
     // Four significant digits, trailing zeros trimmed.

@@ -1,0 +1,228 @@
+//! One-parameter sweeps for both wheels (the paper's bifurcation diagrams, Figs. 6, 7, 12, 14,
+//! 16, 18, 20, 22, 23): every value classified in parallel, and the Hopf points located by
+//! Brent's method on the real part of the leading eigenvalue.
+
+use std::path::Path;
+
+use rayon::prelude::*;
+
+use crate::classify::{classify_point, ClassifierOptions};
+use crate::model::{Variant, Wheel, WheelModel};
+use crate::numeric::brent;
+use crate::params::Params;
+use crate::plot::{self, Series};
+use crate::records::WheelRecord;
+
+/// The result of a sweep: one record per (value, wheel), in `jobs` order.
+#[derive(Debug, Clone)]
+pub struct Sweep {
+    pub param: &'static str,
+    pub unit: &'static str,
+    pub variant: Variant,
+    pub jobs: Vec<(f64, Wheel)>,
+    pub records: Vec<WheelRecord>,
+    pub hopf: Vec<HopfPoint>,
+}
+
+/// Classifies both wheels at every value of `param` (other parameters from `base`), in parallel
+/// on the current rayon pool, and locates the Hopf points.
+pub fn sweep(
+    base: &Params,
+    param: &'static str,
+    values: &[f64],
+    variant: Variant,
+    opts: &ClassifierOptions,
+) -> Sweep {
+    let spec = crate::params::spec(param).expect("sweep of a known parameter");
+    let jobs: Vec<(f64, Wheel)> = values
+        .iter()
+        .flat_map(|&x| Wheel::BOTH.map(|w| (x, w)))
+        .collect();
+    let records: Vec<WheelRecord> = jobs
+        .par_iter()
+        .map(|&(x, wheel)| {
+            let mut p = *base;
+            *p.get_mut(param).expect("known") = x;
+            let (model, verdict) = classify_point(&p, wheel, variant, opts);
+            WheelRecord::new(&p, wheel, variant, &model, &verdict)
+        })
+        .collect();
+    let hopf = locate_hopf(base, param, &jobs, &records, variant);
+    Sweep {
+        param,
+        unit: spec.unit,
+        variant,
+        jobs,
+        records,
+        hopf,
+    }
+}
+
+/// Evenly spaced values from `from` to `to`.
+pub fn linspace(from: f64, to: f64, steps: usize) -> Vec<f64> {
+    (0..steps)
+        .map(|i| from + (to - from) * i as f64 / (steps.max(2) - 1) as f64)
+        .collect()
+}
+
+/// Real part of the leading eigenvalue with `name` set to `x` (NaN where no model exists).
+pub fn eig_re(p: &Params, name: &str, x: f64, wheel: Wheel, variant: Variant) -> f64 {
+    let mut q = *p;
+    *q.get_mut(name).expect("name checked") = x;
+    WheelModel::build(&q, wheel, variant).map_or(f64::NAN, |m| m.ode.linear_stability().eig_re_max)
+}
+
+/// A located Hopf point.
+#[derive(Debug, Clone, Copy)]
+pub struct HopfPoint {
+    pub wheel: Wheel,
+    pub value: f64,
+    /// True when the equilibrium loses stability as the parameter increases.
+    pub destabilizing: bool,
+}
+
+/// Brent on Re λ between neighbouring sweep values whose signs differ, to 1e-6 relative.
+pub fn locate_hopf(
+    base: &Params,
+    name: &str,
+    jobs: &[(f64, Wheel)],
+    records: &[WheelRecord],
+    variant: Variant,
+) -> Vec<HopfPoint> {
+    let mut out = Vec::new();
+    for wheel in Wheel::BOTH {
+        let pts: Vec<(f64, f64)> = jobs
+            .iter()
+            .zip(records)
+            .filter(|(j, _)| j.1 == wheel)
+            .map(|(j, r)| (j.0, r.eig_re_max))
+            .collect();
+        for w in pts.windows(2) {
+            let ((x0, f0), (x1, f1)) = (w[0], w[1]);
+            if f0.is_finite() && f1.is_finite() && (f0 < 0.0) != (f1 < 0.0) {
+                let tol = 1e-7 * x0.abs().max(x1.abs());
+                if let Some(x) = brent(|x| eig_re(base, name, x, wheel, variant), x0, x1, tol, 200)
+                {
+                    out.push(HopfPoint {
+                        wheel,
+                        value: x,
+                        destabilizing: (f1 > f0) == (x1 > x0),
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
+impl Sweep {
+    /// Draws the paper's two views: Re λ against the parameter, and the limit-cycle envelope.
+    pub fn draw(&self, path: &Path) -> Result<(), String> {
+        draw(
+            path,
+            self.param,
+            self.unit,
+            self.variant,
+            &self.jobs,
+            &self.records,
+            &self.hopf,
+        )
+    }
+
+    /// Intervals of the parameter where the wheel's equilibrium is unstable, from the Hopf points
+    /// and the sweep's ends: the ranges where self-excited vibration occurs (the paper's Table 3).
+    pub fn unstable_ranges(&self, wheel: Wheel) -> Vec<(f64, f64)> {
+        let pts: Vec<(f64, f64)> = self
+            .jobs
+            .iter()
+            .zip(&self.records)
+            .filter(|(j, _)| j.1 == wheel)
+            .map(|(j, r)| (j.0, r.eig_re_max))
+            .collect();
+        let Some(first) = pts.first() else {
+            return vec![];
+        };
+        let last = pts[pts.len() - 1];
+        let mut ranges = Vec::new();
+        let mut start = if first.1 > 0.0 { Some(first.0) } else { None };
+        for h in self.hopf.iter().filter(|h| h.wheel == wheel) {
+            if h.destabilizing {
+                start = Some(h.value);
+            } else if let Some(s) = start.take() {
+                ranges.push((s, h.value));
+            }
+        }
+        if let Some(s) = start {
+            ranges.push((s, last.0));
+        }
+        ranges
+    }
+}
+
+/// Points drawn for one sweep value and its record.
+type PointsOf = dyn Fn(f64, &WheelRecord) -> Vec<(f64, f64)>;
+
+fn draw(
+    path: &std::path::Path,
+    name: &str,
+    unit: &str,
+    variant: Variant,
+    jobs: &[(f64, Wheel)],
+    records: &[WheelRecord],
+    hopf: &[HopfPoint],
+) -> Result<(), String> {
+    let per_wheel = |f: &PointsOf| -> Vec<(Wheel, Vec<(f64, f64)>)> {
+        Wheel::BOTH
+            .iter()
+            .map(|&w| {
+                let pts = jobs
+                    .iter()
+                    .zip(records)
+                    .filter(|(j, _)| j.1 == w)
+                    .flat_map(|(j, r)| f(j.0, r))
+                    .collect();
+                (w, pts)
+            })
+            .collect()
+    };
+    let eig = per_wheel(&|x, r| vec![(x, r.eig_re_max)]);
+    let amp = per_wheel(&|x, r| vec![(x, r.amp_y_m * 1e3), (x, -r.amp_y_m * 1e3)]);
+    let hopf_text: Vec<String> = hopf
+        .iter()
+        .map(|h| format!("{} {:.4}", h.wheel, h.value))
+        .collect();
+    let title = format!(
+        "Bifurcation in {name} ({variant} variant); Hopf: {}",
+        if hopf_text.is_empty() {
+            "none".into()
+        } else {
+            hopf_text.join(", ")
+        }
+    );
+    let x_label = format!("{name} [{unit}]");
+    plot::panels(path, (1300, 1100), (2, 1), &title, |i, area| {
+        let (data, title, y, points) = if i == 0 {
+            (
+                &eig,
+                "Real part of the leading eigenvalue (the paper's Fig. 6 for speed)",
+                "max Re(lambda) [1/s]",
+                false,
+            )
+        } else {
+            (
+                &amp,
+                "Limit-cycle envelope of y - y0 (Figs. 7, 12, 14, 16)",
+                "+/- amplitude of y [mm]",
+                true,
+            )
+        };
+        let series: Vec<Series<'_>> = data
+            .iter()
+            .map(|(w, pts)| Series {
+                label: w.as_str(),
+                points: pts.clone(),
+            })
+            .collect();
+        plot::line_panel(area, title, &x_label, y, &series, points)
+    })
+}

@@ -1,0 +1,54 @@
+//! `polywear reproduce`: the paper's analyses, figures, Table 3 and a comparison report.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+
+use super::common::{read_param_file, CliError, CliResult};
+use polywear::params::Params;
+
+#[derive(Debug, Args)]
+pub struct ReproduceArgs {
+    /// Output directory
+    #[arg(long, value_name = "DIR", default_value = "data/paper_2014")]
+    pub out: PathBuf,
+    /// Values per bifurcation sweep, accepted [11, 2001]
+    #[arg(long, default_value_t = 161)]
+    pub steps: usize,
+    /// Parameter file (e.g. from `polywear calibrate`) instead of the defaults
+    #[arg(long, value_name = "FILE")]
+    pub params: Option<PathBuf>,
+    /// Worker threads (default: all cores)
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+pub fn run(args: &ReproduceArgs) -> CliResult {
+    if !(11..=2001).contains(&args.steps) {
+        return Err(CliError(format!(
+            "--steps = {} is outside its accepted range [11, 2001]",
+            args.steps
+        )));
+    }
+    let base = match &args.params {
+        Some(p) => read_param_file(p)?,
+        None => Params::default(),
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| CliError(format!("cannot start threads: {e}")))?;
+    let start = Instant::now();
+    let r = pool
+        .install(|| polywear::reproduce::reproduce(&base, &args.out, args.steps))
+        .map_err(CliError)?;
+    println!(
+        "reproduced the paper's analyses in {:.1} s: {} files in {}; read {}",
+        start.elapsed().as_secs_f64(),
+        r.files.len(),
+        args.out.display(),
+        args.out.join("report.md").display()
+    );
+    Ok(())
+}
