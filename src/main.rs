@@ -25,6 +25,8 @@ enum Command {
     /// Analyse an explore output: occurrence probabilities, driving vs follower, risk maps,
     /// severity, Sobol sensitivity; writes tables, PNGs and report.md
     Analyze(cli::analyze::AnalyzeArgs),
+    /// Classify every operating point of a CSV file (both wheels, in parallel)
+    Classify(cli::classify::ClassifyArgs),
     /// Evaluate one operating point for both wheels: verdict table, JSON, time series, plot
     Simulate(cli::simulate::SimulateArgs),
     /// Sweep one parameter for both wheels: eigenvalue and limit-cycle envelope, Hopf points,
@@ -49,6 +51,7 @@ fn main() {
     let result = match &cli.command {
         Command::Explore(a) => cli::explore::run(a),
         Command::Analyze(a) => cli::analyze::run(a),
+        Command::Classify(a) => cli::classify::run(a),
         Command::Simulate(a) => cli::simulate::run(a),
         Command::Bifurcation(a) => cli::bifurcation::run(a),
         Command::Reproduce(a) => cli::reproduce::run(a),

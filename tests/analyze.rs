@@ -9,8 +9,7 @@ use parquet::file::reader::{FileReader, SerializedFileReader};
 use parquet::record::Field;
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("polywear-analyze-{}-{name}", std::process::id()));
-    std::fs::remove_dir_all(&d).ok();
+    let d = common::fresh_dir(&format!("analyze-{name}"));
     std::fs::create_dir_all(&d).unwrap();
     d
 }

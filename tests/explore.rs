@@ -12,8 +12,7 @@ use common::polywear;
 use parquet_rows::rows_in_dir;
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("polywear-explore-{}-{name}", std::process::id()));
-    std::fs::remove_dir_all(&d).ok();
+    let d = common::fresh_dir(&format!("explore-{name}"));
     d
 }
 

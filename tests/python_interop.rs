@@ -1,24 +1,23 @@
 //! The Parquet files open in pandas (pyarrow) with their metadata. Needs python3 with pandas and
 //! pyarrow, which `.ci/run` installs; the test fails loudly rather than skipping without them.
 
-use std::process::Command;
+mod common;
+
+use common::{explore_default, fresh_dir, polywear, python};
 
 #[test]
 fn pandas_reads_simulate_parquet_with_metadata() {
-    let dir = std::env::temp_dir().join(format!("polywear-py-{}", std::process::id()));
+    let dir = fresh_dir("py-simulate");
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("ts.parquet");
-    let st = Command::new(env!("CARGO_BIN_EXE_polywear"))
-        .args([
-            "simulate",
-            "--duration",
-            "0.1",
-            "--out",
-            file.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert!(st.status.success());
+    let (code, _, stderr) = polywear(&[
+        "simulate",
+        "--duration",
+        "0.1",
+        "--out",
+        file.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
     let script = r#"
 import sys, json
 import pandas as pd, pyarrow.parquet as pq
@@ -32,40 +31,14 @@ assert json.loads(md[b"params"])["speed_kmh"] == 100.0
 assert json.loads(md[b"units"])["v_mps"] == "m/s"
 print("ok", len(df))
 "#;
-    let out = Command::new("python3")
-        .arg("-c")
-        .arg(script)
-        .arg(&file)
-        .output()
-        .expect("python3 runs");
-    assert!(
-        out.status.success(),
-        "pandas could not read the file: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    python(script, &[file.to_str().unwrap()]);
     std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
 fn pandas_and_pyarrow_read_an_explore_directory() {
-    let dir = std::env::temp_dir().join(format!("polywear-py-explore-{}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
-    let st = Command::new(env!("CARGO_BIN_EXE_polywear"))
-        .args([
-            "explore",
-            "--quiet",
-            "--samples",
-            "300",
-            "--out",
-            dir.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        st.status.success(),
-        "{}",
-        String::from_utf8_lossy(&st.stderr)
-    );
+    let dir = fresh_dir("py-explore");
+    explore_default("300", &dir);
     let script = r#"
 import sys, glob, pandas as pd, pyarrow.parquet as pq
 d = sys.argv[1]
@@ -83,40 +56,14 @@ for k in [b"study", b"seed", b"variant", b"params", b"polywear_version", b"comma
 assert md[b"seed"] == b"2014"
 print("ok")
 "#;
-    let out = Command::new("python3")
-        .arg("-c")
-        .arg(script)
-        .arg(&dir)
-        .output()
-        .expect("python3 runs");
-    assert!(
-        out.status.success(),
-        "pandas could not read the directory: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    python(script, &[dir.to_str().unwrap()]);
     std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
 fn readme_pandas_snippet_agrees_with_analyze() {
-    let dir = std::env::temp_dir().join(format!("polywear-py-snippet-{}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
-    let st = Command::new(env!("CARGO_BIN_EXE_polywear"))
-        .args([
-            "explore",
-            "--quiet",
-            "--samples",
-            "2000",
-            "--out",
-            dir.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        st.status.success(),
-        "{}",
-        String::from_utf8_lossy(&st.stderr)
-    );
+    let dir = fresh_dir("py-snippet");
+    explore_default("2000", &dir);
     // The snippet is the one printed in README.md, run against this output.
     let snippet = include_str!("data/readme_snippet.py");
     assert!(
@@ -137,18 +84,6 @@ assert t.loc[True, True] == paired.both and t.loc[False, False] == paired.neithe
 print("agree")
 "#;
     let script = format!("import sys\n{script}");
-    let out = Command::new("python3")
-        .arg("-c")
-        .arg(&script)
-        .arg(&dir)
-        .output()
-        .expect("python3 runs");
-    assert!(
-        out.status.success(),
-        "snippet failed: {}\n{}",
-        String::from_utf8_lossy(&out.stderr),
-        String::from_utf8_lossy(&out.stdout)
-    );
-    assert!(String::from_utf8_lossy(&out.stdout).contains("agree"));
+    assert!(python(&script, &[dir.to_str().unwrap()]).contains("agree"));
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -3,6 +3,7 @@
 pub mod analyze;
 pub mod bifurcation;
 pub mod calibrate;
+pub mod classify;
 pub mod common;
 pub mod explore;
 pub mod params;

@@ -1,0 +1,34 @@
+"""Peer (a): SciPy's solve_ivp per point and wheel, a fixed horizon, the tail read (the paper's
+method), as a competent SciPy user writes it."""
+import numpy as np
+from scipy.integrate import solve_ivp
+
+import model
+
+
+def classify(c, rtol=1e-8):
+    x0 = [c["z0"], c["y0"] + model.DISTURBANCE_M, 0.0]
+    atol = [rtol * abs(c["z0"]), rtol * abs(c["y0"]), rtol * c["u"]]
+    t_eval = np.concatenate([
+        np.arange(model.HORIZON_S - 1.5, model.HORIZON_S - 1.0, 5e-5),
+        np.arange(model.HORIZON_S - 0.5, model.HORIZON_S, 5e-5),
+    ])
+    sol = solve_ivp(model.rhs, (0.0, model.HORIZON_S), x0, method="DOP853", rtol=rtol, atol=atol,
+                    t_eval=t_eval, args=(c,))
+    if not sol.success:
+        return "failed"
+    v = sol.y[2]
+    early = v[sol.t < model.HORIZON_S - 0.9]
+    late = v[sol.t >= model.HORIZON_S - 0.5]
+    amp = lambda s: 0.5 * (s.max() - s.min())
+    return model.verdict(amp(early), amp(late))
+
+
+def run(points):
+    """points: list of parameter dicts -> list of (index, wheel, class)."""
+    out = []
+    for i, p in enumerate(points):
+        for wheel in ("follower", "driving"):
+            c = model.statics(p, wheel)
+            out.append((i, wheel, "no_traction" if c is None else classify(c)))
+    return out

@@ -1,0 +1,136 @@
+//! `polywear classify`: the verdict for every operating point of a CSV file, both wheels, in
+//! parallel. For batches of specific points (measured conditions, a peer benchmark's set).
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use rayon::prelude::*;
+
+use super::common::{check_extension, read_param_file, CliError, CliResult, VariantArg};
+use polywear::classify::{classify_point, ClassifierOptions};
+use polywear::model::{Variant, Wheel};
+use polywear::params::{spec, Params};
+use polywear::parquet_out::{write_csv, write_table, Column};
+use polywear::records::{record_columns, WheelRecord};
+
+#[derive(Debug, Args)]
+pub struct ClassifyArgs {
+    /// CSV with a header of parameter names (e.g. speed_kmh,toe_deg,load_n,pressure_kpa) and
+    /// one operating point per row; other columns are refused, missing parameters keep defaults
+    #[arg(value_name = "POINTS.csv")]
+    pub points: PathBuf,
+    /// Output: FILE.csv or FILE.parquet, one row per point and wheel (column `point` = row index)
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// Friction variant
+    #[arg(long, value_enum, default_value_t = VariantArg::Paper)]
+    pub variant: VariantArg,
+    /// Parameter file for the parameters the CSV does not give
+    #[arg(long, value_name = "FILE")]
+    pub params: Option<PathBuf>,
+    /// Worker threads (default: all cores)
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// Reads the points: each row applied on top of `base` and validated, before any work.
+fn read_points(path: &PathBuf, base: &Params) -> CliResult<Vec<Params>> {
+    let text =
+        std::fs::read_to_string(path).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
+    let mut lines = text.lines().filter(|l| !l.trim().is_empty());
+    let header: Vec<&'static str> = lines
+        .next()
+        .ok_or_else(|| CliError(format!("{}: empty file", path.display())))?
+        .split(',')
+        .map(|h| {
+            spec(h.trim()).map(|s| s.name).ok_or_else(|| {
+                CliError(format!(
+                    "{}: column `{}` is not a parameter name",
+                    path.display(),
+                    h.trim()
+                ))
+            })
+        })
+        .collect::<CliResult<_>>()?;
+    let mut out = Vec::new();
+    for (i, line) in lines.enumerate() {
+        let cells: Vec<&str> = line.split(',').collect();
+        if cells.len() != header.len() {
+            return Err(CliError(format!(
+                "{}: row {} has {} cells, the header {}",
+                path.display(),
+                i + 1,
+                cells.len(),
+                header.len()
+            )));
+        }
+        let mut p = *base;
+        for (name, cell) in header.iter().zip(cells) {
+            let v: f64 = cell.trim().parse().map_err(|_| {
+                CliError(format!(
+                    "{}: row {}, `{name}` = `{cell}` is not a number",
+                    path.display(),
+                    i + 1
+                ))
+            })?;
+            p.set(name, v)
+                .map_err(|e| CliError(format!("{}: row {}: {e}", path.display(), i + 1)))?;
+        }
+        p.validate()
+            .map_err(|e| CliError(format!("{}: row {}: {e}", path.display(), i + 1)))?;
+        out.push(p);
+    }
+    Ok(out)
+}
+
+pub fn run(args: &ClassifyArgs) -> CliResult {
+    check_extension(&args.out, &["csv", "parquet"], "--out")?;
+    let base = match &args.params {
+        Some(p) => read_param_file(p)?,
+        None => Params::default(),
+    };
+    let points = read_points(&args.points, &base)?;
+    let variant: Variant = args.variant.into();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| CliError(format!("cannot start threads: {e}")))?;
+    let opts = ClassifierOptions::default();
+    let start = Instant::now();
+    let jobs: Vec<(usize, Wheel)> = (0..points.len())
+        .flat_map(|i| Wheel::BOTH.map(|w| (i, w)))
+        .collect();
+    let records: Vec<WheelRecord> = pool.install(|| {
+        jobs.par_iter()
+            .map(|&(i, wheel)| {
+                let (model, verdict) = classify_point(&points[i], wheel, variant, &opts);
+                WheelRecord::new(&points[i], wheel, variant, &model, &verdict)
+            })
+            .collect()
+    });
+    let secs = start.elapsed().as_secs_f64();
+    let mut cols = vec![Column::i64(
+        "point",
+        "",
+        jobs.iter().map(|j| j.0 as i64).collect(),
+    )];
+    cols.extend(record_columns(&records));
+    if args.out.extension().is_some_and(|e| e == "csv") {
+        write_csv(&args.out, &cols)?;
+    } else {
+        write_table(
+            &args.out,
+            &cols,
+            &super::common::base_metadata(&base, variant),
+        )?;
+    }
+    eprintln!(
+        "classified {} points x 2 wheels in {secs:.3} s ({:.0} points/s, {} threads) -> {}",
+        points.len(),
+        points.len() as f64 / secs.max(1e-9),
+        pool.current_num_threads(),
+        args.out.display()
+    );
+    Ok(())
+}
