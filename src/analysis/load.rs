@@ -206,8 +206,14 @@ pub fn load(inputs: &[PathBuf]) -> Result<Dataset, String> {
         .iter()
         .map(|p| PlRefPath::new(p.to_string_lossy().as_ref()))
         .collect();
-    let lf = LazyFrame::scan_parquet_files(paths.into_iter().collect(), ScanArgsParquet::default())
-        .map_err(pl_err)?;
+    let lf = LazyFrame::scan_parquet_files(
+        paths.into_iter().collect(),
+        ScanArgsParquet {
+            low_memory: true,
+            ..ScanArgsParquet::default()
+        },
+    )
+    .map_err(pl_err)?;
     let mut cols: Vec<Expr> = [
         "sample_id",
         "wheel",
@@ -222,41 +228,41 @@ pub fn load(inputs: &[PathBuf]) -> Result<Dataset, String> {
     .map(|c| col(*c))
     .collect();
     cols.extend(drawn_names.iter().map(|c| col(c.as_str())));
-    let df = lf.select(cols).collect().map_err(pl_err)?;
-
-    let f64s = |name: &str| -> Result<Vec<f64>, String> {
-        let c = df.column(name).map_err(pl_err)?;
+    let mut df = lf.select(cols).collect().map_err(pl_err)?;
+    // Each column is taken out of the frame as it is converted, so the frame and the vectors
+    // never both hold the whole table (peak memory about one copy).
+    let mut take = |name: &str| df.drop_in_place(name).map_err(pl_err);
+    let f64s = |c: Column| -> Result<Vec<f64>, String> {
         Ok(c.f64()
             .map_err(pl_err)?
             .iter()
             .map(|v| v.unwrap_or(f64::NAN))
             .collect())
     };
-    let strs = |name: &str| -> Result<Vec<String>, String> {
-        let c = df.column(name).map_err(pl_err)?;
-        Ok(c.str()
-            .map_err(pl_err)?
-            .iter()
-            .map(|v| v.unwrap_or("").to_string())
-            .collect())
-    };
-    let sample_id: Vec<i64> = df
-        .column("sample_id")
-        .map_err(pl_err)?
+    let sample_id: Vec<i64> = take("sample_id")?
         .i64()
         .map_err(pl_err)?
         .iter()
         .map(|v| v.unwrap_or(-1))
         .collect();
-    let wheel = strs("wheel")?
+    let wheel = take("wheel")?
+        .str()
+        .map_err(pl_err)?
         .iter()
-        .map(|s| s.parse::<Wheel>())
+        .map(|s| s.unwrap_or("").parse::<Wheel>())
         .collect::<Result<Vec<_>, _>>()?;
-    let variant = strs("variant")?
+    let variant = take("variant")?
+        .str()
+        .map_err(pl_err)?
         .iter()
-        .map(|s| s.parse::<Variant>())
+        .map(|s| s.unwrap_or("").parse::<Variant>())
         .collect::<Result<Vec<_>, _>>()?;
-    let class = strs("class")?.iter().map(|s| RowClass::parse(s)).collect();
+    let class = take("class")?
+        .str()
+        .map_err(pl_err)?
+        .iter()
+        .map(|s| RowClass::parse(s.unwrap_or("")))
+        .collect();
     let mut axes = Vec::new();
     for name in &drawn_names {
         axes.push(Axis {
@@ -266,19 +272,23 @@ pub fn load(inputs: &[PathBuf]) -> Result<Dataset, String> {
                 .and_then(|u| u.as_str())
                 .unwrap_or("")
                 .to_string(),
-            values: f64s(name)?,
+            values: f64s(take(name)?)?,
         });
     }
+    let amp_y_m = f64s(take("amp_y_m")?)?;
+    let amp_v_mps = f64s(take("amp_v_mps")?)?;
+    let energy_per_cycle_j = f64s(take("energy_per_cycle_j")?)?;
+    let polygon_order = f64s(take("polygon_order")?)?;
     Ok(Dataset {
         sample_id,
         wheel,
         variant,
         class,
         axes,
-        amp_y_m: f64s("amp_y_m")?,
-        amp_v_mps: f64s("amp_v_mps")?,
-        energy_per_cycle_j: f64s("energy_per_cycle_j")?,
-        polygon_order: f64s("polygon_order")?,
+        amp_y_m,
+        amp_v_mps,
+        energy_per_cycle_j,
+        polygon_order,
         info,
     })
 }
