@@ -47,6 +47,13 @@ enum Command {
 }
 
 fn main() {
+    // Rust ignores SIGPIPE, which turns `polywear ... | head` into a panic on the next print;
+    // the default action ends the process quietly, as command-line tools do.
+    #[cfg(unix)]
+    // SAFETY: called before any other thread exists; SIG_DFL is a valid handler.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Explore(a) => cli::explore::run(a),

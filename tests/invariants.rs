@@ -183,3 +183,27 @@ fn eigenvalue_sign_change_is_where_oscillations_start_to_grow() {
     }
     assert_eq!(crossings, 1);
 }
+
+#[test]
+fn hard_excitation_finds_no_cycle_where_the_hopf_points_are_supercritical() {
+    use polywear::classify::{classify, Class, ClassifierOptions};
+    // Both Hopf points of the default speed sweep are supercritical (the cycle is born at zero
+    // amplitude), so a kick at a stable point must die out. Before MIN_CYCLE_V_REL the envelope
+    // tracker took the noise floor around the equilibrium for a small "cycle" and said bistable.
+    for speed in [85.0, 92.0, 224.0, 226.0, 235.0] {
+        for kick in [0.05, 0.2] {
+            let p = Params {
+                speed_kmh: speed,
+                ..Params::default()
+            };
+            let m = WheelModel::build(&p, Wheel::Follower, Variant::Paper).unwrap();
+            let opts = ClassifierOptions {
+                kick_mps: Some(kick),
+                ..ClassifierOptions::default()
+            };
+            let v = classify(&m.ode, WheelModel::rotation_hz(&p), &opts);
+            assert_eq!(v.class, Class::Stable, "speed {speed}, kick {kick}: {v:?}");
+            assert!(v.rhs_evals > 0, "the kick must have been integrated");
+        }
+    }
+}

@@ -2,7 +2,7 @@
 //! check, and the brute-force reference that the fast classifier is tested against.
 
 use super::section::crossing_in_step;
-use super::Scales;
+use super::{Scales, MIN_CYCLE_V_REL};
 use crate::model::{State, TreadOde};
 use crate::solver::{integrate, Control, SolverOptions};
 
@@ -42,7 +42,8 @@ pub fn track(
         };
         hist.push((x[0], x[2]));
         let n = hist.len();
-        if x[2] < 1e-9 * scales.v {
+        // Below this the "oscillation" is integration noise around the equilibrium.
+        if x[2] < MIN_CYCLE_V_REL * scales.v {
             verdict = Some(Envelope::Decays);
             return Control::Stop;
         }
@@ -68,7 +69,7 @@ pub fn track(
         }
         if steady >= 3 {
             let limit_v = v2 + d2 * ratio / (1.0 - ratio);
-            if limit_v <= 1e-3 * v2.max(1e-9 * scales.v) {
+            if limit_v <= MIN_CYCLE_V_REL * scales.v {
                 verdict = Some(Envelope::Decays);
             } else {
                 let (z1, z2) = (hist[n - 2].0, hist[n - 1].0);

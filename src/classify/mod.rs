@@ -19,6 +19,11 @@ use crate::model::{ModelFailure, State, TreadOde, Variant, Wheel, WheelModel};
 use crate::params::Params;
 use envelope::Envelope;
 
+/// Smallest section velocity of a limit cycle, relative to the road's lateral speed U: smaller
+/// "cycles" are the equilibrium seen through integration noise (a stable equilibrium has a
+/// return map whose fixed point at v → 0 passes for a cycle with multiplier e^(Re λ·T) < 1).
+pub const MIN_CYCLE_V_REL: f64 = 1e-5;
+
 /// The verdict's class (the `class` column).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Class {

@@ -4,7 +4,7 @@
 use nalgebra::{Matrix2, Matrix3, Vector2};
 
 use super::section::{first_return, Return};
-use super::Scales;
+use super::{Scales, MIN_CYCLE_V_REL};
 use crate::model::{State, TreadOde};
 use crate::solver::{OdeSystem, SolverOptions, Variational};
 
@@ -105,7 +105,7 @@ pub fn newton_orbit(
         }
         z += dz;
         v += dv;
-        if v.is_nan() || v <= 1e-6 * scales.v || !z.is_finite() {
+        if v.is_nan() || v <= MIN_CYCLE_V_REL * scales.v || !z.is_finite() {
             return Err("shooting: Newton fell back onto the equilibrium".into());
         }
     }
