@@ -53,18 +53,18 @@ fn parse_pair(s: &str) -> Result<(String, String), String> {
     Ok((a.to_string(), b.to_string()))
 }
 
+/// `analyze`'s flags as a standalone parser, so other commands get the same defaults.
+#[derive(clap::Parser)]
+struct Standalone {
+    #[command(flatten)]
+    args: AnalyzeArgs,
+}
+
 impl AnalyzeArgs {
-    /// Default settings for the report that `explore` writes at the end of a run.
+    /// Default settings for `dir` (used by `explore` for its closing report).
     pub fn for_dir(dir: PathBuf) -> Self {
-        AnalyzeArgs {
-            inputs: vec![dir],
-            out: None,
-            bins: 20,
-            map_bins: 24,
-            min_count: 30,
-            pair: vec![],
-            bootstrap: 200,
-        }
+        use clap::Parser;
+        Standalone::parse_from([std::ffi::OsString::from("analyze"), dir.into_os_string()]).args
     }
 }
 
