@@ -17,7 +17,8 @@ pub struct ExploreArgs {
     #[arg(value_name = "STUDY.toml")]
     pub study: Option<PathBuf>,
     /// Number of samples (1e6, 1_000_000 and 1000000 all work); default: the study's `samples`.
-    /// For a grid design it must equal the grid's size
+    /// For a grid design it must equal the grid's size; for a saltelli design it counts base
+    /// points (each takes k + 2 evaluations for k drawn parameters)
     #[arg(long, value_name = "N", value_parser = parse_samples)]
     pub samples: Option<u64>,
     /// Seed; default: the study's `seed`. Same study + seed = same rows, whatever the threads
