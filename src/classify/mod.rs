@@ -267,11 +267,8 @@ pub fn classify(ode: &TreadOde, rotation_hz: f64, opts: &ClassifierOptions) -> W
                         evals += orbit.rhs_evals;
                         if orbit.floquet_max < 1.0 {
                             let mut v =
-                                cycle_verdict(ode, &scales, &orbit, rotation_hz, opts, &mut evals);
+                                cycle_verdict(ode, &scales, &orbit, &lin, rotation_hz, opts, evals);
                             v.class = Class::Bistable;
-                            v.eig_re_max = lin.eig_re_max;
-                            v.eig_freq_hz = lin.eig_freq_hz;
-                            v.rhs_evals = evals as u64;
                             return v;
                         }
                     }
@@ -296,11 +293,7 @@ pub fn classify(ode: &TreadOde, rotation_hz: f64, opts: &ClassifierOptions) -> W
         if let Ok(orbit) = shot {
             evals += orbit.rhs_evals;
             if orbit.floquet_max < 1.0 {
-                let mut v = cycle_verdict(ode, &scales, &orbit, rotation_hz, opts, &mut evals);
-                v.eig_re_max = lin.eig_re_max;
-                v.eig_freq_hz = lin.eig_freq_hz;
-                v.rhs_evals = evals as u64;
-                return v;
+                return cycle_verdict(ode, &scales, &orbit, &lin, rotation_hz, opts, evals);
             }
         }
     }
@@ -329,11 +322,8 @@ pub fn classify(ode: &TreadOde, rotation_hz: f64, opts: &ClassifierOptions) -> W
             match shooting::newton_orbit(ode, &scales, z, v, period, opts.rtol, opts.newton_tol) {
                 Ok(orbit) => {
                     evals += orbit.rhs_evals;
-                    let mut v = cycle_verdict(ode, &scales, &orbit, rotation_hz, opts, &mut evals);
+                    let mut v = cycle_verdict(ode, &scales, &orbit, &lin, rotation_hz, opts, evals);
                     v.method = Method::Envelope;
-                    v.eig_re_max = lin.eig_re_max;
-                    v.eig_freq_hz = lin.eig_freq_hz;
-                    v.rhs_evals = evals as u64;
                     v
                 }
                 Err(reason) => fail(format!("envelope settled but {reason}"), evals),
@@ -351,7 +341,7 @@ pub fn classify(ode: &TreadOde, rotation_hz: f64, opts: &ClassifierOptions) -> W
 }
 
 /// Direction of the Hopf eigenvector on the section y = y_eq, as dz per unit v.
-pub fn hopf_dz_per_v(ode: &TreadOde, lambda: Complex<f64>) -> f64 {
+fn hopf_dz_per_v(ode: &TreadOde, lambda: Complex<f64>) -> f64 {
     let jac = ode.jacobian(&ode.equilibrium());
     let row = |i: usize| {
         Vector3::new(
@@ -392,30 +382,30 @@ pub fn hopf_dz_per_v(ode: &TreadOde, lambda: Complex<f64>) -> f64 {
     }
 }
 
-/// Amplitudes, frequency, energy and polygon order of a converged orbit, from one period
-/// integrated with dense output.
+/// The limit-cycle verdict for a converged orbit: amplitudes, frequency, energy and polygon
+/// order from one period integrated with dense output; `evals` is the work spent so far.
 fn cycle_verdict(
     ode: &TreadOde,
     scales: &Scales,
     orbit: &shooting::PeriodicOrbit,
+    lin: &crate::model::LinearStability,
     rotation_hz: f64,
     opts: &ClassifierOptions,
-    evals: &mut usize,
+    evals: usize,
 ) -> WheelVerdict {
     let m = measure_cycle(ode, scales, orbit.start, orbit.period_s, opts.rtol);
-    *evals += m.3;
     let freq_hz = 1.0 / orbit.period_s;
     WheelVerdict {
         class: Class::LimitCycle,
-        eig_re_max: f64::NAN,
-        eig_freq_hz: f64::NAN,
+        eig_re_max: lin.eig_re_max,
+        eig_freq_hz: lin.eig_freq_hz,
         amp_y_m: m.0,
         amp_v_mps: m.1,
         freq_hz,
         polygon_order: freq_hz / rotation_hz,
         energy_per_cycle_j: m.2,
         floquet_max: orbit.floquet_max,
-        rhs_evals: 0,
+        rhs_evals: (evals + m.3) as u64,
         method: Method::Shooting,
         reason: String::new(),
     }

@@ -86,10 +86,7 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
         ..ClassifierOptions::default()
     };
     let values = linspace(args.from, args.to, args.steps);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| CliError(format!("cannot start threads: {e}")))?;
+    let pool = super::common::thread_pool(args.threads)?;
     let sw = pool.install(|| sweep(&base, s.name, &values, variant, &opts));
     let (jobs, records, hopf) = (&sw.jobs, &sw.records, &sw.hopf);
 

@@ -7,7 +7,7 @@ use std::time::Instant;
 use clap::Args;
 use rayon::prelude::*;
 
-use super::common::{check_extension, read_param_file, CliError, CliResult, VariantArg};
+use super::common::{check_extension, CliError, CliResult, VariantArg};
 use polywear::classify::{classify_point, ClassifierOptions};
 use polywear::model::{Variant, Wheel};
 use polywear::params::{spec, Params};
@@ -86,16 +86,10 @@ fn read_points(path: &PathBuf, base: &Params) -> CliResult<Vec<Params>> {
 
 pub fn run(args: &ClassifyArgs) -> CliResult {
     check_extension(&args.out, &["csv", "parquet"], "--out")?;
-    let base = match &args.params {
-        Some(p) => read_param_file(p)?,
-        None => Params::default(),
-    };
+    let base = super::common::base_params(args.params.as_deref())?;
     let points = read_points(&args.points, &base)?;
     let variant: Variant = args.variant.into();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| CliError(format!("cannot start threads: {e}")))?;
+    let pool = super::common::thread_pool(args.threads)?;
     let opts = ClassifierOptions::default();
     let start = Instant::now();
     let jobs: Vec<(usize, Wheel)> = (0..points.len())

@@ -107,10 +107,7 @@ fn parse_assignment(s: &str) -> Result<(String, f64), String> {
 impl PointArgs {
     /// Defaults, then `--set`, then the four named flags; everything validated before work starts.
     pub fn params(&self) -> CliResult<Params> {
-        let mut p = match &self.params {
-            Some(path) => read_param_file(path)?,
-            None => Params::default(),
-        };
+        let mut p = base_params(self.params.as_deref())?;
         for (name, value) in &self.set {
             p.set(name, *value)?;
         }
@@ -129,12 +126,23 @@ impl PointArgs {
     }
 }
 
-/// Defaults with a parameter file applied.
-pub fn read_param_file(path: &Path) -> CliResult<Params> {
+/// The defaults, with the `--params` file applied when one is given.
+pub fn base_params(path: Option<&Path>) -> CliResult<Params> {
+    let Some(path) = path else {
+        return Ok(Params::default());
+    };
     let text = std::fs::read_to_string(path)
         .map_err(|e| CliError(format!("--params {}: {e}", path.display())))?;
     polywear::study::apply_param_file(&Params::default(), &text)
         .map_err(|e| CliError(format!("--params {}: {e}", path.display())))
+}
+
+/// The worker pool of `--threads` (None: all cores).
+pub fn thread_pool(threads: Option<usize>) -> CliResult<rayon::ThreadPool> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+        .map_err(|e| CliError(format!("cannot start threads: {e}")))
 }
 
 /// Refuses output paths whose extension we cannot write, before any work starts.

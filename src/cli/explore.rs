@@ -63,10 +63,7 @@ pub fn run(args: &ExploreArgs) -> CliResult {
             "built-in default study".to_string(),
         ),
     };
-    let base = match &args.params {
-        Some(path) => super::common::read_param_file(path)?,
-        None => polywear::params::Params::default(),
-    };
+    let base = super::common::base_params(args.params.as_deref())?;
     let study =
         Study::parse_with_base(&source, base).map_err(|e| CliError(format!("{origin}: {e}")))?;
     let base_samples = args.samples.unwrap_or(study.samples);
@@ -80,7 +77,6 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         .out
         .clone()
         .unwrap_or_else(|| default_out_dir(&study, seed));
-    let threads = args.threads.unwrap_or(0);
     if args.threads == Some(0) {
         return Err(CliError("--threads must be at least 1".into()));
     }
@@ -94,10 +90,7 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         command: std::env::args().collect::<Vec<_>>().join(" "),
     };
     plan.prepare_output().map_err(|e| CliError(e.to_string()))?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| CliError(format!("cannot start threads: {e}")))?;
+    let pool = super::common::thread_pool(args.threads)?;
 
     let pending = plan.pending_chunks();
     let todo: u64 = pending.iter().map(|c| plan.chunk_len(*c)).sum();

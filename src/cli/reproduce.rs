@@ -5,8 +5,7 @@ use std::time::Instant;
 
 use clap::Args;
 
-use super::common::{read_param_file, CliError, CliResult};
-use polywear::params::Params;
+use super::common::{CliError, CliResult};
 
 #[derive(Debug, Args)]
 pub struct ReproduceArgs {
@@ -31,14 +30,8 @@ pub fn run(args: &ReproduceArgs) -> CliResult {
             args.steps
         )));
     }
-    let base = match &args.params {
-        Some(p) => read_param_file(p)?,
-        None => Params::default(),
-    };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| CliError(format!("cannot start threads: {e}")))?;
+    let base = super::common::base_params(args.params.as_deref())?;
+    let pool = super::common::thread_pool(args.threads)?;
     let start = Instant::now();
     let r = pool
         .install(|| polywear::reproduce::reproduce(&base, &args.out, args.steps))

@@ -34,10 +34,7 @@ pub fn run(args: &ValidateArgs) -> CliResult {
     if let Some(out) = &args.out {
         check_extension(out, &["csv"], "--out")?;
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| CliError(format!("cannot start threads: {e}")))?;
+    let pool = super::common::thread_pool(args.threads)?;
     eprintln!(
         "classifying {} points x 2 wheels x 2 variants, fast and brute force (this takes minutes)...",
         args.points
