@@ -203,6 +203,7 @@ impl RunPlan {
             ("command".into(), self.command.clone()),
             ("study_name".into(), self.study.name.clone()),
             ("study".into(), self.study.source.clone()),
+            ("study_hash".into(), self.study.source_hash()),
             ("seed".into(), self.seed.to_string()),
             ("samples".into(), self.samples.to_string()),
             ("design".into(), self.study.design.as_str().into()),

@@ -227,6 +227,12 @@ pub fn apply_param_file(base: &Params, text: &str) -> Result<Params, StudyError>
 }
 
 impl Study {
+    /// A stable fingerprint of the study text (64-bit FNV-1a, hex), written into every chunk's
+    /// metadata as `study_hash` so that files of different studies are told apart cheaply.
+    pub fn source_hash(&self) -> String {
+        text_hash(&self.source)
+    }
+
     /// Parses and checks a study file's text.
     pub fn parse(source: &str) -> Result<Study, StudyError> {
         Self::parse_with_base(source, Params::default())
@@ -521,4 +527,14 @@ mod tests {
             ]
         );
     }
+}
+
+/// 64-bit FNV-1a of a text, as 16 hex digits: a fingerprint, not a cryptographic hash.
+pub fn text_hash(text: &str) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in text.bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{h:016x}")
 }
