@@ -1,12 +1,16 @@
-//! Calibration: fits chosen parameters to target observations (Hopf onset values of any axis,
-//! linear vibration frequency), by Levenberg–Marquardt on log-parameters with an optional prior
-//! that pulls toward the starting values, and reports the fit's sensitivities.
+//! Calibration: fits chosen parameters to target observations of either wheel under any variant
+//! (Hopf points of any axis, linear vibration frequency, the driving-to-follower amplitude
+//! ratio), by Levenberg–Marquardt on log-parameters with an optional prior that pulls toward the
+//! starting values, and reports the fit's sensitivities. A decoded constant may be restricted to
+//! its lost-digit alternatives (`[choices]`): every combination of choices is fitted and the best
+//! kept, so that a fit never breaks a digit the paper shows.
 //!
 //! Targets come from a TOML file (`studies/paper_targets.toml` holds the paper's); the fitted
 //! values are written as a parameter file that `simulate`, `bifurcation` and `explore` read with
 //! `--params FILE`.
 
 use crate::bifurcation::eig_re;
+use crate::classify::{classify_point, ClassifierOptions};
 use crate::model::{Variant, Wheel, WheelModel};
 use crate::numeric::brent;
 use crate::params::{spec, Params, Provenance, SPECS};
@@ -22,6 +26,12 @@ pub enum Observable {
     },
     /// The linear vibration frequency |Im λ|/2π [Hz] at a point given by `at`.
     Frequency { at: Vec<(&'static str, f64)> },
+    /// The limit-cycle amplitude (half peak-to-peak of y) of the target's wheel divided by that
+    /// of `relative_to`, at the point `at` (0 where the target's wheel is stable).
+    AmplitudeRatio {
+        at: Vec<(&'static str, f64)>,
+        relative_to: Wheel,
+    },
 }
 
 /// One observation to match.
@@ -33,6 +43,8 @@ pub struct Target {
     pub variant: Variant,
     pub value: f64,
     pub weight: f64,
+    /// Relative error up to which the target counts as met (reported, not enforced).
+    pub tolerance: f64,
 }
 
 /// A calibration problem.
@@ -43,6 +55,9 @@ pub struct Problem {
     pub prior_sigma: Option<f64>,
     pub start: Params,
     pub targets: Vec<Target>,
+    /// Parameters restricted to a few values each (e.g. a decoded constant's lost-digit
+    /// alternatives); every combination is tried. Not fitted continuously.
+    pub choices: Vec<(&'static str, Vec<f64>)>,
 }
 
 /// The tire-structure and friction parameters MODEL.md marks as decoded or reconstructed: the
@@ -56,7 +71,7 @@ pub fn default_fit() -> Vec<&'static str> {
         .filter(|s| {
             matches!(
                 s.provenance,
-                Provenance::Decoded | Provenance::Reconstructed
+                Provenance::Decoded | Provenance::Reconstructed | Provenance::Fitted
             )
         })
         .filter(|s| s.default > 0.0)
@@ -78,41 +93,200 @@ fn param_name(v: &str, key: &str) -> Result<&'static str, String> {
         .ok_or_else(|| format!("`{key}`: unknown parameter `{v}`"))
 }
 
-/// Parses a targets file.
+const TOP_KEYS: &[&str] = &[
+    "description",
+    "fit",
+    "prior_sigma",
+    "params",
+    "choices",
+    "target",
+];
+const TARGET_KEYS: &[&str] = &[
+    "name",
+    "kind",
+    "param",
+    "from",
+    "to",
+    "at",
+    "wheel",
+    "relative_to",
+    "variant",
+    "value",
+    "weight",
+    "tolerance",
+];
+
+fn unknown_keys(t: &toml::Table, accepted: &[&str], what: &str) -> Result<(), String> {
+    match t.keys().find(|k| !accepted.contains(&k.as_str())) {
+        Some(k) => Err(format!(
+            "unknown key `{what}{k}`; accepted: {}",
+            accepted.join(", ")
+        )),
+        None => Ok(()),
+    }
+}
+
+fn point(v: Option<&toml::Value>, key: &str) -> Result<Vec<(&'static str, f64)>, String> {
+    let mut at = Vec::new();
+    if let Some(a) = v {
+        for (k, x) in a.as_table().ok_or(format!("`{key}.at` must be a table"))? {
+            let n = param_name(k, &format!("{key}.at"))?;
+            let x = num(x, &format!("{key}.at.{k}"))?;
+            spec(n)
+                .expect("known")
+                .check(x)
+                .map_err(|e| format!("`{key}.at`: {e}"))?;
+            at.push((n, x));
+        }
+    }
+    Ok(at)
+}
+
+fn parse_target(i: usize, v: &toml::Value) -> Result<Target, String> {
+    let key = format!("target[{i}]");
+    let tt = v.as_table().ok_or(format!("`{key}` must be a table"))?;
+    unknown_keys(tt, TARGET_KEYS, &format!("{key}."))?;
+    let get = |k: &str| tt.get(k).ok_or(format!("`{key}` needs `{k}`"));
+    let wheel_at = |k: &str, default: Wheel| -> Result<Wheel, String> {
+        match tt.get(k) {
+            Some(w) => w
+                .as_str()
+                .ok_or(format!("`{key}.{k}` must be a string"))?
+                .parse()
+                .map_err(|e| format!("`{key}.{k}`: {e}")),
+            None => Ok(default),
+        }
+    };
+    let kind = get("kind")?
+        .as_str()
+        .ok_or(format!("`{key}.kind` must be a string"))?;
+    let wheel = wheel_at("wheel", Wheel::Follower)?;
+    let observable = match kind {
+        "hopf" => {
+            let param = param_name(
+                get("param")?
+                    .as_str()
+                    .ok_or(format!("`{key}.param` must be a string"))?,
+                &format!("{key}.param"),
+            )?;
+            let (from, to) = (
+                num(get("from")?, &format!("{key}.from"))?,
+                num(get("to")?, &format!("{key}.to"))?,
+            );
+            let s = spec(param).expect("known");
+            for x in [from, to] {
+                s.check(x).map_err(|e| format!("`{key}`: {e}"))?;
+            }
+            if from >= to {
+                return Err(format!("`{key}`: from = {from} must be below to = {to}"));
+            }
+            Observable::Hopf { param, from, to }
+        }
+        "frequency" => Observable::Frequency {
+            at: point(tt.get("at"), &key)?,
+        },
+        "amplitude_ratio" => {
+            let relative_to = wheel_at("relative_to", Wheel::Follower)?;
+            if relative_to == wheel {
+                return Err(format!(
+                    "`{key}`: `relative_to` must name the other wheel than `wheel` = {wheel}"
+                ));
+            }
+            Observable::AmplitudeRatio {
+                at: point(tt.get("at"), &key)?,
+                relative_to,
+            }
+        }
+        other => {
+            return Err(format!(
+                "`{key}.kind` = \"{other}\" is unknown; accepted: hopf, frequency, amplitude_ratio"
+            ))
+        }
+    };
+    let variant = match tt.get("variant") {
+        Some(w) => w
+            .as_str()
+            .ok_or(format!("`{key}.variant` must be a string"))?
+            .parse()
+            .map_err(|e| format!("`{key}.variant`: {e}"))?,
+        None => Variant::DEFAULT,
+    };
+    let value = num(get("value")?, &format!("{key}.value"))?;
+    if value == 0.0 {
+        return Err(format!("`{key}.value` must not be 0 (errors are relative)"));
+    }
+    let weight = match tt.get("weight") {
+        Some(w) => num(w, &format!("{key}.weight"))?,
+        None => 1.0,
+    };
+    if weight < 0.0 {
+        return Err(format!(
+            "`{key}.weight` = {weight} is outside its accepted range [0, inf)"
+        ));
+    }
+    let tolerance = match tt.get("tolerance") {
+        Some(w) => num(w, &format!("{key}.tolerance"))?,
+        None => 0.1,
+    };
+    if tolerance <= 0.0 {
+        return Err(format!(
+            "`{key}.tolerance` = {tolerance} is outside its accepted range (0, inf) (relative error)"
+        ));
+    }
+    let name = match tt.get("name") {
+        Some(n) => n
+            .as_str()
+            .ok_or(format!("`{key}.name` must be a string"))?
+            .to_string(),
+        None => format!("{kind} {i}"),
+    };
+    Ok(Target {
+        name,
+        observable,
+        wheel,
+        variant,
+        value,
+        weight,
+        tolerance,
+    })
+}
+
+fn name_list(v: &toml::Value, key: &str) -> Result<Vec<&'static str>, String> {
+    let arr = v
+        .as_array()
+        .ok_or(format!("`{key}` must be an array of parameter names"))?;
+    let mut out: Vec<&'static str> = Vec::new();
+    for (i, x) in arr.iter().enumerate() {
+        let name = x.as_str().ok_or(format!("`{key}[{i}]` must be a string"))?;
+        let name = param_name(name, &format!("{key}[{i}]"))?;
+        if out.contains(&name) {
+            return Err(format!("`{key}` names `{name}` twice"));
+        }
+        out.push(name);
+    }
+    if out.is_empty() {
+        return Err(format!("`{key}` must name at least one parameter"));
+    }
+    Ok(out)
+}
+
+/// Parses a targets file; every problem is refused with the key it concerns.
 pub fn parse_problem(text: &str) -> Result<Problem, String> {
     let t: toml::Table = text
         .parse()
         .map_err(|e: toml::de::Error| format!("malformed TOML: {}", e.to_string().trim()))?;
-    for k in t.keys() {
-        if !["fit", "prior_sigma", "params", "target", "description"].contains(&k.as_str()) {
-            return Err(format!(
-                "unknown key `{k}`; accepted: description, fit, prior_sigma, params, target"
-            ));
-        }
+    unknown_keys(&t, TOP_KEYS, "")?;
+    if let Some(d) = t.get("description") {
+        d.as_str().ok_or("`description` must be a string")?;
     }
-    let fit = match t.get("fit") {
-        None => default_fit(),
-        Some(v) => {
-            let arr = v
-                .as_array()
-                .ok_or("`fit` must be an array of parameter names")?;
-            let mut out = Vec::new();
-            for (i, x) in arr.iter().enumerate() {
-                let name = x.as_str().ok_or(format!("`fit[{i}]` must be a string"))?;
-                out.push(param_name(name, &format!("fit[{i}]"))?);
-            }
-            if out.is_empty() {
-                return Err("`fit` must name at least one parameter".into());
-            }
-            out
-        }
-    };
     let prior_sigma = match t.get("prior_sigma") {
         None => None,
         Some(v) => {
             let s = num(v, "prior_sigma")?;
             if s <= 0.0 {
-                return Err("`prior_sigma` must be positive".into());
+                return Err(format!(
+                    "`prior_sigma` = {s} is outside its accepted range (0, inf)"
+                ));
             }
             Some(s)
         }
@@ -127,6 +301,48 @@ pub fn parse_problem(text: &str) -> Result<Problem, String> {
         }
         start.validate().map_err(|e| format!("`params`: {e}"))?;
     }
+    let mut choices = Vec::new();
+    if let Some(c) = t.get("choices") {
+        let c = c.as_table().ok_or("`choices` must be a table")?;
+        for (k, v) in c {
+            let key = format!("choices.{k}");
+            let name = param_name(k, &key)?;
+            let arr = v
+                .as_array()
+                .ok_or(format!("`{key}` must be an array of numbers"))?;
+            if arr.is_empty() {
+                return Err(format!("`{key}` must hold at least one value"));
+            }
+            let mut vals = Vec::new();
+            for (i, x) in arr.iter().enumerate() {
+                let x = num(x, &format!("{key}[{i}]"))?;
+                spec(name)
+                    .expect("known")
+                    .check(x)
+                    .map_err(|e| format!("`{key}[{i}]`: {e}"))?;
+                vals.push(x);
+            }
+            choices.push((name, vals));
+        }
+    }
+    let combos: usize = choices.iter().map(|(_, v)| v.len()).product();
+    if combos > 4096 {
+        return Err(format!(
+            "`choices` make {combos} combinations; accepted at most 4096"
+        ));
+    }
+    let fit = match t.get("fit") {
+        None => default_fit()
+            .into_iter()
+            .filter(|n| !choices.iter().any(|(c, _)| c == n))
+            .collect(),
+        Some(v) => name_list(v, "fit")?,
+    };
+    if let Some((n, _)) = choices.iter().find(|(c, _)| fit.contains(c)) {
+        return Err(format!(
+            "`{n}` is both in `fit` (continuous) and in `choices` (discrete); name it in one only"
+        ));
+    }
     for n in &fit {
         if start.get(n).is_none_or(|v| v <= 0.0) {
             return Err(format!(
@@ -138,102 +354,20 @@ pub fn parse_problem(text: &str) -> Result<Problem, String> {
         .get("target")
         .and_then(|v| v.as_array())
         .ok_or("no [[target]] entries")?;
-    let mut targets = Vec::new();
-    for (i, v) in arr.iter().enumerate() {
-        let key = format!("target[{i}]");
-        let tt = v.as_table().ok_or(format!("`{key}` must be a table"))?;
-        let get = |k: &str| tt.get(k).ok_or(format!("`{key}` needs `{k}`"));
-        let kind = get("kind")?
-            .as_str()
-            .ok_or(format!("`{key}.kind` must be a string"))?;
-        let observable = match kind {
-            "hopf" => {
-                let param = param_name(
-                    get("param")?
-                        .as_str()
-                        .ok_or(format!("`{key}.param` must be a string"))?,
-                    &format!("{key}.param"),
-                )?;
-                let (from, to) = (
-                    num(get("from")?, &format!("{key}.from"))?,
-                    num(get("to")?, &format!("{key}.to"))?,
-                );
-                let s = spec(param).expect("known");
-                for x in [from, to] {
-                    s.check(x).map_err(|e| format!("`{key}`: {e}"))?;
-                }
-                if from >= to {
-                    return Err(format!("`{key}`: from = {from} must be below to = {to}"));
-                }
-                Observable::Hopf { param, from, to }
-            }
-            "frequency" => {
-                let mut at = Vec::new();
-                if let Some(a) = tt.get("at") {
-                    for (k, x) in a.as_table().ok_or(format!("`{key}.at` must be a table"))? {
-                        let n = param_name(k, &format!("{key}.at"))?;
-                        let x = num(x, &format!("{key}.at.{k}"))?;
-                        spec(n)
-                            .expect("known")
-                            .check(x)
-                            .map_err(|e| format!("`{key}.at`: {e}"))?;
-                        at.push((n, x));
-                    }
-                }
-                Observable::Frequency { at }
-            }
-            other => {
-                return Err(format!(
-                    "`{key}.kind` = \"{other}\" is unknown; accepted: hopf, frequency"
-                ))
-            }
-        };
-        let wheel = match tt.get("wheel") {
-            Some(w) => w
-                .as_str()
-                .ok_or(format!("`{key}.wheel` must be a string"))?
-                .parse()
-                .map_err(|e| format!("`{key}.wheel`: {e}"))?,
-            None => Wheel::Follower,
-        };
-        let variant = match tt.get("variant") {
-            Some(w) => w
-                .as_str()
-                .ok_or(format!("`{key}.variant` must be a string"))?
-                .parse()
-                .map_err(|e| format!("`{key}.variant`: {e}"))?,
-            None => Variant::Paper,
-        };
-        let value = num(get("value")?, &format!("{key}.value"))?;
-        if value == 0.0 {
-            return Err(format!("`{key}.value` must not be 0 (errors are relative)"));
-        }
-        let weight = match tt.get("weight") {
-            Some(w) => num(w, &format!("{key}.weight"))?,
-            None => 1.0,
-        };
-        if weight < 0.0 {
-            return Err(format!("`{key}.weight` must not be negative"));
-        }
-        let name = tt
-            .get("name")
-            .and_then(|n| n.as_str())
-            .map(String::from)
-            .unwrap_or_else(|| format!("{kind} {i}"));
-        targets.push(Target {
-            name,
-            observable,
-            wheel,
-            variant,
-            value,
-            weight,
-        });
+    let targets = arr
+        .iter()
+        .enumerate()
+        .map(|(i, v)| parse_target(i, v))
+        .collect::<Result<Vec<_>, _>>()?;
+    if targets.is_empty() {
+        return Err("no [[target]] entries".into());
     }
     Ok(Problem {
         fit,
         prior_sigma,
         start,
         targets,
+        choices,
     })
 }
 
@@ -263,6 +397,70 @@ pub fn observe(t: &Target, p: &Params) -> f64 {
             WheelModel::build(&q, t.wheel, t.variant)
                 .map_or(f64::NAN, |m| m.ode.linear_stability().eig_freq_hz)
         }
+        Observable::AmplitudeRatio { at, relative_to } => {
+            let mut q = *p;
+            for (k, x) in at {
+                *q.get_mut(k).expect("known") = *x;
+            }
+            let opts = ClassifierOptions::default();
+            let amp = |wheel| {
+                let (_, v) = classify_point(&q, wheel, t.variant, &opts);
+                match v.class {
+                    crate::classify::Class::Stable => 0.0,
+                    c if c.vibrates() => v.amp_y_m,
+                    _ => f64::NAN,
+                }
+            };
+            let reference = amp(*relative_to);
+            if reference > 0.0 {
+                amp(t.wheel) / reference
+            } else {
+                f64::NAN
+            }
+        }
+    }
+}
+
+/// One target beside the model's value at the start and at the fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TargetResult {
+    pub name: String,
+    pub wheel: Wheel,
+    pub variant: Variant,
+    pub value: f64,
+    pub start: f64,
+    pub fitted: f64,
+    pub tolerance: f64,
+}
+
+impl TargetResult {
+    /// (model − target) / target at the fit; NaN where the model has no value.
+    pub fn rel_error(&self) -> f64 {
+        (self.fitted - self.value) / self.value
+    }
+
+    /// Within the target's tolerance.
+    pub fn met(&self) -> bool {
+        self.rel_error().abs() <= self.tolerance
+    }
+
+    /// Why the target is not met, for people; None when it is.
+    pub fn shortfall(&self) -> Option<String> {
+        if !self.fitted.is_finite() {
+            Some(format!(
+                "`{}` cannot be met: the fitted model has no such value (e.g. no Hopf point in the range)",
+                self.name
+            ))
+        } else if !self.met() {
+            Some(format!(
+                "`{}` is not met: {:+.1}% off, tolerance {:.1}%",
+                self.name,
+                100.0 * self.rel_error(),
+                100.0 * self.tolerance
+            ))
+        } else {
+            None
+        }
     }
 }
 
@@ -272,12 +470,15 @@ pub struct Fit {
     pub params: Params,
     /// (name, start value, fitted value)
     pub fitted: Vec<(&'static str, f64, f64)>,
-    /// (target name, target value, model at start, model at fit)
-    pub residuals: Vec<(String, f64, f64, f64)>,
+    /// (name, chosen value) for each parameter restricted by `choices`.
+    pub chosen: Vec<(&'static str, f64)>,
+    pub targets: Vec<TargetResult>,
     /// d ln(model_i) / d ln(param_j) at the fit, targets × fitted parameters.
     pub sensitivity: Vec<Vec<f64>>,
     pub cost: f64,
     pub evaluations: usize,
+    /// Combinations of `choices` tried (1 without choices).
+    pub combinations: usize,
 }
 
 fn with_log(start: &Params, fit: &[&'static str], x: &[f64]) -> Params {
@@ -377,15 +578,64 @@ pub fn levenberg_marquardt(
     (x, cost, evals)
 }
 
-/// Fits the problem by Levenberg–Marquardt in log-parameters.
+/// Every combination of the choices, in a fixed order.
+fn combinations(choices: &[(&'static str, Vec<f64>)]) -> Vec<Vec<(&'static str, f64)>> {
+    let mut out = vec![Vec::new()];
+    for (name, vals) in choices {
+        out = out
+            .into_iter()
+            .flat_map(|c| {
+                vals.iter().map(move |v| {
+                    let mut c = c.clone();
+                    c.push((*name, *v));
+                    c
+                })
+            })
+            .collect();
+    }
+    out
+}
+
+/// Fits the problem by Levenberg–Marquardt in log-parameters, once per combination of
+/// `choices` (in parallel), and keeps the combination with the lowest cost.
 pub fn calibrate(problem: &Problem) -> Fit {
-    let x0: Vec<f64> = problem
-        .fit
-        .iter()
-        .map(|n| problem.start.get(n).expect("known").ln())
+    use rayon::prelude::*;
+    let combos = combinations(&problem.choices);
+    let runs: Vec<_> = combos
+        .par_iter()
+        .filter_map(|combo| {
+            let mut start = problem.start;
+            for (n, v) in combo {
+                *start.get_mut(n).expect("known") = *v;
+            }
+            start.validate().ok()?;
+            let sub = Problem {
+                start,
+                ..problem.clone()
+            };
+            let x0: Vec<f64> = sub
+                .fit
+                .iter()
+                .map(|n| sub.start.get(n).expect("known").ln())
+                .collect();
+            residuals(&sub, &x0, &x0)?;
+            let (x, cost, evals) = levenberg_marquardt(|x| residuals(&sub, x, &x0), &x0, 200);
+            Some((combo.clone(), start, x0, x, cost, evals))
+        })
         .collect();
-    let (x, fx, evaluations) = levenberg_marquardt(|x| residuals(problem, x, &x0), &x0, 200);
-    let params = with_log(&problem.start, &problem.fit, &x);
+    let evaluations = runs.iter().map(|r| r.5).sum();
+    let (chosen, start, x0, x, cost, _) = runs
+        .into_iter()
+        .min_by(|a, b| a.4.total_cmp(&b.4))
+        .unwrap_or_else(|| {
+            let x0: Vec<f64> = problem
+                .fit
+                .iter()
+                .map(|n| problem.start.get(n).expect("known").ln())
+                .collect();
+            (Vec::new(), problem.start, x0.clone(), x0, f64::NAN, 0)
+        });
+    let params = with_log(&start, &problem.fit, &x);
     let fitted = problem
         .fit
         .iter()
@@ -393,16 +643,17 @@ pub fn calibrate(problem: &Problem) -> Fit {
         .zip(&x)
         .map(|((n, a), b)| (*n, a.exp(), b.exp()))
         .collect();
-    let residuals = problem
+    let targets = problem
         .targets
         .iter()
-        .map(|t| {
-            (
-                t.name.clone(),
-                t.value,
-                observe(t, &problem.start),
-                observe(t, &params),
-            )
+        .map(|t| TargetResult {
+            name: t.name.clone(),
+            wheel: t.wheel,
+            variant: t.variant,
+            value: t.value,
+            start: observe(t, &problem.start),
+            fitted: observe(t, &params),
+            tolerance: t.tolerance,
         })
         .collect();
     let h = 1e-4;
@@ -415,8 +666,8 @@ pub fn calibrate(problem: &Problem) -> Fit {
                     let (mut xp, mut xm) = (x.clone(), x.clone());
                     xp[j] += h;
                     xm[j] -= h;
-                    let mp = observe(t, &with_log(&problem.start, &problem.fit, &xp));
-                    let mm = observe(t, &with_log(&problem.start, &problem.fit, &xm));
+                    let mp = observe(t, &with_log(&start, &problem.fit, &xp));
+                    let mm = observe(t, &with_log(&start, &problem.fit, &xm));
                     (mp.ln() - mm.ln()) / (2.0 * h)
                 })
                 .collect()
@@ -425,15 +676,26 @@ pub fn calibrate(problem: &Problem) -> Fit {
     Fit {
         params,
         fitted,
-        residuals,
+        chosen,
+        targets,
         sensitivity,
-        cost: fx,
+        cost,
         evaluations,
+        combinations: combos.len(),
     }
 }
 
-/// The fitted values as a parameter file (`--params FILE`).
-pub fn parameter_file(fit: &Fit, source: &str) -> String {
+/// The fitted values as a parameter file (`--params FILE`). Refused when a value is not finite
+/// or out of range (a diverged fit), so that no unusable file is ever written.
+pub fn parameter_file(fit: &Fit, source: &str) -> Result<String, String> {
+    fit.params
+        .validate()
+        .map_err(|e| format!("the fit diverged and no parameter file is written: {e}"))?;
+    if !fit.cost.is_finite() {
+        return Err(
+            "the fit diverged (non-finite cost) and no parameter file is written".to_string(),
+        );
+    }
     let mut s = format!(
         "# polywear parameter file, written by `polywear calibrate` (polywear {}) from {source}.\n\
          # Fit cost (weighted squared relative errors + prior): {:.6e}\n[params]\n",
@@ -441,9 +703,12 @@ pub fn parameter_file(fit: &Fit, source: &str) -> String {
         fit.cost
     );
     for (name, start, value) in &fit.fitted {
-        s.push_str(&format!("{name} = {value:e}   # start {start:e}\n"));
+        s.push_str(&format!("{name} = {value:e}   # fitted, start {start:e}\n"));
     }
-    s
+    for (name, value) in &fit.chosen {
+        s.push_str(&format!("{name} = {value:e}   # chosen among `choices`\n"));
+    }
+    Ok(s)
 }
 
 #[cfg(test)]

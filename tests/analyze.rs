@@ -23,9 +23,17 @@ fn risk_map_of_a_one_axis_grid_is_the_bifurcation_diagram() {
         &study,
         r#"name = "speed_only"
 design = "grid"
+variants = ["paper"]
 [params]
 speed_kmh = { dist = "levels", levels = [60, 80, 90, 100, 150, 200, 220, 230, 250] }
 toe_deg = { dist = "levels", levels = [0.3] }
+# MODEL.md's reference constants R0 (studies/params_r0.toml), whose Hopf points are known.
+g_mod = 0.8645e6
+c_brush = 3.6e7
+alpha2 = 4.0e-8
+v_s = 0.126
+phi = 0.94
+c_s = 18
 "#,
     )
     .unwrap();
@@ -63,7 +71,7 @@ toe_deg = { dist = "levels", levels = [0.3] }
             panic!("unexpected types in {row}");
         };
         assert_eq!(variant, "paper");
-        // Hopf points of the defaults: 93.23 and 223.55 km/h (follower), 93.02 and 225.52 (driving).
+        // Hopf points at R0 (`paper`): 93.23 and 223.55 km/h (follower), 93.02 and 225.52 (driving).
         let (lo, hi) = if wheel == "follower" {
             (93.23, 223.55)
         } else {
@@ -122,7 +130,7 @@ rho = { dist = "uniform", min = 1240, max = 1260 }
     let total = |wheel: &str, param: &str| -> f64 {
         let line = csv
             .lines()
-            .find(|l| l.starts_with(&format!("paper,{wheel},limit_cycle,{param},")))
+            .find(|l| l.starts_with(&format!("sliding_share,{wheel},limit_cycle,{param},")))
             .unwrap_or_else(|| panic!("no row for {param} in\n{csv}"));
         line.split(',').nth(8).unwrap().parse().unwrap()
     };

@@ -1,5 +1,5 @@
-//! `polywear bifurcation`: Hopf points of the default speed sweep (MODEL.md: ≈ 93–224 km/h for
-//! the follower), the Parquet table and the PNG, and bad input.
+//! `polywear bifurcation`: Hopf points of the speed sweep at MODEL.md's constants R0 (≈ 93–224 km/h
+//! for the follower), the Parquet table and the PNG, and bad input.
 
 use std::process::Command;
 
@@ -20,6 +20,8 @@ fn speed_sweep_finds_both_hopf_points_and_writes_files() {
         "260",
         "--steps",
         "45",
+        "--params",
+        concat!(env!("CARGO_MANIFEST_DIR"), "/studies/params_r0.toml"),
         "--out",
         prefix.to_str().unwrap(),
     ]);
@@ -57,6 +59,8 @@ fn speed_sweep_finds_both_hopf_points_and_writes_files() {
                 &x.to_string(),
                 "--duration",
                 "0.01",
+                "--params",
+                concat!(env!("CARGO_MANIFEST_DIR"), "/studies/params_r0.toml"),
             ]);
             let v: serde_json::Value = serde_json::from_str(out.lines().next().unwrap()).unwrap();
             let re = v["eig_re_max"].as_f64().unwrap();

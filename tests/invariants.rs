@@ -22,7 +22,7 @@ fn points() -> Vec<Params> {
             toe_deg: toe,
             load_n: load,
             pressure_kpa: pressure,
-            ..Params::default()
+            ..Params::r0()
         });
     }
     out
@@ -116,7 +116,7 @@ fn excessive_drive_force_is_no_traction_not_a_panic() {
         speed_kmh: 300.0,
         n_driven: 1.0,
         load_n: 500.0,
-        ..Params::default()
+        ..Params::r0()
     };
     match WheelModel::build(&p, Wheel::Driving, Variant::Paper) {
         Err(polywear::model::ModelFailure::NoTraction { limit, .. }) => {
@@ -167,7 +167,7 @@ fn eigenvalue_sign_change_is_where_oscillations_start_to_grow() {
     for speed in (80..=110).step_by(2) {
         let p = Params {
             speed_kmh: speed as f64,
-            ..Params::default()
+            ..Params::r0()
         };
         let m = WheelModel::build(&p, Wheel::Follower, Variant::Paper).unwrap();
         let re = m.ode.linear_stability().eig_re_max;
@@ -194,7 +194,7 @@ fn hard_excitation_finds_no_cycle_where_the_hopf_points_are_supercritical() {
         for kick in [0.05, 0.2] {
             let p = Params {
                 speed_kmh: speed,
-                ..Params::default()
+                ..Params::r0()
             };
             let m = WheelModel::build(&p, Wheel::Follower, Variant::Paper).unwrap();
             let opts = ClassifierOptions {

@@ -26,7 +26,7 @@ assert list(df.columns) == ["wheel", "t_s", "z_m", "y_m", "v_mps"], df.columns
 assert len(df) == 2 * 2001, len(df)
 assert set(df.wheel) == {"follower", "driving"}
 md = pq.read_metadata(sys.argv[1]).metadata
-assert md[b"variant"] == b"paper"
+assert md[b"variant"] == b"sliding_share"
 assert json.loads(md[b"params"])["speed_kmh"] == 100.0
 assert json.loads(md[b"units"])["v_mps"] == "m/s"
 print("ok", len(df))

@@ -1,6 +1,8 @@
-//! The model against `reference/points.csv` (an independent implementation; MODEL.md,
-//! "Reference values"): statics to 1e-9 relative, the leading eigenvalue to 1e-6, class,
-//! amplitudes and frequency to 1%.
+//! The model against `reference/points.csv` and `reference/points_sliding_share.csv` (an
+//! independent implementation; MODEL.md, "Reference values"): statics to 1e-9 relative, the
+//! leading eigenvalue to 1e-6, class, amplitudes and frequency to 1%. The reference rows were
+//! computed with MODEL.md's constants R0, passed explicitly ([`Params::r0`]) so that the shipped
+//! defaults can move.
 
 use polywear::classify::{classify_point, ClassifierOptions};
 use polywear::model::{Variant, Wheel};
@@ -20,8 +22,14 @@ impl Row {
     }
 }
 
+/// Both reference files, `paper`/`combined` rows first, then `sliding_share`.
 fn reference_rows() -> Vec<Row> {
-    let text = include_str!("data/points.csv");
+    let mut rows = parse(include_str!("data/points.csv"));
+    rows.extend(parse(include_str!("data/points_sliding_share.csv")));
+    rows
+}
+
+fn parse(text: &str) -> Vec<Row> {
     let mut lines = text.lines();
     let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
     lines
@@ -42,7 +50,7 @@ fn record_for(row: &Row) -> WheelRecord {
         toe_deg: row.num("toe_deg"),
         load_n: row.num("load_n"),
         pressure_kpa: row.num("pressure_kpa"),
-        ..Params::default()
+        ..Params::r0()
     };
     let wheel: Wheel = row.get("wheel").parse().unwrap();
     let variant: Variant = row.get("variant").parse().unwrap();
@@ -66,7 +74,10 @@ fn rel(a: f64, b: f64) -> f64 {
 #[test]
 fn reference_file_is_complete() {
     let rows = reference_rows();
-    assert_eq!(rows.len(), 16);
+    assert_eq!(rows.len(), 32);
+    for v in ["paper", "combined", "sliding_share"] {
+        assert!(rows.iter().any(|r| r.get("variant") == v), "{v}");
+    }
     assert!(rows.iter().any(|r| r.get("class") == "limit_cycle"));
     assert!(rows.iter().any(|r| r.get("class") == "stable"));
 }
@@ -125,4 +136,26 @@ fn class_amplitude_and_frequency_match_to_one_percent() {
             );
         }
     }
+}
+
+#[test]
+fn sliding_share_makes_the_driving_wheel_less_unstable_than_the_follower() {
+    // MODEL.md, "Both wheels": at R0 and the default point the driving wheel's growth rate under
+    // `sliding_share` is well below the follower's, and its cycle smaller; under `paper` it is
+    // slightly larger. Guards the direction of the variant, not just the numbers.
+    let r0 = Params::r0();
+    let eig = |wheel, variant| {
+        let (_, v) = classify_point(&r0, wheel, variant, &ClassifierOptions::default());
+        (v.eig_re_max, v.amp_y_m)
+    };
+    let f = eig(Wheel::Follower, Variant::SlidingShare);
+    let d = eig(Wheel::Driving, Variant::SlidingShare);
+    let dp = eig(Wheel::Driving, Variant::Paper);
+    assert_eq!(
+        f,
+        eig(Wheel::Follower, Variant::Paper),
+        "follower is variant-free"
+    );
+    assert!(d.0 < 0.7 * f.0 && d.1 < 0.85 * f.1, "{d:?} vs {f:?}");
+    assert!(dp.0 > f.0, "{dp:?} vs {f:?}");
 }

@@ -31,15 +31,22 @@ pub fn run(args: &CalibrateArgs) -> CliResult {
     let mut problem =
         parse_problem(&text).map_err(|e| CliError(format!("{}: {e}", args.targets.display())))?;
     if !args.fit.is_empty() {
-        problem.fit = args
-            .fit
-            .iter()
-            .map(|n| {
-                polywear::params::spec(n.trim())
-                    .map(|s| s.name)
-                    .ok_or_else(|| CliError(format!("--fit: unknown parameter `{n}`")))
-            })
-            .collect::<Result<_, _>>()?;
+        let mut fit: Vec<&'static str> = Vec::new();
+        for n in &args.fit {
+            let name = polywear::params::spec(n.trim())
+                .map(|s| s.name)
+                .ok_or_else(|| CliError(format!("--fit: unknown parameter `{n}`")))?;
+            if fit.contains(&name) {
+                return Err(CliError(format!("--fit: `{name}` is named twice")));
+            }
+            if problem.choices.iter().any(|(c, _)| *c == name) {
+                return Err(CliError(format!(
+                    "--fit: `{name}` is restricted by the file's `choices`; it cannot also be fitted"
+                )));
+            }
+            fit.push(name);
+        }
+        problem.fit = fit;
     }
     if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)
@@ -56,13 +63,40 @@ pub fn run(args: &CalibrateArgs) -> CliResult {
         fit.cost
     );
     println!(
-        "\n{:<28} {:>12} {:>14} {:>14} {:>10}",
-        "target", "value", "model (start)", "model (fit)", "error"
+        "\n{:<38} {:<9} {:<14} {:>11} {:>13} {:>13} {:>8}  met",
+        "target", "wheel", "variant", "value", "model start", "model fit", "error"
     );
-    for (name, value, before, after) in &fit.residuals {
+    for t in &fit.targets {
         println!(
-            "{name:<28} {value:>12.5} {before:>14.5} {after:>14.5} {:>9.2}%",
-            100.0 * (after - value) / value
+            "{:<38} {:<9} {:<14} {:>11.5} {:>13.5} {:>13.5} {:>7.2}%  {}",
+            t.name,
+            t.wheel,
+            t.variant,
+            t.value,
+            t.start,
+            t.fitted,
+            100.0 * t.rel_error(),
+            if t.met() { "yes" } else { "NO" }
+        );
+    }
+    let shortfalls: Vec<String> = fit.targets.iter().filter_map(|t| t.shortfall()).collect();
+    if shortfalls.is_empty() {
+        println!("\nevery target is met within its tolerance");
+    } else {
+        println!();
+        for s in &shortfalls {
+            println!("warning: {s}");
+        }
+    }
+    if !fit.chosen.is_empty() {
+        println!(
+            "\nchosen among {} combinations of `choices`: {}",
+            fit.combinations,
+            fit.chosen
+                .iter()
+                .map(|(n, v)| format!("{n} = {v}"))
+                .collect::<Vec<_>>()
+                .join(", ")
         );
     }
     println!(
@@ -81,18 +115,16 @@ pub fn run(args: &CalibrateArgs) -> CliResult {
         print!(" {name:>10}");
     }
     println!();
-    for ((name, ..), row) in fit.residuals.iter().zip(&fit.sensitivity) {
-        print!("{name:<28}");
+    for (t, row) in fit.targets.iter().zip(&fit.sensitivity) {
+        print!("{:<28}", t.name);
         for v in row {
             print!(" {v:>10.3}");
         }
         println!();
     }
-    std::fs::write(
-        &args.out,
-        parameter_file(&fit, &args.targets.display().to_string()),
-    )
-    .map_err(|e| CliError(format!("--out {}: {e}", args.out.display())))?;
+    let file = parameter_file(&fit, &args.targets.display().to_string()).map_err(CliError)?;
+    std::fs::write(&args.out, file)
+        .map_err(|e| CliError(format!("--out {}: {e}", args.out.display())))?;
     println!("\nwrote {} (use it with --params)", args.out.display());
     Ok(())
 }

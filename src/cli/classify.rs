@@ -23,8 +23,8 @@ pub struct ClassifyArgs {
     /// Output: FILE.csv or FILE.parquet, one row per point and wheel (column `point` = row index)
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
-    /// Friction variant
-    #[arg(long, value_enum, default_value_t = VariantArg::Paper)]
+    /// Friction variant: sliding_share (default), paper or combined (see `simulate --help`)
+    #[arg(long, value_enum, default_value_t = VariantArg::SlidingShare)]
     pub variant: VariantArg,
     /// Parameter file for the parameters the CSV does not give
     #[arg(long, value_name = "FILE")]

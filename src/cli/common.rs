@@ -54,9 +54,11 @@ pub struct PointArgs {
     /// --set and the operating-point flags
     #[arg(long, value_name = "FILE")]
     pub params: Option<std::path::PathBuf>,
-    /// Friction variant: `paper` (Eq. 21, w_t = |w|) or `combined` (2-D LuGre with the
-    /// driving wheel's longitudinal sliding)
-    #[arg(long, value_enum, default_value_t = VariantArg::Paper)]
+    /// Friction variant (differs for the driving wheel only): `sliding_share` (default; 2-D LuGre
+    /// with the patch-mean longitudinal sliding speed, reproduces the paper's driving-wheel
+    /// results), `paper` (the paper's literal Eq. 21, w_t = |w|) or `combined` (2-D LuGre with
+    /// the full longitudinal sliding speed)
+    #[arg(long, value_enum, default_value_t = VariantArg::SlidingShare)]
     pub variant: VariantArg,
 }
 
@@ -64,6 +66,8 @@ pub struct PointArgs {
 pub enum VariantArg {
     Paper,
     Combined,
+    #[value(name = "sliding_share", alias = "sliding-share")]
+    SlidingShare,
 }
 
 impl From<VariantArg> for Variant {
@@ -71,6 +75,7 @@ impl From<VariantArg> for Variant {
         match v {
             VariantArg::Paper => Variant::Paper,
             VariantArg::Combined => Variant::Combined,
+            VariantArg::SlidingShare => Variant::SlidingShare,
         }
     }
 }

@@ -8,12 +8,12 @@ pub fn run(markdown: bool) {
         return;
     }
     println!(
-        "{:<14} {:<8} {:<8} {:>12}  {:<14} {:<22} description",
+        "{:<14} {:<8} {:<8} {:>12}  {:<31} {:<22} description",
         "name", "symbol", "unit", "default", "provenance", "accepted range"
     );
     for s in SPECS {
         println!(
-            "{:<14} {:<8} {:<8} {:>12}  {:<14} {:<22} {}",
+            "{:<14} {:<8} {:<8} {:>12}  {:<31} {:<22} {}",
             s.name,
             s.symbol,
             s.unit,

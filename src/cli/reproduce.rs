@@ -15,7 +15,12 @@ pub struct ReproduceArgs {
     /// Values per bifurcation sweep, accepted [11, 2001]
     #[arg(long, default_value_t = 161)]
     pub steps: usize,
-    /// Parameter file (e.g. from `polywear calibrate`) instead of the defaults
+    /// Samples of the default study for the paired driving-vs-follower comparison, accepted
+    /// [10, 1000000]
+    #[arg(long, value_name = "N", default_value_t = 4000)]
+    pub paired_samples: u64,
+    /// Parameter file (e.g. from `polywear calibrate`, or studies/params_r0.toml for MODEL.md's
+    /// reference constants) instead of the defaults
     #[arg(long, value_name = "FILE")]
     pub params: Option<PathBuf>,
     /// Worker threads (default: all cores)
@@ -30,11 +35,19 @@ pub fn run(args: &ReproduceArgs) -> CliResult {
             args.steps
         )));
     }
+    if !(10..=1_000_000).contains(&args.paired_samples) {
+        return Err(CliError(format!(
+            "--paired-samples = {} is outside its accepted range [10, 1000000]",
+            args.paired_samples
+        )));
+    }
     let base = super::common::base_params(args.params.as_deref())?;
     let pool = super::common::thread_pool(args.threads)?;
     let start = Instant::now();
     let r = pool
-        .install(|| polywear::reproduce::reproduce(&base, &args.out, args.steps))
+        .install(|| {
+            polywear::reproduce::reproduce(&base, &args.out, args.steps, args.paired_samples)
+        })
         .map_err(CliError)?;
     println!(
         "reproduced the paper's analyses in {:.1} s: {} files in {}; read {}",

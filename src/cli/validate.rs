@@ -10,7 +10,7 @@ use polywear::parquet_out::{write_csv, Column};
 
 #[derive(Debug, Args)]
 pub struct ValidateArgs {
-    /// Random operating points (each evaluated for 2 wheels × 2 variants), accepted [1, 100000]
+    /// Random operating points (each evaluated for 2 wheels × 3 variants), accepted [1, 100000]
     #[arg(long, default_value_t = 300)]
     pub points: u64,
     /// Seed of the point set
@@ -36,7 +36,7 @@ pub fn run(args: &ValidateArgs) -> CliResult {
     }
     let pool = super::common::thread_pool(args.threads)?;
     eprintln!(
-        "classifying {} points x 2 wheels x 2 variants, fast and brute force (this takes minutes)...",
+        "classifying {} points x 2 wheels x 3 variants, fast and brute force (this takes minutes)...",
         args.points
     );
     let rows = pool.install(|| compare(args.seed, args.points));

@@ -35,16 +35,25 @@ impl Wheel {
 pub enum Variant {
     /// The paper's Eq. 21: only the lateral sliding speed, w_t = |w|.
     Paper,
-    /// 2-D LuGre extension: w_t = sqrt(w² + V_sx²) with the driving wheel's longitudinal slip.
+    /// 2-D LuGre extension: w_t = sqrt(w² + V_sx²) with the driving wheel's full longitudinal
+    /// sliding speed V_sx = V cos α S/(1+S).
     Combined,
+    /// 2-D LuGre over the patch (MODEL.md step 6, the shipped default): as `Combined`, but with
+    /// the patch-mean longitudinal sliding speed q·V cos α S/(1+S), since only the sliding share
+    /// q of the contact length slides lengthwise. The one reading that reproduces the paper's
+    /// driving-wheel results (MODEL.md, "Both wheels").
+    SlidingShare,
 }
 
 impl Variant {
-    pub const ALL: [Variant; 2] = [Variant::Paper, Variant::Combined];
+    pub const ALL: [Variant; 3] = [Variant::Paper, Variant::Combined, Variant::SlidingShare];
+    /// The variant every command and built-in study uses unless told otherwise.
+    pub const DEFAULT: Variant = Variant::SlidingShare;
     pub fn as_str(self) -> &'static str {
         match self {
             Variant::Paper => "paper",
             Variant::Combined => "combined",
+            Variant::SlidingShare => "sliding_share",
         }
     }
 }
@@ -78,8 +87,29 @@ impl FromStr for Variant {
         match s {
             "paper" => Ok(Variant::Paper),
             "combined" => Ok(Variant::Combined),
-            _ => Err(format!("unknown variant `{s}`; accepted: paper, combined")),
+            "sliding_share" => Ok(Variant::SlidingShare),
+            _ => Err(format!(
+                "unknown variant `{s}`; accepted: paper, combined, sliding_share"
+            )),
         }
+    }
+}
+
+/// Longitudinal sliding speed seen by the Stribeck curve (MODEL.md step 6) [m/s]: none under
+/// `paper` (Eq. 21), V cos α S/(1+S) under `combined`, and its patch mean q·V cos α S/(1+S) under
+/// `sliding_share`. Zero for the follower (S = 0) in every variant.
+pub fn longitudinal_sliding_mps(
+    variant: Variant,
+    speed_mps: f64,
+    toe_rad: f64,
+    slip_ratio: f64,
+    sliding_share: f64,
+) -> f64 {
+    let full = speed_mps * toe_rad.cos() * slip_ratio / (1.0 + slip_ratio);
+    match variant {
+        Variant::Paper => 0.0,
+        Variant::Combined => full,
+        Variant::SlidingShare => sliding_share * full,
     }
 }
 
@@ -149,7 +179,7 @@ impl WheelModel {
             v_s: p.v_s,
             phi: p.phi,
             u_mps: v * alpha.sin(),
-            v_sx_mps: v * alpha.cos() * slip_ratio / (1.0 + slip_ratio),
+            v_sx_mps: longitudinal_sliding_mps(variant, v, alpha, slip_ratio, friction.q),
             variant,
         };
         let ok = [ode.sigma0, ode.mass_kg, ode.f_m, ode.f_s]

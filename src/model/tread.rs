@@ -30,7 +30,8 @@ pub struct TreadOde {
     pub phi: f64,
     /// Road lateral speed under the tread, U = V sin α [m/s].
     pub u_mps: f64,
-    /// Longitudinal sliding speed V cos α S/(1+S) [m/s], used by the `combined` variant only.
+    /// Longitudinal sliding speed seen by the Stribeck curve [m/s]: 0 under `paper`, see
+    /// [`super::longitudinal_sliding_mps`].
     pub v_sx_mps: f64,
     pub variant: Variant,
 }
@@ -41,7 +42,7 @@ impl TreadOde {
     fn sliding_speed(&self, w: f64) -> (f64, f64) {
         match self.variant {
             Variant::Paper => (w.abs(), if w >= 0.0 { 1.0 } else { -1.0 }),
-            Variant::Combined => {
+            Variant::Combined | Variant::SlidingShare => {
                 let wt = w.hypot(self.v_sx_mps);
                 (wt, if wt > 0.0 { w / wt } else { 1.0 })
             }

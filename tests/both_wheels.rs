@@ -1,0 +1,155 @@
+//! Issue 11: the shipped defaults answer the driving-vs-follower question as the paper does.
+//! Hopf points of both wheels in the paper's bands (MODEL.md "Targets" and "Both wheels"), every
+//! driving range inside the follower's, the default study's paired comparison, and the literal
+//! equations' reversed answer kept visible.
+
+use polywear::bifurcation::{linspace, sweep};
+use polywear::classify::ClassifierOptions;
+use polywear::model::{Variant, Wheel, WheelModel};
+use polywear::params::Params;
+use polywear::reproduce::paired_comparison;
+
+/// Unstable interval of `axis` for a wheel, from a sweep of the shipped defaults.
+fn window(p: &Params, axis: &'static str, from: f64, to: f64, wheel: Wheel) -> (f64, f64) {
+    let sw = sweep(
+        p,
+        axis,
+        &linspace(from, to, 61),
+        Variant::DEFAULT,
+        &ClassifierOptions::default(),
+    );
+    let r = sw.unstable_ranges(wheel);
+    assert_eq!(r.len(), 1, "{axis} {wheel}: {r:?}");
+    r[0]
+}
+
+fn inside(x: f64, (lo, hi): (f64, f64), what: &str) {
+    assert!(
+        lo <= x && x <= hi,
+        "{what} = {x} outside the band [{lo}, {hi}]"
+    );
+}
+
+#[test]
+fn default_variant_is_sliding_share() {
+    assert_eq!(Variant::DEFAULT, Variant::SlidingShare);
+    let study = polywear::study::Study::parse(polywear::study::DEFAULT_STUDY).unwrap();
+    assert_eq!(study.variants, vec![Variant::SlidingShare]);
+}
+
+#[test]
+fn shipped_defaults_put_both_wheels_in_the_papers_bands() {
+    let p = Params::default();
+    let (f, d) = (Wheel::Follower, Wheel::Driving);
+    let fs = window(&p, "speed_kmh", 40.0, 260.0, f);
+    let ds = window(&p, "speed_kmh", 40.0, 260.0, d);
+    inside(fs.0, (72.0, 95.0), "follower speed onset");
+    inside(fs.1, (142.0, 210.0), "follower speed end");
+    let ft = window(&p, "toe_deg", 0.05, 1.0, f);
+    let dt = window(&p, "toe_deg", 0.05, 1.0, d);
+    inside(ft.1, (0.37, 0.45), "follower toe end");
+    inside(dt.1, (0.315, 0.385), "driving toe end");
+    let fl = window(&p, "load_n", 2000.0, 7000.0, f);
+    let dl = window(&p, "load_n", 2000.0, 7000.0, d);
+    inside(fl.0, (3160.0, 3870.0), "follower load threshold");
+    inside(dl.0, (3450.0, 4230.0), "driving load threshold");
+    let fp = window(&p, "pressure_kpa", 150.0, 450.0, f);
+    let dp = window(&p, "pressure_kpa", 150.0, 450.0, d);
+    inside(fp.1, (300.0, 368.0), "follower pressure threshold");
+    inside(dp.1, (205.0, 300.0), "driving pressure threshold");
+    let freq = WheelModel::build(&p, f, Variant::DEFAULT)
+        .unwrap()
+        .ode
+        .linear_stability()
+        .eig_freq_hz;
+    inside(freq, (257.0, 284.0), "follower frequency at 100 km/h");
+    // Every driving range inside the follower's.
+    for (what, fw, dw) in [
+        ("speed", fs, ds),
+        ("toe", ft, dt),
+        ("load", fl, dl),
+        ("pressure", fp, dp),
+    ] {
+        assert!(
+            fw.0 <= dw.0 && dw.1 <= fw.1,
+            "{what}: driving {dw:?} not inside follower {fw:?}"
+        );
+    }
+}
+
+#[test]
+fn the_default_study_finds_the_driving_wheel_less_exposed() {
+    let rows = paired_comparison(&Params::default(), 600).unwrap();
+    let row = |v| rows.iter().find(|r| r.variant == v).unwrap();
+    let s = row(Variant::SlidingShare);
+    assert!(s.samples >= 590, "{s:?}");
+    assert!(
+        s.p_driving() < 0.75 * s.p_follower() && s.p_follower() > 0.2,
+        "{s:?}"
+    );
+    assert!(s.driving_only * 200 <= s.samples, "{s:?}");
+    // The literal equations reverse the answer: say so, and keep it visible.
+    let p = row(Variant::Paper);
+    assert!(p.driving_only > p.follower_only, "{p:?}");
+    assert!(p.p_driving() >= p.p_follower(), "{p:?}");
+    // The follower does not depend on the variant.
+    assert_eq!(s.follower, p.follower);
+    assert_eq!(row(Variant::Combined).driving, 0);
+}
+
+#[test]
+fn r0_parameter_file_holds_model_md_constants() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/params_r0.toml"),
+    )
+    .unwrap();
+    let p = polywear::study::apply_param_file(&Params::default(), &text).unwrap();
+    assert_eq!(p, Params::r0());
+    // MODEL.md's table.
+    let r0 = Params::r0();
+    assert_eq!(
+        (r0.g_mod, r0.c_brush, r0.alpha2, r0.v_s, r0.phi, r0.c_s, r0.sigma1),
+        (0.8645e6, 3.6e7, 4.0e-8, 0.126, 0.94, 18.0, 10.0)
+    );
+    assert_ne!(Params::default(), r0);
+}
+
+#[test]
+fn every_variant_is_accepted_by_name_everywhere() {
+    for v in Variant::ALL {
+        assert_eq!(v.as_str().parse::<Variant>().unwrap(), v);
+    }
+    let e = "magic".parse::<Variant>().unwrap_err();
+    assert!(e.contains("sliding_share"), "{e}");
+}
+
+#[test]
+fn decoding_study_draws_each_decoded_constant_over_its_lost_digit_readings() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/decoding.toml"),
+    )
+    .unwrap();
+    let study = polywear::study::Study::parse(&text).unwrap();
+    let names: Vec<&str> = study.drawn.iter().map(|d| d.name).collect();
+    for n in [
+        "phi",
+        "v_s",
+        "sigma1",
+        "c_s",
+        "speed_kmh",
+        "toe_deg",
+        "load_n",
+        "pressure_kpa",
+    ] {
+        assert!(names.contains(&n), "{n} not drawn: {names:?}");
+    }
+    // Each shipped default of those constants is one of its readings.
+    let sampler = study.sampler(study.seed, 2000);
+    let mut seen = std::collections::BTreeSet::new();
+    for i in 0..2000 {
+        let (p, _) = sampler.sample(i);
+        seen.insert(((p.phi * 100.0).round() as i64, (p.c_s).round() as i64));
+    }
+    assert_eq!(seen.len(), 16, "all phi x c_s readings drawn: {seen:?}");
+    assert!(seen.contains(&(90, 14)));
+}
