@@ -13,13 +13,13 @@ pub struct ReproduceArgs {
     #[arg(long, value_name = "DIR", default_value = "data/paper_2014")]
     pub out: PathBuf,
     /// Values per bifurcation sweep, accepted [11, 2001]
-    #[arg(long, default_value_t = 161)]
+    #[arg(long, default_value_t = 161, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--steps", 11, 2001))]
     pub steps: usize,
     /// Parameter file (e.g. from `polywear calibrate`) instead of the defaults
     #[arg(long, value_name = "FILE")]
     pub params: Option<PathBuf>,
-    /// Worker threads (default: all cores)
-    #[arg(long)]
+    /// Worker threads (default: all cores), accepted [1, 1024]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
     pub threads: Option<usize>,
 }
 
