@@ -77,13 +77,15 @@ load_n = {{ dist = "truncated_normal", mean = 4000, sd = 800, min = 2500, max = 
     assert_eq!(expected.len() as u64, SAMPLES * 2);
 
     // Kill at random moments between 2% and 12% of a full run's time after each start, so
-    // that 5 kills take well under one run's worth of progress.
+    // that 6 kills take well under one run's worth of progress (at most 72%, less the start-up
+    // of each process). Should the machine speed up and the run finish after the 5th kill, the
+    // corruption and the resume below still test what they test.
     let killed = base.join("killed");
     let mut rng = 2014u64;
     let mut kills = 0;
     let mut finished = false;
     let mut chunks_seen = Vec::new();
-    while kills < 8 && !finished {
+    while kills < 6 && !finished {
         let mut child = explore(&study, &killed, true)
             .stderr(Stdio::null())
             .spawn()
@@ -107,7 +109,6 @@ load_n = {{ dist = "truncated_normal", mean = 4000, sd = 800, min = 2500, max = 
         kills >= 5,
         "only {kills} kills before the run finished (chunks at each kill: {chunks_seen:?})"
     );
-    assert!(!finished, "the run finished during the kills");
     eprintln!(
         "{kills} kills; chunk files at each: {chunks_seen:?} of {}; full run {full_run:?}",
         SAMPLES / CHUNK
