@@ -3,19 +3,21 @@
 //! Parquet, one file per chunk of samples.
 //!
 //! A chunk is the unit of output, resume and sharding. Its file is written under a temporary
-//! name and renamed when complete, so after a kill a chunk is either whole or absent: `--resume`
-//! skips whole chunks and redoes the rest, giving exactly the rows of an uninterrupted run.
+//! name, fsynced and renamed when complete, then recorded (rows, size, CRC-32) in the manifest's
+//! journal ([`crate::output_dir`]); `--resume` keeps the chunks that match their record, redoes
+//! the rest and says which and why, giving exactly the rows of an uninterrupted run.
 //! Shard k of N owns the chunks whose index is k mod N; chunk files carry their global index,
 //! so the shards' files together are the single-machine output.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
 use crate::classify::{classify_point, ClassifierOptions, WheelVerdict};
 use crate::model::{ModelFailure, Wheel};
-use crate::parquet_out::{write_table, Column};
+use crate::output_dir::{self, DirLock};
+use crate::parquet_out::{write_durably, write_table_digest, Column};
 use crate::records::{record_columns, WheelRecord};
 use crate::study::{Sampler, Study};
 
@@ -45,6 +47,29 @@ impl std::fmt::Display for ExploreError {
 
 impl std::error::Error for ExploreError {}
 
+/// The output directory, checked and locked for this run; the lock lasts as long as this value.
+#[derive(Debug)]
+pub struct PreparedOutput {
+    _lock: DirLock,
+    /// Chunks kept from an earlier run (verified); every other owned chunk is to do. A set of
+    /// the kept ones, not a list of the pending ones: `--samples 1e10` starts at once.
+    pub kept: HashSet<u64>,
+    /// For a resume: each chunk that was found wanting and is redone, with the reason.
+    pub redone: Vec<String>,
+}
+
+impl PreparedOutput {
+    /// Owned chunks still to do, in order.
+    pub fn pending<'a>(&'a self, plan: &'a RunPlan) -> impl Iterator<Item = u64> + 'a {
+        plan.owned_chunks().filter(|c| !self.kept.contains(c))
+    }
+
+    /// Samples still to do.
+    pub fn pending_samples(&self, plan: &RunPlan) -> u64 {
+        plan.owned_samples() - self.kept.iter().map(|c| plan.chunk_len(*c)).sum::<u64>()
+    }
+}
+
 /// Counts of classes per (variant, wheel) among the samples evaluated by this run.
 #[derive(Debug, Clone, Default)]
 pub struct RunSummary {
@@ -62,7 +87,20 @@ impl RunPlan {
     /// Global chunk indices this shard owns.
     pub fn owned_chunks(&self) -> impl Iterator<Item = u64> + '_ {
         let (k, n) = self.shard;
-        (0..self.n_chunks()).filter(move |c| c % n == k)
+        (k..self.n_chunks()).step_by(n as usize)
+    }
+
+    /// Samples in the chunks this shard owns (closed form: no loop over the chunks).
+    pub fn owned_samples(&self) -> u64 {
+        let (k, n) = self.shard;
+        let chunks = self.n_chunks();
+        if k >= chunks {
+            return 0;
+        }
+        let owned = (chunks - 1 - k) / n + 1;
+        let last = chunks - 1;
+        let short_by = self.study.chunk_size - self.chunk_len(last);
+        owned * self.study.chunk_size - if last % n == k { short_by } else { 0 }
     }
 
     /// Samples in chunk `chunk` (the last one may be short).
@@ -71,7 +109,7 @@ impl RunPlan {
     }
 
     pub fn chunk_path(&self, chunk: u64) -> PathBuf {
-        self.out_dir.join(format!("chunk-{chunk:07}.parquet"))
+        self.out_dir.join(output_dir::chunk_file_name(chunk))
     }
 
     fn manifest(&self) -> serde_json::Value {
@@ -79,95 +117,205 @@ impl RunPlan {
             "polywear_version": env!("CARGO_PKG_VERSION"),
             "study_name": self.study.name,
             "study": self.study.source,
+            "study_hash": self.study.source_hash(),
             "params": serde_json::to_value(self.study.base).expect("json"),
             "seed": self.seed,
             "samples": self.samples,
             "chunk_size": self.study.chunk_size,
             "shard": format!("{}/{}", self.shard.0, self.shard.1),
+            "chunks": output_dir::JOURNAL,
+            "checksum": "CRC-32 (IEEE) of each whole chunk file",
         })
     }
 
-    /// Checks the output directory before any work: empty or absent for a new run; holding a
-    /// manifest of the same run for `--resume` (which starts a new run in an empty or absent
-    /// directory). Creates it and writes the manifest.
-    pub fn prepare_output(&self) -> Result<(), ExploreError> {
+    /// Rows of chunk `chunk`: one per sample, variant and wheel.
+    pub fn chunk_rows(&self, chunk: u64) -> u64 {
+        self.chunk_len(chunk) * 2 * self.study.variants.len() as u64
+    }
+
+    /// Checks the output directory before any work and takes its lock: empty or absent for a
+    /// new run (the manifest is then written); for `--resume`, holding the manifest of the same
+    /// run, whose kept chunks are then verified against the journal (see
+    /// [`RunPlan::verify_kept_chunks`]). `--resume` into an empty or absent directory starts
+    /// the run, so a scheduler can always pass it. A directory locked by a running process is
+    /// refused with its PID.
+    pub fn prepare_output(&self) -> Result<PreparedOutput, ExploreError> {
         let dir = &self.out_dir;
         let e = |m: String| ExploreError(format!("--out {}: {m}", dir.display()));
-        // Underscore: pyarrow and pandas skip it when reading the directory as a dataset.
-        let manifest_path = dir.join("_manifest.json");
-        let existing: Vec<_> = match std::fs::read_dir(dir) {
-            Ok(rd) => rd.filter_map(|x| x.ok()).collect(),
-            Err(err) if err.kind() == std::io::ErrorKind::NotFound => Vec::new(),
-            Err(err) => return Err(e(err.to_string())),
+        // An existing lock file is tried first (opening it creates nothing), so that a second
+        // run is told who holds the directory. The lock is taken before the contents are
+        // checked for good below; this first look only avoids creating a lock file in a
+        // directory that is refused anyway.
+        let mut lock = if dir.is_dir() {
+            output_dir::lock(dir, false).map_err(e)?
+        } else {
+            None
         };
-        // --resume on an absent or empty directory starts the run, so a scheduler can always pass it.
-        if self.resume && !existing.is_empty() {
-            let text = std::fs::read_to_string(&manifest_path).map_err(|err| {
-                e(format!(
-                    "nothing to resume here ({}: {err})",
-                    manifest_path.display()
-                ))
-            })?;
-            let old: serde_json::Value = serde_json::from_str(&text)
-                .map_err(|err| e(format!("unreadable _manifest.json: {err}")))?;
-            let new = self.manifest();
-            for key in [
-                "polywear_version",
-                "study",
-                "params",
-                "seed",
-                "samples",
-                "chunk_size",
-                "shard",
-            ] {
-                if old[key] != new[key] {
-                    return Err(e(format!(
-                        "--resume: this directory holds a different run ({key} was {}, now {})",
-                        short(&old[key]),
-                        short(&new[key])
-                    )));
-                }
-            }
-            // Leftovers of chunks that were being written when the run was killed.
-            for entry in existing {
-                if entry.file_name().to_string_lossy().ends_with(".partial") {
-                    std::fs::remove_file(entry.path()).map_err(|err| e(err.to_string()))?;
-                }
-            }
-            return Ok(());
+        let resuming = self.check_contents()?;
+        if lock.is_none() {
+            std::fs::create_dir_all(dir).map_err(|err| e(err.to_string()))?;
+            lock = output_dir::lock(dir, true).map_err(e)?;
         }
-        if !existing.is_empty() {
+        let lock = lock.expect("lock taken");
+        // The authoritative check, under the lock.
+        if self.check_contents()? != resuming {
+            return Err(e(
+                "changed by another process while starting; try again".into()
+            ));
+        }
+        if resuming {
+            let (kept, redone) = self.verify_kept_chunks()?;
+            return Ok(PreparedOutput {
+                _lock: lock,
+                kept,
+                redone,
+            });
+        }
+        // A new run: temporary files of a run killed before its manifest existed go.
+        for name in output_dir::entries(dir)
+            .map_err(|err| e(err.to_string()))?
+            .unwrap_or_default()
+        {
+            if name.ends_with(".partial") {
+                std::fs::remove_file(dir.join(&name)).map_err(|err| e(err.to_string()))?;
+            }
+        }
+        let text = serde_json::to_string_pretty(&self.manifest()).expect("json");
+        write_durably(&dir.join(output_dir::MANIFEST), text.as_bytes())
+            .map_err(|err| e(format!("cannot write: {err}")))?;
+        Ok(PreparedOutput {
+            _lock: lock,
+            kept: HashSet::new(),
+            redone: Vec::new(),
+        })
+    }
+
+    /// Whether the directory holds a run to resume (`true`), or nothing (`false`: a new run);
+    /// an error when it holds something else, or a different run.
+    fn check_contents(&self) -> Result<bool, ExploreError> {
+        let dir = &self.out_dir;
+        let e = |m: String| ExploreError(format!("--out {}: {m}", dir.display()));
+        let existing: Vec<String> = output_dir::entries(dir)
+            .map_err(|err| e(err.to_string()))?
+            .unwrap_or_default()
+            .into_iter()
+            .filter(|n| !output_dir::is_leftover(n))
+            .collect();
+        if existing.is_empty() {
+            return Ok(false);
+        }
+        if !self.resume {
             return Err(e(
                 "directory is not empty; use --resume to continue the run there, or choose another directory".into(),
             ));
         }
-        std::fs::create_dir_all(dir).map_err(|err| e(err.to_string()))?;
-        let text = serde_json::to_string_pretty(&self.manifest()).expect("json");
-        std::fs::write(&manifest_path, text).map_err(|err| e(format!("cannot write: {err}")))?;
-        Ok(())
+        let manifest_path = dir.join(output_dir::MANIFEST);
+        let text = std::fs::read_to_string(&manifest_path).map_err(|err| {
+            e(format!(
+                "nothing to resume here ({}: {err})",
+                manifest_path.display()
+            ))
+        })?;
+        let old: serde_json::Value = serde_json::from_str(&text)
+            .map_err(|err| e(format!("unreadable {}: {err}", output_dir::MANIFEST)))?;
+        let new = self.manifest();
+        for key in [
+            "polywear_version",
+            "study",
+            "params",
+            "seed",
+            "samples",
+            "chunk_size",
+            "shard",
+        ] {
+            if old[key] != new[key] {
+                return Err(e(format!(
+                    "--resume: this directory holds a different run ({key} was {}, now {})",
+                    short(&old[key]),
+                    short(&new[key])
+                )));
+            }
+        }
+        Ok(true)
     }
 
-    /// Chunks still to do (all owned chunks, less complete files when resuming).
-    pub fn pending_chunks(&self) -> Vec<u64> {
-        self.owned_chunks()
-            .filter(|c| !self.chunk_path(*c).exists())
-            .collect()
+    /// For `--resume`: checks every chunk file against the journal (row count, size, CRC-32),
+    /// deletes those that fail and the leftovers of a killed run, and returns the chunks kept,
+    /// with one line per redone chunk saying which and why. Linear in the files present.
+    pub fn verify_kept_chunks(&self) -> Result<(HashSet<u64>, Vec<String>), ExploreError> {
+        let dir = &self.out_dir;
+        let e = |m: String| ExploreError(format!("--out {}: {m}", dir.display()));
+        let journal = output_dir::read_journal(dir).map_err(|err| e(err.to_string()))?;
+        let names = output_dir::entries(dir)
+            .map_err(|err| e(err.to_string()))?
+            .unwrap_or_default();
+        let (k, n) = self.shard;
+        let mut present = HashSet::new();
+        for name in &names {
+            if name.ends_with(".partial") {
+                // Leftovers of files that were being written when the run was killed.
+                std::fs::remove_file(dir.join(name)).map_err(|err| e(err.to_string()))?;
+            } else if let Some(c) = output_dir::chunk_index(name) {
+                if c >= self.n_chunks() || c % n != k {
+                    return Err(e(format!(
+                        "{name} is not a chunk of this run (chunks 0..{} of shard {k}/{n}); move it away and resume again",
+                        self.n_chunks()
+                    )));
+                }
+                present.insert(c);
+            }
+        }
+        let mut kept = Vec::new();
+        let mut redone = Vec::new();
+        let mut kept_set = HashSet::new();
+        let mut sorted: Vec<u64> = present.iter().copied().collect();
+        sorted.sort_unstable();
+        for c in sorted {
+            let path = self.chunk_path(c);
+            match output_dir::verify_chunk(&path, journal.get(&c), self.chunk_rows(c)) {
+                None => {
+                    kept.push(journal[&c]);
+                    kept_set.insert(c);
+                }
+                Some(why) => {
+                    redone.push(format!(
+                        "{}: {why}; redoing it",
+                        output_dir::chunk_file_name(c)
+                    ));
+                    std::fs::remove_file(&path).map_err(|err| e(err.to_string()))?;
+                }
+            }
+        }
+        let mut missing: Vec<u64> = journal
+            .keys()
+            .filter(|c| !present.contains(c) && **c < self.n_chunks() && *c % n == k)
+            .copied()
+            .collect();
+        missing.sort_unstable();
+        for c in missing {
+            redone.push(format!(
+                "{}: recorded in the manifest but missing; redoing it",
+                output_dir::chunk_file_name(c)
+            ));
+        }
+        output_dir::rewrite_journal(dir, &kept).map_err(|err| e(format!("cannot write: {err}")))?;
+        Ok((kept_set, redone))
     }
 
-    /// Runs the pending chunks; `progress` is called with each finished sample count.
-    pub fn run(&self, progress: &(dyn Fn(u64) + Sync)) -> Result<RunSummary, ExploreError> {
+    /// Runs the chunks still to do in `out` (from [`RunPlan::prepare_output`]); `progress` is
+    /// called with each finished sample count.
+    pub fn run(
+        &self,
+        out: &PreparedOutput,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<RunSummary, ExploreError> {
         let sampler = self.study.sampler(self.seed, self.samples);
         let opts = ClassifierOptions::default();
-        let pending = self.pending_chunks();
         let mut summary = RunSummary {
-            samples_skipped: self
-                .owned_chunks()
-                .filter(|c| !pending.contains(c))
-                .map(|c| self.chunk_len(c))
-                .sum(),
+            samples_skipped: self.owned_samples() - out.pending_samples(self),
             ..RunSummary::default()
         };
-        for chunk in pending {
+        for chunk in out.pending(self) {
             let lo = chunk * self.study.chunk_size;
             let hi = (lo + self.study.chunk_size).min(self.samples);
             let rows: Vec<SampleRows> = (lo..hi)
@@ -202,7 +350,7 @@ impl RunPlan {
             ),
             ("command".into(), self.command.clone()),
             ("study_name".into(), self.study.name.clone()),
-            ("study".into(), self.study.source.clone()),
+            // The study text is kept once, in the manifest; its hash ties the chunk to it.
             ("study_hash".into(), self.study.source_hash()),
             ("seed".into(), self.seed.to_string()),
             ("samples".into(), self.samples.to_string()),
@@ -230,31 +378,49 @@ impl RunPlan {
                 "params".into(),
                 serde_json::to_string(&self.study.base).expect("json"),
             ),
-            (
-                "drawn".into(),
-                serde_json::Value::from(
-                    self.study
-                        .drawn
-                        .iter()
-                        .map(|d| format!("{}: {:?}", d.name, d.dist))
-                        .collect::<Vec<_>>(),
-                )
-                .to_string(),
-            ),
+            ("drawn".into(), self.study.drawn_json().to_string()),
         ];
         meta.push((
             "columns".into(),
             "one row per sample, variant and wheel; sample_id identifies the sample".into(),
         ));
-        write_table(&self.chunk_path(chunk), &cols, &meta)
-            .map_err(|e| ExploreError(format!("cannot write output: {e}")))
+        self.write_chunk_durably(chunk, &cols, &meta)
+    }
+
+    /// Writes a chunk crash-safely and records it in the journal (rows, size, CRC-32): a chunk
+    /// is finished once its journal line is fsynced.
+    fn write_chunk_durably(
+        &self,
+        chunk: u64,
+        cols: &[Column],
+        meta: &[(String, String)],
+    ) -> Result<(), ExploreError> {
+        let e = |m: String| ExploreError(format!("cannot write output: {m}"));
+        let digest = write_table_digest(&self.chunk_path(chunk), cols, meta)
+            .map_err(|err| e(err.to_string()))?;
+        let rows = cols.first().map_or(0, |c| c.data.len() as u64);
+        output_dir::append_journal(
+            &self.out_dir,
+            output_dir::ChunkEntry {
+                chunk,
+                rows,
+                digest,
+            },
+        )
+        .map_err(|err| {
+            e(format!(
+                "{}: {err}",
+                self.out_dir.join(output_dir::JOURNAL).display()
+            ))
+        })
     }
 }
 
+/// A value shortened to 60 characters for a message (cut at a character, never inside one).
 fn short(v: &serde_json::Value) -> String {
     let s = v.to_string();
-    if s.len() > 60 {
-        format!("{}…", &s[..60])
+    if s.chars().count() > 60 {
+        format!("{}…", s.chars().take(60).collect::<String>())
     } else {
         s
     }
@@ -369,6 +535,40 @@ pub fn default_out_dir(study: &Study, seed: u64) -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn owned_samples_match_the_chunks() {
+        let mut study = Study::parse(crate::study::DEFAULT_STUDY).unwrap();
+        for (samples, chunk_size, n) in
+            [(1, 1, 1), (10, 3, 2), (100, 7, 3), (64, 64, 5), (65, 8, 4)]
+        {
+            study.chunk_size = chunk_size;
+            for k in 0..n {
+                let plan = RunPlan {
+                    study: study.clone(),
+                    seed: 1,
+                    samples,
+                    shard: (k, n),
+                    out_dir: PathBuf::new(),
+                    resume: false,
+                    command: String::new(),
+                };
+                let by_loop: u64 = plan.owned_chunks().map(|c| plan.chunk_len(c)).sum();
+                assert_eq!(
+                    plan.owned_samples(),
+                    by_loop,
+                    "{samples} {chunk_size} {k}/{n}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn short_cuts_at_a_character() {
+        let v = serde_json::Value::from(format!("# {}", "é".repeat(80)));
+        let s = short(&v);
+        assert_eq!(s.chars().count(), 61);
+    }
 
     #[test]
     fn samples_and_shards_parse() {

@@ -10,6 +10,7 @@ pub mod classify;
 pub mod explore;
 pub mod model;
 pub mod numeric;
+pub mod output_dir;
 pub mod params;
 pub mod parquet_out;
 pub mod plot;

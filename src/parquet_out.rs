@@ -1,8 +1,13 @@
 //! Parquet output through the low-level column API (no Arrow): typed columns, one row group per
 //! chunk so memory stays bounded, and key–value metadata (study, seed, variant, parameters,
 //! program version, units) in the file footer. Files open in polars, pandas/pyarrow and DuckDB.
+//!
+//! Every file is written crash-safely: under a hidden temporary name, fsynced, renamed, and the
+//! directory fsynced, so after a crash or `kill -9` a file is either whole or absent. The CRC-32
+//! of the bytes is computed while writing, for the explore manifest.
 
 use std::fs::File;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -87,10 +92,98 @@ impl std::fmt::Display for WriteError {
 
 impl std::error::Error for WriteError {}
 
+/// Size and CRC-32 (IEEE, as zlib and `crc32` tools compute it) of a written file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FileDigest {
+    pub bytes: u64,
+    pub crc32: u32,
+}
+
+impl FileDigest {
+    /// Reads `path` and computes its digest (for verifying a file against a manifest).
+    pub fn of_file(path: &Path) -> std::io::Result<FileDigest> {
+        use std::io::Read;
+        let mut f = File::open(path)?;
+        let mut h = crc32fast::Hasher::new();
+        let mut buf = vec![0u8; 1 << 16];
+        let mut bytes = 0u64;
+        loop {
+            let n = f.read(&mut buf)?;
+            if n == 0 {
+                break;
+            }
+            h.update(&buf[..n]);
+            bytes += n as u64;
+        }
+        Ok(FileDigest {
+            bytes,
+            crc32: h.finalize(),
+        })
+    }
+}
+
+/// A file that digests what is written through it.
+struct DigestingFile {
+    file: File,
+    hasher: crc32fast::Hasher,
+    bytes: u64,
+}
+
+impl Write for DigestingFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.file.write(buf)?;
+        self.hasher.update(&buf[..n]);
+        self.bytes += n as u64;
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.flush()
+    }
+}
+
+/// Fsyncs a directory, so that a rename or a new file in it survives a crash.
+pub fn sync_dir(dir: &Path) -> std::io::Result<()> {
+    let dir = if dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        dir
+    };
+    File::open(dir)?.sync_all()
+}
+
+/// Moves a complete, fsynced temporary file to its final name and fsyncs the directory.
+pub fn publish(tmp_path: &Path, path: &Path) -> std::io::Result<()> {
+    std::fs::rename(tmp_path, path)?;
+    sync_dir(path.parent().unwrap_or(Path::new(".")))
+}
+
+/// The hidden temporary name of `path` while it is written: `_NAME.partial` beside it. The
+/// leading underscore hides it from pyarrow/pandas directory reads.
+pub fn partial_path(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    path.with_file_name(format!("_{name}.partial"))
+}
+
+/// Writes `bytes` to `path` crash-safely: temporary name, fsync, rename, directory fsync. A
+/// reader (or a resumed run) sees the old file or the new one, never a torn one.
+pub fn write_durably(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let tmp = partial_path(path);
+    let mut f = File::create(&tmp)?;
+    f.write_all(bytes)?;
+    f.sync_all()?;
+    drop(f);
+    publish(&tmp, path)
+}
+
 /// Streams row groups into one Parquet file. The file is written under a temporary name and
-/// renamed on [`TableWriter::finish`], so a half-written file is never taken for a result.
+/// renamed on [`TableWriter::finish`] after an fsync, so a half-written file is never taken for
+/// a result.
 pub struct TableWriter {
-    writer: SerializedFileWriter<File>,
+    writer: SerializedFileWriter<DigestingFile>,
     path: PathBuf,
     tmp_path: PathBuf,
 }
@@ -138,13 +231,12 @@ impl TableWriter {
             .set_key_value_metadata(Some(kv))
             .set_created_by(format!("polywear {}", env!("CARGO_PKG_VERSION")))
             .build();
-        // A leading underscore hides the unfinished file from pyarrow/pandas directory reads.
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let tmp_path = path.with_file_name(format!("_{name}.partial"));
-        let file = File::create(&tmp_path).map_err(|e| err(&e))?;
+        let tmp_path = partial_path(path);
+        let file = DigestingFile {
+            file: File::create(&tmp_path).map_err(|e| err(&e))?,
+            hasher: crc32fast::Hasher::new(),
+            bytes: 0,
+        };
         let writer =
             SerializedFileWriter::new(file, schema, Arc::new(props)).map_err(|e| err(&e))?;
         Ok(TableWriter {
@@ -180,15 +272,20 @@ impl TableWriter {
         Ok(())
     }
 
-    /// Writes the footer and moves the file to its final name.
-    pub fn finish(self) -> Result<(), WriteError> {
+    /// Writes the footer, fsyncs the file, moves it to its final name and fsyncs the directory.
+    pub fn finish(self) -> Result<FileDigest, WriteError> {
         let path = self.path.display().to_string();
-        self.writer
-            .close()
-            .map_err(|e| WriteError(format!("{path}: {e}")))?;
-        std::fs::rename(&self.tmp_path, &self.path)
-            .map_err(|e| WriteError(format!("{path}: {e}")))?;
-        Ok(())
+        let err = |e: &dyn std::fmt::Display| WriteError(format!("{path}: {e}"));
+        let mut inner = self.writer.into_inner().map_err(|e| err(&e))?;
+        inner.flush().map_err(|e| err(&e))?;
+        inner.file.sync_all().map_err(|e| err(&e))?;
+        let digest = FileDigest {
+            bytes: inner.bytes,
+            crc32: inner.hasher.finalize(),
+        };
+        drop(inner.file);
+        publish(&self.tmp_path, &self.path).map_err(|e| err(&e))?;
+        Ok(digest)
     }
 }
 
@@ -198,6 +295,15 @@ pub fn write_table(
     columns: &[Column],
     metadata: &[(String, String)],
 ) -> Result<(), WriteError> {
+    write_table_digest(path, columns, metadata).map(|_| ())
+}
+
+/// Writes a whole table as one row group and returns the written file's size and CRC-32.
+pub fn write_table_digest(
+    path: &Path,
+    columns: &[Column],
+    metadata: &[(String, String)],
+) -> Result<FileDigest, WriteError> {
     let mut w = TableWriter::create(path, columns, metadata)?;
     w.write(columns)?;
     w.finish()
@@ -205,7 +311,6 @@ pub fn write_table(
 
 /// Writes the same table as CSV (for `--out FILE.csv`).
 pub fn write_csv(path: &Path, columns: &[Column]) -> Result<(), WriteError> {
-    use std::io::Write;
     let err = |e: std::io::Error| WriteError(format!("{}: {e}", path.display()));
     let mut f = std::io::BufWriter::new(File::create(path).map_err(err)?);
     let header: Vec<&str> = columns.iter().map(|c| c.name.as_str()).collect();

@@ -72,6 +72,10 @@ impl WheelRecord {
             }
             Err(_) => (nan, nan, nan, nan, nan, nan),
         };
+        // A failed point has no cycle: its cycle quantities are NaN (null in JSON), never a 0.0
+        // that a mean would silently take in.
+        let failed = verdict.class == crate::classify::Class::Failed;
+        let cycle = |x: f64| if failed { nan } else { x };
         WheelRecord {
             wheel: wheel.as_str(),
             variant: variant.as_str(),
@@ -93,12 +97,12 @@ impl WheelRecord {
             eig_re_max: verdict.eig_re_max,
             eig_freq_hz: verdict.eig_freq_hz,
             class: verdict.class.as_str(),
-            amp_y_m: verdict.amp_y_m,
-            amp_v_mps: verdict.amp_v_mps,
-            freq_hz: verdict.freq_hz,
-            polygon_order: verdict.polygon_order,
-            energy_per_cycle_j: verdict.energy_per_cycle_j,
-            floquet_max: verdict.floquet_max,
+            amp_y_m: cycle(verdict.amp_y_m),
+            amp_v_mps: cycle(verdict.amp_v_mps),
+            freq_hz: cycle(verdict.freq_hz),
+            polygon_order: cycle(verdict.polygon_order),
+            energy_per_cycle_j: cycle(verdict.energy_per_cycle_j),
+            floquet_max: cycle(verdict.floquet_max),
             rhs_evals: verdict.rhs_evals,
             method: verdict.method.as_str(),
             reason: verdict.reason.clone(),

@@ -7,6 +7,9 @@ use crate::params::{spec, Params};
 use crate::sampling::design::{grid_digits, Coordinates, Design, SOBOL_MAX_AXES};
 use crate::sampling::distribution::Distribution;
 
+/// Largest accepted seed (in study files and on the command line).
+pub const SEED_MAX: u64 = u32::MAX as u64 * 1024;
+
 /// The built-in default study: a highway fleet with moderate tire-structure uncertainty.
 pub const DEFAULT_STUDY: &str = include_str!("../studies/default.toml");
 
@@ -194,6 +197,9 @@ fn parse_param(
             if levels.is_empty() {
                 return err(format!("`{key}.levels` must not be empty"));
             }
+            if let Some((i, x)) = levels.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+                return err(format!("`{key}.levels[{i}]` = {x} must be finite"));
+            }
             Distribution::Levels(levels)
         }
     };
@@ -226,7 +232,39 @@ pub fn apply_param_file(base: &Params, text: &str) -> Result<Params, StudyError>
     Ok(p)
 }
 
+impl DrawnParam {
+    /// The distribution as JSON, in the study file's own terms, e.g.
+    /// `{"name":"speed_kmh","dist":"uniform","min":60.0,"max":200.0}`.
+    pub fn to_json(&self) -> serde_json::Value {
+        use serde_json::json;
+        let mut v = match &self.dist {
+            Distribution::Uniform { min, max, count } => {
+                let mut v = json!({"dist": "uniform", "min": min, "max": max});
+                if let Some(c) = count {
+                    v["count"] = json!(c);
+                }
+                v
+            }
+            Distribution::Normal { mean, sd } => json!({"dist": "normal", "mean": mean, "sd": sd}),
+            Distribution::TruncatedNormal { mean, sd, min, max } => json!({
+                "dist": "truncated_normal", "mean": mean, "sd": sd, "min": min, "max": max
+            }),
+            Distribution::LogNormal { median, sigma } => {
+                json!({"dist": "lognormal", "median": median, "sigma": sigma})
+            }
+            Distribution::Levels(levels) => json!({"dist": "levels", "levels": levels}),
+        };
+        v["name"] = json!(self.name);
+        v
+    }
+}
+
 impl Study {
+    /// The drawn parameters as a JSON array (the `drawn` metadata of every chunk).
+    pub fn drawn_json(&self) -> serde_json::Value {
+        serde_json::Value::Array(self.drawn.iter().map(DrawnParam::to_json).collect())
+    }
+
     /// A stable fingerprint of the study text (64-bit FNV-1a, hex), written into every chunk's
     /// metadata as `study_hash` so that files of different studies are told apart cheaply.
     pub fn source_hash(&self) -> String {
@@ -272,7 +310,7 @@ impl Study {
             .transpose()?
             .unwrap_or_default();
         let seed = match table.get("seed") {
-            Some(v) => whole(v, "seed", 0, u32::MAX as u64 * 1024)?,
+            Some(v) => whole(v, "seed", 0, SEED_MAX)?,
             None => 1,
         };
         let design = match table.get("design") {
@@ -347,6 +385,14 @@ impl Study {
                                 return err(format!("`params.{name}`: its {which} value is outside the accepted range ({e}){hint}"));
                             }
                         }
+                        // Levels: every one of them, not only the ends.
+                        if let Distribution::Levels(levels) = &d {
+                            for (i, x) in levels.iter().enumerate() {
+                                s.check(*x).map_err(|e| {
+                                    StudyError(format!("`params.{name}.levels[{i}]`: {e}"))
+                                })?;
+                            }
+                        }
                         drawn.push(DrawnParam {
                             name: s.name,
                             dist: d,
@@ -374,7 +420,9 @@ impl Study {
                     size = size
                         .checked_mul(n.len() as u64)
                         .filter(|s| *s <= 1u64 << 40)
-                        .ok_or_else(|| StudyError("the grid has more than 2^40 points".into()))?;
+                        .ok_or_else(|| {
+                            StudyError("`params`: the grid has more than 2^40 points".into())
+                        })?;
                 }
                 if let Some(v) = table.get("samples") {
                     let s = whole(v, "samples", 1, 1u64 << 40)?;
@@ -393,7 +441,7 @@ impl Study {
             },
         };
         if design == Design::Sobol && drawn.len() > SOBOL_MAX_AXES {
-            return err(format!("a sobol design supports at most {SOBOL_MAX_AXES} drawn parameters, this study draws {}", drawn.len()));
+            return err(format!("`design` = \"sobol\" supports at most {SOBOL_MAX_AXES} drawn parameters, this study draws {}", drawn.len()));
         }
         if drawn.is_empty() {
             return err("the study draws no parameter: give at least one a `dist` in [params]");
@@ -424,7 +472,7 @@ impl Study {
             ));
         }
         if matches!(self.design, Design::Sobol | Design::Saltelli) && samples > u32::MAX as u64 {
-            return err("a sobol design supports at most 2^32 samples");
+            return err("--samples: a sobol design supports at most 2^32 samples");
         }
         Ok(())
     }

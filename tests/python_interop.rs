@@ -51,7 +51,7 @@ assert str(df.amp_v_mps.dtype) == "float64" and str(df.sample_id.dtype) == "int6
 p = df.groupby("wheel")["class"].apply(lambda s: (s == "limit_cycle").mean())
 assert 0.0 < p["follower"] < 1.0, p
 md = pq.read_metadata(glob.glob(d + "/*.parquet")[0]).metadata
-for k in [b"study", b"seed", b"variant", b"params", b"polywear_version", b"command", b"units"]:
+for k in [b"study_hash", b"seed", b"variant", b"params", b"polywear_version", b"command", b"units"]:
     assert k in md, k
 assert md[b"seed"] == b"2014"
 print("ok")

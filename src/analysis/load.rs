@@ -192,7 +192,10 @@ pub fn load(inputs: &[PathBuf]) -> Result<Dataset, String> {
         serde_json::from_str(&get("units")).unwrap_or_default();
     let info = RunInfo {
         study_name: get("study_name"),
-        study: get("study"),
+        // Chunks carry only `study_hash`; the text is kept once, in the run's manifest.
+        study: Some(get("study"))
+            .filter(|s| !s.is_empty())
+            .unwrap_or_else(|| crate::output_dir::manifest_study(&files[0])),
         seed: get("seed"),
         samples: get("samples"),
         design: get("design"),

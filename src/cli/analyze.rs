@@ -20,20 +20,20 @@ pub struct AnalyzeArgs {
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Bins per axis for conditional probabilities, accepted [2, 200]
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, default_value_t = 20, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--bins", 2, 200))]
     pub bins: usize,
     /// Bins per axis for risk maps, accepted [2, 200]
-    #[arg(long, default_value_t = 24)]
+    #[arg(long, default_value_t = 24, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--map-bins", 2, 200))]
     pub map_bins: usize,
     /// Cells and bins with fewer samples are shown as "too few", accepted [1, 1e9]
-    #[arg(long, default_value_t = 30)]
+    #[arg(long, default_value_t = 30, allow_negative_numbers = true, value_parser = super::common::whole_in::<u64>("--min-count", 1, 1_000_000_000))]
     pub min_count: u64,
     /// Extra risk map over two drawn parameters, e.g. `--pair g_mod,load_n` (repeatable); the
     /// maps speed_kmh,toe_deg and load_n,pressure_kpa are always drawn
     #[arg(long, value_name = "X,Y", value_parser = parse_pair)]
     pub pair: Vec<(String, String)>,
     /// Bootstrap resamples for the Sobol indices' intervals, accepted [10, 100000]
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = 200, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--bootstrap", 10, 100_000))]
     pub bootstrap: usize,
 }
 

@@ -25,7 +25,7 @@ pub struct BifurcationArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub to: f64,
     /// Number of values, accepted [2, 100000]
-    #[arg(long, default_value_t = 101)]
+    #[arg(long, default_value_t = 101, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--steps", 2, 100_000))]
     pub steps: usize,
     #[command(flatten)]
     pub point: PointArgs,
@@ -35,8 +35,8 @@ pub struct BifurcationArgs {
     /// Output prefix: writes PREFIX.parquet and PREFIX.png [default: data/bifurcation_<param>]
     #[arg(long, value_name = "PREFIX")]
     pub out: Option<PathBuf>,
-    /// Worker threads (default: all cores)
-    #[arg(long)]
+    /// Worker threads (default: all cores), accepted [1, 1024]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
     pub threads: Option<usize>,
 }
 

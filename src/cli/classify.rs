@@ -7,7 +7,7 @@ use std::time::Instant;
 use clap::Args;
 use rayon::prelude::*;
 
-use super::common::{check_extension, CliError, CliResult, VariantArg};
+use super::common::{check_extension, check_out_file, CliError, CliResult, VariantArg};
 use polywear::classify::{classify_point, ClassifierOptions};
 use polywear::model::{Variant, Wheel};
 use polywear::params::{spec, Params};
@@ -29,8 +29,8 @@ pub struct ClassifyArgs {
     /// Parameter file for the parameters the CSV does not give
     #[arg(long, value_name = "FILE")]
     pub params: Option<PathBuf>,
-    /// Worker threads (default: all cores)
-    #[arg(long)]
+    /// Worker threads (default: all cores), accepted [1, 1024]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
     pub threads: Option<usize>,
 }
 
@@ -53,6 +53,14 @@ fn read_points(path: &PathBuf, base: &Params) -> CliResult<Vec<Params>> {
             })
         })
         .collect::<CliResult<_>>()?;
+    for (i, name) in header.iter().enumerate() {
+        if header[..i].contains(name) {
+            return Err(CliError(format!(
+                "{}: column `{name}` appears more than once in the header",
+                path.display()
+            )));
+        }
+    }
     let mut out = Vec::new();
     for (i, line) in lines.enumerate() {
         let cells: Vec<&str> = line.split(',').collect();
@@ -86,6 +94,7 @@ fn read_points(path: &PathBuf, base: &Params) -> CliResult<Vec<Params>> {
 
 pub fn run(args: &ClassifyArgs) -> CliResult {
     check_extension(&args.out, &["csv", "parquet"], "--out")?;
+    check_out_file(&args.out, "--out")?;
     let base = super::common::base_params(args.params.as_deref())?;
     let points = read_points(&args.points, &base)?;
     let variant: Variant = args.variant.into();

@@ -142,8 +142,64 @@ pub fn base_params(path: Option<&Path>) -> CliResult<Params> {
         .map_err(|e| CliError(format!("--params {}: {e}", path.display())))
 }
 
+/// Accepted range of `--threads`, the same in every command.
+pub const THREADS_MAX: usize = 1024;
+
+/// Parses a whole number for `flag` within [lo, hi]; anything else (negative, fractional, not a
+/// number, out of range) is refused with the accepted range. Use with
+/// `allow_negative_numbers = true`, so that `-5` reaches this message instead of clap's
+/// "unexpected argument".
+pub fn whole_in<T: TryFrom<u64>>(
+    flag: &'static str,
+    lo: u64,
+    hi: u64,
+) -> impl Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static {
+    move |s: &str| {
+        s.trim()
+            .parse::<u64>()
+            .ok()
+            .filter(|v| (lo..=hi).contains(v))
+            .and_then(|v| T::try_from(v).ok())
+            .ok_or_else(|| format!("{flag} `{s}` must be a whole number in [{lo}, {hi}]"))
+    }
+}
+
+/// Parses `--threads`: a whole number in [1, THREADS_MAX].
+pub fn parse_threads(s: &str) -> Result<usize, String> {
+    whole_in("--threads", 1, THREADS_MAX as u64)(s)
+}
+
+/// Refuses an output file whose directory does not exist (or that is a directory), before any
+/// work starts.
+pub fn check_out_file(path: &Path, flag: &str) -> CliResult {
+    if path.is_dir() {
+        return Err(CliError(format!(
+            "{flag} {}: is a directory; give a file name",
+            path.display()
+        )));
+    }
+    let parent = path.parent().filter(|d| !d.as_os_str().is_empty());
+    if let Some(dir) = parent {
+        if !dir.is_dir() {
+            return Err(CliError(format!(
+                "{flag} {}: directory {} does not exist",
+                path.display(),
+                dir.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// The worker pool of `--threads` (None: all cores).
 pub fn thread_pool(threads: Option<usize>) -> CliResult<rayon::ThreadPool> {
+    if let Some(t) = threads {
+        if !(1..=THREADS_MAX).contains(&t) {
+            return Err(CliError(format!(
+                "--threads = {t} is outside its accepted range [1, {THREADS_MAX}]"
+            )));
+        }
+    }
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads.unwrap_or(0))
         .build()

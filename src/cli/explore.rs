@@ -8,7 +8,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::common::{CliError, CliResult};
 use polywear::explore::{default_out_dir, parse_samples, parse_shard, RunPlan};
-use polywear::study::{Study, DEFAULT_STUDY};
+use polywear::study::{Study, DEFAULT_STUDY, SEED_MAX};
 
 #[derive(Debug, Args)]
 pub struct ExploreArgs {
@@ -19,13 +19,14 @@ pub struct ExploreArgs {
     /// Number of samples (1e6, 1_000_000 and 1000000 all work); default: the study's `samples`.
     /// For a grid design it must equal the grid's size; for a saltelli design it counts base
     /// points (each takes k + 2 evaluations for k drawn parameters)
-    #[arg(long, value_name = "N", value_parser = parse_samples)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = parse_samples)]
     pub samples: Option<u64>,
-    /// Seed; default: the study's `seed`. Same study + seed = same rows, whatever the threads
-    #[arg(long)]
+    /// Seed; default: the study's `seed`. Same study + seed = same rows, whatever the threads.
+    /// Accepted [0, 4398046510080]
+    #[arg(long, allow_negative_numbers = true, value_parser = super::common::whole_in::<u64>("--seed", 0, SEED_MAX))]
     pub seed: Option<u64>,
-    /// Worker threads (default: all cores)
-    #[arg(long)]
+    /// Worker threads (default: all cores), accepted [1, 1024]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
     pub threads: Option<usize>,
     /// Output directory (must be empty or absent unless --resume)
     /// [default: data/explore_<study>_seed<seed>]
@@ -77,9 +78,6 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         .out
         .clone()
         .unwrap_or_else(|| default_out_dir(&study, seed));
-    if args.threads == Some(0) {
-        return Err(CliError("--threads must be at least 1".into()));
-    }
     let plan = RunPlan {
         study,
         seed,
@@ -89,11 +87,13 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         resume: args.resume,
         command: std::env::args().collect::<Vec<_>>().join(" "),
     };
-    plan.prepare_output().map_err(|e| CliError(e.to_string()))?;
     let pool = super::common::thread_pool(args.threads)?;
-
-    let pending = plan.pending_chunks();
-    let todo: u64 = pending.iter().map(|c| plan.chunk_len(*c)).sum();
+    // Checks and locks --out; the lock is held until this function returns.
+    let prepared = plan.prepare_output().map_err(|e| CliError(e.to_string()))?;
+    for line in &prepared.redone {
+        eprintln!("resume: {line}");
+    }
+    let todo = prepared.pending_samples(&plan);
     let bar = if args.quiet {
         ProgressBar::hidden()
     } else {
@@ -130,7 +130,7 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         );
     }
     let start = Instant::now();
-    let result = pool.install(|| plan.run(&|n| bar.inc(n)));
+    let result = pool.install(|| plan.run(&prepared, &|n| bar.inc(n)));
     bar.finish_and_clear();
     let summary = result.map_err(|e| CliError(e.to_string()))?;
     let secs = start.elapsed().as_secs_f64();

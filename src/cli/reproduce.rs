@@ -13,7 +13,7 @@ pub struct ReproduceArgs {
     #[arg(long, value_name = "DIR", default_value = "data/paper_2014")]
     pub out: PathBuf,
     /// Values per bifurcation sweep, accepted [11, 2001]
-    #[arg(long, default_value_t = 161)]
+    #[arg(long, default_value_t = 161, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--steps", 11, 2001))]
     pub steps: usize,
     /// Samples of the default study for the paired driving-vs-follower comparison, accepted
     /// [10, 1000000]
@@ -23,8 +23,8 @@ pub struct ReproduceArgs {
     /// reference constants) instead of the defaults
     #[arg(long, value_name = "FILE")]
     pub params: Option<PathBuf>,
-    /// Worker threads (default: all cores)
-    #[arg(long)]
+    /// Worker threads (default: all cores), accepted [1, 1024]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
     pub threads: Option<usize>,
 }
 

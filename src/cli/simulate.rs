@@ -4,7 +4,9 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::common::{base_metadata, check_extension, CliError, CliResult, PointArgs, WheelArg};
+use super::common::{
+    base_metadata, check_extension, check_out_file, CliError, CliResult, PointArgs, WheelArg,
+};
 use polywear::classify::{classify_point, ClassifierOptions};
 use polywear::model::{Variant, Wheel};
 use polywear::parquet_out::{write_csv, write_table, Column};
@@ -67,9 +69,11 @@ pub fn run(args: &SimulateArgs) -> CliResult {
     }
     if let Some(out) = &args.out {
         check_extension(out, &["parquet", "csv"], "--out")?;
+        check_out_file(out, "--out")?;
     }
     if let Some(plot) = &args.plot {
         check_extension(plot, &["png"], "--plot")?;
+        check_out_file(plot, "--plot")?;
     }
     let variant: Variant = args.point.variant.into();
     let opts = ClassifierOptions {

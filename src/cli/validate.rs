@@ -11,13 +11,13 @@ use polywear::parquet_out::{write_csv, Column};
 #[derive(Debug, Args)]
 pub struct ValidateArgs {
     /// Random operating points (each evaluated for 2 wheels × 3 variants), accepted [1, 100000]
-    #[arg(long, default_value_t = 300)]
+    #[arg(long, default_value_t = 300, allow_negative_numbers = true, value_parser = super::common::whole_in::<u64>("--points", 1, 100_000))]
     pub points: u64,
-    /// Seed of the point set
-    #[arg(long, default_value_t = 1)]
+    /// Seed of the point set, accepted [0, 4398046510080]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = super::common::whole_in::<u64>("--seed", 0, polywear::study::SEED_MAX))]
     pub seed: u64,
-    /// Worker threads for the reference (default: all cores)
-    #[arg(long)]
+    /// Worker threads for the reference (default: all cores), accepted [1, 1024]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
     pub threads: Option<usize>,
     /// Per-wheel results as CSV
     #[arg(long, value_name = "FILE.csv")]
