@@ -2,6 +2,7 @@
 //! design), the seed, the variants and the default sample count. Parsed into plain data and
 //! checked completely before any work starts; every error names the key and the accepted values.
 
+use crate::classify::WheelBudget;
 use crate::model::Variant;
 use crate::params::{spec, Params};
 use crate::sampling::design::{grid_digits, Coordinates, Design, SOBOL_MAX_AXES};
@@ -34,6 +35,8 @@ pub struct Study {
     pub drawn: Vec<DrawnParam>,
     /// The file's text, stored in every output's metadata.
     pub source: String,
+    /// Work limits per wheel (`max_rhs_evals`, `max_wheel_seconds`; defaults when absent).
+    pub budget: WheelBudget,
 }
 
 /// A study problem, with the key it concerns.
@@ -60,6 +63,8 @@ const TOP_KEYS: &[&str] = &[
     "design",
     "variants",
     "chunk_size",
+    "max_rhs_evals",
+    "max_wheel_seconds",
     "params",
 ];
 const DISTS: &str = "uniform, normal, truncated_normal, lognormal, levels";
@@ -313,6 +318,15 @@ impl Study {
             Some(v) => whole(v, "chunk_size", 1, 1 << 20)?,
             None => 4096,
         };
+        let mut budget = WheelBudget::default();
+        if let Some(v) = table.get("max_rhs_evals") {
+            let (lo, hi) = WheelBudget::RHS_EVALS_RANGE;
+            budget.max_rhs_evals = whole(v, "max_rhs_evals", lo, hi)?;
+        }
+        if let Some(v) = table.get("max_wheel_seconds") {
+            budget.max_wheel_seconds = number(v, "max_wheel_seconds")?;
+        }
+        budget.check("").map_err(StudyError)?;
 
         let mut base = base;
         let mut drawn = Vec::new();
@@ -409,6 +423,7 @@ impl Study {
             base,
             drawn,
             source: source.to_string(),
+            budget,
         })
     }
 
@@ -489,6 +504,16 @@ impl Sampler<'_> {
     }
 }
 
+/// 64-bit FNV-1a of a text, as 16 hex digits: a fingerprint, not a cryptographic hash.
+pub fn text_hash(text: &str) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in text.bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -527,14 +552,4 @@ mod tests {
             ]
         );
     }
-}
-
-/// 64-bit FNV-1a of a text, as 16 hex digits: a fingerprint, not a cryptographic hash.
-pub fn text_hash(text: &str) -> String {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for b in text.bytes() {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    format!("{h:016x}")
 }

@@ -4,7 +4,9 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::common::{base_metadata, check_extension, CliError, CliResult, PointArgs, WheelArg};
+use super::common::{
+    base_metadata, check_extension, BudgetArgs, CliError, CliResult, PointArgs, WheelArg,
+};
 use polywear::classify::{classify_point, ClassifierOptions};
 use polywear::model::{Variant, Wheel};
 use polywear::parquet_out::{write_csv, write_table, Column};
@@ -33,6 +35,8 @@ pub struct SimulateArgs {
     /// limit cycle coexisting with a stable equilibrium (class `bistable`)
     #[arg(long, value_name = "MPS", allow_negative_numbers = true)]
     pub kick: Option<f64>,
+    #[command(flatten)]
+    pub budget: BudgetArgs,
     /// Print one JSON object per wheel (the columns of reference/points.csv and more)
     #[arg(long)]
     pub json: bool,
@@ -74,6 +78,7 @@ pub fn run(args: &SimulateArgs) -> CliResult {
     let variant: Variant = args.point.variant.into();
     let opts = ClassifierOptions {
         kick_mps: args.kick,
+        budget: args.budget.apply(Default::default())?,
         ..ClassifierOptions::default()
     };
     let wheels = args.wheel.wheels();
