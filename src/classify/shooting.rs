@@ -160,7 +160,7 @@ pub const GUESS_RTOL: f64 = 1e-5;
 pub fn coarse_tolerances(growth: f64, fine_rtol: f64) -> (f64, f64) {
     let g = growth.abs();
     (
-        (1e-2 * g).clamp(fine_rtol, GUESS_RTOL),
+        (1e-3 * g).clamp(fine_rtol, GUESS_RTOL),
         (1e-4 * g).clamp(fine_rtol, COARSE_RTOL),
     )
 }
