@@ -125,8 +125,9 @@ impl Meter {
                 self.used.get()
             ));
         }
-        // An integration stopped by its step limit has used up (nearly) all that was left.
-        if self.used.get() + 7 > b.max_rhs_evals {
+        // An integration stopped by its step limit has used up all that was left, or all but
+        // less than one step (6 evaluations) and its start.
+        if self.used.get() + 7 >= b.max_rhs_evals {
             return Some(format!(
                 "budget exceeded (max_rhs_evals = {}; {} RHS evaluations spent)",
                 b.max_rhs_evals,

@@ -247,6 +247,9 @@ pub fn newton_orbit(
         let (mut dz, mut dv) = (step[0], step[1]);
         let step_rel = (dz / scales.z).abs().max((dv / v.max(scales.v)).abs());
         if tight && (converged || step_rel < FINE_ACCEPT_REL) {
+            if v + dv <= MIN_CYCLE_V_REL * scales.v {
+                return Err("shooting: Newton fell back onto the equilibrium".into());
+            }
             // The orbit through the corrected start returns later by dT = −(M d)_y / f_y.
             let d = [dz, 0.0, dv];
             let dt_s = -(monodromy[(1, 0)] * dz + monodromy[(1, 2)] * dv) / f_t[1];
