@@ -11,10 +11,10 @@
 
 use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 
-use rayon::prelude::*;
-
-use crate::classify::{classify_point, ClassifierOptions, WheelVerdict};
+use crate::classify::{classify_point_hinted, ClassifierOptions, WheelVerdict};
 use crate::model::{ModelFailure, Wheel};
 use crate::output_dir::{self, DirLock};
 use crate::parquet_out::{write_durably, write_table_digest, Column};
@@ -304,41 +304,43 @@ impl RunPlan {
 
     /// Runs the chunks still to do in `out` (from [`RunPlan::prepare_output`]); `progress` is
     /// called with each finished sample count.
+    ///
+    /// Chunks are pipelined: up to [`CHUNKS_IN_FLIGHT`] chunks have their samples queued on the
+    /// worker pool at once, and the task that finishes a chunk writes its file and queues the
+    /// next chunk, so no worker idles while a chunk's slowest samples finish. Each sample's rows
+    /// go to their fixed place in their chunk, so the files are the same whatever the threads.
     pub fn run(
         &self,
         out: &PreparedOutput,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<RunSummary, ExploreError> {
         let sampler = self.study.sampler(self.seed, self.samples);
-        let opts = ClassifierOptions::default();
-        let mut summary = RunSummary {
+        let opts = ClassifierOptions {
+            budget: self.study.budget,
+            ..ClassifierOptions::default()
+        };
+        let summary = RunSummary {
             samples_skipped: self.owned_samples() - out.pending_samples(self),
             ..RunSummary::default()
         };
-        for chunk in out.pending(self) {
-            let lo = chunk * self.study.chunk_size;
-            let hi = (lo + self.study.chunk_size).min(self.samples);
-            let rows: Vec<SampleRows> = (lo..hi)
-                .into_par_iter()
-                .map(|i| {
-                    let r = evaluate_sample(&self.study, &sampler, i, &opts);
-                    progress(1);
-                    r
-                })
-                .collect();
-            for r in rows.iter().flat_map(|s| &s.records) {
-                *summary
-                    .classes
-                    .entry((r.variant.to_string(), r.wheel.to_string()))
-                    .or_default()
-                    .entry(r.class.to_string())
-                    .or_default() += 1;
+        let pipe = Pipeline {
+            plan: self,
+            sampler: &sampler,
+            opts: &opts,
+            progress,
+            pending: Mutex::new(Box::new(out.pending(self))),
+            summary: Mutex::new(summary),
+            failure: Mutex::new(None),
+        };
+        rayon::scope_fifo(|s| {
+            for _ in 0..CHUNKS_IN_FLIGHT {
+                pipe.launch_next(s);
             }
-            summary.samples_evaluated += hi - lo;
-            self.write_chunk(chunk, &rows)?;
-            summary.chunks_written += 1;
+        });
+        if let Some(e) = pipe.failure.into_inner().expect("no panic holds the lock") {
+            return Err(e);
         }
-        Ok(summary)
+        Ok(pipe.summary.into_inner().expect("no panic holds the lock"))
     }
 
     fn write_chunk(&self, chunk: u64, rows: &[SampleRows]) -> Result<(), ExploreError> {
@@ -416,6 +418,96 @@ impl RunPlan {
     }
 }
 
+/// Chunks whose samples are queued on the workers at once (see [`RunPlan::run`]).
+pub const CHUNKS_IN_FLIGHT: usize = 2;
+
+/// The shared state of one pipelined run.
+struct Pipeline<'a> {
+    plan: &'a RunPlan,
+    sampler: &'a Sampler<'a>,
+    opts: &'a ClassifierOptions,
+    progress: &'a (dyn Fn(u64) + Sync),
+    /// The chunks still to launch, in order (lazily: a huge run starts at once).
+    pending: Mutex<Box<dyn Iterator<Item = u64> + Send + 'a>>,
+    summary: Mutex<RunSummary>,
+    failure: Mutex<Option<ExploreError>>,
+}
+
+/// One chunk in flight: a slot per sample and how many are still running.
+struct ChunkWork {
+    chunk: u64,
+    lo: u64,
+    rows: Mutex<Vec<Option<SampleRows>>>,
+    remaining: AtomicU64,
+}
+
+impl<'a> Pipeline<'a> {
+    /// Queues every sample of the next pending chunk, unless none is left or a write failed.
+    /// FIFO spawns: a worker runs its own queued samples oldest first, so the oldest chunk in
+    /// flight always finishes first (LIFO spawns starved chunk 0 on one thread, forever).
+    fn launch_next<'s>(&'s self, s: &rayon::ScopeFifo<'s>)
+    where
+        'a: 's,
+    {
+        if self.failure.lock().expect("lock").is_some() {
+            return;
+        }
+        let Some(chunk) = self.pending.lock().expect("lock").next() else {
+            return;
+        };
+        let plan = self.plan;
+        let lo = chunk * plan.study.chunk_size;
+        let hi = (lo + plan.study.chunk_size).min(plan.samples);
+        let work = Arc::new(ChunkWork {
+            chunk,
+            lo,
+            rows: Mutex::new((lo..hi).map(|_| None).collect()),
+            remaining: AtomicU64::new(hi - lo),
+        });
+        for i in lo..hi {
+            let work = Arc::clone(&work);
+            s.spawn_fifo(move |s| {
+                let r = evaluate_sample(&plan.study, self.sampler, i, self.opts);
+                (self.progress)(1);
+                work.rows.lock().expect("lock")[(i - work.lo) as usize] = Some(r);
+                if work.remaining.fetch_sub(1, Ordering::AcqRel) == 1 {
+                    self.finish(&work);
+                    self.launch_next(s);
+                }
+            });
+        }
+    }
+
+    /// Writes a complete chunk and counts its classes.
+    fn finish(&self, work: &ChunkWork) {
+        let rows: Vec<SampleRows> = std::mem::take(&mut *work.rows.lock().expect("lock"))
+            .into_iter()
+            .map(|r| r.expect("all samples done"))
+            .collect();
+        let mut counts: BTreeMap<(String, String), BTreeMap<String, u64>> = BTreeMap::new();
+        for r in rows.iter().flat_map(|s| &s.records) {
+            *counts
+                .entry((r.variant.to_string(), r.wheel.to_string()))
+                .or_default()
+                .entry(r.class.to_string())
+                .or_default() += 1;
+        }
+        if let Err(e) = self.plan.write_chunk(work.chunk, &rows) {
+            self.failure.lock().expect("lock").get_or_insert(e);
+            return;
+        }
+        let mut summary = self.summary.lock().expect("lock");
+        for (key, classes) in counts {
+            let entry = summary.classes.entry(key).or_default();
+            for (class, n) in classes {
+                *entry.entry(class).or_default() += n;
+            }
+        }
+        summary.samples_evaluated += rows.len() as u64;
+        summary.chunks_written += 1;
+    }
+}
+
 /// A value shortened to 60 characters for a message (cut at a character, never inside one).
 fn short(v: &serde_json::Value) -> String {
     let s = v.to_string();
@@ -435,6 +527,8 @@ pub struct SampleRows {
 
 /// Draws sample `index` and classifies it for every variant and both wheels. A parameter set
 /// that breaks a cross-parameter rule (e.g. mu_s > mu_m) becomes `failed` rows with the reason.
+/// Each wheel's shooting starts from the last cycle found in the same sample (the follower's
+/// for the driving wheel, the first variant's for the second), which saves Newton iterations.
 pub fn evaluate_sample(
     study: &Study,
     sampler: &Sampler<'_>,
@@ -444,10 +538,16 @@ pub fn evaluate_sample(
     let (p, drawn) = sampler.sample(index);
     let invalid = p.validate().err();
     let mut records = Vec::with_capacity(2 * study.variants.len());
+    let mut hint = None;
     for &variant in &study.variants {
         for wheel in Wheel::BOTH {
             let (model, verdict) = match &invalid {
-                None => classify_point(&p, wheel, variant, opts),
+                None => {
+                    let (model, verdict, next) =
+                        classify_point_hinted(&p, wheel, variant, opts, hint);
+                    hint = next.or(hint);
+                    (model, verdict)
+                }
                 Some(e) => {
                     let f = ModelFailure::Invalid(format!("invalid parameter set: {e}"));
                     let v = WheelVerdict::from_model_failure(&f);

@@ -2,6 +2,7 @@
 //! design), the seed, the variants and the default sample count. Parsed into plain data and
 //! checked completely before any work starts; every error names the key and the accepted values.
 
+use crate::classify::WheelBudget;
 use crate::model::Variant;
 use crate::params::{spec, Params};
 use crate::sampling::design::{grid_digits, Coordinates, Design, SOBOL_MAX_AXES};
@@ -37,6 +38,8 @@ pub struct Study {
     pub drawn: Vec<DrawnParam>,
     /// The file's text, stored in every output's metadata.
     pub source: String,
+    /// Work limits per wheel (`max_rhs_evals`, `max_wheel_seconds`; defaults when absent).
+    pub budget: WheelBudget,
 }
 
 /// A study problem, with the key it concerns.
@@ -63,6 +66,8 @@ const TOP_KEYS: &[&str] = &[
     "design",
     "variants",
     "chunk_size",
+    "max_rhs_evals",
+    "max_wheel_seconds",
     "params",
 ];
 const DISTS: &str = "uniform, normal, truncated_normal, lognormal, levels";
@@ -351,6 +356,15 @@ impl Study {
             Some(v) => whole(v, "chunk_size", 1, 1 << 20)?,
             None => 4096,
         };
+        let mut budget = WheelBudget::default();
+        if let Some(v) = table.get("max_rhs_evals") {
+            let (lo, hi) = WheelBudget::RHS_EVALS_RANGE;
+            budget.max_rhs_evals = whole(v, "max_rhs_evals", lo, hi)?;
+        }
+        if let Some(v) = table.get("max_wheel_seconds") {
+            budget.max_wheel_seconds = number(v, "max_wheel_seconds")?;
+        }
+        budget.check("").map_err(StudyError)?;
 
         let mut base = base;
         let mut drawn = Vec::new();
@@ -457,6 +471,7 @@ impl Study {
             base,
             drawn,
             source: source.to_string(),
+            budget,
         })
     }
 

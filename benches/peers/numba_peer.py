@@ -43,6 +43,7 @@ def integrate(c, horizon, rtol, disturbance):
     tmp = np.empty(3)
     xn = np.empty(3)
     rhs(x, c, k1)
+    evals = 1
     t, h = 0.0, 1e-5
     lo_e, hi_e, lo_l, hi_l = 1e9, -1e9, 1e9, -1e9
     while t < horizon:
@@ -66,6 +67,7 @@ def integrate(c, horizon, rtol, disturbance):
         for i in range(3):
             xn[i] = x[i] + h * (b1 * k1[i] + b3 * k3[i] + b4 * k4[i] + b5 * k5[i] + b6 * k6[i])
         rhs(xn, c, k7)
+        evals += 6
         err = 0.0
         for i in range(3):
             ei = h * (e1 * k1[i] + e3 * k3[i] + e4 * k4[i] + e5 * k5[i] + e6 * k6[i] + e7 * k7[i])
@@ -86,22 +88,28 @@ def integrate(c, horizon, rtol, disturbance):
         fac = 0.9 * (1.0 / max(err, 1e-10)) ** 0.2
         h *= min(5.0, max(0.2, fac))
         h = min(h, 1e-3)
-    return 0.5 * (hi_e - lo_e), 0.5 * (hi_l - lo_l)
+    return 0.5 * (hi_e - lo_e), 0.5 * (hi_l - lo_l), evals
 
 
 @njit(parallel=True, cache=True)
 def batch(coeffs, horizon, rtol, disturbance):
     n = coeffs.shape[0]
-    amps = np.empty((n, 2))
+    amps = np.empty((n, 3))
     for i in prange(n):
-        e, l = integrate(coeffs[i], horizon, rtol, disturbance)
+        e, l, evals = integrate(coeffs[i], horizon, rtol, disturbance)
         amps[i, 0] = e
         amps[i, 1] = l
+        amps[i, 2] = evals
     return amps
 
 
 def run(points, rtol=1e-8):
     """points: list of parameter dicts -> list of (index, wheel, class)."""
+    return run_counted(points, rtol)[0]
+
+
+def run_counted(points, rtol=1e-8):
+    """Like `run`, and the RHS evaluations of each integrated wheel."""
     rows, coeffs, where = [], [], []
     for i, p in enumerate(points):
         for wheel in ("follower", "driving"):
@@ -114,7 +122,7 @@ def run(points, rtol=1e-8):
     amps = batch(np.array(coeffs), model.HORIZON_S, rtol, model.DISTURBANCE_M)
     rows += [(i, w, model.verdict(a[0], a[1])) for (i, w), a in zip(where, amps)]
     rows.sort(key=lambda r: (r[0], r[1] != "follower"))
-    return rows
+    return rows, [int(a[2]) for a in amps]
 
 
 def warm_up():

@@ -7,6 +7,11 @@ import model
 
 
 def classify(c, rtol=1e-8):
+    return classify_counted(c, rtol)[0]
+
+
+def classify_counted(c, rtol=1e-8):
+    """The class and the RHS evaluations it took."""
     x0 = [c["z0"], c["y0"] + model.DISTURBANCE_M, 0.0]
     atol = [rtol * abs(c["z0"]), rtol * abs(c["y0"]), rtol * c["u"]]
     t_eval = np.concatenate([
@@ -16,19 +21,29 @@ def classify(c, rtol=1e-8):
     sol = solve_ivp(model.rhs, (0.0, model.HORIZON_S), x0, method="DOP853", rtol=rtol, atol=atol,
                     t_eval=t_eval, args=(c,))
     if not sol.success:
-        return "failed"
+        return "failed", sol.nfev
     v = sol.y[2]
     early = v[sol.t < model.HORIZON_S - 0.9]
     late = v[sol.t >= model.HORIZON_S - 0.5]
     amp = lambda s: 0.5 * (s.max() - s.min())
-    return model.verdict(amp(early), amp(late))
+    return model.verdict(amp(early), amp(late)), sol.nfev
 
 
 def run(points):
     """points: list of parameter dicts -> list of (index, wheel, class)."""
-    out = []
+    return run_counted(points)[0]
+
+
+def run_counted(points):
+    """Like `run`, and the RHS evaluations of each integrated wheel."""
+    out, evals = [], []
     for i, p in enumerate(points):
         for wheel in ("follower", "driving"):
             c = model.statics(p, wheel)
-            out.append((i, wheel, "no_traction" if c is None else classify(c)))
-    return out
+            if c is None:
+                out.append((i, wheel, "no_traction"))
+            else:
+                cls, n = classify_counted(c)
+                out.append((i, wheel, cls))
+                evals.append(n)
+    return out, evals

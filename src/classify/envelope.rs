@@ -1,7 +1,8 @@
 //! Long integration with envelope tracking: the fallback when shooting fails, the hard-excitation
 //! check, and the brute-force reference that the fast classifier is tested against.
 
-use super::section::crossing_in_step;
+use super::budget::Meter;
+use super::section::{crossing_in_step, metered};
 use super::{Scales, MIN_CYCLE_V_REL};
 use crate::model::{State, TreadOde};
 use crate::solver::{integrate, Control, SolverOptions};
@@ -25,7 +26,8 @@ pub fn track(
     start: State,
     max_time_s: f64,
     rtol: f64,
-) -> Result<(Envelope, usize), String> {
+    meter: &Meter,
+) -> Result<Envelope, String> {
     let opts = SolverOptions {
         rtol,
         atol: scales.atol(rtol),
@@ -36,7 +38,7 @@ pub fn track(
     let mut hist: Vec<(f64, f64)> = Vec::new(); // (z, v) at crossings
     let mut verdict = None;
     let mut steady = 0;
-    let out = integrate(ode, 0.0, start, max_time_s, &opts, |step| {
+    metered(ode, start, max_time_s, &opts, meter, |step| {
         let Some((_, x)) = crossing_in_step(step, scales.y_eq) else {
             return Control::Continue;
         };
@@ -82,12 +84,10 @@ pub fn track(
             return Control::Stop;
         }
         Control::Continue
-    })
-    .map_err(|e| e.to_string())?;
-    let env = verdict.unwrap_or(Envelope::Undecided {
+    })?;
+    Ok(verdict.unwrap_or(Envelope::Undecided {
         last_v: hist.last().map_or(0.0, |h| h.1),
-    });
-    Ok((env, out.rhs_evals))
+    }))
 }
 
 /// Amplitudes and frequency measured on a trajectory window, the way MODEL.md's reference does.

@@ -8,6 +8,7 @@
 //! tracking is the fallback when shooting fails, and the optional hard-excitation check looks for
 //! a cycle coexisting with a stable equilibrium.
 
+pub mod budget;
 pub mod envelope;
 pub mod section;
 pub mod shooting;
@@ -15,8 +16,10 @@ pub mod validation;
 
 use nalgebra::{Complex, Vector3};
 
-use crate::model::{ModelFailure, State, TreadOde, Variant, Wheel, WheelModel};
+use crate::model::{ModelFailure, TreadOde, Variant, Wheel, WheelModel};
 use crate::params::Params;
+use budget::Meter;
+pub use budget::WheelBudget;
 use envelope::Envelope;
 
 /// Smallest section velocity of a limit cycle, relative to the road's lateral speed U: smaller
@@ -105,6 +108,9 @@ pub struct WheelVerdict {
     pub method: Method,
     /// Why the class is `failed` or `no_traction`; empty otherwise.
     pub reason: String,
+    /// Where the cycle crosses the section y = y_eq upwards: z [m] and v [m/s] (0 if no cycle).
+    pub section_z_m: f64,
+    pub section_v_mps: f64,
 }
 
 impl WheelVerdict {
@@ -127,6 +133,8 @@ impl WheelVerdict {
             rhs_evals: 0,
             method,
             reason: String::new(),
+            section_z_m: 0.0,
+            section_v_mps: 0.0,
         }
     }
 
@@ -155,6 +163,8 @@ pub struct ClassifierOptions {
     pub kick_mps: Option<f64>,
     /// Simulated-time limit of the envelope-tracking fallback [s].
     pub fallback_max_s: f64,
+    /// Work limits per wheel; beyond them the wheel is `failed` with `budget exceeded (...)`.
+    pub budget: WheelBudget,
 }
 
 impl Default for ClassifierOptions {
@@ -165,6 +175,7 @@ impl Default for ClassifierOptions {
             disturbance_m: 1e-5,
             kick_mps: None,
             fallback_max_s: 60.0,
+            budget: WheelBudget::default(),
         }
     }
 }
@@ -207,25 +218,87 @@ pub fn classify_point(
     variant: Variant,
     opts: &ClassifierOptions,
 ) -> (Result<WheelModel, ModelFailure>, WheelVerdict) {
+    let (model, verdict, _) = classify_point_hinted(p, wheel, variant, opts, None);
+    (model, verdict)
+}
+
+/// [`classify_point`] with a starting guess for shooting taken from a neighbouring wheel's
+/// cycle (the other wheel or variant of the same sample); also returns this wheel's cycle as a
+/// hint for the next.
+pub fn classify_point_hinted(
+    p: &Params,
+    wheel: Wheel,
+    variant: Variant,
+    opts: &ClassifierOptions,
+    hint: Option<CycleHint>,
+) -> (
+    Result<WheelModel, ModelFailure>,
+    WheelVerdict,
+    Option<CycleHint>,
+) {
     match WheelModel::build(p, wheel, variant) {
         Ok(model) => {
-            let verdict = classify(&model.ode, WheelModel::rotation_hz(p), opts);
-            (Ok(model), verdict)
+            let (verdict, next) =
+                classify_hinted(&model.ode, WheelModel::rotation_hz(p), opts, hint);
+            (Ok(model), verdict, next)
         }
         Err(f) => {
             let verdict = WheelVerdict::from_model_failure(&f);
-            (Err(f), verdict)
+            (Err(f), verdict, None)
         }
     }
 }
 
+/// Where a limit cycle crosses the section, relative to its wheel's scales: a starting guess
+/// for Newton shooting on a neighbouring wheel (same patch and stiffness, nearby friction).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CycleHint {
+    /// (z − z_eq) / |z_eq|.
+    pub dz_rel: f64,
+    /// v / U.
+    pub v_rel: f64,
+}
+
 /// The verdict for one tread ODE (step 9). `rotation_hz` converts frequency to polygon order.
 pub fn classify(ode: &TreadOde, rotation_hz: f64, opts: &ClassifierOptions) -> WheelVerdict {
+    classify_hinted(ode, rotation_hz, opts, None).0
+}
+
+/// [`classify`] with an optional shooting guess; returns the cycle's hint when there is one.
+/// A wheel whose work exceeds `opts.budget` is `failed` with reason `budget exceeded (...)`.
+pub fn classify_hinted(
+    ode: &TreadOde,
+    rotation_hz: f64,
+    opts: &ClassifierOptions,
+    hint: Option<CycleHint>,
+) -> (WheelVerdict, Option<CycleHint>) {
+    let meter = Meter::new(opts.budget);
+    let mut v = classify_metered(ode, rotation_hz, opts, hint, &meter);
+    v.rhs_evals = meter.used();
+    if let Some(reason) = meter.exceeded() {
+        if v.class == Class::Failed {
+            v.reason = reason;
+        }
+    }
+    let scales = Scales::new(ode);
+    let next = (v.class.vibrates() && v.section_v_mps > 0.0).then(|| CycleHint {
+        dz_rel: (v.section_z_m - scales.z_eq) / scales.z,
+        v_rel: v.section_v_mps / scales.v,
+    });
+    (v, next)
+}
+
+fn classify_metered(
+    ode: &TreadOde,
+    rotation_hz: f64,
+    opts: &ClassifierOptions,
+    hint: Option<CycleHint>,
+    meter: &Meter,
+) -> WheelVerdict {
     let lin = ode.linear_stability();
     let scales = Scales::new(ode);
     let oscillatory = lin.eig_freq_hz > 0.0;
-    let mut evals = 0usize;
-    let fail = |reason: String, evals: usize| {
+    let fail = |reason: String| {
         let mut v = WheelVerdict::without_cycle(
             Class::Failed,
             lin.eig_re_max,
@@ -233,15 +306,35 @@ pub fn classify(ode: &TreadOde, rotation_hz: f64, opts: &ClassifierOptions) -> W
             Method::Envelope,
         );
         v.reason = reason;
-        v.rhs_evals = evals as u64;
         v
     };
     if !lin.eig_re_max.is_finite() {
-        return fail("non-finite Jacobian at the equilibrium".into(), 0);
+        return fail(
+            "eigenvalues at the equilibrium are not finite (degenerate Jacobian, e.g. a toe-in \
+             too small for double precision)"
+                .into(),
+        );
     }
+    let (guess_rtol, coarse_rtol) = if oscillatory {
+        shooting::coarse_tolerances(lin.eig_re_max / lin.eig_freq_hz, opts.rtol)
+    } else {
+        (shooting::GUESS_RTOL, shooting::COARSE_RTOL)
+    };
+    let newton = |z: f64, v: f64, period: f64| {
+        shooting::newton_orbit(
+            ode,
+            &scales,
+            z,
+            v,
+            period,
+            (coarse_rtol, opts.rtol),
+            opts.newton_tol,
+            meter,
+        )
+    };
 
     if lin.eig_re_max < 0.0 {
-        let mut verdict = WheelVerdict::without_cycle(
+        let verdict = WheelVerdict::without_cycle(
             Class::Stable,
             lin.eig_re_max,
             lin.eig_freq_hz,
@@ -252,91 +345,84 @@ pub fn classify(ode: &TreadOde, rotation_hz: f64, opts: &ClassifierOptions) -> W
             let period = 1.0 / lin.eig_freq_hz;
             let dz = hopf_dz_per_v(ode, lin.leading);
             let start = [scales.z_eq + kick * dz, scales.y_eq, kick];
-            match envelope::track(ode, &scales, start, opts.fallback_max_s, opts.rtol) {
-                Ok((Envelope::Settles { z, v }, e)) => {
-                    evals += e;
-                    if let Ok(orbit) = shooting::newton_orbit(
-                        ode,
-                        &scales,
-                        z,
-                        v,
-                        period,
-                        opts.rtol,
-                        opts.newton_tol,
-                    ) {
-                        evals += orbit.rhs_evals;
+            match envelope::track(ode, &scales, start, opts.fallback_max_s, opts.rtol, meter) {
+                Ok(Envelope::Settles { z, v }) => {
+                    if let Ok(orbit) = newton(z, v, period) {
                         if orbit.floquet_max < 1.0 {
-                            let mut v =
-                                cycle_verdict(ode, &scales, &orbit, &lin, rotation_hz, opts, evals);
+                            let mut v = cycle_verdict(&orbit, &lin, rotation_hz);
                             v.class = Class::Bistable;
                             return v;
                         }
                     }
                 }
-                Ok((_, e)) => evals += e,
-                Err(reason) => return fail(format!("hard-excitation check: {reason}"), evals),
+                Ok(_) => {}
+                Err(reason) => return fail(format!("hard-excitation check: {reason}")),
+            }
+            if meter.exceeded().is_some() {
+                return fail(String::new());
             }
         }
-        verdict.rhs_evals = evals as u64;
         return verdict;
     }
 
-    // Unstable equilibrium: find the limit cycle by shooting from the Hopf direction.
+    // Unstable equilibrium: find the limit cycle by shooting, from the neighbouring wheel's
+    // cycle when there is one, else from the Hopf direction with a bracketed amplitude.
     if oscillatory {
         let period = 1.0 / lin.eig_freq_hz;
+        let hinted = hint.and_then(|h| {
+            let orbit = newton(
+                scales.z_eq + h.dz_rel * scales.z,
+                h.v_rel * scales.v,
+                period,
+            );
+            orbit.ok().filter(|o| o.floquet_max < 1.0)
+        });
+        if let Some(orbit) = hinted {
+            return cycle_verdict(&orbit, &lin, rotation_hz);
+        }
         let dz = hopf_dz_per_v(ode, lin.leading);
-        let shot = shooting::amplitude_guess(ode, &scales, dz, 0.3 * scales.v, period, 1e-7)
-            .and_then(|((z, v), e)| {
-                evals += e;
-                shooting::newton_orbit(ode, &scales, z, v, period, opts.rtol, opts.newton_tol)
-            });
+        let shot =
+            shooting::amplitude_guess(ode, &scales, dz, 0.3 * scales.v, period, guess_rtol, meter)
+                .and_then(|(z, v)| newton(z, v, period));
         if let Ok(orbit) = shot {
-            evals += orbit.rhs_evals;
             if orbit.floquet_max < 1.0 {
-                return cycle_verdict(ode, &scales, &orbit, &lin, rotation_hz, opts, evals);
+                return cycle_verdict(&orbit, &lin, rotation_hz);
             }
         }
+    }
+    if meter.exceeded().is_some() {
+        return fail(String::new());
     }
 
     // Fallback: follow the trajectory from the disturbed equilibrium.
     let start = [scales.z_eq, scales.y_eq + opts.disturbance_m, 0.0];
-    match envelope::track(ode, &scales, start, opts.fallback_max_s, opts.rtol) {
-        Ok((Envelope::Decays, e)) => {
-            evals += e;
-            let mut v = WheelVerdict::without_cycle(
-                Class::Stable,
-                lin.eig_re_max,
-                lin.eig_freq_hz,
-                Method::Envelope,
-            );
-            v.rhs_evals = evals as u64;
-            v
-        }
-        Ok((Envelope::Settles { z, v }, e)) => {
-            evals += e;
+    match envelope::track(ode, &scales, start, opts.fallback_max_s, opts.rtol, meter) {
+        Ok(Envelope::Decays) => WheelVerdict::without_cycle(
+            Class::Stable,
+            lin.eig_re_max,
+            lin.eig_freq_hz,
+            Method::Envelope,
+        ),
+        Ok(Envelope::Settles { z, v }) => {
             let period = if oscillatory {
                 1.0 / lin.eig_freq_hz
             } else {
                 4e-3
             };
-            match shooting::newton_orbit(ode, &scales, z, v, period, opts.rtol, opts.newton_tol) {
+            match newton(z, v, period) {
                 Ok(orbit) => {
-                    evals += orbit.rhs_evals;
-                    let mut v = cycle_verdict(ode, &scales, &orbit, &lin, rotation_hz, opts, evals);
+                    let mut v = cycle_verdict(&orbit, &lin, rotation_hz);
                     v.method = Method::Envelope;
                     v
                 }
-                Err(reason) => fail(format!("envelope settled but {reason}"), evals),
+                Err(reason) => fail(format!("envelope settled but {reason}")),
             }
         }
-        Ok((Envelope::Undecided { last_v }, e)) => fail(
-            format!(
-                "not settled within {} s (last section velocity {last_v:.3e} m/s)",
-                opts.fallback_max_s
-            ),
-            evals + e,
-        ),
-        Err(reason) => fail(reason, evals),
+        Ok(Envelope::Undecided { last_v }) => fail(format!(
+            "not settled within {} s (last section velocity {last_v:.3e} m/s)",
+            opts.fallback_max_s
+        )),
+        Err(reason) => fail(reason),
     }
 }
 
@@ -382,75 +468,29 @@ fn hopf_dz_per_v(ode: &TreadOde, lambda: Complex<f64>) -> f64 {
     }
 }
 
-/// The limit-cycle verdict for a converged orbit: amplitudes, frequency, energy and polygon
-/// order from one period integrated with dense output; `evals` is the work spent so far.
+/// The limit-cycle verdict for a converged orbit: frequency and polygon order from its period,
+/// amplitudes and energy from the period integrated by its last Newton iteration.
 fn cycle_verdict(
-    ode: &TreadOde,
-    scales: &Scales,
     orbit: &shooting::PeriodicOrbit,
     lin: &crate::model::LinearStability,
     rotation_hz: f64,
-    opts: &ClassifierOptions,
-    evals: usize,
 ) -> WheelVerdict {
-    let m = measure_cycle(ode, scales, orbit.start, orbit.period_s, opts.rtol);
+    let m = orbit.measure;
     let freq_hz = 1.0 / orbit.period_s;
     WheelVerdict {
         class: Class::LimitCycle,
         eig_re_max: lin.eig_re_max,
         eig_freq_hz: lin.eig_freq_hz,
-        amp_y_m: m.0,
-        amp_v_mps: m.1,
+        amp_y_m: m.amp_y_m,
+        amp_v_mps: m.amp_v_mps,
         freq_hz,
         polygon_order: freq_hz / rotation_hz,
-        energy_per_cycle_j: m.2,
+        energy_per_cycle_j: m.energy_j,
         floquet_max: orbit.floquet_max,
-        rhs_evals: (evals + m.3) as u64,
+        rhs_evals: 0,
         method: Method::Shooting,
         reason: String::new(),
+        section_z_m: orbit.start[0],
+        section_v_mps: orbit.start[2],
     }
-}
-
-/// Half peak-to-peak of y and v, and ∮ C_s v² dt (3-point Gauss–Legendre per step), over one
-/// period from `start`. Returns (amp_y, amp_v, energy, rhs evaluations).
-pub fn measure_cycle(
-    ode: &TreadOde,
-    scales: &Scales,
-    start: State,
-    period_s: f64,
-    rtol: f64,
-) -> (f64, f64, f64, usize) {
-    use crate::solver::{integrate, Control, SolverOptions};
-    let opts = SolverOptions {
-        rtol,
-        atol: scales.atol(rtol),
-        h_max: period_s / 16.0,
-        h0: Some(period_s / 40.0),
-        max_steps: 1_000_000,
-    };
-    let (mut y_lo, mut y_hi) = (start[1], start[1]);
-    let (mut v_lo, mut v_hi) = (start[2], start[2]);
-    let mut energy = 0.0;
-    const GL: [(f64, f64); 3] = [
-        (0.112_701_665_379_258_3, 5.0 / 18.0),
-        (0.5, 8.0 / 18.0),
-        (0.887_298_334_620_741_7, 5.0 / 18.0),
-    ];
-    let out = integrate(ode, 0.0, start, period_s, &opts, |s| {
-        let h = s.t1 - s.t0;
-        for j in 1..=8 {
-            let x = s.interpolate(s.t0 + h * j as f64 / 8.0);
-            y_lo = y_lo.min(x[1]);
-            y_hi = y_hi.max(x[1]);
-            v_lo = v_lo.min(x[2]);
-            v_hi = v_hi.max(x[2]);
-        }
-        for (node, w) in GL {
-            let v = s.interpolate(s.t0 + h * node)[2];
-            energy += w * h * ode.c_s * v * v;
-        }
-        Control::Continue
-    });
-    let evals = out.map(|o| o.rhs_evals).unwrap_or(0);
-    (0.5 * (y_hi - y_lo), 0.5 * (v_hi - v_lo), energy, evals)
 }

@@ -1,8 +1,9 @@
 //! The Poincaré section y = y_eq crossed upwards (v > 0), shared by shooting and by the
 //! long-integration classifiers. State index 1 is y in every system used here.
 
+use super::budget::Meter;
 use crate::numeric::brent;
-use crate::solver::{integrate, Control, OdeSystem, SolverOptions, Step};
+use crate::solver::{integrate, Control, IntegrationError, OdeSystem, SolverOptions, Step};
 
 /// Locates an upward crossing of y = `y_sec` inside an accepted step, if there is one.
 #[inline]
@@ -29,28 +30,67 @@ pub struct Return<const N: usize> {
     pub h_last: f64,
 }
 
+/// Runs `integrate` under the wheel's budget: the step limit shrinks to the evaluations left,
+/// the step callback stops once the wall time is spent, and the work is charged to `meter`
+/// (also when the integration fails).
+pub fn metered<const N: usize, S: OdeSystem<N>>(
+    sys: &S,
+    start: [f64; N],
+    t_end: f64,
+    opts: &SolverOptions<N>,
+    meter: &Meter,
+    mut on_step: impl FnMut(&Step<'_, N>) -> Control,
+) -> Result<crate::solver::Outcome<N>, String> {
+    let opts = SolverOptions {
+        max_steps: meter.max_steps(opts.max_steps),
+        ..*opts
+    };
+    let out = integrate(sys, 0.0, start, t_end, &opts, |step| {
+        if meter.out_of_time() {
+            return Control::Stop;
+        }
+        on_step(step)
+    });
+    match out {
+        Ok(o) => {
+            meter.charge(o.rhs_evals);
+            Ok(o)
+        }
+        Err(e) => {
+            if let IntegrationError::TooManySteps { steps, .. } = e {
+                meter.charge(6 * steps + 1);
+            }
+            Err(e.to_string())
+        }
+    }
+}
+
 /// Integrates from a point on the section until the next upward crossing after `t_min`.
+/// `observe(step, t_hi)` sees every accepted step up to the return, `t_hi` being the end of the
+/// part of the step that belongs to the orbit (the return time in the last step).
 pub fn first_return<const N: usize, S: OdeSystem<N>>(
     sys: &S,
     start: [f64; N],
     y_sec: f64,
-    t_min: f64,
-    t_max: f64,
+    (t_min, t_max): (f64, f64),
     opts: &SolverOptions<N>,
+    meter: &Meter,
+    mut observe: impl FnMut(&Step<'_, N>, f64),
 ) -> Result<Return<N>, String> {
     let mut hit = None;
-    let out = integrate(sys, 0.0, start, t_max, opts, |step| {
+    let out = metered(sys, start, t_max, opts, meter, |step| {
         if step.t1 > t_min {
             if let Some(c) = crossing_in_step(step, y_sec) {
                 if c.0 > t_min {
+                    observe(step, c.0);
                     hit = Some(c);
                     return Control::Stop;
                 }
             }
         }
+        observe(step, step.t1);
         Control::Continue
-    })
-    .map_err(|e| e.to_string())?;
+    })?;
     match hit {
         Some((t, x)) => Ok(Return {
             period_s: t,

@@ -70,7 +70,11 @@ impl Comparison {
 /// one call at a time on one thread (its timings are single-thread costs); the reference runs
 /// in parallel, each call still on one thread.
 pub fn compare(seed: u64, n_points: u64) -> Vec<Comparison> {
-    let opts = ClassifierOptions::default();
+    compare_with(seed, n_points, &ClassifierOptions::default())
+}
+
+/// [`compare`] with the fast classifier's options given.
+pub fn compare_with(seed: u64, n_points: u64, opts: &ClassifierOptions) -> Vec<Comparison> {
     let mut jobs = Vec::new();
     for index in 0..n_points {
         let p = random_point(seed, index);
@@ -86,7 +90,7 @@ pub fn compare(seed: u64, n_points: u64) -> Vec<Comparison> {
         .iter()
         .map(|(_, p, m)| {
             let t = Instant::now();
-            let v = classify(&m.ode, WheelModel::rotation_hz(p), &opts);
+            let v = classify(&m.ode, WheelModel::rotation_hz(p), opts);
             (v, t.elapsed().as_secs_f64() * 1e6)
         })
         .collect();

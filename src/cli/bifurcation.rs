@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::common::{base_metadata, CliError, CliResult, PointArgs};
+use super::common::{base_metadata, BudgetArgs, CliError, CliResult, PointArgs};
 use polywear::bifurcation::{linspace, sweep};
 use polywear::classify::ClassifierOptions;
 use polywear::model::{Variant, Wheel};
@@ -32,6 +32,8 @@ pub struct BifurcationArgs {
     /// Hard-excitation check at each value (lateral velocity amplitude [m/s])
     #[arg(long, value_name = "MPS")]
     pub kick: Option<f64>,
+    #[command(flatten)]
+    pub budget: BudgetArgs,
     /// Output prefix: writes PREFIX.parquet and PREFIX.png [default: data/bifurcation_<param>]
     #[arg(long, value_name = "PREFIX")]
     pub out: Option<PathBuf>,
@@ -83,6 +85,7 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
     let variant: Variant = args.point.variant.into();
     let opts = ClassifierOptions {
         kick_mps: args.kick,
+        budget: args.budget.apply(Default::default())?,
         ..ClassifierOptions::default()
     };
     let values = linspace(args.from, args.to, args.steps);

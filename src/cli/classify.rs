@@ -7,7 +7,7 @@ use std::time::Instant;
 use clap::Args;
 use rayon::prelude::*;
 
-use super::common::{check_extension, check_out_file, CliError, CliResult, VariantArg};
+use super::common::{check_extension, check_out_file, BudgetArgs, CliError, CliResult, VariantArg};
 use polywear::classify::{classify_point, ClassifierOptions};
 use polywear::model::{Variant, Wheel};
 use polywear::params::{spec, Params};
@@ -32,6 +32,8 @@ pub struct ClassifyArgs {
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
     pub threads: Option<usize>,
+    #[command(flatten)]
+    pub budget: BudgetArgs,
 }
 
 /// Reads the points: each row applied on top of `base` and validated, before any work.
@@ -95,11 +97,14 @@ fn read_points(path: &PathBuf, base: &Params) -> CliResult<Vec<Params>> {
 pub fn run(args: &ClassifyArgs) -> CliResult {
     check_extension(&args.out, &["csv", "parquet"], "--out")?;
     check_out_file(&args.out, "--out")?;
+    let opts = ClassifierOptions {
+        budget: args.budget.apply(Default::default())?,
+        ..ClassifierOptions::default()
+    };
     let base = super::common::base_params(args.params.as_deref())?;
     let points = read_points(&args.points, &base)?;
     let variant: Variant = args.variant.into();
     let pool = super::common::thread_pool(args.threads)?;
-    let opts = ClassifierOptions::default();
     let start = Instant::now();
     let jobs: Vec<(usize, Wheel)> = (0..points.len())
         .flat_map(|i| Wheel::BOTH.map(|w| (i, w)))

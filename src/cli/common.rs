@@ -4,6 +4,7 @@ use std::path::Path;
 
 use clap::{Args, ValueEnum};
 
+use polywear::classify::WheelBudget;
 use polywear::model::{Variant, Wheel};
 use polywear::params::{ParamError, Params};
 
@@ -236,4 +237,39 @@ pub fn base_metadata(p: &Params, variant: Variant) -> Vec<(String, String)> {
             serde_json::to_string(p).expect("params serialize"),
         ),
     ]
+}
+
+/// The per-wheel work budget flags, shared by every command that classifies.
+#[derive(Debug, Args, Clone, Default)]
+pub struct BudgetArgs {
+    /// Most RHS evaluations one wheel may take; a wheel that needs more becomes a `failed` row
+    /// with reason `budget exceeded (...)`. Accepted [100, 1e12]; default: the study's
+    /// `max_rhs_evals`, else 20000000 (a limit cycle takes about a thousand)
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub max_rhs_evals: Option<f64>,
+    /// Most wall-clock seconds one wheel may take (a safety net; normal wheels take
+    /// milliseconds). Accepted [0.001, 86400]; default: the study's `max_wheel_seconds`, else 60
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub max_wheel_seconds: Option<f64>,
+}
+
+impl BudgetArgs {
+    /// `base` (defaults or the study's) with the flags given applied, checked.
+    pub fn apply(&self, base: WheelBudget) -> CliResult<WheelBudget> {
+        let mut b = base;
+        if let Some(n) = self.max_rhs_evals {
+            let (lo, hi) = WheelBudget::RHS_EVALS_RANGE;
+            if !(n.fract() == 0.0 && n >= lo as f64 && n <= hi as f64) {
+                return Err(CliError(format!(
+                    "--max-rhs-evals = {n} must be a whole number in [{lo}, {hi}]"
+                )));
+            }
+            b.max_rhs_evals = n as u64;
+        }
+        if let Some(s) = self.max_wheel_seconds {
+            b.max_wheel_seconds = s;
+        }
+        b.check("--").map_err(CliError)?;
+        Ok(b)
+    }
 }

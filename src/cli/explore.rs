@@ -6,7 +6,7 @@ use std::time::Instant;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use super::common::{CliError, CliResult};
+use super::common::{BudgetArgs, CliError, CliResult};
 use polywear::explore::{default_out_dir, parse_samples, parse_shard, RunPlan};
 use polywear::study::{Study, DEFAULT_STUDY, SEED_MAX};
 
@@ -50,6 +50,8 @@ pub struct ExploreArgs {
     /// Skip the analysis report (risk maps, probabilities) written to DIR/_report at the end
     #[arg(long)]
     pub no_report: bool,
+    #[command(flatten)]
+    pub budget: BudgetArgs,
 }
 
 pub fn run(args: &ExploreArgs) -> CliResult {
@@ -65,8 +67,9 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         ),
     };
     let base = super::common::base_params(args.params.as_deref())?;
-    let study =
+    let mut study =
         Study::parse_with_base(&source, base).map_err(|e| CliError(format!("{origin}: {e}")))?;
+    study.budget = args.budget.apply(study.budget)?;
     let base_samples = args.samples.unwrap_or(study.samples);
     study
         .check_samples(base_samples)

@@ -5,7 +5,8 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::common::{
-    base_metadata, check_extension, check_out_file, CliError, CliResult, PointArgs, WheelArg,
+    base_metadata, check_extension, check_out_file, BudgetArgs, CliError, CliResult, PointArgs,
+    WheelArg,
 };
 use polywear::classify::{classify_point, ClassifierOptions};
 use polywear::model::{Variant, Wheel};
@@ -35,6 +36,8 @@ pub struct SimulateArgs {
     /// limit cycle coexisting with a stable equilibrium (class `bistable`)
     #[arg(long, value_name = "MPS", allow_negative_numbers = true)]
     pub kick: Option<f64>,
+    #[command(flatten)]
+    pub budget: BudgetArgs,
     /// Print one JSON object per wheel (the columns of reference/points.csv and more)
     #[arg(long)]
     pub json: bool,
@@ -78,6 +81,7 @@ pub fn run(args: &SimulateArgs) -> CliResult {
     let variant: Variant = args.point.variant.into();
     let opts = ClassifierOptions {
         kick_mps: args.kick,
+        budget: args.budget.apply(Default::default())?,
         ..ClassifierOptions::default()
     };
     let wheels = args.wheel.wheels();

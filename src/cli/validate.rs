@@ -4,8 +4,9 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::common::{check_extension, CliError, CliResult};
-use polywear::classify::validation::{compare, median, Comparison, HOPF_BAND};
+use super::common::{check_extension, BudgetArgs, CliError, CliResult};
+use polywear::classify::validation::{compare_with, median, Comparison, HOPF_BAND};
+use polywear::classify::ClassifierOptions;
 use polywear::parquet_out::{write_csv, Column};
 
 #[derive(Debug, Args)]
@@ -22,6 +23,8 @@ pub struct ValidateArgs {
     /// Per-wheel results as CSV
     #[arg(long, value_name = "FILE.csv")]
     pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub budget: BudgetArgs,
 }
 
 pub fn run(args: &ValidateArgs) -> CliResult {
@@ -34,12 +37,16 @@ pub fn run(args: &ValidateArgs) -> CliResult {
     if let Some(out) = &args.out {
         check_extension(out, &["csv"], "--out")?;
     }
+    let opts = ClassifierOptions {
+        budget: args.budget.apply(Default::default())?,
+        ..ClassifierOptions::default()
+    };
     let pool = super::common::thread_pool(args.threads)?;
     eprintln!(
         "classifying {} points x 2 wheels x 3 variants, fast and brute force (this takes minutes)...",
         args.points
     );
-    let rows = pool.install(|| compare(args.seed, args.points));
+    let rows = pool.install(|| compare_with(args.seed, args.points, &opts));
     report(&rows);
     if let Some(out) = &args.out {
         write_rows(out, &rows)?;

@@ -114,7 +114,13 @@ impl TreadOde {
     /// Eigenvalues of the Jacobian at the equilibrium (step 8), largest real part first.
     pub fn eigenvalues(&self) -> [Complex<f64>; 3] {
         let jac = self.jacobian(&self.equilibrium());
-        let ev = jac.complex_eigenvalues();
+        // Bounded QR iterations: the unbounded ones never return for some degenerate Jacobians
+        // (toe-in 1e-200°, issue 13). Without convergence the eigenvalues are NaN, and the
+        // classifier says so in a `failed` row.
+        let Some(schur) = jac.try_schur(f64::EPSILON, 10_000) else {
+            return [Complex::new(f64::NAN, f64::NAN); 3];
+        };
+        let ev = schur.complex_eigenvalues();
         let mut out = [ev[0], ev[1], ev[2]];
         // Leading first; within a complex pair the one with positive imaginary part first.
         out.sort_by(|a, b| b.re.total_cmp(&a.re).then(b.im.total_cmp(&a.im)));

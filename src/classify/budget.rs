@@ -1,0 +1,139 @@
+//! The per-wheel work budget (issue 13): at most so many RHS evaluations and so much wall time
+//! for one wheel's verdict. A wheel that needs more becomes a `failed` row whose reason starts
+//! with `budget exceeded (`, so one pathological point cannot stall a whole study.
+
+use std::cell::Cell;
+use std::time::Instant;
+
+/// Limits on the work spent on one wheel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WheelBudget {
+    /// Right-hand-side evaluations (variational evaluations count as one). Deterministic: the
+    /// same wheel hits it or not on every machine.
+    pub max_rhs_evals: u64,
+    /// Wall-clock seconds: a safety net far above any normal wheel (which takes milliseconds);
+    /// unlike the evaluation count it depends on the machine and its load.
+    pub max_wheel_seconds: f64,
+}
+
+impl WheelBudget {
+    /// Accepted range of `max_rhs_evals`.
+    pub const RHS_EVALS_RANGE: (u64, u64) = (100, 1_000_000_000_000);
+    /// Accepted range of `max_wheel_seconds`.
+    pub const SECONDS_RANGE: (f64, f64) = (1e-3, 86_400.0);
+
+    /// Checks both limits against their accepted ranges. The error names the key as the
+    /// study file spells it, or as the flag (`--max-rhs-evals`) when `flag_prefix` is "--".
+    pub fn check(&self, flag_prefix: &str) -> Result<(), String> {
+        let name = |key: &str| {
+            if flag_prefix.is_empty() {
+                format!("`{key}`")
+            } else {
+                format!("{flag_prefix}{}", key.replace('_', "-"))
+            }
+        };
+        let (lo, hi) = Self::RHS_EVALS_RANGE;
+        if !(lo..=hi).contains(&self.max_rhs_evals) {
+            return Err(format!(
+                "{} = {} is outside the accepted range [{lo}, {hi}]",
+                name("max_rhs_evals"),
+                self.max_rhs_evals
+            ));
+        }
+        let (lo, hi) = Self::SECONDS_RANGE;
+        let s = self.max_wheel_seconds;
+        if !(s.is_finite() && (lo..=hi).contains(&s)) {
+            return Err(format!(
+                "{} = {s} is outside the accepted range [{lo}, {hi}] s",
+                name("max_wheel_seconds")
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl Default for WheelBudget {
+    /// 20 million evaluations (about 2 s of one core; a limit cycle takes about a thousand, the
+    /// slowest envelope fallback of 60 simulated seconds about 2 million) and 60 s of wall time.
+    fn default() -> Self {
+        WheelBudget {
+            max_rhs_evals: 20_000_000,
+            max_wheel_seconds: 60.0,
+        }
+    }
+}
+
+/// Counts the work of one wheel against its budget. Integrations take their step limit from
+/// [`Meter::max_steps`] and poll [`Meter::out_of_time`] from their step callbacks.
+pub struct Meter {
+    budget: WheelBudget,
+    start: Instant,
+    used: Cell<u64>,
+    polls: Cell<u32>,
+    timed_out: Cell<bool>,
+}
+
+impl Meter {
+    pub fn new(budget: WheelBudget) -> Self {
+        Meter {
+            budget,
+            start: Instant::now(),
+            used: Cell::new(0),
+            polls: Cell::new(0),
+            timed_out: Cell::new(false),
+        }
+    }
+
+    /// Adds the evaluations of a finished (or failed) integration.
+    pub fn charge(&self, rhs_evals: usize) {
+        self.used.set(self.used.get() + rhs_evals as u64);
+    }
+
+    /// Evaluations spent so far.
+    pub fn used(&self) -> u64 {
+        self.used.get()
+    }
+
+    /// The step limit for the next integration: `cap`, or less where the evaluations left
+    /// (6 per Dormand–Prince step) run out first.
+    pub fn max_steps(&self, cap: usize) -> usize {
+        let left = self.budget.max_rhs_evals.saturating_sub(self.used.get());
+        cap.min((left / 6) as usize + 1)
+    }
+
+    /// Whether the wall-time limit has passed (the clock is read every 64th call).
+    pub fn out_of_time(&self) -> bool {
+        if self.timed_out.get() {
+            return true;
+        }
+        let n = self.polls.get().wrapping_add(1);
+        self.polls.set(n);
+        if n % 64 == 1 && self.start.elapsed().as_secs_f64() > self.budget.max_wheel_seconds {
+            self.timed_out.set(true);
+        }
+        self.timed_out.get()
+    }
+
+    /// `Some(reason)` once either limit is exceeded.
+    pub fn exceeded(&self) -> Option<String> {
+        let b = &self.budget;
+        if self.timed_out.get() || self.start.elapsed().as_secs_f64() > b.max_wheel_seconds {
+            return Some(format!(
+                "budget exceeded (max_wheel_seconds = {} s; {:.3} s and {} RHS evaluations spent)",
+                b.max_wheel_seconds,
+                self.start.elapsed().as_secs_f64(),
+                self.used.get()
+            ));
+        }
+        // An integration stopped by its step limit has used up all that was left, or all but
+        // less than one step (6 evaluations) and its start.
+        if self.used.get() + 7 >= b.max_rhs_evals {
+            return Some(format!(
+                "budget exceeded (max_rhs_evals = {}; {} RHS evaluations spent)",
+                b.max_rhs_evals,
+                self.used.get()
+            ));
+        }
+        None
+    }
+}
