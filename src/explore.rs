@@ -77,6 +77,7 @@ impl RunPlan {
     fn manifest(&self) -> serde_json::Value {
         serde_json::json!({
             "polywear_version": env!("CARGO_PKG_VERSION"),
+            "rng": crate::sampling::RNG_NAME,
             "study_name": self.study.name,
             "study": self.study.source,
             "params": serde_json::to_value(self.study.base).expect("json"),
@@ -111,6 +112,15 @@ impl RunPlan {
             let old: serde_json::Value = serde_json::from_str(&text)
                 .map_err(|err| e(format!("unreadable _manifest.json: {err}")))?;
             let new = self.manifest();
+            // A directory written by another generator (or by a version before `rng` was
+            // recorded) holds rows this build would not reproduce: never mix them.
+            if old["rng"] != new["rng"] {
+                return Err(e(format!(
+                    "--resume: this directory was written with another random generator ({}); this polywear uses {}, whose rows would differ: start a new directory",
+                    old["rng"].as_str().unwrap_or("none recorded, polywear before 0.2.0"),
+                    crate::sampling::RNG_NAME
+                )));
+            }
             for key in [
                 "polywear_version",
                 "study",
@@ -201,6 +211,7 @@ impl RunPlan {
                 env!("CARGO_PKG_VERSION").to_string(),
             ),
             ("command".into(), self.command.clone()),
+            ("rng".into(), crate::sampling::RNG_NAME.into()),
             ("study_name".into(), self.study.name.clone()),
             ("study".into(), self.study.source.clone()),
             ("study_hash".into(), self.study.source_hash()),
