@@ -142,7 +142,8 @@ fn neighbouring_samples_and_axes_are_independent() {
 fn random_design_draws_follow_their_distributions() {
     // Probability integral transform: F(draw) must be uniform for each distribution drawn
     // directly with rand_distr (or by inverse CDF for the truncated normal).
-    let cases: Vec<(Distribution, Box<dyn Fn(f64) -> f64>)> = vec![
+    type Cdf = Box<dyn Fn(f64) -> f64>;
+    let cases: Vec<(Distribution, Cdf)> = vec![
         (
             Distribution::Normal {
                 mean: 4000.0,
