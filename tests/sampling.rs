@@ -8,7 +8,8 @@ mod common;
 
 use polywear::sampling::design::{Coordinates, Design};
 use polywear::sampling::distribution::{
-    ln_normal_cdf, normal_cdf, normal_quantile, normal_quantile_of_ln, Distribution,
+    ln_normal_cdf, ln_normal_mass, normal_cdf, normal_quantile, normal_quantile_of_ln,
+    truncated_normal_quantile, Distribution,
 };
 use polywear::sampling::{Streams, RNG_NAME};
 use polywear::study::{Study, DEFAULT_STUDY};
@@ -296,6 +297,38 @@ fn truncated_normal_far_in_a_tail_stays_near_its_bound() {
             xs.iter().cloned().fold(f64::NAN, f64::max)
         );
         assert!((mean - 312.87).abs() < 0.15, "{design}: mean {mean}");
+    }
+}
+
+#[test]
+fn truncated_normal_quantile_inverts_its_cdf_everywhere() {
+    // Intervals in the body, in either tail, beyond Φ's underflow, narrow and wide: the
+    // quantile stays inside [a, b], never decreases, and its CDF gives back u.
+    for a in [-60.0, -40.0, -9.0, -3.0, -0.5, 0.0, 0.5, 3.0, 9.0, 40.0] {
+        for width in [1e-3, 0.1, 1.0, 5.0, 100.0] {
+            let b: f64 = a + width;
+            let ln_mass = ln_normal_mass(a, b);
+            assert!(ln_mass.is_finite(), "[{a}, {b}]");
+            let mut last = f64::NEG_INFINITY;
+            for k in 0..=2000 {
+                let u = k as f64 / 2000.0;
+                let x = truncated_normal_quantile(a, b, u);
+                assert!(
+                    x >= a && x <= b && x >= last,
+                    "[{a}, {b}] u {u}: {x} after {last}"
+                );
+                last = x;
+                let cdf = if x > a {
+                    (ln_normal_mass(a, x) - ln_mass).exp()
+                } else {
+                    0.0
+                };
+                assert!(
+                    (cdf - u).abs() < 1e-9,
+                    "[{a}, {b}] u {u}: x {x}, F(x) {cdf}"
+                );
+            }
+        }
     }
 }
 
