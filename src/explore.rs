@@ -115,6 +115,7 @@ impl RunPlan {
     fn manifest(&self) -> serde_json::Value {
         serde_json::json!({
             "polywear_version": env!("CARGO_PKG_VERSION"),
+            "rng": crate::sampling::RNG_NAME,
             "study_name": self.study.name,
             "study": self.study.source,
             "study_hash": self.study.source_hash(),
@@ -219,6 +220,15 @@ impl RunPlan {
         let old: serde_json::Value = serde_json::from_str(&text)
             .map_err(|err| e(format!("unreadable {}: {err}", output_dir::MANIFEST)))?;
         let new = self.manifest();
+        // A directory written by another generator (or by a version before `rng` was recorded)
+        // holds rows this build would not reproduce: never mix them.
+        if old["rng"] != new["rng"] {
+            return Err(e(format!(
+                "--resume: this directory was written with another random generator ({}); this polywear uses {}, whose rows would differ: start a new directory",
+                old["rng"].as_str().unwrap_or("none recorded, polywear before 0.2.0"),
+                crate::sampling::RNG_NAME
+            )));
+        }
         for key in [
             "polywear_version",
             "study",
@@ -351,6 +361,7 @@ impl RunPlan {
                 env!("CARGO_PKG_VERSION").to_string(),
             ),
             ("command".into(), self.command.clone()),
+            ("rng".into(), crate::sampling::RNG_NAME.into()),
             ("study_name".into(), self.study.name.clone()),
             // The study text is kept once, in the manifest; its hash ties the chunk to it.
             ("study_hash".into(), self.study.source_hash()),

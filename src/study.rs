@@ -542,7 +542,7 @@ impl Sampler<'_> {
                 .drawn
                 .iter()
                 .enumerate()
-                .map(|(dim, d)| d.dist.quantile(self.coords.coordinate(index, dim)))
+                .map(|(dim, d)| self.coords.value(index, dim, &d.dist))
                 .collect()
         };
         for (d, v) in self.study.drawn.iter().zip(&values) {

@@ -87,9 +87,12 @@ pub fn sobol_with_bootstrap(
     let mut ss = Vec::with_capacity(resamples);
     let mut sts = Vec::with_capacity(resamples);
     let (mut a, mut b, mut ab) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let streams = crate::sampling::Streams::new(seed);
     for r in 0..resamples {
+        // One ChaCha12 stream per resample, drawn in sequence; rand's unbiased index.
+        let mut rng = streams.at(r as u64, 0);
         for j in 0..n {
-            let k = (crate::sampling::bits(seed, r as u64, j as u64) % n as u64) as usize;
+            let k = rand::RngExt::random_range(&mut rng, 0..n);
             a[j] = f_a[k];
             b[j] = f_b[k];
             ab[j] = f_ab[k];

@@ -1,6 +1,10 @@
-//! Experimental designs: the coordinate in [0, 1) of sample `index` along axis `dim`.
+//! Experimental designs: the coordinate in [0, 1) of sample `index` along axis `dim`, and the
+//! value a distribution takes there.
 
-use super::rng::{bits, uniform01};
+use rand::Rng;
+
+use super::distribution::Distribution;
+use super::rng::{Streams, LHS_STREAMS, SOBOL_SCRAMBLE_STREAM};
 use super::sobol::{direction_numbers, owen_scramble, sobol_u32, MAX_DIMENSIONS};
 
 /// How sample points fill the unit cube.
@@ -49,10 +53,12 @@ pub const SOBOL_MAX_AXES: usize = MAX_DIMENSIONS;
 /// separately by [`grid_digits`]).
 pub struct Coordinates {
     design: Design,
-    seed: u64,
+    streams: Streams,
     samples: u64,
     n_axes: usize,
     sobol_dirs: Vec<[u32; 32]>,
+    /// Owen-scrambling seed of each Sobol dimension.
+    sobol_seeds: Vec<u32>,
 }
 
 impl Coordinates {
@@ -66,26 +72,37 @@ impl Coordinates {
         let sobol_dirs = (0..sobol_dims.min(MAX_DIMENSIONS))
             .map(direction_numbers)
             .collect();
+        let streams = Streams::new(seed);
+        let sobol_seeds = (0..sobol_dims.min(MAX_DIMENSIONS) as u64)
+            .map(|d| streams.at_word(SOBOL_SCRAMBLE_STREAM, d.into()).next_u32())
+            .collect();
         Coordinates {
             design,
-            seed,
+            streams,
             samples,
             n_axes,
             sobol_dirs,
+            sobol_seeds,
+        }
+    }
+
+    /// Value of `dist` for sample `index` on axis `dim`: a direct draw from the sample's stream
+    /// of that axis in the random design ([`Distribution::draw`]), the inverse CDF at the
+    /// design's coordinate in the stratified ones.
+    pub fn value(&self, index: u64, dim: usize, dist: &Distribution) -> f64 {
+        match self.design {
+            Design::Random => dist.draw(&mut self.streams.at(index, dim as u64)),
+            _ => dist.quantile(self.coordinate(index, dim)),
         }
     }
 
     /// Coordinate of sample `index` on axis `dim`, in [0, 1).
     pub fn coordinate(&self, index: u64, dim: usize) -> f64 {
         match self.design {
-            Design::Random | Design::Grid => uniform01(self.seed, index, dim as u64),
+            Design::Random | Design::Grid => self.streams.uniform01(index, dim as u64),
             Design::LatinHypercube => {
-                let stratum = permute(
-                    index,
-                    self.samples,
-                    self.seed ^ (dim as u64).wrapping_mul(0x9E37_79B9),
-                );
-                (stratum as f64 + uniform01(self.seed, index, dim as u64)) / self.samples as f64
+                let stratum = permute(index, self.samples, &self.streams, dim as u64);
+                (stratum as f64 + self.streams.uniform01(index, dim as u64)) / self.samples as f64
             }
             Design::Sobol => self.sobol(index, dim),
             Design::Saltelli => {
@@ -107,17 +124,17 @@ impl Coordinates {
         match self.sobol_dirs.get(dim) {
             Some(dirs) => {
                 let x = sobol_u32(index as u32, dirs);
-                let seed = bits(self.seed, dim as u64, u64::MAX) as u32;
-                (owen_scramble(x, seed) as f64 + 0.5) / 4_294_967_296.0
+                (owen_scramble(x, self.sobol_seeds[dim]) as f64 + 0.5) / 4_294_967_296.0
             }
-            None => uniform01(self.seed, index, dim as u64),
+            None => self.streams.uniform01(index, dim as u64),
         }
     }
 }
 
 /// A pseudo-random permutation of [0, n), evaluated pointwise: a 4-round Feistel network on the
-/// next even power of two, with cycle walking back into range.
-pub fn permute(index: u64, n: u64, key: u64) -> u64 {
+/// next even power of two, with cycle walking back into range. Round `k`'s function of the right
+/// half `r` is the ChaCha word pair at position 2^36·k + 2r of stream [`LHS_STREAMS`] + `axis`.
+pub fn permute(index: u64, n: u64, streams: &Streams, axis: u64) -> u64 {
     if n <= 1 {
         return 0;
     }
@@ -128,7 +145,8 @@ pub fn permute(index: u64, n: u64, key: u64) -> u64 {
     loop {
         let (mut l, mut r) = (x >> half, x & mask);
         for round in 0..4u64 {
-            let f = bits(key, r, round) & mask;
+            let word = (u128::from(round) << 36) | (u128::from(r) << 1);
+            let f = streams.at_word(LHS_STREAMS + axis, word).next_u64() & mask;
             let nl = r;
             r = l ^ f;
             l = nl;
@@ -156,10 +174,11 @@ mod tests {
 
     #[test]
     fn permutation_is_a_bijection() {
+        let streams = Streams::new(42);
         for n in [1u64, 2, 3, 10, 1000, 4097] {
             let mut seen = vec![false; n as usize];
             for i in 0..n {
-                let p = permute(i, n, 42);
+                let p = permute(i, n, &streams, 0);
                 assert!(!seen[p as usize]);
                 seen[p as usize] = true;
             }

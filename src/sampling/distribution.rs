@@ -1,6 +1,9 @@
 //! Parameter distributions of a study, sampled by inverse CDF from a uniform coordinate.
 
-use std::f64::consts::{PI, SQRT_2};
+use std::f64::consts::SQRT_2;
+
+use rand::distr::Distribution as _;
+use rand::RngExt;
 
 /// How one parameter is drawn.
 #[derive(Debug, Clone, PartialEq)]
@@ -36,9 +39,42 @@ pub fn normal_cdf(x: f64) -> f64 {
     0.5 * libm::erfc(-x / SQRT_2)
 }
 
-/// Standard normal quantile Φ⁻¹(p) for p in (0, 1): Acklam's rational approximation refined
-/// by one Halley step on erfc, accurate to about 1e-15.
-pub fn normal_quantile(p: f64) -> f64 {
+/// ln √(2π).
+const LN_SQRT_2PI: f64 = 0.918_938_533_204_672_8;
+
+/// Natural log of the standard normal density, ln φ(x).
+fn ln_normal_pdf(x: f64) -> f64 {
+    -0.5 * x * x - LN_SQRT_2PI
+}
+
+/// ln Φ(x), accurate in both tails (SciPy's `log_ndtr`): through the complementary side for
+/// x > 0, erfc down to x = -37 and the asymptotic (Mills-ratio) series of Φ below, where Φ itself
+/// underflows (Abramowitz & Stegun 26.2.12).
+pub fn ln_normal_cdf(x: f64) -> f64 {
+    if x.is_nan() {
+        return f64::NAN;
+    }
+    if x > 0.0 {
+        return (-normal_cdf(-x)).ln_1p();
+    }
+    if x > -37.0 {
+        return normal_cdf(x).ln();
+    }
+    if x == f64::NEG_INFINITY {
+        return f64::NEG_INFINITY;
+    }
+    // Φ(x) = φ(x)/(-x) · (1 - 1/x² + 3/x⁴ - 15/x⁶ + ...); at |x| ≥ 37 ten terms reach 1e-25.
+    let r = 1.0 / (x * x);
+    let (mut term, mut sum) = (1.0, 1.0);
+    for k in 1..10 {
+        term *= -((2 * k - 1) as f64) * r;
+        sum += term;
+    }
+    ln_normal_pdf(x) - (-x).ln() + sum.ln()
+}
+
+/// Acklam's rational approximation of Φ⁻¹(p) for p in (0, 0.5] (relative error 1.15e-9).
+fn acklam_lower(p: f64) -> f64 {
     const A: [f64; 6] = [
         -3.969683028665376e1,
         2.209460984245205e2,
@@ -68,34 +104,151 @@ pub fn normal_quantile(p: f64) -> f64 {
         2.445134137142996,
         3.754408661907416,
     ];
+    if p < 0.02425 {
+        let q = (-2.0 * p.ln()).sqrt();
+        (((((C[0] * q + C[1]) * q + C[2]) * q + C[3]) * q + C[4]) * q + C[5])
+            / ((((D[0] * q + D[1]) * q + D[2]) * q + D[3]) * q + 1.0)
+    } else {
+        let q = p - 0.5;
+        let r = q * q;
+        (((((A[0] * r + A[1]) * r + A[2]) * r + A[3]) * r + A[4]) * r + A[5]) * q
+            / (((((B[0] * r + B[1]) * r + B[2]) * r + B[3]) * r + B[4]) * r + 1.0)
+    }
+}
+
+/// Φ⁻¹(p) for p in (0, 0.5]: Acklam's approximation refined by Halley steps. The residual is
+/// taken where it is exact: on erf (Φ(x) - ½ against p - ½) near the centre, so that x keeps its
+/// relative accuracy as it approaches 0, and on erfc (Φ(x) against p) in the tail.
+fn normal_quantile_lower(p: f64) -> f64 {
+    let mut x = acklam_lower(p);
+    for _ in 0..2 {
+        let e = if p > 0.25 {
+            0.5 * libm::erf(x / SQRT_2) - (p - 0.5)
+        } else {
+            normal_cdf(x) - p
+        };
+        let pdf = ln_normal_pdf(x).exp();
+        if e == 0.0 || pdf == 0.0 {
+            break;
+        }
+        let u = e / pdf;
+        x -= u / (1.0 + x * u / 2.0);
+    }
+    x
+}
+
+/// Standard normal quantile Φ⁻¹(p) for p in (0, 1), accurate to a few ulp in both tails: the
+/// upper half is computed as -Φ⁻¹(1 - p), 1 - p being exact there (SciPy's `ndtri`).
+pub fn normal_quantile(p: f64) -> f64 {
+    if p.is_nan() {
+        return f64::NAN;
+    }
     if p <= 0.0 {
         return f64::NEG_INFINITY;
     }
     if p >= 1.0 {
         return f64::INFINITY;
     }
-    let tail = |q: f64| {
-        (((((C[0] * q + C[1]) * q + C[2]) * q + C[3]) * q + C[4]) * q + C[5])
-            / ((((D[0] * q + D[1]) * q + D[2]) * q + D[3]) * q + 1.0)
-    };
-    let x = if p < 0.02425 {
-        tail((-2.0 * p.ln()).sqrt())
-    } else if p > 1.0 - 0.02425 {
-        -tail((-2.0 * (1.0 - p).ln()).sqrt())
+    if p > 0.5 {
+        -normal_quantile_lower(1.0 - p)
     } else {
-        let q = p - 0.5;
-        let r = q * q;
-        (((((A[0] * r + A[1]) * r + A[2]) * r + A[3]) * r + A[4]) * r + A[5]) * q
-            / (((((B[0] * r + B[1]) * r + B[2]) * r + B[3]) * r + B[4]) * r + 1.0)
+        normal_quantile_lower(p)
+    }
+}
+
+/// The x with ln Φ(x) = `ln_p` (SciPy's `ndtri_exp`), for ln_p ≤ 0: the quantile of a
+/// probability given by its logarithm, so that tails far beyond f64's smallest probability
+/// keep full accuracy. Newton's method on ln Φ below p = e^-700.
+pub fn normal_quantile_of_ln(ln_p: f64) -> f64 {
+    if ln_p.is_nan() {
+        return f64::NAN;
+    }
+    if ln_p >= 0.0 {
+        return f64::INFINITY;
+    }
+    if ln_p == f64::NEG_INFINITY {
+        return f64::NEG_INFINITY;
+    }
+    if ln_p > -std::f64::consts::LN_2 {
+        // p > ½: 1 - p = -expm1(ln p) without cancellation.
+        return -normal_quantile_lower(-ln_p.exp_m1());
+    }
+    if ln_p > -700.0 {
+        return normal_quantile_lower(ln_p.exp());
+    }
+    // ln Φ(x) ≈ -x²/2 - ln(-x) - ln √(2π); start from the leading term and refine.
+    let mut x = -(-2.0 * ln_p).sqrt();
+    for _ in 0..100 {
+        let f = ln_normal_cdf(x) - ln_p;
+        // d ln Φ / dx = φ(x) / Φ(x)
+        let slope = (ln_normal_pdf(x) - ln_normal_cdf(x)).exp();
+        let step = f / slope;
+        x -= step;
+        if step.abs() <= 1e-16 * x.abs() {
+            break;
+        }
+    }
+    x
+}
+
+/// ln(e^a + e^b).
+fn ln_add_exp(a: f64, b: f64) -> f64 {
+    let (hi, lo) = if a > b { (a, b) } else { (b, a) };
+    if lo == f64::NEG_INFINITY {
+        return hi;
+    }
+    hi + (lo - hi).exp().ln_1p()
+}
+
+/// ln(1 - e^a) for a ≤ 0 (Mächler 2012).
+fn ln_1m_exp(a: f64) -> f64 {
+    if a > -std::f64::consts::LN_2 {
+        (-a.exp_m1()).ln()
+    } else {
+        (-a.exp()).ln_1p()
+    }
+}
+
+/// ln(Φ(b) - Φ(a)) for a < b, computed on the side where both are small (SciPy's
+/// `_log_gauss_mass`).
+pub fn ln_normal_mass(a: f64, b: f64) -> f64 {
+    if b <= 0.0 {
+        let lb = ln_normal_cdf(b);
+        lb + ln_1m_exp(ln_normal_cdf(a) - lb)
+    } else if a >= 0.0 {
+        let la = ln_normal_cdf(-a);
+        la + ln_1m_exp(ln_normal_cdf(-b) - la)
+    } else {
+        (-normal_cdf(a) - normal_cdf(-b)).ln_1p()
+    }
+}
+
+/// Quantile of the standard normal truncated to [a, b] at `u` in [0, 1], accurate in both tails
+/// (after SciPy's `truncnorm._ppf`): below the median ln Φ(x) = ln(Φ(a) + u·(Φ(b) - Φ(a))),
+/// above it the same on the survival function, ln Φ(-x) = ln(Φ(-b) + (1 - u)·(Φ(b) - Φ(a))),
+/// every term in log space, so that neither tail is computed as a difference near 1.
+pub fn truncated_normal_quantile(a: f64, b: f64, u: f64) -> f64 {
+    let ln_mass = ln_normal_mass(a, b);
+    // ln Φ(x) from below, or ln Φ(-x) = ln(1 - Φ(x)) from above.
+    let from_below = || ln_add_exp(ln_normal_cdf(a), u.ln() + ln_mass);
+    let from_above = || ln_add_exp(ln_normal_cdf(-b), (-u).ln_1p() + ln_mass);
+    let x = if a >= 0.0 {
+        -normal_quantile_of_ln(from_above())
+    } else {
+        match from_below() {
+            // Past the median the upper tail 1 - Φ(x) is the small, accurate side.
+            ln_p if ln_p > -std::f64::consts::LN_2 && b > 0.0 => {
+                -normal_quantile_of_ln(from_above())
+            }
+            ln_p => normal_quantile_of_ln(ln_p),
+        }
     };
-    // Halley refinement.
-    let e = normal_cdf(x) - p;
-    let u = e * (2.0 * PI).sqrt() * (x * x / 2.0).exp();
-    x - u / (1.0 + x * u / 2.0)
+    x.clamp(a, b)
 }
 
 impl Distribution {
-    /// The value at uniform coordinate `u` in [0, 1).
+    /// The value at uniform coordinate `u` in [0, 1): the inverse CDF, used by the stratified
+    /// designs (LHS, Sobol, Saltelli) so that they keep their stratification.
     pub fn quantile(&self, u: f64) -> f64 {
         // Keep u strictly inside (0, 1) for the unbounded distributions.
         let u_open = u.clamp(f64::EPSILON, 1.0 - f64::EPSILON);
@@ -103,8 +256,8 @@ impl Distribution {
             Distribution::Uniform { min, max, .. } => min + u * (max - min),
             Distribution::Normal { mean, sd } => mean + sd * normal_quantile(u_open),
             Distribution::TruncatedNormal { mean, sd, min, max } => {
-                let (a, b) = (normal_cdf((min - mean) / sd), normal_cdf((max - mean) / sd));
-                (mean + sd * normal_quantile(a + u_open * (b - a))).clamp(*min, *max)
+                let z = truncated_normal_quantile((min - mean) / sd, (max - mean) / sd, u);
+                (mean + sd * z).clamp(*min, *max)
             }
             Distribution::LogNormal { median, sigma } => {
                 median * (sigma * normal_quantile(u_open)).exp()
@@ -114,6 +267,39 @@ impl Distribution {
                 levels[k]
             }
         }
+    }
+
+    /// A direct draw for the random design, from `rng` (the sample's stream of this axis):
+    /// `rand_distr`'s samplers where one exists (uniform, normal and lognormal by ziggurat,
+    /// levels by rand's unbiased integer range); the truncated normal by its inverse CDF, which
+    /// unlike rejection stays exact and fast however far in a tail the interval lies. Normal and
+    /// lognormal draws are held to the values [`Distribution::quantile`] can give (mean ± 8.1 sd),
+    /// the range the study's range check covers; a draw beyond it has probability below 1e-15.
+    pub fn draw<R: rand::Rng + ?Sized>(&self, rng: &mut R) -> f64 {
+        match self {
+            Distribution::Uniform { min, max, .. } => match rand::distr::Uniform::new(*min, *max) {
+                Ok(d) => d.sample(rng),
+                Err(_) => self.quantile(rng.random::<f64>()),
+            },
+            Distribution::Normal { mean, sd } => {
+                let d = rand_distr::Normal::new(*mean, *sd).expect("sd checked positive");
+                let (lo, hi) = self.draw_range();
+                d.sample(rng).clamp(lo, hi)
+            }
+            Distribution::LogNormal { median, sigma } => {
+                let d = rand_distr::LogNormal::new(median.ln(), *sigma)
+                    .expect("sigma checked positive");
+                let (lo, hi) = self.draw_range();
+                d.sample(rng).clamp(lo, hi)
+            }
+            Distribution::TruncatedNormal { .. } => self.quantile(rng.random::<f64>()),
+            Distribution::Levels(levels) => levels[rng.random_range(0..levels.len())],
+        }
+    }
+
+    /// Smallest and largest value [`Distribution::quantile`] gives (the extreme coordinates).
+    pub fn draw_range(&self) -> (f64, f64) {
+        (self.quantile(0.0), self.quantile(1.0 - f64::EPSILON))
     }
 
     /// Grid values of this axis (uniform with a count, or levels); None if it has none.
@@ -157,13 +343,15 @@ impl Distribution {
             }
             Distribution::Normal { mean, sd } => (*mean, sd * sd),
             Distribution::TruncatedNormal { mean, sd, min, max } => {
+                // Density at the bounds over the mass, each ratio formed in log space.
                 let (a, b) = ((min - mean) / sd, (max - mean) / sd);
-                let pdf = |x: f64| (-0.5 * x * x).exp() / (2.0 * PI).sqrt();
-                let z = normal_cdf(b) - normal_cdf(a);
-                let m = mean + sd * (pdf(a) - pdf(b)) / z;
-                let v = sd
-                    * sd
-                    * (1.0 + (a * pdf(a) - b * pdf(b)) / z - ((pdf(a) - pdf(b)) / z).powi(2));
+                let ln_z = ln_normal_mass(a, b);
+                let (ra, rb) = (
+                    (ln_normal_pdf(a) - ln_z).exp(),
+                    (ln_normal_pdf(b) - ln_z).exp(),
+                );
+                let m = mean + sd * (ra - rb);
+                let v = sd * sd * (1.0 + a * ra - b * rb - (ra - rb).powi(2));
                 (m, v)
             }
             Distribution::LogNormal { median, sigma } => {
