@@ -118,10 +118,22 @@ pub fn brute_force(
         max_steps: 500_000_000,
     };
     let start = [scales.z_eq, scales.y_eq + disturbance_m, 0.0];
+    measure_windows(ode, start, duration_s, window_s, &opts)
+}
+
+/// Integrates `duration_s` from `start` and measures the last two windows of `window_s` each
+/// (see [`brute_force`]); also returns the RHS evaluations spent.
+pub fn measure_windows(
+    ode: &TreadOde,
+    start: State,
+    duration_s: f64,
+    window_s: f64,
+    opts: &SolverOptions<3>,
+) -> Result<(WindowMeasure, WindowMeasure, usize), String> {
     let mut windows = [WindowStats::new(), WindowStats::new()];
     let w_prev = duration_s - 2.0 * window_s;
     let w_last = duration_s - window_s;
-    let out = integrate(ode, 0.0, start, duration_s, &opts, |step| {
+    let out = integrate(ode, 0.0, start, duration_s, opts, |step| {
         if step.t1 <= w_prev {
             return Control::Continue;
         }

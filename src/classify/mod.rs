@@ -415,7 +415,19 @@ fn classify_metered(
                     v.method = Method::Envelope;
                     v
                 }
-                Err(reason) => fail(format!("envelope settled but {reason}")),
+                // So close to the Hopf point (Re λ·T ~ 1e-7) the return map is the identity to
+                // within the integration error and Newton has nothing to hold on to; the
+                // envelope has settled, so the cycle is measured on the settled trajectory.
+                Err(reason) => settled_cycle(
+                    ode,
+                    &scales,
+                    &lin,
+                    rotation_hz,
+                    [z, scales.y_eq, v],
+                    opts.rtol,
+                    meter,
+                )
+                .unwrap_or_else(|e| fail(format!("envelope settled but {reason}; {e}"))),
             }
         }
         Ok(Envelope::Undecided { last_v }) => fail(format!(
@@ -470,6 +482,74 @@ fn hopf_dz_per_v(ode: &TreadOde, lambda: Complex<f64>) -> f64 {
 
 /// The limit-cycle verdict for a converged orbit: frequency and polygon order from its period,
 /// amplitudes and energy from the period integrated by its last Newton iteration.
+/// The verdict of a cycle read off the trajectory from the envelope's settled section state
+/// `start`, for when Newton cannot hold on (within about 1e-4 s⁻¹ of the Hopf point the return
+/// map is the identity to within the integration error). 40 linear periods are integrated and
+/// measured over two windows of 20 (as MODEL.md's reference does). Where the amplitude still
+/// drifts, the cycle is that of the Hopf normal form dA/dt = A (Re λ + l1 A²) fitted to the
+/// drift: with r = d ln A/dt measured at Ā, l1 = (r − Re λ)/Ā² and A*² = −Re λ/l1 =
+/// Ā² Re λ/(Re λ − r), supercritical (l1 < 0) only. Energy per cycle from the near-sinusoidal
+/// velocity, C_s·A_v²/(2f).
+fn settled_cycle(
+    ode: &TreadOde,
+    scales: &Scales,
+    lin: &crate::model::LinearStability,
+    rotation_hz: f64,
+    start: crate::model::State,
+    rtol: f64,
+    meter: &Meter,
+) -> Result<WheelVerdict, String> {
+    let period = 1.0 / lin.eig_freq_hz;
+    let opts = crate::solver::SolverOptions {
+        rtol,
+        atol: scales.atol(rtol),
+        h_max: period / 8.0,
+        h0: None,
+        max_steps: meter.max_steps(1_000_000),
+    };
+    let window_s = 20.0 * period;
+    let (prev, last, evals) =
+        envelope::measure_windows(ode, start, 2.0 * window_s, window_s, &opts)?;
+    meter.charge(evals);
+    let ok =
+        |m: &envelope::WindowMeasure| m.amp_v_mps > MIN_CYCLE_V_REL * scales.v && m.freq_hz > 0.0;
+    if !(ok(&prev) && ok(&last)) {
+        return Err(format!(
+            "the settled trajectory shows no cycle (amplitude of v {:.3e} then {:.3e} m/s)",
+            prev.amp_v_mps, last.amp_v_mps
+        ));
+    }
+    let re = lin.eig_re_max;
+    let drift = (last.amp_v_mps / prev.amp_v_mps).ln() / window_s;
+    let scale = if (last.amp_v_mps - prev.amp_v_mps).abs() <= 1e-4 * last.amp_v_mps {
+        1.0
+    } else if re > 0.0 && drift < re {
+        let a_mid = (last.amp_v_mps * prev.amp_v_mps).sqrt();
+        a_mid * (re / (re - drift)).sqrt() / last.amp_v_mps
+    } else {
+        return Err(format!(
+            "the cycle's amplitude still grows ({drift:.3e} 1/s against Re λ = {re:.3e} 1/s): no supercritical cycle to extrapolate to"
+        ));
+    };
+    let amp_v_mps = scale * last.amp_v_mps;
+    Ok(WheelVerdict {
+        class: Class::LimitCycle,
+        eig_re_max: lin.eig_re_max,
+        eig_freq_hz: lin.eig_freq_hz,
+        amp_y_m: scale * last.amp_y_m,
+        amp_v_mps,
+        freq_hz: last.freq_hz,
+        polygon_order: last.freq_hz / rotation_hz,
+        energy_per_cycle_j: ode.c_s * amp_v_mps.powi(2) / (2.0 * last.freq_hz),
+        floquet_max: f64::NAN,
+        rhs_evals: 0,
+        method: Method::Envelope,
+        reason: String::new(),
+        section_z_m: start[0],
+        section_v_mps: start[2],
+    })
+}
+
 fn cycle_verdict(
     orbit: &shooting::PeriodicOrbit,
     lin: &crate::model::LinearStability,
@@ -492,5 +572,41 @@ fn cycle_verdict(
         reason: String::new(),
         section_z_m: orbit.start[0],
         section_v_mps: orbit.start[2],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The normal-form read-out of a drifting envelope agrees with shooting where both work:
+    /// just past the follower's Hopf point at R0, started at three times the cycle's amplitude.
+    #[test]
+    fn settled_cycle_extrapolates_to_the_shooting_amplitude() {
+        let opts = ClassifierOptions::default();
+        for speed in [93.35, 93.6] {
+            let p = Params {
+                speed_kmh: speed,
+                ..Params::r0()
+            };
+            let m = WheelModel::build(&p, Wheel::Follower, Variant::Paper).unwrap();
+            let rot = WheelModel::rotation_hz(&p);
+            let shot = classify(&m.ode, rot, &opts);
+            assert_eq!(shot.method, Method::Shooting, "{shot:?}");
+            let lin = m.ode.linear_stability();
+            assert!(lin.eig_re_max > 0.0 && lin.eig_re_max < 0.5, "{lin:?}");
+            let scales = Scales::new(&m.ode);
+            let k = 3.0;
+            let start = [
+                scales.z_eq + k * (shot.section_z_m - scales.z_eq),
+                scales.y_eq,
+                k * shot.section_v_mps,
+            ];
+            let meter = Meter::new(opts.budget);
+            let est = settled_cycle(&m.ode, &scales, &lin, rot, start, opts.rtol, &meter).unwrap();
+            let rel = (est.amp_v_mps / shot.amp_v_mps - 1.0).abs();
+            assert!(rel < 0.1, "speed {speed}: {} vs {} ({rel:.3})", est.amp_v_mps, shot.amp_v_mps);
+            assert!((est.freq_hz / shot.freq_hz - 1.0).abs() < 0.01);
+        }
     }
 }
