@@ -94,7 +94,7 @@ echo "== slurm: the README's job-array recipe, word for word"
 # The recipe is the ```sh block after the marker <!-- slurm-recipe --> in README.md.
 awk '/<!-- slurm-recipe/ {m=1; next} m && /^```sh/ {p=1; next} p && /^```/ {exit} p' \
   README.md > "$WORK/polywear.sbatch"
-grep -q "SBATCH --array=0-3" "$WORK/polywear.sbatch" || { echo "recipe not found in README.md"; exit 1; }
+grep -q -- "--array=0-3" "$WORK/polywear.sbatch" || { echo "recipe not found in README.md"; exit 1; }
 cat "$WORK/polywear.sbatch"
 # A small study: 3 chunks of 100 samples for 4 shards, so shard 3 owns no chunk (an empty shard).
 mkdir -p "$WORK/job"

@@ -489,6 +489,16 @@ impl Sampler<'_> {
     }
 }
 
+/// 64-bit FNV-1a of a text, as 16 hex digits: a fingerprint, not a cryptographic hash.
+pub fn text_hash(text: &str) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in text.bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -527,14 +537,4 @@ mod tests {
             ]
         );
     }
-}
-
-/// 64-bit FNV-1a of a text, as 16 hex digits: a fingerprint, not a cryptographic hash.
-pub fn text_hash(text: &str) -> String {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for b in text.bytes() {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    format!("{h:016x}")
 }

@@ -984,8 +984,9 @@ pub fn robustness(lf: &LazyFrame, info: &RunInfo) -> Result<Option<Robustness>, 
         .map(|p| floats(&df, p))
         .collect::<Result<_, _>>()?;
     let (c, n) = (strs(&df, "class")?, ints(&df, "n")?);
-    let mut map: BTreeMap<(Variant, Vec<u64>), (Vec<f64>, ClassCounts, ClassCounts)> =
-        BTreeMap::new();
+    // (variant, value bits) -> (values, follower, driving)
+    type Entry = (Vec<f64>, ClassCounts, ClassCounts);
+    let mut map: BTreeMap<(Variant, Vec<u64>), Entry> = BTreeMap::new();
     for (i, (v, w)) in variant_wheel(&df)?.into_iter().enumerate() {
         let vals: Vec<f64> = values.iter().map(|col| col[i]).collect();
         let key: Vec<u64> = vals.iter().map(|x| x.to_bits()).collect();
@@ -1067,8 +1068,8 @@ mod tests {
         for v in &values {
             counts[bins.index(*v).unwrap()] += 1;
         }
-        for q in [0.05, 0.5, 0.95] {
-            let exact = (q as f64).powi(2);
+        for q in [0.05f64, 0.5, 0.95] {
+            let exact = q.powi(2);
             assert!(
                 (hist_quantile(&bins, &counts, q) - exact).abs() < 2.0 / SEVERITY_FINE_BINS as f64,
                 "q = {q}"
