@@ -133,9 +133,39 @@ pub fn scan(files: &[PathBuf]) -> Result<LazyFrame, String> {
 
 /// Runs a query on polars' streaming engine.
 pub fn collect(lf: LazyFrame) -> Result<DataFrame, String> {
-    lf.collect_with_engine(Engine::Streaming)
+    let df = lf
+        .collect_with_engine(Engine::Streaming)
         .map(|r| r.unwrap_single())
-        .map_err(pl_err)
+        .map_err(pl_err);
+    release_freed_memory();
+    df
+}
+
+/// Sizes polars' per-thread "hot" group tables for queries of up to `max_groups` groups. The
+/// streaming group-by keeps a fixed-size table of hot groups per thread (4096 by default); a
+/// key that collides or overflows is evicted as a partial aggregate that is only merged at the
+/// end, so with many groups memory grows with the rows. Sixteen slots per group (at least
+/// 16384) keep evictions rare, and the peak flat in the row count. A value the user set in
+/// `POLARS_HOT_TABLE_SIZE` is kept.
+pub fn size_group_tables(max_groups: usize) {
+    if std::env::var_os("POLARS_HOT_TABLE_SIZE").is_some() {
+        return;
+    }
+    let size = (16 * max_groups).next_power_of_two().clamp(16_384, 1 << 22);
+    // Set before any query of this analysis runs, from the thread that runs them; polars reads
+    // it when it builds a group-by node.
+    std::env::set_var("POLARS_HOT_TABLE_SIZE", size.to_string());
+}
+
+/// Hands the memory a finished query freed back to the system. glibc's malloc keeps freed
+/// blocks in its per-thread arenas, so without this the resident size creeps up with every
+/// query and every file although the live data stays the same.
+fn release_freed_memory() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: malloc_trim only returns free heap pages to the kernel; no pointer is touched.
+    unsafe {
+        libc::malloc_trim(0);
+    }
 }
 
 fn vib_expr() -> Expr {
@@ -181,14 +211,47 @@ fn floats(df: &DataFrame, name: &str) -> Result<Vec<f64>, String> {
         .collect())
 }
 
-/// Rows per class for each combination of `keys`: group by keys and class, count.
-fn class_counts_by(lf: LazyFrame, keys: Vec<Expr>) -> Result<DataFrame, String> {
-    let mut by = keys;
-    by.push(col("class"));
-    collect(
-        lf.group_by(by)
-            .agg([len().cast(DataType::Int64).alias("n")]),
-    )
+/// Rows per class for each combination of `keys`: one group per key combination with a count
+/// column per class (grouping by class as well would multiply the groups by five, and polars'
+/// streaming group-by keeps rows of groups beyond its 4096-entry hot table in memory until the
+/// end). Rows of a class this version does not know count as failed.
+fn class_counts_by(
+    lf: LazyFrame,
+    keys: Vec<Expr>,
+) -> Result<(DataFrame, Vec<ClassCounts>), String> {
+    let known = [
+        RowClass::Stable,
+        RowClass::LimitCycle,
+        RowClass::Bistable,
+        RowClass::NoTraction,
+    ];
+    let mut aggs = vec![len().cast(DataType::Int64).alias("n")];
+    aggs.extend(known.iter().map(|c| {
+        col("class")
+            .eq(lit(c.as_str()))
+            .cast(DataType::Int64)
+            .sum()
+            .alias(format!("n_{}", c.as_str()))
+    }));
+    let df = collect(lf.group_by(keys).agg(aggs))?;
+    let total = ints(&df, "n")?;
+    let per_class: Vec<Vec<i64>> = known
+        .iter()
+        .map(|c| ints(&df, &format!("n_{}", c.as_str())))
+        .collect::<Result<_, _>>()?;
+    let counts = (0..df.height())
+        .map(|i| {
+            let mut c = ClassCounts::default();
+            let mut known_rows = 0;
+            for (k, class) in known.iter().enumerate() {
+                c.add(*class, per_class[k][i] as u64);
+                known_rows += per_class[k][i];
+            }
+            c.add(RowClass::Failed, (total[i] - known_rows) as u64);
+            c
+        })
+        .collect();
+    Ok((df, counts))
 }
 
 /// Variant and wheel of each row of a grouped table.
@@ -217,14 +280,10 @@ impl Occurrence {
 
 /// Rows per class for each variant and wheel.
 pub fn occurrence(lf: &LazyFrame) -> Result<Vec<Occurrence>, String> {
-    let df = class_counts_by(lf.clone(), vec![col("variant"), col("wheel")])?;
+    let (df, counts) = class_counts_by(lf.clone(), vec![col("variant"), col("wheel")])?;
     let mut map: BTreeMap<(Variant, Wheel), ClassCounts> = BTreeMap::new();
-    let classes = strs(&df, "class")?;
-    let n = ints(&df, "n")?;
     for (i, vw) in variant_wheel(&df)?.into_iter().enumerate() {
-        map.entry(vw)
-            .or_default()
-            .add(RowClass::parse(&classes[i]), n[i] as u64);
+        map.entry(vw).or_default().merge(&counts[i]);
     }
     Ok(map
         .into_iter()
@@ -520,7 +579,7 @@ pub struct BinStat {
 
 /// P(vibration | axis in bin), per variant, wheel and bin of one axis.
 pub fn conditional(lf: &LazyFrame, axis: &str, bins: &Bins) -> Result<Vec<BinStat>, String> {
-    let df = class_counts_by(
+    let (df, counts) = class_counts_by(
         lf.clone(),
         vec![
             col("variant"),
@@ -529,12 +588,10 @@ pub fn conditional(lf: &LazyFrame, axis: &str, bins: &Bins) -> Result<Vec<BinSta
         ],
     )?;
     let mut map: BTreeMap<(Variant, Wheel, i64), ClassCounts> = BTreeMap::new();
-    let (b, c, n) = (ints(&df, "bin")?, strs(&df, "class")?, ints(&df, "n")?);
+    let b = ints(&df, "bin")?;
     let groups = variant_wheel(&df)?;
     for (i, (v, w)) in groups.iter().enumerate() {
-        map.entry((*v, *w, b[i]))
-            .or_default()
-            .add(RowClass::parse(&c[i]), n[i] as u64);
+        map.entry((*v, *w, b[i])).or_default().merge(&counts[i]);
     }
     let mut keys: Vec<(Variant, Wheel)> = groups;
     keys.sort();
@@ -605,17 +662,18 @@ pub fn risk_maps(
     xb: &Bins,
     yb: &Bins,
 ) -> Result<Vec<RiskMap>, String> {
-    let df = class_counts_by(
+    let (df, counts) = class_counts_by(
         lf.clone(),
         vec![
             col("variant"),
             col("wheel"),
-            xb.expr(col(x)).alias("bx"),
-            yb.expr(col(y)).alias("by"),
+            // One key per cell: bx · (y bins) + by.
+            (xb.expr(col(x)) * lit(yb.count() as i64) + yb.expr(col(y))).alias("cell"),
         ],
     )?;
-    let (bx, by) = (ints(&df, "bx")?, ints(&df, "by")?);
-    let (c, n) = (strs(&df, "class")?, ints(&df, "n")?);
+    let cell = ints(&df, "cell")?;
+    let ny = yb.count() as i64;
+    let (bx, by): (Vec<i64>, Vec<i64>) = cell.iter().map(|c| (c / ny, c % ny)).unzip();
     let mut maps: BTreeMap<Variant, BTreeMap<Wheel, CountGrid>> = BTreeMap::new();
     for (i, (v, w)) in variant_wheel(&df)?.into_iter().enumerate() {
         let grid = maps
@@ -625,7 +683,7 @@ pub fn risk_maps(
             .or_insert_with(|| vec![vec![ClassCounts::default(); yb.count()]; xb.count()]);
         if let (Ok(ix), Ok(iy)) = (usize::try_from(bx[i]), usize::try_from(by[i])) {
             if ix < xb.count() && iy < yb.count() {
-                grid[ix][iy].add(RowClass::parse(&c[i]), n[i] as u64);
+                grid[ix][iy].merge(&counts[i]);
             }
         }
     }
@@ -978,12 +1036,11 @@ pub fn robustness(lf: &LazyFrame, info: &RunInfo) -> Result<Option<Robustness>, 
     }
     let mut keys = vec![col("variant"), col("wheel")];
     keys.extend(params.iter().map(|p| col(p.as_str())));
-    let df = class_counts_by(lf.clone(), keys)?;
+    let (df, counts) = class_counts_by(lf.clone(), keys)?;
     let values: Vec<Vec<f64>> = params
         .iter()
         .map(|p| floats(&df, p))
         .collect::<Result<_, _>>()?;
-    let (c, n) = (strs(&df, "class")?, ints(&df, "n")?);
     // (variant, value bits) -> (values, follower, driving)
     type Entry = (Vec<f64>, ClassCounts, ClassCounts);
     let mut map: BTreeMap<(Variant, Vec<u64>), Entry> = BTreeMap::new();
@@ -998,7 +1055,7 @@ pub fn robustness(lf: &LazyFrame, info: &RunInfo) -> Result<Option<Robustness>, 
         } else {
             &mut e.2
         };
-        slot.add(RowClass::parse(&c[i]), n[i] as u64);
+        slot.merge(&counts[i]);
     }
     let mut decodings: Vec<Decoding> = map
         .into_iter()

@@ -68,6 +68,9 @@ pub fn analyze(info: RunInfo, opts: &ReportOptions) -> Result<Analysis, String> 
     let dir = &opts.out_dir;
     let mut files = Vec::new();
     let mut notes = Vec::new();
+    // The largest group-by: a risk map's cells for every variant and both wheels.
+    let variants_in_run = info.variant.split(',').count().max(1);
+    queries::size_group_tables(variants_in_run * 2 * opts.map_bins * opts.map_bins);
     let lf = queries::scan(&info.files)?;
 
     let occurrence = queries::occurrence(&lf)?;
