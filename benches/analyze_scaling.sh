@@ -34,21 +34,28 @@ c_brush      = { dist = "lognormal", median = 3.6e7, sigma = 0.05 }
 tread_height = { dist = "truncated_normal", mean = 0.015, sd = 0.0005, min = 0.0135, max = 0.0165 }
 rho          = { dist = "truncated_normal", mean = 1250, sd = 25, min = 1175, max = 1325 }
 TOML
-printf "%10s %10s %12s %12s\n" samples rows "wall [s]" "peak RSS [MB]"
+runs=${RUNS:-3}
+echo "analyze, median of $runs runs per size (peak RSS varies by a few MB with thread timing)"
+printf "%10s %10s %12s %14s %s\n" samples rows "wall [s]" "peak RSS [MB]" "(each run: s, MB)"
 first_rss=""; first_s=""
 for n in "${sizes[@]}"; do
   dir="$base/samples_$n"
   # --resume finishes (or reuses) an earlier run of the same size.
   nice "$bin" explore "$base/study.toml" --samples "$n" --out "$dir" --resume --quiet --no-report
-  rm -rf "$dir/_bench_report"
-  out=$( { /usr/bin/time -f "%e s %M KB" "$bin" analyze "$dir" --out "$dir/_bench_report" >/dev/null; } 2>&1 | tail -1)
-  secs=${out%% s *}
-  kb=$(echo "$out" | awk '{print $3}')
+  secs_all=(); kb_all=(); each=""
+  for _ in $(seq "$runs"); do
+    rm -rf "$dir/_bench_report"
+    out=$( { /usr/bin/time -f "%e s %M KB" "$bin" analyze "$dir" --out "$dir/_bench_report" >/dev/null; } 2>&1 | tail -1)
+    secs_all+=("${out%% s *}"); kb_all+=("$(echo "$out" | awk '{print $3}')")
+    each="$each ${out%% s *}/$(awk "BEGIN{printf \"%.0f\", $(echo "$out" | awk '{print $3}') / 1024}")"
+  done
+  secs=$(printf "%s\n" "${secs_all[@]}" | sort -g | awk '{a[NR]=$1} END{print a[int((NR+1)/2)]}')
+  kb=$(printf "%s\n" "${kb_all[@]}" | sort -g | awk '{a[NR]=$1} END{print a[int((NR+1)/2)]}')
   rows=$(grep -o "([0-9]* rows" "$dir/_bench_report/report.md" | head -1 | tr -d '( rows')
-  printf "%10s %10s %12.2f %12.1f\n" "$n" "$rows" "$secs" "$(awk "BEGIN{print $kb / 1024}")"
+  printf "%10s %10s %12.2f %14.1f  (%s )\n" "$n" "$rows" "$secs" "$(awk "BEGIN{print $kb / 1024}")" "$each"
   [ -n "$first_rss" ] || { first_rss=$kb; first_s=$secs; }
   last_rss=$kb; last_s=$secs
 done
 if [ ${#sizes[@]} -gt 1 ]; then
-  echo "ratio last/first: peak RSS $(awk "BEGIN{printf \"%.2f\", $last_rss / $first_rss}"), wall time $(awk "BEGIN{printf \"%.2f\", $last_s / $first_s}")"
+  echo "ratio last/first (medians): peak RSS $(awk "BEGIN{printf \"%.2f\", $last_rss / $first_rss}"), wall time $(awk "BEGIN{printf \"%.2f\", $last_s / $first_s}")"
 fi

@@ -203,9 +203,9 @@ pub fn write_table(
     w.finish()
 }
 
-/// Writes the same table as CSV (RFC 4180 quoting, `\n` line ends): a field holding a comma, a double quote, a line
-/// break or leading/trailing space is quoted, with inner quotes doubled; numbers are written in
-/// full precision (`NaN` for a missing value).
+/// Writes the same table as CSV (RFC 4180 quoting, `\n` line ends): a field holding a comma, a
+/// double quote, a line break or leading/trailing space is quoted, with inner quotes doubled;
+/// numbers are written in full precision (`NaN` for a missing value).
 pub fn write_csv(path: &Path, columns: &[Column]) -> Result<(), WriteError> {
     use std::io::Write;
     let err = |e: std::io::Error| WriteError(format!("{}: {e}", path.display()));
@@ -247,7 +247,7 @@ mod csv_tests {
     fn csv_fields_are_quoted_as_rfc_4180_says() {
         assert_eq!(csv_field("paper"), "paper");
         assert_eq!(csv_field("a,b"), "\"a,b\"");
-        assert_eq!(csv_field("say \"hi\""), "\"say \"\"hi\"\"\"\"");
+        assert_eq!(csv_field("say \"hi\""), "\"say \"\"hi\"\"\"");
         assert_eq!(csv_field("two\nlines"), "\"two\nlines\"");
         assert_eq!(csv_field(" padded"), "\" padded\"");
         assert_eq!(csv_field(""), "");

@@ -500,3 +500,25 @@ fn tables_are_csv_with_quoting_and_parquet_copies() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn pairing_by_row_order_equals_pairing_by_sample_id() {
+    let dir = tmp("pairing");
+    // Some failed samples too, so every outcome combination occurs.
+    let run = explore_study(
+        &dir,
+        "run",
+        &format!("{SMALL}mu_s = {{ dist = \"levels\", levels = [0.63, 0.63, 0.9] }}\n"),
+        &[],
+    );
+    let (files, _) = polywear::analysis::inputs::parquet_files(&[run]).unwrap();
+    let by_order = polywear::analysis::queries::paired(&files, 1000).unwrap();
+    let by_group = polywear::analysis::queries::paired_by_group(&files, 1000).unwrap();
+    assert_eq!(by_order, by_group);
+    assert_eq!(by_order.len(), 2);
+    for p in &by_order {
+        assert!(p.unclassified > 0 && p.pairs > 0, "{p:?}");
+        assert_eq!(p.pairs + p.unclassified, 300, "{p:?}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -267,6 +267,48 @@ fn robustness_section(s: &mut String, opts: &ReportOptions, a: &Analysis) {
             x.too_few
         );
     }
+    const SHOWN: usize = 60;
+    let _ = writeln!(
+        s,
+        "\n| variant | {} | follower P(limit cycle) | driving P(limit cycle) | driving less exposed |",
+        r.params.join(" | ")
+    );
+    let _ = writeln!(s, "|---|{}---:|---:|---|", "---:|".repeat(r.params.len()));
+    for d in r.decodings.iter().take(SHOWN) {
+        let enough = d.follower.classified() >= opts.min_count.max(1)
+            && d.driving.classified() >= opts.min_count.max(1);
+        let verdict = if !enough {
+            "too few samples"
+        } else if d.driving.p() < d.follower.p() {
+            "yes"
+        } else {
+            "no"
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} ({} of {}) | {} ({} of {}) | {} |",
+            d.variant,
+            d.values
+                .iter()
+                .map(|v| format!("{v}"))
+                .collect::<Vec<_>>()
+                .join(" | "),
+            pct(d.follower.p()),
+            d.follower.vibrating(),
+            d.follower.classified(),
+            pct(d.driving.p()),
+            d.driving.vibrating(),
+            d.driving.classified(),
+            verdict
+        );
+    }
+    if r.decodings.len() > SHOWN {
+        let _ = writeln!(
+            s,
+            "\n({} more decodings in `robustness.csv`.)",
+            r.decodings.len() - SHOWN
+        );
+    }
     for x in &a.robustness_summary {
         let _ = writeln!(
             s,

@@ -312,16 +312,81 @@ pub struct Paired {
     pub method: &'static str,
 }
 
-/// Driving vs follower on the same samples. The two wheels of a sample always lie in the same
-/// chunk file, so the files are grouped by sample in batches of about `batch_rows` rows: the
-/// group-by's table never holds more than one batch's samples.
-pub fn paired(files: &[PathBuf], batch_rows: u64) -> Result<Vec<Paired>, String> {
-    // 0 = not vibrating, 1 = vibrating, 2 = unclassified; per sample: follower + 3 × driving.
-    let code = when(vib_expr())
+/// 0 = not vibrating, 1 = vibrating, 2 = unclassified (failed or no traction).
+fn outcome_code() -> Expr {
+    when(vib_expr())
         .then(lit(1i64))
         .when(col("class").eq(lit("stable")))
         .then(lit(0i64))
-        .otherwise(lit(2i64));
+        .otherwise(lit(2i64))
+}
+
+/// Driving vs follower on the same samples, in one streaming pass: explore writes each
+/// sample's rows together, variant by variant, follower then driving, so the row after a
+/// follower row is its driving wheel. The query checks that (same sample_id and variant,
+/// driving wheel) for every follower row; files whose rows are ordered otherwise are paired by
+/// [`paired_by_group`] instead.
+pub fn paired(files: &[PathBuf], batch_rows: u64) -> Result<Vec<Paired>, String> {
+    let lf = scan(files)?;
+    let next = |c: &str| col(c).shift(lit(-1i64));
+    let df = collect(
+        lf.select([
+            col("variant"),
+            col("wheel"),
+            col("sample_id"),
+            outcome_code().alias("code"),
+        ])
+        .select([
+            col("variant"),
+            col("code"),
+            next("code").alias("next_code"),
+            col("wheel").eq(lit("follower")).alias("is_follower"),
+            next("sample_id")
+                .eq(col("sample_id"))
+                .and(next("variant").eq(col("variant")))
+                .and(next("wheel").eq(lit("driving")))
+                .fill_null(lit(false))
+                .alias("pair_ok"),
+        ])
+        .filter(col("is_follower"))
+        .group_by([
+            col("variant"),
+            col("pair_ok"),
+            col("code"),
+            col("next_code"),
+        ])
+        .agg([len().cast(DataType::Int64).alias("n")]),
+    )?;
+    let ok: Vec<bool> = df
+        .column("pair_ok")
+        .map_err(pl_err)?
+        .bool()
+        .map_err(pl_err)?
+        .iter()
+        .map(|v| v.unwrap_or(false))
+        .collect();
+    if ok.iter().any(|v| !v) {
+        return paired_by_group(files, batch_rows);
+    }
+    let (v, f, d, n) = (
+        strs(&df, "variant")?,
+        ints(&df, "code")?,
+        ints(&df, "next_code")?,
+        ints(&df, "n")?,
+    );
+    let mut combos: BTreeMap<(Variant, i64), u64> = BTreeMap::new();
+    for i in 0..df.height() {
+        *combos.entry((v[i].parse()?, f[i] + 3 * d[i])).or_default() += n[i] as u64;
+    }
+    Ok(paired_from(&combos))
+}
+
+/// Driving vs follower by grouping the rows by sample, for files not in explore's row order.
+/// The two wheels of a sample always lie in the same chunk file, so the files are grouped in
+/// batches of about `batch_rows` rows: the group-by never holds more than one batch's samples.
+pub fn paired_by_group(files: &[PathBuf], batch_rows: u64) -> Result<Vec<Paired>, String> {
+    // Per sample: follower + 3 × driving.
+    let code = outcome_code();
     let weight = when(col("wheel").eq(lit("follower")))
         .then(lit(1i64))
         .otherwise(lit(3i64));
@@ -354,6 +419,11 @@ pub fn paired(files: &[PathBuf], batch_rows: u64) -> Result<Vec<Paired>, String>
         }
         start = end;
     }
+    Ok(paired_from(&combos))
+}
+
+/// The paired table from sample counts per (variant, follower code + 3 × driving code).
+fn paired_from(combos: &BTreeMap<(Variant, i64), u64>) -> Vec<Paired> {
     let mut out = Vec::new();
     let variants: Vec<Variant> = {
         let mut v: Vec<Variant> = combos.keys().map(|k| k.0).collect();
@@ -383,7 +453,7 @@ pub fn paired(files: &[PathBuf], batch_rows: u64) -> Result<Vec<Paired>, String>
             method,
         });
     }
-    Ok(out)
+    out
 }
 
 fn file_rows(path: &std::path::Path) -> u64 {
