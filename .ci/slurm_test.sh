@@ -18,15 +18,21 @@ fi
 
 WORK=$(mktemp -d /tmp/polywear-slurm.XXXXXX)
 mkdir -p "$WORK/state" "$WORK/spool" "$WORK/munge" "$WORK/run"
-PIDS=()
 cleanup() {
   set +e
   # Stop only the daemons this script started, by their pid.
-  for p in "${PIDS[@]}"; do kill "$p" 2>/dev/null; done
+  local daemons=()
   for f in "$WORK/slurmctld.pid" "$WORK/slurmd.pid" "$WORK/munge/munged.pid"; do
-    [ -f "$f" ] && kill "$(cat "$f")" 2>/dev/null
+    [ -f "$f" ] && daemons+=("$(cat "$f")")
   done
-  sleep 1
+  for p in "${daemons[@]}"; do kill "$p" 2>/dev/null; done
+  # Wait (up to 20 s) until they are gone, so nothing of this test outlives it.
+  for _ in $(seq 40); do
+    alive=0
+    for p in "${daemons[@]}"; do kill -0 "$p" 2>/dev/null && alive=1; done
+    [ "$alive" = 0 ] && break
+    sleep 0.5
+  done
   if [ "${SLURM_TEST_OK:-0}" != 1 ]; then
     echo "-- slurmctld log"; tail -n 30 "$WORK/slurmctld.log" 2>/dev/null
     echo "-- slurmd log"; tail -n 30 "$WORK/slurmd.log" 2>/dev/null
