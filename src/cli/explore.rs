@@ -194,7 +194,7 @@ fn empty_shard_report(plan: &RunPlan, quiet: bool) -> Result<(), String> {
         return Ok(());
     }
     println!(
-        "shard {}/{} holds no rows ({} chunks for {} shards); report: {}",
+        "shard {}/{} holds no rows ({} chunk(s) for {} shards); report: {}",
         plan.shard.0,
         plan.shard.1,
         plan.n_chunks(),
