@@ -309,11 +309,13 @@ pub fn write_table_digest(
     w.finish()
 }
 
-/// Writes the same table as CSV (for `--out FILE.csv`).
+/// Writes the same table as CSV (RFC 4180 quoting, `\n` line ends): a field holding a comma, a
+/// double quote, a line break or leading/trailing space is quoted, with inner quotes doubled;
+/// numbers are written in full precision (`NaN` for a missing value).
 pub fn write_csv(path: &Path, columns: &[Column]) -> Result<(), WriteError> {
     let err = |e: std::io::Error| WriteError(format!("{}: {e}", path.display()));
     let mut f = std::io::BufWriter::new(File::create(path).map_err(err)?);
-    let header: Vec<&str> = columns.iter().map(|c| c.name.as_str()).collect();
+    let header: Vec<String> = columns.iter().map(|c| csv_field(&c.name)).collect();
     writeln!(f, "{}", header.join(",")).map_err(err)?;
     let n = columns.first().map_or(0, |c| c.data.len());
     for row in 0..n {
@@ -322,10 +324,37 @@ pub fn write_csv(path: &Path, columns: &[Column]) -> Result<(), WriteError> {
             .map(|c| match &c.data {
                 ColumnData::F64(v) => format!("{}", v[row]),
                 ColumnData::I64(v) => v[row].to_string(),
-                ColumnData::Str(v) => v[row].clone(),
+                ColumnData::Str(v) => csv_field(&v[row]),
             })
             .collect();
         writeln!(f, "{}", cells.join(",")).map_err(err)?;
     }
     f.flush().map_err(err)
+}
+
+/// One CSV field, quoted when RFC 4180 requires it (and around leading/trailing spaces).
+pub fn csv_field(s: &str) -> String {
+    let needs = s.contains([',', '"', '\n', '\r'])
+        || s.starts_with(char::is_whitespace)
+        || s.ends_with(char::is_whitespace);
+    if needs {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+#[cfg(test)]
+mod csv_tests {
+    use super::*;
+
+    #[test]
+    fn csv_fields_are_quoted_as_rfc_4180_says() {
+        assert_eq!(csv_field("paper"), "paper");
+        assert_eq!(csv_field("a,b"), "\"a,b\"");
+        assert_eq!(csv_field("say \"hi\""), "\"say \"\"hi\"\"\"");
+        assert_eq!(csv_field("two\nlines"), "\"two\nlines\"");
+        assert_eq!(csv_field(" padded"), "\" padded\"");
+        assert_eq!(csv_field(""), "");
+    }
 }

@@ -1,6 +1,8 @@
 //! `polywear analyze`: a risk map whose answer is known, report files, and bad input.
 
 mod common;
+#[path = "common/parquet_rows.rs"]
+mod parquet_rows;
 
 use std::path::PathBuf;
 
@@ -168,6 +170,363 @@ fn analyze_bad_input_exits_2() {
         let (code, _, stderr) = polywear(&args);
         assert_eq!(code, 2, "{args:?}: {stderr}");
         assert!(stderr.contains(needle), "{args:?}: {stderr}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Writes `study` into `dir` and runs `explore --quiet --no-report` on it; panics on failure.
+fn explore_study(dir: &std::path::Path, name: &str, study: &str, extra: &[&str]) -> PathBuf {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, study).unwrap();
+    let out = dir.join(name);
+    let mut args = vec![
+        "explore",
+        "--quiet",
+        "--no-report",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let (code, _, stderr) = polywear(&args);
+    assert_eq!(code, 0, "{stderr}");
+    out
+}
+
+/// A cheap study: 3 chunks of 100 samples, both variants.
+const SMALL: &str = r#"name = "small"
+seed = 5
+samples = 300
+chunk_size = 100
+variants = ["paper", "combined"]
+[params]
+speed_kmh = { dist = "uniform", min = 60, max = 250 }
+toe_deg = { dist = "uniform", min = 0.1, max = 0.5 }
+"#;
+
+#[test]
+fn inputs_that_do_not_belong_together_are_refused_naming_files_and_key() {
+    let dir = tmp("mixed");
+    let a = explore_study(&dir, "a", SMALL, &[]);
+    let seed = explore_study(&dir, "seed", SMALL, &["--seed", "6"]);
+    let samples = explore_study(&dir, "samples", SMALL, &["--samples", "200"]);
+    let variant = explore_study(
+        &dir,
+        "variant",
+        &SMALL.replace(r#"["paper", "combined"]"#, r#"["paper"]"#),
+        &[],
+    );
+    let study = explore_study(&dir, "study", &SMALL.replace("max = 250", "max = 240"), &[]);
+    let a0 = a.join("chunk-0000000.parquet");
+    for (other, key) in [
+        (&seed, "`seed`"),
+        (&samples, "`samples`"),
+        (&variant, "`variant`"),
+        (&study, "`study_hash`"),
+    ] {
+        let report = dir.join("report");
+        let (code, _, stderr) = polywear(&[
+            "analyze",
+            a.to_str().unwrap(),
+            other.to_str().unwrap(),
+            "--out",
+            report.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{key}: {stderr}");
+        assert!(stderr.contains(key), "{key}: {stderr}");
+        assert!(stderr.contains(a0.to_str().unwrap()), "{key}: {stderr}");
+        assert!(stderr.contains(other.to_str().unwrap()), "{key}: {stderr}");
+        assert!(!report.exists(), "refused before any work");
+    }
+    // The same directory twice: duplicate rows, not double counts.
+    let (code, _, stderr) = polywear(&["analyze", a.to_str().unwrap(), a.to_str().unwrap()]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("duplicate (sample_id, variant, wheel)"),
+        "{stderr}"
+    );
+    assert!(stderr.contains(a0.to_str().unwrap()), "{stderr}");
+    // Overlapping shards: shard 0/2 and shard 0/3 both hold chunk 0.
+    let s02 = explore_study(&dir, "s02", SMALL, &["--shard", "0/2"]);
+    let s03 = explore_study(&dir, "s03", SMALL, &["--shard", "0/3"]);
+    let (code, _, stderr) = polywear(&["analyze", s02.to_str().unwrap(), s03.to_str().unwrap()]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("duplicate (sample_id, variant, wheel)"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// (samples, vibrating, no_traction, failed) of a variant and wheel in occurrence.csv.
+fn occurrence_row(csv: &str, variant: &str, wheel: &str) -> (u64, u64, u64, u64) {
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let line = csv
+        .lines()
+        .find(|l| l.starts_with(&format!("{variant},{wheel},")))
+        .unwrap_or_else(|| panic!("no {variant} {wheel} row in\n{csv}"));
+    let cells: Vec<&str> = line.split(',').collect();
+    let get = |name: &str| -> u64 {
+        let i = header.iter().position(|h| *h == name).unwrap();
+        cells[i].parse().unwrap()
+    };
+    (
+        get("samples"),
+        get("vibrating"),
+        get("no_traction"),
+        get("failed"),
+    )
+}
+
+#[test]
+fn missing_chunks_are_reported_and_the_rest_analysed() {
+    let dir = tmp("missing");
+    let run = explore_study(&dir, "run", SMALL, &[]);
+    std::fs::remove_file(run.join("chunk-0000001.parquet")).unwrap();
+    let (code, stdout, stderr) = polywear(&["analyze", run.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("200 of 300 samples present"), "{stdout}");
+    let md = std::fs::read_to_string(run.join("_report/report.md")).unwrap();
+    assert!(md.contains("200 of 300 samples present"), "{md}");
+    assert!(md.contains("100 samples are missing"), "{md}");
+    let csv = std::fs::read_to_string(run.join("_report/occurrence.csv")).unwrap();
+    assert_eq!(occurrence_row(&csv, "paper", "follower").0, 200);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn failed_rows_are_counted_apart_and_an_all_failed_study_says_so() {
+    let dir = tmp("failed");
+    // mu_s above mu_m breaks a cross-parameter rule: those samples' rows are `failed`.
+    let half = explore_study(
+        &dir,
+        "half",
+        &format!("{SMALL}mu_s = {{ dist = \"levels\", levels = [0.63, 0.9] }}\n"),
+        &[],
+    );
+    let (code, _, stderr) = polywear(&["analyze", half.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    let csv = std::fs::read_to_string(half.join("_report/occurrence.csv")).unwrap();
+    let rows = parquet_rows::rows_in_dir(&[&half]);
+    let failed = rows
+        .iter()
+        .filter(|r| {
+            r.contains("variant: \"paper\"")
+                && r.contains("wheel: \"follower\"")
+                && r.contains("class: \"failed\"")
+        })
+        .count() as u64;
+    let vibrating = rows
+        .iter()
+        .filter(|r| {
+            r.contains("variant: \"paper\"")
+                && r.contains("wheel: \"follower\"")
+                && (r.contains("class: \"limit_cycle\"") || r.contains("class: \"bistable\""))
+        })
+        .count() as u64;
+    assert!(failed > 100 && failed < 200, "about half: {failed}");
+    let (samples, vib, _, f) = occurrence_row(&csv, "paper", "follower");
+    assert_eq!(f, failed, "{csv}");
+    assert_eq!(
+        samples,
+        300 - failed,
+        "probabilities over classified rows: {csv}"
+    );
+    assert_eq!(vib, vibrating, "{csv}");
+    // Every sample fails: no probability, exit non-zero, the report says so.
+    let all = explore_study(
+        &dir,
+        "all",
+        &format!("{SMALL}mu_s = {{ dist = \"levels\", levels = [0.9, 0.95] }}\n"),
+        &[],
+    );
+    let (code, _, stderr) = polywear(&["analyze", all.to_str().unwrap()]);
+    assert_ne!(code, 0);
+    assert!(stderr.contains("no row has a verdict"), "{stderr}");
+    let md = std::fs::read_to_string(all.join("_report/report.md")).unwrap();
+    assert!(md.contains("No row has a verdict"), "{md}");
+    assert!(
+        !md.contains("| 0.00% |"),
+        "no 0% for an all-failed study:\n{md}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn an_empty_shard_succeeds_and_all_shards_give_the_single_machine_answer() {
+    let dir = tmp("shards");
+    let study = dir.join("small.toml");
+    std::fs::write(&study, SMALL).unwrap();
+    let single = explore_study(&dir, "single", SMALL, &[]);
+    let mut shards = Vec::new();
+    for k in 0..4 {
+        // 3 chunks for 4 shards: shard 3 owns none.
+        let out = dir.join(format!("shard-{k}"));
+        let (code, stdout, stderr) = polywear(&[
+            "explore",
+            study.to_str().unwrap(),
+            "--shard",
+            &format!("{k}/4"),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "shard {k}: {stderr}");
+        if k == 3 {
+            assert!(stdout.contains("holds no rows"), "{stdout}");
+            assert!(out.join("_manifest.json").exists());
+            let md = std::fs::read_to_string(out.join("_report/report.md")).unwrap();
+            assert!(md.contains("This shard holds no rows"), "{md}");
+        }
+        shards.push(out);
+    }
+    let report = dir.join("all_report");
+    let mut args = vec!["analyze".to_string()];
+    args.extend(shards.iter().map(|s| s.to_str().unwrap().to_string()));
+    args.extend(["--out".into(), report.to_str().unwrap().into()]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (code, stdout, stderr) = polywear(&args);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("300 of 300 samples present"), "{stdout}");
+    let (code, _, stderr) = polywear(&["analyze", single.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    for table in [
+        "occurrence.csv",
+        "paired.csv",
+        "conditional.csv",
+        "severity.csv",
+    ] {
+        assert_eq!(
+            std::fs::read_to_string(report.join(table)).unwrap(),
+            std::fs::read_to_string(single.join("_report").join(table)).unwrap(),
+            "{table}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn robustness_to_the_lost_digits_compares_wheels_per_decoding() {
+    let dir = tmp("decoding");
+    // Provisional decoding study: two decoded constants over alternative readings, with the
+    // operating axes drawn; the combined variant makes the driving wheel less exposed.
+    let run = explore_study(
+        &dir,
+        "decoding",
+        r#"name = "decoding_provisional"
+seed = 3
+samples = 1200
+chunk_size = 400
+variants = ["paper", "combined"]
+[params]
+speed_kmh = { dist = "uniform", min = 60, max = 250 }
+toe_deg = { dist = "uniform", min = 0.1, max = 0.5 }
+xi = { dist = "levels", levels = [0.67, 0.61] }
+phi = { dist = "levels", levels = [0.94, 0.9, 0.98] }
+"#,
+        &[],
+    );
+    let (code, stdout, stderr) = polywear(&["analyze", run.to_str().unwrap(), "--min-count", "50"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("lost digits"), "{stdout}");
+    let md = std::fs::read_to_string(run.join("_report/report.md")).unwrap();
+    assert!(md.contains("## Robustness to the lost digits"), "{md}");
+    let csv = std::fs::read_to_string(run.join("_report/robustness.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    // 2 x 3 decodings per variant.
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 2 * 6, "{csv}");
+    // The same counts from the rows themselves.
+    let all = parquet_rows::rows_in_dir(&[&run]);
+    for r in &rows {
+        let (variant, xi, phi) = (r[col("variant")], r[col("xi")], r[col("phi")]);
+        for wheel in ["follower", "driving"] {
+            let of = |class: &str| {
+                all.iter()
+                    .filter(|x| {
+                        x.contains(&format!("variant: \"{variant}\""))
+                            && x.contains(&format!("wheel: \"{wheel}\""))
+                            && x.contains(&format!("xi: {xi},"))
+                            && x.contains(&format!("phi: {phi},"))
+                            && x.contains(&format!("class: \"{class}\""))
+                    })
+                    .count()
+            };
+            let vib = of("limit_cycle") + of("bistable");
+            let n = vib + of("stable");
+            assert_eq!(r[col(&format!("{wheel}_samples"))], n.to_string(), "{r:?}");
+            assert_eq!(
+                r[col(&format!("{wheel}_vibrating"))],
+                vib.to_string(),
+                "{r:?}"
+            );
+        }
+    }
+    // The share for the combined variant: the driving wheel is less exposed in every decoding.
+    let combined: Vec<&Vec<&str>> = rows.iter().filter(|r| r[0] == "combined").collect();
+    let less = combined
+        .iter()
+        .filter(|r| r[col("driving_less_exposed")] == "yes")
+        .count();
+    assert_eq!(less, 6, "{csv}");
+    assert!(
+        md.contains(
+            "**combined**: the driving wheel is less exposed than the follower in 6 of 6 decodings"
+        ),
+        "{md}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn tables_are_csv_with_quoting_and_parquet_copies() {
+    let dir = tmp("tables");
+    let run = explore_study(&dir, "run", SMALL, &[]);
+    let (code, _, stderr) = polywear(&["analyze", run.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    for stem in [
+        "occurrence",
+        "paired",
+        "conditional",
+        "severity",
+        "riskmap_speed_kmh_toe_deg",
+    ] {
+        let csv = run.join("_report").join(format!("{stem}.csv"));
+        let pq = run.join("_report").join(format!("{stem}.parquet"));
+        let text = std::fs::read_to_string(&csv).unwrap();
+        let reader = SerializedFileReader::new(std::fs::File::open(&pq).unwrap()).unwrap();
+        let n = reader.metadata().file_metadata().num_rows() as usize;
+        assert_eq!(
+            text.lines().count(),
+            n + 1,
+            "{stem}: CSV and Parquet hold the same rows"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn pairing_by_row_order_equals_pairing_by_sample_id() {
+    let dir = tmp("pairing");
+    // Some failed samples too, so every outcome combination occurs.
+    let run = explore_study(
+        &dir,
+        "run",
+        &format!("{SMALL}mu_s = {{ dist = \"levels\", levels = [0.63, 0.63, 0.9] }}\n"),
+        &[],
+    );
+    let (files, _) = polywear::analysis::inputs::parquet_files(&[run]).unwrap();
+    let by_order = polywear::analysis::queries::paired(&files, 1000).unwrap();
+    let by_group = polywear::analysis::queries::paired_by_group(&files, 1000).unwrap();
+    assert_eq!(by_order, by_group);
+    assert_eq!(by_order.len(), 2);
+    for p in &by_order {
+        assert!(p.unclassified > 0 && p.pairs > 0, "{p:?}");
+        assert_eq!(p.pairs + p.unclassified, 300, "{p:?}");
     }
     std::fs::remove_dir_all(&dir).ok();
 }

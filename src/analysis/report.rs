@@ -1,13 +1,16 @@
-//! Writes the analysis: tables (CSV, Parquet), figures (PNG) and `report.md` tying them together.
+//! Runs an analysis: the queries (queries.rs), then the tables (CSV and Parquet, written here),
+//! the figures (figures.rs) and `report.md` (markdown.rs).
 
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::compute::{self, BinStat, Occurrence, Paired, RiskMap, Sensitivity, Severity};
-use super::load::Dataset;
+use super::figures;
+use super::inputs::RunInfo;
+use super::queries::{
+    self, BinStat, ClassCounts, Occurrence, Paired, RiskMap, Robustness, RobustnessSummary,
+    Sensitivity, Severity, SEVERITY_QUANTITIES,
+};
 use crate::model::{Variant, Wheel};
 use crate::parquet_out::{write_csv, write_table, Column};
-use crate::plot::{self, maps, Series};
 
 /// Settings of one analysis.
 #[derive(Debug, Clone)]
@@ -17,687 +20,403 @@ pub struct ReportOptions {
     pub bins: usize,
     /// Bins per axis of the risk maps.
     pub map_bins: usize,
-    /// Cells with fewer samples are shown as "too few", not as a probability.
+    /// Cells with fewer classified samples are shown as "too few", not as a probability.
     pub min_count: u64,
     /// Pairs of axes for risk maps (those absent from the run are skipped with a note).
     pub pairs: Vec<(String, String)>,
     pub bootstrap: usize,
 }
 
-/// Everything computed, for the command's printed summary.
+/// Everything computed, for the command's printed summary and the page.
 pub struct Analysis {
+    pub info: RunInfo,
     pub occurrence: Vec<Occurrence>,
     pub paired: Vec<Paired>,
     pub conditional: Vec<BinStat>,
     pub maps: Vec<RiskMap>,
     pub severity: Vec<Severity>,
     pub sensitivity: Option<Vec<Sensitivity>>,
+    pub robustness: Option<Robustness>,
+    pub robustness_summary: Vec<RobustnessSummary>,
     pub notes: Vec<String>,
     pub files: Vec<PathBuf>,
 }
 
-fn label(name: &str, ds: &Dataset) -> String {
-    let unit = ds.axis(name).map_or("", |a| a.unit.as_str());
-    if unit.is_empty() || unit == "-" {
-        name.to_string()
-    } else {
-        format!("{name} [{unit}]")
+impl Analysis {
+    /// Class counts over every variant and wheel.
+    pub fn totals(&self) -> ClassCounts {
+        let mut t = ClassCounts::default();
+        for o in &self.occurrence {
+            t.merge(&o.counts);
+        }
+        t
+    }
+
+    /// True when no row has a verdict (every row failed or had no traction).
+    pub fn nothing_classified(&self) -> bool {
+        self.totals().classified() == 0
     }
 }
 
-/// Edges for drawing: bin edges, or cells centred on grid levels.
-fn draw_edges(b: &compute::Bins) -> Vec<f64> {
-    if !b.levels {
-        return b.edges.clone();
-    }
-    let l = &b.edges;
-    if l.len() == 1 {
-        let w = (l[0].abs() * 0.05).max(1e-9);
-        return vec![l[0] - w, l[0] + w];
-    }
-    let mut e = vec![l[0] - 0.5 * (l[1] - l[0])];
-    e.extend(l.windows(2).map(|w| 0.5 * (w[0] + w[1])));
-    e.push(l[l.len() - 1] + 0.5 * (l[l.len() - 1] - l[l.len() - 2]));
-    e
-}
+/// Rows of the paired comparison in a sample's outcome table use this many rows per file batch.
+const PAIRED_BATCH_ROWS: u64 = 400_000;
 
-/// Runs the whole analysis and writes it under `opts.out_dir`.
-pub fn analyze(ds: &Dataset, opts: &ReportOptions) -> Result<Analysis, String> {
+/// Runs the whole analysis of checked inputs and writes it under `opts.out_dir`.
+pub fn analyze(info: RunInfo, opts: &ReportOptions) -> Result<Analysis, String> {
     std::fs::create_dir_all(&opts.out_dir)
         .map_err(|e| format!("{}: {e}", opts.out_dir.display()))?;
     let dir = &opts.out_dir;
     let mut files = Vec::new();
     let mut notes = Vec::new();
-    let w = |e: crate::parquet_out::WriteError| e.to_string();
+    // The largest group-by: a risk map's cells for every variant and both wheels.
+    let variants_in_run = info.variant.split(',').count().max(1);
+    queries::size_group_tables(variants_in_run * 2 * opts.map_bins * opts.map_bins);
+    let lf = queries::scan(&info.files)?;
 
-    let occurrence = compute::occurrence(ds);
-    let paired = compute::paired(ds);
-    let conditional = compute::conditional(ds, opts.bins);
-    let severity = compute::severity(ds);
-    let sensitivity = compute::sensitivity(ds, opts.bootstrap);
-    let variants: Vec<Variant> = {
-        let mut v: Vec<Variant> = ds.groups().into_iter().map(|g| g.0).collect();
-        v.dedup();
-        v
-    };
-
-    // Occurrence and paired tables.
-    let p = dir.join("occurrence.csv");
-    write_csv(
-        &p,
-        &[
-            Column::str(
-                "variant",
-                occurrence.iter().map(|o| o.variant.to_string()).collect(),
-            ),
-            Column::str(
-                "wheel",
-                occurrence.iter().map(|o| o.wheel.to_string()).collect(),
-            ),
-            Column::i64(
-                "samples",
-                "",
-                occurrence.iter().map(|o| o.n as i64).collect(),
-            ),
-            Column::i64(
-                "vibrating",
-                "",
-                occurrence.iter().map(|o| o.k as i64).collect(),
-            ),
-            Column::f64("p", "", occurrence.iter().map(|o| o.p).collect()),
-            Column::f64("wilson95_lo", "", occurrence.iter().map(|o| o.lo).collect()),
-            Column::f64("wilson95_hi", "", occurrence.iter().map(|o| o.hi).collect()),
-        ],
-    )
-    .map_err(w)?;
-    files.push(p);
-    let p = dir.join("paired.csv");
-    write_csv(
-        &p,
-        &[
-            Column::str(
-                "variant",
-                paired.iter().map(|x| x.variant.to_string()).collect(),
-            ),
-            Column::i64("pairs", "", paired.iter().map(|x| x.pairs as i64).collect()),
-            Column::i64(
-                "only_follower",
-                "",
-                paired.iter().map(|x| x.only_follower as i64).collect(),
-            ),
-            Column::i64(
-                "only_driving",
-                "",
-                paired.iter().map(|x| x.only_driving as i64).collect(),
-            ),
-            Column::i64("both", "", paired.iter().map(|x| x.both as i64).collect()),
-            Column::i64(
-                "neither",
-                "",
-                paired.iter().map(|x| x.neither as i64).collect(),
-            ),
-            Column::f64("mcnemar_chi2", "", paired.iter().map(|x| x.chi2).collect()),
-            Column::f64("p_value", "", paired.iter().map(|x| x.p_value).collect()),
-            Column::str(
-                "method",
-                paired.iter().map(|x| x.method.to_string()).collect(),
-            ),
-        ],
-    )
-    .map_err(w)?;
-    files.push(p);
-
-    // Conditional probabilities: table and one figure per variant.
-    let p = dir.join("conditional.parquet");
-    write_table(
-        &p,
-        &[
-            Column::str(
-                "variant",
-                conditional.iter().map(|b| b.variant.to_string()).collect(),
-            ),
-            Column::str(
-                "wheel",
-                conditional.iter().map(|b| b.wheel.to_string()).collect(),
-            ),
-            Column::str("axis", conditional.iter().map(|b| b.axis.clone()).collect()),
-            Column::f64("bin_lo", "", conditional.iter().map(|b| b.lo).collect()),
-            Column::f64("bin_hi", "", conditional.iter().map(|b| b.hi).collect()),
-            Column::f64("bin_mid", "", conditional.iter().map(|b| b.mid).collect()),
-            Column::i64(
-                "samples",
-                "",
-                conditional.iter().map(|b| b.n as i64).collect(),
-            ),
-            Column::i64(
-                "vibrating",
-                "",
-                conditional.iter().map(|b| b.k as i64).collect(),
-            ),
-            Column::f64("p", "", conditional.iter().map(|b| b.p).collect()),
-            Column::f64(
-                "wilson95_lo",
-                "",
-                conditional.iter().map(|b| b.ci_lo).collect(),
-            ),
-            Column::f64(
-                "wilson95_hi",
-                "",
-                conditional.iter().map(|b| b.ci_hi).collect(),
-            ),
-        ],
-        &[("study_name".into(), ds.info.study_name.clone())],
-    )
-    .map_err(w)?;
-    files.push(p);
-    for &variant in &variants {
-        let axes: Vec<&str> = ds.axes.iter().map(|a| a.name.as_str()).collect();
-        let cols = if axes.len() <= 4 { 2 } else { 3 };
-        let rows = axes.len().div_ceil(cols);
-        let p = dir.join(format!("conditional_{variant}.png"));
-        plot::panels(
-            &p,
-            (520 * cols as u32, 360 * rows as u32 + 40),
-            (rows, cols),
-            &format!("P(limit cycle | parameter), {variant} variant, 95% Wilson bands"),
-            |i, area| {
-                let Some(axis) = axes.get(i) else {
-                    return Ok(());
-                };
-                let bands: Vec<maps::Band<'_>> = Wheel::BOTH
-                    .iter()
-                    .map(|wh| maps::Band {
-                        label: wh.as_str(),
-                        points: conditional
-                            .iter()
-                            .filter(|b| {
-                                b.variant == variant
-                                    && b.wheel == *wh
-                                    && b.axis == *axis
-                                    && b.n >= opts.min_count.max(1)
-                            })
-                            .map(|b| (b.mid, b.p, b.ci_lo, b.ci_hi))
-                            .collect(),
-                    })
-                    .collect();
-                maps::band_panel(area, axis, &label(axis, ds), "P(limit cycle)", &bands)
-            },
-        )?;
-        files.push(p);
+    let occurrence = queries::occurrence(&lf)?;
+    let paired = queries::paired(&info.files, PAIRED_BATCH_ROWS)?;
+    let quantities: Vec<&str> = SEVERITY_QUANTITIES.iter().map(|q| q.0).collect();
+    let ranges = queries::ranges(&lf, &info.drawn_names, &quantities)?;
+    let mut conditional = Vec::new();
+    for axis in &info.drawn_names {
+        let bins = queries::axis_bins(&info, &ranges, axis, opts.bins);
+        conditional.extend(queries::conditional(&lf, axis, &bins)?);
     }
-
-    // Risk maps.
-    let mut risk_maps = Vec::new();
+    let mut maps = Vec::new();
     for (x, y) in &opts.pairs {
-        if ds.axis(x).is_none() || ds.axis(y).is_none() {
+        if !info.drawn_names.contains(x) || !info.drawn_names.contains(y) {
             notes.push(format!(
                 "risk map {x} × {y} skipped: the run does not draw both (it draws {})",
-                ds.info.drawn_names.join(", ")
+                info.drawn_names.join(", ")
             ));
             continue;
         }
-        for &variant in &variants {
-            let map = compute::risk_map(ds, variant, x, y, opts.map_bins)?;
-            let (xe, ye) = (draw_edges(&map.x_bins), draw_edges(&map.y_bins));
-            let pf = map.probability(Wheel::Follower, opts.min_count);
-            let pd = map.probability(Wheel::Driving, opts.min_count);
-            let diff: Vec<Vec<f64>> = pd
-                .iter()
-                .zip(&pf)
-                .map(|(a, b)| a.iter().zip(b).map(|(d, f)| d - f).collect())
-                .collect();
-            let max_abs = diff
-                .iter()
-                .flatten()
-                .filter(|v| v.is_finite())
-                .fold(0.0f64, |m, v| m.max(v.abs()))
-                .max(1e-3);
-            let png = dir.join(format!("riskmap_{x}_{y}_{variant}.png"));
-            let title = format!(
-                "Risk of polygonal wear: P(limit cycle) over {x} × {y} ({variant} variant; grey: fewer than {} samples)",
-                opts.min_count
-            );
-            plot::figure(&png, (1900, 620), &title, |area| {
-                let parts = area.split_evenly((1, 3));
-                for (k, (part, (name, values))) in parts
-                    .iter()
-                    .zip([
-                        ("follower", &pf),
-                        ("driving", &pd),
-                        ("driving − follower", &diff),
-                    ])
-                    .enumerate()
-                {
-                    let (main, bar) = part.split_horizontally(part.dim_in_pixel().0 as i32 - 100);
-                    let (range, cmap, bar_label): ((f64, f64), maps::ColorMap, &str) = if k < 2 {
-                        ((0.0, 1.0), maps::viridis, "P(limit cycle)")
-                    } else {
-                        ((-max_abs, max_abs), maps::diverging, "difference")
-                    };
-                    maps::heatmap(
-                        &main,
-                        name,
-                        &label(x, ds),
-                        &label(y, ds),
-                        &xe,
-                        &ye,
-                        values,
-                        range,
-                        cmap,
-                    )?;
-                    maps::colorbar(&bar, bar_label, range, cmap)?;
-                }
-                Ok(())
-            })?;
-            files.push(png);
-            risk_maps.push(map);
-        }
-        // Table of all variants and wheels of this pair.
-        // (variant, wheel, x_lo, x_hi, y_lo, y_hi, samples, vibrating)
-        type CellRow = (String, String, f64, f64, f64, f64, u64, u64);
-        let mut rows: Vec<CellRow> = Vec::new();
-        for map in risk_maps.iter().filter(|m| &m.x == x && &m.y == y) {
-            for (wheel, grid) in &map.cells {
-                for (ix, col) in grid.iter().enumerate() {
-                    for (iy, (n, k)) in col.iter().enumerate() {
-                        let (xl, xh, _) = map.x_bins.range(ix);
-                        let (yl, yh, _) = map.y_bins.range(iy);
-                        rows.push((
-                            map.variant.to_string(),
-                            wheel.to_string(),
-                            xl,
-                            xh,
-                            yl,
-                            yh,
-                            *n,
-                            *k,
-                        ));
-                    }
-                }
-            }
-        }
-        let p = dir.join(format!("riskmap_{x}_{y}.parquet"));
-        let min_count = opts.min_count.max(1);
-        write_table(
-            &p,
-            &[
-                Column::str("variant", rows.iter().map(|r| r.0.clone()).collect()),
-                Column::str("wheel", rows.iter().map(|r| r.1.clone()).collect()),
-                Column::f64(format!("{x}_lo"), "", rows.iter().map(|r| r.2).collect()),
-                Column::f64(format!("{x}_hi"), "", rows.iter().map(|r| r.3).collect()),
-                Column::f64(format!("{y}_lo"), "", rows.iter().map(|r| r.4).collect()),
-                Column::f64(format!("{y}_hi"), "", rows.iter().map(|r| r.5).collect()),
-                Column::i64("samples", "", rows.iter().map(|r| r.6 as i64).collect()),
-                Column::i64("vibrating", "", rows.iter().map(|r| r.7 as i64).collect()),
-                Column::f64(
-                    "p",
-                    "",
-                    rows.iter()
-                        .map(|r| {
-                            if r.6 >= min_count {
-                                r.7 as f64 / r.6 as f64
-                            } else {
-                                f64::NAN
-                            }
-                        })
-                        .collect(),
-                ),
-            ],
-            &[
-                ("min_count".into(), opts.min_count.to_string()),
-                ("study_name".into(), ds.info.study_name.clone()),
-            ],
-        )
-        .map_err(w)?;
-        files.push(p);
+        let xb = queries::axis_bins(&info, &ranges, x, opts.map_bins);
+        let yb = queries::axis_bins(&info, &ranges, y, opts.map_bins);
+        maps.extend(queries::risk_maps(&lf, x, y, &xb, &yb)?);
     }
-
-    // Severity: quantile table and histograms.
-    let p = dir.join("severity.csv");
-    let q = |i: usize| {
-        severity
-            .iter()
-            .map(|s| s.quantiles[i])
-            .collect::<Vec<f64>>()
+    let severity = queries::severity(&lf, &ranges)?;
+    let sensitivity = queries::sensitivity(&lf, &info, opts.bootstrap)?;
+    let robustness = queries::robustness(&lf, &info)?;
+    let robustness_summary = robustness
+        .as_ref()
+        .map(|r| r.summary(opts.min_count))
+        .unwrap_or_default();
+    let variants: Vec<Variant> = {
+        let mut v: Vec<Variant> = occurrence.iter().map(|o| o.variant).collect();
+        v.dedup();
+        v
     };
-    write_csv(
-        &p,
-        &[
-            Column::str(
-                "variant",
-                severity.iter().map(|s| s.variant.to_string()).collect(),
-            ),
-            Column::str(
-                "wheel",
-                severity.iter().map(|s| s.wheel.to_string()).collect(),
-            ),
-            Column::str(
-                "quantity",
-                severity.iter().map(|s| s.quantity.to_string()).collect(),
-            ),
-            Column::str(
-                "unit",
-                severity.iter().map(|s| s.unit.to_string()).collect(),
-            ),
-            Column::i64(
-                "limit_cycles",
-                "",
-                severity.iter().map(|s| s.n as i64).collect(),
-            ),
-            Column::f64("mean", "", severity.iter().map(|s| s.mean).collect()),
-            Column::f64("q05", "", q(0)),
-            Column::f64("q25", "", q(1)),
-            Column::f64("median", "", q(2)),
-            Column::f64("q75", "", q(3)),
-            Column::f64("q95", "", q(4)),
-        ],
-    )
-    .map_err(w)?;
-    files.push(p);
-    for &variant in &variants {
-        let quantities = [
-            "amp_y_m",
-            "amp_v_mps",
-            "energy_per_cycle_j",
-            "polygon_order",
-        ];
-        let p = dir.join(format!("severity_{variant}.png"));
-        plot::panels(
-            &p,
-            (1400, 900),
-            (2, 2),
-            &format!("Severity among limit cycles ({variant} variant): share of cycles per bin"),
-            |i, area| {
-                let quantity = quantities[i];
-                let sets: Vec<&Severity> = severity
-                    .iter()
-                    .filter(|s| s.variant == variant && s.quantity == quantity)
-                    .collect();
-                let all: Vec<f64> = sets.iter().flat_map(|s| s.values.iter().cloned()).collect();
-                if all.is_empty() {
-                    return plot::line_panel(
-                        area,
-                        &format!("{quantity}: no limit cycles"),
-                        quantity,
-                        "share",
-                        &[],
-                        false,
-                    );
-                }
-                let bins = compute::Bins::new(&all, 40);
-                let series: Vec<Series<'_>> = sets
-                    .iter()
-                    .map(|s| {
-                        let mut counts = vec![0u64; bins.count()];
-                        for v in &s.values {
-                            if let Some(b) = bins.index(*v) {
-                                counts[b] += 1;
-                            }
-                        }
-                        let n = s.values.len().max(1) as f64;
-                        let points = counts
-                            .iter()
-                            .enumerate()
-                            .flat_map(|(b, c)| {
-                                let (lo, hi, mid) = bins.range(b);
-                                if bins.levels {
-                                    vec![(mid, *c as f64 / n)]
-                                } else {
-                                    vec![(lo, *c as f64 / n), (hi, *c as f64 / n)]
-                                }
-                            })
-                            .collect();
-                        Series {
-                            label: s.wheel.as_str(),
-                            points,
-                        }
-                    })
-                    .collect();
-                let unit = sets.first().map_or("", |s| s.unit);
-                plot::line_panel(
-                    area,
-                    quantity,
-                    &format!("{quantity} [{unit}]"),
-                    "share of limit cycles",
-                    &series,
-                    false,
-                )
-            },
-        )?;
-        files.push(p);
-    }
-
-    // Sensitivity.
-    if let Some(sens) = &sensitivity {
-        let p = dir.join("sensitivity.csv");
-        write_csv(
-            &p,
-            &[
-                Column::str(
-                    "variant",
-                    sens.iter().map(|s| s.variant.to_string()).collect(),
-                ),
-                Column::str("wheel", sens.iter().map(|s| s.wheel.to_string()).collect()),
-                Column::str(
-                    "output",
-                    sens.iter().map(|s| s.output.to_string()).collect(),
-                ),
-                Column::str("param", sens.iter().map(|s| s.param.clone()).collect()),
-                Column::i64(
-                    "base_samples",
-                    "",
-                    sens.iter().map(|s| s.base_samples as i64).collect(),
-                ),
-                Column::f64("first_order", "", sens.iter().map(|s| s.s.0).collect()),
-                Column::f64("first_order_lo", "", sens.iter().map(|s| s.s.1).collect()),
-                Column::f64("first_order_hi", "", sens.iter().map(|s| s.s.2).collect()),
-                Column::f64("total", "", sens.iter().map(|s| s.st.0).collect()),
-                Column::f64("total_lo", "", sens.iter().map(|s| s.st.1).collect()),
-                Column::f64("total_hi", "", sens.iter().map(|s| s.st.2).collect()),
-            ],
-        )
-        .map_err(w)?;
-        files.push(p);
-    } else {
+    if sensitivity.is_none() {
         notes.push("Sobol indices need a Saltelli design (`design = \"saltelli\"` in the study); this run used another.".into());
     }
 
-    let analysis = Analysis {
+    // Tables.
+    let meta = table_metadata(&info, opts);
+    write_tables(
+        dir,
+        "occurrence",
+        &occurrence_columns(&occurrence),
+        &meta,
+        &mut files,
+    )?;
+    write_tables(dir, "paired", &paired_columns(&paired), &meta, &mut files)?;
+    write_tables(
+        dir,
+        "conditional",
+        &conditional_columns(&conditional, opts.min_count),
+        &meta,
+        &mut files,
+    )?;
+    for (x, y) in &opts.pairs {
+        let of_pair: Vec<&RiskMap> = maps.iter().filter(|m| &m.x == x && &m.y == y).collect();
+        if !of_pair.is_empty() {
+            write_tables(
+                dir,
+                &format!("riskmap_{x}_{y}"),
+                &riskmap_columns(&of_pair, opts.min_count),
+                &meta,
+                &mut files,
+            )?;
+        }
+    }
+    write_tables(
+        dir,
+        "severity",
+        &severity_columns(&severity),
+        &meta,
+        &mut files,
+    )?;
+    if let Some(sens) = &sensitivity {
+        write_tables(
+            dir,
+            "sensitivity",
+            &sensitivity_columns(sens),
+            &meta,
+            &mut files,
+        )?;
+    }
+    if let Some(r) = &robustness {
+        write_tables(
+            dir,
+            "robustness",
+            &robustness_columns(r, opts.min_count),
+            &meta,
+            &mut files,
+        )?;
+    }
+
+    // Figures.
+    let label = |name: &str| {
+        let unit = info.unit(name);
+        if unit.is_empty() || unit == "-" {
+            name.to_string()
+        } else {
+            format!("{name} [{unit}]")
+        }
+    };
+    for &variant in &variants {
+        let p = dir.join(format!("conditional_{variant}.png"));
+        figures::conditional(
+            &p,
+            variant,
+            &info.drawn_names,
+            &label,
+            &conditional,
+            opts.min_count,
+        )?;
+        files.push(p);
+    }
+    for map in &maps {
+        let p = dir.join(format!("riskmap_{}_{}_{}.png", map.x, map.y, map.variant));
+        figures::risk_map(&p, map, &label, opts.min_count)?;
+        files.push(p);
+    }
+    for &variant in &variants {
+        let p = dir.join(format!("severity_{variant}.png"));
+        figures::severity(&p, variant, &severity)?;
+        files.push(p);
+    }
+
+    let mut analysis = Analysis {
+        info,
         occurrence,
         paired,
         conditional,
-        maps: risk_maps,
+        maps,
         severity,
         sensitivity,
+        robustness,
+        robustness_summary,
         notes,
         files,
     };
-    let md = markdown(ds, opts, &analysis);
+    let md = super::markdown::page(opts, &analysis);
     let p = dir.join("report.md");
     std::fs::write(&p, md).map_err(|e| format!("{}: {e}", p.display()))?;
-    let mut analysis = analysis;
     analysis.files.push(p);
     Ok(analysis)
 }
 
-fn pct(p: f64) -> String {
-    if p.is_finite() {
-        format!("{:.2}%", 100.0 * p)
-    } else {
-        "–".into()
-    }
+/// Footer metadata of the Parquet tables: which run and settings they come from.
+fn table_metadata(info: &RunInfo, opts: &ReportOptions) -> Vec<(String, String)> {
+    vec![
+        ("study_name".into(), info.study_name.clone()),
+        ("study_hash".into(), info.study_hash.clone()),
+        ("seed".into(), info.seed.clone()),
+        ("variant".into(), info.variant.clone()),
+        ("samples".into(), info.samples.to_string()),
+        ("samples_present".into(), info.samples_present.to_string()),
+        ("min_count".into(), opts.min_count.to_string()),
+        (
+            "polywear_version".into(),
+            env!("CARGO_PKG_VERSION").to_string(),
+        ),
+    ]
 }
 
-fn rel(path: &Path) -> String {
-    path.file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default()
+/// Writes one table as `stem.csv` (RFC 4180) and `stem.parquet`.
+fn write_tables(
+    dir: &Path,
+    stem: &str,
+    cols: &[Column],
+    meta: &[(String, String)],
+    files: &mut Vec<PathBuf>,
+) -> Result<(), String> {
+    let csv = dir.join(format!("{stem}.csv"));
+    write_csv(&csv, cols).map_err(|e| e.to_string())?;
+    files.push(csv);
+    let pq = dir.join(format!("{stem}.parquet"));
+    write_table(&pq, cols, meta).map_err(|e| e.to_string())?;
+    files.push(pq);
+    Ok(())
 }
 
-/// The report page.
-fn markdown(ds: &Dataset, opts: &ReportOptions, a: &Analysis) -> String {
-    let mut s = String::new();
-    let i = &ds.info;
-    let _ = writeln!(s, "# Polygonal-wear risk: study `{}`\n", i.study_name);
-    let samples = ds
-        .sample_id
-        .iter()
-        .collect::<std::collections::HashSet<_>>()
-        .len();
-    let _ = writeln!(
-        s,
-        "{} samples ({} rows in {} files) of study `{}`, design `{}`, seed {}, friction variant(s) **{}**, \
-         polywear {}. A wheel *vibrates* when its tread settles on a limit cycle (self-excited \
-         vibration, the cause of polygonal wear) or can be kicked onto one (bistable).\n",
-        samples,
-        ds.len(),
-        i.files,
-        i.study_name,
-        i.design,
-        i.seed,
-        i.variant,
-        i.version
-    );
-    if i.variant.contains("paper") {
-        let _ = writeln!(
-            s,
-            "> Under the `paper` variant the driving wheel comes out almost identical to the follower: \
-             the paper's Eq. 19 scales both friction levels by the same factor, so the drive force \
-             barely moves the stability boundary. The `combined` variant (2-D LuGre) makes the \
-             driving wheel far more stable. Read every driving-vs-follower comparison with its variant.\n"
-        );
-    }
-    let _ = writeln!(s, "## How likely is self-excited vibration?\n");
-    let _ = writeln!(s, "| variant | wheel | samples | vibrating | P(limit cycle) | 95% Wilson interval | other classes |");
-    let _ = writeln!(s, "|---|---|---:|---:|---:|---|---|");
-    for o in &a.occurrence {
-        let others: Vec<String> = o
-            .counts
-            .iter()
-            .filter(|(c, _)| !c.vibrates())
-            .map(|(c, n)| format!("{} {n}", c.as_str()))
-            .collect();
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} | {} | {} – {} | {} |",
-            o.variant,
-            o.wheel,
-            o.n,
-            o.k,
-            pct(o.p),
-            pct(o.lo),
-            pct(o.hi),
-            others.join(", ")
-        );
-    }
-    let _ = writeln!(s, "\n### Driving vs follower on the same samples\n");
-    let _ = writeln!(
-        s,
-        "| variant | pairs | only follower | only driving | both | neither | McNemar p-value |"
-    );
-    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|");
-    for p in &a.paired {
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} | {} | {} | {} ({}) |",
-            p.variant,
-            p.pairs,
-            p.only_follower,
-            p.only_driving,
-            p.both,
-            p.neither,
-            super::stats::format_p(p.p_value),
-            p.method
-        );
-    }
-    let _ = writeln!(
-        s,
-        "\nMcNemar's test asks whether the discordant samples (one wheel vibrates, the other not) \
-         split evenly; a small p-value means one wheel is significantly more exposed.\n"
-    );
-    let _ = writeln!(s, "## Where does the risk live?\n");
-    let _ = writeln!(s, "Probability of a limit cycle as a function of each drawn parameter ({} bins, or the grid's levels), with 95% Wilson bands; bins with fewer than {} samples are left out. Table: `conditional.parquet`.\n", opts.bins, opts.min_count);
-    for f in a
-        .files
-        .iter()
-        .filter(|f| rel(f).starts_with("conditional_"))
-    {
-        let _ = writeln!(s, "![]({})\n", rel(f));
-    }
-    let _ = writeln!(s, "### Risk maps\n");
-    let _ = writeln!(s, "P(limit cycle) over pairs of axes, per wheel, and the driving-minus-follower difference. Grey cells hold fewer than {} samples: unknown, not zero. Tables: `riskmap_<x>_<y>.parquet`.\n", opts.min_count);
-    for f in a
-        .files
-        .iter()
-        .filter(|f| rel(f).starts_with("riskmap_") && rel(f).ends_with(".png"))
-    {
-        let _ = writeln!(s, "![]({})\n", rel(f));
-    }
-    for n in &a.notes {
-        let _ = writeln!(s, "- {n}");
-    }
-    let _ = writeln!(s, "\n## How severe is it?\n");
-    let _ = writeln!(s, "Among the limit cycles: amplitude of the lateral displacement and velocity (half peak-to-peak), vibration energy per cycle (∮ C_s v² dt) and polygon order (cycle frequency over wheel rotation frequency: the number of wear facets).\n");
-    let _ = writeln!(
-        s,
-        "| variant | wheel | quantity | cycles | mean | 5% | median | 95% |"
-    );
-    let _ = writeln!(s, "|---|---|---|---:|---:|---:|---:|---:|");
-    for v in &a.severity {
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} [{}] | {} | {:.4e} | {:.4e} | {:.4e} | {:.4e} |",
-            v.variant,
-            v.wheel,
-            v.quantity,
-            v.unit,
-            v.n,
-            v.mean,
-            v.quantiles[0],
-            v.quantiles[2],
-            v.quantiles[4]
-        );
-    }
-    for f in a
-        .files
-        .iter()
-        .filter(|f| rel(f).starts_with("severity_") && rel(f).ends_with(".png"))
-    {
-        let _ = writeln!(s, "\n![]({})", rel(f));
-    }
-    let _ = writeln!(s, "\n## Which parameters drive it?\n");
-    match &a.sensitivity {
-        Some(sens) if !sens.is_empty() => {
-            let _ = writeln!(s, "First-order (S) and total (ST) Sobol indices from the Saltelli design, with percentile-bootstrap 95% intervals ({} resamples). Outputs: the limit-cycle indicator and the velocity amplitude (0 without a cycle).\n", opts.bootstrap);
-            let _ = writeln!(
-                s,
-                "| variant | wheel | output | parameter | S | S 95% | ST | ST 95% |"
-            );
-            let _ = writeln!(s, "|---|---|---|---|---:|---|---:|---|");
-            for x in sens {
-                let _ = writeln!(
-                    s,
-                    "| {} | {} | {} | {} | {:.3} | {:.3} – {:.3} | {:.3} | {:.3} – {:.3} |",
-                    x.variant,
-                    x.wheel,
-                    x.output,
-                    x.param,
-                    x.s.0,
-                    x.s.1,
-                    x.s.2,
-                    x.st.0,
-                    x.st.1,
-                    x.st.2
-                );
+fn count_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> u64) -> Column {
+    Column::i64(name, "", rows.iter().map(|r| f(r) as i64).collect())
+}
+
+fn f64_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> f64) -> Column {
+    Column::f64(name, "", rows.iter().map(f).collect())
+}
+
+fn str_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> String) -> Column {
+    Column::str(name, rows.iter().map(f).collect())
+}
+
+/// The class-count columns every probability table carries: classified rows (`samples`),
+/// vibrating rows, p with its Wilson interval, and the unclassified rows on their own.
+fn class_columns<T>(rows: &[T], counts: impl Fn(&T) -> ClassCounts, min_count: u64) -> Vec<Column> {
+    let c = |r: &T| counts(r);
+    vec![
+        count_col("samples", rows, |r| c(r).classified()),
+        count_col("vibrating", rows, |r| c(r).vibrating()),
+        f64_col("p", rows, |r| {
+            if c(r).classified() >= min_count.max(1) {
+                c(r).p()
+            } else {
+                f64::NAN
+            }
+        }),
+        f64_col("wilson95_lo", rows, |r| c(r).wilson().0),
+        f64_col("wilson95_hi", rows, |r| c(r).wilson().1),
+        count_col("stable", rows, |r| c(r).get(queries::RowClass::Stable)),
+        count_col("limit_cycle", rows, |r| {
+            c(r).get(queries::RowClass::LimitCycle)
+        }),
+        count_col("bistable", rows, |r| c(r).get(queries::RowClass::Bistable)),
+        count_col("no_traction", rows, |r| c(r).no_traction()),
+        count_col("failed", rows, |r| c(r).failed()),
+    ]
+}
+
+fn occurrence_columns(o: &[Occurrence]) -> Vec<Column> {
+    let mut cols = vec![
+        str_col("variant", o, |x| x.variant.to_string()),
+        str_col("wheel", o, |x| x.wheel.to_string()),
+    ];
+    cols.extend(class_columns(o, |x| x.counts, 1));
+    cols
+}
+
+fn paired_columns(p: &[Paired]) -> Vec<Column> {
+    vec![
+        str_col("variant", p, |x| x.variant.to_string()),
+        count_col("pairs", p, |x| x.pairs),
+        count_col("only_follower", p, |x| x.only_follower),
+        count_col("only_driving", p, |x| x.only_driving),
+        count_col("both", p, |x| x.both),
+        count_col("neither", p, |x| x.neither),
+        count_col("unclassified_pairs", p, |x| x.unclassified),
+        f64_col("mcnemar_chi2", p, |x| x.chi2),
+        f64_col("p_value", p, |x| x.p_value),
+        str_col("method", p, |x| x.method.to_string()),
+    ]
+}
+
+fn conditional_columns(b: &[BinStat], min_count: u64) -> Vec<Column> {
+    let mut cols = vec![
+        str_col("variant", b, |x| x.variant.to_string()),
+        str_col("wheel", b, |x| x.wheel.to_string()),
+        str_col("axis", b, |x| x.axis.clone()),
+        f64_col("bin_lo", b, |x| x.lo),
+        f64_col("bin_hi", b, |x| x.hi),
+        f64_col("bin_mid", b, |x| x.mid),
+    ];
+    cols.extend(class_columns(b, |x| x.counts, min_count));
+    cols
+}
+
+fn riskmap_columns(maps: &[&RiskMap], min_count: u64) -> Vec<Column> {
+    // (variant, wheel, x_lo, x_hi, y_lo, y_hi, counts)
+    type Cell = (Variant, Wheel, f64, f64, f64, f64, ClassCounts);
+    let mut rows: Vec<Cell> = Vec::new();
+    for map in maps {
+        for (wheel, grid) in &map.cells {
+            for (ix, col) in grid.iter().enumerate() {
+                for (iy, c) in col.iter().enumerate() {
+                    let (xl, xh, _) = map.x_bins.range(ix);
+                    let (yl, yh, _) = map.y_bins.range(iy);
+                    rows.push((map.variant, *wheel, xl, xh, yl, yh, *c));
+                }
             }
         }
-        _ => {
-            let _ = writeln!(
-                s,
-                "Sobol indices need a run with `design = \"saltelli\"` in the study (see README)."
-            );
-        }
     }
-    let _ = writeln!(s, "\n## The study\n\n```toml\n{}\n```", i.study.trim_end());
-    s
+    let (x, y) = (&maps[0].x, &maps[0].y);
+    let mut cols = vec![
+        str_col("variant", &rows, |r| r.0.to_string()),
+        str_col("wheel", &rows, |r| r.1.to_string()),
+        f64_col(&format!("{x}_lo"), &rows, |r| r.2),
+        f64_col(&format!("{x}_hi"), &rows, |r| r.3),
+        f64_col(&format!("{y}_lo"), &rows, |r| r.4),
+        f64_col(&format!("{y}_hi"), &rows, |r| r.5),
+    ];
+    cols.extend(class_columns(&rows, |r| r.6, min_count));
+    cols
+}
+
+fn severity_columns(s: &[Severity]) -> Vec<Column> {
+    vec![
+        str_col("variant", s, |x| x.variant.to_string()),
+        str_col("wheel", s, |x| x.wheel.to_string()),
+        str_col("quantity", s, |x| x.quantity.to_string()),
+        str_col("unit", s, |x| x.unit.to_string()),
+        count_col("limit_cycles", s, |x| x.n),
+        f64_col("mean", s, |x| x.mean),
+        f64_col("q05", s, |x| x.quantiles[0]),
+        f64_col("q25", s, |x| x.quantiles[1]),
+        f64_col("median", s, |x| x.quantiles[2]),
+        f64_col("q75", s, |x| x.quantiles[3]),
+        f64_col("q95", s, |x| x.quantiles[4]),
+    ]
+}
+
+fn sensitivity_columns(s: &[Sensitivity]) -> Vec<Column> {
+    vec![
+        str_col("variant", s, |x| x.variant.to_string()),
+        str_col("wheel", s, |x| x.wheel.to_string()),
+        str_col("output", s, |x| x.output.to_string()),
+        str_col("param", s, |x| x.param.clone()),
+        count_col("base_samples", s, |x| x.base_samples),
+        f64_col("first_order", s, |x| x.s.0),
+        f64_col("first_order_lo", s, |x| x.s.1),
+        f64_col("first_order_hi", s, |x| x.s.2),
+        f64_col("total", s, |x| x.st.0),
+        f64_col("total_lo", s, |x| x.st.1),
+        f64_col("total_hi", s, |x| x.st.2),
+        count_col("base_samples_left_out", s, |x| x.left_out),
+    ]
+}
+
+fn robustness_columns(r: &Robustness, min_count: u64) -> Vec<Column> {
+    let d = &r.decodings;
+    let mut cols = vec![str_col("variant", d, |x| x.variant.to_string())];
+    for (i, p) in r.params.iter().enumerate() {
+        cols.push(f64_col(p, d, |x| x.values[i]));
+    }
+    let enough = |x: &queries::Decoding| {
+        x.follower.classified() >= min_count.max(1) && x.driving.classified() >= min_count.max(1)
+    };
+    cols.extend([
+        count_col("follower_samples", d, |x| x.follower.classified()),
+        count_col("follower_vibrating", d, |x| x.follower.vibrating()),
+        f64_col("follower_p", d, |x| x.follower.p()),
+        count_col("driving_samples", d, |x| x.driving.classified()),
+        count_col("driving_vibrating", d, |x| x.driving.vibrating()),
+        f64_col("driving_p", d, |x| x.driving.p()),
+        count_col("unclassified", d, |x| {
+            x.follower.total() - x.follower.classified() + x.driving.total()
+                - x.driving.classified()
+        }),
+        str_col("driving_less_exposed", d, |x| {
+            if !enough(x) {
+                "too few samples".into()
+            } else if x.driving.p() < x.follower.p() {
+                "yes".into()
+            } else {
+                "no".into()
+            }
+        }),
+    ]);
+    cols
 }

@@ -605,7 +605,12 @@ mod tests {
             let meter = Meter::new(opts.budget);
             let est = settled_cycle(&m.ode, &scales, &lin, rot, start, opts.rtol, &meter).unwrap();
             let rel = (est.amp_v_mps / shot.amp_v_mps - 1.0).abs();
-            assert!(rel < 0.1, "speed {speed}: {} vs {} ({rel:.3})", est.amp_v_mps, shot.amp_v_mps);
+            assert!(
+                rel < 0.1,
+                "speed {speed}: {} vs {} ({rel:.3})",
+                est.amp_v_mps,
+                shot.amp_v_mps
+            );
             assert!((est.freq_hz / shot.freq_hz - 1.0).abs() < 0.01);
         }
     }

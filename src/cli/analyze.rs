@@ -7,7 +7,7 @@ use std::time::Instant;
 use clap::Args;
 
 use super::common::{CliError, CliResult};
-use polywear::analysis::load::load;
+use polywear::analysis::inputs::check_inputs;
 use polywear::analysis::report::{analyze, Analysis, ReportOptions};
 
 #[derive(Debug, Args, Clone)]
@@ -87,8 +87,9 @@ pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
         }
     }
     let start = Instant::now();
-    let ds = load(&args.inputs).map_err(CliError)?;
-    if ds.is_empty() {
+    // Footers and manifests only: inputs that do not belong together stop here, before any work.
+    let info = check_inputs(&args.inputs).map_err(CliError)?;
+    if info.rows == 0 {
         return Err(CliError("the inputs hold no rows".into()));
     }
     let out_dir = args.out.clone().unwrap_or_else(|| {
@@ -117,32 +118,60 @@ pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
         pairs,
         bootstrap: args.bootstrap,
     };
-    let a = analyze(&ds, &opts).map_err(CliError)?;
+    let a = analyze(info, &opts).map_err(CliError)?;
+    let report = out_dir.join("report.md");
+    if a.nothing_classified() {
+        let t = a.totals();
+        return Err(CliError(format!(
+            "no row has a verdict: all {} rows failed ({}) or had no traction ({}), so there is no probability to give; report: {}",
+            t.total(),
+            t.failed(),
+            t.no_traction(),
+            report.display()
+        )));
+    }
     if !verbose {
         return Ok(());
     }
     print_summary(&a);
     println!(
         "analysed {} rows in {:.1} s; report: {}",
-        ds.len(),
+        a.info.rows,
         start.elapsed().as_secs_f64(),
-        out_dir.join("report.md").display()
+        report.display()
     );
     Ok(())
 }
 
 fn print_summary(a: &Analysis) {
-    println!("P(limit cycle) with 95% Wilson interval:");
-    for o in &a.occurrence {
+    let i = &a.info;
+    println!(
+        "{} of {} samples present ({} rows in {} files)",
+        i.samples_present,
+        i.samples,
+        i.rows,
+        i.files.len()
+    );
+    if i.samples_present < i.samples {
         println!(
-            "  {:>8} {:>8}: {:>7.3}%  [{:.3}%, {:.3}%]  ({} of {})",
+            "  note: {} samples missing (chunks not in the inputs); the tables cover the samples present",
+            i.samples - i.samples_present
+        );
+    }
+    println!("P(limit cycle) over classified rows, with 95% Wilson interval:");
+    for o in &a.occurrence {
+        let (lo, hi) = o.counts.wilson();
+        println!(
+            "  {:>8} {:>8}: {:>7.3}%  [{:.3}%, {:.3}%]  ({} of {} classified; {} failed, {} no traction)",
             o.variant,
             o.wheel,
-            100.0 * o.p,
-            100.0 * o.lo,
-            100.0 * o.hi,
-            o.k,
-            o.n
+            100.0 * o.p(),
+            100.0 * lo,
+            100.0 * hi,
+            o.counts.vibrating(),
+            o.counts.classified(),
+            o.counts.failed(),
+            o.counts.no_traction()
         );
     }
     for p in &a.paired {
@@ -154,6 +183,18 @@ fn print_summary(a: &Analysis) {
             p.both,
             p.neither,
             polywear::analysis::stats::format_p(p.p_value)
+        );
+    }
+    for r in &a.robustness_summary {
+        println!(
+            "  {:>8} lost digits: driving less exposed in {} of {} decodings ({:.1}%, 95% [{:.1}%, {:.1}%]); {} with too few samples",
+            r.variant,
+            r.driving_less,
+            r.compared,
+            100.0 * r.share,
+            100.0 * r.lo,
+            100.0 * r.hi,
+            r.too_few
         );
     }
     for n in &a.notes {

@@ -158,6 +158,13 @@ pub fn run(args: &ExploreArgs) -> CliResult {
             );
         }
     }
+    // A shard that owns no chunk (fewer chunks than shards) did all it had to: say so, exit 0.
+    if plan.owned_chunks().next().is_none() {
+        if !args.no_report {
+            empty_shard_report(&plan, args.quiet).map_err(CliError)?;
+        }
+        return Ok(());
+    }
     // The analysis of the whole output directory (this shard's files), unless asked not to.
     if !args.no_report {
         super::analyze::run_with(
@@ -165,5 +172,37 @@ pub fn run(args: &ExploreArgs) -> CliResult {
             !args.quiet,
         )?;
     }
+    Ok(())
+}
+
+/// The closing report of a shard that owns no chunk: `_report/report.md` says it holds no rows.
+fn empty_shard_report(plan: &RunPlan, quiet: bool) -> Result<(), String> {
+    let dir = plan.out_dir.join("_report");
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let text = format!(
+        "# Shard {k}/{n} of study `{name}`: no rows\n\nThis shard holds no rows: the run has {chunks} \
+         chunk(s) of {size} samples ({samples} samples), fewer than the {n} shards, and shard k \
+         owns the chunks whose index is k mod {n}. Nothing is missing; analyse all shards together \
+         (`polywear analyze <shard directories>`).\n",
+        k = plan.shard.0,
+        n = plan.shard.1,
+        name = plan.study.name,
+        chunks = plan.n_chunks(),
+        size = plan.study.chunk_size,
+        samples = plan.samples,
+    );
+    let path = dir.join("report.md");
+    std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    if quiet {
+        return Ok(());
+    }
+    println!(
+        "shard {}/{} holds no rows ({} chunk(s) for {} shards); report: {}",
+        plan.shard.0,
+        plan.shard.1,
+        plan.n_chunks(),
+        plan.shard.1,
+        path.display()
+    );
     Ok(())
 }

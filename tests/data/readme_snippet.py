@@ -1,5 +1,6 @@
 import pandas as pd, numpy as np
 df = pd.read_parquet("data/explore_highway_fleet_seed2014")          # every chunk file at once
+df = df[df["class"].isin(["stable", "limit_cycle", "bistable"])]    # classified rows only
 df["vibrates"] = df["class"].isin(["limit_cycle", "bistable"])
 g = df.groupby(["variant", "wheel"])["vibrates"].agg(["sum", "count"])
 z, p, n = 1.959963984540054, g["sum"] / g["count"], g["count"]

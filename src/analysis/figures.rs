@@ -1,0 +1,201 @@
+//! The report's figures (PNG), drawn from the small tables the queries return: conditional
+//! probabilities with Wilson bands, risk maps per wheel with their difference, and severity
+//! histograms.
+
+use std::path::Path;
+
+use super::queries::{BinStat, Bins, RiskMap, Severity};
+use crate::model::{Variant, Wheel};
+use crate::plot::{self, maps, Series};
+
+/// Edges for drawing: bin edges, or cells centred on grid levels.
+pub fn draw_edges(b: &Bins) -> Vec<f64> {
+    if !b.levels {
+        return b.edges.clone();
+    }
+    let l = &b.edges;
+    if l.len() == 1 {
+        let w = (l[0].abs() * 0.05).max(1e-9);
+        return vec![l[0] - w, l[0] + w];
+    }
+    let mut e = vec![l[0] - 0.5 * (l[1] - l[0])];
+    e.extend(l.windows(2).map(|w| 0.5 * (w[0] + w[1])));
+    e.push(l[l.len() - 1] + 0.5 * (l[l.len() - 1] - l[l.len() - 2]));
+    e
+}
+
+/// P(limit cycle | parameter) along every axis of one variant, both wheels, 95% Wilson bands;
+/// bins with fewer than `min_count` classified rows are left out. `label` gives axis titles.
+pub fn conditional(
+    path: &Path,
+    variant: Variant,
+    axes: &[String],
+    label: &dyn Fn(&str) -> String,
+    bins: &[BinStat],
+    min_count: u64,
+) -> Result<(), String> {
+    let cols = if axes.len() <= 4 { 2 } else { 3 };
+    let rows = axes.len().div_ceil(cols).max(1);
+    plot::panels(
+        path,
+        (520 * cols as u32, 360 * rows as u32 + 40),
+        (rows, cols),
+        &format!("P(limit cycle | parameter), {variant} variant, 95% Wilson bands"),
+        |i, area| {
+            let Some(axis) = axes.get(i) else {
+                return Ok(());
+            };
+            let bands: Vec<maps::Band<'_>> = Wheel::BOTH
+                .iter()
+                .map(|wh| maps::Band {
+                    label: wh.as_str(),
+                    points: bins
+                        .iter()
+                        .filter(|b| {
+                            b.variant == variant
+                                && b.wheel == *wh
+                                && &b.axis == axis
+                                && b.counts.classified() >= min_count.max(1)
+                        })
+                        .map(|b| {
+                            let (lo, hi) = b.counts.wilson();
+                            (b.mid, b.counts.p(), lo, hi)
+                        })
+                        .collect(),
+                })
+                .collect();
+            maps::band_panel(area, axis, &label(axis), "P(limit cycle)", &bands)
+        },
+    )
+}
+
+/// One risk map: follower, driving and their difference side by side; grey cells hold fewer
+/// than `min_count` classified rows.
+pub fn risk_map(
+    path: &Path,
+    map: &RiskMap,
+    label: &dyn Fn(&str) -> String,
+    min_count: u64,
+) -> Result<(), String> {
+    let (x, y) = (&map.x, &map.y);
+    let (xe, ye) = (draw_edges(&map.x_bins), draw_edges(&map.y_bins));
+    let pf = map.probability(Wheel::Follower, min_count);
+    let pd = map.probability(Wheel::Driving, min_count);
+    let diff: Vec<Vec<f64>> = pd
+        .iter()
+        .zip(&pf)
+        .map(|(a, b)| a.iter().zip(b).map(|(d, f)| d - f).collect())
+        .collect();
+    let max_abs = diff
+        .iter()
+        .flatten()
+        .filter(|v| v.is_finite())
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+        .max(1e-3);
+    let title = format!(
+        "Risk of polygonal wear: P(limit cycle) over {x} × {y} ({} variant; grey: fewer than {min_count} samples)",
+        map.variant
+    );
+    plot::figure(path, (1900, 620), &title, |area| {
+        let parts = area.split_evenly((1, 3));
+        for (k, (part, (name, values))) in parts
+            .iter()
+            .zip([
+                ("follower", &pf),
+                ("driving", &pd),
+                ("driving − follower", &diff),
+            ])
+            .enumerate()
+        {
+            let (main, bar) = part.split_horizontally(part.dim_in_pixel().0 as i32 - 100);
+            let (range, cmap, bar_label): ((f64, f64), maps::ColorMap, &str) = if k < 2 {
+                ((0.0, 1.0), maps::viridis, "P(limit cycle)")
+            } else {
+                ((-max_abs, max_abs), maps::diverging, "difference")
+            };
+            maps::heatmap(
+                &main,
+                name,
+                &label(x),
+                &label(y),
+                &xe,
+                &ye,
+                values,
+                range,
+                cmap,
+            )?;
+            maps::colorbar(&bar, bar_label, range, cmap)?;
+        }
+        Ok(())
+    })
+}
+
+/// Bars of the severity figure: the fine histogram summed into this many.
+pub const SEVERITY_FIGURE_BINS: usize = 40;
+
+/// Severity histograms of one variant: each quantity's share of limit cycles per bin, per wheel.
+pub fn severity(path: &Path, variant: Variant, severity: &[Severity]) -> Result<(), String> {
+    let quantities = [
+        "amp_y_m",
+        "amp_v_mps",
+        "energy_per_cycle_j",
+        "polygon_order",
+    ];
+    plot::panels(
+        path,
+        (1400, 900),
+        (2, 2),
+        &format!("Severity among limit cycles ({variant} variant): share of cycles per bin"),
+        |i, area| {
+            let quantity = quantities[i];
+            let sets: Vec<&Severity> = severity
+                .iter()
+                .filter(|s| s.variant == variant && s.quantity == quantity && s.n > 0)
+                .collect();
+            if sets.is_empty() {
+                return plot::line_panel(
+                    area,
+                    &format!("{quantity}: no limit cycles"),
+                    quantity,
+                    "share",
+                    &[],
+                    false,
+                );
+            }
+            let series: Vec<Series<'_>> = sets
+                .iter()
+                .map(|s| {
+                    let per = s.counts.len().div_ceil(SEVERITY_FIGURE_BINS);
+                    let n = s.n.max(1) as f64;
+                    let points = s
+                        .counts
+                        .chunks(per)
+                        .enumerate()
+                        .flat_map(|(b, c)| {
+                            let lo = s.hist.range(b * per).0;
+                            let hi = s
+                                .hist
+                                .range((b * per + c.len() - 1).min(s.counts.len() - 1))
+                                .1;
+                            let share = c.iter().sum::<u64>() as f64 / n;
+                            [(lo, share), (hi, share)]
+                        })
+                        .collect();
+                    Series {
+                        label: s.wheel.as_str(),
+                        points,
+                    }
+                })
+                .collect();
+            let unit = sets.first().map_or("", |s| s.unit);
+            plot::line_panel(
+                area,
+                quantity,
+                &format!("{quantity} [{unit}]"),
+                "share of limit cycles",
+                &series,
+                false,
+            )
+        },
+    )
+}
