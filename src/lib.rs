@@ -19,4 +19,5 @@ pub mod reproduce;
 pub mod sampling;
 pub mod solver;
 pub mod study;
+pub mod toml_input;
 pub mod trajectory;
