@@ -14,8 +14,8 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use crate::classify::{classify_point, ClassifierOptions, WheelVerdict};
-use crate::model::{ModelFailure, Wheel};
+use crate::classify::{classify_point, Class, ClassifierOptions, WheelVerdict};
+use crate::model::{ModelFailure, Variant, Wheel};
 use crate::output_dir::{self, DirLock};
 use crate::parquet_out::{write_durably, write_table_digest, Column};
 use crate::records::{record_columns, WheelRecord};
@@ -76,7 +76,7 @@ pub struct RunSummary {
     pub samples_evaluated: u64,
     pub samples_skipped: u64,
     pub chunks_written: u64,
-    pub classes: BTreeMap<(String, String), BTreeMap<String, u64>>,
+    pub classes: BTreeMap<(Variant, Wheel), BTreeMap<Class, u64>>,
 }
 
 impl RunPlan {
@@ -329,9 +329,9 @@ impl RunPlan {
             for r in rows.iter().flat_map(|s| &s.records) {
                 *summary
                     .classes
-                    .entry((r.variant.to_string(), r.wheel.to_string()))
+                    .entry((r.variant, r.wheel))
                     .or_default()
-                    .entry(r.class.to_string())
+                    .entry(r.class)
                     .or_default() += 1;
             }
             summary.samples_evaluated += hi - lo;

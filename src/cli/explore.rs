@@ -143,13 +143,24 @@ pub fn run(args: &ExploreArgs) -> CliResult {
             summary.chunks_written,
             plan.out_dir.display()
         );
-        for ((variant, wheel), classes) in &summary.classes {
+        // In the order of the names, as always printed.
+        let mut groups: Vec<_> = summary.classes.iter().collect();
+        groups.sort_by_key(|((variant, wheel), _)| (variant.as_str(), wheel.as_str()));
+        for ((variant, wheel), classes) in groups {
             let total: u64 = classes.values().sum();
-            let vib = classes.get("limit_cycle").copied().unwrap_or(0)
-                + classes.get("bistable").copied().unwrap_or(0);
-            let rest: Vec<String> = classes.iter().map(|(c, n)| format!("{c} {n}")).collect();
+            let vib: u64 = classes
+                .iter()
+                .filter(|(c, _)| c.vibrates())
+                .map(|(_, n)| n)
+                .sum();
+            let mut rest: Vec<(&str, u64)> =
+                classes.iter().map(|(c, n)| (c.as_str(), *n)).collect();
+            rest.sort_unstable();
+            let rest: Vec<String> = rest.iter().map(|(c, n)| format!("{c} {n}")).collect();
             println!(
-                "  {variant:>8} {wheel:>8}: limit cycle in {:.2}% ({})",
+                "  {:>8} {:>8}: limit cycle in {:.2}% ({})",
+                variant.as_str(),
+                wheel.as_str(),
                 100.0 * vib as f64 / total.max(1) as f64,
                 rest.join(", ")
             );
