@@ -4,7 +4,9 @@
 
 use crate::model::Variant;
 use crate::params::{spec, ParamError, ParamSpec, Params};
-use crate::sampling::design::{grid_digits, Coordinates, Design, SOBOL_MAX_AXES};
+use crate::sampling::design::{
+    grid_digits, Coordinates, Design, SALTELLI_MAX_AXES, SOBOL_MAX_AXES, SOBOL_MAX_SAMPLES,
+};
 use crate::sampling::distribution::Distribution;
 use crate::toml_input::{self, Section, TomlError};
 
@@ -477,10 +479,15 @@ impl Study {
         let header = Header::parse(&top)?;
         let (base, drawn) = parse_params(&top, base)?;
         let samples = sample_count(&top, header.design, &drawn)?;
-        if header.design == Design::Sobol && drawn.len() > SOBOL_MAX_AXES {
+        let max_axes = match header.design {
+            Design::Sobol => SOBOL_MAX_AXES,
+            Design::Saltelli => SALTELLI_MAX_AXES,
+            _ => usize::MAX,
+        };
+        if drawn.len() > max_axes {
             return Err(StudyError::TooManyAxes {
-                design: "sobol",
-                max: SOBOL_MAX_AXES,
+                design: header.design.as_str(),
+                max: max_axes,
                 drawn: drawn.len(),
             });
         }
@@ -512,9 +519,9 @@ impl Study {
                 size: self.samples,
             });
         }
-        if matches!(self.design, Design::Sobol | Design::Saltelli) && samples > u32::MAX as u64 {
+        if matches!(self.design, Design::Sobol | Design::Saltelli) && samples > SOBOL_MAX_SAMPLES {
             return Err(StudyError::TooManySamples {
-                design: "sobol",
+                design: self.design.as_str(),
                 max: "2^32",
             });
         }

@@ -1,7 +1,7 @@
 //! Experimental designs: the coordinate in [0, 1) of sample `index` along axis `dim`.
 
 use super::rng::{bits, uniform01};
-use super::sobol::{direction_numbers, owen_scramble, sobol_u32, MAX_DIMENSIONS};
+use super::sobol::{direction_numbers, owen_scramble, sobol_u32, MAX_DIMENSIONS, MAX_POINTS};
 
 /// How sample points fill the unit cube.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -42,8 +42,15 @@ impl Design {
     }
 }
 
-/// Largest number of drawn axes a Sobol design supports.
+/// Largest number of drawn axes a Sobol design supports (one Sobol dimension each).
 pub const SOBOL_MAX_AXES: usize = MAX_DIMENSIONS;
+
+/// Largest number of drawn axes a Saltelli design supports (two Sobol dimensions each: the A
+/// and B matrices).
+pub const SALTELLI_MAX_AXES: usize = MAX_DIMENSIONS / 2;
+
+/// Largest sample count of a Sobol design, and of base points of a Saltelli design.
+pub const SOBOL_MAX_SAMPLES: u64 = MAX_POINTS;
 
 /// Unit-cube coordinates for `n_axes` axes (Random, LatinHypercube, Sobol; Grid is indexed
 /// separately by [`grid_digits`]).
@@ -56,6 +63,7 @@ pub struct Coordinates {
 }
 
 impl Coordinates {
+    /// Panics beyond [`SOBOL_MAX_AXES`] or [`SALTELLI_MAX_AXES`], which a study refuses.
     pub fn new(design: Design, seed: u64, samples: u64, n_axes: usize) -> Self {
         let sobol_dims = match design {
             Design::Sobol => n_axes,
@@ -63,9 +71,13 @@ impl Coordinates {
             Design::Saltelli => 2 * n_axes,
             _ => 0,
         };
-        let sobol_dirs = (0..sobol_dims.min(MAX_DIMENSIONS))
-            .map(direction_numbers)
-            .collect();
+        assert!(
+            sobol_dims <= MAX_DIMENSIONS,
+            "{} axes exceed the {MAX_DIMENSIONS} Sobol dimensions of a {} design",
+            n_axes,
+            design.as_str()
+        );
+        let sobol_dirs = (0..sobol_dims).map(direction_numbers).collect();
         Coordinates {
             design,
             seed,
@@ -102,16 +114,13 @@ impl Coordinates {
         }
     }
 
-    /// Scrambled Sobol coordinate (independent draws beyond the table's dimensions).
+    /// Scrambled Sobol coordinate of point `index` (below [`SOBOL_MAX_SAMPLES`], which a
+    /// study's sample count is checked against) in dimension `dim`.
     fn sobol(&self, index: u64, dim: usize) -> f64 {
-        match self.sobol_dirs.get(dim) {
-            Some(dirs) => {
-                let x = sobol_u32(index as u32, dirs);
-                let seed = bits(self.seed, dim as u64, u64::MAX) as u32;
-                (owen_scramble(x, seed) as f64 + 0.5) / 4_294_967_296.0
-            }
-            None => uniform01(self.seed, index, dim as u64),
-        }
+        let index = u32::try_from(index).expect("Sobol index beyond 2^32, refused by the study");
+        let x = sobol_u32(index, &self.sobol_dirs[dim]);
+        let seed = bits(self.seed, dim as u64, u64::MAX) as u32;
+        (owen_scramble(x, seed) as f64 + 0.5) / 4_294_967_296.0
     }
 }
 
