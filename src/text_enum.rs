@@ -41,3 +41,33 @@ macro_rules! display_and_parse {
         }
     };
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::classify::{Class, Method};
+    use crate::model::{Variant, Wheel};
+
+    #[test]
+    fn names_round_trip_and_unknown_names_are_refused() {
+        for c in Class::ALL {
+            assert_eq!(c.as_str().parse::<Class>(), Ok(c));
+            assert_eq!(format!("{c:>12}"), format!("{:>12}", c.as_str()));
+        }
+        for m in Method::ALL {
+            assert_eq!(m.to_string().parse::<Method>(), Ok(m));
+        }
+        for v in Variant::ALL {
+            assert_eq!(v.to_string().parse::<Variant>(), Ok(v));
+        }
+        for w in Wheel::BOTH {
+            assert_eq!(format!("{w:>9}"), format!("{:>9}", w.as_str()));
+        }
+        let e = "oscillating".parse::<Class>().unwrap_err();
+        assert!(
+            e.contains("`oscillating`") && e.contains("limit_cycle"),
+            "{e}"
+        );
+        let json = serde_json::to_string(&(Class::LimitCycle, Wheel::Driving)).unwrap();
+        assert_eq!(json, r#"["limit_cycle","driving"]"#);
+    }
+}

@@ -4,7 +4,7 @@ use super::rng::{bits, uniform01};
 use super::sobol::{direction_numbers, owen_scramble, sobol_u32, MAX_DIMENSIONS, MAX_POINTS};
 
 /// How sample points fill the unit cube.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Design {
     /// Independent uniform draws.
     Random,
@@ -30,6 +30,16 @@ impl Design {
         }
     }
 
+    /// Every design, in the order of the declaration.
+    pub const ALL: [Design; 5] = [
+        Design::Random,
+        Design::LatinHypercube,
+        Design::Sobol,
+        Design::Grid,
+        Design::Saltelli,
+    ];
+
+    /// The design of a name (`as_str`, or `latin_hypercube` for `lhs`).
     pub fn parse(s: &str) -> Option<Self> {
         match s {
             "random" => Some(Design::Random),
@@ -39,6 +49,23 @@ impl Design {
             "saltelli" => Some(Design::Saltelli),
             _ => None,
         }
+    }
+}
+
+impl std::fmt::Display for Design {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.as_str())
+    }
+}
+
+/// Reads a design's name back (e.g. the `design` metadata of a chunk), refusing unknown names.
+impl std::str::FromStr for Design {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Design::parse(s).ok_or_else(|| {
+            let names: Vec<&str> = Design::ALL.iter().map(|d| d.as_str()).collect();
+            format!("unknown design `{s}`; accepted: {}", names.join(", "))
+        })
     }
 }
 
@@ -207,6 +234,15 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn design_names_round_trip() {
+        for d in Design::ALL {
+            assert_eq!(d.as_str().parse::<Design>(), Ok(d));
+        }
+        assert_eq!("latin_hypercube".parse(), Ok(Design::LatinHypercube));
+        assert!("halton".parse::<Design>().unwrap_err().contains("saltelli"));
     }
 
     #[test]
