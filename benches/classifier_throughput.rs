@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use polywear::classify::ClassifierOptions;
+use polywear::classify::{Class, ClassifierOptions};
 use polywear::explore::evaluate_sample;
 use polywear::study::{Study, DEFAULT_STUDY};
 
@@ -52,19 +52,16 @@ fn main() {
     let mut per_wheel: Vec<u64> = Vec::new();
     for r in rows.iter().flat_map(|s| &s.records) {
         per_sample += r.rhs_evals;
-        if r.class != "no_traction" {
+        if r.class != Class::NoTraction {
             per_wheel.push(r.rhs_evals);
         }
-        for key in [
-            (r.variant, r.wheel, r.class, r.method),
-            (r.variant, "both", r.class, r.method),
-        ] {
+        for wheel in [r.wheel.to_string(), "both".to_string()] {
             groups
                 .entry((
-                    key.0.to_string(),
-                    key.1.to_string(),
-                    key.2.to_string(),
-                    key.3.to_string(),
+                    r.variant.to_string(),
+                    wheel,
+                    r.class.to_string(),
+                    r.method.to_string(),
                 ))
                 .or_default()
                 .push(r.rhs_evals);

@@ -13,7 +13,8 @@ use crate::bifurcation::eig_re;
 use crate::classify::{classify_point, ClassifierOptions};
 use crate::model::{Variant, Wheel, WheelModel};
 use crate::numeric::brent;
-use crate::params::{spec, Params, Provenance, SPECS};
+use crate::params::{spec, ParamError, ParamSpec, Params, Provenance, SPECS};
+use crate::toml_input::{self, Section, TomlError};
 
 /// What a target observes.
 #[derive(Debug, Clone, PartialEq)]
@@ -79,18 +80,73 @@ pub fn default_fit() -> Vec<&'static str> {
         .collect()
 }
 
-fn num(v: &toml::Value, key: &str) -> Result<f64, String> {
-    match v {
-        toml::Value::Float(x) if x.is_finite() => Ok(*x),
-        toml::Value::Integer(i) => Ok(*i as f64),
-        _ => Err(format!("`{key}` must be a finite number")),
-    }
+/// A targets-file problem, with the key it concerns.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TargetsError {
+    /// Syntax, unknown or missing keys, values of the wrong type.
+    #[error(transparent)]
+    Input(#[from] TomlError),
+    /// An unknown parameter name, or a value outside its parameter's accepted range.
+    #[error("`{key}`: {source}")]
+    Param { key: String, source: ParamError },
+    #[error("`{key}` = {value} is outside its accepted range {range}")]
+    OutOfRange {
+        key: String,
+        value: f64,
+        range: &'static str,
+    },
+    #[error("`{key}` must hold at least one value")]
+    NoValues { key: String },
+    #[error("`choices` make {0} combinations; accepted at most 4096")]
+    TooManyCombinations(usize),
+    #[error("`{key}` names `{name}` twice")]
+    Repeated { key: String, name: &'static str },
+    #[error("`{0}` must name at least one parameter")]
+    NoneNamed(String),
+    #[error(
+        "`{0}` is both in `fit` (continuous) and in `choices` (discrete); name it in one only"
+    )]
+    FitAndChoice(&'static str),
+    #[error("`fit`: `{0}` starts at 0 and cannot be fitted in log space")]
+    ZeroStart(&'static str),
+    #[error("no [[target]] entries")]
+    NoTargets,
+    #[error("`{key}.kind` = \"{kind}\" is unknown; accepted: hopf, frequency, amplitude_ratio")]
+    UnknownKind { key: String, kind: String },
+    #[error("`{key}`: from = {from} must be below to = {to}")]
+    Unordered { key: String, from: f64, to: f64 },
+    #[error("`{key}`: `relative_to` must name the other wheel than `wheel` = {wheel}")]
+    SameWheel { key: String, wheel: Wheel },
+    #[error("`{key}.value` must not be 0 (errors are relative)")]
+    ZeroValue { key: String },
 }
 
-fn param_name(v: &str, key: &str) -> Result<&'static str, String> {
-    spec(v)
-        .map(|s| s.name)
-        .ok_or_else(|| format!("`{key}`: unknown parameter `{v}`"))
+/// Why no parameter file is written for a fit.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ParamFileError {
+    #[error("the fit diverged and no parameter file is written: {0}")]
+    Diverged(ParamError),
+    #[error("the fit diverged (non-finite cost) and no parameter file is written")]
+    NonFiniteCost,
+}
+
+/// A parameter name at `key`.
+fn param_name(name: &str, key: &str) -> Result<&'static ParamSpec, TargetsError> {
+    spec(name).ok_or_else(|| TargetsError::Param {
+        key: key.to_string(),
+        source: ParamError::Unknown {
+            name: name.to_string(),
+        },
+    })
+}
+
+/// `value` checked against parameter `s`'s accepted range, errors under `key`.
+fn in_range(s: &ParamSpec, value: f64, key: &str) -> Result<f64, TargetsError> {
+    s.check(value).map_err(|source| TargetsError::Param {
+        key: key.to_string(),
+        source,
+    })?;
+    Ok(value)
 }
 
 const TOP_KEYS: &[&str] = &[
@@ -116,128 +172,93 @@ const TARGET_KEYS: &[&str] = &[
     "tolerance",
 ];
 
-fn unknown_keys(t: &toml::Table, accepted: &[&str], what: &str) -> Result<(), String> {
-    match t.keys().find(|k| !accepted.contains(&k.as_str())) {
-        Some(k) => Err(format!(
-            "unknown key `{what}{k}`; accepted: {}",
-            accepted.join(", ")
-        )),
-        None => Ok(()),
-    }
-}
-
-fn point(v: Option<&toml::Value>, key: &str) -> Result<Vec<(&'static str, f64)>, String> {
+/// An operating point `at = { name = value, ... }` of target `t`.
+fn point(t: &Section) -> Result<Vec<(&'static str, f64)>, TargetsError> {
     let mut at = Vec::new();
-    if let Some(a) = v {
-        for (k, x) in a.as_table().ok_or(format!("`{key}.at` must be a table"))? {
-            let n = param_name(k, &format!("{key}.at"))?;
-            let x = num(x, &format!("{key}.at.{k}"))?;
-            spec(n)
-                .expect("known")
-                .check(x)
-                .map_err(|e| format!("`{key}.at`: {e}"))?;
-            at.push((n, x));
+    if let Some(v) = t.get("at") {
+        let path = t.key("at");
+        let a = Section::of(v, &path, "a table")?;
+        for (k, x) in a.table {
+            let s = param_name(k, &path)?;
+            let x = toml_input::finite(x, &a.key(k))?;
+            at.push((s.name, in_range(s, x, &path)?));
         }
     }
     Ok(at)
 }
 
-fn parse_target(i: usize, v: &toml::Value) -> Result<Target, String> {
+/// A positive-or-zero (`open` = false) or positive (`open` = true) number at `field`.
+fn non_negative(
+    t: &Section,
+    field: &str,
+    default: f64,
+    open: bool,
+    range: &'static str,
+) -> Result<f64, TargetsError> {
+    let value = t.opt(field, toml_input::finite)?.unwrap_or(default);
+    if value < 0.0 || (open && value == 0.0) {
+        return Err(TargetsError::OutOfRange {
+            key: t.key(field),
+            value,
+            range,
+        });
+    }
+    Ok(value)
+}
+
+fn parse_target(i: usize, v: &toml::Value) -> Result<Target, TargetsError> {
     let key = format!("target[{i}]");
-    let tt = v.as_table().ok_or(format!("`{key}` must be a table"))?;
-    unknown_keys(tt, TARGET_KEYS, &format!("{key}."))?;
-    let get = |k: &str| tt.get(k).ok_or(format!("`{key}` needs `{k}`"));
-    let wheel_at = |k: &str, default: Wheel| -> Result<Wheel, String> {
-        match tt.get(k) {
-            Some(w) => w
-                .as_str()
-                .ok_or(format!("`{key}.{k}` must be a string"))?
-                .parse()
-                .map_err(|e| format!("`{key}.{k}`: {e}")),
-            None => Ok(default),
-        }
-    };
-    let kind = get("kind")?
-        .as_str()
-        .ok_or(format!("`{key}.kind` must be a string"))?;
-    let wheel = wheel_at("wheel", Wheel::Follower)?;
+    let t = Section::of(v, &key, "a table")?;
+    t.deny_unknown(TARGET_KEYS)?;
+    let kind = t.req("kind", toml_input::text)?;
+    let wheel = t
+        .opt("wheel", toml_input::parsed)?
+        .unwrap_or(Wheel::Follower);
     let observable = match kind {
         "hopf" => {
-            let param = param_name(
-                get("param")?
-                    .as_str()
-                    .ok_or(format!("`{key}.param` must be a string"))?,
-                &format!("{key}.param"),
-            )?;
-            let (from, to) = (
-                num(get("from")?, &format!("{key}.from"))?,
-                num(get("to")?, &format!("{key}.to"))?,
-            );
-            let s = spec(param).expect("known");
-            for x in [from, to] {
-                s.check(x).map_err(|e| format!("`{key}`: {e}"))?;
-            }
+            let s = param_name(t.req("param", toml_input::text)?, &t.key("param"))?;
+            let from = in_range(s, t.req("from", toml_input::finite)?, &key)?;
+            let to = in_range(s, t.req("to", toml_input::finite)?, &key)?;
             if from >= to {
-                return Err(format!("`{key}`: from = {from} must be below to = {to}"));
+                return Err(TargetsError::Unordered { key, from, to });
             }
-            Observable::Hopf { param, from, to }
+            Observable::Hopf {
+                param: s.name,
+                from,
+                to,
+            }
         }
-        "frequency" => Observable::Frequency {
-            at: point(tt.get("at"), &key)?,
-        },
+        "frequency" => Observable::Frequency { at: point(&t)? },
         "amplitude_ratio" => {
-            let relative_to = wheel_at("relative_to", Wheel::Follower)?;
+            let relative_to = t
+                .opt("relative_to", toml_input::parsed)?
+                .unwrap_or(Wheel::Follower);
             if relative_to == wheel {
-                return Err(format!(
-                    "`{key}`: `relative_to` must name the other wheel than `wheel` = {wheel}"
-                ));
+                return Err(TargetsError::SameWheel { key, wheel });
             }
             Observable::AmplitudeRatio {
-                at: point(tt.get("at"), &key)?,
+                at: point(&t)?,
                 relative_to,
             }
         }
         other => {
-            return Err(format!(
-                "`{key}.kind` = \"{other}\" is unknown; accepted: hopf, frequency, amplitude_ratio"
-            ))
+            return Err(TargetsError::UnknownKind {
+                key: key.clone(),
+                kind: other.to_string(),
+            })
         }
     };
-    let variant = match tt.get("variant") {
-        Some(w) => w
-            .as_str()
-            .ok_or(format!("`{key}.variant` must be a string"))?
-            .parse()
-            .map_err(|e| format!("`{key}.variant`: {e}"))?,
-        None => Variant::DEFAULT,
-    };
-    let value = num(get("value")?, &format!("{key}.value"))?;
+    let variant = t
+        .opt("variant", toml_input::parsed)?
+        .unwrap_or(Variant::DEFAULT);
+    let value = t.req("value", toml_input::finite)?;
     if value == 0.0 {
-        return Err(format!("`{key}.value` must not be 0 (errors are relative)"));
+        return Err(TargetsError::ZeroValue { key });
     }
-    let weight = match tt.get("weight") {
-        Some(w) => num(w, &format!("{key}.weight"))?,
-        None => 1.0,
-    };
-    if weight < 0.0 {
-        return Err(format!(
-            "`{key}.weight` = {weight} is outside its accepted range [0, inf)"
-        ));
-    }
-    let tolerance = match tt.get("tolerance") {
-        Some(w) => num(w, &format!("{key}.tolerance"))?,
-        None => 0.1,
-    };
-    if tolerance <= 0.0 {
-        return Err(format!(
-            "`{key}.tolerance` = {tolerance} is outside its accepted range (0, inf) (relative error)"
-        ));
-    }
-    let name = match tt.get("name") {
-        Some(n) => n
-            .as_str()
-            .ok_or(format!("`{key}.name` must be a string"))?
-            .to_string(),
+    let weight = non_negative(&t, "weight", 1.0, false, "[0, inf)")?;
+    let tolerance = non_negative(&t, "tolerance", 0.1, true, "(0, inf) (relative error)")?;
+    let name = match t.opt("name", toml_input::text)? {
+        Some(n) => n.to_string(),
         None => format!("{kind} {i}"),
     };
     Ok(Target {
@@ -251,87 +272,98 @@ fn parse_target(i: usize, v: &toml::Value) -> Result<Target, String> {
     })
 }
 
-fn name_list(v: &toml::Value, key: &str) -> Result<Vec<&'static str>, String> {
-    let arr = v
-        .as_array()
-        .ok_or(format!("`{key}` must be an array of parameter names"))?;
+/// A list of distinct parameter names at `key`.
+fn name_list(v: &toml::Value, key: &str) -> Result<Vec<&'static str>, TargetsError> {
     let mut out: Vec<&'static str> = Vec::new();
-    for (i, x) in arr.iter().enumerate() {
-        let name = x.as_str().ok_or(format!("`{key}[{i}]` must be a string"))?;
-        let name = param_name(name, &format!("{key}[{i}]"))?;
+    for (i, x) in toml_input::array(v, key, "an array of parameter names")?
+        .iter()
+        .enumerate()
+    {
+        let k = format!("{key}[{i}]");
+        let name = param_name(toml_input::text(x, &k)?, &k)?.name;
         if out.contains(&name) {
-            return Err(format!("`{key}` names `{name}` twice"));
+            return Err(TargetsError::Repeated {
+                key: key.to_string(),
+                name,
+            });
         }
         out.push(name);
     }
     if out.is_empty() {
-        return Err(format!("`{key}` must name at least one parameter"));
+        return Err(TargetsError::NoneNamed(key.to_string()));
     }
     Ok(out)
 }
 
-/// Parses a targets file; every problem is refused with the key it concerns.
-pub fn parse_problem(text: &str) -> Result<Problem, String> {
-    let t: toml::Table = text
-        .parse()
-        .map_err(|e: toml::de::Error| format!("malformed TOML: {}", e.to_string().trim()))?;
-    unknown_keys(&t, TOP_KEYS, "")?;
-    if let Some(d) = t.get("description") {
-        d.as_str().ok_or("`description` must be a string")?;
-    }
-    let prior_sigma = match t.get("prior_sigma") {
-        None => None,
-        Some(v) => {
-            let s = num(v, "prior_sigma")?;
-            if s <= 0.0 {
-                return Err(format!(
-                    "`prior_sigma` = {s} is outside its accepted range (0, inf)"
-                ));
-            }
-            Some(s)
-        }
-    };
+/// `[params]`: the starting values, on top of the defaults.
+fn parse_start(top: &Section) -> Result<Params, TargetsError> {
     let mut start = Params::default();
-    if let Some(p) = t.get("params") {
-        let p = p.as_table().ok_or("`params` must be a table")?;
-        for (k, v) in p {
+    if let Some(v) = top.get("params") {
+        let p = Section::of(v, "params", "a table")?;
+        for (k, v) in p.table {
+            let key = p.key(k);
+            let x = toml_input::finite(v, &key)?;
             start
-                .set(k, num(v, &format!("params.{k}"))?)
-                .map_err(|e| format!("`params.{k}`: {e}"))?;
+                .set(k, x)
+                .map_err(|source| TargetsError::Param { key, source })?;
         }
-        start.validate().map_err(|e| format!("`params`: {e}"))?;
+        start.validate().map_err(|source| TargetsError::Param {
+            key: "params".into(),
+            source,
+        })?;
     }
+    Ok(start)
+}
+
+/// `[choices]`: each a parameter restricted to a few values.
+fn parse_choices(top: &Section) -> Result<Vec<(&'static str, Vec<f64>)>, TargetsError> {
     let mut choices = Vec::new();
-    if let Some(c) = t.get("choices") {
-        let c = c.as_table().ok_or("`choices` must be a table")?;
-        for (k, v) in c {
-            let key = format!("choices.{k}");
-            let name = param_name(k, &key)?;
-            let arr = v
-                .as_array()
-                .ok_or(format!("`{key}` must be an array of numbers"))?;
+    if let Some(c) = top.get("choices") {
+        let c = Section::of(c, "choices", "a table")?;
+        for (k, v) in c.table {
+            let key = c.key(k);
+            let s = param_name(k, &key)?;
+            let arr = toml_input::array(v, &key, "an array of numbers")?;
             if arr.is_empty() {
-                return Err(format!("`{key}` must hold at least one value"));
+                return Err(TargetsError::NoValues { key });
             }
-            let mut vals = Vec::new();
-            for (i, x) in arr.iter().enumerate() {
-                let x = num(x, &format!("{key}[{i}]"))?;
-                spec(name)
-                    .expect("known")
-                    .check(x)
-                    .map_err(|e| format!("`{key}[{i}]`: {e}"))?;
-                vals.push(x);
-            }
-            choices.push((name, vals));
+            let vals = arr
+                .iter()
+                .enumerate()
+                .map(|(i, x)| {
+                    let k = format!("{key}[{i}]");
+                    in_range(s, toml_input::finite(x, &k)?, &k)
+                })
+                .collect::<Result<Vec<f64>, _>>()?;
+            choices.push((s.name, vals));
         }
     }
     let combos: usize = choices.iter().map(|(_, v)| v.len()).product();
     if combos > 4096 {
-        return Err(format!(
-            "`choices` make {combos} combinations; accepted at most 4096"
-        ));
+        return Err(TargetsError::TooManyCombinations(combos));
     }
-    let fit = match t.get("fit") {
+    Ok(choices)
+}
+
+/// Parses a targets file; every problem is refused with the key it concerns.
+pub fn parse_problem(text: &str) -> Result<Problem, TargetsError> {
+    let table = toml_input::parse(text)?;
+    let top = Section::top(&table);
+    top.deny_unknown(TOP_KEYS)?;
+    top.opt("description", toml_input::text)?;
+    let prior_sigma = match top.opt("prior_sigma", toml_input::finite)? {
+        Some(value) if value <= 0.0 => {
+            return Err(TargetsError::OutOfRange {
+                key: "prior_sigma".into(),
+                value,
+                range: "(0, inf)",
+            })
+        }
+        s => s,
+    };
+    let start = parse_start(&top)?;
+    let choices = parse_choices(&top)?;
+    let fit = match top.get("fit") {
         None => default_fit()
             .into_iter()
             .filter(|n| !choices.iter().any(|(c, _)| c == n))
@@ -339,28 +371,21 @@ pub fn parse_problem(text: &str) -> Result<Problem, String> {
         Some(v) => name_list(v, "fit")?,
     };
     if let Some((n, _)) = choices.iter().find(|(c, _)| fit.contains(c)) {
-        return Err(format!(
-            "`{n}` is both in `fit` (continuous) and in `choices` (discrete); name it in one only"
-        ));
+        return Err(TargetsError::FitAndChoice(n));
     }
-    for n in &fit {
-        if start.get(n).is_none_or(|v| v <= 0.0) {
-            return Err(format!(
-                "`fit`: `{n}` starts at 0 and cannot be fitted in log space"
-            ));
-        }
+    if let Some(n) = fit.iter().find(|n| start.get(n).is_none_or(|v| v <= 0.0)) {
+        return Err(TargetsError::ZeroStart(n));
     }
-    let arr = t
+    let targets = top
         .get("target")
         .and_then(|v| v.as_array())
-        .ok_or("no [[target]] entries")?;
-    let targets = arr
+        .ok_or(TargetsError::NoTargets)?
         .iter()
         .enumerate()
         .map(|(i, v)| parse_target(i, v))
         .collect::<Result<Vec<_>, _>>()?;
     if targets.is_empty() {
-        return Err("no [[target]] entries".into());
+        return Err(TargetsError::NoTargets);
     }
     Ok(Problem {
         fit,
@@ -687,14 +712,10 @@ pub fn calibrate(problem: &Problem) -> Fit {
 
 /// The fitted values as a parameter file (`--params FILE`). Refused when a value is not finite
 /// or out of range (a diverged fit), so that no unusable file is ever written.
-pub fn parameter_file(fit: &Fit, source: &str) -> Result<String, String> {
-    fit.params
-        .validate()
-        .map_err(|e| format!("the fit diverged and no parameter file is written: {e}"))?;
+pub fn parameter_file(fit: &Fit, source: &str) -> Result<String, ParamFileError> {
+    fit.params.validate().map_err(ParamFileError::Diverged)?;
     if !fit.cost.is_finite() {
-        return Err(
-            "the fit diverged (non-finite cost) and no parameter file is written".to_string(),
-        );
+        return Err(ParamFileError::NonFiniteCost);
     }
     let mut s = format!(
         "# polywear parameter file, written by `polywear calibrate` (polywear {}) from {source}.\n\

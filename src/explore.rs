@@ -10,16 +10,45 @@
 //! so the shards' files together are the single-machine output.
 
 use std::collections::{BTreeMap, HashSet};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
-use crate::classify::{classify_point_hinted, ClassifierOptions, WheelVerdict};
-use crate::model::{ModelFailure, Wheel};
+use crate::classify::{classify_point_hinted, Class, ClassifierOptions, WheelVerdict};
+use crate::model::{ModelFailure, Variant, Wheel};
 use crate::output_dir::{self, DirLock};
 use crate::parquet_out::{write_durably, write_table_digest, Column};
 use crate::records::{record_columns, WheelRecord};
 use crate::study::{Sampler, Study};
+
+/// The part of a run one machine evaluates: the chunks whose index ≡ `index` (mod `count`),
+/// shard k of N with k counted from 0 (as Slurm array and Kubernetes indexed-job indices).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    pub index: u64,
+    pub count: u64,
+}
+
+impl Shard {
+    /// The whole run on one machine (0/1).
+    pub const WHOLE: Shard = Shard { index: 0, count: 1 };
+
+    /// Shard `index` of `count`; None unless 0 <= index < count.
+    pub fn new(index: u64, count: u64) -> Option<Shard> {
+        (index < count).then_some(Shard { index, count })
+    }
+
+    /// Whether chunk `chunk` belongs to this shard.
+    pub fn owns(self, chunk: u64) -> bool {
+        chunk % self.count == self.index
+    }
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
 
 /// What one explore run does.
 #[derive(Debug, Clone)]
@@ -27,8 +56,8 @@ pub struct RunPlan {
     pub study: Study,
     pub seed: u64,
     pub samples: u64,
-    /// (k, N): this run evaluates chunks with index ≡ k (mod N).
-    pub shard: (u64, u64),
+    /// This run evaluates the chunks of this shard.
+    pub shard: Shard,
     pub out_dir: PathBuf,
     pub resume: bool,
     /// The command line, stored in the metadata.
@@ -76,7 +105,7 @@ pub struct RunSummary {
     pub samples_evaluated: u64,
     pub samples_skipped: u64,
     pub chunks_written: u64,
-    pub classes: BTreeMap<(String, String), BTreeMap<String, u64>>,
+    pub classes: BTreeMap<(Variant, Wheel), BTreeMap<Class, u64>>,
 }
 
 impl RunPlan {
@@ -86,13 +115,13 @@ impl RunPlan {
 
     /// Global chunk indices this shard owns.
     pub fn owned_chunks(&self) -> impl Iterator<Item = u64> + '_ {
-        let (k, n) = self.shard;
+        let Shard { index: k, count: n } = self.shard;
         (k..self.n_chunks()).step_by(n as usize)
     }
 
     /// Samples in the chunks this shard owns (closed form: no loop over the chunks).
     pub fn owned_samples(&self) -> u64 {
-        let (k, n) = self.shard;
+        let Shard { index: k, count: n } = self.shard;
         let chunks = self.n_chunks();
         if k >= chunks {
             return 0;
@@ -123,7 +152,7 @@ impl RunPlan {
             "seed": self.seed,
             "samples": self.samples,
             "chunk_size": self.study.chunk_size,
-            "shard": format!("{}/{}", self.shard.0, self.shard.1),
+            "shard": self.shard.to_string(),
             "chunks": output_dir::JOURNAL,
             "checksum": "CRC-32 (IEEE) of each whole chunk file",
         })
@@ -259,16 +288,16 @@ impl RunPlan {
         let names = output_dir::entries(dir)
             .map_err(|err| e(err.to_string()))?
             .unwrap_or_default();
-        let (k, n) = self.shard;
+        let shard = self.shard;
         let mut present = HashSet::new();
         for name in &names {
             if name.ends_with(".partial") {
                 // Leftovers of files that were being written when the run was killed.
                 std::fs::remove_file(dir.join(name)).map_err(|err| e(err.to_string()))?;
             } else if let Some(c) = output_dir::chunk_index(name) {
-                if c >= self.n_chunks() || c % n != k {
+                if c >= self.n_chunks() || !shard.owns(c) {
                     return Err(e(format!(
-                        "{name} is not a chunk of this run (chunks 0..{} of shard {k}/{n}); move it away and resume again",
+                        "{name} is not a chunk of this run (chunks 0..{} of shard {shard}); move it away and resume again",
                         self.n_chunks()
                     )));
                 }
@@ -298,7 +327,7 @@ impl RunPlan {
         }
         let mut missing: Vec<u64> = journal
             .keys()
-            .filter(|c| !present.contains(c) && **c < self.n_chunks() && *c % n == k)
+            .filter(|c| !present.contains(c) && **c < self.n_chunks() && shard.owns(**c))
             .copied()
             .collect();
         missing.sort_unstable();
@@ -386,7 +415,7 @@ impl RunPlan {
                 .to_string(),
             ),
             ("chunk_size".into(), self.study.chunk_size.to_string()),
-            ("shard".into(), format!("{}/{}", self.shard.0, self.shard.1)),
+            ("shard".into(), self.shard.to_string()),
             (
                 "params".into(),
                 serde_json::to_string(&self.study.base).expect("json"),
@@ -495,12 +524,12 @@ impl<'a> Pipeline<'a> {
             .into_iter()
             .map(|r| r.expect("all samples done"))
             .collect();
-        let mut counts: BTreeMap<(String, String), BTreeMap<String, u64>> = BTreeMap::new();
+        let mut counts: BTreeMap<(Variant, Wheel), BTreeMap<Class, u64>> = BTreeMap::new();
         for r in rows.iter().flat_map(|s| &s.records) {
             *counts
-                .entry((r.variant.to_string(), r.wheel.to_string()))
+                .entry((r.variant, r.wheel))
                 .or_default()
-                .entry(r.class.to_string())
+                .entry(r.class)
                 .or_default() += 1;
         }
         if let Err(e) = self.plan.write_chunk(work.chunk, &rows) {
@@ -605,44 +634,6 @@ pub fn chunk_columns(study: &Study, rows: &[SampleRows]) -> Vec<Column> {
     cols
 }
 
-/// Parses `--shard k/N` (k counted from 0, as Slurm array and Kubernetes indexed-job indices).
-pub fn parse_shard(s: &str) -> Result<(u64, u64), String> {
-    let (k, n) = s
-        .split_once('/')
-        .ok_or_else(|| format!("--shard `{s}`: expected k/N, e.g. 0/4"))?;
-    let k: u64 = k
-        .trim()
-        .parse()
-        .map_err(|_| format!("--shard `{s}`: k is not a whole number"))?;
-    let n: u64 = n
-        .trim()
-        .parse()
-        .map_err(|_| format!("--shard `{s}`: N is not a whole number"))?;
-    if n == 0 || k >= n {
-        return Err(format!("--shard `{s}`: need 0 <= k < N"));
-    }
-    Ok((k, n))
-}
-
-/// Parses `--samples`: 1e6, 1_000_000 and 1000000 all mean one million.
-pub fn parse_samples(s: &str) -> Result<u64, String> {
-    let t = s.trim().replace('_', "");
-    let x: f64 = t
-        .parse()
-        .map_err(|_| format!("--samples `{s}` is not a number (e.g. 1e6, 1_000_000)"))?;
-    if !x.is_finite() || x < 1.0 || x.fract() != 0.0 || x > (1u64 << 40) as f64 {
-        return Err(format!(
-            "--samples `{s}` must be a whole number in [1, 2^40]"
-        ));
-    }
-    Ok(x as u64)
-}
-
-/// Default output directory for a study and seed.
-pub fn default_out_dir(study: &Study, seed: u64) -> PathBuf {
-    Path::new("data").join(format!("explore_{}_seed{seed}", study.name))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -659,7 +650,7 @@ mod tests {
                     study: study.clone(),
                     seed: 1,
                     samples,
-                    shard: (k, n),
+                    shard: Shard::new(k, n).unwrap(),
                     out_dir: PathBuf::new(),
                     resume: false,
                     command: String::new(),
@@ -679,20 +670,5 @@ mod tests {
         let v = serde_json::Value::from(format!("# {}", "é".repeat(80)));
         let s = short(&v);
         assert_eq!(s.chars().count(), 61);
-    }
-
-    #[test]
-    fn samples_and_shards_parse() {
-        assert_eq!(parse_samples("1e6"), Ok(1_000_000));
-        assert_eq!(parse_samples("1_000_000"), Ok(1_000_000));
-        assert_eq!(parse_samples("1000000"), Ok(1_000_000));
-        assert!(parse_samples("1.5").is_err());
-        assert!(parse_samples("0").is_err());
-        assert!(parse_samples("-3").is_err());
-        assert!(parse_samples("lots").is_err());
-        assert_eq!(parse_shard("2/4"), Ok((2, 4)));
-        assert!(parse_shard("4/4").is_err());
-        assert!(parse_shard("1").is_err());
-        assert!(parse_shard("0/0").is_err());
     }
 }

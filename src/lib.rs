@@ -3,6 +3,9 @@
 //! [`params`] → [`model`] (MODEL.md steps 1–8) → [`solver`] → [`classify`] (step 9) →
 //! [`records`] → [`parquet_out`]; [`plot`] draws what people would rather look at.
 
+#[macro_use]
+mod text_enum;
+
 pub mod analysis;
 pub mod bifurcation;
 pub mod calibrate;
@@ -19,4 +22,5 @@ pub mod reproduce;
 pub mod sampling;
 pub mod solver;
 pub mod study;
+pub mod toml_input;
 pub mod trajectory;

@@ -4,14 +4,16 @@
 
 use serde::Serialize;
 
-use crate::classify::WheelVerdict;
+use crate::classify::{Class, Method, WheelVerdict};
 use crate::model::{ModelFailure, Variant, Wheel, WheelModel};
 use crate::params::Params;
 
+/// One row. Wheel, variant, class and method are the enums themselves; they become their names
+/// only when written (Parquet, CSV, JSON).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct WheelRecord {
-    pub wheel: &'static str,
-    pub variant: &'static str,
+    pub wheel: Wheel,
+    pub variant: Variant,
     pub speed_kmh: f64,
     pub toe_deg: f64,
     pub load_n: f64,
@@ -31,7 +33,7 @@ pub struct WheelRecord {
     pub y0_m: f64,
     pub eig_re_max: f64,
     pub eig_freq_hz: f64,
-    pub class: &'static str,
+    pub class: Class,
     pub amp_y_m: f64,
     pub amp_v_mps: f64,
     pub freq_hz: f64,
@@ -39,7 +41,7 @@ pub struct WheelRecord {
     pub energy_per_cycle_j: f64,
     pub floquet_max: f64,
     pub rhs_evals: u64,
-    pub method: &'static str,
+    pub method: Method,
     pub reason: String,
 }
 
@@ -74,11 +76,11 @@ impl WheelRecord {
         };
         // A failed point has no cycle: its cycle quantities are NaN (null in JSON), never a 0.0
         // that a mean would silently take in.
-        let failed = verdict.class == crate::classify::Class::Failed;
+        let failed = verdict.class == Class::Failed;
         let cycle = |x: f64| if failed { nan } else { x };
         WheelRecord {
-            wheel: wheel.as_str(),
-            variant: variant.as_str(),
+            wheel,
+            variant,
             speed_kmh: p.speed_kmh,
             toe_deg: p.toe_deg,
             load_n: p.load_n,
@@ -96,7 +98,7 @@ impl WheelRecord {
             y0_m: y0,
             eig_re_max: verdict.eig_re_max,
             eig_freq_hz: verdict.eig_freq_hz,
-            class: verdict.class.as_str(),
+            class: verdict.class,
             amp_y_m: cycle(verdict.amp_y_m),
             amp_v_mps: cycle(verdict.amp_v_mps),
             freq_hz: cycle(verdict.freq_hz),
@@ -104,7 +106,7 @@ impl WheelRecord {
             energy_per_cycle_j: cycle(verdict.energy_per_cycle_j),
             floquet_max: cycle(verdict.floquet_max),
             rhs_evals: verdict.rhs_evals,
-            method: verdict.method.as_str(),
+            method: verdict.method,
             reason: verdict.reason.clone(),
         }
     }

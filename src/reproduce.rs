@@ -329,12 +329,8 @@ pub fn paired_comparison(base: &Params, samples: u64) -> Result<Vec<PairedRow>, 
         .into_par_iter()
         .map(|i| crate::explore::evaluate_sample(&study, &sampler, i, &opts))
         .collect();
-    let vibrates = |r: &WheelRecord| {
-        r.class == Class::LimitCycle.as_str() || r.class == Class::Bistable.as_str()
-    };
-    let classified = |r: &WheelRecord| {
-        r.class != Class::Failed.as_str() && r.class != Class::NoTraction.as_str()
-    };
+    let vibrates = |r: &WheelRecord| r.class.vibrates();
+    let classified = |r: &WheelRecord| !matches!(r.class, Class::Failed | Class::NoTraction);
     Ok(Variant::ALL
         .iter()
         .map(|&variant| {
@@ -351,7 +347,7 @@ pub fn paired_comparison(base: &Params, samples: u64) -> Result<Vec<PairedRow>, 
                 let get = |w: Wheel| {
                     s.records
                         .iter()
-                        .find(|r| r.variant == variant.as_str() && r.wheel == w.as_str())
+                        .find(|r| r.variant == variant && r.wheel == w)
                 };
                 let (Some(f), Some(d)) = (get(Wheel::Follower), get(Wheel::Driving)) else {
                     continue;
@@ -428,7 +424,7 @@ fn report(
         points
             .iter()
             .find(|(n, _)| *n == pt)
-            .and_then(|(_, r)| r.iter().find(|r| r.wheel == wheel.as_str()))
+            .and_then(|(_, r)| r.iter().find(|r| r.wheel == wheel))
     };
     let f = Wheel::Follower;
     let sp = find(sweeps, "speed_kmh", d);
@@ -449,12 +445,12 @@ fn report(
     let _ = writeln!(
         s,
         "| simulation at 70 km/h | stable | {} | agrees |",
-        r70.map_or("?", |r| r.class)
+        r70.map_or("?", |r| r.class.as_str())
     );
     let _ = writeln!(
         s,
         "| simulation at 100 km/h | self-excited vibration | {} (amplitude of v {:.4} m/s) | agrees |",
-        r100.map_or("?", |r| r.class),
+        r100.map_or("?", |r| r.class.as_str()),
         r100.map_or(f64::NAN, |r| r.amp_v_mps)
     );
     let _ = writeln!(

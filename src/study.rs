@@ -4,9 +4,12 @@
 
 use crate::classify::WheelBudget;
 use crate::model::Variant;
-use crate::params::{spec, Params};
-use crate::sampling::design::{grid_digits, Coordinates, Design, SOBOL_MAX_AXES};
+use crate::params::{spec, ParamError, ParamSpec, Params};
+use crate::sampling::design::{
+    grid_digits, Coordinates, Design, SALTELLI_MAX_AXES, SOBOL_MAX_AXES, SOBOL_MAX_SAMPLES,
+};
 use crate::sampling::distribution::Distribution;
+use crate::toml_input::{self, Section, TomlError};
 
 /// Largest accepted seed (in study files and on the command line).
 pub const SEED_MAX: u64 = u32::MAX as u64 * 1024;
@@ -43,19 +46,87 @@ pub struct Study {
 }
 
 /// A study problem, with the key it concerns.
-#[derive(Debug, Clone, PartialEq)]
-pub struct StudyError(pub String);
-
-impl std::fmt::Display for StudyError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for StudyError {}
-
-fn err<T>(msg: impl Into<String>) -> Result<T, StudyError> {
-    Err(StudyError(msg.into()))
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StudyError {
+    /// A per-wheel budget key out of its accepted range (the message names the key).
+    #[error("{0}")]
+    Budget(String),
+    /// Syntax, unknown or missing keys, values of the wrong type.
+    #[error(transparent)]
+    Input(#[from] TomlError),
+    /// A value refused by its parameter's accepted range, or an unknown parameter name.
+    #[error("`{key}`: {source}")]
+    Param { key: String, source: ParamError },
+    /// The parameters of a parameter file do not fit together.
+    #[error("{0}")]
+    Inconsistent(ParamError),
+    /// The study's fixed parameters do not fit together.
+    #[error("fixed parameters: {0}")]
+    FixedParams(ParamError),
+    #[error("`name` = \"{0}\" must be non-empty letters, digits, `_` or `-`")]
+    BadName(String),
+    #[error("`design` = \"{0}\" is unknown; accepted: random, lhs, sobol, grid, saltelli")]
+    UnknownDesign(String),
+    #[error("`variants` lists \"{0}\" twice")]
+    RepeatedVariant(String),
+    #[error("`{0}` must not be empty")]
+    Empty(String),
+    #[error("`{key}` must be a number (fixed) or a table with `dist`")]
+    NotAParameter { key: String },
+    #[error("`{key}` needs `dist` (one of {DISTS})")]
+    NoDist { key: String },
+    #[error("`{key}.dist` = \"{dist}\" is unknown; accepted: {DISTS}, fixed")]
+    UnknownDist { key: String, dist: String },
+    #[error("`{key}.{field}` is not a key of a {dist} distribution; accepted: {accepted}")]
+    NotADistKey {
+        key: String,
+        field: String,
+        dist: String,
+        accepted: String,
+    },
+    #[error("`{key}` ({dist}) needs `{field}`")]
+    DistNeeds {
+        key: String,
+        dist: String,
+        field: String,
+    },
+    #[error("`{key}` = {value} must be positive")]
+    NotPositive { key: String, value: f64 },
+    #[error("`{key}`: min = {min} must be below max = {max}")]
+    Unordered { key: String, min: f64, max: f64 },
+    /// A distribution can produce values outside its parameter's accepted range.
+    #[error("`{key}`: its {which} value is outside the accepted range ({source}){hint}")]
+    TailOutOfRange {
+        key: String,
+        which: &'static str,
+        source: ParamError,
+        hint: &'static str,
+    },
+    #[error("`{0}`: a grid design needs `levels` or a uniform `count` on every drawn parameter")]
+    GridNeedsLevels(String),
+    #[error("`params`: the grid has more than 2^40 points")]
+    GridTooLarge,
+    #[error("`samples` = {samples} disagrees with the grid's size {size}")]
+    GridSamples { samples: u64, size: u64 },
+    #[error(
+        "`design` = \"{design}\" supports at most {max} drawn parameters, this study draws {drawn}"
+    )]
+    TooManyAxes {
+        design: &'static str,
+        max: usize,
+        drawn: usize,
+    },
+    #[error("the study draws no parameter: give at least one a `dist` in [params]")]
+    NothingDrawn,
+    #[error("--samples must be at least 1")]
+    NoSamples,
+    #[error("--samples = {samples} disagrees with the grid's size {size}")]
+    FlagGridSamples { samples: u64, size: u64 },
+    #[error("--samples: a {design} design supports at most {max} samples")]
+    TooManySamples {
+        design: &'static str,
+        max: &'static str,
+    },
 }
 
 const TOP_KEYS: &[&str] = &[
@@ -72,49 +143,24 @@ const TOP_KEYS: &[&str] = &[
 ];
 const DISTS: &str = "uniform, normal, truncated_normal, lognormal, levels";
 
-fn number(v: &toml::Value, key: &str) -> Result<f64, StudyError> {
-    match v {
-        toml::Value::Float(x) => Ok(*x),
-        toml::Value::Integer(i) => Ok(*i as f64),
-        _ => err(format!("`{key}` must be a number, got {}", v.type_str())),
-    }
-}
-
-fn whole(v: &toml::Value, key: &str, lo: u64, hi: u64) -> Result<u64, StudyError> {
-    let x = number(v, key)?;
-    if x.fract() != 0.0 || x < lo as f64 || x > hi as f64 {
-        return err(format!(
-            "`{key}` = {x} must be a whole number in [{lo}, {hi}]"
-        ));
-    }
-    Ok(x as u64)
-}
-
-fn text(v: &toml::Value, key: &str) -> Result<String, StudyError> {
-    v.as_str()
-        .map(String::from)
-        .ok_or_else(|| StudyError(format!("`{key}` must be a string")))
+/// One `[params]` entry: a fixed value or a distribution.
+enum ParamEntry {
+    Fixed(f64),
+    Drawn(Distribution),
 }
 
 /// Parses one `[params]` entry: a number (fixed) or an inline table with `dist`.
-fn parse_param(
-    name: &str,
-    v: &toml::Value,
-) -> Result<(Option<f64>, Option<Distribution>), StudyError> {
+fn parse_param(name: &str, v: &toml::Value) -> Result<ParamEntry, StudyError> {
     let key = format!("params.{name}");
-    if let Ok(x) = number(v, &key) {
-        return Ok((Some(x), None));
+    if let Ok(x) = toml_input::number(v, &key) {
+        return Ok(ParamEntry::Fixed(x));
     }
-    let t = v.as_table().ok_or_else(|| {
-        StudyError(format!(
-            "`{key}` must be a number (fixed) or a table with `dist`"
-        ))
-    })?;
+    let t = Section::of(v, &key, "a table")
+        .map_err(|_| StudyError::NotAParameter { key: key.clone() })?;
     let dist = t
-        .get("dist")
-        .ok_or_else(|| StudyError(format!("`{key}` needs `dist` (one of {DISTS})")))?;
-    let dist = text(dist, &format!("{key}.dist"))?;
-    let allowed: &[&str] = match dist.as_str() {
+        .opt("dist", toml_input::text)?
+        .ok_or_else(|| StudyError::NoDist { key: key.clone() })?;
+    let allowed: &[&str] = match dist {
         "uniform" => &["dist", "min", "max", "count"],
         "normal" => &["dist", "mean", "sd"],
         "truncated_normal" => &["dist", "mean", "sd", "min", "max"],
@@ -122,50 +168,55 @@ fn parse_param(
         "levels" => &["dist", "levels"],
         "fixed" => &["dist", "value"],
         other => {
-            return err(format!(
-                "`{key}.dist` = \"{other}\" is unknown; accepted: {DISTS}, fixed"
-            ))
+            return Err(StudyError::UnknownDist {
+                key: key.clone(),
+                dist: other.to_string(),
+            })
         }
     };
-    for k in t.keys() {
-        if !allowed.contains(&k.as_str()) {
-            return err(format!(
-                "`{key}.{k}` is not a key of a {dist} distribution; accepted: {}",
-                allowed.join(", ")
-            ));
-        }
+    if let Some(k) = t.table.keys().find(|k| !allowed.contains(&k.as_str())) {
+        return Err(StudyError::NotADistKey {
+            key: key.clone(),
+            field: k.clone(),
+            dist: dist.to_string(),
+            accepted: allowed.join(", "),
+        });
     }
     let get = |k: &str| -> Result<f64, StudyError> {
-        let v = t
-            .get(k)
-            .ok_or_else(|| StudyError(format!("`{key}` ({dist}) needs `{k}`")))?;
-        let x = number(v, &format!("{key}.{k}"))?;
-        if !x.is_finite() {
-            return err(format!("`{key}.{k}` must be finite"));
-        }
-        Ok(x)
+        let v = t.get(k).ok_or_else(|| StudyError::DistNeeds {
+            key: key.clone(),
+            dist: dist.to_string(),
+            field: k.to_string(),
+        })?;
+        Ok(toml_input::finite(v, &t.key(k))?)
     };
     let positive = |k: &str| -> Result<f64, StudyError> {
-        let x = get(k)?;
-        if x <= 0.0 {
-            return err(format!("`{key}.{k}` = {x} must be positive"));
+        let value = get(k)?;
+        if value <= 0.0 {
+            return Err(StudyError::NotPositive {
+                key: t.key(k),
+                value,
+            });
         }
-        Ok(x)
+        Ok(value)
     };
-    let ordered = |lo: f64, hi: f64| -> Result<(), StudyError> {
-        if lo >= hi {
-            return err(format!("`{key}`: min = {lo} must be below max = {hi}"));
+    let ordered = |min: f64, max: f64| -> Result<(), StudyError> {
+        if min >= max {
+            return Err(StudyError::Unordered {
+                key: key.clone(),
+                min,
+                max,
+            });
         }
         Ok(())
     };
-    let d = match dist.as_str() {
-        "fixed" => return Ok((Some(get("value")?), None)),
+    let d = match dist {
+        "fixed" => return Ok(ParamEntry::Fixed(get("value")?)),
         "uniform" => {
             let (min, max) = (get("min")?, get("max")?);
-            let count = match t.get("count") {
-                Some(c) => Some(whole(c, &format!("{key}.count"), 1, 1_000_000)? as usize),
-                None => None,
-            };
+            let count = t
+                .opt("count", |v, k| toml_input::whole(v, k, 1, 1_000_000))?
+                .map(|c| c as usize);
             if count != Some(1) {
                 ordered(min, max)?;
             }
@@ -190,51 +241,208 @@ fn parse_param(
             sigma: positive("sigma")?,
         },
         _ => {
-            let levels = t
-                .get("levels")
-                .and_then(|l| l.as_array())
-                .ok_or_else(|| StudyError(format!("`{key}.levels` must be an array of numbers")))?;
-            let levels: Vec<f64> = levels
-                .iter()
-                .enumerate()
-                .map(|(i, l)| number(l, &format!("{key}.levels[{i}]")))
-                .collect::<Result<_, _>>()?;
+            let levels = t.req("levels", |v, k| {
+                toml_input::array(v, k, "an array of numbers")?
+                    .iter()
+                    .enumerate()
+                    .map(|(i, l)| toml_input::finite(l, &format!("{k}[{i}]")))
+                    .collect::<Result<Vec<f64>, _>>()
+            })?;
             if levels.is_empty() {
-                return err(format!("`{key}.levels` must not be empty"));
-            }
-            if let Some((i, x)) = levels.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-                return err(format!("`{key}.levels[{i}]` = {x} must be finite"));
+                return Err(StudyError::Empty(t.key("levels")));
             }
             Distribution::Levels(levels)
         }
     };
-    Ok((None, Some(d)))
+    Ok(ParamEntry::Drawn(d))
+}
+
+/// Refuses a distribution that can produce a value outside parameter `s`'s accepted range: the
+/// quantiles at the extreme coordinates (normal tails reach about ±8.1 sd), and every level.
+fn check_support(s: &ParamSpec, d: &Distribution) -> Result<(), StudyError> {
+    let key = format!("params.{}", s.name);
+    let (lo, hi) = (d.quantile(0.0), d.quantile(1.0 - f64::EPSILON));
+    for (which, x) in [("smallest", lo), ("largest", hi)] {
+        if let Err(source) = s.check(x) {
+            let hint = match d {
+                Distribution::Normal { .. } => {
+                    "; normal tails reach mean ± 8.1 sd: use truncated_normal"
+                }
+                Distribution::LogNormal { .. } => {
+                    "; lognormal tails reach median·exp(±8.1 sigma): use truncated_normal"
+                }
+                _ => "",
+            };
+            return Err(StudyError::TailOutOfRange {
+                key,
+                which,
+                source,
+                hint,
+            });
+        }
+    }
+    if let Distribution::Levels(levels) = d {
+        for (i, x) in levels.iter().enumerate() {
+            s.check(*x).map_err(|source| StudyError::Param {
+                key: format!("{key}.levels[{i}]"),
+                source,
+            })?;
+        }
+    }
+    Ok(())
 }
 
 /// Reads a parameter file (`--params FILE`, as `polywear calibrate` writes): a `[params]` table
 /// of numbers, applied on top of `base` and checked.
 pub fn apply_param_file(base: &Params, text: &str) -> Result<Params, StudyError> {
-    let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
-        StudyError(format!("malformed TOML: {}", e.to_string().trim()))
-    })?;
+    let table = toml_input::parse(text)?;
+    let top = Section::top(&table);
+    top.deny_unknown_with(&["params"], "a parameter file holds only a [params] table")?;
     let mut p = *base;
-    for (k, v) in &table {
-        if k != "params" {
-            return err(format!(
-                "unknown key `{k}`; a parameter file holds only a [params] table"
-            ));
-        }
-        let t = v
-            .as_table()
-            .ok_or_else(|| StudyError("`params` must be a table".into()))?;
-        for (name, value) in t {
-            let x = number(value, &format!("params.{name}"))?;
+    if let Some(v) = top.get("params") {
+        let params = Section::of(v, "params", "a table")?;
+        for (name, value) in params.table {
+            let key = params.key(name);
+            let x = toml_input::number(value, &key)?;
             p.set(name, x)
-                .map_err(|e| StudyError(format!("`params.{name}`: {e}")))?;
+                .map_err(|source| StudyError::Param { key, source })?;
         }
     }
-    p.validate().map_err(|e| StudyError(e.to_string()))?;
+    p.validate().map_err(StudyError::Inconsistent)?;
     Ok(p)
+}
+
+/// The study's settings other than its parameters.
+struct Header {
+    name: String,
+    description: String,
+    seed: u64,
+    design: Design,
+    variants: Vec<Variant>,
+    chunk_size: u64,
+    budget: WheelBudget,
+}
+
+impl Header {
+    fn parse(top: &Section) -> Result<Header, StudyError> {
+        let name = top
+            .opt("name", toml_input::text)?
+            .unwrap_or("study")
+            .to_string();
+        if name.is_empty()
+            || !name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+        {
+            return Err(StudyError::BadName(name));
+        }
+        let description = top
+            .opt("description", toml_input::text)?
+            .unwrap_or_default()
+            .to_string();
+        let seed = top
+            .opt("seed", |v, k| toml_input::whole(v, k, 0, SEED_MAX))?
+            .unwrap_or(1);
+        let design = match top.opt("design", toml_input::text)? {
+            Some(s) => Design::parse(s).ok_or_else(|| StudyError::UnknownDesign(s.to_string()))?,
+            None => Design::Random,
+        };
+        let variants = match top.get("variants") {
+            Some(v) => {
+                let mut out = Vec::new();
+                for (i, x) in toml_input::array(v, "variants", "an array of strings")?
+                    .iter()
+                    .enumerate()
+                {
+                    let var: Variant = toml_input::parsed(x, &format!("variants[{i}]"))?;
+                    if out.contains(&var) {
+                        return Err(StudyError::RepeatedVariant(var.to_string()));
+                    }
+                    out.push(var);
+                }
+                if out.is_empty() {
+                    return Err(StudyError::Empty("variants".into()));
+                }
+                out
+            }
+            None => vec![Variant::DEFAULT],
+        };
+        let chunk_size = top
+            .opt("chunk_size", |v, k| toml_input::whole(v, k, 1, 1 << 20))?
+            .unwrap_or(4096);
+        let mut budget = WheelBudget::default();
+        let (lo, hi) = WheelBudget::RHS_EVALS_RANGE;
+        if let Some(n) = top.opt("max_rhs_evals", |v, k| toml_input::whole(v, k, lo, hi))? {
+            budget.max_rhs_evals = n;
+        }
+        if let Some(x) = top.opt("max_wheel_seconds", toml_input::number)? {
+            budget.max_wheel_seconds = x;
+        }
+        budget.check("").map_err(StudyError::Budget)?;
+        Ok(Header {
+            name,
+            description,
+            seed,
+            design,
+            variants,
+            chunk_size,
+            budget,
+        })
+    }
+}
+
+/// Reads `[params]`: fixed values applied to `base`, drawn ones in canonical order (as in
+/// `polywear params`, independent of the file's key order).
+fn parse_params(top: &Section, mut base: Params) -> Result<(Params, Vec<DrawnParam>), StudyError> {
+    let mut drawn = Vec::new();
+    if let Some(v) = top.get("params") {
+        let params = Section::of(v, "params", "a table")?;
+        for (name, v) in params.table {
+            let key = params.key(name);
+            let s = spec(name).ok_or_else(|| StudyError::Param {
+                key: key.clone(),
+                source: ParamError::Unknown { name: name.clone() },
+            })?;
+            match parse_param(name, v)? {
+                ParamEntry::Fixed(x) => base
+                    .set(s.name, x)
+                    .map_err(|source| StudyError::Param { key, source })?,
+                ParamEntry::Drawn(dist) => {
+                    check_support(s, &dist)?;
+                    drawn.push(DrawnParam { name: s.name, dist });
+                }
+            }
+        }
+    }
+    drawn.sort_by_key(|d| crate::params::SPECS.iter().position(|s| s.name == d.name));
+    base.validate().map_err(StudyError::FixedParams)?;
+    Ok((base, drawn))
+}
+
+/// The default sample count: `samples`, or the grid's size (which `samples` must then equal).
+fn sample_count(top: &Section, design: Design, drawn: &[DrawnParam]) -> Result<u64, StudyError> {
+    let given = top.opt("samples", |v, k| toml_input::whole(v, k, 1, 1u64 << 40))?;
+    Ok(match design {
+        Design::Grid => {
+            let mut size: u64 = 1;
+            for d in drawn {
+                let n = d
+                    .dist
+                    .grid_values()
+                    .ok_or_else(|| StudyError::GridNeedsLevels(format!("params.{}", d.name)))?;
+                size = size
+                    .checked_mul(n.len() as u64)
+                    .filter(|s| *s <= 1u64 << 40)
+                    .ok_or(StudyError::GridTooLarge)?;
+            }
+            if let Some(samples) = given.filter(|s| *s != size) {
+                return Err(StudyError::GridSamples { samples, size });
+            }
+            size
+        }
+        Design::Saltelli => given.unwrap_or(1024),
+        _ => given.unwrap_or(10_000),
+    })
 }
 
 impl DrawnParam {
@@ -284,210 +492,58 @@ impl Study {
     /// Parses a study whose unnamed parameters take their values from `base` (defaults, or a
     /// `--params` file) instead of the built-in defaults.
     pub fn parse_with_base(source: &str, base: Params) -> Result<Study, StudyError> {
-        let table: toml::Table = source.parse().map_err(|e: toml::de::Error| {
-            StudyError(format!("malformed TOML: {}", e.to_string().trim()))
-        })?;
-        for k in table.keys() {
-            if !TOP_KEYS.contains(&k.as_str()) {
-                return err(format!(
-                    "unknown key `{k}`; accepted: {}",
-                    TOP_KEYS.join(", ")
-                ));
-            }
-        }
-        let name = table
-            .get("name")
-            .map(|v| text(v, "name"))
-            .transpose()?
-            .unwrap_or_else(|| "study".into());
-        if name.is_empty()
-            || !name
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-        {
-            return err(format!(
-                "`name` = \"{name}\" must be non-empty letters, digits, `_` or `-`"
-            ));
-        }
-        let description = table
-            .get("description")
-            .map(|v| text(v, "description"))
-            .transpose()?
-            .unwrap_or_default();
-        let seed = match table.get("seed") {
-            Some(v) => whole(v, "seed", 0, SEED_MAX)?,
-            None => 1,
+        let table = toml_input::parse(source)?;
+        let top = Section::top(&table);
+        top.deny_unknown(TOP_KEYS)?;
+        let header = Header::parse(&top)?;
+        let (base, drawn) = parse_params(&top, base)?;
+        let samples = sample_count(&top, header.design, &drawn)?;
+        let max_axes = match header.design {
+            Design::Sobol => SOBOL_MAX_AXES,
+            Design::Saltelli => SALTELLI_MAX_AXES,
+            _ => usize::MAX,
         };
-        let design = match table.get("design") {
-            Some(v) => {
-                let s = text(v, "design")?;
-                Design::parse(&s).ok_or_else(|| {
-                    StudyError(format!(
-                        "`design` = \"{s}\" is unknown; accepted: random, lhs, sobol, grid, saltelli"
-                    ))
-                })?
-            }
-            None => Design::Random,
-        };
-        let variants = match table.get("variants") {
-            Some(v) => {
-                let arr = v
-                    .as_array()
-                    .ok_or_else(|| StudyError("`variants` must be an array of strings".into()))?;
-                let mut out = Vec::new();
-                for (i, x) in arr.iter().enumerate() {
-                    let s = text(x, &format!("variants[{i}]"))?;
-                    let var: Variant = s
-                        .parse()
-                        .map_err(|e| StudyError(format!("`variants[{i}]`: {e}")))?;
-                    if out.contains(&var) {
-                        return err(format!("`variants` lists \"{s}\" twice"));
-                    }
-                    out.push(var);
-                }
-                if out.is_empty() {
-                    return err("`variants` must not be empty");
-                }
-                out
-            }
-            None => vec![Variant::DEFAULT],
-        };
-        let chunk_size = match table.get("chunk_size") {
-            Some(v) => whole(v, "chunk_size", 1, 1 << 20)?,
-            None => 4096,
-        };
-        let mut budget = WheelBudget::default();
-        if let Some(v) = table.get("max_rhs_evals") {
-            let (lo, hi) = WheelBudget::RHS_EVALS_RANGE;
-            budget.max_rhs_evals = whole(v, "max_rhs_evals", lo, hi)?;
-        }
-        if let Some(v) = table.get("max_wheel_seconds") {
-            budget.max_wheel_seconds = number(v, "max_wheel_seconds")?;
-        }
-        budget.check("").map_err(StudyError)?;
-
-        let mut base = base;
-        let mut drawn = Vec::new();
-        if let Some(p) = table.get("params") {
-            let p = p
-                .as_table()
-                .ok_or_else(|| StudyError("`params` must be a table".into()))?;
-            for (name, v) in p {
-                let s = spec(name).ok_or_else(|| {
-                    StudyError(format!(
-                        "`params.{name}`: {}",
-                        crate::params::ParamError::Unknown { name: name.clone() }
-                    ))
-                })?;
-                match parse_param(name, v)? {
-                    (Some(x), _) => base
-                        .set(s.name, x)
-                        .map_err(|e| StudyError(format!("`params.{name}`: {e}")))?,
-                    (_, Some(d)) => {
-                        // Every value the sampler can produce must be acceptable: the quantiles
-                        // at the extreme coordinates (normal tails reach about ±8.1 sd).
-                        let (lo, hi) = (d.quantile(0.0), d.quantile(1.0 - f64::EPSILON));
-                        for (which, x) in [("smallest", lo), ("largest", hi)] {
-                            if let Err(e) = s.check(x) {
-                                let hint = if matches!(d, Distribution::Normal { .. }) {
-                                    "; normal tails reach mean ± 8.1 sd: use truncated_normal"
-                                } else if matches!(d, Distribution::LogNormal { .. }) {
-                                    "; lognormal tails reach median·exp(±8.1 sigma): use truncated_normal"
-                                } else {
-                                    ""
-                                };
-                                return err(format!("`params.{name}`: its {which} value is outside the accepted range ({e}){hint}"));
-                            }
-                        }
-                        // Levels: every one of them, not only the ends.
-                        if let Distribution::Levels(levels) = &d {
-                            for (i, x) in levels.iter().enumerate() {
-                                s.check(*x).map_err(|e| {
-                                    StudyError(format!("`params.{name}.levels[{i}]`: {e}"))
-                                })?;
-                            }
-                        }
-                        drawn.push(DrawnParam {
-                            name: s.name,
-                            dist: d,
-                        });
-                    }
-                    _ => unreachable!("parse_param returns one of the two"),
-                }
-            }
-        }
-        // Canonical order (as in `polywear params`), independent of the file's key order.
-        drawn.sort_by_key(|d| crate::params::SPECS.iter().position(|s| s.name == d.name));
-        base.validate()
-            .map_err(|e| StudyError(format!("fixed parameters: {e}")))?;
-
-        let samples = match design {
-            Design::Grid => {
-                let mut size: u64 = 1;
-                for d in &drawn {
-                    let n = d.dist.grid_values().ok_or_else(|| {
-                        StudyError(format!(
-                            "`params.{}`: a grid design needs `levels` or a uniform `count` on every drawn parameter",
-                            d.name
-                        ))
-                    })?;
-                    size = size
-                        .checked_mul(n.len() as u64)
-                        .filter(|s| *s <= 1u64 << 40)
-                        .ok_or_else(|| {
-                            StudyError("`params`: the grid has more than 2^40 points".into())
-                        })?;
-                }
-                if let Some(v) = table.get("samples") {
-                    let s = whole(v, "samples", 1, 1u64 << 40)?;
-                    if s != size {
-                        return err(format!(
-                            "`samples` = {s} disagrees with the grid's size {size}"
-                        ));
-                    }
-                }
-                size
-            }
-            _ => match table.get("samples") {
-                Some(v) => whole(v, "samples", 1, 1u64 << 40)?,
-                None if design == Design::Saltelli => 1024,
-                None => 10_000,
-            },
-        };
-        if design == Design::Sobol && drawn.len() > SOBOL_MAX_AXES {
-            return err(format!("`design` = \"sobol\" supports at most {SOBOL_MAX_AXES} drawn parameters, this study draws {}", drawn.len()));
+        if drawn.len() > max_axes {
+            return Err(StudyError::TooManyAxes {
+                design: header.design.as_str(),
+                max: max_axes,
+                drawn: drawn.len(),
+            });
         }
         if drawn.is_empty() {
-            return err("the study draws no parameter: give at least one a `dist` in [params]");
+            return Err(StudyError::NothingDrawn);
         }
         Ok(Study {
-            name,
-            description,
-            seed,
+            name: header.name,
+            description: header.description,
+            seed: header.seed,
             samples,
-            design,
-            variants,
-            chunk_size,
+            design: header.design,
+            variants: header.variants,
+            chunk_size: header.chunk_size,
             base,
             drawn,
             source: source.to_string(),
-            budget,
+            budget: header.budget,
         })
     }
 
     /// Checks a sample count for this study (`--samples`); grids accept only their size.
     pub fn check_samples(&self, samples: u64) -> Result<(), StudyError> {
         if samples == 0 {
-            return err("--samples must be at least 1");
+            return Err(StudyError::NoSamples);
         }
         if self.design == Design::Grid && samples != self.samples {
-            return err(format!(
-                "--samples = {samples} disagrees with the grid's size {}",
-                self.samples
-            ));
+            return Err(StudyError::FlagGridSamples {
+                samples,
+                size: self.samples,
+            });
         }
-        if matches!(self.design, Design::Sobol | Design::Saltelli) && samples > u32::MAX as u64 {
-            return err("--samples: a sobol design supports at most 2^32 samples");
+        if matches!(self.design, Design::Sobol | Design::Saltelli) && samples > SOBOL_MAX_SAMPLES {
+            return Err(StudyError::TooManySamples {
+                design: self.design.as_str(),
+                max: "2^32",
+            });
         }
         Ok(())
     }

@@ -52,8 +52,8 @@ pub fn plot_point(
     let label = |w: Wheel| {
         let class = records
             .iter()
-            .find(|r| r.wheel == w.as_str())
-            .map_or("", |r| r.class);
+            .find(|r| r.wheel == w)
+            .map_or("", |r| r.class.as_str());
         format!("{w} ({class})")
     };
     let labels: Vec<String> = series.iter().map(|(w, _)| label(*w)).collect();
@@ -61,7 +61,7 @@ pub fn plot_point(
     let y0 = |w: Wheel| {
         records
             .iter()
-            .find(|r| r.wheel == w.as_str())
+            .find(|r| r.wheel == w)
             .map_or(0.0, |r| r.y0_m)
     };
     let series: Vec<(Wheel, Samples)> = series

@@ -328,7 +328,7 @@ fn bad_targets_files_are_refused_with_the_key() {
             "relative_to",
         ),
     ] {
-        let e = parse_problem(&text).unwrap_err();
+        let e = parse_problem(&text).unwrap_err().to_string();
         assert!(e.contains(needle), "`{needle}` not in `{e}` for\n{text}");
     }
 }
@@ -340,7 +340,9 @@ fn a_diverged_fit_writes_no_parameter_file() {
             .unwrap();
     let mut fit = calibrate(&problem);
     fit.params.g_mod = f64::NAN;
-    let e = polywear::calibrate::parameter_file(&fit, "x").unwrap_err();
+    let e = polywear::calibrate::parameter_file(&fit, "x")
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("g_mod") && e.contains("no parameter file"),
         "{e}"

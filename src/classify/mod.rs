@@ -27,8 +27,8 @@ use envelope::Envelope;
 /// return map whose fixed point at v → 0 passes for a cycle with multiplier e^(Re λ·T) < 1).
 pub const MIN_CYCLE_V_REL: f64 = 1e-5;
 
-/// The verdict's class (the `class` column).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// The verdict's class (the `class` column; written and read back by its name, see `as_str`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Class {
     /// The equilibrium attracts: no self-excited vibration.
     Stable,
@@ -42,7 +42,20 @@ pub enum Class {
     Failed,
 }
 
+serialize_as_str!(Class, Method);
+display_and_parse!(Class, "class");
+display_and_parse!(Method, "method");
+
 impl Class {
+    /// Every class, in the order of the declaration.
+    pub const ALL: [Class; 5] = [
+        Class::Stable,
+        Class::LimitCycle,
+        Class::Bistable,
+        Class::NoTraction,
+        Class::Failed,
+    ];
+
     pub fn as_str(self) -> &'static str {
         match self {
             Class::Stable => "stable",
@@ -59,8 +72,8 @@ impl Class {
     }
 }
 
-/// How the verdict was reached.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// How the verdict was reached (the `method` column).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Method {
     /// Eigenvalues alone (stable equilibrium, or no model).
     Linear,
@@ -73,6 +86,14 @@ pub enum Method {
 }
 
 impl Method {
+    /// Every method, in the order of the declaration.
+    pub const ALL: [Method; 4] = [
+        Method::Linear,
+        Method::Shooting,
+        Method::Envelope,
+        Method::Reference,
+    ];
+
     pub fn as_str(self) -> &'static str {
         match self {
             Method::Linear => "linear",

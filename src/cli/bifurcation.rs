@@ -98,14 +98,8 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
         s.name, args.from, args.to, s.unit, args.steps
     );
     for wheel in Wheel::BOTH {
-        let rows: Vec<&WheelRecord> = records
-            .iter()
-            .filter(|r| r.wheel == wheel.as_str())
-            .collect();
-        let vib = rows
-            .iter()
-            .filter(|r| r.class == "limit_cycle" || r.class == "bistable")
-            .count();
+        let rows: Vec<&WheelRecord> = records.iter().filter(|r| r.wheel == wheel).collect();
+        let vib = rows.iter().filter(|r| r.class.vibrates()).count();
         println!("{wheel:>9}: {vib} of {} values vibrate", rows.len());
         for h in hopf.iter().filter(|h| h.wheel == wheel) {
             println!(

@@ -122,7 +122,8 @@ pub fn run(args: &CalibrateArgs) -> CliResult {
         }
         println!();
     }
-    let file = parameter_file(&fit, &args.targets.display().to_string()).map_err(CliError)?;
+    let file = parameter_file(&fit, &args.targets.display().to_string())
+        .map_err(|e| CliError(e.to_string()))?;
     std::fs::write(&args.out, file)
         .map_err(|e| CliError(format!("--out {}: {e}", args.out.display())))?;
     println!("\nwrote {} (use it with --params)", args.out.display());

@@ -1,13 +1,13 @@
 //! `polywear explore`: the batch study, with progress bar, summary, resume and shards.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::common::{BudgetArgs, CliError, CliResult};
-use polywear::explore::{default_out_dir, parse_samples, parse_shard, RunPlan};
+use polywear::explore::{RunPlan, Shard};
 use polywear::study::{Study, DEFAULT_STUDY, SEED_MAX};
 
 #[derive(Debug, Args)]
@@ -39,7 +39,7 @@ pub struct ExploreArgs {
     /// Evaluate only shard k of N (k from 0), e.g. `--shard $SLURM_ARRAY_TASK_ID/16`; the N
     /// shards' files together are the single-machine output
     #[arg(long, value_name = "k/N", value_parser = parse_shard)]
-    pub shard: Option<(u64, u64)>,
+    pub shard: Option<Shard>,
     /// Parameter file (TOML `[params]`, e.g. from `polywear calibrate`): values for every
     /// parameter the study does not name
     #[arg(long, value_name = "FILE")]
@@ -85,7 +85,7 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         study,
         seed,
         samples,
-        shard: args.shard.unwrap_or((0, 1)),
+        shard: args.shard.unwrap_or(Shard::WHOLE),
         out_dir,
         resume: args.resume,
         command: std::env::args().collect::<Vec<_>>().join(" "),
@@ -116,7 +116,7 @@ pub fn run(args: &ExploreArgs) -> CliResult {
     );
     if !args.quiet {
         eprintln!(
-            "{}: {} samples ({} design, seed {seed}, variants {}), shard {}/{}, {} threads -> {}",
+            "{}: {} samples ({} design, seed {seed}, variants {}), shard {}, {} threads -> {}",
             plan.study.name,
             plan.samples,
             plan.study.design.as_str(),
@@ -126,8 +126,7 @@ pub fn run(args: &ExploreArgs) -> CliResult {
                 .map(|v| v.as_str())
                 .collect::<Vec<_>>()
                 .join("+"),
-            plan.shard.0,
-            plan.shard.1,
+            plan.shard,
             pool.current_num_threads(),
             plan.out_dir.display()
         );
@@ -146,13 +145,24 @@ pub fn run(args: &ExploreArgs) -> CliResult {
             summary.chunks_written,
             plan.out_dir.display()
         );
-        for ((variant, wheel), classes) in &summary.classes {
+        // In the order of the names, as always printed.
+        let mut groups: Vec<_> = summary.classes.iter().collect();
+        groups.sort_by_key(|((variant, wheel), _)| (variant.as_str(), wheel.as_str()));
+        for ((variant, wheel), classes) in groups {
             let total: u64 = classes.values().sum();
-            let vib = classes.get("limit_cycle").copied().unwrap_or(0)
-                + classes.get("bistable").copied().unwrap_or(0);
-            let rest: Vec<String> = classes.iter().map(|(c, n)| format!("{c} {n}")).collect();
+            let vib: u64 = classes
+                .iter()
+                .filter(|(c, _)| c.vibrates())
+                .map(|(_, n)| n)
+                .sum();
+            let mut rest: Vec<(&str, u64)> =
+                classes.iter().map(|(c, n)| (c.as_str(), *n)).collect();
+            rest.sort_unstable();
+            let rest: Vec<String> = rest.iter().map(|(c, n)| format!("{c} {n}")).collect();
             println!(
-                "  {variant:>8} {wheel:>8}: limit cycle in {:.2}% ({})",
+                "  {:>8} {:>8}: limit cycle in {:.2}% ({})",
+                variant.as_str(),
+                wheel.as_str(),
                 100.0 * vib as f64 / total.max(1) as f64,
                 rest.join(", ")
             );
@@ -184,8 +194,8 @@ fn empty_shard_report(plan: &RunPlan, quiet: bool) -> Result<(), String> {
          chunk(s) of {size} samples ({samples} samples), fewer than the {n} shards, and shard k \
          owns the chunks whose index is k mod {n}. Nothing is missing; analyse all shards together \
          (`polywear analyze <shard directories>`).\n",
-        k = plan.shard.0,
-        n = plan.shard.1,
+        k = plan.shard.index,
+        n = plan.shard.count,
         name = plan.study.name,
         chunks = plan.n_chunks(),
         size = plan.study.chunk_size,
@@ -198,11 +208,66 @@ fn empty_shard_report(plan: &RunPlan, quiet: bool) -> Result<(), String> {
     }
     println!(
         "shard {}/{} holds no rows ({} chunk(s) for {} shards); report: {}",
-        plan.shard.0,
-        plan.shard.1,
+        plan.shard.index,
+        plan.shard.count,
         plan.n_chunks(),
-        plan.shard.1,
+        plan.shard.count,
         path.display()
     );
     Ok(())
+}
+
+/// Parses `--shard k/N` (k counted from 0, as Slurm array and Kubernetes indexed-job indices).
+pub fn parse_shard(s: &str) -> Result<Shard, String> {
+    let (k, n) = s
+        .split_once('/')
+        .ok_or_else(|| format!("--shard `{s}`: expected k/N, e.g. 0/4"))?;
+    let k: u64 = k
+        .trim()
+        .parse()
+        .map_err(|_| format!("--shard `{s}`: k is not a whole number"))?;
+    let n: u64 = n
+        .trim()
+        .parse()
+        .map_err(|_| format!("--shard `{s}`: N is not a whole number"))?;
+    Shard::new(k, n).ok_or_else(|| format!("--shard `{s}`: need 0 <= k < N"))
+}
+
+/// Parses `--samples`: 1e6, 1_000_000 and 1000000 all mean one million.
+pub fn parse_samples(s: &str) -> Result<u64, String> {
+    let t = s.trim().replace('_', "");
+    let x: f64 = t
+        .parse()
+        .map_err(|_| format!("--samples `{s}` is not a number (e.g. 1e6, 1_000_000)"))?;
+    if !x.is_finite() || x < 1.0 || x.fract() != 0.0 || x > (1u64 << 40) as f64 {
+        return Err(format!(
+            "--samples `{s}` must be a whole number in [1, 2^40]"
+        ));
+    }
+    Ok(x as u64)
+}
+
+/// Default output directory for a study and seed.
+pub fn default_out_dir(study: &Study, seed: u64) -> PathBuf {
+    Path::new("data").join(format!("explore_{}_seed{seed}", study.name))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn samples_and_shards_parse() {
+        assert_eq!(parse_samples("1e6"), Ok(1_000_000));
+        assert_eq!(parse_samples("1_000_000"), Ok(1_000_000));
+        assert_eq!(parse_samples("1000000"), Ok(1_000_000));
+        assert!(parse_samples("1.5").is_err());
+        assert!(parse_samples("0").is_err());
+        assert!(parse_samples("-3").is_err());
+        assert!(parse_samples("lots").is_err());
+        assert_eq!(parse_shard("2/4"), Ok(Shard::new(2, 4).unwrap()));
+        assert!(parse_shard("4/4").is_err());
+        assert!(parse_shard("1").is_err());
+        assert!(parse_shard("0/0").is_err());
+    }
 }

@@ -5,10 +5,10 @@ use rand::Rng;
 
 use super::distribution::Distribution;
 use super::rng::{Streams, LHS_STREAMS, SOBOL_SCRAMBLE_STREAM};
-use super::sobol::{direction_numbers, owen_scramble, sobol_u32, MAX_DIMENSIONS};
+use super::sobol::{direction_numbers, owen_scramble, sobol_u32, MAX_DIMENSIONS, MAX_POINTS};
 
 /// How sample points fill the unit cube.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Design {
     /// Independent uniform draws.
     Random,
@@ -34,6 +34,16 @@ impl Design {
         }
     }
 
+    /// Every design, in the order of the declaration.
+    pub const ALL: [Design; 5] = [
+        Design::Random,
+        Design::LatinHypercube,
+        Design::Sobol,
+        Design::Grid,
+        Design::Saltelli,
+    ];
+
+    /// The design of a name (`as_str`, or `latin_hypercube` for `lhs`).
     pub fn parse(s: &str) -> Option<Self> {
         match s {
             "random" => Some(Design::Random),
@@ -46,8 +56,32 @@ impl Design {
     }
 }
 
-/// Largest number of drawn axes a Sobol design supports.
+impl std::fmt::Display for Design {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.as_str())
+    }
+}
+
+/// Reads a design's name back (e.g. the `design` metadata of a chunk), refusing unknown names.
+impl std::str::FromStr for Design {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Design::parse(s).ok_or_else(|| {
+            let names: Vec<&str> = Design::ALL.iter().map(|d| d.as_str()).collect();
+            format!("unknown design `{s}`; accepted: {}", names.join(", "))
+        })
+    }
+}
+
+/// Largest number of drawn axes a Sobol design supports (one Sobol dimension each).
 pub const SOBOL_MAX_AXES: usize = MAX_DIMENSIONS;
+
+/// Largest number of drawn axes a Saltelli design supports (two Sobol dimensions each: the A
+/// and B matrices).
+pub const SALTELLI_MAX_AXES: usize = MAX_DIMENSIONS / 2;
+
+/// Largest sample count of a Sobol design, and of base points of a Saltelli design.
+pub const SOBOL_MAX_SAMPLES: u64 = MAX_POINTS;
 
 /// Unit-cube coordinates for `n_axes` axes (Random, LatinHypercube, Sobol; Grid is indexed
 /// separately by [`grid_digits`]).
@@ -62,6 +96,7 @@ pub struct Coordinates {
 }
 
 impl Coordinates {
+    /// Panics beyond [`SOBOL_MAX_AXES`] or [`SALTELLI_MAX_AXES`], which a study refuses.
     pub fn new(design: Design, seed: u64, samples: u64, n_axes: usize) -> Self {
         let sobol_dims = match design {
             Design::Sobol => n_axes,
@@ -69,11 +104,15 @@ impl Coordinates {
             Design::Saltelli => 2 * n_axes,
             _ => 0,
         };
-        let sobol_dirs = (0..sobol_dims.min(MAX_DIMENSIONS))
-            .map(direction_numbers)
-            .collect();
+        assert!(
+            sobol_dims <= MAX_DIMENSIONS,
+            "{} axes exceed the {MAX_DIMENSIONS} Sobol dimensions of a {} design",
+            n_axes,
+            design.as_str()
+        );
+        let sobol_dirs = (0..sobol_dims).map(direction_numbers).collect();
         let streams = Streams::new(seed);
-        let sobol_seeds = (0..sobol_dims.min(MAX_DIMENSIONS) as u64)
+        let sobol_seeds = (0..sobol_dims as u64)
             .map(|d| streams.at_word(SOBOL_SCRAMBLE_STREAM, d.into()).next_u32())
             .collect();
         Coordinates {
@@ -119,15 +158,12 @@ impl Coordinates {
         }
     }
 
-    /// Scrambled Sobol coordinate (independent draws beyond the table's dimensions).
+    /// Scrambled Sobol coordinate of point `index` (below [`SOBOL_MAX_SAMPLES`], which a
+    /// study's sample count is checked against) in dimension `dim`.
     fn sobol(&self, index: u64, dim: usize) -> f64 {
-        match self.sobol_dirs.get(dim) {
-            Some(dirs) => {
-                let x = sobol_u32(index as u32, dirs);
-                (owen_scramble(x, self.sobol_seeds[dim]) as f64 + 0.5) / 4_294_967_296.0
-            }
-            None => self.streams.uniform01(index, dim as u64),
-        }
+        let index = u32::try_from(index).expect("Sobol index beyond 2^32, refused by the study");
+        let x = sobol_u32(index, &self.sobol_dirs[dim]);
+        (owen_scramble(x, self.sobol_seeds[dim]) as f64 + 0.5) / 4_294_967_296.0
     }
 }
 
@@ -217,6 +253,15 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn design_names_round_trip() {
+        for d in Design::ALL {
+            assert_eq!(d.as_str().parse::<Design>(), Ok(d));
+        }
+        assert_eq!("latin_hypercube".parse(), Ok(Design::LatinHypercube));
+        assert!("halton".parse::<Design>().unwrap_err().contains("saltelli"));
     }
 
     #[test]

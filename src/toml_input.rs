@@ -1,0 +1,223 @@
+//! One typed reading of the TOML input files: study files ([`crate::study`]), calibration
+//! targets ([`crate::calibrate`]) and parameter files (`--params`). Each file is parsed into a
+//! table once; [`Section`] then reads it key by key into plain Rust values, refuses keys it does
+//! not know, and names the full key (`target[0].weight`, `params.toe_deg.levels[2]`) in every
+//! error. Checks of meaning (ranges, consistency) stay with the stage that owns them.
+
+use std::str::FromStr;
+
+/// A problem with the shape of a TOML input: syntax, an unknown key, a missing key or a value
+/// of the wrong type. Every variant names the key it concerns.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TomlError {
+    #[error("malformed TOML: {0}")]
+    Malformed(String),
+    #[error("unknown key `{key}`; {accepted}")]
+    UnknownKey { key: String, accepted: String },
+    #[error("`{key}` needs `{field}`")]
+    Missing { key: String, field: String },
+    #[error("`{key}` must be {expected}, got {got}")]
+    WrongType {
+        key: String,
+        expected: &'static str,
+        got: &'static str,
+    },
+    #[error("`{key}` = {value} must be finite")]
+    NotFinite { key: String, value: f64 },
+    #[error("`{key}` = {value} must be a whole number in [{lo}, {hi}]")]
+    NotWhole {
+        key: String,
+        value: f64,
+        lo: u64,
+        hi: u64,
+    },
+    /// A value that does not parse into its type (a wheel, a variant, a design).
+    #[error("`{key}`: {problem}")]
+    Unparsable { key: String, problem: String },
+}
+
+/// Parses a TOML document into its top-level table.
+pub fn parse(text: &str) -> Result<toml::Table, TomlError> {
+    text.parse()
+        .map_err(|e: toml::de::Error| TomlError::Malformed(e.to_string().trim().to_string()))
+}
+
+/// A number (integer or float, NaN and infinities included) at `key`.
+pub fn number(v: &toml::Value, key: &str) -> Result<f64, TomlError> {
+    match v {
+        toml::Value::Float(x) => Ok(*x),
+        toml::Value::Integer(i) => Ok(*i as f64),
+        _ => Err(wrong_type(key, "a number", v)),
+    }
+}
+
+/// A finite number at `key`.
+pub fn finite(v: &toml::Value, key: &str) -> Result<f64, TomlError> {
+    let x = number(v, key)?;
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(TomlError::NotFinite {
+            key: key.to_string(),
+            value: x,
+        })
+    }
+}
+
+/// A whole number in [lo, hi] at `key` (`1e3` is accepted as 1000).
+pub fn whole(v: &toml::Value, key: &str, lo: u64, hi: u64) -> Result<u64, TomlError> {
+    let x = number(v, key)?;
+    if x.fract() != 0.0 || x < lo as f64 || x > hi as f64 {
+        return Err(TomlError::NotWhole {
+            key: key.to_string(),
+            value: x,
+            lo,
+            hi,
+        });
+    }
+    Ok(x as u64)
+}
+
+/// A string at `key`.
+pub fn text<'v>(v: &'v toml::Value, key: &str) -> Result<&'v str, TomlError> {
+    v.as_str().ok_or_else(|| wrong_type(key, "a string", v))
+}
+
+/// A string at `key` parsed into `T` (e.g. a [`crate::model::Wheel`]).
+pub fn parsed<T: FromStr>(v: &toml::Value, key: &str) -> Result<T, TomlError>
+where
+    T::Err: std::fmt::Display,
+{
+    text(v, key)?
+        .parse()
+        .map_err(|e: T::Err| TomlError::Unparsable {
+            key: key.to_string(),
+            problem: e.to_string(),
+        })
+}
+
+/// An array at `key`; `expected` says of what, for the message.
+pub fn array<'v>(
+    v: &'v toml::Value,
+    key: &str,
+    expected: &'static str,
+) -> Result<&'v [toml::Value], TomlError> {
+    v.as_array()
+        .map(Vec::as_slice)
+        .ok_or_else(|| wrong_type(key, expected, v))
+}
+
+fn wrong_type(key: &str, expected: &'static str, v: &toml::Value) -> TomlError {
+    TomlError::WrongType {
+        key: key.to_string(),
+        expected,
+        got: v.type_str(),
+    }
+}
+
+/// A table of an input file with the dotted path that leads to it (`""` at the top,
+/// `"target[0]"`, `"params.speed_kmh"`), so that every key read from it is named in full.
+#[derive(Debug, Clone, Copy)]
+pub struct Section<'a> {
+    pub table: &'a toml::Table,
+    pub path: &'a str,
+}
+
+impl<'a> Section<'a> {
+    /// The top-level table of a file.
+    pub fn top(table: &'a toml::Table) -> Self {
+        Section { table, path: "" }
+    }
+
+    /// The value at `path` as a table section (`path` must outlive it).
+    pub fn of(
+        v: &'a toml::Value,
+        path: &'a str,
+        expected: &'static str,
+    ) -> Result<Self, TomlError> {
+        let table = v.as_table().ok_or_else(|| wrong_type(path, expected, v))?;
+        Ok(Section { table, path })
+    }
+
+    /// The full name of `field` in this section.
+    pub fn key(&self, field: &str) -> String {
+        if self.path.is_empty() {
+            field.to_string()
+        } else {
+            format!("{}.{field}", self.path)
+        }
+    }
+
+    /// Refuses any key not in `accepted`, listing them.
+    pub fn deny_unknown(&self, accepted: &[&str]) -> Result<(), TomlError> {
+        self.deny_unknown_with(accepted, &format!("accepted: {}", accepted.join(", ")))
+    }
+
+    /// Refuses any key not in `accepted`, with `hint` after the key.
+    pub fn deny_unknown_with(&self, accepted: &[&str], hint: &str) -> Result<(), TomlError> {
+        match self.table.keys().find(|k| !accepted.contains(&k.as_str())) {
+            Some(k) => Err(TomlError::UnknownKey {
+                key: self.key(k),
+                accepted: hint.to_string(),
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// The raw value of `field`, if present.
+    pub fn get(&self, field: &str) -> Option<&'a toml::Value> {
+        self.table.get(field)
+    }
+
+    /// The value of `field`, refused when absent.
+    pub fn need(&self, field: &str) -> Result<&'a toml::Value, TomlError> {
+        self.get(field).ok_or_else(|| TomlError::Missing {
+            key: self.path.to_string(),
+            field: field.to_string(),
+        })
+    }
+
+    /// Reads `field` with `read` (one of this module's functions) when present.
+    pub fn opt<T>(
+        &self,
+        field: &str,
+        read: impl FnOnce(&'a toml::Value, &str) -> Result<T, TomlError>,
+    ) -> Result<Option<T>, TomlError> {
+        self.get(field)
+            .map(|v| read(v, &self.key(field)))
+            .transpose()
+    }
+
+    /// Reads `field` with `read`, refused when absent.
+    pub fn req<T>(
+        &self,
+        field: &str,
+        read: impl FnOnce(&'a toml::Value, &str) -> Result<T, TomlError>,
+    ) -> Result<T, TomlError> {
+        read(self.need(field)?, &self.key(field))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn errors_name_the_full_key() {
+        let t = parse("[a]\nx = \"s\"\ny = nan\nz = 2.5\n").unwrap();
+        let a = Section::of(t.get("a").unwrap(), "a", "a table").unwrap();
+        let e = a.req("x", number).unwrap_err().to_string();
+        assert_eq!(e, "`a.x` must be a number, got string");
+        let e = a.req("y", finite).unwrap_err().to_string();
+        assert_eq!(e, "`a.y` = NaN must be finite");
+        let e = a
+            .req("z", |v, k| whole(v, k, 0, 9))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, "`a.z` = 2.5 must be a whole number in [0, 9]");
+        assert_eq!(a.need("w").unwrap_err().to_string(), "`a` needs `w`");
+        let e = a.deny_unknown(&["x", "y"]).unwrap_err().to_string();
+        assert_eq!(e, "unknown key `a.z`; accepted: x, y");
+        assert!(matches!(parse("x = "), Err(TomlError::Malformed(_))));
+    }
+}
