@@ -3,8 +3,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::queries::RowClass;
 use super::report::{Analysis, ReportOptions};
+use crate::classify::Class;
 
 fn pct(p: f64) -> String {
     if p.is_finite() {
@@ -97,7 +97,7 @@ pub fn page(opts: &ReportOptions, a: &Analysis) -> String {
             pct(o.p()),
             pct(lo),
             pct(hi),
-            o.counts.get(RowClass::Stable),
+            o.counts.get(Class::Stable),
             o.counts.no_traction(),
             o.counts.failed()
         );

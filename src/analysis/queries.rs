@@ -15,63 +15,22 @@ use polars::prelude::*;
 use super::inputs::RunInfo;
 use super::stats::{mcnemar, sobol_with_bootstrap, wilson};
 use crate::model::{Variant, Wheel};
+use crate::sampling::design::Design;
 use crate::sampling::distribution::Distribution;
 
-/// Class of a row.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum RowClass {
-    Stable,
-    LimitCycle,
-    Bistable,
-    NoTraction,
-    Failed,
-}
-
-impl RowClass {
-    pub const ALL: [RowClass; 5] = [
-        RowClass::Stable,
-        RowClass::LimitCycle,
-        RowClass::Bistable,
-        RowClass::NoTraction,
-        RowClass::Failed,
-    ];
-
-    /// Any class this version does not know counts as failed (never as stable).
-    pub fn parse(s: &str) -> RowClass {
-        match s {
-            "stable" => RowClass::Stable,
-            "limit_cycle" => RowClass::LimitCycle,
-            "bistable" => RowClass::Bistable,
-            "no_traction" => RowClass::NoTraction,
-            _ => RowClass::Failed,
-        }
-    }
-
-    pub fn as_str(self) -> &'static str {
-        match self {
-            RowClass::Stable => "stable",
-            RowClass::LimitCycle => "limit_cycle",
-            RowClass::Bistable => "bistable",
-            RowClass::NoTraction => "no_traction",
-            RowClass::Failed => "failed",
-        }
-    }
-
-    /// Self-excited vibration (the polygonal-wear risk).
-    pub fn vibrates(self) -> bool {
-        matches!(self, RowClass::LimitCycle | RowClass::Bistable)
-    }
-}
+/// The class of a row is the classifier's own [`Class`]; names are parsed into it, and a
+/// name this version does not know is refused, never counted as something else.
+use crate::classify::Class;
 
 /// Rows per class.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct ClassCounts(pub [u64; 5]);
 
 impl ClassCounts {
-    pub fn add(&mut self, class: RowClass, n: u64) {
+    pub fn add(&mut self, class: Class, n: u64) {
         self.0[class as usize] += n;
     }
-    pub fn get(&self, class: RowClass) -> u64 {
+    pub fn get(&self, class: Class) -> u64 {
         self.0[class as usize]
     }
     pub fn merge(&mut self, other: &ClassCounts) {
@@ -81,17 +40,17 @@ impl ClassCounts {
     }
     /// Rows that vibrate (limit cycle or bistable).
     pub fn vibrating(&self) -> u64 {
-        self.get(RowClass::LimitCycle) + self.get(RowClass::Bistable)
+        self.get(Class::LimitCycle) + self.get(Class::Bistable)
     }
     /// Rows with a verdict: stable, limit cycle or bistable (the denominator of probabilities).
     pub fn classified(&self) -> u64 {
-        self.vibrating() + self.get(RowClass::Stable)
+        self.vibrating() + self.get(Class::Stable)
     }
     pub fn failed(&self) -> u64 {
-        self.get(RowClass::Failed)
+        self.get(Class::Failed)
     }
     pub fn no_traction(&self) -> u64 {
-        self.get(RowClass::NoTraction)
+        self.get(Class::NoTraction)
     }
     pub fn total(&self) -> u64 {
         self.0.iter().sum()
@@ -170,8 +129,8 @@ fn release_freed_memory() {
 
 fn vib_expr() -> Expr {
     col("class")
-        .eq(lit("limit_cycle"))
-        .or(col("class").eq(lit("bistable")))
+        .eq(lit(Class::LimitCycle.as_str()))
+        .or(col("class").eq(lit(Class::Bistable.as_str())))
 }
 
 fn strs(df: &DataFrame, name: &str) -> Result<Vec<String>, String> {
@@ -214,17 +173,12 @@ fn floats(df: &DataFrame, name: &str) -> Result<Vec<f64>, String> {
 /// Rows per class for each combination of `keys`: one group per key combination with a count
 /// column per class (grouping by class as well would multiply the groups by five, and polars'
 /// streaming group-by keeps rows of groups beyond its 4096-entry hot table in memory until the
-/// end). Rows of a class this version does not know count as failed.
+/// end). Rows of a class this version does not know are refused.
 fn class_counts_by(
     lf: LazyFrame,
     keys: Vec<Expr>,
 ) -> Result<(DataFrame, Vec<ClassCounts>), String> {
-    let known = [
-        RowClass::Stable,
-        RowClass::LimitCycle,
-        RowClass::Bistable,
-        RowClass::NoTraction,
-    ];
+    let known = Class::ALL;
     let mut aggs = vec![len().cast(DataType::Int64).alias("n")];
     aggs.extend(known.iter().map(|c| {
         col("class")
@@ -239,18 +193,23 @@ fn class_counts_by(
         .iter()
         .map(|c| ints(&df, &format!("n_{}", c.as_str())))
         .collect::<Result<_, _>>()?;
-    let counts = (0..df.height())
-        .map(|i| {
-            let mut c = ClassCounts::default();
-            let mut known_rows = 0;
-            for (k, class) in known.iter().enumerate() {
-                c.add(*class, per_class[k][i] as u64);
-                known_rows += per_class[k][i];
-            }
-            c.add(RowClass::Failed, (total[i] - known_rows) as u64);
-            c
-        })
-        .collect();
+    let mut counts = Vec::with_capacity(df.height());
+    for i in 0..df.height() {
+        let mut c = ClassCounts::default();
+        let mut known_rows = 0;
+        for (k, class) in known.iter().enumerate() {
+            c.add(*class, per_class[k][i] as u64);
+            known_rows += per_class[k][i];
+        }
+        if known_rows != total[i] {
+            return Err(format!(
+                "{} rows have a `class` this version does not know; accepted: {}",
+                total[i] - known_rows,
+                known.map(|c| c.as_str()).join(", ")
+            ));
+        }
+        counts.push(c);
+    }
     Ok((df, counts))
 }
 
@@ -316,7 +275,7 @@ pub struct Paired {
 fn outcome_code() -> Expr {
     when(vib_expr())
         .then(lit(1i64))
-        .when(col("class").eq(lit("stable")))
+        .when(col("class").eq(lit(Class::Stable.as_str())))
         .then(lit(0i64))
         .otherwise(lit(2i64))
 }
@@ -927,7 +886,7 @@ pub fn sensitivity(
     info: &RunInfo,
     resamples: usize,
 ) -> Result<Option<Vec<Sensitivity>>, String> {
-    if info.design != "saltelli" {
+    if Design::parse(&info.design) != Some(Design::Saltelli) {
         return Ok(None);
     }
     let k = info.drawn_names.len();
@@ -960,10 +919,10 @@ pub fn sensitivity(
         type Block = Option<Option<(f64, f64)>>;
         let mut rows: BTreeMap<i64, Vec<Block>> = BTreeMap::new();
         while i < groups.len() && groups[i] == (variant, wheel) {
-            let c = RowClass::parse(&class[i]);
+            let c: Class = class[i].parse()?;
             let v = if c.vibrates() {
                 Some((1.0, amp[i]))
-            } else if c == RowClass::Stable {
+            } else if c == Class::Stable {
                 Some((0.0, 0.0))
             } else {
                 None
@@ -981,7 +940,7 @@ pub fn sensitivity(
         if complete.len() < 2 {
             continue;
         }
-        for (output, pick) in [("limit_cycle", 0usize), ("amp_v_mps", 1usize)] {
+        for (output, pick) in [(Class::LimitCycle.as_str(), 0usize), ("amp_v_mps", 1usize)] {
             let f = |r: &Vec<(f64, f64)>, b: usize| if pick == 0 { r[b].0 } else { r[b].1 };
             let fa: Vec<f64> = complete.iter().map(|r| f(r, 0)).collect();
             let fb: Vec<f64> = complete.iter().map(|r| f(r, 1)).collect();

@@ -9,6 +9,7 @@ use super::queries::{
     self, BinStat, ClassCounts, Occurrence, Paired, RiskMap, Robustness, RobustnessSummary,
     Sensitivity, Severity, SEVERITY_QUANTITIES,
 };
+use crate::classify::Class;
 use crate::model::{Variant, Wheel};
 use crate::parquet_out::{write_csv, write_table, Column};
 
@@ -280,13 +281,15 @@ fn class_columns<T>(rows: &[T], counts: impl Fn(&T) -> ClassCounts, min_count: u
         }),
         f64_col("wilson95_lo", rows, |r| c(r).wilson().0),
         f64_col("wilson95_hi", rows, |r| c(r).wilson().1),
-        count_col("stable", rows, |r| c(r).get(queries::RowClass::Stable)),
-        count_col("limit_cycle", rows, |r| {
-            c(r).get(queries::RowClass::LimitCycle)
+        count_col(Class::Stable.as_str(), rows, |r| c(r).get(Class::Stable)),
+        count_col(Class::LimitCycle.as_str(), rows, |r| {
+            c(r).get(Class::LimitCycle)
         }),
-        count_col("bistable", rows, |r| c(r).get(queries::RowClass::Bistable)),
-        count_col("no_traction", rows, |r| c(r).no_traction()),
-        count_col("failed", rows, |r| c(r).failed()),
+        count_col(Class::Bistable.as_str(), rows, |r| {
+            c(r).get(Class::Bistable)
+        }),
+        count_col(Class::NoTraction.as_str(), rows, |r| c(r).no_traction()),
+        count_col(Class::Failed.as_str(), rows, |r| c(r).failed()),
     ]
 }
 
