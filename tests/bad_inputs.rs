@@ -14,32 +14,9 @@ use std::time::{Duration, Instant};
 use parquet::file::reader::{FileReader, SerializedFileReader};
 use parquet_rows::rows_in_dir;
 
-/// Runs polywear with a time limit: (exit code, stdout, stderr); panics if it does not end.
+/// Runs polywear with a time limit in seconds (see [`common::polywear_within`]).
 fn run(args: &[&str], limit_s: u64) -> (i32, String, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_polywear"))
-        .args(args)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let t0 = Instant::now();
-    loop {
-        if child.try_wait().unwrap().is_some() {
-            break;
-        }
-        if t0.elapsed() > Duration::from_secs(limit_s) {
-            child.kill().ok();
-            child.wait().ok();
-            panic!("polywear {args:?} did not end within {limit_s} s");
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    let out = child.wait_with_output().unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    common::polywear_within(Duration::from_secs(limit_s), args)
 }
 
 /// Asserts exit 2 with every needle in stderr, within a few seconds (refused before work).

@@ -153,3 +153,53 @@ fn decoding_study_draws_each_decoded_constant_over_its_lost_digit_readings() {
     assert_eq!(seen.len(), 16, "all phi x c_s readings drawn: {seen:?}");
     assert!(seen.contains(&(90, 14)));
 }
+
+#[test]
+fn the_conclusion_holds_for_every_lost_digit_decoding() {
+    // Issue 11 item 5: the shipped decoding study through explore and analyze; the driving wheel
+    // must be less exposed than the follower in every decoding with enough samples.
+    let dir = std::env::temp_dir().join(format!("polywear-decoding-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    let study = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/decoding.toml");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_polywear"))
+        .args([
+            "explore",
+            study,
+            "--quiet",
+            "--no-report",
+            "--samples",
+            "10240",
+            "--out",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_polywear"))
+        .args(["analyze", "--min-count", "15"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let line = stdout
+        .lines()
+        .find(|l| l.contains("lost digits: driving less exposed in"))
+        .unwrap_or_else(|| panic!("no lost-digits line in\n{stdout}"));
+    // "... in N of M decodings (...); K with too few samples"
+    let nums: Vec<u64> = line
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|t| t.parse().ok())
+        .collect();
+    let (n, m) = (nums[0], nums[1]);
+    assert!(m >= 200 && n == m, "{line}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -7,41 +7,13 @@ mod common;
 #[path = "common/parquet_rows.rs"]
 mod parquet_rows;
 
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use common::polywear;
+use common::{polywear, polywear_within};
 use polywear::classify::budget::Meter;
 use polywear::classify::{classify, Class, ClassifierOptions, WheelBudget};
 use polywear::model::{Variant, Wheel, WheelModel};
 use polywear::params::Params;
-
-/// Runs polywear with a time limit: (exit code, stdout, stderr), or panics if it hangs.
-fn polywear_within(limit: Duration, args: &[&str]) -> (i32, String, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_polywear"))
-        .args(args)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            let out = child.wait_with_output().unwrap();
-            return (
-                status.code().unwrap_or(-1),
-                String::from_utf8_lossy(&out.stdout).into_owned(),
-                String::from_utf8_lossy(&out.stderr).into_owned(),
-            );
-        }
-        if start.elapsed() > limit {
-            child.kill().ok();
-            child.wait().ok();
-            panic!("polywear {args:?} did not finish within {limit:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-}
 
 #[test]
 fn tiny_toe_in_does_not_hang() {

@@ -28,6 +28,37 @@ pub struct ReportOptions {
     pub bootstrap: usize,
 }
 
+impl ReportOptions {
+    /// Default bins per axis of the conditional probabilities.
+    pub const DEFAULT_BINS: usize = 20;
+    /// Default bins per axis of the risk maps.
+    pub const DEFAULT_MAP_BINS: usize = 24;
+    /// Default smallest classified count of a shown cell.
+    pub const DEFAULT_MIN_COUNT: u64 = 30;
+    /// Default bootstrap resamples of the Sobol indices' intervals.
+    pub const DEFAULT_BOOTSTRAP: usize = 200;
+
+    /// The risk maps always drawn: speed × toe-in and load × pressure.
+    pub fn default_pairs() -> Vec<(String, String)> {
+        vec![
+            ("speed_kmh".to_string(), "toe_deg".to_string()),
+            ("load_n".to_string(), "pressure_kpa".to_string()),
+        ]
+    }
+
+    /// The default settings, writing into `out_dir` (`explore`'s closing report).
+    pub fn defaults(out_dir: PathBuf) -> Self {
+        ReportOptions {
+            out_dir,
+            bins: Self::DEFAULT_BINS,
+            map_bins: Self::DEFAULT_MAP_BINS,
+            min_count: Self::DEFAULT_MIN_COUNT,
+            pairs: Self::default_pairs(),
+            bootstrap: Self::DEFAULT_BOOTSTRAP,
+        }
+    }
+}
+
 /// Everything computed, for the command's printed summary and the page.
 pub struct Analysis {
     pub info: RunInfo,

@@ -20,20 +20,20 @@ pub struct AnalyzeArgs {
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Bins per axis for conditional probabilities, accepted [2, 200]
-    #[arg(long, default_value_t = 20, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--bins", 2, 200))]
+    #[arg(long, default_value_t = ReportOptions::DEFAULT_BINS, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--bins", 2, 200))]
     pub bins: usize,
     /// Bins per axis for risk maps, accepted [2, 200]
-    #[arg(long, default_value_t = 24, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--map-bins", 2, 200))]
+    #[arg(long, default_value_t = ReportOptions::DEFAULT_MAP_BINS, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--map-bins", 2, 200))]
     pub map_bins: usize,
     /// Cells and bins with fewer samples are shown as "too few", accepted [1, 1e9]
-    #[arg(long, default_value_t = 30, allow_negative_numbers = true, value_parser = super::common::whole_in::<u64>("--min-count", 1, 1_000_000_000))]
+    #[arg(long, default_value_t = ReportOptions::DEFAULT_MIN_COUNT, allow_negative_numbers = true, value_parser = super::common::whole_in::<u64>("--min-count", 1, 1_000_000_000))]
     pub min_count: u64,
     /// Extra risk map over two drawn parameters, e.g. `--pair g_mod,load_n` (repeatable); the
     /// maps speed_kmh,toe_deg and load_n,pressure_kpa are always drawn
     #[arg(long, value_name = "X,Y", value_parser = parse_pair)]
     pub pair: Vec<(String, String)>,
     /// Bootstrap resamples for the Sobol indices' intervals, accepted [10, 100000]
-    #[arg(long, default_value_t = 200, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--bootstrap", 10, 100_000))]
+    #[arg(long, default_value_t = ReportOptions::DEFAULT_BOOTSTRAP, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--bootstrap", 10, 100_000))]
     pub bootstrap: usize,
 }
 
@@ -51,21 +51,6 @@ fn parse_pair(s: &str) -> Result<(String, String), String> {
         return Err(format!("--pair `{s}`: the two axes must differ"));
     }
     Ok((a.to_string(), b.to_string()))
-}
-
-/// `analyze`'s flags as a standalone parser, so other commands get the same defaults.
-#[derive(clap::Parser)]
-struct Standalone {
-    #[command(flatten)]
-    args: AnalyzeArgs,
-}
-
-impl AnalyzeArgs {
-    /// Default settings for `dir` (used by `explore` for its closing report).
-    pub fn for_dir(dir: PathBuf) -> Self {
-        use clap::Parser;
-        Standalone::parse_from([std::ffi::OsString::from("analyze"), dir.into_os_string()]).args
-    }
 }
 
 pub fn run(args: &AnalyzeArgs) -> CliResult {
@@ -86,12 +71,6 @@ pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
             )));
         }
     }
-    let start = Instant::now();
-    // Footers and manifests only: inputs that do not belong together stop here, before any work.
-    let info = check_inputs(&args.inputs).map_err(CliError)?;
-    if info.rows == 0 {
-        return Err(CliError("the inputs hold no rows".into()));
-    }
     let out_dir = args.out.clone().unwrap_or_else(|| {
         let first = &args.inputs[0];
         if first.is_dir() {
@@ -101,24 +80,34 @@ pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
             first.with_extension("report")
         }
     });
-    let mut pairs = vec![
-        ("speed_kmh".to_string(), "toe_deg".to_string()),
-        ("load_n".to_string(), "pressure_kpa".to_string()),
-    ];
+    let mut pairs = ReportOptions::default_pairs();
     for p in &args.pair {
         if !pairs.contains(p) {
             pairs.push(p.clone());
         }
     }
     let opts = ReportOptions {
-        out_dir: out_dir.clone(),
+        out_dir,
         bins: args.bins,
         map_bins: args.map_bins,
         min_count: args.min_count,
         pairs,
         bootstrap: args.bootstrap,
     };
-    let a = analyze(info, &opts).map_err(CliError)?;
+    report(&args.inputs, &opts, verbose)
+}
+
+/// The analysis API for the command line: checks the inputs (footers and manifests only, so
+/// inputs that do not belong together stop here, before any work), writes the report, and
+/// prints the summary when `verbose`. `explore` calls it for its closing report.
+pub fn report(inputs: &[PathBuf], opts: &ReportOptions, verbose: bool) -> CliResult {
+    let start = Instant::now();
+    let info = check_inputs(inputs).map_err(CliError)?;
+    if info.rows == 0 {
+        return Err(CliError("the inputs hold no rows".into()));
+    }
+    let out_dir = opts.out_dir.clone();
+    let a = analyze(info, opts).map_err(CliError)?;
     let report = out_dir.join("report.md");
     if a.nothing_classified() {
         let t = a.totals();

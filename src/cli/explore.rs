@@ -177,8 +177,9 @@ pub fn run(args: &ExploreArgs) -> CliResult {
     }
     // The analysis of the whole output directory (this shard's files), unless asked not to.
     if !args.no_report {
-        super::analyze::run_with(
-            &super::analyze::AnalyzeArgs::for_dir(plan.out_dir.clone()),
+        super::analyze::report(
+            std::slice::from_ref(&plan.out_dir),
+            &polywear::analysis::report::ReportOptions::defaults(plan.out_dir.join("_report")),
             !args.quiet,
         )?;
     }

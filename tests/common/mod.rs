@@ -54,3 +54,34 @@ pub fn explore_default(samples: &str, dir: &std::path::Path) {
     ]);
     assert_eq!(code, 0, "{stderr}");
 }
+
+/// Runs the polywear binary with a time limit: (exit code, stdout, stderr); panics when it does
+/// not end in time, so that a hang fails the test instead of stalling the suite.
+#[allow(dead_code)]
+pub fn polywear_within(limit: std::time::Duration, args: &[&str]) -> (i32, String, String) {
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_polywear"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    loop {
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        if start.elapsed() > limit {
+            child.kill().ok();
+            child.wait().ok();
+            panic!("polywear {args:?} did not end within {limit:?}");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let out = child.wait_with_output().unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
