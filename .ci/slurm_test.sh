@@ -3,7 +3,8 @@
 # slurmd, submits README.md's job-array recipe word for word (4 shards of a small study, one of
 # them empty), waits, analyses the shard directories together, and checks that the rows and the
 # occurrence table equal a single-machine run. Stops the daemons it started, whatever happens.
-# Needs root (apt-get, daemons) and target/release/polywear (built here if absent).
+# Needs root (apt-get, daemons) and the release binary (built here if absent; CARGO_TARGET_DIR
+# is honoured).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 REPO=$(pwd)
@@ -14,7 +15,8 @@ if ! command -v slurmctld >/dev/null || ! command -v munged >/dev/null; then
   apt-get update -qq
   apt-get install -y -qq slurm-wlm munge >/dev/null
 fi
-[ -x target/release/polywear ] || cargo build --release --quiet
+BIN_DIR="${CARGO_TARGET_DIR:-$REPO/target}/release"
+[ -x "$BIN_DIR/polywear" ] || cargo build --release --quiet
 
 WORK=$(mktemp -d /tmp/polywear-slurm.XXXXXX)
 mkdir -p "$WORK/state" "$WORK/spool" "$WORK/munge" "$WORK/run"
@@ -117,7 +119,7 @@ load_n = { dist = "uniform", min = 3000, max = 5500 }
 pressure_kpa = { dist = "uniform", min = 200, max = 300 }
 TOML
 cd "$WORK/job"
-JOB=$(PATH="$REPO/target/release:$PATH" STUDY=small.toml SAMPLES=300 OUT=results \
+JOB=$(PATH="$BIN_DIR:$PATH" STUDY=small.toml SAMPLES=300 OUT=results \
   sbatch --parsable --export=ALL "$WORK/polywear.sbatch")
 echo "submitted job array $JOB"
 for _ in $(seq 600); do
@@ -133,7 +135,7 @@ done
 grep -q "no rows" results/shard-3/_report/report.md || { echo "the empty shard's report does not say it holds no rows"; exit 1; }
 
 echo "== slurm: analyze the shards, compare with a single-machine run"
-P="$REPO/target/release/polywear"
+P="$BIN_DIR/polywear"
 "$P" analyze results/shard-* --out sharded_report
 "$P" explore small.toml --samples 300 --out single --quiet --no-report
 "$P" analyze single --out single_report >/dev/null
