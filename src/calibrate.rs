@@ -396,6 +396,15 @@ pub fn parse_problem(text: &str) -> Result<Problem, TargetsError> {
     })
 }
 
+/// `p` with a target's `at` values set (the point where it is observed).
+fn at_point(p: &Params, at: &[(&'static str, f64)]) -> Params {
+    let mut q = *p;
+    for (k, x) in at {
+        *q.get_mut(k).expect("known") = *x;
+    }
+    q
+}
+
 /// The model's value of a target's observable (NaN when undefined, e.g. no Hopf point in range).
 pub fn observe(t: &Target, p: &Params) -> f64 {
     match &t.observable {
@@ -415,18 +424,12 @@ pub fn observe(t: &Target, p: &Params) -> f64 {
             f64::NAN
         }
         Observable::Frequency { at } => {
-            let mut q = *p;
-            for (k, x) in at {
-                *q.get_mut(k).expect("known") = *x;
-            }
+            let q = at_point(p, at);
             WheelModel::build(&q, t.wheel, t.variant)
                 .map_or(f64::NAN, |m| m.ode.linear_stability().eig_freq_hz)
         }
         Observable::AmplitudeRatio { at, relative_to } => {
-            let mut q = *p;
-            for (k, x) in at {
-                *q.get_mut(k).expect("known") = *x;
-            }
+            let q = at_point(p, at);
             let opts = ClassifierOptions::default();
             let amp = |wheel| {
                 let (_, v) = classify_point(&q, wheel, t.variant, &opts);

@@ -95,7 +95,12 @@ impl PreparedOutput {
 
     /// Samples still to do.
     pub fn pending_samples(&self, plan: &RunPlan) -> u64 {
-        plan.owned_samples() - self.kept.iter().map(|c| plan.chunk_len(*c)).sum::<u64>()
+        plan.owned_samples() - self.kept_samples(plan)
+    }
+
+    /// Samples of the chunks kept from an earlier run.
+    pub fn kept_samples(&self, plan: &RunPlan) -> u64 {
+        self.kept.iter().map(|c| plan.chunk_len(*c)).sum()
     }
 }
 
@@ -359,7 +364,7 @@ impl RunPlan {
             ..ClassifierOptions::default()
         };
         let summary = RunSummary {
-            samples_skipped: self.owned_samples() - out.pending_samples(self),
+            samples_skipped: out.kept_samples(self),
             ..RunSummary::default()
         };
         let pipe = Pipeline {

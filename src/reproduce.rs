@@ -329,7 +329,6 @@ pub fn paired_comparison(base: &Params, samples: u64) -> Result<Vec<PairedRow>, 
         .into_par_iter()
         .map(|i| crate::explore::evaluate_sample(&study, &sampler, i, &opts))
         .collect();
-    let vibrates = |r: &WheelRecord| r.class.vibrates();
     let classified = |r: &WheelRecord| !matches!(r.class, Class::Failed | Class::NoTraction);
     Ok(Variant::ALL
         .iter()
@@ -355,7 +354,7 @@ pub fn paired_comparison(base: &Params, samples: u64) -> Result<Vec<PairedRow>, 
                 if !classified(f) || !classified(d) {
                     continue;
                 }
-                let (vf, vd) = (vibrates(f), vibrates(d));
+                let (vf, vd) = (f.class.vibrates(), d.class.vibrates());
                 row.samples += 1;
                 row.follower += u64::from(vf);
                 row.driving += u64::from(vd);

@@ -3,6 +3,9 @@
 //! driving range inside the follower's, the default study's paired comparison, and the literal
 //! equations' reversed answer kept visible.
 
+mod common;
+
+use common::polywear;
 use polywear::bifurcation::{linspace, sweep};
 use polywear::classify::ClassifierOptions;
 use polywear::model::{Variant, Wheel, WheelModel};
@@ -161,35 +164,20 @@ fn the_conclusion_holds_for_every_lost_digit_decoding() {
     let dir = std::env::temp_dir().join(format!("polywear-decoding-{}", std::process::id()));
     std::fs::remove_dir_all(&dir).ok();
     let study = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/decoding.toml");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_polywear"))
-        .args([
-            "explore",
-            study,
-            "--quiet",
-            "--no-report",
-            "--samples",
-            "10240",
-            "--out",
-        ])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_polywear"))
-        .args(["analyze", "--min-count", "15"])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = dir.to_str().unwrap();
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        study,
+        "--quiet",
+        "--no-report",
+        "--samples",
+        "10240",
+        "--out",
+        out,
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let (code, stdout, stderr) = polywear(&["analyze", "--min-count", "15", out]);
+    assert_eq!(code, 0, "{stderr}");
     let line = stdout
         .lines()
         .find(|l| l.contains("lost digits: driving less exposed in"))
