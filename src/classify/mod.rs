@@ -278,6 +278,26 @@ pub struct CycleHint {
     pub dz_rel: f64,
     /// v / U.
     pub v_rel: f64,
+    /// That wheel's growth of small oscillations per period, e^{Re λ T} − 1.
+    pub q0: f64,
+}
+
+impl CycleHint {
+    /// The starting point on the section of a wheel whose small oscillations grow by `q0` per
+    /// period. The Hopf normal form puts the cycle's amplitude at √(q0 / c): with the cubic
+    /// coefficient c taken as the neighbour's, the amplitude scales by √(q0 / q0_neighbour)
+    /// (bounded, for neighbours whose c differs a lot).
+    pub fn guess(&self, scales: &Scales, q0: f64) -> (f64, f64) {
+        let k = if q0 > 0.0 && self.q0 > 0.0 {
+            (q0 / self.q0).sqrt().clamp(0.1, 10.0)
+        } else {
+            1.0
+        };
+        (
+            scales.z_eq + k * self.dz_rel * scales.z,
+            k * self.v_rel * scales.v,
+        )
+    }
 }
 
 /// The verdict for one tread ODE (step 9). `rotation_hz` converts frequency to polygon order.
@@ -305,6 +325,7 @@ pub fn classify_hinted(
     let next = (v.class.vibrates() && v.section_v_mps > 0.0).then(|| CycleHint {
         dz_rel: (v.section_z_m - scales.z_eq) / scales.z,
         v_rel: v.section_v_mps / scales.v,
+        q0: (v.eig_re_max / v.eig_freq_hz).exp_m1(),
     });
     (v, next)
 }
@@ -336,22 +357,15 @@ fn classify_metered(
                 .into(),
         );
     }
-    let (guess_rtol, coarse_rtol) = if oscillatory {
-        shooting::coarse_tolerances(lin.eig_re_max / lin.eig_freq_hz, opts.rtol)
+    // Growth per linear period, Re λ·T; a real unstable eigenvalue has no period to shoot over.
+    let growth = if oscillatory {
+        lin.eig_re_max / lin.eig_freq_hz
     } else {
-        (shooting::GUESS_RTOL, shooting::COARSE_RTOL)
+        f64::INFINITY
     };
-    let newton = |z: f64, v: f64, period: f64| {
-        shooting::newton_orbit(
-            ode,
-            &scales,
-            z,
-            v,
-            period,
-            (coarse_rtol, opts.rtol),
-            opts.newton_tol,
-            meter,
-        )
+    let tols = shooting::Tolerances::for_growth(growth, opts.rtol);
+    let newton = |guess: (f64, f64), period: f64| {
+        shooting::newton_orbit(ode, &scales, guess, period, &tols, opts.newton_tol, meter)
     };
 
     if lin.eig_re_max < 0.0 {
@@ -368,7 +382,7 @@ fn classify_metered(
             let start = [scales.z_eq + kick * dz, scales.y_eq, kick];
             match envelope::track(ode, &scales, start, opts.fallback_max_s, opts.rtol, meter) {
                 Ok(Envelope::Settles { z, v }) => {
-                    if let Ok(orbit) = newton(z, v, period) {
+                    if let Ok(orbit) = newton((z, v), period) {
                         if orbit.floquet_max < 1.0 {
                             let mut v = cycle_verdict(&orbit, &lin, rotation_hz);
                             v.class = Class::Bistable;
@@ -387,27 +401,37 @@ fn classify_metered(
     }
 
     // Unstable equilibrium: find the limit cycle by shooting, from the neighbouring wheel's
-    // cycle when there is one, else from the Hopf direction with a bracketed amplitude.
+    // cycle when there is one, else from the Hopf direction with an amplitude predicted by the
+    // normal form; a failed Newton is retried once from a closer guess.
     if oscillatory {
         let period = 1.0 / lin.eig_freq_hz;
-        let hinted = hint.and_then(|h| {
-            let orbit = newton(
-                scales.z_eq + h.dz_rel * scales.z,
-                h.v_rel * scales.v,
-                period,
-            );
-            orbit.ok().filter(|o| o.floquet_max < 1.0)
-        });
-        if let Some(orbit) = hinted {
+        let q0 = growth.exp_m1();
+        let attracting =
+            |o: Result<shooting::PeriodicOrbit, String>| o.ok().filter(|o| o.floquet_max < 1.0);
+        if let Some(orbit) = hint.and_then(|h| attracting(newton(h.guess(&scales, q0), period))) {
             return cycle_verdict(&orbit, &lin, rotation_hz);
         }
         let dz = hopf_dz_per_v(ode, lin.leading);
-        let shot =
-            shooting::amplitude_guess(ode, &scales, dz, 0.3 * scales.v, period, guess_rtol, meter)
-                .and_then(|(z, v)| newton(z, v, period));
-        if let Ok(orbit) = shot {
-            if orbit.floquet_max < 1.0 {
+        for handoff in [shooting::HANDOFF, shooting::HANDOFF_CLOSE] {
+            let guess = shooting::amplitude_guess(
+                ode,
+                &scales,
+                dz,
+                q0,
+                0.3 * scales.v,
+                period,
+                tols.guess,
+                handoff,
+                meter,
+            );
+            let Ok(guess) = guess else {
+                break;
+            };
+            if let Some(orbit) = attracting(newton(guess, period)) {
                 return cycle_verdict(&orbit, &lin, rotation_hz);
+            }
+            if meter.exceeded().is_some() {
+                break;
             }
         }
     }
@@ -430,7 +454,7 @@ fn classify_metered(
             } else {
                 4e-3
             };
-            match newton(z, v, period) {
+            match newton((z, v), period) {
                 Ok(orbit) => {
                     let mut v = cycle_verdict(&orbit, &lin, rotation_hz);
                     v.method = Method::Envelope;
