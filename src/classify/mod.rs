@@ -4,9 +4,10 @@
 //!
 //! Route (fast and exact): linear stability at the equilibrium decides the onset; an unstable
 //! equilibrium's limit cycle is found directly by shooting (Newton on the Poincaré return map),
-//! started from the Hopf direction with a bracketed amplitude; long integration with envelope
-//! tracking is the fallback when shooting fails, and the optional hard-excitation check looks for
-//! a cycle coexisting with a stable equilibrium.
+//! started from the Hopf direction with an amplitude predicted by the normal form (or from the
+//! neighbouring wheel's cycle); long integration with envelope tracking is the fallback when
+//! shooting fails, and the optional hard-excitation check looks for a cycle coexisting with a
+//! stable equilibrium.
 
 pub mod budget;
 pub mod envelope;
@@ -442,6 +443,12 @@ fn classify_metered(
     // Fallback: follow the trajectory from the disturbed equilibrium.
     let start = [scales.z_eq, scales.y_eq + opts.disturbance_m, 0.0];
     match envelope::track(ode, &scales, start, opts.fallback_max_s, opts.rtol, meter) {
+        // Small oscillations cannot die out around an unstable equilibrium: the envelope has
+        // mistaken the fast mode's decay, or a growth too slow to see, for the verdict.
+        Ok(Envelope::Decays) if lin.eig_re_max > 0.0 => fail(format!(
+            "the envelope decayed although the equilibrium is unstable (Re λ = {:.3e} 1/s)",
+            lin.eig_re_max
+        )),
         Ok(Envelope::Decays) => WheelVerdict::without_cycle(
             Class::Stable,
             lin.eig_re_max,
