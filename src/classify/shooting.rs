@@ -350,11 +350,14 @@ struct MapPoint {
     image: (f64, f64),
 }
 
-/// How close to the cycle the guess must be before Newton takes over: |q| below this share of
-/// q(0) when the cycle's amplitude is bracketed (the prediction then interpolates), and below
-/// the second share when it is still extrapolated. Near onset q is linear in s, so
-/// |q| / q(0) ≈ 2 × the amplitude's relative error; Newton converges from well beyond that, and
-/// one Newton iteration costs one return where a map evaluation costs two.
+/// How close to the cycle the guess must be before Newton takes over: the predicted s* within
+/// this share of the last evaluated s (|s* − s| < share · s*), the first share when the cycle's
+/// amplitude is bracketed (the prediction then interpolates), the second while it is still
+/// extrapolated. Near onset q is linear in s and this is |q| < share · q(0); judged by q/q(0)
+/// itself, a large cycle just past onset, whose growth rises to 100 q(0) before it falls through
+/// zero, never passed. Newton converges from well beyond these (one iteration costs one return,
+/// a map evaluation two or three); the shares (1.0, 0.6) cost 813 evaluations per limit-cycle
+/// wheel on 20,000 default-study samples against 827 for (0.6, 0.3), with no failures either way.
 pub const HANDOFF: (f64, f64) = (1.0, 0.6);
 
 /// A guess that needs Newton to start closer (the retry after a failed Newton).
