@@ -32,6 +32,28 @@ fn refused(args: &[&str], needles: &[&str]) {
     assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
 }
 
+/// `polywear explore STUDY --samples SAMPLES --threads 1 EXTRA --out OUT` in the background
+/// (quiet, no closing report), for tests that watch or kill a run in progress.
+fn spawn_explore(study: &Path, samples: &str, extra: &[&str], out: &Path) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_polywear"))
+        .args(["explore", "--quiet", "--no-report", study.to_str().unwrap()])
+        .args(["--samples", samples, "--threads", "1"])
+        .args(extra)
+        .args(["--out", out.to_str().unwrap()])
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap()
+}
+
+/// Polls `done` every 10 ms until it holds or 30 s have passed; returns the time waited.
+fn wait_up_to_30s(mut done: impl FnMut() -> bool) -> Duration {
+    let t0 = Instant::now();
+    while !done() && t0.elapsed() < Duration::from_secs(30) {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    t0.elapsed()
+}
+
 fn tmp(name: &str) -> PathBuf {
     let d = common::fresh_dir(&format!("bad-{name}"));
     std::fs::create_dir_all(&d).unwrap();
@@ -471,24 +493,9 @@ fn a_second_run_on_the_same_out_is_refused_with_the_holders_pid() {
     let dir = tmp("lock");
     let s = study(&dir, "lk", "");
     let out = dir.join("out");
-    let mut first = Command::new(env!("CARGO_BIN_EXE_polywear"))
-        .args(["explore", "--quiet", "--no-report", s.to_str().unwrap()])
-        .args([
-            "--samples",
-            "1e9",
-            "--threads",
-            "1",
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    let mut first = spawn_explore(&s, "1e9", &[], &out);
     let pid = first.id().to_string();
-    let t0 = Instant::now();
-    while !out.join("_manifest.json").exists() && t0.elapsed() < Duration::from_secs(30) {
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    wait_up_to_30s(|| out.join("_manifest.json").exists());
     for extra in [&["--resume"][..], &[]] {
         refused(
             &[
@@ -531,24 +538,8 @@ fn startup_is_not_quadratic_in_the_chunk_count() {
     let dir = tmp("startup");
     let s = study(&dir, "big", "");
     let out = dir.join("out");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_polywear"))
-        .args(["explore", "--quiet", "--no-report", s.to_str().unwrap()])
-        .args([
-            "--samples",
-            "1e10",
-            "--threads",
-            "1",
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let t0 = Instant::now();
-    while !out.join("chunk-0000000.parquet").exists() && t0.elapsed() < Duration::from_secs(30) {
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let took = t0.elapsed();
+    let mut child = spawn_explore(&s, "1e10", &[], &out);
+    let took = wait_up_to_30s(|| out.join("chunk-0000000.parquet").exists());
     child.kill().unwrap();
     child.wait().unwrap();
     assert!(
@@ -556,21 +547,7 @@ fn startup_is_not_quadratic_in_the_chunk_count() {
         "no chunk after {took:?}"
     );
     // Resuming it is as quick: verification is linear in the files present.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_polywear"))
-        .args(["explore", "--quiet", "--no-report", s.to_str().unwrap()])
-        .args([
-            "--samples",
-            "1e10",
-            "--threads",
-            "1",
-            "--resume",
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let t0 = Instant::now();
+    let mut child = spawn_explore(&s, "1e10", &["--resume"], &out);
     let next = |o: &Path| {
         std::fs::read_dir(o)
             .unwrap()
@@ -584,15 +561,9 @@ fn startup_is_not_quadratic_in_the_chunk_count() {
             .count()
     };
     let before = next(&out);
-    while next(&out) <= before && t0.elapsed() < Duration::from_secs(30) {
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    let took = wait_up_to_30s(|| next(&out) > before);
     child.kill().unwrap();
     child.wait().unwrap();
-    assert!(
-        next(&out) > before,
-        "resume wrote nothing in {:?}",
-        t0.elapsed()
-    );
+    assert!(next(&out) > before, "resume wrote nothing in {took:?}");
     std::fs::remove_dir_all(&dir).ok();
 }
