@@ -35,13 +35,7 @@ ref = {(int(r.sample_id), r.wheel): (r["class"], r.eig_re_max) for _, r in df.it
 
 
 def agreement(rows):
-    ok = cmp_ = 0
-    for i, wheel, cls in rows:
-        want, re = ref[(i, wheel)]
-        if abs(re) >= 0.05:
-            cmp_ += 1
-            ok += (cls == "limit_cycle") == (want in ("limit_cycle", "bistable"))
-    return f"{ok}/{cmp_}"
+    return "{}/{}".format(*model.class_agreement(rows, ref))
 
 
 def row(name, samples, secs, c, evals, rows):

@@ -41,14 +41,7 @@ ref = {(r.point, r.wheel): (r["class"], r.eig_re_max) for _, r in poly.iterrows(
 
 
 def agreement(rows):
-    """(agreeing, compared) outside the Hopf band |Re lambda| < 0.05."""
-    ok = n = 0
-    for i, wheel, cls in rows:
-        want, re = ref[(i, wheel)]
-        if abs(re) >= 0.05:
-            n += 1
-            ok += (cls == "limit_cycle") == (want in ("limit_cycle", "bistable"))
-    return ok, n
+    return model.class_agreement(rows, ref)
 
 
 results = [("polywear (shooting)", n_points, t_poly, cores, *agreement(

@@ -13,6 +13,23 @@ DEFAULTS = dict(
 )
 
 
+# Points closer to the Hopf boundary than this (|Re lambda| in 1/s) are not compared: there a
+# fixed integration horizon cannot settle (polywear's `validation::HOPF_BAND`).
+HOPF_BAND = 0.05
+
+
+def class_agreement(rows, ref):
+    """(agreeing, compared) classes of a peer's rows (index, wheel, class) against polywear's
+    `ref` {(index, wheel): (class, eig_re_max)}, outside the Hopf band."""
+    ok = n = 0
+    for i, wheel, cls in rows:
+        want, re = ref[(i, wheel)]
+        if abs(re) >= HOPF_BAND:
+            n += 1
+            ok += (cls == "limit_cycle") == (want in ("limit_cycle", "bistable"))
+    return ok, n
+
+
 def statics(p, wheel):
     """Steps 1-7: the tread ODE's coefficients and equilibrium for one wheel, or None (no traction)."""
     tan_a = math.tan(math.radians(p["toe_deg"]))
