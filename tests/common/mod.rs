@@ -15,6 +15,38 @@ pub fn polywear(args: &[&str]) -> (i32, String, String) {
     )
 }
 
+/// Whether python3 can import `modules`. When it cannot, the test that asks is skipped with a
+/// message written past libtest's capture (so it shows in the test output), unless
+/// `POLYWEAR_REQUIRE_PYTHON=1` is set (as `.ci/run` sets it): then the missing reader fails the
+/// test. `cargo test --release` thus passes on a machine without pandas, and CI cannot skip.
+#[allow(dead_code)]
+pub fn python_has(modules: &[&str]) -> bool {
+    use std::io::Write;
+    let import = format!("import {}", modules.join(", "));
+    let found = Command::new("python3")
+        .args(["-c", &import])
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false);
+    if found {
+        return true;
+    }
+    let required = std::env::var("POLYWEAR_REQUIRE_PYTHON").is_ok_and(|v| v == "1");
+    assert!(
+        !required,
+        "POLYWEAR_REQUIRE_PYTHON=1 but `python3 -c '{import}'` fails: install {}",
+        modules.join(" and ")
+    );
+    // Written to the process's stderr directly: libtest captures only the print macros.
+    let _ = writeln!(
+        std::io::stderr(),
+        "SKIPPED ({}): python3 cannot `{import}`; install them, or set \
+         POLYWEAR_REQUIRE_PYTHON=1 to make this a failure",
+        std::thread::current().name().unwrap_or("test")
+    );
+    false
+}
+
 /// Runs a Python script with arguments; panics with its stderr unless it succeeds.
 #[allow(dead_code)]
 pub fn python(script: &str, args: &[&str]) -> String {
