@@ -941,7 +941,17 @@ pub fn sensitivity(
             continue;
         }
         for (output, pick) in [(Class::LimitCycle.as_str(), 0usize), ("amp_v_mps", 1usize)] {
-            let f = |r: &Vec<(f64, f64)>, b: usize| if pick == 0 { r[b].0 } else { r[b].1 };
+            let raw = |r: &Vec<(f64, f64)>, b: usize| if pick == 0 { r[b].0 } else { r[b].1 };
+            // Outputs centred on the mean of every evaluated row (A, B and all AB blocks), as
+            // SALib's `sobol.analyze` does: the first-order estimator mean(f_B (f_ABi − f_A))
+            // is not shift-invariant, and centring lowers its variance. Total indices and the
+            // variance are unchanged by the shift.
+            let mean = complete
+                .iter()
+                .map(|r| (0..k + 2).map(|b| raw(r, b)).sum::<f64>())
+                .sum::<f64>()
+                / (complete.len() * (k + 2)) as f64;
+            let f = |r: &Vec<(f64, f64)>, b: usize| raw(r, b) - mean;
             let fa: Vec<f64> = complete.iter().map(|r| f(r, 0)).collect();
             let fb: Vec<f64> = complete.iter().map(|r| f(r, 1)).collect();
             for (m, name) in info.drawn_names.iter().enumerate() {

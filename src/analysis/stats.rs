@@ -55,7 +55,9 @@ pub fn mcnemar(b: u64, c: u64) -> (f64, f64, &'static str) {
 /// First-order and total Sobol indices of one input from a Saltelli design:
 /// `f_a`, `f_b` the outputs on the two base matrices and `f_ab` on A with column i from B.
 /// First order: Saltelli et al. (2010), mean(f_B (f_ABi − f_A)) / V; total: Jansen (1999),
-/// mean((f_A − f_ABi)²) / 2V; V the variance of f_A and f_B together.
+/// mean((f_A − f_ABi)²) / 2V; V the variance of f_A and f_B together. The first-order estimator
+/// is not shift-invariant: callers centre the outputs on the mean of all evaluated rows first, as
+/// SALib does.
 pub fn sobol_indices(f_a: &[f64], f_b: &[f64], f_ab: &[f64]) -> (f64, f64) {
     let n = f_a.len() as f64;
     let all = f_a.iter().chain(f_b);
