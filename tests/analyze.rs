@@ -530,3 +530,54 @@ fn pairing_by_row_order_equals_pairing_by_sample_id() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_grid_axis_of_one_level_is_labelled_with_the_value_sampled() {
+    // A uniform grid axis with count = 1 samples the middle of its range; the analysis labels
+    // the level with that value, never with `min`.
+    let dir = tmp("grid-one-level");
+    let study = dir.join("one_level.toml");
+    std::fs::write(
+        &study,
+        r#"name = "one_level"
+design = "grid"
+[params]
+speed_kmh = { dist = "uniform", min = 80, max = 160, count = 3 }
+toe_deg = { dist = "uniform", min = 0.2, max = 0.4, count = 1 }
+"#,
+    )
+    .unwrap();
+    let out = dir.join("run");
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        study.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let rows = parquet_rows::rows(&out.join("_report/conditional.parquet"));
+    let toe_mids: Vec<f64> = rows
+        .iter()
+        .filter(|r| r["axis"] == Field::Str("toe_deg".into()))
+        .map(|r| match r["bin_mid"] {
+            Field::Double(x) => x,
+            ref other => panic!("bin_mid {other:?}"),
+        })
+        .collect();
+    assert!(!toe_mids.is_empty(), "no toe_deg rows");
+    for mid in toe_mids {
+        assert!(
+            (mid - 0.3).abs() < 1e-12,
+            "toe level labelled {mid}, sampled 0.3"
+        );
+    }
+    // Every sample really was drawn at toe 0.3.
+    for r in parquet_rows::rows(&out.join("chunk-0000000.parquet")) {
+        let Field::Double(toe) = r["toe_deg"] else {
+            panic!("toe_deg {:?}", r["toe_deg"])
+        };
+        assert!((toe - 0.3).abs() < 1e-12, "sampled toe {toe}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -573,23 +573,16 @@ pub fn axis_bins(
     Bins::equal_width(lo, hi, n_bins)
 }
 
-/// The levels a study draws a parameter from: `levels`, or a grid's `count` values.
+/// The levels a study draws a parameter from: `levels`, or a grid's `count` values, as the
+/// sampler itself lists them ([`Distribution::grid_values`]), so a label is always a sampled value.
 pub fn study_levels(info: &RunInfo, name: &str) -> Option<Vec<f64>> {
     let study = info.parsed_study()?;
     let d = study.drawn.iter().find(|d| d.name == name)?;
     match &d.dist {
-        Distribution::Levels(l) => Some(l.clone()),
-        Distribution::Uniform {
-            min,
-            max,
-            count: Some(c),
-        } if study.design.as_str() == "grid" => Some(if *c <= 1 {
-            vec![*min]
-        } else {
-            (0..*c)
-                .map(|i| min + (max - min) * i as f64 / (*c - 1) as f64)
-                .collect()
-        }),
+        Distribution::Levels(_) => d.dist.grid_values(),
+        Distribution::Uniform { count: Some(_), .. } if study.design == Design::Grid => {
+            d.dist.grid_values()
+        }
         _ => None,
     }
 }

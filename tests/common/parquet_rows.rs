@@ -21,3 +21,19 @@ pub fn rows_in_dir(dirs: &[&Path]) -> Vec<String> {
     }
     rows
 }
+
+/// Every row of one Parquet file as a map from column name to value.
+#[allow(dead_code)]
+pub fn rows(file: &Path) -> Vec<std::collections::HashMap<String, parquet::record::Field>> {
+    let reader = SerializedFileReader::new(std::fs::File::open(file).unwrap()).unwrap();
+    reader
+        .get_row_iter(None)
+        .unwrap()
+        .map(|row| {
+            row.unwrap()
+                .get_column_iter()
+                .map(|(name, field)| (name.clone(), field.clone()))
+                .collect()
+        })
+        .collect()
+}
