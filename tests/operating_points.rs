@@ -375,3 +375,17 @@ fn resume_refuses_a_changed_file() {
     assert!(err.contains("operating-point file changed"), "{err}");
     std::fs::remove_dir_all(&d).ok();
 }
+
+#[test]
+fn the_shipped_fleet_study_parses_beside_its_file() {
+    let studies = Path::new(env!("CARGO_MANIFEST_DIR")).join("studies");
+    let text = std::fs::read_to_string(studies.join("fleet_telematics.toml")).unwrap();
+    let s = Study::parse_at(&text, Params::default(), &studies).unwrap();
+    let op = s.operating_points.as_ref().unwrap();
+    assert_eq!(op.names, ["speed_kmh", "load_n", "pressure_kpa", "toe_deg"]);
+    assert!(op.weights.contains(&0.0), "a zero-hours bin");
+    let hours: f64 = op.weights.iter().sum();
+    for (i, w) in op.weights.iter().enumerate() {
+        assert!((op.probability(i) - w / hours).abs() < 1e-12);
+    }
+}
