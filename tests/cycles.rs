@@ -328,3 +328,23 @@ fn same_rows_whatever_threads_and_shares_over_structures() {
     assert_eq!(distinct.len(), 8, "one structure per sample: {g:?}");
     std::fs::remove_dir_all(&d).ok();
 }
+
+#[test]
+fn a_parquet_cycle_reads_as_its_csv() {
+    use polywear::parquet_out::{write_table, Column};
+    let d = dir("parquet");
+    let csv = DriveCycle::read(&shipped("us06.csv")).unwrap();
+    let cols = vec![
+        Column::i64(
+            "time_s",
+            "s",
+            csv.time_s.iter().map(|t| *t as i64).collect(),
+        ),
+        Column::f64("speed_kmh", "km/h", csv.speed_kmh.clone()),
+    ];
+    let p = d.join("us06.parquet");
+    write_table(&p, &cols, &[]).unwrap();
+    let pq = DriveCycle::read(&p).unwrap();
+    assert_eq!((pq.time_s, pq.speed_kmh), (csv.time_s, csv.speed_kmh));
+    std::fs::remove_dir_all(&d).ok();
+}

@@ -389,3 +389,36 @@ fn the_shipped_fleet_study_parses_beside_its_file() {
         assert!((op.probability(i) - w / hours).abs() < 1e-12);
     }
 }
+
+#[test]
+fn a_parquet_file_is_read_like_the_csv_and_refused_like_it() {
+    use polywear::parquet_out::{write_table, Column};
+    let d = dir("parquet");
+    let speeds = vec![80.0, 120.0, 160.0];
+    let write = |name: &str, loads: Vec<f64>| {
+        let cols = vec![
+            Column::f64("speed_kmh", "km/h", speeds.clone()),
+            Column::i64("hours", "h", vec![2, 0, 6]),
+            Column::f64("load_n", "N", loads),
+        ];
+        write_table(&d.join(name), &cols, &[]).unwrap();
+    };
+    write("points.parquet", vec![3500.0, 4000.0, 4500.0]);
+    let op = "file = \"points.parquet\"\nweight = \"hours\"";
+    let s = Study::parse_at(&study_text(op, "random"), Params::default(), &d).unwrap();
+    let o = s.operating_points.as_ref().unwrap();
+    assert_eq!(o.names, ["speed_kmh", "load_n"]);
+    assert_eq!(o.values[2], [160.0, 4500.0]);
+    assert_eq!(o.weights, [2.0, 0.0, 6.0]);
+    assert_eq!(o.probability(1), 0.0);
+    assert!((o.probability(2) - 0.75).abs() < 1e-12);
+    write("points.parquet", vec![3500.0, f64::NAN, 4500.0]);
+    let e = Study::parse_at(&study_text(op, "random"), Params::default(), &d)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("points.parquet, row 2, column `load_n`") && e.contains("NaN"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&d).ok();
+}
