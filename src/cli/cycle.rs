@@ -233,21 +233,30 @@ fn print_summary(run: &CycleRun<'_>, secs: f64, threads: usize) {
                 )
             }
         };
-        let s0 = &all[0][w];
-        let top = s0
-            .order_shares
+        let mean = |f: &dyn Fn(&polywear::cycle::summary::WheelSummary) -> f64| {
+            all.iter().map(|s| f(&s[w])).sum::<f64>() / all.len() as f64
+        };
+        // Polygon orders: the mean share over the structures.
+        let mut orders: std::collections::BTreeMap<i64, f64> = Default::default();
+        for s in &all {
+            for (n, share) in &s[w].order_shares {
+                *orders.entry(*n).or_default() += share / all.len() as f64;
+            }
+        }
+        let top = orders
             .iter()
             .max_by(|a, b| a.1.total_cmp(b.1))
-            .map(|(n, share)| format!("{n}-gon in {:.0}% of it", 100.0 * share))
+            .map(|(n, share)| format!("mostly {n}-gon ({:.0}% of it)", 100.0 * share))
             .unwrap_or_else(|| "no vibration".into());
         println!(
-            "  {:>8}: in vibration {} of the time, {} of the distance; longest stretch {:.0} s / {:.2} km; {top}; quasi-static in doubt {:.1}% of the time",
-            s0.wheel.as_str(),
+            "  {:>8}: in vibration {} of the time, {} of the distance; longest stretch {}{:.0} s / {:.2} km; {top}; quasi-static in doubt {:.1}% of the time",
+            polywear::model::Wheel::BOTH[w].as_str(),
             pick(&|s| s.time_share),
             pick(&|s| s.distance_share),
-            s0.longest_vibration_s,
-            s0.longest_vibration_km,
-            100.0 * s0.not_quasi_static_share,
+            if all.len() > 1 { "(mean) " } else { "" },
+            mean(&|s| s.longest_vibration_s),
+            mean(&|s| s.longest_vibration_km),
+            100.0 * mean(&|s| s.not_quasi_static_share),
         );
     }
 }
