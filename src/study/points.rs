@@ -28,7 +28,7 @@ pub(super) fn parse_operating_points(
     let weight = t.opt("weight", toml_input::text)?;
     if design != Design::Random {
         return Err(StudyError::OperatingPoints(format!(
-            "`design` = \"{design}\" cannot draw measured operating points: rows are drawn at random in proportion to their weights, which a {design} design's stratified axes cannot express; use design = \"random\""
+            "`design` = \"{design}\" cannot draw measured operating points: rows are drawn at random in proportion to their weights, which the stratified axes of a `{design}` design cannot express; use design = \"random\""
         )));
     }
     let cross = drawn
