@@ -131,7 +131,7 @@ pub fn run(args: &CycleArgs) -> CliResult {
             args.out.display()
         )));
     }
-    let opts = ClassifierOptions {
+    let mut opts = ClassifierOptions {
         budget: args.budget.apply(Default::default())?,
         ..ClassifierOptions::default()
     };
@@ -161,6 +161,8 @@ pub fn run(args: &CycleArgs) -> CliResult {
                     b.set(name, *value)?;
                 }
             }
+            // The study's work limits, unless the flags say otherwise.
+            opts.budget = args.budget.apply(study.budget)?;
             metadata.push(("study_name".into(), study.name.clone()));
             metadata.push(("study".into(), study.source.clone()));
             metadata.push(("study_hash".into(), study.source_hash()));
