@@ -243,6 +243,7 @@ fn bad_cycles_exit_2_naming_file_row_and_column_before_any_work() {
     let out = d.join("o");
     for (args, needle) in [
         (vec!["--set", "g_mod=-1"], "g_mod"),
+        (vec!["--set", "speed_kmh=50"], "the cycle gives the speed"),
         (vec!["--structure-samples", "4"], "--study"),
         (vec!["--study", "x.toml"], "--structure-samples"),
     ] {

@@ -140,6 +140,12 @@ pub fn run(args: &CycleArgs) -> CliResult {
     let mut base = super::common::base_params(args.params.as_deref())?;
     let mut set_by: Vec<(&str, &str)> = Vec::new();
     for (name, value) in &args.set {
+        if name == "speed_kmh" {
+            return Err(CliError(
+                "--set speed_kmh: the cycle gives the speed at every step (its `speed_kmh` column)"
+                    .into(),
+            ));
+        }
         base.set(name, *value)
             .map_err(|e| CliError(format!("--set {name}: {e}")))?;
         set_by.push((name.as_str(), "--set"));
