@@ -160,6 +160,7 @@ impl RunPlan {
             "shard": self.shard.to_string(),
             "chunks": output_dir::JOURNAL,
             "checksum": "CRC-32 (IEEE) of each whole chunk file",
+            "operating_points": self.study.operating_points.as_ref().map(|o| o.to_json()),
         })
     }
 
@@ -263,6 +264,7 @@ impl RunPlan {
                 crate::sampling::RNG_NAME
             )));
         }
+        output_dir::same_operating_points(&old, &new).map_err(e)?;
         for key in [
             "polywear_version",
             "study",
@@ -414,10 +416,7 @@ impl RunPlan {
             ("chunk".into(), chunk.to_string()),
             (
                 "drawn_names".into(),
-                serde_json::Value::from(
-                    self.study.drawn.iter().map(|d| d.name).collect::<Vec<_>>(),
-                )
-                .to_string(),
+                serde_json::Value::from(self.study.value_names()).to_string(),
             ),
             ("chunk_size".into(), self.study.chunk_size.to_string()),
             ("shard".into(), self.shard.to_string()),
@@ -427,6 +426,9 @@ impl RunPlan {
             ),
             ("drawn".into(), self.study.drawn_json().to_string()),
         ];
+        if let Some(op) = &self.study.operating_points {
+            meta.push(("operating_points".into(), op.to_json().to_string()));
+        }
         meta.push((
             "columns".into(),
             "one row per sample, variant and wheel; sample_id identifies the sample".into(),
@@ -566,7 +568,10 @@ fn short(v: &serde_json::Value) -> String {
 /// The rows of one sample: its drawn values and one record per variant and wheel.
 pub struct SampleRows {
     pub sample_id: u64,
+    /// Values in [`Study::value_names`] order: drawn parameters, then operating-point columns.
     pub drawn: Vec<f64>,
+    /// The operating-point row drawn (0-based), when the study has `[operating_points]`.
+    pub operating_point_row: Option<usize>,
     pub records: Vec<WheelRecord>,
 }
 
@@ -580,7 +585,7 @@ pub fn evaluate_sample(
     index: u64,
     opts: &ClassifierOptions,
 ) -> SampleRows {
-    let (p, drawn) = sampler.sample(index);
+    let (p, drawn, operating_point_row) = sampler.sample_with_row(index);
     let invalid = p.validate().err();
     let mut records = Vec::with_capacity(2 * study.variants.len());
     let mut hint = None;
@@ -605,6 +610,7 @@ pub fn evaluate_sample(
     SampleRows {
         sample_id: index,
         drawn,
+        operating_point_row,
         records,
     }
 }
@@ -612,8 +618,9 @@ pub fn evaluate_sample(
 /// Operating-point parameters already present as record columns.
 const RECORD_PARAMS: [&str; 4] = ["speed_kmh", "toe_deg", "load_n", "pressure_kpa"];
 
-/// Columns of a chunk: sample_id, the drawn parameters that are not record columns, then the
-/// record columns.
+/// Columns of a chunk: sample_id, the operating-point row (1-based, as error messages count
+/// the file's rows) when the study has one, the drawn values that are not record columns, then
+/// the record columns.
 pub fn chunk_columns(study: &Study, rows: &[SampleRows]) -> Vec<Column> {
     let flat: Vec<(&SampleRows, &WheelRecord)> = rows
         .iter()
@@ -624,11 +631,16 @@ pub fn chunk_columns(study: &Study, rows: &[SampleRows]) -> Vec<Column> {
         "",
         flat.iter().map(|(s, _)| s.sample_id as i64).collect(),
     )];
-    for (k, d) in study.drawn.iter().enumerate() {
-        if !RECORD_PARAMS.contains(&d.name) {
-            let unit = crate::params::spec(d.name).map_or("", |s| s.unit);
+    if study.operating_points.is_some() {
+        let row = |s: &SampleRows| s.operating_point_row.map_or(0, |r| r as i64 + 1);
+        let rows = flat.iter().map(|(s, _)| row(s)).collect();
+        cols.push(Column::i64("operating_point_row", "", rows));
+    }
+    for (k, name) in study.value_names().into_iter().enumerate() {
+        if !RECORD_PARAMS.contains(&name) {
+            let unit = crate::params::spec(name).map_or("", |s| s.unit);
             cols.push(Column::f64(
-                d.name,
+                name,
                 unit,
                 flat.iter().map(|(s, _)| s.drawn[k]).collect(),
             ));

@@ -27,6 +27,9 @@ enum Command {
     Analyze(cli::analyze::AnalyzeArgs),
     /// Classify every operating point of a CSV file (both wheels, in parallel)
     Classify(cli::classify::ClassifyArgs),
+    /// Classify both wheels at every step of a drive cycle (time_s, speed_kmh): share of time
+    /// and distance in vibration, longest stretch, polygon orders, picture
+    Cycle(cli::cycle::CycleArgs),
     /// Evaluate one operating point for both wheels: verdict table, JSON, time series, plot
     Simulate(cli::simulate::SimulateArgs),
     /// Sweep one parameter for both wheels: eigenvalue and limit-cycle envelope, Hopf points,
@@ -59,6 +62,7 @@ fn main() {
         Command::Explore(a) => cli::explore::run(a),
         Command::Analyze(a) => cli::analyze::run(a),
         Command::Classify(a) => cli::classify::run(a),
+        Command::Cycle(a) => cli::cycle::run(a),
         Command::Simulate(a) => cli::simulate::run(a),
         Command::Bifurcation(a) => cli::bifurcation::run(a),
         Command::Reproduce(a) => cli::reproduce::run(a),

@@ -226,6 +226,28 @@ pub fn verify_chunk(path: &Path, entry: Option<&ChunkEntry>, rows: u64) -> Optio
     None
 }
 
+/// For `--resume`: refuses when the operating-point file (`operating_points` of the manifests)
+/// is not the one the run started with: its rows, and so every sample's draw, may differ. The
+/// hash of the bytes decides; the path may differ (a resume from another folder).
+pub fn same_operating_points(
+    old: &serde_json::Value,
+    new: &serde_json::Value,
+) -> Result<(), String> {
+    let (o, n) = (&old["operating_points"], &new["operating_points"]);
+    if o["hash"] == n["hash"] {
+        return Ok(());
+    }
+    let name = |v: &serde_json::Value| v["path"].as_str().unwrap_or("none").to_string();
+    let hash = |v: &serde_json::Value| v["hash"].as_str().unwrap_or("none").to_string();
+    Err(format!(
+        "--resume: the operating-point file changed since this run started ({} had hash {}, {} now has hash {}); its rows decide every sample's draw, so the chunks would not fit together: restore the file or start a new directory",
+        name(o),
+        hash(o),
+        name(n),
+        hash(n)
+    ))
+}
+
 /// The study text recorded in the manifest of the directory holding `file` (chunk footers carry
 /// only `study_hash`); empty when there is none.
 pub fn manifest_study(file: &Path) -> String {

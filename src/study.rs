@@ -2,14 +2,20 @@
 //! design), the seed, the variants and the default sample count. Parsed into plain data and
 //! checked completely before any work starts; every error names the key and the accepted values.
 
+use std::path::Path;
+
 use crate::classify::WheelBudget;
 use crate::model::Variant;
+use crate::operating_points::OperatingPoints;
 use crate::params::{spec, ParamError, ParamSpec, Params};
 use crate::sampling::design::{
     grid_digits, Coordinates, Design, SALTELLI_MAX_AXES, SOBOL_MAX_AXES, SOBOL_MAX_SAMPLES,
 };
 use crate::sampling::distribution::Distribution;
 use crate::toml_input::{self, Section, TomlError};
+
+mod points;
+use points::parse_operating_points;
 
 /// Largest accepted seed (in study files and on the command line).
 pub const SEED_MAX: u64 = u32::MAX as u64 * 1024;
@@ -43,6 +49,8 @@ pub struct Study {
     pub source: String,
     /// Work limits per wheel (`max_rhs_evals`, `max_wheel_seconds`; defaults when absent).
     pub budget: WheelBudget,
+    /// Measured operating points (`[operating_points]`): each sample draws one row.
+    pub operating_points: Option<OperatingPoints>,
 }
 
 /// A study problem, with the key it concerns.
@@ -118,6 +126,9 @@ pub enum StudyError {
     },
     #[error("the study draws no parameter: give at least one a `dist` in [params]")]
     NothingDrawn,
+    /// A problem with `[operating_points]` or its file (the message names file, row, column).
+    #[error("[operating_points]: {0}")]
+    OperatingPoints(String),
     #[error("--samples must be at least 1")]
     NoSamples,
     #[error("--samples = {samples} disagrees with the grid's size {size}")]
@@ -140,6 +151,7 @@ const TOP_KEYS: &[&str] = &[
     "max_rhs_evals",
     "max_wheel_seconds",
     "params",
+    "operating_points",
 ];
 const DISTS: &str = "uniform, normal, truncated_normal, lognormal, levels";
 
@@ -492,6 +504,12 @@ impl Study {
     /// Parses a study whose unnamed parameters take their values from `base` (defaults, or a
     /// `--params` file) instead of the built-in defaults.
     pub fn parse_with_base(source: &str, base: Params) -> Result<Study, StudyError> {
+        Self::parse_at(source, base, Path::new(""))
+    }
+
+    /// [`Study::parse_with_base`] for a study file in folder `dir`: the relative path of an
+    /// `[operating_points]` file is resolved against it, and the file is read and checked.
+    pub fn parse_at(source: &str, base: Params, dir: &Path) -> Result<Study, StudyError> {
         let table = toml_input::parse(source)?;
         let top = Section::top(&table);
         top.deny_unknown(TOP_KEYS)?;
@@ -510,7 +528,8 @@ impl Study {
                 drawn: drawn.len(),
             });
         }
-        if drawn.is_empty() {
+        let operating_points = parse_operating_points(&top, &base, &drawn, header.design, dir)?;
+        if drawn.is_empty() && operating_points.is_none() {
             return Err(StudyError::NothingDrawn);
         }
         Ok(Study {
@@ -525,6 +544,7 @@ impl Study {
             drawn,
             source: source.to_string(),
             budget: header.budget,
+            operating_points,
         })
     }
 
@@ -571,6 +591,7 @@ impl Study {
             study: self,
             coords: Coordinates::new(self.design, seed, samples, self.drawn.len()),
             grid,
+            streams: crate::sampling::Streams::new(seed),
         }
     }
 }
@@ -580,10 +601,12 @@ pub struct Sampler<'a> {
     study: &'a Study,
     coords: Coordinates,
     grid: Vec<Vec<f64>>,
+    streams: crate::sampling::Streams,
 }
 
 impl Sampler<'_> {
-    /// Parameter set of sample `index`, and the drawn values in the study's `drawn` order.
+    /// Parameter set of sample `index`, and the drawn values in the study's `drawn` order
+    /// (without the operating-point row: see [`Sampler::sample_with_row`]).
     pub fn sample(&self, index: u64) -> (Params, Vec<f64>) {
         let mut p = self.study.base;
         let values: Vec<f64> = if self.study.design == Design::Grid {

@@ -98,7 +98,7 @@ impl WheelArg {
     }
 }
 
-fn parse_assignment(s: &str) -> Result<(String, f64), String> {
+pub fn parse_assignment(s: &str) -> Result<(String, f64), String> {
     let (name, value) = s
         .split_once('=')
         .ok_or_else(|| format!("expected NAME=VALUE, got `{s}`"))?;

@@ -67,8 +67,10 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         ),
     };
     let base = super::common::base_params(args.params.as_deref())?;
-    let mut study =
-        Study::parse_with_base(&source, base).map_err(|e| CliError(format!("{origin}: {e}")))?;
+    // A relative `[operating_points]` file is found beside the study file.
+    let study_dir = args.study.as_deref().and_then(Path::parent);
+    let mut study = Study::parse_at(&source, base, study_dir.unwrap_or(Path::new("")))
+        .map_err(|e| CliError(format!("{origin}: {e}")))?;
     study.budget = args.budget.apply(study.budget)?;
     let base_samples = args.samples.unwrap_or(study.samples);
     study

@@ -5,6 +5,7 @@ pub mod bifurcation;
 pub mod calibrate;
 pub mod classify;
 pub mod common;
+pub mod cycle;
 pub mod explore;
 pub mod params;
 pub mod reproduce;

@@ -6,6 +6,7 @@ use std::sync::Once;
 
 use plotters::prelude::*;
 
+pub mod cycle;
 pub mod maps;
 pub mod spectrum;
 

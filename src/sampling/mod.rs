@@ -8,6 +8,7 @@
 //! ([`distribution`]), which keeps the stratification of Latin hypercube and Sobol designs
 //! (rejection samplers such as `rand_distr`'s would not).
 
+pub mod alias;
 pub mod design;
 pub mod distribution;
 pub mod rng;

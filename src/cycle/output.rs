@@ -1,0 +1,166 @@
+//! The files of a classified cycle: `cycle.parquet` (one row per structure sample, step and
+//! wheel: the explorer's columns plus the step's time and the quasi-static assessment),
+//! `cycle_summary.csv` (with a `cycle_summary.parquet` sidecar carrying the metadata) and
+//! `cycle.png`.
+
+use std::path::{Path, PathBuf};
+
+use super::summary::{summarise, summary_columns, WheelSummary};
+use super::{DriveCycle, StepWheel};
+use crate::model::Variant;
+use crate::parquet_out::{write_csv, write_table, Column, ColumnData};
+use crate::plot::cycle::{cycle_figure, WheelTrace};
+use crate::records::record_columns;
+
+/// Operating-point parameters already present as record columns.
+const RECORD_PARAMS: [&str; 4] = ["speed_kmh", "toe_deg", "load_n", "pressure_kpa"];
+
+/// A classified cycle, for one or several tire structures.
+pub struct CycleRun<'a> {
+    pub cycle: &'a DriveCycle,
+    pub variant: Variant,
+    /// Names of the parameters drawn per structure sample (empty without a study).
+    pub structure_names: Vec<&'static str>,
+    /// `structure_values[k][j]`: sample k's value of `structure_names[j]`.
+    pub structure_values: Vec<Vec<f64>>,
+    /// `steps[k][i]`: sample k, step i, both wheels.
+    pub steps: Vec<Vec<[StepWheel; 2]>>,
+    /// Written into every file (version, command, parameters, variant, cycle, study).
+    pub metadata: Vec<(String, String)>,
+}
+
+impl CycleRun<'_> {
+    /// The per-wheel summary of every structure sample.
+    pub fn summaries(&self) -> Vec<[WheelSummary; 2]> {
+        self.steps
+            .iter()
+            .map(|s| [summarise(self.cycle, s, 0), summarise(self.cycle, s, 1)])
+            .collect()
+    }
+
+    /// The columns of `cycle.parquet`.
+    pub fn columns(&self) -> Vec<Column> {
+        let c = self.cycle;
+        let n = c.len();
+        let dt = c.step_durations_s();
+        // Row order: sample, step, wheel (follower, driving).
+        let idx: Vec<(usize, usize, usize)> = (0..self.steps.len())
+            .flat_map(|k| (0..n).flat_map(move |i| [(k, i, 0), (k, i, 1)]))
+            .collect();
+        let rows: Vec<&StepWheel> = idx.iter().map(|&(k, i, w)| &self.steps[k][i][w]).collect();
+        let mut cols = vec![
+            Column::i64("sample_id", "", idx.iter().map(|r| r.0 as i64).collect()),
+            Column::i64("step", "", idx.iter().map(|r| r.1 as i64).collect()),
+            Column::f64("time_s", "s", idx.iter().map(|r| c.time_s[r.1]).collect()),
+            Column::f64(
+                "step_duration_s",
+                "s",
+                idx.iter().map(|r| dt[r.1]).collect(),
+            ),
+        ];
+        let unit = |name: &str| crate::params::spec(name).map_or("", |s| s.unit);
+        for (j, name) in self.structure_names.iter().enumerate() {
+            let v = idx.iter().map(|r| self.structure_values[r.0][j]).collect();
+            cols.push(Column::f64(*name, unit(name), v));
+        }
+        for (j, name) in c.names.iter().enumerate() {
+            if !RECORD_PARAMS.contains(name) {
+                let v = idx.iter().map(|r| c.values[r.1][j]).collect();
+                cols.push(Column::f64(*name, unit(name), v));
+            }
+        }
+        let records: Vec<_> = rows.iter().map(|s| s.record.clone()).collect();
+        let mut record_cols = record_columns(&records);
+        for col in &mut record_cols {
+            if col.name == "class" {
+                col.data = ColumnData::Str(rows.iter().map(|s| s.class_name().into()).collect());
+            }
+        }
+        cols.extend(record_cols);
+        cols.push(Column::f64(
+            "tread_time_constant_s",
+            "s",
+            rows.iter().map(|s| s.tread_time_constant_s).collect(),
+        ));
+        cols.push(Column::f64(
+            "stability_change_time_s",
+            "s",
+            rows.iter().map(|s| s.stability_change_time_s).collect(),
+        ));
+        cols.push(Column::i64(
+            "quasi_static",
+            "",
+            rows.iter().map(|s| i64::from(s.quasi_static)).collect(),
+        ));
+        cols
+    }
+
+    /// Writes `cycle.parquet`, `cycle_summary.csv` (+ `.parquet`) and `cycle.png` into `dir`;
+    /// returns the paths written.
+    pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>, String> {
+        std::fs::create_dir_all(dir).map_err(|e| format!("--out {}: {e}", dir.display()))?;
+        let mut meta = self.metadata.clone();
+        meta.push((
+            "columns".into(),
+            "one row per structure sample (sample_id), step and wheel; class `standstill` at 0 km/h; quasi_static = 1 where tread_time_constant_s <= stability_change_time_s".into(),
+        ));
+        let mut written = Vec::new();
+        let table = dir.join("cycle.parquet");
+        write_table(&table, &self.columns(), &meta).map_err(|e| e.to_string())?;
+        written.push(table);
+        let summary = summary_columns(&self.summaries());
+        let csv = dir.join("cycle_summary.csv");
+        write_csv(&csv, &summary).map_err(|e| e.to_string())?;
+        written.push(csv);
+        let sidecar = dir.join("cycle_summary.parquet");
+        write_table(&sidecar, &summary, &self.metadata).map_err(|e| e.to_string())?;
+        written.push(sidecar);
+        let png = dir.join("cycle.png");
+        self.figure(&png)?;
+        written.push(png);
+        Ok(written)
+    }
+
+    /// The picture of structure sample 0.
+    fn figure(&self, path: &Path) -> Result<(), String> {
+        let steps = &self.steps[0];
+        let traces: Vec<WheelTrace<'_>> = (0..2)
+            .map(|w| WheelTrace {
+                label: crate::model::Wheel::BOTH[w].as_str(),
+                vibrates: steps.iter().map(|s| s[w].vibrates()).collect(),
+                polygon_order: steps
+                    .iter()
+                    .map(|s| {
+                        if s[w].vibrates() {
+                            s[w].record.polygon_order
+                        } else {
+                            f64::NAN
+                        }
+                    })
+                    .collect(),
+            })
+            .collect();
+        let name = self
+            .cycle
+            .path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let which = if self.steps.len() > 1 {
+            " (structure sample 0)"
+        } else {
+            ""
+        };
+        let title = format!(
+            "{name}: vibrating stretches and polygon order, variant {}{which}",
+            self.variant.as_str()
+        );
+        cycle_figure(
+            path,
+            &title,
+            &self.cycle.time_s,
+            &self.cycle.speed_kmh,
+            &traces,
+        )
+    }
+}

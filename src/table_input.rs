@@ -1,0 +1,278 @@
+//! Numeric tables that users bring: measured operating points (a study's `[operating_points]`)
+//! and drive cycles (`polywear cycle`). A CSV file with a header line, or a Parquet file, read
+//! completely into plain numbers before any work; every refusal names the file, the row and the
+//! column, so a telematics export can be fixed where it is wrong.
+
+use std::path::{Path, PathBuf};
+
+/// A table of finite numbers with named columns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NumericTable {
+    pub path: PathBuf,
+    /// Column names, in file order (unique).
+    pub columns: Vec<String>,
+    /// `rows[i][j]`: data row i (0-based; row i + 1 in messages) of column j.
+    pub rows: Vec<Vec<f64>>,
+    /// For a CSV file, the line number of each data row (messages say it beside the row).
+    lines: Vec<usize>,
+    /// FNV-1a 64 of the file's bytes, as 16 hex digits, and their count.
+    pub hash: String,
+    pub bytes: u64,
+}
+
+/// A refusal, naming the file and, where it applies, the row and column.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct TableError(pub String);
+
+impl NumericTable {
+    /// Reads `path`: Parquet when it ends in `.parquet`, CSV otherwise.
+    pub fn read(path: &Path) -> Result<NumericTable, TableError> {
+        let bytes = std::fs::read(path)
+            .map_err(|e| TableError(format!("{}: cannot read: {e}", path.display())))?;
+        let hash = bytes_hash(&bytes);
+        let n = bytes.len() as u64;
+        let is_parquet = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("parquet"));
+        let mut t = if is_parquet {
+            read_parquet(path)?
+        } else {
+            read_csv(path, &bytes)?
+        };
+        t.hash = hash;
+        t.bytes = n;
+        Ok(t)
+    }
+
+    /// "row 3 (line 4)" for a CSV file, "row 3" for Parquet: data rows counted from 1.
+    pub fn row_name(&self, row: usize) -> String {
+        match self.lines.get(row) {
+            Some(line) => format!("row {} (line {line})", row + 1),
+            None => format!("row {}", row + 1),
+        }
+    }
+
+    /// The start of a message about one cell: `FILE, row R (line L), column `NAME``.
+    pub fn at(&self, row: usize, column: usize) -> String {
+        format!(
+            "{}, {}, column `{}`",
+            self.path.display(),
+            self.row_name(row),
+            self.columns[column]
+        )
+    }
+
+    /// The index of column `name`.
+    pub fn column(&self, name: &str) -> Option<usize> {
+        self.columns.iter().position(|c| c == name)
+    }
+}
+
+/// 64-bit FNV-1a of bytes, as 16 hex digits: a fingerprint that tells a changed file, not a
+/// cryptographic hash.
+pub fn bytes_hash(bytes: &[u8]) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in bytes {
+        h ^= u64::from(*b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
+/// A header cell or a data cell without its quotes and surrounding blanks.
+fn cell(s: &str) -> &str {
+    let s = s.trim();
+    s.strip_prefix('"')
+        .and_then(|x| x.strip_suffix('"'))
+        .map_or(s, str::trim)
+}
+
+/// Checks the header: no empty and no repeated name.
+fn check_header(path: &Path, columns: &[String]) -> Result<(), TableError> {
+    for (j, name) in columns.iter().enumerate() {
+        if name.is_empty() {
+            return Err(TableError(format!(
+                "{}: header, column {}: empty column name",
+                path.display(),
+                j + 1
+            )));
+        }
+        if let Some(k) = columns[..j].iter().position(|c| c == name) {
+            return Err(TableError(format!(
+                "{}: header, column `{name}` appears twice (columns {} and {})",
+                path.display(),
+                k + 1,
+                j + 1
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn read_csv(path: &Path, bytes: &[u8]) -> Result<NumericTable, TableError> {
+    let text = std::str::from_utf8(bytes)
+        .map_err(|e| TableError(format!("{}: not UTF-8 text: {e}", path.display())))?;
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l))
+        .filter(|(_, l)| !l.trim().is_empty());
+    let Some((_, header)) = lines.next() else {
+        return Err(TableError(format!(
+            "{}: empty file (expected a header line, then one row per line)",
+            path.display()
+        )));
+    };
+    let columns: Vec<String> = header.split(',').map(|c| cell(c).to_string()).collect();
+    check_header(path, &columns)?;
+    let mut t = NumericTable {
+        path: path.to_path_buf(),
+        columns,
+        rows: Vec::new(),
+        lines: Vec::new(),
+        hash: String::new(),
+        bytes: 0,
+    };
+    for (line, text) in lines {
+        let cells: Vec<&str> = text.split(',').map(cell).collect();
+        let row = t.rows.len();
+        t.lines.push(line);
+        if cells.len() != t.columns.len() {
+            return Err(TableError(format!(
+                "{}, {}: {} cells, the header has {} columns",
+                path.display(),
+                t.row_name(row),
+                cells.len(),
+                t.columns.len()
+            )));
+        }
+        let mut values = Vec::with_capacity(cells.len());
+        for (j, c) in cells.iter().enumerate() {
+            let x: f64 = c.parse().map_err(|_| {
+                TableError(if c.is_empty() {
+                    format!("{}: empty cell", t.at(row, j))
+                } else {
+                    format!("{}: `{c}` is not a number", t.at(row, j))
+                })
+            })?;
+            if !x.is_finite() {
+                return Err(TableError(format!(
+                    "{}: {x} is not a finite number (NaN and inf are refused)",
+                    t.at(row, j)
+                )));
+            }
+            values.push(x);
+        }
+        t.rows.push(values);
+    }
+    if t.rows.is_empty() {
+        return Err(TableError(format!(
+            "{}: no rows (only the header line)",
+            path.display()
+        )));
+    }
+    Ok(t)
+}
+
+fn read_parquet(path: &Path) -> Result<NumericTable, TableError> {
+    use parquet::file::reader::{FileReader, SerializedFileReader};
+    use parquet::record::Field;
+    let e = |m: &dyn std::fmt::Display| TableError(format!("{}: {m}", path.display()));
+    let f = std::fs::File::open(path).map_err(|err| e(&err))?;
+    let reader = SerializedFileReader::new(f).map_err(|err| e(&err))?;
+    let schema = reader.metadata().file_metadata().schema_descr();
+    let columns: Vec<String> = schema.columns().iter().map(|c| c.path().string()).collect();
+    if columns.is_empty() {
+        return Err(e(&"empty file (no columns)"));
+    }
+    check_header(path, &columns)?;
+    let mut t = NumericTable {
+        path: path.to_path_buf(),
+        columns,
+        rows: Vec::new(),
+        lines: Vec::new(),
+        hash: String::new(),
+        bytes: 0,
+    };
+    for row in reader.get_row_iter(None).map_err(|err| e(&err))? {
+        let row = row.map_err(|err| e(&err))?;
+        let i = t.rows.len();
+        let mut values = Vec::with_capacity(t.columns.len());
+        for (j, (_, field)) in row.get_column_iter().enumerate() {
+            let x = match field {
+                Field::Double(x) => *x,
+                Field::Float(x) => f64::from(*x),
+                Field::Byte(x) => f64::from(*x),
+                Field::Short(x) => f64::from(*x),
+                Field::Int(x) => f64::from(*x),
+                Field::Long(x) => *x as f64,
+                Field::UByte(x) => f64::from(*x),
+                Field::UShort(x) => f64::from(*x),
+                Field::UInt(x) => f64::from(*x),
+                Field::ULong(x) => *x as f64,
+                Field::Null => return Err(TableError(format!("{}: missing value", t.at(i, j)))),
+                other => {
+                    return Err(TableError(format!(
+                        "{}: `{other}` is not a number (the column must be numeric)",
+                        t.at(i, j)
+                    )))
+                }
+            };
+            if !x.is_finite() {
+                return Err(TableError(format!(
+                    "{}: {x} is not a finite number (NaN and inf are refused)",
+                    t.at(i, j)
+                )));
+            }
+            values.push(x);
+        }
+        if values.len() != t.columns.len() {
+            return Err(TableError(format!(
+                "{}, {}: nested or repeated columns are not supported",
+                path.display(),
+                t.row_name(i)
+            )));
+        }
+        t.rows.push(values);
+    }
+    if t.rows.is_empty() {
+        return Err(e(&"no rows"));
+    }
+    Ok(t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(name: &str, text: &str) -> Result<NumericTable, TableError> {
+        let dir = std::env::temp_dir().join(format!("polywear-table-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        NumericTable::read(&p)
+    }
+
+    #[test]
+    fn csv_reads_numbers_and_names_bad_cells() {
+        let t = table("ok.csv", "\u{feff}a, \"b\"\r\n1,2\r\n\r\n3.5,-4e1\r\n").unwrap();
+        assert_eq!(t.columns, vec!["a", "b"]);
+        assert_eq!(t.rows, vec![vec![1.0, 2.0], vec![3.5, -40.0]]);
+        assert_eq!(t.row_name(1), "row 2 (line 4)");
+        let err = |name: &str, text: &str| table(name, text).unwrap_err().0;
+        assert!(err("e1.csv", "").contains("empty file"));
+        assert!(err("e2.csv", "a,b\n").contains("no rows"));
+        let m = err("e3.csv", "a,b\n1,2\n1,NaN\n");
+        assert!(
+            m.contains("row 2 (line 3), column `b`") && m.contains("NaN"),
+            "{m}"
+        );
+        let m = err("e4.csv", "a,b\n1,inf\n");
+        assert!(m.contains("column `b`") && m.contains("finite"), "{m}");
+        assert!(err("e5.csv", "a,a\n1,2\n").contains("`a` appears twice"));
+        assert!(err("e6.csv", "a,b\n1\n").contains("1 cells"));
+        assert!(err("e7.csv", "a,b\n1,x\n").contains("`x` is not a number"));
+    }
+}
