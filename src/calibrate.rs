@@ -61,8 +61,8 @@ pub struct Problem {
     pub choices: Vec<(&'static str, Vec<f64>)>,
 }
 
-/// The tire-structure and friction parameters MODEL.md marks as decoded or reconstructed: the
-/// default set to fit (the operating point is what targets vary; vehicle parameters do not act
+/// The tire-structure and friction parameters MODEL.md#constants marks as decoded or reconstructed:
+/// the default set to fit (the operating point is what targets vary; vehicle parameters do not act
 /// on the follower).
 pub fn default_fit() -> Vec<&'static str> {
     use crate::params::Group;

@@ -1,10 +1,10 @@
 //! Model parameters: the one place where names, units, defaults, provenance and accepted ranges
-//! live (MODEL.md, "Inputs"). Every other module reads a [`Params`] value; the CLI, study files
+//! live (MODEL.md#constants). Every other module reads a [`Params`] value; the CLI, study files
 //! and output metadata all use the names defined here.
 
 use std::fmt;
 
-/// Where a default value comes from (MODEL.md, "Read this first").
+/// Where a default value comes from (MODEL.md#sources-and-the-lost-digits).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Provenance {
     /// Legible in the paper, or only one reading fits the lost-digit rule.
@@ -44,7 +44,7 @@ pub enum Group {
 pub struct ParamSpec {
     /// Name used on the command line (`--set name=value`), in study files and in output columns.
     pub name: &'static str,
-    /// Symbol in MODEL.md and the paper.
+    /// Symbol in MODEL.md#parameter-table and the paper.
     pub symbol: &'static str,
     pub unit: &'static str,
     pub default: f64,
@@ -223,8 +223,9 @@ define_params! {
         "Driven wheels sharing the drive force.";
 }
 
-/// MODEL.md's reference constants R0 where the shipped defaults differ from them. The files in
-/// `reference/` were computed with R0; tests pass [`Params::r0`] so that defaults can move.
+/// The reference constants R0 (MODEL.md#r0-and-the-shipped-defaults) where the shipped defaults
+/// differ from them. The reference data in `tests/data/` was computed with R0; tests pass
+/// [`Params::r0`] so that defaults can move.
 /// `studies/params_r0.toml` holds the same values for `--params`.
 pub const R0_OVERRIDES: &[(&str, f64)] = &[
     ("g_mod", 0.8645e6),
@@ -241,7 +242,8 @@ pub fn spec(name: &str) -> Option<&'static ParamSpec> {
 }
 
 impl Params {
-    /// MODEL.md's reference constants R0: the defaults with [`R0_OVERRIDES`] applied.
+    /// The reference constants R0 (MODEL.md#r0-and-the-shipped-defaults): the defaults with
+    /// [`R0_OVERRIDES`] applied.
     pub fn r0() -> Params {
         let mut p = Params::default();
         for (name, value) in R0_OVERRIDES {
@@ -284,7 +286,7 @@ impl Params {
         Ok(())
     }
 
-    /// Vehicle speed in m/s (MODEL.md: SI units inside).
+    /// Vehicle speed in m/s (MODEL.md#operating-point-and-wheels: SI units inside).
     pub fn speed_mps(&self) -> f64 {
         self.speed_kmh / 3.6
     }

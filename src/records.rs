@@ -1,6 +1,6 @@
 //! One output row per wheel and operating point: the inputs, the static model (steps 1–7), the
 //! linear stability (step 8) and the verdict (step 9). The first 24 fields carry exactly the
-//! column names of `reference/points.csv`; the rest extend it.
+//! column names of `tests/data/points.csv`; the rest extend it.
 
 use serde::Serialize;
 

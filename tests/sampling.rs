@@ -227,7 +227,7 @@ const PINNED_BITS: [u64; 4] = [
 /// Sample 12,345 of the default study (speed, toe, load, pressure, tread height, rho, g_mod,
 /// c_brush).
 /// The default study's axes and structure uncertainty, frozen (the medians of `g_mod` and
-/// `c_brush` are MODEL.md's R0).
+/// `c_brush` are R0, MODEL.md#r0-and-the-shipped-defaults).
 const PINNED_STUDY: &str = r#"
 name = "highway_fleet"
 seed = 2014

@@ -90,7 +90,7 @@ pub fn track(
     }))
 }
 
-/// Amplitudes and frequency measured on a trajectory window, the way MODEL.md's reference does.
+/// Amplitudes and frequency measured on a trajectory window, the way MODEL.md#reference-data does.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct WindowMeasure {
     pub amp_y_m: f64,
@@ -98,7 +98,7 @@ pub struct WindowMeasure {
     pub freq_hz: f64,
 }
 
-/// Brute-force reference (MODEL.md step 9 and `reference/points.csv`): integrate `duration_s`
+/// Brute-force reference (MODEL.md#reference-data, `tests/data/points.csv`): integrate `duration_s`
 /// from the equilibrium plus `disturbance_m` in y at `rtol`, and measure amplitudes (half
 /// peak-to-peak) and frequency over the last `window_s`. Also returns the same measure on the
 /// window before it, so callers can tell a settled cycle from a slow transient.
@@ -215,11 +215,11 @@ impl WindowStats {
     }
 }
 
-/// Relative tolerance of the brute-force reference (as in `reference/points.csv`).
+/// Relative tolerance of the brute-force reference (as in `tests/data/points.csv`).
 pub const REFERENCE_RTOL: f64 = 1e-10;
 
-/// The brute-force verdict used to test the fast classifier: MODEL.md's reference method (a long
-/// trajectory at rtol 1e-10 from the disturbed equilibrium, amplitudes over its last 0.5 s,
+/// The brute-force verdict used to test the fast classifier: the method of MODEL.md#reference-data
+/// (a long trajectory at rtol 1e-10 from the disturbed equilibrium, amplitudes over its last 0.5 s,
 /// `limit_cycle` where the velocity amplitude exceeds 1e-4 m/s), with the horizon stretched to
 /// 24 s + 10/|Re λ| (at most 224 s) so that transients have died by a factor e^10 at its end.
 pub fn reference_verdict(ode: &TreadOde, rotation_hz: f64) -> super::WheelVerdict {

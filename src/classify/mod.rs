@@ -1,13 +1,13 @@
-//! Step 9 of MODEL.md: where does the tread go after a small disturbance? The verdict for one
-//! wheel: stable equilibrium, limit cycle (self-excited vibration), both (bistable), no traction,
-//! or failed, with amplitude, frequency, polygon order, energy and the work it took.
+//! MODEL.md#step-9-attractor: where does the tread go after a small disturbance? The verdict for
+//! one wheel: stable equilibrium, limit cycle (self-excited vibration), both (bistable), no
+//! traction, or failed, with amplitude, frequency, polygon order, energy and the work it took.
 //!
-//! Route (fast and exact): linear stability at the equilibrium decides the onset; an unstable
-//! equilibrium's limit cycle is found directly by shooting (Newton on the Poincaré return map),
-//! started from the Hopf direction with an amplitude predicted by the normal form (or from the
-//! neighbouring wheel's cycle); long integration with envelope tracking is the fallback when
-//! shooting fails, and the optional hard-excitation check looks for a cycle coexisting with a
-//! stable equilibrium.
+//! Route (fast and exact; MODEL.md#classes-and-verdicts): linear stability at the equilibrium
+//! decides the onset; an unstable equilibrium's limit cycle is found directly by shooting (Newton
+//! on the Poincaré return map), started from the Hopf direction with an amplitude predicted by the
+//! normal form (or from the neighbouring wheel's cycle); long integration with envelope tracking is
+//! the fallback when shooting fails, and the optional hard-excitation check looks for a cycle
+//! coexisting with a stable equilibrium.
 
 pub mod budget;
 pub mod envelope;
@@ -37,7 +37,8 @@ pub enum Class {
     LimitCycle,
     /// A stable limit cycle coexists with a stable equilibrium (found by the hard-excitation check).
     Bistable,
-    /// The driving wheel cannot transmit the drive force (MODEL.md step 4).
+    /// The driving wheel cannot transmit the drive force
+    /// (MODEL.md#step-4-brush-model-and-slip-ratio).
     NoTraction,
     /// The model or the numerics failed; `reason` says why.
     Failed,
@@ -118,7 +119,7 @@ pub struct WheelVerdict {
     pub amp_v_mps: f64,
     /// Limit-cycle frequency 1/T [Hz].
     pub freq_hz: f64,
-    /// Wear facets n = f / f_rot (MODEL.md step 9).
+    /// Wear facets n = f / f_rot (MODEL.md#step-9-attractor).
     pub polygon_order: f64,
     /// Energy fed by friction into the tread per cycle, equal to what the tread damper
     /// dissipates: E = ∮ C_s v² dt [J].
@@ -179,7 +180,8 @@ pub struct ClassifierOptions {
     pub rtol: f64,
     /// Newton converges when the return-map residual is below this, relative to the state scales.
     pub newton_tol: f64,
-    /// Initial disturbance of y for trajectories started at the equilibrium [m] (MODEL.md step 9).
+    /// Initial disturbance of y for trajectories started at the equilibrium [m]
+    /// (MODEL.md#step-9-attractor).
     pub disturbance_m: f64,
     /// Hard-excitation check: lateral velocity amplitude of the kick [m/s]; None to skip.
     pub kick_mps: Option<f64>,
@@ -233,7 +235,7 @@ impl Scales {
     }
 }
 
-/// Classifies one wheel at one operating point: steps 1–9 of MODEL.md.
+/// Classifies one wheel at one operating point: steps 1–9 of MODEL.md#the-physics-step-by-step.
 pub fn classify_point(
     p: &Params,
     wheel: Wheel,
@@ -537,9 +539,9 @@ fn hopf_dz_per_v(ode: &TreadOde, lambda: Complex<f64>) -> f64 {
 /// The verdict of a cycle read off the trajectory from the envelope's settled section state
 /// `start`, for when Newton cannot hold on (within about 1e-4 s⁻¹ of the Hopf point the return
 /// map is the identity to within the integration error). 40 linear periods are integrated and
-/// measured over two windows of 20 (as MODEL.md's reference does). Where the amplitude still
-/// drifts, the cycle is that of the Hopf normal form dA/dt = A (Re λ + l1 A²) fitted to the
-/// drift: with r = d ln A/dt measured at Ā, l1 = (r − Re λ)/Ā² and A*² = −Re λ/l1 =
+/// measured over two windows of 20 (as the brute force of MODEL.md#reference-data does). Where the
+/// amplitude still drifts, the cycle is that of the Hopf normal form dA/dt = A (Re λ + l1 A²)
+/// fitted to the drift: with r = d ln A/dt measured at Ā, l1 = (r − Re λ)/Ā² and A*² = −Re λ/l1 =
 /// Ā² Re λ/(Re λ − r), supercritical (l1 < 0) only. Energy per cycle from the near-sinusoidal
 /// velocity, C_s·A_v²/(2f).
 fn settled_cycle(

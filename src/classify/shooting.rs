@@ -20,7 +20,7 @@ pub struct PeriodicOrbit {
     pub measure: CycleMeasure,
 }
 
-/// Amplitudes (half peak-to-peak) and energy of one period (MODEL.md step 9).
+/// Amplitudes (half peak-to-peak) and energy of one period (MODEL.md#step-9-attractor).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct CycleMeasure {
     pub amp_y_m: f64,

@@ -19,8 +19,8 @@ pub struct ReproduceArgs {
     /// [10, 1000000]
     #[arg(long, value_name = "N", default_value_t = 4000)]
     pub paired_samples: u64,
-    /// Parameter file (e.g. from `polywear calibrate`, or studies/params_r0.toml for MODEL.md's
-    /// reference constants) instead of the defaults
+    /// Parameter file (e.g. from `polywear calibrate`, or studies/params_r0.toml for the reference
+    /// constants R0, MODEL.md#r0-and-the-shipped-defaults) instead of the defaults
     #[arg(long, value_name = "FILE")]
     pub params: Option<PathBuf>,
     /// Worker threads (default: all cores), accepted [1, 1024]

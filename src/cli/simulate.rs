@@ -38,7 +38,7 @@ pub struct SimulateArgs {
     pub kick: Option<f64>,
     #[command(flatten)]
     pub budget: BudgetArgs,
-    /// Print one JSON object per wheel (the columns of reference/points.csv and more)
+    /// Print one JSON object per wheel (the columns of tests/data/points.csv and more)
     #[arg(long)]
     pub json: bool,
     /// Write the time series (t, wheel, z, y, v) to FILE.parquet or FILE.csv

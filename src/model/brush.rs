@@ -1,4 +1,5 @@
-//! Brush tire model with parabolic pressure (MODEL.md steps 4–5; paper Eqs. 1–12 and 19):
+//! Brush tire model with parabolic pressure (MODEL.md#step-4-brush-model-and-slip-ratio and
+//! #step-5-friction-levels; paper Eqs. 1–12 and 19):
 //! the sliding share of the contact, the longitudinal force, the driving wheel's slip ratio and
 //! the friction levels that feed the LuGre law.
 

@@ -1,5 +1,6 @@
-//! The physics of MODEL.md, steps 1–8: from an operating point and a wheel kind to the
-//! coefficients of the tread ODE. Pure functions of [`Params`]; no integration happens here.
+//! The physics of MODEL.md#the-physics-step-by-step, steps 1–8: from an operating point and a wheel
+//! kind to the coefficients of the tread ODE. Pure functions of [`Params`]; no integration happens
+//! here.
 
 pub mod brush;
 pub mod tire;
@@ -30,7 +31,7 @@ impl Wheel {
     }
 }
 
-/// How the Stribeck curve sees sliding (MODEL.md step 6).
+/// How the Stribeck curve sees sliding (MODEL.md#step-6-tread-ode).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Variant {
     /// The paper's Eq. 21: only the lateral sliding speed, w_t = |w|.
@@ -38,10 +39,10 @@ pub enum Variant {
     /// 2-D LuGre extension: w_t = sqrt(w² + V_sx²) with the driving wheel's full longitudinal
     /// sliding speed V_sx = V cos α S/(1+S).
     Combined,
-    /// 2-D LuGre over the patch (MODEL.md step 6, the shipped default): as `Combined`, but with
-    /// the patch-mean longitudinal sliding speed q·V cos α S/(1+S), since only the sliding share
-    /// q of the contact length slides lengthwise. The one reading that reproduces the paper's
-    /// driving-wheel results (MODEL.md, "Both wheels").
+    /// 2-D LuGre over the patch (MODEL.md#step-6-tread-ode, the shipped default): as `Combined`,
+    /// but with the patch-mean longitudinal sliding speed q·V cos α S/(1+S), since only the sliding
+    /// share q of the contact length slides lengthwise. The one reading that reproduces the paper's
+    /// driving-wheel results (MODEL.md#the-default-sliding-share).
     SlidingShare,
 }
 
@@ -97,9 +98,9 @@ impl FromStr for Variant {
     }
 }
 
-/// Longitudinal sliding speed seen by the Stribeck curve (MODEL.md step 6) [m/s]: none under
-/// `paper` (Eq. 21), V cos α S/(1+S) under `combined`, and its patch mean q·V cos α S/(1+S) under
-/// `sliding_share`. Zero for the follower (S = 0) in every variant.
+/// Longitudinal sliding speed seen by the Stribeck curve (MODEL.md#step-6-tread-ode) [m/s]: none
+/// under `paper` (Eq. 21), V cos α S/(1+S) under `combined`, and its patch mean q·V cos α S/(1+S)
+/// under `sliding_share`. Zero for the follower (S = 0) in every variant.
 pub fn longitudinal_sliding_mps(
     variant: Variant,
     speed_mps: f64,
@@ -130,7 +131,8 @@ pub struct WheelModel {
 /// Why no tread ODE exists for a wheel.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ModelFailure {
-    /// The driving wheel cannot transmit the drive force (MODEL.md step 4): a result.
+    /// The driving wheel cannot transmit the drive force
+    /// (MODEL.md#step-4-brush-model-and-slip-ratio): a result.
     NoTraction {
         patch: ContactPatch,
         tread: TreadBlock,
@@ -154,7 +156,7 @@ impl fmt::Display for ModelFailure {
 }
 
 impl WheelModel {
-    /// Evaluates MODEL.md steps 1–5 and assembles the step-6 ODE.
+    /// Evaluates steps 1–5 of MODEL.md#the-physics-step-by-step and assembles the step-6 ODE.
     pub fn build(p: &Params, wheel: Wheel, variant: Variant) -> Result<Self, ModelFailure> {
         let patch = tire::contact_patch(p).map_err(ModelFailure::Invalid)?;
         let tread = tire::tread_block(p, &patch);
@@ -204,7 +206,7 @@ impl WheelModel {
         })
     }
 
-    /// Wheel rotation frequency f_rot = V / (2π r_B) [Hz] (MODEL.md step 9).
+    /// Wheel rotation frequency f_rot = V / (2π r_B) [Hz] (MODEL.md#step-9-attractor).
     pub fn rotation_hz(p: &Params) -> f64 {
         p.speed_mps() / (2.0 * std::f64::consts::PI * p.r_b)
     }

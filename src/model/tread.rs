@@ -1,4 +1,5 @@
-//! The tread's lateral dynamics with LuGre friction (MODEL.md steps 6–8; paper Eqs. 18–26):
+//! The tread's lateral dynamics with LuGre friction (MODEL.md#step-6-tread-ode to
+//! #step-8-linear-stability; paper Eqs. 18–26):
 //! right-hand side, equilibrium, analytic Jacobian and its eigenvalues.
 
 use nalgebra::{Complex, Matrix3};
