@@ -1,7 +1,8 @@
 //! The documents hold together: every `NAME.md#anchor` cited in code, studies and documents names
 //! a heading that exists, every citation of MODEL.md in code names a section, no file points
 //! outside the repository (only `.ci/` may reach the shared reference copy), MODEL.md's parameter
-//! table is what `polywear params --markdown` prints.
+//! table is what `polywear params --markdown` prints, and every command of `polywear --help` has
+//! a row in README's command table and a section in GUIDE.md.
 
 mod common;
 
@@ -240,4 +241,33 @@ fn model_md_parameter_table_is_current() {
         model.contains(&table),
         "MODEL.md's parameter table differs from `polywear params --markdown`:\n{table}"
     );
+}
+
+#[test]
+fn every_command_is_in_the_readme_table_and_the_guide() {
+    let (code, help, _) = common::polywear(&["--help"]);
+    assert_eq!(code, 0);
+    let commands: Vec<&str> = help
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|c| *c != "help")
+        .collect();
+    assert!(commands.len() >= 9, "{help}");
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let guide = std::fs::read_to_string(root().join("GUIDE.md")).unwrap();
+    let mut missing = Vec::new();
+    for c in commands {
+        if !readme.contains(&format!("| `polywear {c}")) {
+            missing.push(format!(
+                "README.md: no row `| `polywear {c}...` in the command table"
+            ));
+        }
+        if !guide.contains(&format!("polywear {c}")) {
+            missing.push(format!("GUIDE.md: `polywear {c}` never shown"));
+        }
+    }
+    assert!(missing.is_empty(), "{}", missing.join("\n"));
 }
