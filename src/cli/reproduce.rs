@@ -8,6 +8,14 @@ use clap::Args;
 use super::common::{CliError, CliResult};
 
 #[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  # data/paper_2014/report.md and the figures\n",
+    "  polywear reproduce\n",
+    "  # at the constants R0\n",
+    "  polywear reproduce --params studies/params_r0.toml --out data/paper_r0\n",
+    "\nGuide: GUIDE.md#reproduce"
+))]
 pub struct ReproduceArgs {
     /// Output directory
     #[arg(long, value_name = "DIR", default_value = "data/paper_2014")]

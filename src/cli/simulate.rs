@@ -15,6 +15,15 @@ use polywear::records::WheelRecord;
 use polywear::trajectory::{plot_point, time_series, Samples};
 
 #[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  # the default point, both wheels\n",
+    "  polywear simulate\n",
+    "  polywear simulate --speed 150 --toe 0.4 --variant paper --json\n",
+    "  # figure and time series\n",
+    "  polywear simulate --plot data/point.png --out data/point.parquet\n",
+    "\nGuide: GUIDE.md#simulate"
+))]
 pub struct SimulateArgs {
     #[command(flatten)]
     pub point: PointArgs,
