@@ -20,6 +20,7 @@ pub enum Provenance {
 }
 
 impl Provenance {
+    /// The provenance as `polywear params` prints it.
     pub fn as_str(self) -> &'static str {
         match self {
             Provenance::Paper => "paper",
@@ -33,9 +34,13 @@ impl Provenance {
 /// Which group a parameter belongs to; the operating point is what studies explore.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Group {
+    /// Speed, toe-in, load, pressure: the axes studies explore.
     OperatingPoint,
+    /// Geometry and rubber of the tire.
     TireStructure,
+    /// Friction coefficients, the LuGre law and damping.
     Friction,
+    /// Drag and rolling resistance (driving wheel only).
     Vehicle,
 }
 
@@ -46,16 +51,23 @@ pub struct ParamSpec {
     pub name: &'static str,
     /// Symbol in MODEL.md#parameter-table and the paper.
     pub symbol: &'static str,
+    /// Unit of the value.
     pub unit: &'static str,
+    /// The shipped default.
     pub default: f64,
+    /// Where the default comes from.
     pub provenance: Provenance,
+    /// Which group the parameter belongs to.
     pub group: Group,
     /// Smallest accepted value; excluded when `min_exclusive`.
     pub min: f64,
+    /// Whether `min` itself is refused.
     pub min_exclusive: bool,
+    /// Largest accepted value (included).
     pub max: f64,
     /// Counts (wheels) must be whole numbers.
     pub integer: bool,
+    /// What the parameter is, in a sentence.
     pub description: &'static str,
 }
 
@@ -93,16 +105,25 @@ impl ParamSpec {
 /// A parameter problem found before any work starts.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ParamError {
+    /// No parameter has this name.
     Unknown {
+        /// The name given.
         name: String,
     },
+    /// A value outside its parameter's accepted range.
     OutOfRange {
+        /// The parameter.
         name: &'static str,
+        /// The value given.
         value: f64,
+        /// The accepted range, as people read it.
         range: String,
+        /// The parameter's unit.
         unit: &'static str,
     },
+    /// Values that do not fit together (e.g. μ_s above μ_m).
     Inconsistent {
+        /// What does not fit, with the names and values.
         message: String,
     },
 }

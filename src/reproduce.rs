@@ -25,8 +25,11 @@ pub const AXES: [(&str, f64, f64); 4] = [
 
 /// What was reproduced, for the report and the command's summary.
 pub struct Reproduction {
+    /// Every bifurcation sweep (four axes, three variants, both wheels).
     pub sweeps: Vec<Sweep>,
+    /// Every file written.
     pub files: Vec<PathBuf>,
+    /// The text of `report.md`.
     pub report: String,
     /// Driving against follower on samples of the default study, per variant.
     pub paired: Vec<PairedRow>,
@@ -296,20 +299,28 @@ fn amplitude_vs_speed(
 /// Driving against follower on the same samples of the built-in default study, per variant.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PairedRow {
+    /// The friction variant.
     pub variant: Variant,
     /// Samples where both wheels were classified (no failure, no traction loss).
     pub samples: u64,
+    /// Samples where the follower vibrates.
     pub follower: u64,
+    /// Samples where the driving wheel vibrates.
     pub driving: u64,
+    /// Samples where both vibrate.
     pub both: u64,
+    /// Samples where only the follower vibrates.
     pub follower_only: u64,
+    /// Samples where only the driving wheel vibrates.
     pub driving_only: u64,
 }
 
 impl PairedRow {
+    /// Share of samples where the follower vibrates.
     pub fn p_follower(&self) -> f64 {
         self.follower as f64 / self.samples as f64
     }
+    /// Share of samples where the driving wheel vibrates.
     pub fn p_driving(&self) -> f64 {
         self.driving as f64 / self.samples as f64
     }

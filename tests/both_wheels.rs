@@ -1,4 +1,4 @@
-//! Issue 11: the shipped defaults answer the driving-vs-follower question as the paper does.
+//! The shipped defaults answer the driving-vs-follower question as the paper does.
 //! Hopf points of both wheels in the paper's bands (MODEL.md#targets and #variants), every
 //! driving range inside the follower's, the default study's paired comparison, and the literal
 //! equations' reversed answer kept visible.
@@ -159,7 +159,7 @@ fn decoding_study_draws_each_decoded_constant_over_its_lost_digit_readings() {
 
 #[test]
 fn the_conclusion_holds_for_every_lost_digit_decoding() {
-    // Issue 11 item 5: the shipped decoding study through explore and analyze; the driving wheel
+    // The shipped decoding study through explore and analyze; the driving wheel
     // must be less exposed than the follower in every decoding with enough samples.
     let dir = std::env::temp_dir().join(format!("polywear-decoding-{}", std::process::id()));
     std::fs::remove_dir_all(&dir).ok();

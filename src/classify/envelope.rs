@@ -13,9 +13,17 @@ pub enum Envelope {
     /// Section amplitudes decay geometrically to zero.
     Decays,
     /// Section amplitudes converge to a positive value: a point near the cycle on the section.
-    Settles { z: f64, v: f64 },
+    Settles {
+        /// Extrapolated z where the cycle crosses the section \[m\].
+        z: f64,
+        /// Extrapolated v where the cycle crosses the section [m/s].
+        v: f64,
+    },
     /// No verdict within the time limit.
-    Undecided { last_v: f64 },
+    Undecided {
+        /// The last section velocity seen [m/s].
+        last_v: f64,
+    },
 }
 
 /// Follows the trajectory from `start`, recording the velocity at each upward section crossing,
@@ -93,8 +101,11 @@ pub fn track(
 /// Amplitudes and frequency measured on a trajectory window, the way MODEL.md#reference-data does.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct WindowMeasure {
+    /// Half peak-to-peak of y over the window \[m\].
     pub amp_y_m: f64,
+    /// Half peak-to-peak of v over the window [m/s].
     pub amp_v_mps: f64,
+    /// Frequency from upward crossings of v's mid-range level \[Hz\]; 0 with fewer than two.
     pub freq_hz: f64,
 }
 

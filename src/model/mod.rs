@@ -17,12 +17,16 @@ pub use tread::{LinearStability, State, TreadOde};
 /// Driving wheels transmit the drive force through a slip ratio; followers roll freely (S = 0).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Wheel {
+    /// Rolls freely: slip ratio S = 0.
     Follower,
+    /// Transmits the drive force through a slip ratio S > 0.
     Driving,
 }
 
 impl Wheel {
+    /// Both wheels, follower first.
     pub const BOTH: [Wheel; 2] = [Wheel::Follower, Wheel::Driving];
+    /// The name written in output files and accepted by parsers.
     pub fn as_str(self) -> &'static str {
         match self {
             Wheel::Follower => "follower",
@@ -47,9 +51,11 @@ pub enum Variant {
 }
 
 impl Variant {
+    /// Every variant.
     pub const ALL: [Variant; 3] = [Variant::Paper, Variant::Combined, Variant::SlidingShare];
     /// The variant every command and built-in study uses unless told otherwise.
     pub const DEFAULT: Variant = Variant::SlidingShare;
+    /// The name written in output files and accepted by parsers.
     pub fn as_str(self) -> &'static str {
         match self {
             Variant::Paper => "paper",
@@ -119,12 +125,19 @@ pub fn longitudinal_sliding_mps(
 /// Everything steps 1–8 say about one wheel at one operating point.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WheelModel {
+    /// The wheel.
     pub wheel: Wheel,
+    /// The friction variant.
     pub variant: Variant,
+    /// The contact patch (steps 1–2).
     pub patch: ContactPatch,
+    /// The tread block (step 3).
     pub tread: TreadBlock,
+    /// The slip ratio S (step 4; 0 for the follower).
     pub slip_ratio: f64,
+    /// The friction levels (step 5).
     pub friction: FrictionLevels,
+    /// The tread ODE (step 6).
     pub ode: TreadOde,
 }
 
@@ -134,8 +147,11 @@ pub enum ModelFailure {
     /// The driving wheel cannot transmit the drive force
     /// (MODEL.md#step-4-brush-model-and-slip-ratio): a result.
     NoTraction {
+        /// The contact patch.
         patch: ContactPatch,
+        /// The tread block.
         tread: TreadBlock,
+        /// The drive force against the largest force the contact transmits.
         limit: NoTraction,
     },
     /// The static model is undefined at this point (e.g. no contact patch).
@@ -206,7 +222,7 @@ impl WheelModel {
         })
     }
 
-    /// Wheel rotation frequency f_rot = V / (2π r_B) [Hz] (MODEL.md#step-9-attractor).
+    /// Wheel rotation frequency f_rot = V / (2π r_B) \[Hz\] (MODEL.md#step-9-attractor).
     pub fn rotation_hz(p: &Params) -> f64 {
         p.speed_mps() / (2.0 * std::f64::consts::PI * p.r_b)
     }
