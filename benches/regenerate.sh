@@ -163,7 +163,7 @@ if want reproduce; then
   { tail -n 3 "$work/reproduce.out"; echo "wall: $(tail -1 "$work/reproduce.err")"; } | block
   say "From its report.md:"
   say ""
-  sed -n '/^## Table 3/,/^## Figures/p' "$work/paper/report.md" | grep -v "^## Figures" | tee -a "$report"
+  sed -n '/^## Table 3/,/^## Figures/p' "$work/paper/report.md" | grep -v "^## Figures" | sed 's/^## /#### /' | tee -a "$report"
 fi
 
 if want decoding; then
