@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Memory and time of `polywear analyze` against the study size: runs analyze on the explore
 # output of 1e6 and of 4e6 samples and prints wall time and peak resident memory (RSS) of each,
-# and their ratios. The goal (issue 12): peak RSS <= 400 MB for both, 4e6 at most 1.2 x 1e6.
+# and their ratios. The goal: peak RSS <= 400 MB for both, 4e6 at most 1.2 x 1e6.
 #
 # The data is real explore output, made cheap: the default study's tire-structure spread with
 # speeds of 40-100 km/h, so most points are stable (decided from the eigenvalues alone) and

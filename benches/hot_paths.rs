@@ -1,5 +1,5 @@
 //! Hot paths: one RHS evaluation, a 1-second trajectory, and the classifier per wheel at the
-//! default point next to the brute-force reference (issue 3's speed goal).
+//! default point next to the brute-force reference.
 //! Run: `cargo bench --bench hot_paths`.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};

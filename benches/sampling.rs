@@ -1,7 +1,7 @@
-//! Cost of the random streams (issue 16): explore draws ~10 values per sample at ~5,000 samples/s,
+//! Cost of the random streams: explore draws ~10 values per sample at ~5,000 samples/s,
 //! so positioning the generator and drawing one value must stay well under a microsecond.
-//! The former hand-written hash (SplitMix64 finalizer, polywear 0.1) is timed beside it for the
-//! ratio. Run: `cargo bench --bench sampling`.
+//! A hand-written counter hash (SplitMix64 finalizer), the cheapest addressable generator, is
+//! timed beside it for the ratio. Run: `cargo bench --bench sampling`.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use rand::Rng;
@@ -11,7 +11,7 @@ use polywear::sampling::distribution::Distribution;
 use polywear::sampling::Streams;
 use polywear::study::{Study, DEFAULT_STUDY};
 
-/// polywear 0.1's counter hash, kept here only as the baseline of the ratio.
+/// A SplitMix64-style counter hash, kept here only as the baseline of the ratio.
 fn splitmix_bits(seed: u64, index: u64, stream: u64) -> u64 {
     let mut z = seed
         .wrapping_mul(0x9E37_79B9_7F4A_7C15)

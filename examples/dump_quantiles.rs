@@ -95,7 +95,7 @@ fn main() {
                 count: None,
             },
         ),
-        ("tn_issue13_upper_tail".into(), tn(240.0, 8.0, 312.0, 400.0)),
+        ("tn_far_upper_tail".into(), tn(240.0, 8.0, 312.0, 400.0)),
         ("tn_lower_tail".into(), tn(240.0, 8.0, 100.0, 168.0)),
         ("tn_symmetric".into(), tn(0.0, 1.0, -1.0, 1.0)),
         ("tn_one_sided_upper".into(), tn(0.0, 1.0, -0.5, 30.0)),

@@ -16,11 +16,17 @@ use crate::records::WheelRecord;
 /// The result of a sweep: one record per (value, wheel), in `jobs` order.
 #[derive(Debug, Clone)]
 pub struct Sweep {
+    /// The parameter swept.
     pub param: &'static str,
+    /// Its unit.
     pub unit: &'static str,
+    /// The friction variant.
     pub variant: Variant,
+    /// (parameter value, wheel) of each record.
     pub jobs: Vec<(f64, Wheel)>,
+    /// One record per job.
     pub records: Vec<WheelRecord>,
+    /// Hopf points located between neighbouring values, both wheels.
     pub hopf: Vec<HopfPoint>,
 }
 
@@ -75,7 +81,9 @@ pub fn eig_re(p: &Params, name: &str, x: f64, wheel: Wheel, variant: Variant) ->
 /// A located Hopf point.
 #[derive(Debug, Clone, Copy)]
 pub struct HopfPoint {
+    /// The wheel.
     pub wheel: Wheel,
+    /// The parameter's value at the Hopf point, located by root-finding on Re λ.
     pub value: f64,
     /// True when the equilibrium loses stability as the parameter increases.
     pub destabilizing: bool,

@@ -21,16 +21,24 @@ use crate::toml_input::{self, Section, TomlError};
 pub enum Observable {
     /// The value of `param` in [from, to] where Re λ changes sign (a Hopf point).
     Hopf {
+        /// The parameter swept.
         param: &'static str,
+        /// Start of the searched range.
         from: f64,
+        /// End of the searched range.
         to: f64,
     },
-    /// The linear vibration frequency |Im λ|/2π [Hz] at a point given by `at`.
-    Frequency { at: Vec<(&'static str, f64)> },
+    /// The linear vibration frequency |Im λ|/2π \[Hz\] at a point given by `at`.
+    Frequency {
+        /// The point: (parameter, value) pairs applied on top of the parameters.
+        at: Vec<(&'static str, f64)>,
+    },
     /// The limit-cycle amplitude (half peak-to-peak of y) of the target's wheel divided by that
     /// of `relative_to`, at the point `at` (0 where the target's wheel is stable).
     AmplitudeRatio {
+        /// The point: (parameter, value) pairs applied on top of the parameters.
         at: Vec<(&'static str, f64)>,
+        /// The wheel whose amplitude is the denominator.
         relative_to: Wheel,
     },
 }
@@ -38,11 +46,17 @@ pub enum Observable {
 /// One observation to match.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Target {
+    /// How the fit table names the target.
     pub name: String,
+    /// What is observed.
     pub observable: Observable,
+    /// The wheel observed.
     pub wheel: Wheel,
+    /// The friction variant of the model.
     pub variant: Variant,
+    /// The observed value.
     pub value: f64,
+    /// Weight of its relative error in the cost.
     pub weight: f64,
     /// Relative error up to which the target counts as met (reported, not enforced).
     pub tolerance: f64,
@@ -51,18 +65,21 @@ pub struct Target {
 /// A calibration problem.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Problem {
+    /// Parameters fitted continuously (in log space).
     pub fit: Vec<&'static str>,
     /// Log-space standard deviation of the prior around the starting values (None: no prior).
     pub prior_sigma: Option<f64>,
+    /// Starting values of every parameter.
     pub start: Params,
+    /// The observations to match.
     pub targets: Vec<Target>,
     /// Parameters restricted to a few values each (e.g. a decoded constant's lost-digit
     /// alternatives); every combination is tried. Not fitted continuously.
     pub choices: Vec<(&'static str, Vec<f64>)>,
 }
 
-/// The tire-structure and friction parameters MODEL.md marks as decoded or reconstructed: the
-/// default set to fit (the operating point is what targets vary; vehicle parameters do not act
+/// The tire-structure and friction parameters MODEL.md#constants marks as decoded or reconstructed:
+/// the default set to fit (the operating point is what targets vary; vehicle parameters do not act
 /// on the follower).
 pub fn default_fit() -> Vec<&'static str> {
     use crate::params::Group;
@@ -88,44 +105,94 @@ pub enum TargetsError {
     Input(#[from] TomlError),
     /// An unknown parameter name, or a value outside its parameter's accepted range.
     #[error("`{key}`: {source}")]
-    Param { key: String, source: ParamError },
+    Param {
+        /// The key, in full.
+        key: String,
+        /// Why it was refused.
+        source: ParamError,
+    },
+    /// A setting outside its accepted range.
     #[error("`{key}` = {value} is outside its accepted range {range}")]
     OutOfRange {
+        /// The key, in full.
         key: String,
+        /// The value given.
         value: f64,
+        /// The accepted range.
         range: &'static str,
     },
+    /// A `choices` list without values.
     #[error("`{key}` must hold at least one value")]
-    NoValues { key: String },
+    NoValues {
+        /// The key, in full.
+        key: String,
+    },
+    /// `choices` would try too many combinations.
     #[error("`choices` make {0} combinations; accepted at most 4096")]
     TooManyCombinations(usize),
+    /// A parameter named twice in one list.
     #[error("`{key}` names `{name}` twice")]
-    Repeated { key: String, name: &'static str },
+    Repeated {
+        /// The list's key.
+        key: String,
+        /// The parameter named twice.
+        name: &'static str,
+    },
+    /// An empty list of parameters.
     #[error("`{0}` must name at least one parameter")]
     NoneNamed(String),
+    /// A parameter both fitted and restricted to choices.
     #[error(
         "`{0}` is both in `fit` (continuous) and in `choices` (discrete); name it in one only"
     )]
     FitAndChoice(&'static str),
+    /// A fitted parameter that starts at 0 (log space cannot move it).
     #[error("`fit`: `{0}` starts at 0 and cannot be fitted in log space")]
     ZeroStart(&'static str),
+    /// The file has no `[[target]]`.
     #[error("no [[target]] entries")]
     NoTargets,
+    /// A target kind that does not exist.
     #[error("`{key}.kind` = \"{kind}\" is unknown; accepted: hopf, frequency, amplitude_ratio")]
-    UnknownKind { key: String, kind: String },
+    UnknownKind {
+        /// The target's key.
+        key: String,
+        /// The kind given.
+        kind: String,
+    },
+    /// A Hopf target whose range is empty.
     #[error("`{key}`: from = {from} must be below to = {to}")]
-    Unordered { key: String, from: f64, to: f64 },
+    Unordered {
+        /// The target's key.
+        key: String,
+        /// Start of the range.
+        from: f64,
+        /// End of the range.
+        to: f64,
+    },
+    /// An amplitude ratio of a wheel to itself.
     #[error("`{key}`: `relative_to` must name the other wheel than `wheel` = {wheel}")]
-    SameWheel { key: String, wheel: Wheel },
+    SameWheel {
+        /// The target's key.
+        key: String,
+        /// The wheel named twice.
+        wheel: Wheel,
+    },
+    /// A target value of 0 (errors are relative to it).
     #[error("`{key}.value` must not be 0 (errors are relative)")]
-    ZeroValue { key: String },
+    ZeroValue {
+        /// The target's key.
+        key: String,
+    },
 }
 
 /// Why no parameter file is written for a fit.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParamFileError {
+    /// The fitted values lie outside their accepted ranges.
     #[error("the fit diverged and no parameter file is written: {0}")]
     Diverged(ParamError),
+    /// The cost became NaN or infinite.
     #[error("the fit diverged (non-finite cost) and no parameter file is written")]
     NonFiniteCost,
 }
@@ -452,12 +519,19 @@ pub fn observe(t: &Target, p: &Params) -> f64 {
 /// One target beside the model's value at the start and at the fit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TargetResult {
+    /// The target's name.
     pub name: String,
+    /// The wheel observed.
     pub wheel: Wheel,
+    /// The friction variant of the model.
     pub variant: Variant,
+    /// The observed value.
     pub value: f64,
+    /// The model's value at the starting parameters.
     pub start: f64,
+    /// The model's value at the fit.
     pub fitted: f64,
+    /// Relative error up to which the target counts as met.
     pub tolerance: f64,
 }
 
@@ -495,15 +569,19 @@ impl TargetResult {
 /// The fitted parameters and how well they do.
 #[derive(Debug, Clone)]
 pub struct Fit {
+    /// Every parameter at the fit.
     pub params: Params,
     /// (name, start value, fitted value)
     pub fitted: Vec<(&'static str, f64, f64)>,
     /// (name, chosen value) for each parameter restricted by `choices`.
     pub chosen: Vec<(&'static str, f64)>,
+    /// Each target beside the model's values.
     pub targets: Vec<TargetResult>,
     /// d ln(model_i) / d ln(param_j) at the fit, targets × fitted parameters.
     pub sensitivity: Vec<Vec<f64>>,
+    /// Sum of the squared weighted relative errors (and prior terms) at the fit.
     pub cost: f64,
+    /// Model evaluations spent.
     pub evaluations: usize,
     /// Combinations of `choices` tried (1 without choices).
     pub combinations: usize,

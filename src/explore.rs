@@ -25,7 +25,9 @@ use crate::study::{Sampler, Study};
 /// shard k of N with k counted from 0 (as Slurm array and Kubernetes indexed-job indices).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Shard {
+    /// This shard's index k, from 0.
     pub index: u64,
+    /// The number of shards N.
     pub count: u64,
 }
 
@@ -53,12 +55,17 @@ impl std::fmt::Display for Shard {
 /// What one explore run does.
 #[derive(Debug, Clone)]
 pub struct RunPlan {
+    /// The study.
     pub study: Study,
+    /// The seed of the random streams.
     pub seed: u64,
+    /// Samples of the whole run (all shards).
     pub samples: u64,
     /// This run evaluates the chunks of this shard.
     pub shard: Shard,
+    /// The output directory.
     pub out_dir: PathBuf,
+    /// Keep verified chunks of an earlier run in `out_dir` and do the rest.
     pub resume: bool,
     /// The command line, stored in the metadata.
     pub command: String,
@@ -107,13 +114,18 @@ impl PreparedOutput {
 /// Counts of classes per (variant, wheel) among the samples evaluated by this run.
 #[derive(Debug, Clone, Default)]
 pub struct RunSummary {
+    /// Samples this run evaluated.
     pub samples_evaluated: u64,
+    /// Samples of kept chunks (resume).
     pub samples_skipped: u64,
+    /// Chunk files this run wrote.
     pub chunks_written: u64,
+    /// Rows per class of the evaluated samples, per (variant, wheel).
     pub classes: BTreeMap<(Variant, Wheel), BTreeMap<Class, u64>>,
 }
 
 impl RunPlan {
+    /// Chunks of the whole run.
     pub fn n_chunks(&self) -> u64 {
         self.samples.div_ceil(self.study.chunk_size)
     }
@@ -142,6 +154,7 @@ impl RunPlan {
         (self.samples - chunk * self.study.chunk_size).min(self.study.chunk_size)
     }
 
+    /// Path of chunk `chunk`'s file.
     pub fn chunk_path(&self, chunk: u64) -> PathBuf {
         self.out_dir.join(output_dir::chunk_file_name(chunk))
     }
@@ -255,8 +268,8 @@ impl RunPlan {
         let old: serde_json::Value = serde_json::from_str(&text)
             .map_err(|err| e(format!("unreadable {}: {err}", output_dir::MANIFEST)))?;
         let new = self.manifest();
-        // A directory written by another generator (or by a version before `rng` was recorded)
-        // holds rows this build would not reproduce: never mix them.
+        // A directory written by another generator (or with none recorded) holds rows this
+        // build would not reproduce: never mix them.
         if old["rng"] != new["rng"] {
             return Err(e(format!(
                 "--resume: this directory was written with another random generator ({}); this polywear uses {}, whose rows would differ: start a new directory",
@@ -567,11 +580,13 @@ fn short(v: &serde_json::Value) -> String {
 
 /// The rows of one sample: its drawn values and one record per variant and wheel.
 pub struct SampleRows {
+    /// The sample's index.
     pub sample_id: u64,
     /// Values in [`Study::value_names`] order: drawn parameters, then operating-point columns.
     pub drawn: Vec<f64>,
     /// The operating-point row drawn (0-based), when the study has `[operating_points]`.
     pub operating_point_row: Option<usize>,
+    /// One record per variant and wheel.
     pub records: Vec<WheelRecord>,
 }
 

@@ -1,7 +1,10 @@
 //! polywear: how likely a tire is to develop polygonal wear through lateral self-excited
 //! vibration of the tread (Zuo, Duan, Li 2014). The modules follow the data flow:
-//! [`params`] → [`model`] (MODEL.md steps 1–8) → [`solver`] → [`classify`] (step 9) →
-//! [`records`] → [`parquet_out`]; [`plot`] draws what people would rather look at.
+//! [`params`] → [`model`] (steps 1–8 of MODEL.md#the-physics-step-by-step) → [`solver`] →
+//! [`classify`] (step 9) → [`records`] → [`parquet_out`]; [`plot`] draws what people would rather
+//! look at.
+
+#![warn(missing_docs)]
 
 #[macro_use]
 mod text_enum;

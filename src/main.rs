@@ -12,6 +12,10 @@ use clap::{Parser, Subcommand};
 /// wheels differ by their slip ratio.
 #[derive(Debug, Parser)]
 #[command(name = "polywear", version, about, long_about, max_term_width = 100)]
+#[command(after_help = concat!(
+    "Each command's --help explains its flags and ends with an example.\n",
+    "Guide: GUIDE.md (every command, studies, output files); the model: MODEL.md#the-physics-step-by-step"
+))]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -19,31 +23,49 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Sample a study's operating points, classify both wheels of each, write Parquet
+    ///
     /// The batch study: sample speed, toe-in, load, pressure and tire structure, classify both
-    /// wheels of every sample in parallel, stream the rows to Parquet
+    /// wheels of every sample in parallel, stream the rows to Parquet, and end with the analysis.
     Explore(cli::explore::ExploreArgs),
+    /// Analyse explore output: occurrence, driving vs follower, risk maps, severity
+    ///
     /// Analyse an explore output: occurrence probabilities, driving vs follower, risk maps,
-    /// severity, Sobol sensitivity; writes tables, PNGs and report.md
+    /// severity, Sobol sensitivity; writes tables, PNGs and report.md.
     Analyze(cli::analyze::AnalyzeArgs),
-    /// Classify every operating point of a CSV file (both wheels, in parallel)
+    /// Classify both wheels of every operating point of a CSV file, in parallel
     Classify(cli::classify::ClassifyArgs),
+    /// Classify both wheels along a drive cycle: time and distance in vibration
+    ///
     /// Classify both wheels at every step of a drive cycle (time_s, speed_kmh): share of time
-    /// and distance in vibration, longest stretch, polygon orders, picture
+    /// and distance in vibration, longest stretch, polygon orders, picture.
     Cycle(cli::cycle::CycleArgs),
-    /// Evaluate one operating point for both wheels: verdict table, JSON, time series, plot
+    /// One operating point, both wheels: verdict table, JSON, time series, plot
     Simulate(cli::simulate::SimulateArgs),
+    /// Sweep one parameter for both wheels: Re λ, limit-cycle envelope, Hopf points
+    ///
     /// Sweep one parameter for both wheels: eigenvalue and limit-cycle envelope, Hopf points,
-    /// Parquet table and PNG
+    /// Parquet table and PNG.
     Bifurcation(cli::bifurcation::BifurcationArgs),
-    /// Regenerate the paper's analyses (Figs. 4, 6-10, 12-23, Table 3) with a comparison report
+    /// Regenerate the paper's figures and Table 3, with a comparison report
+    ///
+    /// Regenerate the paper's analyses (Figs. 4, 6-10, 12-23, Table 3) with a report that sets
+    /// each result beside the paper's legible values.
     Reproduce(cli::reproduce::ReproduceArgs),
-    /// Fit parameters to target observations (Hopf points, frequency); writes a --params file
+    /// Fit parameters to observed Hopf points and frequencies; writes a --params file
     Calibrate(cli::calibrate::CalibrateArgs),
-    /// Check the fast classifier against brute-force integration on random points (slow)
+    /// Check the fast classifier against brute-force integration (slow)
     Validate(cli::validate::ValidateArgs),
-    /// List every model parameter: name, unit, default, provenance and accepted range
+    /// List every model parameter: unit, default, provenance, accepted range
+    #[command(after_help = concat!(
+        "Examples:\n",
+        "  polywear params\n",
+        "  # the table of MODEL.md#parameter-table\n",
+        "  polywear params --markdown\n",
+        "\nGuide: GUIDE.md#parameters-and-bad-input"
+    ))]
     Params {
-        /// Print a Markdown table (as in README.md)
+        /// Print a Markdown table (as in MODEL.md#parameter-table)
         #[arg(long)]
         markdown: bool,
     },

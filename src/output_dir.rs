@@ -133,8 +133,11 @@ pub fn chunk_file_name(chunk: u64) -> String {
 /// One finished chunk as the journal records it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ChunkEntry {
+    /// The chunk's index.
     pub chunk: u64,
+    /// Rows in its file.
     pub rows: u64,
+    /// Size and CRC-32 of its file.
     pub digest: FileDigest,
 }
 

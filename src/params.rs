@@ -1,10 +1,10 @@
 //! Model parameters: the one place where names, units, defaults, provenance and accepted ranges
-//! live (MODEL.md, "Inputs"). Every other module reads a [`Params`] value; the CLI, study files
+//! live (MODEL.md#constants). Every other module reads a [`Params`] value; the CLI, study files
 //! and output metadata all use the names defined here.
 
 use std::fmt;
 
-/// Where a default value comes from (MODEL.md, "Read this first").
+/// Where a default value comes from (MODEL.md#sources-and-the-lost-digits).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Provenance {
     /// Legible in the paper, or only one reading fits the lost-digit rule.
@@ -20,6 +20,7 @@ pub enum Provenance {
 }
 
 impl Provenance {
+    /// The provenance as `polywear params` prints it.
     pub fn as_str(self) -> &'static str {
         match self {
             Provenance::Paper => "paper",
@@ -33,9 +34,13 @@ impl Provenance {
 /// Which group a parameter belongs to; the operating point is what studies explore.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Group {
+    /// Speed, toe-in, load, pressure: the axes studies explore.
     OperatingPoint,
+    /// Geometry and rubber of the tire.
     TireStructure,
+    /// Friction coefficients, the LuGre law and damping.
     Friction,
+    /// Drag and rolling resistance (driving wheel only).
     Vehicle,
 }
 
@@ -44,18 +49,25 @@ pub enum Group {
 pub struct ParamSpec {
     /// Name used on the command line (`--set name=value`), in study files and in output columns.
     pub name: &'static str,
-    /// Symbol in MODEL.md and the paper.
+    /// Symbol in MODEL.md#parameter-table and the paper.
     pub symbol: &'static str,
+    /// Unit of the value.
     pub unit: &'static str,
+    /// The shipped default.
     pub default: f64,
+    /// Where the default comes from.
     pub provenance: Provenance,
+    /// Which group the parameter belongs to.
     pub group: Group,
     /// Smallest accepted value; excluded when `min_exclusive`.
     pub min: f64,
+    /// Whether `min` itself is refused.
     pub min_exclusive: bool,
+    /// Largest accepted value (included).
     pub max: f64,
     /// Counts (wheels) must be whole numbers.
     pub integer: bool,
+    /// What the parameter is, in a sentence.
     pub description: &'static str,
 }
 
@@ -93,16 +105,25 @@ impl ParamSpec {
 /// A parameter problem found before any work starts.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ParamError {
+    /// No parameter has this name.
     Unknown {
+        /// The name given.
         name: String,
     },
+    /// A value outside its parameter's accepted range.
     OutOfRange {
+        /// The parameter.
         name: &'static str,
+        /// The value given.
         value: f64,
+        /// The accepted range, as people read it.
         range: String,
+        /// The parameter's unit.
         unit: &'static str,
     },
+    /// Values that do not fit together (e.g. μ_s above μ_m).
     Inconsistent {
+        /// What does not fit, with the names and values.
         message: String,
     },
 }
@@ -223,8 +244,9 @@ define_params! {
         "Driven wheels sharing the drive force.";
 }
 
-/// MODEL.md's reference constants R0 where the shipped defaults differ from them. The files in
-/// `reference/` were computed with R0; tests pass [`Params::r0`] so that defaults can move.
+/// The reference constants R0 (MODEL.md#r0-and-the-shipped-defaults) where the shipped defaults
+/// differ from them. The reference data in `tests/data/` was computed with R0; tests pass
+/// [`Params::r0`] so that defaults can move.
 /// `studies/params_r0.toml` holds the same values for `--params`.
 pub const R0_OVERRIDES: &[(&str, f64)] = &[
     ("g_mod", 0.8645e6),
@@ -241,7 +263,8 @@ pub fn spec(name: &str) -> Option<&'static ParamSpec> {
 }
 
 impl Params {
-    /// MODEL.md's reference constants R0: the defaults with [`R0_OVERRIDES`] applied.
+    /// The reference constants R0 (MODEL.md#r0-and-the-shipped-defaults): the defaults with
+    /// [`R0_OVERRIDES`] applied.
     pub fn r0() -> Params {
         let mut p = Params::default();
         for (name, value) in R0_OVERRIDES {
@@ -284,7 +307,7 @@ impl Params {
         Ok(())
     }
 
-    /// Vehicle speed in m/s (MODEL.md: SI units inside).
+    /// Vehicle speed in m/s (MODEL.md#operating-point-and-wheels: SI units inside).
     pub fn speed_mps(&self) -> f64 {
         self.speed_kmh / 3.6
     }

@@ -21,12 +21,16 @@ use parquet::schema::parser::parse_message_type;
 /// The values of one column in one row group.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ColumnData {
+    /// Floating-point values.
     F64(Vec<f64>),
+    /// Integers.
     I64(Vec<i64>),
+    /// Strings (UTF-8).
     Str(Vec<String>),
 }
 
 impl ColumnData {
+    /// Number of values.
     pub fn len(&self) -> usize {
         match self {
             ColumnData::F64(v) => v.len(),
@@ -35,6 +39,7 @@ impl ColumnData {
         }
     }
 
+    /// Whether there are no values.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -51,12 +56,16 @@ impl ColumnData {
 /// A named column with its unit ("" for none), as written to the schema and the `units` metadata.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Column {
+    /// The column's name.
     pub name: String,
+    /// Its unit ("" for none).
     pub unit: &'static str,
+    /// Its values.
     pub data: ColumnData,
 }
 
 impl Column {
+    /// A floating-point column.
     pub fn f64(name: impl Into<String>, unit: &'static str, data: Vec<f64>) -> Self {
         Column {
             name: name.into(),
@@ -64,6 +73,7 @@ impl Column {
             data: ColumnData::F64(data),
         }
     }
+    /// An integer column.
     pub fn i64(name: impl Into<String>, unit: &'static str, data: Vec<i64>) -> Self {
         Column {
             name: name.into(),
@@ -71,6 +81,7 @@ impl Column {
             data: ColumnData::I64(data),
         }
     }
+    /// A string column (no unit).
     pub fn str(name: impl Into<String>, data: Vec<String>) -> Self {
         Column {
             name: name.into(),
@@ -95,7 +106,9 @@ impl std::error::Error for WriteError {}
 /// Size and CRC-32 (IEEE, as zlib and `crc32` tools compute it) of a written file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FileDigest {
+    /// Size of the file \[bytes\].
     pub bytes: u64,
+    /// CRC-32 of its contents.
     pub crc32: u32,
 }
 

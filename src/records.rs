@@ -1,6 +1,6 @@
 //! One output row per wheel and operating point: the inputs, the static model (steps 1–7), the
 //! linear stability (step 8) and the verdict (step 9). The first 24 fields carry exactly the
-//! column names of `reference/points.csv`; the rest extend it.
+//! column names of `tests/data/points.csv`; the rest extend it.
 
 use serde::Serialize;
 
@@ -12,36 +12,63 @@ use crate::params::Params;
 /// only when written (Parquet, CSV, JSON).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct WheelRecord {
+    /// The wheel.
     pub wheel: Wheel,
+    /// The friction variant.
     pub variant: Variant,
+    /// Vehicle speed V [km/h].
     pub speed_kmh: f64,
+    /// Toe-in angle α \[deg\].
     pub toe_deg: f64,
+    /// Vertical load F_Z \[N\].
     pub load_n: f64,
+    /// Inflation pressure P \[kPa\].
     pub pressure_kpa: f64,
+    /// Maximum deflection δ \[m\] (step 1).
     pub deflection_m: f64,
+    /// Contact length a \[m\] (step 2).
     pub contact_length_m: f64,
+    /// Contact width b \[m\] (step 2).
     pub contact_width_m: f64,
     /// Tread lateral stiffness K_s = σ0 [N/m].
     pub k_s: f64,
+    /// Tread mass m \[kg\] (step 3).
     pub tread_mass_kg: f64,
+    /// Slip ratio S (step 4; 0 for the follower).
     pub slip_ratio: f64,
     /// Sliding share of the contact length.
     pub q: f64,
+    /// Maximum static friction level F_m \[N\] (step 5).
     pub f_m: f64,
+    /// Sliding friction level F_s \[N\] (step 5).
     pub f_s: f64,
+    /// Bristle deflection z0 at the equilibrium \[m\] (step 7).
     pub z0_m: f64,
+    /// Tread displacement y0 at the equilibrium \[m\] (step 7).
     pub y0_m: f64,
+    /// Largest real part of the Jacobian's eigenvalues [1/s] (step 8).
     pub eig_re_max: f64,
+    /// Linear frequency of that eigenvalue \[Hz\] (step 8).
     pub eig_freq_hz: f64,
+    /// The verdict (step 9).
     pub class: Class,
+    /// Half peak-to-peak of y over the cycle \[m\]; 0 without a cycle, NaN when failed.
     pub amp_y_m: f64,
+    /// Half peak-to-peak of v over the cycle [m/s]; 0 without a cycle, NaN when failed.
     pub amp_v_mps: f64,
+    /// The cycle's frequency 1/T \[Hz\].
     pub freq_hz: f64,
+    /// Wear facets n = f / f_rot.
     pub polygon_order: f64,
+    /// Energy friction feeds into the tread per cycle \[J\].
     pub energy_per_cycle_j: f64,
+    /// Modulus of the largest non-trivial Floquet multiplier (NaN if none).
     pub floquet_max: f64,
+    /// Right-hand-side evaluations spent on the verdict.
     pub rhs_evals: u64,
+    /// How the verdict was reached.
     pub method: Method,
+    /// Why the class is `failed` or `no_traction`; empty otherwise.
     pub reason: String,
 }
 

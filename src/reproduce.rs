@@ -1,5 +1,5 @@
 //! `polywear reproduce`: the paper's analyses regenerated with polywear's own engine, and a
-//! report that sets each result beside the paper's legible values (MODEL.md, "Targets"), for
+//! report that sets each result beside the paper's legible values (MODEL.md#targets), for
 //! both wheels and all three friction variants, with the driving-vs-follower comparison on the
 //! default study and why the literal equations cannot carry the paper's conclusion.
 
@@ -25,8 +25,11 @@ pub const AXES: [(&str, f64, f64); 4] = [
 
 /// What was reproduced, for the report and the command's summary.
 pub struct Reproduction {
+    /// Every bifurcation sweep (four axes, three variants, both wheels).
     pub sweeps: Vec<Sweep>,
+    /// Every file written.
     pub files: Vec<PathBuf>,
+    /// The text of `report.md`.
     pub report: String,
     /// Driving against follower on samples of the default study, per variant.
     pub paired: Vec<PairedRow>,
@@ -296,20 +299,28 @@ fn amplitude_vs_speed(
 /// Driving against follower on the same samples of the built-in default study, per variant.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PairedRow {
+    /// The friction variant.
     pub variant: Variant,
     /// Samples where both wheels were classified (no failure, no traction loss).
     pub samples: u64,
+    /// Samples where the follower vibrates.
     pub follower: u64,
+    /// Samples where the driving wheel vibrates.
     pub driving: u64,
+    /// Samples where both vibrate.
     pub both: u64,
+    /// Samples where only the follower vibrates.
     pub follower_only: u64,
+    /// Samples where only the driving wheel vibrates.
     pub driving_only: u64,
 }
 
 impl PairedRow {
+    /// Share of samples where the follower vibrates.
     pub fn p_follower(&self) -> f64 {
         self.follower as f64 / self.samples as f64
     }
+    /// Share of samples where the driving wheel vibrates.
     pub fn p_driving(&self) -> f64 {
         self.driving as f64 / self.samples as f64
     }
@@ -374,7 +385,7 @@ fn find<'a>(sweeps: &'a [Sweep], param: &str, variant: Variant) -> &'a Sweep {
         .expect("swept")
 }
 
-/// The paper's Table 3 as legible (MODEL.md, "Targets" and "Both wheels"): (axis, follower,
+/// The paper's Table 3 as legible (MODEL.md#targets): (axis, follower,
 /// driving).
 const PAPER_TABLE3: [(&str, &str, &str); 4] = [
     (
@@ -413,7 +424,7 @@ fn report(
          copy lost the digits 0, 2, 4 and 8, so its values are quoted as legible, with `x` for a \
          lost digit. Three friction variants are shown; they differ for the driving wheel only \
          (the follower rolls freely, S = 0):\n\n\
-         | variant | sliding speed in the Stribeck curve (MODEL.md step 6) | driving wheel |\n\
+         | variant | sliding speed in the Stribeck curve (MODEL.md#step-6-tread-ode) | driving wheel |\n\
          |---|---|---|\n\
          | `sliding_share` (default) | sqrt(w² + (q·V cos α·S/(1+S))²): patch-mean longitudinal sliding | narrower ranges, lower amplitude, less often: the paper's conclusion |\n\
          | `paper` | \\|w\\| (the paper's Eq. 21 as printed) | almost identical to the follower, marginally *less* stable: contradicts the paper |\n\
@@ -572,7 +583,7 @@ fn report(
     let _ = writeln!(s, "- Eq. 21 lets only the lateral sliding speed w reach the Stribeck curve. A driving wheel also slides lengthwise, and a Stribeck curve is a function of the total sliding speed: that is the missing mechanism. Taking the full longitudinal sliding speed V cos α S/(1+S) (`combined`, a 2-D LuGre law) is too strong: {v_sx_full:.4} m/s at 100 km/h against U = V sin α = {:.4} m/s and V_s = {} m/s, it pushes the driving wheel past the Stribeck drop and makes it stable everywhere.", v * alpha.sin(), base.v_s);
     let share = paired.iter().find(|r| r.variant == Variant::SlidingShare);
     let _ = writeln!(s, "- `sliding_share` assumes what the brush model itself says: only the sliding share q of the contact length slides; the adhesion zone moves with the road. The patch-mean longitudinal sliding speed is therefore q·V cos α S/(1+S) ({v_sx_share:.4} m/s at 100 km/h, q = {q:.4}). With it the driving wheel's vibration ranges lie inside the follower's on every axis (Table 3 above), its amplitude is lower, it vibrates in {:.1}% of the default-study samples against the follower's {:.1}%, and {} samples vibrate on the driving wheel alone: the paper's Table 3 and conclusion.", share.map_or(f64::NAN, |r| 100.0 * r.p_driving()), share.map_or(f64::NAN, |r| 100.0 * r.p_follower()), share.map_or(0, |r| r.driving_only));
-    let _ = writeln!(s, "- The shipped constants G, C and α2 (reconstructed in MODEL.md; α2's digits were all lost) are fitted to both wheels' legible Table 3 results under `sliding_share` (`polywear calibrate studies/paper_targets.toml`), with the decoded constants kept at values their legible digits allow. MODEL.md's reference constants R0 remain available as `--params studies/params_r0.toml`. `studies/decoding.toml` checks that the conclusion does not hang on one reading of the lost digits.\n");
+    let _ = writeln!(s, "- The shipped constants G, C and α2 (reconstructed, MODEL.md#constants; α2's digits were all lost) are fitted to both wheels' legible Table 3 results under `sliding_share` (`polywear calibrate studies/paper_targets.toml`), with the decoded constants kept at values their legible digits allow. The reference constants R0 (MODEL.md#r0-and-the-shipped-defaults) remain available as `--params studies/params_r0.toml`. `studies/decoding.toml` checks that the conclusion does not hang on one reading of the lost digits.\n");
 
     let _ = writeln!(s, "## Figures\n");
     for f in files.iter().filter(|f| name(f).ends_with(".png")) {

@@ -10,30 +10,63 @@ use std::str::FromStr;
 /// of the wrong type. Every variant names the key it concerns.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum TomlError {
+    /// Not TOML; the parser's message.
     #[error("malformed TOML: {0}")]
     Malformed(String),
+    /// A key the file may not hold.
     #[error("unknown key `{key}`; {accepted}")]
-    UnknownKey { key: String, accepted: String },
+    UnknownKey {
+        /// The key, in full.
+        key: String,
+        /// The keys accepted there.
+        accepted: String,
+    },
+    /// A required key that is absent.
     #[error("`{key}` needs `{field}`")]
-    Missing { key: String, field: String },
+    Missing {
+        /// The table's key.
+        key: String,
+        /// The missing key.
+        field: String,
+    },
+    /// A value of the wrong type.
     #[error("`{key}` must be {expected}, got {got}")]
     WrongType {
+        /// The key, in full.
         key: String,
+        /// The type wanted.
         expected: &'static str,
+        /// The type given.
         got: &'static str,
     },
+    /// NaN or an infinity where a finite number is wanted.
     #[error("`{key}` = {value} must be finite")]
-    NotFinite { key: String, value: f64 },
+    NotFinite {
+        /// The key, in full.
+        key: String,
+        /// The value given.
+        value: f64,
+    },
+    /// A count that is not a whole number in its range.
     #[error("`{key}` = {value} must be a whole number in [{lo}, {hi}]")]
     NotWhole {
+        /// The key, in full.
         key: String,
+        /// The value given.
         value: f64,
+        /// Smallest accepted value.
         lo: u64,
+        /// Largest accepted value.
         hi: u64,
     },
     /// A value that does not parse into its type (a wheel, a variant, a design).
     #[error("`{key}`: {problem}")]
-    Unparsable { key: String, problem: String },
+    Unparsable {
+        /// The key, in full.
+        key: String,
+        /// Why it does not parse, with the accepted names.
+        problem: String,
+    },
 }
 
 /// Parses a TOML document into its top-level table.
@@ -119,7 +152,9 @@ fn wrong_type(key: &str, expected: &'static str, v: &toml::Value) -> TomlError {
 /// `"target[0]"`, `"params.speed_kmh"`), so that every key read from it is named in full.
 #[derive(Debug, Clone, Copy)]
 pub struct Section<'a> {
+    /// The table.
     pub table: &'a toml::Table,
+    /// Its dotted path (`""` at the top).
     pub path: &'a str,
 }
 

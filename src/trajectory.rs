@@ -1,6 +1,6 @@
-//! Trajectories of one wheel from the disturbed equilibrium (MODEL.md step 9), sampled on a
-//! uniform grid, and the figure the paper shows for one point: time history, phase portrait
-//! and spectrum of the lateral velocity (its Figs. 8–10).
+//! Trajectories of one wheel from the disturbed equilibrium (MODEL.md#step-9-attractor), sampled on
+//! a uniform grid, and the figure the paper shows for one point: time history, phase portrait and
+//! spectrum of the lateral velocity (its Figs. 8–10).
 
 use std::path::Path;
 

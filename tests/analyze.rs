@@ -29,7 +29,7 @@ variants = ["paper"]
 [params]
 speed_kmh = { dist = "levels", levels = [60, 80, 90, 100, 150, 200, 220, 230, 250] }
 toe_deg = { dist = "levels", levels = [0.3] }
-# MODEL.md's reference constants R0 (studies/params_r0.toml), whose Hopf points are known.
+# The reference constants R0 (studies/params_r0.toml), whose Hopf points are known.
 g_mod = 0.8645e6
 c_brush = 3.6e7
 alpha2 = 4.0e-8

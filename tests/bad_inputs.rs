@@ -1,7 +1,7 @@
-//! The catalogue of bad and hostile inputs of issue 13: each is refused before any work with
-//! exit 2 and a message naming the field and its accepted range, or (for damaged output
-//! directories) handled without losing or inventing a row. Every case here failed on the code
-//! before the issue was fixed.
+//! The catalogue of bad and hostile inputs: each is refused before any work with exit 2 and a
+//! message naming the field and its accepted range, or (for damaged output directories) handled
+//! without losing or inventing a row. Each case is one that a plausible implementation gets
+//! wrong.
 
 mod common;
 #[path = "common/parquet_rows.rs"]

@@ -1,5 +1,5 @@
-//! Issue 11: the shipped defaults answer the driving-vs-follower question as the paper does.
-//! Hopf points of both wheels in the paper's bands (MODEL.md "Targets" and "Both wheels"), every
+//! The shipped defaults answer the driving-vs-follower question as the paper does.
+//! Hopf points of both wheels in the paper's bands (MODEL.md#targets and #variants), every
 //! driving range inside the follower's, the default study's paired comparison, and the literal
 //! equations' reversed answer kept visible.
 
@@ -108,7 +108,7 @@ fn r0_parameter_file_holds_model_md_constants() {
     .unwrap();
     let p = polywear::study::apply_param_file(&Params::default(), &text).unwrap();
     assert_eq!(p, Params::r0());
-    // MODEL.md's table.
+    // MODEL.md#r0-and-the-shipped-defaults.
     let r0 = Params::r0();
     assert_eq!(
         (r0.g_mod, r0.c_brush, r0.alpha2, r0.v_s, r0.phi, r0.c_s, r0.sigma1),
@@ -159,7 +159,7 @@ fn decoding_study_draws_each_decoded_constant_over_its_lost_digit_readings() {
 
 #[test]
 fn the_conclusion_holds_for_every_lost_digit_decoding() {
-    // Issue 11 item 5: the shipped decoding study through explore and analyze; the driving wheel
+    // The shipped decoding study through explore and analyze; the driving wheel
     // must be less exposed than the follower in every decoding with enough samples.
     let dir = std::env::temp_dir().join(format!("polywear-decoding-{}", std::process::id()));
     std::fs::remove_dir_all(&dir).ok();

@@ -1,7 +1,7 @@
-//! The per-wheel work budget (issue 13): a wheel that needs more RHS evaluations or wall time
+//! The per-wheel work budget: a wheel that needs more RHS evaluations or wall time
 //! than allowed becomes a `failed` row with reason `budget exceeded (...)`; the limits are set
 //! in the study file or on the command line and checked before any work; and no input makes a
-//! command hang (the eigenvalue computation at toe-in 1e-200° used to loop forever).
+//! command hang (the eigenvalue iteration at toe-in 1e-200° is bounded too).
 
 mod common;
 #[path = "common/parquet_rows.rs"]

@@ -181,8 +181,9 @@ fn reproduce_writes_the_report_with_table_3_from_the_engine() {
     std::fs::create_dir_all(&dir).unwrap();
     let r0 = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/params_r0.toml");
     let reference = run(Some(r0), "r0");
-    // With MODEL.md's constants R0, the follower's toe window from the engine (MODEL.md: 0.21-0.41
-    // deg) and the driving wheel's under `sliding_share` (MODEL.md "Both wheels": 0.233-0.384).
+    // With the constants R0, the follower's toe window from the engine (MODEL.md#targets:
+    // 0.214-0.409 deg) and the driving wheel's under `sliding_share`
+    // (MODEL.md#the-default-sliding-share: 0.233-0.384).
     assert!(
         reference.contains("| toe_deg (swept 0.05–1) | 0.2x–0.41 | 0.x–0.35 | 0.2139–0.4088 deg | 0.2333–0.3835 deg |"),
         "{reference}"

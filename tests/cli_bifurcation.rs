@@ -1,5 +1,6 @@
-//! `polywear bifurcation`: Hopf points of the speed sweep at MODEL.md's constants R0 (≈ 93–224 km/h
-//! for the follower), the Parquet table and the PNG, and bad input.
+//! `polywear bifurcation`: Hopf points of the speed sweep at the constants R0
+//! (MODEL.md#r0-and-the-shipped-defaults) (≈ 93–224 km/h for the follower), the Parquet table and
+//! the PNG, and bad input.
 
 mod common;
 use common::polywear;

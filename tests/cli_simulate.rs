@@ -1,7 +1,5 @@
 //! `polywear simulate` end to end: JSON columns, bad input (exit 2 before any work), files.
 
-use std::process::Command;
-
 mod common;
 use common::polywear;
 
@@ -122,18 +120,4 @@ fn no_traction_is_a_row_not_a_crash() {
         .as_str()
         .unwrap()
         .contains("adhesion limit"));
-}
-
-#[test]
-fn readme_parameter_table_is_current() {
-    let out = Command::new(env!("CARGO_BIN_EXE_polywear"))
-        .args(["params", "--markdown"])
-        .output()
-        .unwrap();
-    let table = String::from_utf8(out.stdout).unwrap();
-    let readme = include_str!("../README.md");
-    assert!(
-        readme.contains(&table),
-        "README.md's parameter table differs from `polywear params --markdown`"
-    );
 }

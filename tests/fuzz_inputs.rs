@@ -7,7 +7,7 @@
 //! values are hostile (negative, zero, NaN, infinite, huge, not numbers, empty) or small valid
 //! ones, so that most cases are refused before any work and the rest run in milliseconds.
 //! Tiny positive physical values (e.g. `--toe 1e-200`) are left out: the classifier's budget
-//! for them belongs to the solver's issue.
+//! for them is tested in tests/budget.rs.
 
 mod common;
 

@@ -1,6 +1,6 @@
-//! Physics invariants (MODEL.md steps 4–9): equilibrium is a fixed point, the analytic Jacobian
-//! matches finite differences, the slip ratio reproduces the drive force, and the eigenvalue
-//! crosses zero where simulated oscillations start to grow.
+//! Physics invariants (steps 4–9 of MODEL.md#the-physics-step-by-step): equilibrium is a fixed
+//! point, the analytic Jacobian matches finite differences, the slip ratio reproduces the drive
+//! force, and the eigenvalue crosses zero where simulated oscillations start to grow.
 
 use polywear::classify::Scales;
 use polywear::model::{brush, tire, Variant, Wheel, WheelModel};

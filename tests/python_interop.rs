@@ -68,17 +68,17 @@ print("ok")
 }
 
 #[test]
-fn readme_pandas_snippet_agrees_with_analyze() {
+fn guide_pandas_snippet_agrees_with_analyze() {
     if !python_has(&["pandas", "pyarrow"]) {
         return;
     }
     let dir = fresh_dir("py-snippet");
     explore_default("2000", &dir);
-    // The snippet is the one printed in README.md, run against this output.
-    let snippet = include_str!("data/readme_snippet.py");
+    // The snippet is the one printed in GUIDE.md, run against this output.
+    let snippet = include_str!("data/guide_snippet.py");
     assert!(
-        include_str!("../README.md").contains(snippet.trim()),
-        "README.md must show tests/data/readme_snippet.py"
+        include_str!("../GUIDE.md").contains(snippet.trim()),
+        "GUIDE.md must show tests/data/guide_snippet.py"
     );
     let script = snippet.replace("data/explore_highway_fleet_seed2014", dir.to_str().unwrap())
         + r#"

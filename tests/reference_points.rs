@@ -1,8 +1,8 @@
-//! The model against `reference/points.csv` and `reference/points_sliding_share.csv` (an
-//! independent implementation; MODEL.md, "Reference values"): statics to 1e-9 relative, the
-//! leading eigenvalue to 1e-6, class, amplitudes and frequency to 1%. The reference rows were
-//! computed with MODEL.md's constants R0, passed explicitly ([`Params::r0`]) so that the shipped
-//! defaults can move.
+//! The model against `tests/data/points.csv` and `tests/data/points_sliding_share.csv` (an
+//! independent implementation; MODEL.md#reference-data): statics to 1e-9 relative, the leading
+//! eigenvalue to 1e-6, class, amplitudes and frequency to 1%. The reference rows were computed with
+//! the constants R0 (MODEL.md#r0-and-the-shipped-defaults), passed explicitly ([`Params::r0`]) so
+//! that the shipped defaults can move.
 
 use polywear::classify::{classify_point, ClassifierOptions};
 use polywear::model::{Variant, Wheel};
@@ -141,7 +141,8 @@ fn class_amplitude_and_frequency_match_to_one_percent() {
 
 #[test]
 fn sliding_share_makes_the_driving_wheel_less_unstable_than_the_follower() {
-    // MODEL.md, "Both wheels": at R0 and the default point the driving wheel's growth rate under
+    // MODEL.md#the-default-sliding-share: at R0 and the default point the driving wheel's growth
+    // rate under
     // `sliding_share` is well below the follower's, and its cycle smaller; under `paper` it is
     // slightly larger. Guards the direction of the variant, not just the numbers.
     let r0 = Params::r0();

@@ -1,7 +1,7 @@
-//! The random streams and the quantile functions (issue 16): uniformity and independence tests
+//! The random streams and the quantile functions: uniformity and independence tests
 //! that a weak generator fails (each is also run on a deliberately flawed stream, which it must
 //! reject), pinned values so that a dependency update that changes the stream is caught, the
-//! truncated-normal far tails (issue 13), and `--resume` refusing a directory written with
+//! truncated-normal far tails, and `--resume` refusing a directory written with
 //! another generator.
 
 mod common;
@@ -207,7 +207,7 @@ fn pinned_values_reproduce_across_builds() {
         [s.bits(0, 0), s.bits(1, 0), s.bits(0, 1), s.bits(999_999, 7)],
         PINNED_BITS
     );
-    // A fixed copy of the default study as of 0.2.0, so that the shipped defaults can move.
+    // A fixed copy of the default study, so that the shipped defaults can move.
     let study = Study::parse(PINNED_STUDY).unwrap();
     let sampler = study.sampler(study.seed, study.samples);
     let (_, values) = sampler.sample(12_345);
@@ -227,7 +227,7 @@ const PINNED_BITS: [u64; 4] = [
 /// Sample 12,345 of the default study (speed, toe, load, pressure, tread height, rho, g_mod,
 /// c_brush).
 /// The default study's axes and structure uncertainty, frozen (the medians of `g_mod` and
-/// `c_brush` are MODEL.md's R0).
+/// `c_brush` are R0, MODEL.md#r0-and-the-shipped-defaults).
 const PINNED_STUDY: &str = r#"
 name = "highway_fleet"
 seed = 2014
@@ -257,8 +257,8 @@ const PINNED_SAMPLE_12345: [f64; 8] = [
 
 #[test]
 fn truncated_normal_far_in_a_tail_stays_near_its_bound() {
-    // Issue 13: { mean = 240, sd = 8, min = 312, max = 400 } gave 400 for every row. The
-    // interval starts 9 sd above the mean, so the values pile up just above 312: the density
+    // { mean = 240, sd = 8, min = 312, max = 400 }: a quantile computed on the wrong side of the
+    // median gives 400 for every row. The interval starts 9 sd above the mean, so the values pile up just above 312: the density
     // falls by e^-9 per sd there, mean ≈ 312 + 8/9.
     let d = Distribution::TruncatedNormal {
         mean: 240.0,
@@ -421,7 +421,7 @@ fn resume_refuses_a_directory_of_another_generator() {
     // Same generator: resumes (nothing left to do).
     let (code, _, stderr) = run(true);
     assert_eq!(code, 0, "{stderr}");
-    // Another generator, or none recorded (polywear 0.1): refused before any work.
+    // Another generator, or none recorded: refused before any work.
     for old in [
         serde_json::json!("SplitMix64 counter hash"),
         serde_json::Value::Null,

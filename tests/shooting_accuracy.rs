@@ -1,4 +1,4 @@
-//! Shooting's answers where it is hardest (issue 15): near the Hopf point, where the return map
+//! Shooting's answers where it is hardest: near the Hopf point, where the return map
 //! is nearly the identity, from a misleading neighbour's hint, and where the growth of
 //! oscillations is not monotonic in their amplitude. The yardstick is the same classifier
 //! integrating at rtol 1e-12. Constants are R0 (or stated explicitly), so shipped defaults can
@@ -108,8 +108,8 @@ fn a_tiny_hint_does_not_pass_for_a_cycle() {
     assert!(rehinted.rhs_evals < unhinted.rhs_evals, "{rehinted:?}");
 }
 
-/// At 250 km/h, 0.3°, 6286 N, 193 kPa with the constants fitted to both wheels (0.2.0's
-/// defaults), the equilibrium is barely unstable but the cycle is large: the growth per period
+/// At 250 km/h, 0.3°, 6286 N, 193 kPa with the constants fitted to both wheels
+/// ([`fitted_2014`]), the equilibrium is barely unstable but the cycle is large: the growth per period
 /// rises from q(0) ≈ 9e-6 to 1e-3 before it falls through zero. The amplitude guess must not
 /// judge closeness by q(0) (it then never hands over, and the envelope fallback does not
 /// settle in 60 s).
@@ -144,8 +144,8 @@ fn a_large_cycle_barely_past_hopf_is_found_by_shooting() {
     );
 }
 
-/// The shipped constants of 0.2.0 and 0.3.0 (fitted to both wheels' Table 3), written out so
-/// that the shipped defaults can move.
+/// A fixed copy of the constants fitted to both wheels' Table 3, written out so that the shipped
+/// defaults can move.
 fn fitted_2014(p: Params) -> Params {
     Params {
         g_mod: 0.8557e6,
@@ -159,8 +159,8 @@ fn fitted_2014(p: Params) -> Params {
 }
 
 /// A strongly nonlinear cycle (222 km/h, 0.05°, Re λ = 9.3 s⁻¹) whose Floquet multiplier moves
-/// by 0.1 over a Newton step of 1e-3: accepted on the step alone, the reported multiplier was
-/// 0.833 against 0.927. It must agree with the tight integration to 1% of 1 − ρ.
+/// by 0.1 over a Newton step of 1e-3: accepted on the step alone, the reported multiplier would
+/// be 0.833 against 0.927. It must agree with the tight integration to 1% of 1 − ρ.
 #[test]
 fn the_floquet_multiplier_of_a_stiff_cycle_is_converged() {
     let p = fitted_2014(Params {

@@ -1,7 +1,7 @@
 //! Sobol and Saltelli designs stay quasi-random for every axis a study can draw: a Saltelli
-//! design of 20 drawn parameters needs 40 Sobol dimensions (its A and B matrices), beyond the
-//! 32 the direction-number table once held, where the coordinates silently became independent
-//! draws. Sample counts past the 32-bit Sobol index are refused with the limit named.
+//! design of 20 drawn parameters needs 40 Sobol dimensions (its A and B matrices), and a
+//! direction-number table too short for them would silently turn the extra coordinates into
+//! independent draws. Sample counts past the 32-bit Sobol index are refused with the limit named.
 
 use polywear::params::SPECS;
 use polywear::sampling::design::{SALTELLI_MAX_AXES, SOBOL_MAX_AXES};

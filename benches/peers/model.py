@@ -1,4 +1,5 @@
-"""The polywear model (MODEL.md steps 1-7, `paper` variant) as a Python user would write it.
+"""The polywear model (MODEL.md#the-physics-step-by-step, steps 1-7, `paper` variant) as a Python
+user would write it.
 
 Shared by the SciPy and numba peers: the static quantities are computed once per point in plain
 Python; each peer integrates the tread ODE its own way.
@@ -94,11 +95,11 @@ def rhs(t, x, c):
     return [dz, v, dv]
 
 
-# The classification rule both peers use: a 3 s trajectory from the equilibrium with y disturbed
-# by 1e-7 m (small enough to start below every limit cycle, so a growing amplitude means an
-# unstable equilibrium; MODEL.md's 1e-5 m starts above the small cycles near a Hopf point and
-# makes them look like decay); compare the velocity amplitude (half peak-to-peak) over [T-0.5, T] with that over
-# [T-1.5, T-1]. A limit cycle keeps (or grows) its amplitude; a stable equilibrium lets it decay
+# The classification rule both peers use: a 3 s trajectory from the equilibrium with y disturbed by
+# 1e-7 m (small enough to start below every limit cycle, so a growing amplitude means an unstable
+# equilibrium; MODEL.md#step-9-attractor's 1e-5 m starts above the small cycles near a Hopf point
+# and makes them look like decay); compare the velocity amplitude (half peak-to-peak) over
+# [T-0.5, T] with that over [T-1.5, T-1]. A limit cycle keeps (or grows) its amplitude; a stable equilibrium lets it decay
 # by e^(Re lambda) per second, so the ratio separates |Re lambda| > 0.02 1/s.
 HORIZON_S = 3.0
 DISTURBANCE_M = 1e-7

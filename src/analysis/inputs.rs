@@ -9,20 +9,27 @@ use crate::study::{text_hash, Study};
 /// What the files' metadata says about the run.
 #[derive(Debug, Clone, Default)]
 pub struct RunInfo {
+    /// The study's `name` (the `study_name` metadata).
     pub study_name: String,
-    /// The study's TOML text: from the manifest (chunk footers hold only its hash since 0.2).
+    /// The study's TOML text, from the manifest (chunk footers hold only its hash).
     pub study: String,
     /// Fingerprint of the study text (`study_hash`).
     pub study_hash: String,
+    /// The run's seed, as written in the metadata.
     pub seed: String,
     /// Samples of the whole run (all shards), from the metadata.
     pub samples: u64,
+    /// The sampling design's name (the `design` metadata).
     pub design: String,
+    /// The variants of the run, as written in the metadata.
     pub variant: String,
+    /// The polywear version that wrote the files (`polywear_version`).
     pub version: String,
+    /// Names of the drawn parameters, in column order.
     pub drawn_names: Vec<String>,
     /// Units of the columns (from the `units` metadata).
     pub units: serde_json::Map<String, serde_json::Value>,
+    /// The chunk files read, in order.
     pub files: Vec<PathBuf>,
     /// Distinct samples present in the files (each file holds a contiguous block of ids).
     pub samples_present: u64,
@@ -36,6 +43,7 @@ impl RunInfo {
         Study::parse(&self.study).ok()
     }
 
+    /// The unit of column `name` from the `units` metadata ("" when none is recorded).
     pub fn unit(&self, name: &str) -> &str {
         self.units.get(name).and_then(|u| u.as_str()).unwrap_or("")
     }
@@ -281,7 +289,7 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, String> {
     let mut drawn_names: Vec<String> =
         serde_json::from_str(&get("drawn_names")).unwrap_or_default();
     if drawn_names.is_empty() {
-        // Files of polywear 0.1.0 before `drawn_names`: the names lead the `drawn` entries.
+        // Files without `drawn_names` lead each `drawn` entry with its name (`name:...`).
         let drawn: Vec<String> = serde_json::from_str(&get("drawn")).unwrap_or_default();
         drawn_names = drawn
             .iter()

@@ -210,7 +210,7 @@ pub fn page(opts: &ReportOptions, a: &Analysis) -> String {
         _ => {
             let _ = writeln!(
                 s,
-                "Sobol indices need a run with `design = \"saltelli\"` in the study (see README)."
+                "Sobol indices need a run with `design = \"saltelli\"` in the study (see GUIDE.md#analyze)."
             );
         }
     }

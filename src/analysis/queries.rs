@@ -27,12 +27,15 @@ use crate::classify::Class;
 pub struct ClassCounts(pub [u64; 5]);
 
 impl ClassCounts {
+    /// Counts `n` more rows of `class`.
     pub fn add(&mut self, class: Class, n: u64) {
         self.0[class as usize] += n;
     }
+    /// Rows of `class`.
     pub fn get(&self, class: Class) -> u64 {
         self.0[class as usize]
     }
+    /// Adds another set of counts to this one.
     pub fn merge(&mut self, other: &ClassCounts) {
         for (a, b) in self.0.iter_mut().zip(other.0) {
             *a += b;
@@ -46,12 +49,15 @@ impl ClassCounts {
     pub fn classified(&self) -> u64 {
         self.vibrating() + self.get(Class::Stable)
     }
+    /// Rows whose model or numerics failed.
     pub fn failed(&self) -> u64 {
         self.get(Class::Failed)
     }
+    /// Driving-wheel rows that cannot transmit the drive force.
     pub fn no_traction(&self) -> u64 {
         self.get(Class::NoTraction)
     }
+    /// All rows, whatever their class.
     pub fn total(&self) -> u64 {
         self.0.iter().sum()
     }
@@ -226,12 +232,16 @@ fn variant_wheel(df: &DataFrame) -> Result<Vec<(Variant, Wheel)>, String> {
 /// Probability of self-excited vibration for one variant and wheel.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Occurrence {
+    /// The friction variant.
     pub variant: Variant,
+    /// The wheel.
     pub wheel: Wheel,
+    /// Rows per class.
     pub counts: ClassCounts,
 }
 
 impl Occurrence {
+    /// P(vibration) over the classified rows; NaN when there are none.
     pub fn p(&self) -> f64 {
         self.counts.p()
     }
@@ -258,16 +268,26 @@ pub fn occurrence(lf: &LazyFrame) -> Result<Vec<Occurrence>, String> {
 /// both classified.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Paired {
+    /// The friction variant.
     pub variant: Variant,
+    /// Samples whose two wheels are both classified.
     pub pairs: u64,
+    /// Samples where only the follower vibrates.
     pub only_follower: u64,
+    /// Samples where only the driving wheel vibrates.
     pub only_driving: u64,
+    /// Samples where both wheels vibrate.
     pub both: u64,
+    /// Samples where neither wheel vibrates.
     pub neither: u64,
     /// Samples where a wheel failed or had no traction: left out of the comparison.
     pub unclassified: u64,
+    /// McNemar's continuity-corrected χ² statistic (computed under either test).
     pub chi2: f64,
+    /// McNemar's two-sided p-value.
     pub p_value: f64,
+    /// Which McNemar test gave `p_value`: `exact` (binomial, up to 10,000 discordant pairs) or
+    /// `chi2`.
     pub method: &'static str,
 }
 
@@ -430,10 +450,12 @@ fn file_rows(path: &std::path::Path) -> u64 {
 pub struct Bins {
     /// Bin edges (len = bins + 1), or the levels themselves when `levels` is true.
     pub edges: Vec<f64>,
+    /// True when the bins are the levels of a `levels` distribution or a grid.
     pub levels: bool,
 }
 
 impl Bins {
+    /// `n_bins` bins of equal width between `lo` and `hi`.
     pub fn equal_width(lo: f64, hi: f64, n_bins: usize) -> Bins {
         Bins {
             edges: (0..=n_bins)
@@ -443,6 +465,7 @@ impl Bins {
         }
     }
 
+    /// One bin per distinct level, in increasing order.
     pub fn levels(mut levels: Vec<f64>) -> Bins {
         levels.sort_by(f64::total_cmp);
         levels.dedup();
@@ -452,6 +475,7 @@ impl Bins {
         }
     }
 
+    /// Number of bins.
     pub fn count(&self) -> usize {
         if self.levels {
             self.edges.len()
@@ -590,12 +614,19 @@ pub fn study_levels(info: &RunInfo, name: &str) -> Option<Vec<f64>> {
 /// Probability in one bin of one axis.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BinStat {
+    /// The friction variant.
     pub variant: Variant,
+    /// The wheel.
     pub wheel: Wheel,
+    /// The drawn parameter binned.
     pub axis: String,
+    /// Lower edge of the bin (the level itself for levels).
     pub lo: f64,
+    /// Upper edge of the bin (the level itself for levels).
     pub hi: f64,
+    /// Middle of the bin, where the figure plots it.
     pub mid: f64,
+    /// Rows per class in the bin.
     pub counts: ClassCounts,
 }
 
@@ -639,18 +670,23 @@ pub fn conditional(lf: &LazyFrame, axis: &str, bins: &Bins) -> Result<Vec<BinSta
     Ok(out)
 }
 
-/// Class counts per cell, indexed [ix][iy].
+/// Class counts per cell, indexed `[ix][iy]`.
 pub type CountGrid = Vec<Vec<ClassCounts>>;
 
 /// A risk map: class counts over a 2-D grid of bins of two axes, per wheel.
 #[derive(Debug, Clone)]
 pub struct RiskMap {
+    /// The friction variant.
     pub variant: Variant,
+    /// The parameter on the horizontal axis.
     pub x: String,
+    /// The parameter on the vertical axis.
     pub y: String,
+    /// Bins of the horizontal axis.
     pub x_bins: Bins,
+    /// Bins of the vertical axis.
     pub y_bins: Bins,
-    /// (wheel, counts[ix][iy]).
+    /// (wheel, `counts[ix][iy]`).
     pub cells: Vec<(Wheel, CountGrid)>,
 }
 
@@ -746,16 +782,23 @@ pub const SEVERITY_FINE_BINS: usize = 4000;
 /// Distribution of one cycle quantity among the vibrating rows.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Severity {
+    /// The friction variant.
     pub variant: Variant,
+    /// The wheel.
     pub wheel: Wheel,
+    /// The cycle quantity (a column of [`SEVERITY_QUANTITIES`]).
     pub quantity: &'static str,
+    /// Its unit.
     pub unit: &'static str,
+    /// Vibrating rows with a finite value of the quantity.
     pub n: u64,
+    /// Mean of the quantity over those rows.
     pub mean: f64,
     /// 5, 25, 50, 75, 95 %, read from the fine histogram (linear within a bin).
     pub quantiles: [f64; 5],
     /// The fine histogram: equal-width bins over the quantity's range among all vibrating rows.
     pub hist: Bins,
+    /// Rows in each bin of `hist`.
     pub counts: Vec<u64>,
 }
 
@@ -859,15 +902,21 @@ pub fn hist_quantile(bins: &Bins, counts: &[u64], q: f64) -> f64 {
 /// First-order and total Sobol indices of one output with respect to one parameter.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sensitivity {
+    /// The friction variant.
     pub variant: Variant,
+    /// The wheel.
     pub wheel: Wheel,
     /// `limit_cycle` (the 0/1 indicator) or `amp_v_mps` (0 without a cycle).
     pub output: &'static str,
+    /// The drawn parameter the indices belong to.
     pub param: String,
+    /// Base points of the Saltelli design used.
     pub base_samples: u64,
     /// Base points left out because a block is missing or unclassified.
     pub left_out: u64,
+    /// First-order index (Saltelli 2010) with its bootstrap 95% interval: (estimate, lo, hi).
     pub s: (f64, f64, f64),
+    /// Total index (Jansen 1999) with its bootstrap 95% interval: (estimate, lo, hi).
     pub st: (f64, f64, f64),
 }
 
@@ -973,17 +1022,22 @@ pub const OPERATING_AXES: [&str; 4] = ["speed_kmh", "toe_deg", "load_n", "pressu
 /// study draws with `levels` (operating axes aside), with the class counts of both wheels.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Decoding {
+    /// The friction variant.
     pub variant: Variant,
     /// Values of the decoded parameters, in [`Robustness::params`] order.
     pub values: Vec<f64>,
+    /// The follower's rows per class in this decoding.
     pub follower: ClassCounts,
+    /// The driving wheel's rows per class in this decoding.
     pub driving: ClassCounts,
 }
 
 /// P(limit cycle) per wheel for each decoding, and how often the driving wheel is less exposed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Robustness {
+    /// The decoded parameters (those drawn with `levels`, operating axes aside).
     pub params: Vec<String>,
+    /// Every decoding present in the rows.
     pub decodings: Vec<Decoding>,
 }
 
@@ -991,17 +1045,26 @@ pub struct Robustness {
 /// follower, over the decodings with at least `min_count` classified rows on each wheel.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RobustnessSummary {
+    /// The friction variant.
     pub variant: Variant,
+    /// Decodings present.
     pub decodings: u64,
+    /// Decodings with at least `min_count` classified rows on each wheel.
     pub compared: u64,
+    /// Compared decodings where the driving wheel vibrates less often than the follower.
     pub driving_less: u64,
+    /// Decodings left out for too few classified rows.
     pub too_few: u64,
+    /// `driving_less / compared`.
     pub share: f64,
+    /// Lower end of the 95% Wilson interval of `share`.
     pub lo: f64,
+    /// Upper end of the 95% Wilson interval of `share`.
     pub hi: f64,
 }
 
 impl Robustness {
+    /// The summary of each variant, comparing decodings with at least `min_count` classified rows on each wheel.
     pub fn summary(&self, min_count: u64) -> Vec<RobustnessSummary> {
         let mut variants: Vec<Variant> = self.decodings.iter().map(|d| d.variant).collect();
         variants.sort();

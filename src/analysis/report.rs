@@ -16,6 +16,7 @@ use crate::parquet_out::{write_csv, write_table, Column};
 /// Settings of one analysis.
 #[derive(Debug, Clone)]
 pub struct ReportOptions {
+    /// Where the tables, figures and `report.md` go.
     pub out_dir: PathBuf,
     /// Bins per axis of the conditional probabilities.
     pub bins: usize,
@@ -25,6 +26,7 @@ pub struct ReportOptions {
     pub min_count: u64,
     /// Pairs of axes for risk maps (those absent from the run are skipped with a note).
     pub pairs: Vec<(String, String)>,
+    /// Bootstrap resamples behind the Sobol indices' intervals.
     pub bootstrap: usize,
 }
 
@@ -61,16 +63,27 @@ impl ReportOptions {
 
 /// Everything computed, for the command's printed summary and the page.
 pub struct Analysis {
+    /// What the files' metadata says about the run.
     pub info: RunInfo,
+    /// P(limit cycle) per variant and wheel.
     pub occurrence: Vec<Occurrence>,
+    /// Driving against follower on the same samples, per variant.
     pub paired: Vec<Paired>,
+    /// P(limit cycle) per bin of every drawn parameter.
     pub conditional: Vec<BinStat>,
+    /// Risk maps over pairs of axes.
     pub maps: Vec<RiskMap>,
+    /// Cycle quantities among the vibrating rows.
     pub severity: Vec<Severity>,
+    /// Sobol indices (only for a Saltelli design).
     pub sensitivity: Option<Vec<Sensitivity>>,
+    /// P(limit cycle) per lost-digit decoding (only when the study draws decodings).
     pub robustness: Option<Robustness>,
+    /// How often the driving wheel is less exposed, per variant.
     pub robustness_summary: Vec<RobustnessSummary>,
+    /// Remarks for the report (skipped pairs, missing samples, ...).
     pub notes: Vec<String>,
+    /// Every file written.
     pub files: Vec<PathBuf>,
 }
 

@@ -1,4 +1,4 @@
-//! The per-wheel work budget (issue 13): at most so many RHS evaluations and so much wall time
+//! The per-wheel work budget: at most so many RHS evaluations and so much wall time
 //! for one wheel's verdict. A wheel that needs more becomes a `failed` row whose reason starts
 //! with `budget exceeded (`, so one pathological point cannot stall a whole study.
 
@@ -74,6 +74,7 @@ pub struct Meter {
 }
 
 impl Meter {
+    /// A meter that starts counting now.
     pub fn new(budget: WheelBudget) -> Self {
         Meter {
             budget,

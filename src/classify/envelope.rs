@@ -13,9 +13,17 @@ pub enum Envelope {
     /// Section amplitudes decay geometrically to zero.
     Decays,
     /// Section amplitudes converge to a positive value: a point near the cycle on the section.
-    Settles { z: f64, v: f64 },
+    Settles {
+        /// Extrapolated z where the cycle crosses the section \[m\].
+        z: f64,
+        /// Extrapolated v where the cycle crosses the section [m/s].
+        v: f64,
+    },
     /// No verdict within the time limit.
-    Undecided { last_v: f64 },
+    Undecided {
+        /// The last section velocity seen [m/s].
+        last_v: f64,
+    },
 }
 
 /// Follows the trajectory from `start`, recording the velocity at each upward section crossing,
@@ -90,15 +98,18 @@ pub fn track(
     }))
 }
 
-/// Amplitudes and frequency measured on a trajectory window, the way MODEL.md's reference does.
+/// Amplitudes and frequency measured on a trajectory window, the way MODEL.md#reference-data does.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct WindowMeasure {
+    /// Half peak-to-peak of y over the window \[m\].
     pub amp_y_m: f64,
+    /// Half peak-to-peak of v over the window [m/s].
     pub amp_v_mps: f64,
+    /// Frequency from upward crossings of v's mid-range level \[Hz\]; 0 with fewer than two.
     pub freq_hz: f64,
 }
 
-/// Brute-force reference (MODEL.md step 9 and `reference/points.csv`): integrate `duration_s`
+/// Brute-force reference (MODEL.md#reference-data, `tests/data/points.csv`): integrate `duration_s`
 /// from the equilibrium plus `disturbance_m` in y at `rtol`, and measure amplitudes (half
 /// peak-to-peak) and frequency over the last `window_s`. Also returns the same measure on the
 /// window before it, so callers can tell a settled cycle from a slow transient.
@@ -215,11 +226,11 @@ impl WindowStats {
     }
 }
 
-/// Relative tolerance of the brute-force reference (as in `reference/points.csv`).
+/// Relative tolerance of the brute-force reference (as in `tests/data/points.csv`).
 pub const REFERENCE_RTOL: f64 = 1e-10;
 
-/// The brute-force verdict used to test the fast classifier: MODEL.md's reference method (a long
-/// trajectory at rtol 1e-10 from the disturbed equilibrium, amplitudes over its last 0.5 s,
+/// The brute-force verdict used to test the fast classifier: the method of MODEL.md#reference-data
+/// (a long trajectory at rtol 1e-10 from the disturbed equilibrium, amplitudes over its last 0.5 s,
 /// `limit_cycle` where the velocity amplitude exceeds 1e-4 m/s), with the horizon stretched to
 /// 24 s + 10/|Re λ| (at most 224 s) so that transients have died by a factor e^10 at its end.
 pub fn reference_verdict(ode: &TreadOde, rotation_hz: f64) -> super::WheelVerdict {

@@ -1,13 +1,13 @@
-//! Step 9 of MODEL.md: where does the tread go after a small disturbance? The verdict for one
-//! wheel: stable equilibrium, limit cycle (self-excited vibration), both (bistable), no traction,
-//! or failed, with amplitude, frequency, polygon order, energy and the work it took.
+//! MODEL.md#step-9-attractor: where does the tread go after a small disturbance? The verdict for
+//! one wheel: stable equilibrium, limit cycle (self-excited vibration), both (bistable), no
+//! traction, or failed, with amplitude, frequency, polygon order, energy and the work it took.
 //!
-//! Route (fast and exact): linear stability at the equilibrium decides the onset; an unstable
-//! equilibrium's limit cycle is found directly by shooting (Newton on the Poincaré return map),
-//! started from the Hopf direction with an amplitude predicted by the normal form (or from the
-//! neighbouring wheel's cycle); long integration with envelope tracking is the fallback when
-//! shooting fails, and the optional hard-excitation check looks for a cycle coexisting with a
-//! stable equilibrium.
+//! Route (fast and exact; MODEL.md#classes-and-verdicts): linear stability at the equilibrium
+//! decides the onset; an unstable equilibrium's limit cycle is found directly by shooting (Newton
+//! on the Poincaré return map), started from the Hopf direction with an amplitude predicted by the
+//! normal form (or from the neighbouring wheel's cycle); long integration with envelope tracking is
+//! the fallback when shooting fails, and the optional hard-excitation check looks for a cycle
+//! coexisting with a stable equilibrium.
 
 pub mod budget;
 pub mod envelope;
@@ -37,7 +37,8 @@ pub enum Class {
     LimitCycle,
     /// A stable limit cycle coexists with a stable equilibrium (found by the hard-excitation check).
     Bistable,
-    /// The driving wheel cannot transmit the drive force (MODEL.md step 4).
+    /// The driving wheel cannot transmit the drive force
+    /// (MODEL.md#step-4-brush-model-and-slip-ratio).
     NoTraction,
     /// The model or the numerics failed; `reason` says why.
     Failed,
@@ -57,6 +58,7 @@ impl Class {
         Class::Failed,
     ];
 
+    /// The name written in output files and accepted by parsers.
     pub fn as_str(self) -> &'static str {
         match self {
             Class::Stable => "stable",
@@ -95,6 +97,7 @@ impl Method {
         Method::Reference,
     ];
 
+    /// The name written in output files and accepted by parsers.
     pub fn as_str(self) -> &'static str {
         match self {
             Method::Linear => "linear",
@@ -109,29 +112,34 @@ impl Method {
 /// cycle quantities are 0 when there is no cycle, and NaN where they are undefined.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WheelVerdict {
+    /// The verdict.
     pub class: Class,
     /// Largest real part of the Jacobian's eigenvalues at the equilibrium [1/s].
     pub eig_re_max: f64,
-    /// Linear frequency |Im λ|/2π of that eigenvalue [Hz].
+    /// Linear frequency |Im λ|/2π of that eigenvalue \[Hz\].
     pub eig_freq_hz: f64,
+    /// Half peak-to-peak of y over the cycle \[m\].
     pub amp_y_m: f64,
+    /// Half peak-to-peak of v over the cycle [m/s].
     pub amp_v_mps: f64,
-    /// Limit-cycle frequency 1/T [Hz].
+    /// Limit-cycle frequency 1/T \[Hz\].
     pub freq_hz: f64,
-    /// Wear facets n = f / f_rot (MODEL.md step 9).
+    /// Wear facets n = f / f_rot (MODEL.md#step-9-attractor).
     pub polygon_order: f64,
     /// Energy fed by friction into the tread per cycle, equal to what the tread damper
-    /// dissipates: E = ∮ C_s v² dt [J].
+    /// dissipates: E = ∮ C_s v² dt \[J\].
     pub energy_per_cycle_j: f64,
     /// Modulus of the largest non-trivial Floquet multiplier of the cycle (NaN if none).
     pub floquet_max: f64,
     /// Right-hand-side evaluations spent (variational evaluations count as one).
     pub rhs_evals: u64,
+    /// How the verdict was reached.
     pub method: Method,
     /// Why the class is `failed` or `no_traction`; empty otherwise.
     pub reason: String,
-    /// Where the cycle crosses the section y = y_eq upwards: z [m] and v [m/s] (0 if no cycle).
+    /// Where the cycle crosses the section y = y_eq upwards: z \[m\] and v [m/s] (0 if no cycle).
     pub section_z_m: f64,
+    /// The section velocity v \[m/s\] of the same crossing (see `section_z_m`).
     pub section_v_mps: f64,
 }
 
@@ -179,11 +187,12 @@ pub struct ClassifierOptions {
     pub rtol: f64,
     /// Newton converges when the return-map residual is below this, relative to the state scales.
     pub newton_tol: f64,
-    /// Initial disturbance of y for trajectories started at the equilibrium [m] (MODEL.md step 9).
+    /// Initial disturbance of y for trajectories started at the equilibrium \[m\]
+    /// (MODEL.md#step-9-attractor).
     pub disturbance_m: f64,
     /// Hard-excitation check: lateral velocity amplitude of the kick [m/s]; None to skip.
     pub kick_mps: Option<f64>,
-    /// Simulated-time limit of the envelope-tracking fallback [s].
+    /// Simulated-time limit of the envelope-tracking fallback \[s\].
     pub fallback_max_s: f64,
     /// Work limits per wheel; beyond them the wheel is `failed` with `budget exceeded (...)`.
     pub budget: WheelBudget,
@@ -205,17 +214,20 @@ impl Default for ClassifierOptions {
 /// Scales of the three states at one equilibrium, for tolerances and convergence tests.
 #[derive(Debug, Clone, Copy)]
 pub struct Scales {
+    /// z at the equilibrium \[m\].
     pub z_eq: f64,
+    /// y at the equilibrium \[m\].
     pub y_eq: f64,
-    /// |z0| [m].
+    /// |z0| \[m\].
     pub z: f64,
-    /// |y0| [m].
+    /// |y0| \[m\].
     pub y: f64,
     /// Road lateral speed U [m/s].
     pub v: f64,
 }
 
 impl Scales {
+    /// The scales at `ode`'s equilibrium.
     pub fn new(ode: &TreadOde) -> Self {
         let eq = ode.equilibrium();
         Scales {
@@ -233,7 +245,7 @@ impl Scales {
     }
 }
 
-/// Classifies one wheel at one operating point: steps 1–9 of MODEL.md.
+/// Classifies one wheel at one operating point: steps 1–9 of MODEL.md#the-physics-step-by-step.
 pub fn classify_point(
     p: &Params,
     wheel: Wheel,
@@ -532,14 +544,12 @@ fn hopf_dz_per_v(ode: &TreadOde, lambda: Complex<f64>) -> f64 {
     }
 }
 
-/// The limit-cycle verdict for a converged orbit: frequency and polygon order from its period,
-/// amplitudes and energy from the period integrated by its last Newton iteration.
 /// The verdict of a cycle read off the trajectory from the envelope's settled section state
 /// `start`, for when Newton cannot hold on (within about 1e-4 s⁻¹ of the Hopf point the return
 /// map is the identity to within the integration error). 40 linear periods are integrated and
-/// measured over two windows of 20 (as MODEL.md's reference does). Where the amplitude still
-/// drifts, the cycle is that of the Hopf normal form dA/dt = A (Re λ + l1 A²) fitted to the
-/// drift: with r = d ln A/dt measured at Ā, l1 = (r − Re λ)/Ā² and A*² = −Re λ/l1 =
+/// measured over two windows of 20 (as the brute force of MODEL.md#reference-data does). Where the
+/// amplitude still drifts, the cycle is that of the Hopf normal form dA/dt = A (Re λ + l1 A²)
+/// fitted to the drift: with r = d ln A/dt measured at Ā, l1 = (r − Re λ)/Ā² and A*² = −Re λ/l1 =
 /// Ā² Re λ/(Re λ − r), supercritical (l1 < 0) only. Energy per cycle from the near-sinusoidal
 /// velocity, C_s·A_v²/(2f).
 fn settled_cycle(
@@ -602,6 +612,8 @@ fn settled_cycle(
     })
 }
 
+/// The limit-cycle verdict for a converged orbit: frequency and polygon order from its period,
+/// amplitudes and energy from the period integrated by its last Newton iteration.
 fn cycle_verdict(
     orbit: &shooting::PeriodicOrbit,
     lin: &crate::model::LinearStability,

@@ -24,9 +24,13 @@ pub fn crossing_in_step<const N: usize>(step: &Step<'_, N>, y_sec: f64) -> Optio
 
 /// One return to the section: time of flight, state there, and the RHS evaluations spent.
 pub struct Return<const N: usize> {
+    /// Time of flight to the section \[s\].
     pub period_s: f64,
+    /// The state on the section.
     pub state: [f64; N],
+    /// RHS evaluations spent.
     pub rhs_evals: usize,
+    /// The last step size \[s\], a good first step for the next return.
     pub h_last: f64,
 }
 

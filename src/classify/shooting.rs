@@ -13,19 +13,24 @@ use crate::solver::{OdeSystem, SolverOptions, Step, Variational};
 /// period along it measures.
 #[derive(Debug, Clone, Copy)]
 pub struct PeriodicOrbit {
+    /// The orbit's point on the section y = y_eq.
     pub start: State,
+    /// The period \[s\].
     pub period_s: f64,
     /// Modulus of the largest non-trivial Floquet multiplier (< 1: the cycle attracts).
     pub floquet_max: f64,
+    /// Amplitudes and energy along one period.
     pub measure: CycleMeasure,
 }
 
-/// Amplitudes (half peak-to-peak) and energy of one period (MODEL.md step 9).
+/// Amplitudes (half peak-to-peak) and energy of one period (MODEL.md#step-9-attractor).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct CycleMeasure {
+    /// Half peak-to-peak of y \[m\].
     pub amp_y_m: f64,
+    /// Half peak-to-peak of v [m/s].
     pub amp_v_mps: f64,
-    /// ∮ C_s v² dt over the period [J].
+    /// ∮ C_s v² dt over the period \[J\].
     pub energy_j: f64,
 }
 
@@ -209,10 +214,9 @@ const FINE_ACCEPT_REL: f64 = 1e-3;
 /// A fine iteration is accepted only if its Floquet multiplier ρ is expected to move by less
 /// than this share of 1 − ρ over the last step (extrapolated from its move over the step
 /// before). Some strongly nonlinear cycles have a multiplier that moves by 0.1 over a 1e-3
-/// step: without the check one at 222 km/h and 0.05° reported 0.833 for a converged 0.927
-/// (and 0.2.0, ending its
-/// coarse phase later, reported 0.854 for another cycle's 0.924, even at rtol 1e-12). The check
-/// costs nothing on the default study and 1–4% on the grid and wide-structure studies.
+/// step: without the check one at 222 km/h and 0.05° reports 0.833 for a converged 0.927, and a
+/// coarse phase that ends later reports 0.854 for another cycle's 0.924, even at rtol 1e-12. The
+/// check costs nothing on the default study and 1–4% on the grid and wide-structure studies.
 const FLOQUET_DRIFT_REL: f64 = 1e-2;
 
 /// Newton gives up after this many damped steps in a row: its guess is outside the basin of
@@ -223,7 +227,7 @@ const MAX_DAMPED_STEPS: usize = 4;
 /// Refines a guess `(z, v)` on the section into the periodic orbit through it. The first
 /// iterations integrate at `tols.coarse`; once their steps are small, the last ones at
 /// `tols.fine` until the return-map residual is below `newton_tol` or the Newton step below
-/// [`FINE_ACCEPT_REL`]. The residual and step of v are relative to v itself, not to U: near the
+/// `FINE_ACCEPT_REL`. The residual and step of v are relative to v itself, not to U: near the
 /// Hopf point every small orbit returns to within U·`newton_tol` of its start, and would pass
 /// for a cycle. The amplitudes, energy and period are measured along that final iteration's
 /// period, corrected to first order for its last Newton step.

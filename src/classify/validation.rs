@@ -1,4 +1,4 @@
-//! The fast classifier against the brute-force reference on random operating points (issue 3):
+//! The fast classifier against the brute-force reference on random operating points:
 //! class agreement outside the Hopf band, amplitude and frequency errors, and the cost of each.
 
 use std::time::Instant;
@@ -30,13 +30,21 @@ pub fn random_point(seed: u64, index: u64) -> Params {
 /// One wheel of one point, judged both ways.
 #[derive(Debug, Clone)]
 pub struct Comparison {
+    /// The point's index in the random set.
     pub index: u64,
+    /// The point's parameters.
     pub params: Params,
+    /// The wheel.
     pub wheel: Wheel,
+    /// The friction variant.
     pub variant: Variant,
+    /// The fast classifier's verdict.
     pub fast: WheelVerdict,
+    /// Its wall time \[µs\].
     pub fast_us: f64,
+    /// The brute-force verdict.
     pub reference: WheelVerdict,
+    /// Its wall time \[µs\].
     pub reference_us: f64,
 }
 
@@ -46,6 +54,7 @@ impl Comparison {
         self.fast.eig_re_max.abs() >= HOPF_BAND
     }
 
+    /// Whether both say the same about vibration (a failed fast verdict never agrees).
     pub fn classes_agree(&self) -> bool {
         self.fast.class.vibrates() == (self.reference.class == Class::LimitCycle)
             && self.fast.class != Class::Failed

@@ -11,6 +11,14 @@ use polywear::analysis::inputs::check_inputs;
 use polywear::analysis::report::{analyze, Analysis, ReportOptions};
 
 #[derive(Debug, Args, Clone)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  # an extra risk map\n",
+    "  polywear analyze data/explore_highway_fleet_seed2014 --pair g_mod,load_n\n",
+    "  # the shards of one run, together\n",
+    "  polywear analyze results/shard-*\n",
+    "\nGuide: GUIDE.md#analyze"
+))]
 pub struct AnalyzeArgs {
     /// Explore output: a directory of chunk files, a Parquet file, or several (e.g. shard
     /// directories)

@@ -14,6 +14,12 @@ use polywear::parquet_out::{write_table, Column};
 use polywear::records::{record_columns, WheelRecord};
 
 #[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  polywear bifurcation --param speed_kmh --from 40 --to 260 --steps 221\n",
+    "  polywear bifurcation --param toe_deg --from 0.05 --to 1 --params studies/params_r0.toml\n",
+    "\nGuide: GUIDE.md#bifurcation"
+))]
 pub struct BifurcationArgs {
     /// Parameter to sweep, by name (see `polywear params`), e.g. speed_kmh, toe_deg, load_n
     #[arg(long, value_name = "NAME")]

@@ -9,6 +9,14 @@ use super::common::{CliError, CliResult};
 use polywear::calibrate::{calibrate, parameter_file, parse_problem};
 
 #[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  # the fit behind the defaults\n",
+    "  polywear calibrate studies/paper_targets.toml --out data/fit.toml\n",
+    "  # then use the fitted parameters\n",
+    "  polywear simulate --params data/fit.toml\n",
+    "\nGuide: GUIDE.md#calibrate"
+))]
 pub struct CalibrateArgs {
     /// Targets file (TOML; see studies/paper_targets.toml)
     #[arg(value_name = "TARGETS.toml")]

@@ -15,6 +15,12 @@ use polywear::parquet_out::{write_csv, write_table, Column};
 use polywear::records::{record_columns, WheelRecord};
 
 #[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  printf 'speed_kmh,toe_deg\\n100,0.3\\n150,0.2\\n' > points.csv\n",
+    "  polywear classify points.csv --out data/points_classified.csv\n",
+    "\nGuide: GUIDE.md#classify"
+))]
 pub struct ClassifyArgs {
     /// CSV with a header of parameter names (e.g. speed_kmh,toe_deg,load_n,pressure_kpa) and
     /// one operating point per row; other columns are refused, missing parameters keep defaults

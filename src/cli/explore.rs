@@ -11,8 +11,18 @@ use polywear::explore::{RunPlan, Shard};
 use polywear::study::{Study, DEFAULT_STUDY, SEED_MAX};
 
 #[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  # the built-in study, one million samples\n",
+    "  polywear explore --samples 1e6\n",
+    "  # a shipped study; rerun to resume\n",
+    "  polywear explore studies/decoding.toml --out data/decoding --resume\n",
+    "  # shard 0 of 4\n",
+    "  polywear explore studies/wide_structure.toml --shard 0/4 --out results/shard-0\n",
+    "\nGuide: GUIDE.md#explore"
+))]
 pub struct ExploreArgs {
-    /// Study file (TOML; see studies/ and README). Without it: the built-in highway-fleet study
+    /// Study file (TOML; see studies/ and GUIDE.md#studies). Without it: the built-in highway-fleet study
     /// (studies/default.toml)
     #[arg(value_name = "STUDY.toml")]
     pub study: Option<PathBuf>,

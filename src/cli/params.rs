@@ -25,7 +25,8 @@ pub fn run(markdown: bool) {
     }
 }
 
-/// The parameter table as Markdown (README.md embeds exactly this; a test keeps them equal).
+/// The parameter table as Markdown (MODEL.md#parameter-table embeds exactly this; tests/docs.rs
+/// keeps them equal).
 pub fn markdown_table() -> String {
     let mut out = String::from(
         "| name | symbol | unit | default | provenance | accepted range | meaning |\n|---|---|---|---|---|---|---|\n",

@@ -8,6 +8,14 @@ use clap::Args;
 use super::common::{CliError, CliResult};
 
 #[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  # data/paper_2014/report.md and the figures\n",
+    "  polywear reproduce\n",
+    "  # at the constants R0\n",
+    "  polywear reproduce --params studies/params_r0.toml --out data/paper_r0\n",
+    "\nGuide: GUIDE.md#reproduce"
+))]
 pub struct ReproduceArgs {
     /// Output directory
     #[arg(long, value_name = "DIR", default_value = "data/paper_2014")]
@@ -19,8 +27,8 @@ pub struct ReproduceArgs {
     /// [10, 1000000]
     #[arg(long, value_name = "N", default_value_t = 4000)]
     pub paired_samples: u64,
-    /// Parameter file (e.g. from `polywear calibrate`, or studies/params_r0.toml for MODEL.md's
-    /// reference constants) instead of the defaults
+    /// Parameter file (e.g. from `polywear calibrate`, or studies/params_r0.toml for the reference
+    /// constants R0, MODEL.md#r0-and-the-shipped-defaults) instead of the defaults
     #[arg(long, value_name = "FILE")]
     pub params: Option<PathBuf>,
     /// Worker threads (default: all cores), accepted [1, 1024]

@@ -15,6 +15,15 @@ use polywear::records::WheelRecord;
 use polywear::trajectory::{plot_point, time_series, Samples};
 
 #[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  # the default point, both wheels\n",
+    "  polywear simulate\n",
+    "  polywear simulate --speed 150 --toe 0.4 --variant paper --json\n",
+    "  # figure and time series\n",
+    "  polywear simulate --plot data/point.png --out data/point.parquet\n",
+    "\nGuide: GUIDE.md#simulate"
+))]
 pub struct SimulateArgs {
     #[command(flatten)]
     pub point: PointArgs,
@@ -38,7 +47,7 @@ pub struct SimulateArgs {
     pub kick: Option<f64>,
     #[command(flatten)]
     pub budget: BudgetArgs,
-    /// Print one JSON object per wheel (the columns of reference/points.csv and more)
+    /// Print one JSON object per wheel (the columns of tests/data/points.csv and more)
     #[arg(long)]
     pub json: bool,
     /// Write the time series (t, wheel, z, y, v) to FILE.parquet or FILE.csv

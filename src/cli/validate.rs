@@ -10,6 +10,11 @@ use polywear::classify::ClassifierOptions;
 use polywear::parquet_out::{write_csv, Column};
 
 #[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  polywear validate --points 340 --seed 1 --out data/validate_340.csv\n",
+    "\nGuide: GUIDE.md#validate"
+))]
 pub struct ValidateArgs {
     /// Random operating points (each evaluated for 2 wheels × 3 variants), accepted [1, 100000]
     #[arg(long, default_value_t = 300, allow_negative_numbers = true, value_parser = super::common::whole_in::<u64>("--points", 1, 100_000))]

@@ -1,4 +1,5 @@
-//! Brush tire model with parabolic pressure (MODEL.md steps 4–5; paper Eqs. 1–12 and 19):
+//! Brush tire model with parabolic pressure (MODEL.md#step-4-brush-model-and-slip-ratio and
+//! #step-5-friction-levels; paper Eqs. 1–12 and 19):
 //! the sliding share of the contact, the longitudinal force, the driving wheel's slip ratio and
 //! the friction levels that feed the LuGre law.
 
@@ -43,7 +44,9 @@ pub const MAX_SLIP_RATIO: f64 = 1.0e3;
 /// Why a driving wheel has no slip ratio.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NoTraction {
+    /// The drive force the wheel must transmit \[N\].
     pub drive_force_n: f64,
+    /// The largest force the contact transmits \[N\].
     pub max_force_n: f64,
 }
 
@@ -75,11 +78,15 @@ pub fn slip_ratio_for_force(
 /// Static and sliding friction levels F_m, F_s of the LuGre law (step 5, Eq. 19).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrictionLevels {
+    /// Sliding share q of the contact length.
     pub q: f64,
+    /// Maximum static friction level F_m \[N\].
     pub f_m: f64,
+    /// Sliding friction level F_s \[N\].
     pub f_s: f64,
 }
 
+/// The friction levels of Eq. 19 at slip ratio `slip_ratio`.
 pub fn friction_levels(p: &Params, patch: &ContactPatch, slip_ratio: f64) -> FrictionLevels {
     let tan_a = p.toe_rad().tan();
     let q = sliding_share(p, patch, slip_ratio);

@@ -1,5 +1,6 @@
-//! The physics of MODEL.md, steps 1–8: from an operating point and a wheel kind to the
-//! coefficients of the tread ODE. Pure functions of [`Params`]; no integration happens here.
+//! The physics of MODEL.md#the-physics-step-by-step, steps 1–8: from an operating point and a wheel
+//! kind to the coefficients of the tread ODE. Pure functions of [`Params`]; no integration happens
+//! here.
 
 pub mod brush;
 pub mod tire;
@@ -16,12 +17,16 @@ pub use tread::{LinearStability, State, TreadOde};
 /// Driving wheels transmit the drive force through a slip ratio; followers roll freely (S = 0).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Wheel {
+    /// Rolls freely: slip ratio S = 0.
     Follower,
+    /// Transmits the drive force through a slip ratio S > 0.
     Driving,
 }
 
 impl Wheel {
+    /// Both wheels, follower first.
     pub const BOTH: [Wheel; 2] = [Wheel::Follower, Wheel::Driving];
+    /// The name written in output files and accepted by parsers.
     pub fn as_str(self) -> &'static str {
         match self {
             Wheel::Follower => "follower",
@@ -30,7 +35,7 @@ impl Wheel {
     }
 }
 
-/// How the Stribeck curve sees sliding (MODEL.md step 6).
+/// How the Stribeck curve sees sliding (MODEL.md#step-6-tread-ode).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Variant {
     /// The paper's Eq. 21: only the lateral sliding speed, w_t = |w|.
@@ -38,17 +43,19 @@ pub enum Variant {
     /// 2-D LuGre extension: w_t = sqrt(w² + V_sx²) with the driving wheel's full longitudinal
     /// sliding speed V_sx = V cos α S/(1+S).
     Combined,
-    /// 2-D LuGre over the patch (MODEL.md step 6, the shipped default): as `Combined`, but with
-    /// the patch-mean longitudinal sliding speed q·V cos α S/(1+S), since only the sliding share
-    /// q of the contact length slides lengthwise. The one reading that reproduces the paper's
-    /// driving-wheel results (MODEL.md, "Both wheels").
+    /// 2-D LuGre over the patch (MODEL.md#step-6-tread-ode, the shipped default): as `Combined`,
+    /// but with the patch-mean longitudinal sliding speed q·V cos α S/(1+S), since only the sliding
+    /// share q of the contact length slides lengthwise. The one reading that reproduces the paper's
+    /// driving-wheel results (MODEL.md#the-default-sliding-share).
     SlidingShare,
 }
 
 impl Variant {
+    /// Every variant.
     pub const ALL: [Variant; 3] = [Variant::Paper, Variant::Combined, Variant::SlidingShare];
     /// The variant every command and built-in study uses unless told otherwise.
     pub const DEFAULT: Variant = Variant::SlidingShare;
+    /// The name written in output files and accepted by parsers.
     pub fn as_str(self) -> &'static str {
         match self {
             Variant::Paper => "paper",
@@ -97,9 +104,9 @@ impl FromStr for Variant {
     }
 }
 
-/// Longitudinal sliding speed seen by the Stribeck curve (MODEL.md step 6) [m/s]: none under
-/// `paper` (Eq. 21), V cos α S/(1+S) under `combined`, and its patch mean q·V cos α S/(1+S) under
-/// `sliding_share`. Zero for the follower (S = 0) in every variant.
+/// Longitudinal sliding speed seen by the Stribeck curve (MODEL.md#step-6-tread-ode) [m/s]: none
+/// under `paper` (Eq. 21), V cos α S/(1+S) under `combined`, and its patch mean q·V cos α S/(1+S)
+/// under `sliding_share`. Zero for the follower (S = 0) in every variant.
 pub fn longitudinal_sliding_mps(
     variant: Variant,
     speed_mps: f64,
@@ -118,22 +125,33 @@ pub fn longitudinal_sliding_mps(
 /// Everything steps 1–8 say about one wheel at one operating point.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WheelModel {
+    /// The wheel.
     pub wheel: Wheel,
+    /// The friction variant.
     pub variant: Variant,
+    /// The contact patch (steps 1–2).
     pub patch: ContactPatch,
+    /// The tread block (step 3).
     pub tread: TreadBlock,
+    /// The slip ratio S (step 4; 0 for the follower).
     pub slip_ratio: f64,
+    /// The friction levels (step 5).
     pub friction: FrictionLevels,
+    /// The tread ODE (step 6).
     pub ode: TreadOde,
 }
 
 /// Why no tread ODE exists for a wheel.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ModelFailure {
-    /// The driving wheel cannot transmit the drive force (MODEL.md step 4): a result.
+    /// The driving wheel cannot transmit the drive force
+    /// (MODEL.md#step-4-brush-model-and-slip-ratio): a result.
     NoTraction {
+        /// The contact patch.
         patch: ContactPatch,
+        /// The tread block.
         tread: TreadBlock,
+        /// The drive force against the largest force the contact transmits.
         limit: NoTraction,
     },
     /// The static model is undefined at this point (e.g. no contact patch).
@@ -154,7 +172,7 @@ impl fmt::Display for ModelFailure {
 }
 
 impl WheelModel {
-    /// Evaluates MODEL.md steps 1–5 and assembles the step-6 ODE.
+    /// Evaluates steps 1–5 of MODEL.md#the-physics-step-by-step and assembles the step-6 ODE.
     pub fn build(p: &Params, wheel: Wheel, variant: Variant) -> Result<Self, ModelFailure> {
         let patch = tire::contact_patch(p).map_err(ModelFailure::Invalid)?;
         let tread = tire::tread_block(p, &patch);
@@ -204,7 +222,7 @@ impl WheelModel {
         })
     }
 
-    /// Wheel rotation frequency f_rot = V / (2π r_B) [Hz] (MODEL.md step 9).
+    /// Wheel rotation frequency f_rot = V / (2π r_B) \[Hz\] (MODEL.md#step-9-attractor).
     pub fn rotation_hz(p: &Params) -> f64 {
         p.speed_mps() / (2.0 * std::f64::consts::PI * p.r_b)
     }

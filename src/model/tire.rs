@@ -1,4 +1,5 @@
-//! Tire geometry and the tread block (MODEL.md steps 1–3; paper Eqs. 13, 14, 16).
+//! Tire geometry and the tread block (MODEL.md#step-1-deflection to #step-3-tread-block; paper
+//! Eqs. 13, 14, 16).
 
 use crate::params::Params;
 

@@ -1,11 +1,12 @@
-//! The tread's lateral dynamics with LuGre friction (MODEL.md steps 6–8; paper Eqs. 18–26):
+//! The tread's lateral dynamics with LuGre friction (MODEL.md#step-6-tread-ode to
+//! #step-8-linear-stability; paper Eqs. 18–26):
 //! right-hand side, equilibrium, analytic Jacobian and its eigenvalues.
 
 use nalgebra::{Complex, Matrix3};
 
 use super::Variant;
 
-/// State x = (z, y, v): mean bristle deflection z [m], lateral tread displacement y [m] and
+/// State x = (z, y, v): mean bristle deflection z \[m\], lateral tread displacement y \[m\] and
 /// lateral tread velocity v = dy/dt [m/s].
 pub type State = [f64; 3];
 
@@ -17,12 +18,15 @@ pub struct TreadOde {
     pub sigma0: f64,
     /// Tread lateral stiffness K_s [N/m].
     pub k_s: f64,
+    /// Tread mass m \[kg\].
     pub mass_kg: f64,
     /// Tread lateral damping C_s [N s/m].
     pub c_s: f64,
     /// LuGre bristle damping σ1 [N s/m].
     pub sigma1: f64,
+    /// Maximum static friction level F_m \[N\].
     pub f_m: f64,
+    /// Sliding friction level F_s \[N\].
     pub f_s: f64,
     /// Stribeck speed [m/s].
     pub v_s: f64,
@@ -33,6 +37,7 @@ pub struct TreadOde {
     /// Longitudinal sliding speed seen by the Stribeck curve [m/s]: 0 under `paper`, see
     /// [`super::longitudinal_sliding_mps`].
     pub v_sx_mps: f64,
+    /// The friction variant (how w_t is formed).
     pub variant: Variant,
 }
 
@@ -115,7 +120,7 @@ impl TreadOde {
     pub fn eigenvalues(&self) -> [Complex<f64>; 3] {
         let jac = self.jacobian(&self.equilibrium());
         // Bounded QR iterations: the unbounded ones never return for some degenerate Jacobians
-        // (toe-in 1e-200°, issue 13). Without convergence the eigenvalues are NaN, and the
+        // (toe-in 1e-200°). Without convergence the eigenvalues are NaN, and the
         // classifier says so in a `failed` row.
         let Some(schur) = jac.try_schur(f64::EPSILON, 10_000) else {
             return [Complex::new(f64::NAN, f64::NAN); 3];
@@ -133,13 +138,14 @@ impl TreadOde {
 pub struct LinearStability {
     /// Largest real part [1/s]; positive means the equilibrium is unstable.
     pub eig_re_max: f64,
-    /// |Im|/2π of that eigenvalue [Hz]; 0 when it is real.
+    /// |Im|/2π of that eigenvalue \[Hz\]; 0 when it is real.
     pub eig_freq_hz: f64,
     /// The leading eigenvalue itself.
     pub leading: Complex<f64>,
 }
 
 impl TreadOde {
+    /// The leading eigenvalue at the equilibrium as growth rate and frequency.
     pub fn linear_stability(&self) -> LinearStability {
         let ev = self.eigenvalues();
         let leading = ev[0];

@@ -146,6 +146,7 @@ pub fn colorbar<DB: DrawingBackend>(
 
 /// One probability curve with its interval band.
 pub struct Band<'a> {
+    /// The legend's label.
     pub label: &'a str,
     /// (x, p, lo, hi)
     pub points: Vec<(f64, f64, f64, f64)>,

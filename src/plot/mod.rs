@@ -12,7 +12,9 @@ pub mod spectrum;
 
 /// One curve of a figure, in a colour picked by the caller.
 pub struct Series<'a> {
+    /// The legend's label.
     pub label: &'a str,
+    /// (x, y) points, in order.
     pub points: Vec<(f64, f64)>,
 }
 
@@ -27,6 +29,7 @@ fn ensure_font() {
     });
 }
 
+/// The colours of a figure's series, in order.
 pub const PALETTE: [RGBColor; 4] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),

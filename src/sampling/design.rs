@@ -24,6 +24,7 @@ pub enum Design {
 }
 
 impl Design {
+    /// The name used in study files and metadata.
     pub fn as_str(self) -> &'static str {
         match self {
             Design::Random => "random",

@@ -10,24 +10,36 @@ use rand::RngExt;
 pub enum Distribution {
     /// Uniform on [min, max]; in a grid design, `count` evenly spaced values from min to max.
     Uniform {
+        /// Lower bound.
         min: f64,
+        /// Upper bound.
         max: f64,
+        /// Values in a grid design (None outside grids).
         count: Option<usize>,
     },
+    /// Normal(mean, sd), unbounded: only for parameters whose range is unbounded.
     Normal {
+        /// Mean.
         mean: f64,
+        /// Standard deviation.
         sd: f64,
     },
     /// Normal(mean, sd) restricted to [min, max].
     TruncatedNormal {
+        /// Mean of the untruncated normal.
         mean: f64,
+        /// Its standard deviation.
         sd: f64,
+        /// Lower bound.
         min: f64,
+        /// Upper bound.
         max: f64,
     },
     /// exp(N(ln median, sigma²)).
     LogNormal {
+        /// Median.
         median: f64,
+        /// Standard deviation of ln x.
         sigma: f64,
     },
     /// Each level equally likely; in a grid design, exactly these levels.

@@ -38,6 +38,7 @@ pub struct Streams {
 }
 
 impl Streams {
+    /// The streams of `seed`.
     pub fn new(seed: u64) -> Self {
         Streams {
             key: ChaCha12Rng::seed_from_u64(seed).get_seed(),

@@ -6,12 +6,13 @@ use super::OdeSystem;
 /// Tolerances and limits of one integration.
 #[derive(Debug, Clone, Copy)]
 pub struct SolverOptions<const N: usize> {
+    /// Relative tolerance.
     pub rtol: f64,
     /// Absolute tolerance per state component (the states have very different scales).
     pub atol: [f64; N],
-    /// Largest step [s].
+    /// Largest step \[s\].
     pub h_max: f64,
-    /// First step [s]; chosen automatically when `None`.
+    /// First step \[s\]; chosen automatically when `None`.
     pub h0: Option<f64>,
     /// Accepted plus rejected steps before giving up.
     pub max_steps: usize,
@@ -20,6 +21,7 @@ pub struct SolverOptions<const N: usize> {
 /// What the step callback wants next.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Control {
+    /// Go on integrating.
     Continue,
     /// Stop after this step (the outcome then holds the step's end).
     Stop,
@@ -28,9 +30,23 @@ pub enum Control {
 /// Why an integration gave up.
 #[derive(Debug, Clone, PartialEq)]
 pub enum IntegrationError {
-    StepSizeUnderflow { t: f64 },
-    NonFinite { t: f64 },
-    TooManySteps { t: f64, steps: usize },
+    /// The step size fell below what double precision resolves.
+    StepSizeUnderflow {
+        /// Where \[s\].
+        t: f64,
+    },
+    /// The state became NaN or infinite.
+    NonFinite {
+        /// Where \[s\].
+        t: f64,
+    },
+    /// The step limit was reached.
+    TooManySteps {
+        /// Where \[s\].
+        t: f64,
+        /// The limit.
+        steps: usize,
+    },
 }
 
 impl std::fmt::Display for IntegrationError {
@@ -49,9 +65,13 @@ impl std::fmt::Display for IntegrationError {
 
 /// One accepted step, with the dense-output polynomial over it.
 pub struct Step<'a, const N: usize> {
+    /// Start of the step \[s\].
     pub t0: f64,
+    /// End of the step \[s\].
     pub t1: f64,
+    /// State at `t0`.
     pub x0: &'a [f64; N],
+    /// State at `t1`.
     pub x1: &'a [f64; N],
     cont: &'a [[f64; N]; 5],
 }
@@ -72,10 +92,15 @@ impl<const N: usize> Step<'_, N> {
 /// Where an integration ended and what it cost.
 #[derive(Debug, Clone, Copy)]
 pub struct Outcome<const N: usize> {
+    /// Time reached \[s\].
     pub t: f64,
+    /// State there.
     pub x: [f64; N],
+    /// Steps accepted.
     pub accepted_steps: usize,
+    /// Steps rejected by the error control.
     pub rejected_steps: usize,
+    /// Right-hand-side evaluations.
     pub rhs_evals: usize,
     /// True when the callback stopped the integration before `t_end`.
     pub stopped: bool,

@@ -11,6 +11,7 @@ pub use dopri5::{integrate, Control, IntegrationError, Outcome, SolverOptions, S
 
 /// An autonomous ODE dx/dt = f(x) on N states.
 pub trait OdeSystem<const N: usize> {
+    /// dx/dt at state `x`.
     fn rhs(&self, x: &[f64; N]) -> [f64; N];
 }
 

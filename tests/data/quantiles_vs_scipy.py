@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""polywear's quantile functions against SciPy's ppf (issue 16).
+"""polywear's quantile functions against SciPy's ppf.
 
 Reads the JSON lines of `cargo run --release --example dump_quantiles` (a file argument, or
 stdin): per distribution, 10,000 probabilities from 1e-12 to 1 - 1e-12 and polywear's quantile
