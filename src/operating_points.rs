@@ -37,6 +37,7 @@ pub struct OperatingPoints {
     pub weights: Vec<f64>,
     /// FNV-1a 64 of the file's bytes (16 hex digits), recorded in the manifest and every chunk.
     pub hash: String,
+    /// The file's size in bytes, recorded beside the hash.
     pub bytes: u64,
     table: AliasTable,
 }

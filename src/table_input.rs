@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 /// A table of finite numbers with named columns.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NumericTable {
+    /// The file the table was read from (named in every error).
     pub path: PathBuf,
     /// Column names, in file order (unique).
     pub columns: Vec<String>,
@@ -17,6 +18,7 @@ pub struct NumericTable {
     lines: Vec<usize>,
     /// FNV-1a 64 of the file's bytes, as 16 hex digits, and their count.
     pub hash: String,
+    /// The file's size in bytes.
     pub bytes: u64,
 }
 

@@ -37,10 +37,13 @@ pub const STANDSTILL: &str = "standstill";
 /// A checked drive cycle.
 #[derive(Debug, Clone)]
 pub struct DriveCycle {
+    /// The file the cycle was read from.
     pub path: PathBuf,
     /// FNV-1a 64 of the file's bytes (recorded in the outputs' metadata).
     pub hash: String,
+    /// Time of each step \[s\], strictly increasing.
     pub time_s: Vec<f64>,
+    /// Vehicle speed at each step \[km/h\].
     pub speed_kmh: Vec<f64>,
     /// Parameters given per step (other than the speed), in file order.
     pub names: Vec<&'static str>,
@@ -129,10 +132,12 @@ impl DriveCycle {
         })
     }
 
+    /// Number of time steps.
     pub fn len(&self) -> usize {
         self.time_s.len()
     }
 
+    /// Whether the cycle has no step.
     pub fn is_empty(&self) -> bool {
         self.time_s.is_empty()
     }
@@ -142,7 +147,7 @@ impl DriveCycle {
         self.speed_kmh[i] == 0.0
     }
 
-    /// How long each step holds [s]: until the next step; the last step as long as the one
+    /// How long each step holds \[s\]: until the next step; the last step as long as the one
     /// before it (a logger's sample holds until the next). With steps of equal length every
     /// step weighs the same, and the time shares are shares of steps.
     pub fn step_durations_s(&self) -> Vec<f64> {
@@ -187,17 +192,20 @@ impl DriveCycle {
 /// One wheel at one step.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StepWheel {
+    /// The wheel's record, with the explorer's columns.
     pub record: WheelRecord,
+    /// The vehicle stands still at this step (speed 0): not vibrating, not classified.
     pub standstill: bool,
-    /// τ = 1/|Re λ| [s] (NaN without a tread ODE).
+    /// τ = 1/|Re λ| \[s\] (NaN without a tread ODE).
     pub tread_time_constant_s: f64,
-    /// T = |Re λ| / |d(Re λ)/dt| [s] (infinite where Re λ does not change; NaN without an ODE).
+    /// T = |Re λ| / |d(Re λ)/dt| \[s\] (infinite where Re λ does not change; NaN without an ODE).
     pub stability_change_time_s: f64,
     /// τ ≤ T (true where not assessed).
     pub quasi_static: bool,
 }
 
 impl StepWheel {
+    /// In self-excited vibration at this step (a limit cycle or bistable, never at standstill).
     pub fn vibrates(&self) -> bool {
         !self.standstill && self.record.class.vibrates()
     }

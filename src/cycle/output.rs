@@ -17,7 +17,9 @@ const RECORD_PARAMS: [&str; 4] = ["speed_kmh", "toe_deg", "load_n", "pressure_kp
 
 /// A classified cycle, for one or several tire structures.
 pub struct CycleRun<'a> {
+    /// The drive cycle classified.
     pub cycle: &'a DriveCycle,
+    /// The model variant used for both wheels.
     pub variant: Variant,
     /// Names of the parameters drawn per structure sample (empty without a study).
     pub structure_names: Vec<&'static str>,

@@ -12,17 +12,21 @@ use crate::parquet_out::Column;
 /// One wheel over one cycle (one tire structure).
 #[derive(Debug, Clone, PartialEq)]
 pub struct WheelSummary {
+    /// The wheel summarised.
     pub wheel: Wheel,
     /// Share of the cycle's time in vibration (limit cycle or bistable).
     pub time_share: f64,
     /// Share of the cycle's distance covered in vibration (0 when the cycle does not move).
     pub distance_share: f64,
-    /// The longest run of consecutive vibrating steps, by time [s] and by distance [km].
+    /// The longest run of consecutive vibrating steps \[s\].
     pub longest_vibration_s: f64,
+    /// The distance covered in that longest run \[km\].
     pub longest_vibration_km: f64,
-    /// Time in vibration [s] and distance in vibration [km].
+    /// Time in vibration \[s\].
     pub vibration_s: f64,
+    /// Distance covered in vibration \[km\].
     pub vibration_km: f64,
+    /// Share of the cycle's time at standstill (speed 0).
     pub standstill_share: f64,
     /// Share of the cycle's time where the quasi-static verdict does not hold.
     pub not_quasi_static_share: f64,

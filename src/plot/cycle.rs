@@ -10,8 +10,11 @@ use super::{figure, format_tick, PALETTE};
 /// What the figure shows of one wheel: its name and, per step, whether it vibrates and its
 /// polygon order (NaN when it does not vibrate).
 pub struct WheelTrace<'a> {
+    /// The wheel's name in the legend.
     pub label: &'a str,
+    /// Per step: whether the wheel vibrates.
     pub vibrates: Vec<bool>,
+    /// Per step: the polygon order n = f / f_rot (NaN when not vibrating).
     pub polygon_order: Vec<f64>,
 }
 

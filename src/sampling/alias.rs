@@ -59,6 +59,7 @@ impl AliasTable {
         self.rows.len()
     }
 
+    /// Whether no row has a positive weight.
     pub fn is_empty(&self) -> bool {
         self.rows.is_empty()
     }
