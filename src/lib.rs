@@ -10,6 +10,7 @@ pub mod analysis;
 pub mod bifurcation;
 pub mod calibrate;
 pub mod classify;
+pub mod continuation;
 pub mod explore;
 pub mod model;
 pub mod numeric;
