@@ -9,6 +9,7 @@ mod text_enum;
 pub mod analysis;
 pub mod bifurcation;
 pub mod calibrate;
+pub mod chart;
 pub mod classify;
 pub mod continuation;
 pub mod explore;

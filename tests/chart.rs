@@ -1,0 +1,407 @@
+//! Stability charts against brute force: every reported point is a Hopf point of the model, no
+//! crossing of a fine eigenvalue grid is missed, l1 agrees with a finite-difference l1, and the
+//! command refuses bad input before work.
+
+mod common;
+
+use nalgebra::{Complex, DMatrix, DVector};
+use parquet::file::reader::{FileReader, SerializedFileReader};
+
+use polywear::chart::derivatives::TreadSystem;
+use polywear::chart::{ChartRequest, WheelCurves, RE_LAMBDA_BOUND};
+use polywear::continuation::hopf::{analyse, HopfData};
+use polywear::continuation::trace::TraceOptions;
+use polywear::continuation::{CVector, OdeWithJacobian, ParamBox};
+use polywear::model::{Variant, Wheel, WheelModel};
+use polywear::params::{spec, Params};
+
+fn request(x: &str, xr: (f64, f64), y: &str, yr: (f64, f64)) -> ChartRequest {
+    ChartRequest {
+        base: Params::default(),
+        variant: Variant::SlidingShare,
+        wheels: Wheel::BOTH.to_vec(),
+        x: spec(x).unwrap(),
+        y: spec(y).unwrap(),
+        bounds: ParamBox {
+            lo: [xr.0, yr.0],
+            hi: [xr.1, yr.1],
+        },
+    }
+}
+
+fn speed_toe() -> ChartRequest {
+    request("speed_kmh", (60.0, 250.0), "toe_deg", (0.05, 0.6))
+}
+
+/// Every point: the model's own eigenvalues there hold a pair ±iω with |Re λ| ≤ bound·ω.
+fn assert_on_curve(req: &ChartRequest, charts: &[WheelCurves]) -> usize {
+    let mut n = 0;
+    for c in charts {
+        let fam = req.family(c.wheel);
+        for curve in &c.curves.curves {
+            for d in &curve.points {
+                let m = WheelModel::build(&fam.params(d.p), c.wheel, req.variant).unwrap();
+                let ev = m.ode.eigenvalues();
+                let pair = ev
+                    .iter()
+                    .filter(|e| e.im > 0.0)
+                    .min_by(|a, b| a.re.abs().total_cmp(&b.re.abs()))
+                    .expect("a complex pair");
+                assert!(
+                    pair.re.abs() <= RE_LAMBDA_BOUND * pair.im,
+                    "{} at {:?}: Re λ = {:e}, Im λ = {}",
+                    c.wheel,
+                    d.p,
+                    pair.re,
+                    pair.im
+                );
+                assert!((pair.im - d.omega).abs() <= 1e-7 * d.omega);
+                n += 1;
+            }
+        }
+    }
+    n
+}
+
+/// Box-relative distance from s to the polylines of `c`.
+fn distance_to_curves(req: &ChartRequest, c: &WheelCurves, s: [f64; 2]) -> f64 {
+    let mut best = f64::INFINITY;
+    for curve in &c.curves.curves {
+        let pts: Vec<[f64; 2]> = curve
+            .points
+            .iter()
+            .map(|d| req.bounds.to_unit(d.p))
+            .collect();
+        for w in pts.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let d = [b[0] - a[0], b[1] - a[1]];
+            let len2 = d[0] * d[0] + d[1] * d[1];
+            let t = if len2 > 0.0 {
+                (((s[0] - a[0]) * d[0] + (s[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            best = best.min((s[0] - a[0] - t * d[0]).hypot(s[1] - a[1] - t * d[1]));
+        }
+    }
+    best
+}
+
+/// Every sign change of max Re λ between neighbouring nodes of an n×n grid lies on a curve.
+fn assert_grid_crossings_found(req: &ChartRequest, charts: &[WheelCurves], n: usize) -> usize {
+    let mut crossings = 0;
+    for c in charts {
+        let grid = req.stability_grid(c.wheel, n, n);
+        let centre =
+            |i: usize, j: usize| [(i as f64 + 0.5) / n as f64, (j as f64 + 0.5) / n as f64];
+        for j in 0..n {
+            for i in 0..n {
+                let here = grid[j * n + i];
+                for (ii, jj) in [(i + 1, j), (i, j + 1)] {
+                    if ii >= n || jj >= n {
+                        continue;
+                    }
+                    let there = grid[jj * n + ii];
+                    if let (Some(a), Some(b)) = (here, there) {
+                        if a != b {
+                            crossings += 1;
+                            let (p, q) = (centre(i, j), centre(ii, jj));
+                            let mid = [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0];
+                            let d = distance_to_curves(req, c, mid);
+                            assert!(
+                                d <= 0.6 / n as f64,
+                                "{}: stability changes between grid nodes {p:?} and {q:?} \
+                                 but the nearest curve is {d} away",
+                                c.wheel
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+    crossings
+}
+
+#[test]
+fn speed_toe_chart_is_on_the_curve_and_complete() {
+    let req = speed_toe();
+    let charts = req.trace(&TraceOptions::default());
+    let points = assert_on_curve(&req, &charts);
+    assert!(points > 100, "{points} points");
+    let crossings = assert_grid_crossings_found(&req, &charts, 200);
+    assert!(crossings > 100, "{crossings} grid crossings");
+    // The driving wheel's unstable region is a closed island in this plane.
+    let driving = charts.iter().find(|c| c.wheel == Wheel::Driving).unwrap();
+    assert!(
+        driving.curves.curves.iter().any(|c| c.closed),
+        "{:?}",
+        driving.curves.special
+    );
+}
+
+#[test]
+fn load_pressure_chart_is_on_the_curve_and_complete() {
+    let req = request("load_n", (2500.0, 6500.0), "pressure_kpa", (180.0, 400.0));
+    let charts = req.trace(&TraceOptions::default());
+    assert!(assert_on_curve(&req, &charts) > 50);
+    assert!(assert_grid_crossings_found(&req, &charts, 200) > 50);
+}
+
+#[test]
+fn structure_parameter_chart_under_the_paper_variant() {
+    let mut req = request("speed_kmh", (60.0, 250.0), "g_mod", (0.6e6, 1.1e6));
+    req.variant = Variant::Paper;
+    let charts = req.trace(&TraceOptions::default());
+    assert!(assert_on_curve(&req, &charts) > 50);
+    assert_grid_crossings_found(&req, &charts, 120);
+}
+
+/// B and C by central differences of the model's own Jacobian (no jets), for an l1 computed
+/// without the exact derivatives.
+struct Differenced(TreadSystem);
+
+impl Differenced {
+    /// D²A[u, v] for real u, v, by differences of A (step per state from `h`).
+    fn d2a(&self, x: &DVector<f64>, u: &DVector<f64>, v: &DVector<f64>) -> DMatrix<f64> {
+        let e = 1e-4;
+        let j = |a: f64, b: f64| self.0.jacobian(&(x + u * (a * e) + v * (b * e)));
+        (j(1.0, 1.0) - j(1.0, -1.0) - j(-1.0, 1.0) + j(-1.0, -1.0)) / (4.0 * e * e)
+    }
+}
+
+fn split(c: &CVector) -> (DVector<f64>, DVector<f64>) {
+    (c.map(|z| z.re), c.map(|z| z.im))
+}
+
+fn times(m: &DMatrix<f64>, v: &CVector) -> CVector {
+    m.map(|a| Complex::new(a, 0.0)) * v
+}
+
+impl OdeWithJacobian for Differenced {
+    fn dim(&self) -> usize {
+        3
+    }
+    fn rhs(&self, x: &DVector<f64>) -> DVector<f64> {
+        self.0.rhs(x)
+    }
+    fn jacobian(&self, x: &DVector<f64>) -> DMatrix<f64> {
+        self.0.jacobian(x)
+    }
+    fn second(&self, x: &DVector<f64>, u: &CVector, v: &CVector) -> CVector {
+        let e = 1e-6;
+        let (ur, ui) = split(u);
+        let da = |d: &DVector<f64>| {
+            (self.0.jacobian(&(x + d * e)) - self.0.jacobian(&(x - d * e))) / (2.0 * e)
+        };
+        times(&da(&ur), v) + times(&da(&ui), v) * Complex::new(0.0, 1.0)
+    }
+    fn third(&self, x: &DVector<f64>, u: &CVector, v: &CVector, w: &CVector) -> CVector {
+        let (ur, ui) = split(u);
+        let (vr, vi) = split(v);
+        let i = Complex::new(0.0, 1.0);
+        times(&self.d2a(x, &ur, &vr), w) - times(&self.d2a(x, &ui, &vi), w)
+            + (times(&self.d2a(x, &ur, &vi), w) + times(&self.d2a(x, &ui, &vr), w)) * i
+    }
+    fn equilibrium_guess(&self) -> DVector<f64> {
+        self.0.equilibrium_guess()
+    }
+}
+
+#[test]
+fn l1_agrees_with_an_l1_from_differenced_derivatives() {
+    let req = speed_toe();
+    let charts = req.trace(&TraceOptions::default());
+    let mut checked = 0;
+    for c in &charts {
+        let fam = req.family(c.wheel);
+        for curve in &c.curves.curves {
+            for d in curve.points.iter().step_by(17) {
+                let m = WheelModel::build(&fam.params(d.p), c.wheel, req.variant).unwrap();
+                let x = DVector::from_vec(d.x.clone());
+                let fd: HopfData = analyse(&Differenced(TreadSystem(m.ode)), &x, d.p).unwrap();
+                assert!(
+                    (fd.l1 - d.l1).abs() <= 1e-3 * d.l1.abs(),
+                    "{} at {:?}: l1 {} vs differenced {}",
+                    c.wheel,
+                    d.p,
+                    d.l1,
+                    fd.l1
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 10);
+}
+
+fn dir(name: &str) -> std::path::PathBuf {
+    let d = common::fresh_dir(&format!("chart-{name}"));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn refused(args: &[&str], needles: &[&str]) {
+    let (code, _, stderr) = common::polywear(args);
+    assert_eq!(code, 2, "{args:?}: {stderr}");
+    for n in needles {
+        assert!(stderr.contains(n), "{args:?}: stderr lacks `{n}`: {stderr}");
+    }
+}
+
+#[test]
+fn bad_chart_requests_are_refused_before_work() {
+    let d = dir("bad");
+    let out = d.join("c.parquet");
+    let out = out.to_str().unwrap();
+    let base = |x: &str, xf: &str, xt: &str, y: &str, yf: &str, yt: &str| -> Vec<String> {
+        [
+            "chart", "--x", x, "--x-from", xf, "--x-to", xt, "--y", y, "--y-from", yf, "--y-to",
+            yt, "--out", out,
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect()
+    };
+    let check = |v: Vec<String>, needles: &[&str]| {
+        let args: Vec<&str> = v.iter().map(|s| s.as_str()).collect();
+        refused(&args, needles);
+    };
+    check(
+        base("nope", "1", "2", "toe_deg", "0.1", "0.5"),
+        &["--x", "unknown parameter `nope`"],
+    );
+    check(
+        base("speed_kmh", "60", "200", "speed_kmh", "80", "90"),
+        &["--x and --y", "speed_kmh"],
+    );
+    check(
+        base("speed_kmh", "200", "60", "toe_deg", "0.1", "0.5"),
+        &["--x-from", "--x-to", "(0, 400]"],
+    );
+    check(
+        base("speed_kmh", "60", "200", "toe_deg", "0.3", "0.3"),
+        &["--y-from", "empty or inverted"],
+    );
+    check(
+        base("speed_kmh", "60", "500", "toe_deg", "0.1", "0.5"),
+        &["--x-to", "(0, 400]"],
+    );
+    check(
+        base("speed_kmh", "60", "200", "toe_deg", "-0.1", "0.5"),
+        &["--y-from", "(0, 10]"],
+    );
+    check(
+        base("mu_s", "0.5", "0.9", "toe_deg", "0.1", "0.5"),
+        &["corner", "mu_s"],
+    );
+    let mut v = base("speed_kmh", "60", "200", "toe_deg", "0.1", "0.5");
+    v.extend(["--wheel".to_string(), "front".to_string()]);
+    check(v, &["front"]);
+    assert!(
+        std::fs::read_dir(&d).unwrap().next().is_none(),
+        "nothing written"
+    );
+}
+
+fn columns(path: &std::path::Path) -> (Vec<String>, i64, Vec<String>) {
+    let r = SerializedFileReader::new(std::fs::File::open(path).unwrap()).unwrap();
+    let meta = r.metadata().file_metadata();
+    let names = meta
+        .schema_descr()
+        .columns()
+        .iter()
+        .map(|c| c.name().to_string())
+        .collect();
+    let keys = meta
+        .key_value_metadata()
+        .map(|kv| kv.iter().map(|k| k.key.clone()).collect())
+        .unwrap_or_default();
+    (names, meta.num_rows(), keys)
+}
+
+#[test]
+fn chart_command_writes_tables_and_picture() {
+    let d = dir("run");
+    let out = d.join("speed_toe.parquet");
+    let (code, stdout, stderr) = common::polywear(&[
+        "chart",
+        "--x",
+        "speed_kmh",
+        "--x-from",
+        "60",
+        "--x-to",
+        "250",
+        "--y",
+        "toe_deg",
+        "--y-from",
+        "0.05",
+        "--y-to",
+        "0.6",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("follower") && stdout.contains("driving"),
+        "{stdout}"
+    );
+    let (names, rows, keys) = columns(&out);
+    assert_eq!(
+        &names[..8],
+        [
+            "wheel",
+            "variant",
+            "curve",
+            "speed_kmh",
+            "toe_deg",
+            "freq_hz",
+            "l1",
+            "criticality"
+        ]
+    );
+    assert!(rows > 100);
+    for k in [
+        "polywear_version",
+        "params",
+        "variant",
+        "chart_x",
+        "chart_y",
+    ] {
+        assert!(keys.iter().any(|x| x == k), "metadata lacks {k}: {keys:?}");
+    }
+    let csv = std::fs::read_to_string(d.join("speed_toe.csv")).unwrap();
+    assert_eq!(csv.lines().count() as i64, rows + 1);
+    assert!(csv.contains("supercritical"));
+    let (sp_names, sp_rows, _) = columns(&d.join("speed_toe_special.parquet"));
+    assert!(sp_names.contains(&"kind".to_string()) && sp_rows > 0);
+    assert!(std::fs::metadata(d.join("speed_toe.png")).unwrap().len() > 10_000);
+}
+
+#[test]
+fn empty_box_gives_an_empty_table_and_exit_0() {
+    let d = dir("empty");
+    let out = d.join("calm.parquet");
+    let (code, stdout, stderr) = common::polywear(&[
+        "chart",
+        "--x",
+        "speed_kmh",
+        "--x-from",
+        "20",
+        "--x-to",
+        "40",
+        "--y",
+        "toe_deg",
+        "--y-from",
+        "0.05",
+        "--y-to",
+        "0.1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("0 Hopf curve"), "{stdout}");
+    let (_, rows, _) = columns(&out);
+    assert_eq!(rows, 0);
+    assert!(d.join("calm.png").exists() && d.join("calm.csv").exists());
+}
