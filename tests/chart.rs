@@ -405,3 +405,44 @@ fn empty_box_gives_an_empty_table_and_exit_0() {
     assert_eq!(rows, 0);
     assert!(d.join("calm.png").exists() && d.join("calm.csv").exists());
 }
+
+#[test]
+fn bifurcation_hopf_points_carry_the_charts_l1() {
+    use polywear::bifurcation::{linspace, sweep};
+    use polywear::classify::ClassifierOptions;
+    let base = Params::default();
+    let sw = sweep(
+        &base,
+        "speed_kmh",
+        &linspace(60.0, 250.0, 20),
+        Variant::SlidingShare,
+        &ClassifierOptions::default(),
+    );
+    assert_eq!(sw.hopf.len(), 4, "{:?}", sw.hopf);
+    // The chart's curve ends on the edge toe = 0.3 of a box above it are the same Hopf points.
+    let req = request("speed_kmh", (60.0, 250.0), "toe_deg", (0.3, 0.5));
+    let charts = req.trace(&TraceOptions::default());
+    for h in &sw.hopf {
+        let c = charts.iter().find(|c| c.wheel == h.wheel).unwrap();
+        let end = c
+            .curves
+            .special
+            .iter()
+            .filter(|s| (s.p[1] - 0.3).abs() < 1e-12)
+            .min_by(|a, b| {
+                (a.p[0] - h.value)
+                    .abs()
+                    .total_cmp(&(b.p[0] - h.value).abs())
+            })
+            .unwrap();
+        assert!(
+            (end.p[0] - h.value).abs() < 1e-4 * h.value,
+            "{h:?} vs {end:?}"
+        );
+        assert!(
+            (end.l1 - h.l1).abs() < 1e-3 * h.l1.abs(),
+            "{h:?} vs {end:?}"
+        );
+        assert!(h.l1 < 0.0);
+    }
+}
