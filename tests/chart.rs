@@ -446,3 +446,107 @@ fn bifurcation_hopf_points_carry_the_charts_l1() {
         assert!(h.l1 < 0.0);
     }
 }
+
+#[test]
+fn structure_samples_draw_the_boundary_band() {
+    let d = dir("band");
+    let out = d.join("b.parquet");
+    let study = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/default.toml");
+    let (code, stdout, stderr) = common::polywear(&[
+        "chart",
+        "--x",
+        "load_n",
+        "--x-from",
+        "2500",
+        "--x-to",
+        "6500",
+        "--y",
+        "pressure_kpa",
+        "--y-from",
+        "180",
+        "--y-to",
+        "400",
+        "--study",
+        study,
+        "--structure-samples",
+        "12",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("12 structures") && stdout.contains("g_mod"),
+        "{stdout}"
+    );
+    let (names, rows, keys) = columns(&d.join("b_band.parquet"));
+    assert_eq!(
+        names,
+        [
+            "wheel",
+            "variant",
+            "load_n",
+            "pressure_kpa",
+            "unstable_share"
+        ]
+    );
+    assert_eq!(rows, 2 * 100 * 100);
+    assert!(keys.iter().any(|k| k == "structure_samples"));
+    let csv = std::fs::read_to_string(d.join("b_band.csv")).unwrap();
+    let shares: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert!(shares.iter().all(|s| (0.0..=1.0).contains(s)));
+    assert!(
+        shares.iter().any(|s| *s > 0.05 && *s < 0.95),
+        "a band exists"
+    );
+    // Without --study, or with too few structures: refused.
+    refused(
+        &[
+            "chart",
+            "--x",
+            "load_n",
+            "--x-from",
+            "2500",
+            "--x-to",
+            "6500",
+            "--y",
+            "pressure_kpa",
+            "--y-from",
+            "180",
+            "--y-to",
+            "400",
+            "--structure-samples",
+            "12",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &["--study"],
+    );
+    refused(
+        &[
+            "chart",
+            "--x",
+            "load_n",
+            "--x-from",
+            "2500",
+            "--x-to",
+            "6500",
+            "--y",
+            "pressure_kpa",
+            "--y-from",
+            "180",
+            "--y-to",
+            "400",
+            "--study",
+            study,
+            "--structure-samples",
+            "1",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &["--structure-samples", "[2, 10000]"],
+    );
+}

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
+use super::band::StructureBand;
 use super::{ChartRequest, WheelCurves};
 use crate::continuation::trace::SpecialKind;
 use crate::model::Wheel;
@@ -29,6 +30,7 @@ pub fn draw(
     req: &ChartRequest,
     charts: &[WheelCurves],
     grids: &[Vec<Option<bool>>],
+    band: Option<&StructureBand>,
 ) -> Result<(), String> {
     let (x, y) = (req.x, req.y);
     let title = format!(
@@ -99,6 +101,30 @@ pub fn draw(
                             RGBColor(150, 150, 150).mix(0.5).filled(),
                         )
                     });
+            }
+        }
+        if let Some(b) = band {
+            let m = b.cells;
+            let cell = |i: usize, j: usize| {
+                let a = req
+                    .bounds
+                    .to_param([i as f64 / m as f64, j as f64 / m as f64]);
+                let c = req
+                    .bounds
+                    .to_param([(i + 1) as f64 / m as f64, (j + 1) as f64 / m as f64]);
+                [(a[0], a[1]), (c[0], c[1])]
+            };
+            for (wheel, shares) in &b.shares {
+                let col = colour(*wheel);
+                let cells = (0..m * m).filter(|k| StructureBand::in_band(shares[*k]));
+                chart
+                    .draw_series(cells.map(|k| Rectangle::new(cell(k % m, k / m), col.mix(0.55).filled())))
+                    .map_err(e)?
+                    .label(format!(
+                        "{wheel} wheel: boundary band, unstable for 5-95% of {} drawn tire structures",
+                        b.structures.len()
+                    ))
+                    .legend(move |(px, py)| Rectangle::new([(px, py - 6), (px + 18, py + 6)], col.mix(0.7).filled()));
             }
         }
         let mut legend_sub = false;

@@ -7,6 +7,7 @@
 //! parameter point; the continuation differentiates that in the parameters by differences and
 //! in the state exactly ([`derivatives`]).
 
+pub mod band;
 pub mod derivatives;
 pub mod draw;
 
@@ -214,6 +215,33 @@ pub fn special_columns(req: &ChartRequest, charts: &[WheelCurves]) -> Vec<Column
             rows.iter().map(|r| freq_hz(r.1.omega)).collect(),
         ),
         Column::f64("l1", "", rows.iter().map(|r| r.1.l1).collect()),
+    ]
+}
+
+/// The band table: per grid cell and wheel, the share of drawn structures that are unstable.
+pub fn band_columns(req: &ChartRequest, band: &band::StructureBand) -> Vec<Column> {
+    let n = band.cells;
+    let mut cols = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for (wheel, shares) in &band.shares {
+        for (c, share) in shares.iter().enumerate() {
+            let s = [
+                ((c % n) as f64 + 0.5) / n as f64,
+                ((c / n) as f64 + 0.5) / n as f64,
+            ];
+            let p = req.bounds.to_param(s);
+            cols.0.push(wheel.as_str().to_string());
+            cols.1.push(p[0]);
+            cols.2.push(p[1]);
+            cols.3.push(*share);
+        }
+    }
+    let rows = cols.0.len();
+    vec![
+        Column::str("wheel", cols.0),
+        Column::str("variant", vec![req.variant.as_str().into(); rows]),
+        Column::f64(req.x.name, req.x.unit, cols.1),
+        Column::f64(req.y.name, req.y.unit, cols.2),
+        Column::f64("unstable_share", "", cols.3),
     ]
 }
 

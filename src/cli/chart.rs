@@ -8,14 +8,41 @@ use clap::Args;
 use super::common::{
     base_metadata, check_extension, check_out_file, CliError, CliResult, PointArgs, WheelArg,
 };
+use polywear::chart::band::{structure_band, structure_params, StructureBand};
 use polywear::chart::{
-    curve_columns, draw::draw, draw::SHADE_CELLS, special_columns, summary, ChartRequest,
-    RE_LAMBDA_BOUND,
+    band_columns, curve_columns, draw::draw, draw::SHADE_CELLS, special_columns, summary,
+    ChartRequest, RE_LAMBDA_BOUND,
 };
 use polywear::continuation::trace::TraceOptions;
 use polywear::continuation::ParamBox;
 use polywear::params::{spec, ParamError, ParamSpec, Params};
 use polywear::parquet_out::{write_csv, write_table};
+use polywear::study::Study;
+
+/// Cells per axis of the uncertainty band's grid.
+const BAND_CELLS: usize = 100;
+
+/// The study of `--study`, checked against the chart before work.
+fn band_study(args: &ChartArgs, req: &ChartRequest) -> CliResult<Option<(Study, u64)>> {
+    let (Some(path), Some(k)) = (&args.study, args.structure_samples) else {
+        return Ok(None);
+    };
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| CliError(format!("--study {}: {e}", path.display())))?;
+    let study = Study::parse_with_base(&text, req.base)
+        .map_err(|e| CliError(format!("--study {}: {e}", path.display())))?;
+    study
+        .check_samples(k)
+        .map_err(|e| CliError(format!("--structure-samples {k}: {e}")))?;
+    if structure_params(req, &study).is_empty() {
+        return Err(CliError(format!(
+            "--study {}: draws no parameter besides the operating point and the chart's axes; \
+             the band needs distributions of tire-structure, friction or vehicle parameters",
+            path.display()
+        )));
+    }
+    Ok(Some((study, k)))
+}
 
 #[derive(Debug, Args)]
 pub struct ChartArgs {
@@ -47,6 +74,16 @@ pub struct ChartArgs {
     /// beside it
     #[arg(long, value_name = "FILE.parquet")]
     pub out: PathBuf,
+    /// Study file whose distributions of the non-operating parameters (tire structure,
+    /// friction, vehicle; not the chart's axes) are drawn for the boundary's uncertainty band
+    #[arg(long, value_name = "STUDY.toml", requires = "structure_samples")]
+    pub study: Option<PathBuf>,
+    /// Number of tire structures drawn from --study, accepted [2, 10000]; the chart then shows
+    /// where 5% to 95% of them put each wheel's boundary, and FILE_band.parquet/.csv hold the
+    /// unstable share per grid cell
+    #[arg(long, value_name = "K", requires = "study", allow_negative_numbers = true,
+          value_parser = super::common::whole_in::<u64>("--structure-samples", 2, 10_000))]
+    pub structure_samples: Option<u64>,
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
     pub threads: Option<usize>,
@@ -120,6 +157,7 @@ fn sibling(out: &Path, suffix: &str, ext: &str) -> PathBuf {
 
 pub fn run(args: &ChartArgs) -> CliResult {
     let req = request(args)?;
+    let band_plan = band_study(args, &req)?;
     let pool = super::common::thread_pool(args.threads)?;
     let opts = TraceOptions::default();
     let started = std::time::Instant::now();
@@ -132,6 +170,10 @@ pub fn run(args: &ChartArgs) -> CliResult {
             .collect();
         (charts, grids)
     });
+    let chart_s = started.elapsed().as_secs_f64();
+    let band: Option<StructureBand> = band_plan
+        .as_ref()
+        .map(|(study, k)| pool.install(|| structure_band(&req, study, study.seed, *k, BAND_CELLS)));
     println!(
         "chart of {} [{}] {}..{} x {} [{}] {}..{} (variant {}), {:.2} s",
         req.x.name,
@@ -143,7 +185,7 @@ pub fn run(args: &ChartArgs) -> CliResult {
         args.y_from,
         args.y_to,
         req.variant,
-        started.elapsed().as_secs_f64()
+        chart_s
     );
     for line in summary(&req, &charts) {
         println!("{line}");
@@ -179,8 +221,25 @@ pub fn run(args: &ChartArgs) -> CliResult {
     let sp_csv = sibling(&args.out, "_special", "csv");
     write_table(&sp_pq, &special, &meta)?;
     write_csv(&sp_csv, &special)?;
+    if let (Some(b), Some((study, k))) = (&band, &band_plan) {
+        println!(
+            "uncertainty band: {k} structures from study `{}` (seed {}), drawn: {}",
+            study.name,
+            study.seed,
+            b.drawn.join(", ")
+        );
+        let mut band_meta = meta.clone();
+        band_meta.push(("study".into(), study.name.clone()));
+        band_meta.push(("study_source".into(), study.source.clone()));
+        band_meta.push(("seed".into(), study.seed.to_string()));
+        band_meta.push(("structure_samples".into(), k.to_string()));
+        band_meta.push(("structure_params".into(), b.drawn.join(",")));
+        let cols = band_columns(&req, b);
+        write_table(&sibling(&args.out, "_band", "parquet"), &cols, &band_meta)?;
+        write_csv(&sibling(&args.out, "_band", "csv"), &cols)?;
+    }
     let png = args.out.with_extension("png");
-    draw(&png, &req, &charts, &grids).map_err(CliError)?;
+    draw(&png, &req, &charts, &grids, band.as_ref()).map_err(CliError)?;
     eprintln!(
         "wrote {}, {}, {}, {} and {}",
         args.out.display(),
