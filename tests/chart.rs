@@ -550,3 +550,30 @@ fn structure_samples_draw_the_boundary_band() {
         &["--structure-samples", "[2, 10000]"],
     );
 }
+
+#[test]
+fn every_pair_of_operating_axes_in_every_variant() {
+    let axes = [
+        ("speed_kmh", (40.0, 300.0)),
+        ("toe_deg", (0.02, 0.8)),
+        ("load_n", (2000.0, 8000.0)),
+        ("pressure_kpa", (150.0, 450.0)),
+    ];
+    for variant in Variant::ALL {
+        for i in 0..4 {
+            for j in i + 1..4 {
+                let mut req = request(axes[i].0, axes[i].1, axes[j].0, axes[j].1);
+                req.variant = variant;
+                let charts = req.trace(&TraceOptions::default());
+                assert_on_curve(&req, &charts);
+                let n = assert_grid_crossings_found(&req, &charts, 100);
+                eprintln!(
+                    "{variant} {} x {}: {n} crossings, {} curves",
+                    axes[i].0,
+                    axes[j].0,
+                    charts.iter().map(|c| c.curves.curves.len()).sum::<usize>()
+                );
+            }
+        }
+    }
+}

@@ -159,7 +159,9 @@ pub fn draw(
                 .map_err(e)?
                 .label("Hopf boundary, subcritical (l1 > 0): hard onset, vibration can persist outside")
                 .legend(|(px, py)| {
-                    PathElement::new(vec![(px, py), (px + 6, py)], BLACK.stroke_width(3))
+                    EmptyElement::at((px, py))
+                        + PathElement::new(vec![(0, 0), (6, 0)], BLACK.stroke_width(3))
+                        + PathElement::new(vec![(11, 0), (18, 0)], BLACK.stroke_width(3))
                 });
         }
         let bautin: Vec<(f64, f64)> = charts

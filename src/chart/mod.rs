@@ -10,6 +10,7 @@
 pub mod band;
 pub mod derivatives;
 pub mod draw;
+pub mod pairs;
 
 use nalgebra::DVector;
 use rayon::prelude::*;
