@@ -577,3 +577,60 @@ fn every_pair_of_operating_axes_in_every_variant() {
         }
     }
 }
+
+#[test]
+fn analyze_overlay_traces_the_nominal_tire_at_the_study_median() {
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/studies/default.toml"))
+            .unwrap();
+    let study = polywear::study::Study::parse(&text).unwrap();
+    let curves = polywear::chart::nominal_curves(
+        &study,
+        Variant::SlidingShare,
+        "speed_kmh",
+        "toe_deg",
+        &[60.0, 130.0, 200.0],
+        &[0.02, 0.4, 0.8],
+    )
+    .unwrap();
+    assert_eq!(curves.len(), 2);
+    // The nominal tire: every drawn parameter off the axes at its median (u = 0.5).
+    let fam_base = {
+        let mut p = study.base;
+        for d in study
+            .drawn
+            .iter()
+            .filter(|d| !["speed_kmh", "toe_deg"].contains(&d.name))
+        {
+            *p.get_mut(d.name).unwrap() = d.dist.quantile(0.5);
+        }
+        assert!((p.load_n - 4000.0).abs() < 100.0 && (p.g_mod - 0.8557e6).abs() < 1.0);
+        p
+    };
+    for c in &curves {
+        assert!(!c.curves.curves.is_empty());
+        for d in c.curves.curves.iter().flat_map(|k| &k.points) {
+            let mut p = fam_base;
+            p.speed_kmh = d.p[0];
+            p.toe_deg = d.p[1];
+            let re = WheelModel::build(&p, c.wheel, Variant::SlidingShare)
+                .unwrap()
+                .ode
+                .linear_stability();
+            assert!(
+                re.eig_re_max.abs() < 1e-6 * re.leading.im.abs(),
+                "{:?}",
+                d.p
+            );
+        }
+    }
+    assert!(polywear::chart::nominal_curves(
+        &study,
+        Variant::Paper,
+        "nope",
+        "toe_deg",
+        &[1.0, 2.0],
+        &[0.1, 0.2]
+    )
+    .is_none());
+}

@@ -126,6 +126,44 @@ impl ChartRequest {
     }
 }
 
+/// The Hopf curves of a study's nominal tire (every drawn parameter not on the axes at its
+/// median, the fixed ones as the study sets them) over the box spanned by `x_edges` and
+/// `y_edges`: the overlay of `analyze`'s risk maps. None where the axes are no parameters or
+/// the box is empty.
+pub fn nominal_curves(
+    study: &crate::study::Study,
+    variant: Variant,
+    x: &str,
+    y: &str,
+    x_edges: &[f64],
+    y_edges: &[f64],
+) -> Option<Vec<WheelCurves>> {
+    let (xs, ys) = (crate::params::spec(x)?, crate::params::spec(y)?);
+    let (x0, x1) = (*x_edges.first()?, *x_edges.last()?);
+    let (y0, y1) = (*y_edges.first()?, *y_edges.last()?);
+    if !(x0 < x1 && y0 < y1) {
+        return None;
+    }
+    let mut base = study.base;
+    for d in &study.drawn {
+        if d.name != x && d.name != y {
+            *base.get_mut(d.name)? = d.dist.quantile(0.5);
+        }
+    }
+    let req = ChartRequest {
+        base,
+        variant,
+        wheels: Wheel::BOTH.to_vec(),
+        x: xs,
+        y: ys,
+        bounds: ParamBox {
+            lo: [x0, y0],
+            hi: [x1, y1],
+        },
+    };
+    Some(req.trace(&TraceOptions::default()))
+}
+
 /// `supercritical` (l1 < 0: a small cycle grows from the boundary, soft onset) or `subcritical`
 /// (l1 > 0: a large cycle appears at once and persists outside the unstable region: hard onset,
 /// hysteresis); `degenerate` where l1 is exactly zero, `unknown` where it could not be computed.
