@@ -28,7 +28,7 @@ pub struct TraceOptions {
 impl Default for TraceOptions {
     fn default() -> Self {
         TraceOptions {
-            scan_lines: 63,
+            scan_lines: 127,
             scan_samples: 160,
             h_max: 0.01,
             h_min: 1e-7,
