@@ -74,8 +74,8 @@ pub struct WheelCurves {
     pub curves: HopfCurves,
 }
 
-/// The largest |Re λ| / ω any reported point may have: the corrector stops at box-relative
-/// steps of 1e-12, where the critical pair's real part is of order 1e-10 ω.
+/// The largest |Re λ| / ω any reported point may have. The corrector stops at box-relative
+/// steps of 1e-12; on the tire the critical pair's real part is then about 1e-12 ω.
 pub const RE_LAMBDA_BOUND: f64 = 1e-8;
 
 impl ChartRequest {

@@ -214,3 +214,35 @@ fn analysis_finds_the_pair_and_l1_at_a_brusselator_hopf_point() {
     assert!((d.omega - a).abs() < 1e-10);
     assert!((d.l1 - Brusselator::l1_on_hopf_curve(a)).abs() < 1e-10);
 }
+
+#[test]
+fn hopf_curve_ending_where_the_pair_turns_real_is_flagged() {
+    use super::textbook::{BogdanovTakens, BogdanovTakensFamily};
+    let bt = BogdanovTakens {
+        beta1: -0.02,
+        beta2: -0.3,
+    };
+    check_derivatives(
+        &bt,
+        &DVector::from_vec(vec![0.2, 0.1]),
+        &DVector::from_element(2, 1.0),
+        1e-7,
+    );
+    let bounds = ParamBox {
+        lo: [-0.1, -1.0],
+        hi: [0.1, 0.5],
+    };
+    let out = trace_all(&BogdanovTakensFamily, bounds, &TraceOptions::default());
+    assert_eq!(out.curves.len(), 1, "{:?}", out.special);
+    for d in &out.curves[0].points {
+        assert!(d.p[0].abs() < 1e-10 && d.p[1] < 0.0, "{:?}", d.p);
+        assert!((d.omega - (-d.p[1]).sqrt()).abs() < 1e-8);
+    }
+    let real: Vec<_> = out
+        .special
+        .iter()
+        .filter(|s| s.kind == SpecialKind::PairTurnsReal)
+        .collect();
+    assert_eq!(real.len(), 1, "{:?}", out.special);
+    assert!(real[0].p[1].abs() < 1e-3, "{:?}", real[0]);
+}

@@ -174,3 +174,53 @@ impl TwoParameterFamily for RingFamily {
         DVector::from_element(2, 1e-9)
     }
 }
+
+/// Bogdanov–Takens normal form x' = y, y' = β1 + β2 x + x² − xy (Kuznetsov eq. 8.51, s = −1), on
+/// the equilibrium branch through x = 0 at β1 = 0 (a neutral saddle for β2 > 0): its Hopf curve is β1 = 0, β2 < 0 with
+/// ω = √(−β2), and at the Bogdanov–Takens point (0, 0) the complex pair turns real.
+#[derive(Debug, Clone, Copy)]
+pub struct BogdanovTakens {
+    pub beta1: f64,
+    pub beta2: f64,
+}
+
+impl OdeWithJacobian for BogdanovTakens {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&self, x: &DVector<f64>) -> DVector<f64> {
+        let (u, v) = (x[0], x[1]);
+        DVector::from_vec(vec![v, self.beta1 + self.beta2 * u + u * u - u * v])
+    }
+    fn jacobian(&self, x: &DVector<f64>) -> DMatrix<f64> {
+        let (u, v) = (x[0], x[1]);
+        DMatrix::from_row_slice(2, 2, &[0.0, 1.0, self.beta2 + 2.0 * u - v, -u])
+    }
+    fn second(&self, _x: &DVector<f64>, p: &CVector, q: &CVector) -> CVector {
+        let d2 = p[0] * q[0] * 2.0 - (p[0] * q[1] + p[1] * q[0]);
+        DVector::from_vec(vec![C::new(0.0, 0.0), d2])
+    }
+    fn third(&self, _x: &DVector<f64>, _p: &CVector, _q: &CVector, _r: &CVector) -> CVector {
+        DVector::from_element(2, C::new(0.0, 0.0))
+    }
+    fn equilibrium_guess(&self) -> DVector<f64> {
+        // Newton from the origin follows the branch through x = 0 at β1 = 0.
+        DVector::zeros(2)
+    }
+}
+
+/// The Bogdanov–Takens family in (β1, β2); no equilibrium where β2² < 4β1.
+pub struct BogdanovTakensFamily;
+
+impl TwoParameterFamily for BogdanovTakensFamily {
+    type System = BogdanovTakens;
+    fn at(&self, p: [f64; 2]) -> Option<BogdanovTakens> {
+        (p[1] * p[1] >= 4.0 * p[0]).then_some(BogdanovTakens {
+            beta1: p[0],
+            beta2: p[1],
+        })
+    }
+    fn state_scale(&self) -> DVector<f64> {
+        DVector::from_element(2, 1e-9)
+    }
+}

@@ -7,7 +7,7 @@ use nalgebra::DVector;
 use rayon::prelude::*;
 
 use super::hopf::{analyse, equilibrium, HopfData, HopfSystem, NotHopf, Solution};
-use super::{ParamBox, TwoParameterFamily};
+use super::{OdeWithJacobian, ParamBox, TwoParameterFamily};
 use crate::numeric::brent;
 
 /// How finely the box is searched and the curves are stepped (box-relative units).
@@ -283,7 +283,7 @@ fn branch<F: TwoParameterFamily>(
             _ => {
                 h *= 0.5;
                 if h < opts.h_min {
-                    special.push(mark(SpecialKind::Stopped, &cur.data));
+                    special.push(mark(end_kind(sys, &cur), &cur.data));
                     return (pts, false);
                 }
                 continue;
@@ -326,6 +326,55 @@ fn branch<F: TwoParameterFamily>(
             h = (h * 1.5).min(opts.h_max);
         }
         cur = next;
+    }
+}
+
+/// Why a curve cannot be continued past `cur`, read off the equilibrium a little further along
+/// the tangent: the eigenvalue pair whose sum vanishes has turned real (a Bogdanov–Takens-like
+/// end), a real eigenvalue has crossed zero (det A changed sign), or neither (the model ends).
+fn end_kind<F: TwoParameterFamily>(sys: &HopfSystem<'_, F>, cur: &Traced) -> SpecialKind {
+    const PROBE: f64 = 1e-3;
+    let s = [
+        cur.sol.s[0] + PROBE * cur.tangent[0],
+        cur.sol.s[1] + PROBE * cur.tangent[1],
+    ];
+    let Some(f) = sys.system(s) else {
+        return SpecialKind::Stopped;
+    };
+    // The equilibrium branch of the curve: Newton from the last point's state.
+    let mut x = cur.sol.x.clone();
+    for _ in 0..50 {
+        match f.jacobian(&x).lu().solve(&f.rhs(&x)) {
+            Some(dx) if dx.iter().all(|v| v.is_finite()) => x -= dx,
+            _ => return SpecialKind::Stopped,
+        }
+    }
+    if f.rhs(&x).iter().any(|v| !v.is_finite()) {
+        return SpecialKind::Stopped;
+    }
+    let a = f.jacobian(&x);
+    let Some(ev) = super::linalg::eigenvalues(&a) else {
+        return SpecialKind::Stopped;
+    };
+    let scale = ev.iter().map(|e| e.norm()).fold(0.0, f64::max);
+    let mut best = (f64::INFINITY, false);
+    for i in 0..ev.len() {
+        for j in 0..i {
+            let sum = (ev[i] + ev[j]).norm();
+            if sum < best.0 {
+                best = (
+                    sum,
+                    ev[i].im.abs() <= 1e-9 * scale && ev[j].im.abs() <= 1e-9 * scale,
+                );
+            }
+        }
+    }
+    if best.1 {
+        SpecialKind::PairTurnsReal
+    } else if (a.determinant() < 0.0) != (cur.data.det_a < 0.0) {
+        SpecialKind::RealEigenvalueZero
+    } else {
+        SpecialKind::Stopped
     }
 }
 
