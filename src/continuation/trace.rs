@@ -30,7 +30,7 @@ impl Default for TraceOptions {
         TraceOptions {
             scan_lines: 127,
             scan_samples: 160,
-            h_max: 0.01,
+            h_max: 0.005,
             h_min: 1e-7,
             max_points: 20_000,
         }
@@ -294,7 +294,7 @@ fn branch<F: TwoParameterFamily>(
             next.dxdt = -next.dxdt;
         }
         let turn = next.tangent[0] * t[0] + next.tangent[1] * t[1];
-        if turn < 0.3f64.cos() && h > opts.h_min * 2.0 {
+        if turn < 0.2f64.cos() && h > opts.h_min * 2.0 {
             h *= 0.5;
             continue;
         }
