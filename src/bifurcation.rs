@@ -92,9 +92,12 @@ pub fn l1_at(p: &Params, name: &str, x: f64, wheel: Wheel, variant: Variant) -> 
     let Ok(m) = WheelModel::build(&q, wheel, variant) else {
         return f64::NAN;
     };
+    // The located point is a Hopf point to Brent's tolerance: l1 with the pair's ω there.
     let sys = crate::chart::derivatives::TreadSystem(m.ode);
     let x0 = nalgebra::DVector::from_column_slice(&m.ode.equilibrium());
-    crate::continuation::hopf::analyse(&sys, &x0, [x, 0.0]).map_or(f64::NAN, |d| d.l1)
+    let omega = m.ode.linear_stability().leading.im.abs();
+    let jac = crate::continuation::OdeWithJacobian::jacobian(&sys, &x0);
+    crate::continuation::hopf::first_lyapunov(&sys, &x0, &jac, omega).unwrap_or(f64::NAN)
 }
 
 /// Brent on Re λ between neighbouring sweep values whose signs differ, to 1e-6 relative.

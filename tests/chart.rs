@@ -634,3 +634,25 @@ fn analyze_overlay_traces_the_nominal_tire_at_the_study_median() {
     )
     .is_none());
 }
+
+/// Whole parameter ranges, an edge where the driving wheel stops transmitting the drive (its
+/// curves end there as `stopped`), a friction and a vehicle parameter as axes.
+#[test]
+fn extreme_boxes_and_the_no_traction_edge() {
+    let boxes = [
+        ("speed_kmh", (150.0, 400.0), "load_n", (300.0, 3000.0)),
+        ("speed_kmh", (1.0, 400.0), "toe_deg", (0.001, 10.0)),
+        ("load_n", (100.0, 50000.0), "pressure_kpa", (10.0, 2000.0)),
+        ("toe_deg", (0.001, 2.0), "mu_s", (0.1, 0.75)),
+        ("speed_kmh", (20.0, 400.0), "c_d", (0.0, 5.0)),
+    ];
+    for variant in Variant::ALL {
+        for (x, xr, y, yr) in boxes {
+            let mut req = request(x, xr, y, yr);
+            req.variant = variant;
+            let charts = req.trace(&TraceOptions::default());
+            assert_on_curve(&req, &charts);
+            assert_grid_crossings_found(&req, &charts, 150);
+        }
+    }
+}

@@ -19,6 +19,9 @@ const S_TOL: f64 = 1e-12;
 /// ... and the correction of each state below this times (|x_i| + scale_i).
 const X_RTOL: f64 = 1e-10;
 const MAX_NEWTON: usize = 12;
+/// A solution counts as a Hopf point when its critical pair has |Re λ| ≤ this × |λ|; converged
+/// solutions are near 1e-12.
+pub const CRITICAL_RE: f64 = 1e-9;
 
 /// The Hopf test function g = det(2A⊙I).
 pub fn test_function(a: &DMatrix<f64>) -> f64 {
@@ -216,11 +219,24 @@ pub fn analyse<S: OdeWithJacobian>(
         .iter()
         .filter(|e| e.im > 1e-9 * scale)
         .min_by(|a, b| a.re.abs().total_cmp(&b.re.abs()))
-        .copied()
-        .ok_or(NotHopf::NeutralSaddle)?;
-    if lambda.re.abs() > 1e-6 * lambda.im {
-        return Err(NotHopf::NeutralSaddle);
-    }
+        .copied();
+    let Some(lambda) = lambda.filter(|l| l.re.abs() <= CRITICAL_RE * l.norm()) else {
+        // No pair on the imaginary axis: a neutral saddle if two real eigenvalues sum to zero,
+        // otherwise Newton stopped on a false solution (e.g. where the model's coefficients
+        // have a square-root edge in the parameters and the differences mislead it).
+        let real: Vec<f64> = ev
+            .iter()
+            .filter(|e| e.im.abs() <= 1e-9 * scale)
+            .map(|e| e.re)
+            .collect();
+        let saddle =
+            (0..real.len()).any(|i| (0..i).any(|j| (real[i] + real[j]).abs() <= 1e-6 * scale));
+        return Err(if saddle {
+            NotHopf::NeutralSaddle
+        } else {
+            NotHopf::Numerics
+        });
+    };
     let l1 = first_lyapunov(sys, x, &a, lambda.im).ok_or(NotHopf::Numerics)?;
     Ok(HopfData {
         p,
