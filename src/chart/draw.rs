@@ -49,6 +49,7 @@ pub fn draw(
             .configure_mesh()
             .x_desc(format!("{} ({}) [{}]", x.name, x.symbol, x.unit))
             .y_desc(format!("{} ({}) [{}]", y.name, y.symbol, y.unit))
+            .light_line_style(TRANSPARENT)
             .label_style(("sans-serif", 15))
             .axis_desc_style(("sans-serif", 17))
             .x_label_formatter(&|v| format_tick(*v))
