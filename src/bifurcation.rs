@@ -87,6 +87,25 @@ pub struct HopfPoint {
     pub value: f64,
     /// True when the equilibrium loses stability as the parameter increases.
     pub destabilizing: bool,
+    /// First Lyapunov coefficient there (Kuznetsov eq. 3.20, see [`crate::chart`]): negative
+    /// for a soft (supercritical) onset, positive for a hard (subcritical) one; NaN where it
+    /// cannot be computed.
+    pub l1: f64,
+}
+
+/// l1 at the Hopf point where `name` = `x` (NaN where no model or no complex pair exists).
+pub fn l1_at(p: &Params, name: &str, x: f64, wheel: Wheel, variant: Variant) -> f64 {
+    let mut q = *p;
+    *q.get_mut(name).expect("name checked") = x;
+    let Ok(m) = WheelModel::build(&q, wheel, variant) else {
+        return f64::NAN;
+    };
+    // The located point is a Hopf point to Brent's tolerance: l1 with the pair's ω there.
+    let sys = crate::chart::derivatives::TreadSystem(m.ode);
+    let x0 = nalgebra::DVector::from_column_slice(&m.ode.equilibrium());
+    let omega = m.ode.linear_stability().leading.im.abs();
+    let jac = crate::continuation::OdeWithJacobian::jacobian(&sys, &x0);
+    crate::continuation::hopf::first_lyapunov(&sys, &x0, &jac, omega).unwrap_or(f64::NAN)
 }
 
 /// Brent on Re λ between neighbouring sweep values whose signs differ, to 1e-6 relative.
@@ -115,6 +134,7 @@ pub fn locate_hopf(
                         wheel,
                         value: x,
                         destabilizing: (f1 > f0) == (x1 > x0),
+                        l1: l1_at(base, name, x, wheel, variant),
                     });
                 }
             }

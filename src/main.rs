@@ -47,6 +47,11 @@ enum Command {
     /// Sweep one parameter for both wheels: eigenvalue and limit-cycle envelope, Hopf points,
     /// Parquet table and PNG.
     Bifurcation(cli::bifurcation::BifurcationArgs),
+    /// Stability chart: every Hopf curve of both wheels in two parameters, with criticality
+    ///
+    /// Stability chart: every Hopf curve of both wheels in the plane of two parameters, with
+    /// the onset's criticality (first Lyapunov coefficient); Parquet/CSV tables and PNG.
+    Chart(cli::chart::ChartArgs),
     /// Regenerate the paper's figures and Table 3, with a comparison report
     ///
     /// Regenerate the paper's analyses (Figs. 4, 6-10, 12-23, Table 3) with a report that sets
@@ -87,6 +92,7 @@ fn main() {
         Command::Cycle(a) => cli::cycle::run(a),
         Command::Simulate(a) => cli::simulate::run(a),
         Command::Bifurcation(a) => cli::bifurcation::run(a),
+        Command::Chart(a) => cli::chart::run(a),
         Command::Reproduce(a) => cli::reproduce::run(a),
         Command::Calibrate(a) => cli::calibrate::run(a),
         Command::Validate(a) => cli::validate::run(a),

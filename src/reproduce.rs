@@ -220,8 +220,17 @@ pub fn reproduce(
         point_records.push((name, records));
     }
 
+    // Stability charts of the four axes two at a time, both wheels (default variant).
+    let (chart_files, charts_md) =
+        crate::chart::pairs::operating_pairs(base, Variant::DEFAULT, &AXES, dir)?;
+    files.extend(chart_files);
+
     let paired = paired_comparison(base, paired_samples)?;
-    let report = report(base, &sweeps, &point_records, &paired, &files);
+    let report = report(base, &sweeps, &point_records, &paired, &files).replacen(
+        "## Figures\n",
+        &format!("{charts_md}\n## Figures\n"),
+        1,
+    );
     let md = dir.join("report.md");
     std::fs::write(&md, &report).map_err(|e| format!("{}: {e}", md.display()))?;
     files.push(md);

@@ -173,6 +173,8 @@ fn reproduce_writes_the_report_with_table_3_from_the_engine() {
             "speed100_paper.png",
             "fig9_10_speed100.png",
             "bifurcation.parquet",
+            "chart_speed_kmh_toe_deg.png",
+            "chart_load_n_pressure_kpa.parquet",
         ] {
             assert!(out.join(f).exists(), "missing {f}");
         }
@@ -198,6 +200,8 @@ fn reproduce_writes_the_report_with_table_3_from_the_engine() {
         "| `sliding_share` | 60 |",
         "## Why the literal equations cannot carry the paper's conclusion",
         "fig18_amplitude_vs_speed.png",
+        "## Stability charts: the boundary in two operating parameters at a time",
+        "| [chart_speed_kmh_toe_deg](chart_speed_kmh_toe_deg.png) | 1, ending on the box | 1, closed (an island) | yes, entirely |",
     ] {
         assert!(report.contains(s), "missing `{s}` in\n{report}");
     }

@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use super::queries::{BinStat, Bins, RiskMap, Severity};
+use crate::chart::WheelCurves;
 use crate::model::{Variant, Wheel};
 use crate::plot::{self, maps, Series};
 
@@ -76,8 +77,39 @@ pub fn risk_map(
     map: &RiskMap,
     label: &dyn Fn(&str) -> String,
     min_count: u64,
+    nominal: Option<&[WheelCurves]>,
 ) -> Result<(), String> {
     let (x, y) = (&map.x, &map.y);
+    // The nominal tire's Hopf curves: each wheel's on its own panel, both on the difference.
+    let curves = |wheel: Wheel, color: plotters::style::RGBColor| -> Vec<maps::Overlay> {
+        nominal
+            .into_iter()
+            .flatten()
+            .filter(|c| c.wheel == wheel)
+            .map(|c| maps::Overlay {
+                label: format!(
+                    "{wheel} Hopf curve of the nominal tire (others at the study's median)"
+                ),
+                color,
+                lines: c
+                    .curves
+                    .curves
+                    .iter()
+                    .map(|k| k.points.iter().map(|d| (d.p[0], d.p[1])).collect())
+                    .collect(),
+            })
+            .collect()
+    };
+    let white = plotters::style::WHITE;
+    let black = plotters::style::BLACK;
+    let overlays = [
+        curves(Wheel::Follower, white),
+        curves(Wheel::Driving, black),
+        curves(Wheel::Follower, white)
+            .into_iter()
+            .chain(curves(Wheel::Driving, black))
+            .collect(),
+    ];
     let (xe, ye) = (draw_edges(&map.x_bins), draw_edges(&map.y_bins));
     let pf = map.probability(Wheel::Follower, min_count);
     let pd = map.probability(Wheel::Driving, min_count);
@@ -123,6 +155,7 @@ pub fn risk_map(
                 values,
                 range,
                 cmap,
+                &overlays[k],
             )?;
             maps::colorbar(&bar, bar_label, range, cmap)?;
         }

@@ -232,9 +232,20 @@ pub fn analyze(info: RunInfo, opts: &ReportOptions) -> Result<Analysis, String> 
         )?;
         files.push(p);
     }
+    let study = info.parsed_study();
     for map in &maps {
         let p = dir.join(format!("riskmap_{}_{}_{}.png", map.x, map.y, map.variant));
-        figures::risk_map(&p, map, &label, opts.min_count)?;
+        let nominal = study.as_ref().and_then(|s| {
+            crate::chart::nominal_curves(
+                s,
+                map.variant,
+                &map.x,
+                &map.y,
+                &figures::draw_edges(&map.x_bins),
+                &figures::draw_edges(&map.y_bins),
+            )
+        });
+        figures::risk_map(&p, map, &label, opts.min_count, nominal.as_deref())?;
         files.push(p);
     }
     for &variant in &variants {

@@ -109,7 +109,7 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
         println!("{wheel:>9}: {vib} of {} values vibrate", rows.len());
         for h in hopf.iter().filter(|h| h.wheel == wheel) {
             println!(
-                "           Hopf point at {} = {:.6} {} ({} as it increases)",
+                "           Hopf point at {} = {:.6} {} ({} as it increases); l1 = {:.4e}, {}",
                 s.name,
                 h.value,
                 s.unit,
@@ -117,7 +117,9 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
                     "loses stability"
                 } else {
                     "regains stability"
-                }
+                },
+                h.l1,
+                polywear::chart::criticality(h.l1)
             );
         }
     }
@@ -133,7 +135,7 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
     meta.push(("sweep_param".into(), s.name.into()));
     let hopf_json: Vec<serde_json::Value> = hopf
         .iter()
-        .map(|h| serde_json::json!({"wheel": h.wheel.as_str(), "value": h.value, "destabilizing": h.destabilizing}))
+        .map(|h| serde_json::json!({"wheel": h.wheel.as_str(), "value": h.value, "destabilizing": h.destabilizing, "l1": h.l1, "criticality": polywear::chart::criticality(h.l1)}))
         .collect();
     meta.push((
         "hopf_points".into(),

@@ -3,6 +3,7 @@
 pub mod analyze;
 pub mod bifurcation;
 pub mod calibrate;
+pub mod chart;
 pub mod classify;
 pub mod common;
 pub mod cycle;

@@ -64,6 +64,7 @@ pub fn heatmap<DB: DrawingBackend>(
     values: &[Vec<f64>],
     (vmin, vmax): (f64, f64),
     cmap: ColorMap,
+    overlay: &[Overlay],
 ) -> Result<(), String> {
     let (x0, x1) = (x_edges[0], *x_edges.last().unwrap());
     let (y0, y1) = (y_edges[0], *y_edges.last().unwrap());
@@ -103,7 +104,39 @@ pub fn heatmap<DB: DrawingBackend>(
         }
     }
     chart.draw_series(rects).map_err(|e| e.to_string())?;
+    for o in overlay {
+        for (k, line) in o.lines.iter().enumerate() {
+            let style = o.color.stroke_width(3);
+            let drawn = chart
+                .draw_series(LineSeries::new(line.iter().copied(), style))
+                .map_err(|e| e.to_string())?;
+            if k == 0 {
+                let color = o.color;
+                drawn.label(o.label.clone()).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(3))
+                });
+            }
+        }
+    }
+    if overlay.iter().any(|o| !o.lines.is_empty()) {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            // Mid grey, so that white and black overlay lines both show in the legend.
+            .background_style(RGBColor(165, 165, 165).mix(0.9))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 12))
+            .draw()
+            .map_err(|e| e.to_string())?;
+    }
     Ok(())
+}
+
+/// Lines drawn over a heatmap (e.g. the nominal tire's Hopf curves), with their legend label.
+pub struct Overlay {
+    pub label: String,
+    pub color: RGBColor,
+    pub lines: Vec<Vec<(f64, f64)>>,
 }
 
 /// A vertical colour bar for [vmin, vmax].

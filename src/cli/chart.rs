@@ -1,0 +1,252 @@
+//! `polywear chart`: every Hopf curve of both wheels in the plane of two parameters, with the
+//! frequency, the first Lyapunov coefficient and the criticality along them.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use super::common::{
+    base_metadata, check_extension, check_out_file, CliError, CliResult, PointArgs, WheelArg,
+};
+use polywear::chart::band::{structure_band, structure_params, StructureBand};
+use polywear::chart::{
+    band_columns, curve_columns, draw::draw, draw::SHADE_CELLS, special_columns, summary,
+    ChartRequest, RE_LAMBDA_BOUND,
+};
+use polywear::continuation::trace::TraceOptions;
+use polywear::continuation::ParamBox;
+use polywear::params::{spec, ParamError, ParamSpec, Params};
+use polywear::parquet_out::{write_csv, write_table};
+use polywear::study::Study;
+
+/// Cells per axis of the uncertainty band's grid.
+const BAND_CELLS: usize = 100;
+
+/// The study of `--study`, checked against the chart before work.
+fn band_study(args: &ChartArgs, req: &ChartRequest) -> CliResult<Option<(Study, u64)>> {
+    let (Some(path), Some(k)) = (&args.study, args.structure_samples) else {
+        return Ok(None);
+    };
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| CliError(format!("--study {}: {e}", path.display())))?;
+    let study = Study::parse_with_base(&text, req.base)
+        .map_err(|e| CliError(format!("--study {}: {e}", path.display())))?;
+    study
+        .check_samples(k)
+        .map_err(|e| CliError(format!("--structure-samples {k}: {e}")))?;
+    if structure_params(req, &study).is_empty() {
+        return Err(CliError(format!(
+            "--study {}: draws no parameter besides the operating point and the chart's axes; \
+             the band needs distributions of tire-structure, friction or vehicle parameters",
+            path.display()
+        )));
+    }
+    Ok(Some((study, k)))
+}
+
+#[derive(Debug, Args)]
+pub struct ChartArgs {
+    /// Parameter on the horizontal axis, by name (see `polywear params`), e.g. speed_kmh
+    #[arg(long, value_name = "NAME")]
+    pub x: String,
+    /// Lower end of the horizontal axis (in the parameter's unit)
+    #[arg(long = "x-from", value_name = "VALUE", allow_negative_numbers = true)]
+    pub x_from: f64,
+    /// Upper end of the horizontal axis
+    #[arg(long = "x-to", value_name = "VALUE", allow_negative_numbers = true)]
+    pub x_to: f64,
+    /// Parameter on the vertical axis, e.g. toe_deg
+    #[arg(long, value_name = "NAME")]
+    pub y: String,
+    /// Lower end of the vertical axis
+    #[arg(long = "y-from", value_name = "VALUE", allow_negative_numbers = true)]
+    pub y_from: f64,
+    /// Upper end of the vertical axis
+    #[arg(long = "y-to", value_name = "VALUE", allow_negative_numbers = true)]
+    pub y_to: f64,
+    /// Which wheel's curves to trace
+    #[arg(long, value_enum, default_value_t = WheelArg::Both)]
+    pub wheel: WheelArg,
+    /// The operating point and other parameters; the nominal point marked on the chart
+    #[command(flatten)]
+    pub point: PointArgs,
+    /// Output table FILE.parquet; FILE.csv, FILE_special.parquet/.csv and FILE.png are written
+    /// beside it
+    #[arg(long, value_name = "FILE.parquet")]
+    pub out: PathBuf,
+    /// Study file whose distributions of the non-operating parameters (tire structure,
+    /// friction, vehicle; not the chart's axes) are drawn for the boundary's uncertainty band
+    #[arg(long, value_name = "STUDY.toml", requires = "structure_samples")]
+    pub study: Option<PathBuf>,
+    /// Number of tire structures drawn from --study, accepted [2, 10000]; the chart then shows
+    /// where 5% to 95% of them put each wheel's boundary, and FILE_band.parquet/.csv hold the
+    /// unstable share per grid cell
+    #[arg(long, value_name = "K", requires = "study", allow_negative_numbers = true,
+          value_parser = super::common::whole_in::<u64>("--structure-samples", 2, 10_000))]
+    pub structure_samples: Option<u64>,
+    /// Worker threads (default: all cores), accepted [1, 1024]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
+    pub threads: Option<usize>,
+}
+
+/// An axis: its parameter, checked by name and range, with the flags named in errors.
+fn axis(name: &str, from: f64, to: f64, flag: &str) -> CliResult<&'static ParamSpec> {
+    let s = spec(name).ok_or_else(|| {
+        CliError(format!(
+            "--{flag}: {}",
+            ParamError::Unknown {
+                name: name.to_string()
+            }
+        ))
+    })?;
+    for (which, v) in [("from", from), ("to", to)] {
+        s.check(v)
+            .map_err(|e| CliError(format!("--{flag}-{which}: {e}")))?;
+    }
+    if from >= to {
+        return Err(CliError(format!(
+            "--{flag}-from = {from} must be below --{flag}-to = {to} (the range of {} is empty or inverted; accepted values {} {})",
+            s.name,
+            s.range_text(),
+            s.unit
+        )));
+    }
+    Ok(s)
+}
+
+/// Checks the request and builds it, before any work.
+pub fn request(args: &ChartArgs) -> CliResult<ChartRequest> {
+    let x = axis(&args.x, args.x_from, args.x_to, "x")?;
+    let y = axis(&args.y, args.y_from, args.y_to, "y")?;
+    if x.name == y.name {
+        return Err(CliError(format!(
+            "--x and --y are both `{}`; a chart needs two different parameters",
+            x.name
+        )));
+    }
+    let base = args.point.params()?;
+    // Every corner must be a valid parameter set (e.g. mu_s on an axis may not exceed mu_m).
+    for (xf, xv) in [("--x-from", args.x_from), ("--x-to", args.x_to)] {
+        for (yf, yv) in [("--y-from", args.y_from), ("--y-to", args.y_to)] {
+            let mut p: Params = base;
+            p.set(x.name, xv)?;
+            p.set(y.name, yv)?;
+            p.validate()
+                .map_err(|e| CliError(format!("corner {xf}, {yf}: {e}")))?;
+        }
+    }
+    check_extension(&args.out, &["parquet"], "--out")?;
+    check_out_file(&args.out, "--out")?;
+    Ok(ChartRequest {
+        base,
+        variant: args.point.variant.into(),
+        wheels: args.wheel.wheels(),
+        x,
+        y,
+        bounds: ParamBox {
+            lo: [args.x_from, args.y_from],
+            hi: [args.x_to, args.y_to],
+        },
+    })
+}
+
+fn sibling(out: &Path, suffix: &str, ext: &str) -> PathBuf {
+    let stem = out.file_stem().and_then(|s| s.to_str()).unwrap_or("chart");
+    out.with_file_name(format!("{stem}{suffix}.{ext}"))
+}
+
+pub fn run(args: &ChartArgs) -> CliResult {
+    let req = request(args)?;
+    let band_plan = band_study(args, &req)?;
+    let pool = super::common::thread_pool(args.threads)?;
+    let opts = TraceOptions::default();
+    let started = std::time::Instant::now();
+    let (charts, grids) = pool.install(|| {
+        let charts = req.trace(&opts);
+        let grids: Vec<_> = req
+            .wheels
+            .iter()
+            .map(|&w| req.stability_grid(w, SHADE_CELLS, SHADE_CELLS))
+            .collect();
+        (charts, grids)
+    });
+    let chart_s = started.elapsed().as_secs_f64();
+    let band: Option<StructureBand> = band_plan
+        .as_ref()
+        .map(|(study, k)| pool.install(|| structure_band(&req, study, study.seed, *k, BAND_CELLS)));
+    println!(
+        "chart of {} [{}] {}..{} x {} [{}] {}..{} (variant {}), {:.2} s",
+        req.x.name,
+        req.x.unit,
+        args.x_from,
+        args.x_to,
+        req.y.name,
+        req.y.unit,
+        args.y_from,
+        args.y_to,
+        req.variant,
+        chart_s
+    );
+    for line in summary(&req, &charts) {
+        println!("{line}");
+    }
+    let mut meta = base_metadata(&req.base, req.variant);
+    meta.push(("chart_x".into(), req.x.name.into()));
+    meta.push(("chart_y".into(), req.y.name.into()));
+    meta.push((
+        "chart_box".into(),
+        serde_json::json!({
+            req.x.name: [args.x_from, args.x_to],
+            req.y.name: [args.y_from, args.y_to],
+        })
+        .to_string(),
+    ));
+    let wheels: Vec<&str> = req.wheels.iter().map(|w| w.as_str()).collect();
+    meta.push(("wheels".into(), wheels.join(",")));
+    meta.push((
+        "l1_convention".into(),
+        "Kuznetsov eq. 3.20; A q = i w q, A^T p = -i w p, <q,q> = 1, <p,q> = 1; state (z [m], y [m], v [m/s])".into(),
+    ));
+    meta.push((
+        "re_lambda_bound".into(),
+        format!("|re_lambda_per_s| <= {RE_LAMBDA_BOUND:e} * 2 pi freq_hz at every point"),
+    ));
+    meta.push(("trace_options".into(), format!("{opts:?}")));
+    let cols = curve_columns(&req, &charts);
+    write_table(&args.out, &cols, &meta)?;
+    let csv = args.out.with_extension("csv");
+    write_csv(&csv, &cols)?;
+    let special = special_columns(&req, &charts);
+    let sp_pq = sibling(&args.out, "_special", "parquet");
+    let sp_csv = sibling(&args.out, "_special", "csv");
+    write_table(&sp_pq, &special, &meta)?;
+    write_csv(&sp_csv, &special)?;
+    if let (Some(b), Some((study, k))) = (&band, &band_plan) {
+        println!(
+            "uncertainty band: {k} structures from study `{}` (seed {}), drawn: {}",
+            study.name,
+            study.seed,
+            b.drawn.join(", ")
+        );
+        let mut band_meta = meta.clone();
+        band_meta.push(("study".into(), study.name.clone()));
+        band_meta.push(("study_source".into(), study.source.clone()));
+        band_meta.push(("seed".into(), study.seed.to_string()));
+        band_meta.push(("structure_samples".into(), k.to_string()));
+        band_meta.push(("structure_params".into(), b.drawn.join(",")));
+        let cols = band_columns(&req, b);
+        write_table(&sibling(&args.out, "_band", "parquet"), &cols, &band_meta)?;
+        write_csv(&sibling(&args.out, "_band", "csv"), &cols)?;
+    }
+    let png = args.out.with_extension("png");
+    draw(&png, &req, &charts, &grids, band.as_ref()).map_err(CliError)?;
+    eprintln!(
+        "wrote {}, {}, {}, {} and {}",
+        args.out.display(),
+        csv.display(),
+        sp_pq.display(),
+        sp_csv.display(),
+        png.display()
+    );
+    Ok(())
+}
