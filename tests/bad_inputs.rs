@@ -233,6 +233,8 @@ fn resume_of_a_different_study_with_multibyte_text_does_not_panic() {
         "polywear_version": env!("CARGO_PKG_VERSION"),
         "rng": polywear::sampling::RNG_NAME,
         "study": format!("# {}", "é".repeat(100)),
+        "params": serde_json::to_value(polywear::params::Params::default()).unwrap(),
+        "seed": 1, "samples": 64, "chunk_size": 64, "shard": "0/1",
     });
     std::fs::write(out.join("_manifest.json"), manifest.to_string()).unwrap();
     let s = study(&dir, "other", "");
@@ -244,7 +246,7 @@ fn resume_of_a_different_study_with_multibyte_text_does_not_panic() {
             "--out",
             out.to_str().unwrap(),
         ],
-        &["different run", "study was"],
+        &["differs from the run's study", "- # éé", "+ "],
     );
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -516,7 +518,7 @@ fn a_second_run_on_the_same_out_is_refused_with_the_holders_pid() {
     first.kill().unwrap();
     first.wait().unwrap();
     // The kernel dropped the lock with the process: the next run gets past the lock (and is
-    // then told it is a different run, as its sample count differs).
+    // then told that its sample count contradicts the run's).
     refused(
         &[
             "explore",
@@ -527,7 +529,7 @@ fn a_second_run_on_the_same_out_is_refused_with_the_holders_pid() {
             "--out",
             out.to_str().unwrap(),
         ],
-        &["different run", "samples"],
+        &["--samples 100000000 contradicts the run's 1000000000 samples"],
     );
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -1,0 +1,269 @@
+//! What the tool says to its users: runs that remember (resume with the run's own settings, a
+//! finished run named as such, a changed study shown as its lines, signals that stop cleanly,
+//! progress lines in batch logs, one summary), verdicts in words, "did you mean" suggestions,
+//! sweeps that say what they held fixed, readable maps and consistent refusals.
+
+mod common;
+#[path = "common/parquet_rows.rs"]
+mod parquet_rows;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::polywear;
+use parquet_rows::rows_in_dir;
+
+fn tmp(name: &str) -> PathBuf {
+    let d = common::fresh_dir(&format!("talk-{name}"));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A small random study with small chunks (the one of tests/explore.rs).
+fn small_study(dir: &Path, g_sigma: &str) -> PathBuf {
+    let path = dir.join(format!("small_{g_sigma}.toml"));
+    std::fs::write(
+        &path,
+        format!(
+            r#"name = "small"
+seed = 11
+samples = 600
+chunk_size = 64
+variants = ["paper"]
+[params]
+speed_kmh = {{ dist = "uniform", min = 60, max = 220 }}
+toe_deg = {{ dist = "uniform", min = 0.05, max = 0.8 }}
+load_n = {{ dist = "truncated_normal", mean = 4000, sd = 800, min = 2500, max = 6500 }}
+pressure_kpa = {{ dist = "levels", levels = [200, 240, 280] }}
+g_mod = {{ dist = "lognormal", median = 0.8645e6, sigma = {g_sigma} }}
+"#
+        ),
+    )
+    .unwrap();
+    path
+}
+
+fn chunk_files(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .map(|rd| {
+            rd.map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .filter(|n| n.starts_with("chunk-") && n.ends_with(".parquet"))
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+fn journal_files(dir: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(dir.join("_manifest.chunks.jsonl")).unwrap_or_default();
+    let mut v: Vec<String> = text
+        .lines()
+        .map(|l| {
+            let v: serde_json::Value = serde_json::from_str(l).unwrap();
+            v["file"].as_str().unwrap().to_string()
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+/// Starts `explore` in the background with stderr to a file (so not a terminal), waits for
+/// `chunks` chunk files (and a progress line when `--log-every` is given), sends `signal`;
+/// returns (exit code, stderr).
+fn stop_with(signal: i32, args: &[&str], out: &Path, chunks: usize) -> (i32, String) {
+    let log = out.with_extension("stderr");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_polywear"))
+        .arg("explore")
+        .args(args)
+        .args(["--out", out.to_str().unwrap()])
+        .stdout(Stdio::null())
+        .stderr(std::fs::File::create(&log).unwrap())
+        .spawn()
+        .unwrap();
+    let t0 = Instant::now();
+    let logging = args.contains(&"--log-every");
+    let ready = || {
+        chunk_files(out).len() >= chunks
+            && (!logging
+                || std::fs::read_to_string(&log)
+                    .unwrap()
+                    .contains("progress: "))
+    };
+    while !ready() && t0.elapsed() < Duration::from_secs(120) {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    // SAFETY: kill(2) on the PID of our own child, which has not been waited for yet.
+    unsafe {
+        libc::kill(child.id() as i32, signal);
+    }
+    let t1 = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        assert!(
+            t1.elapsed() < Duration::from_secs(60),
+            "did not stop after the signal"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    (
+        status.code().unwrap_or(-1),
+        std::fs::read_to_string(&log).unwrap(),
+    )
+}
+
+#[test]
+fn a_stopped_run_is_resumed_with_its_own_settings_and_equals_an_uninterrupted_one() {
+    let base = tmp("resume");
+    let study = small_study(&base, "0.05");
+    let s = study.to_str().unwrap();
+    let run = base.join("run");
+    let (code, stderr) = stop_with(
+        libc::SIGTERM,
+        &[
+            s,
+            "--samples",
+            "6000",
+            "--threads",
+            "1",
+            "--log-every",
+            "0.2",
+        ],
+        &run,
+        3,
+    );
+    assert_eq!(code, 143, "{stderr}");
+    // Batch log: progress lines with the rate and the time left.
+    let progress = stderr
+        .lines()
+        .find(|l| l.starts_with("progress: "))
+        .unwrap_or_else(|| panic!("no progress line: {stderr}"));
+    assert!(
+        progress.contains(" of 6000 samples") && progress.contains("samples/s, ETA "),
+        "{progress}"
+    );
+    assert!(stderr.contains("stopped by SIGTERM: "), "{stderr}");
+    // What is saved is exactly what the journal records: no chunk half-written or unrecorded.
+    let files = chunk_files(&run);
+    assert_eq!(files, journal_files(&run));
+    assert!(files.len() >= 3 && files.len() < 94, "{files:?}");
+    let saved = format!("{} of 6000 samples are saved", files.len() * 64);
+    assert!(stderr.contains(&saved), "{saved}: {stderr}");
+    let resume = stderr
+        .lines()
+        .find_map(|l| l.strip_prefix("resume with: "))
+        .unwrap_or_else(|| panic!("no resume command: {stderr}"));
+    let words: Vec<&str> = resume.split_whitespace().collect();
+    assert_eq!(
+        words[1..],
+        [
+            "explore",
+            "--resume",
+            "--out",
+            run.to_str().unwrap(),
+            "--threads",
+            "1"
+        ]
+    );
+    // Contradicting the run is refused with both values; the directory is untouched.
+    let r = run.to_str().unwrap();
+    for (flag, value, needle) in [
+        ("--seed", "5", "--seed 5 contradicts the run's seed 11"),
+        (
+            "--samples",
+            "7000",
+            "--samples 7000 contradicts the run's 6000 samples",
+        ),
+        (
+            "--shard",
+            "1/2",
+            "--shard 1/2 contradicts the run's shard 0/1",
+        ),
+    ] {
+        let (code, _, stderr) = polywear(&["explore", "--resume", "--out", r, flag, value]);
+        assert_eq!(code, 2, "{stderr}");
+        assert!(stderr.contains(needle), "{stderr}");
+    }
+    let changed = small_study(&base, "0.08");
+    let (code, _, stderr) =
+        polywear(&["explore", changed.to_str().unwrap(), "--resume", "--out", r]);
+    assert_eq!(code, 2);
+    assert!(
+        stderr.contains("\n    - g_mod = { dist = \"lognormal\", median = 0.8645e6, sigma = 0.05 }\n    + g_mod = { dist = \"lognormal\", median = 0.8645e6, sigma = 0.08 }\n"),
+        "{stderr}"
+    );
+    assert_eq!(
+        stderr.matches("\n    ").count(),
+        2,
+        "only the changed lines: {stderr}"
+    );
+    assert_eq!(files, chunk_files(&run));
+    // The printed command continues the run (repeating a recorded value is accepted).
+    let (code, stdout, stderr) = polywear(&[&words[1..], &["--seed", "11"]].concat());
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "resume: {} of 6000 samples already saved",
+            files.len() * 64
+        )),
+        "{stderr}"
+    );
+    // One summary, for the whole run, follower before driving.
+    assert_eq!(stdout.matches("P(limit cycle)").count(), 1, "{stdout}");
+    assert!(stdout.contains("6000 of 6000 samples present"), "{stdout}");
+    let f = stdout.find("paper follower:").expect("follower line");
+    let d = stdout.find("paper  driving:").expect("driving line");
+    assert!(f < d, "{stdout}");
+    let whole = base.join("whole");
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        "--quiet",
+        "--no-report",
+        s,
+        "--samples",
+        "6000",
+        "--out",
+        whole.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert_eq!(rows_in_dir(&[&run]), rows_in_dir(&[&whole]));
+    // A finished run is named as finished, with the next step.
+    let (code, _, stderr) = polywear(&["explore", s, "--out", r]);
+    assert_eq!(code, 2);
+    assert!(
+        stderr.contains("holds a finished run")
+            && stderr.contains(&format!("`polywear analyze {r}`"))
+            && stderr.contains("another --out"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&base).ok();
+}
+
+#[test]
+fn ctrl_c_stops_with_130_and_an_unfinished_run_says_how_far_it_got() {
+    let base = tmp("sigint");
+    let study = small_study(&base, "0.05");
+    let run = base.join("run");
+    let (code, stderr) = stop_with(
+        libc::SIGINT,
+        &[study.to_str().unwrap(), "--samples", "1e6"],
+        &run,
+        1,
+    );
+    assert_eq!(code, 130, "{stderr}");
+    assert!(stderr.contains("stopped by SIGINT (Ctrl-C)"), "{stderr}");
+    assert_eq!(chunk_files(&run), journal_files(&run));
+    let r = run.to_str().unwrap();
+    let (code, _, stderr) = polywear(&["explore", study.to_str().unwrap(), "--out", r]);
+    assert_eq!(code, 2);
+    assert!(
+        stderr.contains("holds an unfinished run")
+            && stderr.contains("of 1000000 samples saved")
+            && stderr.contains(&format!("`polywear explore --resume --out {r}`")),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&base).ok();
+}
