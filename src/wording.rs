@@ -32,14 +32,19 @@ fn trim_zeros(s: &str) -> String {
 }
 
 /// The candidate closest to `typed` by edit distance (Levenshtein), if it is close enough to be
-/// a likely misspelling: at most a third of the name's letters (at least 2) changed, or
+/// a likely misspelling: at most a third of the name's letters changed (one in a name of three
+/// or four letters, two or more in a longer one, none in a shorter one), or
 /// `typed` a prefix of it (`speed` for `speed_kmh`), or it a prefix of `typed`. Case is ignored.
 pub fn closest<'a>(typed: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
     let t = typed.trim().to_lowercase();
     if t.is_empty() {
         return None;
     }
-    let limit = (t.chars().count() / 3).max(2);
+    let limit = match t.chars().count() {
+        0..=2 => 0,
+        3..=4 => 1,
+        n => (n / 3).max(2),
+    };
     candidates
         .into_iter()
         .filter_map(|c| {

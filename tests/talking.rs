@@ -267,3 +267,150 @@ fn ctrl_c_stops_with_130_and_an_unfinished_run_says_how_far_it_got() {
     );
     std::fs::remove_dir_all(&base).ok();
 }
+
+#[test]
+fn simulate_opens_with_a_verdict_in_words_per_wheel() {
+    let (code, stdout, stderr) = polywear(&["simulate"]);
+    assert_eq!(code, 0, "{stderr}");
+    let lines: Vec<&str> = stdout.lines().collect();
+    // The default point: both wheels on a limit cycle near 270 Hz, about 19 sides.
+    assert!(
+        lines[0].starts_with("follower: vibrates (")
+            && lines[0].contains(" mm/s, ")
+            && lines[0].contains(" µm, ")
+            && lines[0].contains(" Hz, ")
+            && lines[0].ends_with("-gon)"),
+        "{stdout}"
+    );
+    assert!(lines[1].starts_with("driving: vibrates ("), "{stdout}");
+    assert!(stdout.contains("amplitude v [mm/s]"), "{stdout}");
+    assert!(!stdout.contains("e-"), "no exponents: {stdout}");
+    let (_, stdout, _) = polywear(&["simulate", "--speed", "150", "--toe", "0.5"]);
+    let first = stdout.lines().next().unwrap();
+    let rate: f64 = first
+        .strip_prefix("follower: stable (decays at ")
+        .and_then(|r| r.strip_suffix(" 1/s)"))
+        .unwrap_or_else(|| panic!("{stdout}"))
+        .parse()
+        .unwrap();
+    assert!(rate > 0.0, "{first}");
+}
+
+#[test]
+fn help_shows_the_operating_defaults_from_the_parameter_table() {
+    let (_, help, _) = polywear(&["simulate", "--help"]);
+    for name in ["speed_kmh", "toe_deg", "load_n", "pressure_kpa"] {
+        let s = polywear::params::spec(name).unwrap();
+        let want = format!(
+            "{} [default: {}]",
+            s.range_text(),
+            polywear::wording::plain(s.default, 6)
+        );
+        assert!(help.contains(&want), "{name}: {want}\n{help}");
+    }
+}
+
+#[test]
+fn implausible_units_are_warned_about_with_the_likely_mix_up() {
+    let (code, stdout, stderr) = polywear(&["simulate", "--pressure", "2.3", "--load", "400"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stderr.contains("pressure_kpa = 2.3 kPa is implausibly low")
+            && stderr.contains("in bar? 2.3 bar = 230 kPa"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("load_n = 400 N is implausibly low") && stderr.contains("in kg?"),
+        "{stderr}"
+    );
+    let (_, _, stderr) = polywear(&["simulate", "--pressure", "2.3"]);
+    let (_, stdout2, _) = polywear(&["simulate", "--pressure", "2.3", "--json"]);
+    assert!(stderr.contains("in bar?"), "{stderr}");
+    assert!(!stdout2.is_empty(), "{stdout}");
+    let (_, stdout, stderr) = polywear(&["simulate"]);
+    assert!(!stderr.contains("warning"), "{stderr}");
+    assert!(!stdout.is_empty());
+}
+
+/// Asserts exit 2 and that stderr holds every needle.
+fn refused(args: &[&str], needles: &[&str]) {
+    let (code, _, stderr) = polywear(args);
+    assert_eq!(code, 2, "{args:?}: {stderr}");
+    for n in needles {
+        assert!(stderr.contains(n), "{args:?}: lacks `{n}`:\n{stderr}");
+    }
+}
+
+#[test]
+fn misspelt_names_get_a_suggestion_wherever_they_are_typed() {
+    let dir = tmp("suggest");
+    let study = dir.join("typo.toml");
+    std::fs::write(
+        &study,
+        "name = \"t\"\nsamples = 10\n[params]\nsped_kmh = { dist = \"uniform\", min = 60, max = 200 }\n",
+    )
+    .unwrap();
+    refused(
+        &[
+            "explore",
+            study.to_str().unwrap(),
+            "--out",
+            dir.join("o").to_str().unwrap(),
+        ],
+        &[
+            "`params.sped_kmh`",
+            "did you mean `speed_kmh`?",
+            "accepted: speed_kmh, toe_deg",
+        ],
+    );
+    let study2 = dir.join("typo2.toml");
+    std::fs::write(&study2, "name = \"t\"\nsampels = 10\n").unwrap();
+    refused(
+        &[
+            "explore",
+            study2.to_str().unwrap(),
+            "--out",
+            dir.join("o").to_str().unwrap(),
+        ],
+        &["unknown key `sampels`; did you mean `samples`?"],
+    );
+    refused(
+        &["simulate", "--set", "gmod=0.9e6"],
+        &["unknown parameter `gmod`; did you mean `g_mod`?"],
+    );
+    refused(
+        &[
+            "bifurcation",
+            "--param",
+            "spede_kmh",
+            "--from",
+            "50",
+            "--to",
+            "60",
+        ],
+        &["did you mean `speed_kmh`?"],
+    );
+    refused(
+        &["analyze", dir.to_str().unwrap(), "--pair", "speed,toe_deg"],
+        &["--pair `speed,toe_deg`", "did you mean `speed_kmh`?"],
+    );
+    let csv = dir.join("points.csv");
+    std::fs::write(&csv, "speed_kmh,tow_deg\n100,0.3\n").unwrap();
+    refused(
+        &[
+            "classify",
+            csv.to_str().unwrap(),
+            "--out",
+            dir.join("v.csv").to_str().unwrap(),
+        ],
+        &["column `tow_deg`", "did you mean `toe_deg`?"],
+    );
+    // Nothing close: no suggestion, only the accepted names.
+    let (_, _, stderr) = polywear(&["simulate", "--set", "wheelbase=2.7"]);
+    assert!(!stderr.contains("did you mean"), "{stderr}");
+    assert_eq!(
+        polywear::params::suggest_name("pressure"),
+        Some("pressure_kpa")
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

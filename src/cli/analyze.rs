@@ -44,7 +44,10 @@ fn parse_pair(s: &str) -> Result<(String, String), String> {
     let (a, b) = (a.trim(), b.trim());
     for n in [a, b] {
         if polywear::params::spec(n).is_none() {
-            return Err(format!("--pair: unknown parameter `{n}`"));
+            let e = polywear::params::ParamError::Unknown {
+                name: n.to_string(),
+            };
+            return Err(format!("--pair `{s}`: {e}"));
         }
     }
     if a == b {

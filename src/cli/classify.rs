@@ -47,11 +47,10 @@ fn read_points(path: &PathBuf, base: &Params) -> CliResult<Vec<Params>> {
         .split(',')
         .map(|h| {
             spec(h.trim()).map(|s| s.name).ok_or_else(|| {
-                CliError(format!(
-                    "{}: column `{}` is not a parameter name",
-                    path.display(),
-                    h.trim()
-                ))
+                let e = polywear::params::ParamError::Unknown {
+                    name: h.trim().to_string(),
+                };
+                CliError(format!("{}: column `{}`: {e}", path.display(), h.trim()))
             })
         })
         .collect::<CliResult<_>>()?;

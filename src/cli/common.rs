@@ -35,17 +35,13 @@ pub type CliResult<T = ()> = Result<T, CliError>;
 /// The operating point and any other model parameter.
 #[derive(Debug, Args, Clone)]
 pub struct PointArgs {
-    /// Vehicle speed [km/h], accepted (0, 400]
-    #[arg(long, value_name = "KMH", allow_negative_numbers = true)]
+    #[arg(long, value_name = "KMH", allow_negative_numbers = true, help = flag_help("speed_kmh"))]
     pub speed: Option<f64>,
-    /// Toe-in (slip) angle [deg], accepted (0, 10]
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true, help = flag_help("toe_deg"))]
     pub toe: Option<f64>,
-    /// Vertical load on the tire [N], accepted (0, 50000]
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, help = flag_help("load_n"))]
     pub load: Option<f64>,
-    /// Tire pressure [kPa], accepted (0, 2000]
-    #[arg(long, value_name = "KPA", allow_negative_numbers = true)]
+    #[arg(long, value_name = "KPA", allow_negative_numbers = true, help = flag_help("pressure_kpa"))]
     pub pressure: Option<f64>,
     /// Any model parameter by name, e.g. `--set g_mod=0.9e6` (repeatable; `polywear params`
     /// lists names, units, defaults and ranges)
@@ -98,6 +94,19 @@ impl WheelArg {
     }
 }
 
+/// The help of an operating-point flag, from the parameter table: what it is, its unit, its
+/// accepted range and its default, e.g. "Vehicle speed [km/h], accepted (0, 400] [default: 100]".
+fn flag_help(name: &str) -> String {
+    let s = polywear::params::spec(name).expect("an operating-point parameter");
+    format!(
+        "{} [{}], accepted {} [default: {}]",
+        s.description.trim_end_matches('.'),
+        s.unit,
+        s.range_text(),
+        polywear::wording::plain(s.default, 6)
+    )
+}
+
 fn parse_assignment(s: &str) -> Result<(String, f64), String> {
     let (name, value) = s
         .split_once('=')
@@ -128,6 +137,9 @@ impl PointArgs {
             }
         }
         p.validate()?;
+        for w in p.unit_warnings() {
+            eprintln!("warning: {w}");
+        }
         Ok(p)
     }
 }
