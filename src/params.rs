@@ -254,6 +254,38 @@ pub fn suggest_name(typed: &str) -> Option<&'static str> {
     crate::wording::closest(typed, SPECS.iter().map(|s| s.name))
 }
 
+/// A parameter named in words for titles, axes and sentences: "Speed", "Toe-in", "Load",
+/// "Pressure" for the operating point; otherwise the first clause of its description and its
+/// symbol ("Shear modulus of the tread rubber G"); an unknown name as it is.
+pub fn label(name: &str) -> String {
+    let short = match name {
+        "speed_kmh" => "Speed",
+        "toe_deg" => "Toe-in",
+        "load_n" => "Load",
+        "pressure_kpa" => "Pressure",
+        _ => {
+            let Some(s) = spec(name) else {
+                return name.to_string();
+            };
+            let clause = s.description.split([':', '.']).next().unwrap_or(name);
+            let clause = clause.split(" (").next().unwrap_or(name).trim();
+            return format!("{clause} {}", s.symbol);
+        }
+    };
+    short.to_string()
+}
+
+/// An axis label with its unit from the parameter table, "Speed [km/h]"; `unit` is used for a
+/// name that is not a parameter (a record column); no brackets for a dimensionless one.
+pub fn axis_label(name: &str, unit: &str) -> String {
+    let unit = spec(name).map_or(unit, |s| s.unit);
+    if unit.is_empty() || unit == "-" {
+        label(name)
+    } else {
+        format!("{} [{unit}]", label(name))
+    }
+}
+
 /// Looks a parameter up by name.
 pub fn spec(name: &str) -> Option<&'static ParamSpec> {
     SPECS.iter().find(|s| s.name == name)

@@ -414,3 +414,149 @@ fn misspelt_names_get_a_suggestion_wherever_they_are_typed() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_sweep_says_what_it_held_fixed_and_where_each_wheel_vibrates() {
+    let dir = tmp("sweep");
+    let prefix = dir.join("toe");
+    let (code, stdout, stderr) = polywear(&[
+        "bifurcation",
+        "--param",
+        "toe_deg",
+        "--from",
+        "0.05",
+        "--to",
+        "0.8",
+        "--steps",
+        "40",
+        "--speed",
+        "120",
+        "--set",
+        "g_mod=0.9e6",
+        "--out",
+        prefix.to_str().unwrap(),
+        "--format",
+        "svg",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let header = stdout.lines().next().unwrap();
+    assert!(
+        header.ends_with("at speed 120 km/h, load 4000 N, pressure 240 kPa, g_mod 900000 Pa"),
+        "{header}"
+    );
+    // One plain line per wheel and window, with the bounds in degrees.
+    let follower: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with("follower vibrates for toe-in "))
+        .collect();
+    assert_eq!(follower.len(), 1, "{stdout}");
+    let (a, b) = follower[0]
+        .trim_start_matches("follower vibrates for toe-in ")
+        .split_once("°–")
+        .unwrap();
+    let (a, b): (f64, f64) = (a.parse().unwrap(), b.trim_end_matches('°').parse().unwrap());
+    assert!(0.05 < a && a < b && b < 0.8, "{a} {b}");
+    assert!(
+        stdout.contains("\ndriving vibrates for toe-in "),
+        "{stdout}"
+    );
+    // The figure as SVG, its title naming the fixed point and a zero line in the eigenvalue panels.
+    let svg = std::fs::read_to_string(prefix.with_extension("svg")).unwrap();
+    assert!(svg.starts_with("<svg"), "{}", &svg[..100]);
+    assert!(svg.contains("Toe-in sweep at speed 120 km/h, load 4000 N, pressure 240 kPa"));
+    assert!(svg.contains("Zoomed on zero: follower vibrates for toe-in "));
+    assert!(!prefix.with_extension("png").exists());
+    // A sweep without a window says so.
+    let (_, stdout, _) = polywear(&[
+        "bifurcation",
+        "--param",
+        "speed_kmh",
+        "--from",
+        "150",
+        "--to",
+        "200",
+        "--steps",
+        "6",
+        "--toe",
+        "0.5",
+        "--out",
+        dir.join("fast").to_str().unwrap(),
+    ]);
+    assert!(
+        stdout.contains("follower is stable over the whole sweep (speed 150–200 km/h)"),
+        "{stdout}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn risk_maps_speak_plainly_and_can_be_svg() {
+    let dir = tmp("maps");
+    let study = dir.join("grid.toml");
+    std::fs::write(
+        &study,
+        r#"name = "grid"
+seed = 3
+samples = 600
+chunk_size = 300
+[params]
+speed_kmh = { dist = "levels", levels = [80, 120, 160] }
+toe_deg = { dist = "levels", levels = [0.1, 0.3, 0.5] }
+load_n = { dist = "uniform", min = 3000, max = 6000 }
+pressure_kpa = { dist = "levels", levels = [200, 280] }
+"#,
+    )
+    .unwrap();
+    let run = dir.join("run");
+    let r = run.to_str().unwrap();
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        "--quiet",
+        "--no-report",
+        study.to_str().unwrap(),
+        "--out",
+        r,
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let (code, stdout, stderr) = polywear(&["analyze", r, "--format", "svg", "--min-count", "5"]);
+    assert_eq!(code, 0, "{stderr}");
+    let f = stdout.find("sliding_share follower:").unwrap();
+    let d = stdout.find("sliding_share  driving:").unwrap();
+    assert!(f < d, "{stdout}");
+    let report = run.join("_report");
+    let map = std::fs::read_to_string(report.join("riskmap_speed_kmh_toe_deg_sliding_share.svg"))
+        .unwrap();
+    for words in [
+        "Risk of tread vibration, follower wheel",
+        "Risk of tread vibration, driving wheel",
+        "Driving minus follower (blue: driving wheel less exposed)",
+        "Speed [km/h]",
+        "Toe-in [deg]",
+        "Risk of vibration [%]",
+        "Difference [percentage points]",
+    ] {
+        assert!(map.contains(words), "{words}");
+    }
+    assert!(!map.contains("P(limit cycle)"));
+    // A 3 x 3 grid carries its percentages in the cells: nine numbers per wheel.
+    let cell_texts = map.matches("text-anchor=\"middle\"").count();
+    assert!(cell_texts >= 27, "{cell_texts}");
+    let md = std::fs::read_to_string(report.join("report.md")).unwrap();
+    assert!(
+        md.contains("riskmap_speed_kmh_toe_deg_sliding_share.svg"),
+        "{md}"
+    );
+    assert!(!report
+        .join("riskmap_speed_kmh_toe_deg_sliding_share.png")
+        .exists());
+    // The severity table in plain numbers, no exponents.
+    let severity: Vec<&str> = md
+        .lines()
+        .filter(|l| l.starts_with("| sliding_share |") && l.contains("polygon_order"))
+        .collect();
+    assert!(!severity.is_empty(), "{md}");
+    for l in severity {
+        assert!(!l.contains("e1") && !l.contains("e-"), "{l}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use clap::Args;
 
-use super::common::{CliError, CliResult};
+use super::common::{CliError, CliResult, FigureFormat};
 use polywear::analysis::inputs::check_inputs;
 use polywear::analysis::report::{analyze, Analysis, ReportOptions};
 
@@ -35,6 +35,9 @@ pub struct AnalyzeArgs {
     /// Bootstrap resamples for the Sobol indices' intervals, accepted [10, 100000]
     #[arg(long, default_value_t = ReportOptions::DEFAULT_BOOTSTRAP, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--bootstrap", 10, 100_000))]
     pub bootstrap: usize,
+    /// File type of the figures
+    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    pub format: FigureFormat,
 }
 
 fn parse_pair(s: &str) -> Result<(String, String), String> {
@@ -96,6 +99,7 @@ pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
         min_count: args.min_count,
         pairs,
         bootstrap: args.bootstrap,
+        figure_format: args.format.ext(),
     };
     report(&args.inputs, &opts, verbose)
 }

@@ -77,6 +77,23 @@ impl From<VariantArg> for Variant {
     }
 }
 
+/// File type of the figures a command writes.
+#[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq, Default)]
+pub enum FigureFormat {
+    #[default]
+    Png,
+    Svg,
+}
+
+impl FigureFormat {
+    pub fn ext(self) -> &'static str {
+        match self {
+            FigureFormat::Png => "png",
+            FigureFormat::Svg => "svg",
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
 pub enum WheelArg {
     Follower,

@@ -45,7 +45,7 @@ pub struct SimulateArgs {
     /// Write the time series (t, wheel, z, y, v) to FILE.parquet or FILE.csv
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
-    /// Draw time history, phase portrait and spectrum of v to FILE.png
+    /// Draw time history, phase portrait and spectrum of v to FILE.png or FILE.svg
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
 }
@@ -76,7 +76,7 @@ pub fn run(args: &SimulateArgs) -> CliResult {
         check_out_file(out, "--out")?;
     }
     if let Some(plot) = &args.plot {
-        check_extension(plot, &["png"], "--plot")?;
+        check_extension(plot, &polywear::plot::backend::FORMATS, "--plot")?;
         check_out_file(plot, "--plot")?;
     }
     let variant: Variant = args.point.variant.into();
