@@ -130,7 +130,8 @@ impl fmt::Display for ParamError {
                 unit,
             } => write!(
                 f,
-                "parameter `{name}` = {value} is outside its accepted range {range} {unit}"
+                "parameter `{name}` = {} is outside its accepted range {range} {unit}",
+                plain(*value, 12)
             ),
             ParamError::Inconsistent { message } => write!(f, "{message}"),
         }
@@ -320,7 +321,8 @@ impl Params {
             return Err(ParamError::Inconsistent {
                 message: format!(
                     "parameter `mu_s` = {} must not exceed `mu_m` = {} (sliding friction is at most the static maximum)",
-                    self.mu_s, self.mu_m
+                    plain(self.mu_s, 12),
+                    plain(self.mu_m, 12)
                 ),
             });
         }
@@ -328,7 +330,8 @@ impl Params {
             return Err(ParamError::Inconsistent {
                 message: format!(
                     "parameter `n_driven` = {} must not exceed `n_wheels` = {}",
-                    self.n_driven, self.n_wheels
+                    plain(self.n_driven, 12),
+                    plain(self.n_wheels, 12)
                 ),
             });
         }

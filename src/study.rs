@@ -261,6 +261,17 @@ fn parse_param(name: &str, v: &toml::Value) -> Result<ParamEntry, StudyError> {
 /// quantiles at the extreme coordinates (normal tails reach about ±8.1 sd), and every level.
 fn check_support(s: &ParamSpec, d: &Distribution) -> Result<(), StudyError> {
     let key = format!("params.{}", s.name);
+    // Levels are checked one by one, each named by its place in the list (counted from 0, as
+    // every `levels[i]` in a message).
+    if let Distribution::Levels(levels) = d {
+        for (i, x) in levels.iter().enumerate() {
+            s.check(*x).map_err(|source| StudyError::Param {
+                key: format!("{key}.levels[{i}]"),
+                source,
+            })?;
+        }
+        return Ok(());
+    }
     let (lo, hi) = (d.quantile(0.0), d.quantile(1.0 - f64::EPSILON));
     for (which, x) in [("smallest", lo), ("largest", hi)] {
         if let Err(source) = s.check(x) {
@@ -279,14 +290,6 @@ fn check_support(s: &ParamSpec, d: &Distribution) -> Result<(), StudyError> {
                 source,
                 hint,
             });
-        }
-    }
-    if let Distribution::Levels(levels) = d {
-        for (i, x) in levels.iter().enumerate() {
-            s.check(*x).map_err(|source| StudyError::Param {
-                key: format!("{key}.levels[{i}]"),
-                source,
-            })?;
         }
     }
     Ok(())

@@ -560,3 +560,78 @@ pressure_kpa = { dist = "levels", levels = [200, 280] }
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn refusals_name_the_value_its_place_and_what_is_accepted() {
+    let dir = tmp("consistent");
+    let study = |body: &str| {
+        let p = dir.join("s.toml");
+        std::fs::write(
+            &p,
+            format!("name = \"x\"\nsamples = 10\n[params]\n{body}\n"),
+        )
+        .unwrap();
+        p
+    };
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    // The first offending level, by its place counted from 0, with its value; not the first
+    // level nor the largest.
+    let s = study("toe_deg = { dist = \"levels\", levels = [0.2, 0.4, -0.3, 0] }");
+    refused(
+        &["explore", s.to_str().unwrap(), "--out", o],
+        &["`params.toe_deg.levels[2]`: parameter `toe_deg` = -0.3 is outside its accepted range (0, 10] deg"],
+    );
+    // No float noise: the largest value of a uniform is its max, not 59999.99999999999.
+    let s = study("load_n = { dist = \"uniform\", min = 600, max = 60000 }");
+    let (_, _, stderr) = polywear(&["explore", s.to_str().unwrap(), "--out", o]);
+    assert!(
+        stderr.contains("`load_n` = 60000 is outside its accepted range (0, 50000] N"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("999999"), "{stderr}");
+    // `analyze` names the folder it found empty, and says what it accepts.
+    let empty = dir.join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    refused(
+        &["analyze", empty.to_str().unwrap()],
+        &[
+            &format!("no Parquet files in {}", empty.display()),
+            "accepted: an explore output directory",
+        ],
+    );
+    // Every command creates a missing output folder.
+    let series = dir.join("a/b/series.csv");
+    let (code, _, stderr) = polywear(&["simulate", "--out", series.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(series.is_file());
+    let prefix = dir.join("c/d/sweep");
+    let (code, _, stderr) = polywear(&[
+        "bifurcation",
+        "--param",
+        "speed_kmh",
+        "--from",
+        "80",
+        "--to",
+        "120",
+        "--steps",
+        "3",
+        "--out",
+        prefix.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(prefix.with_extension("png").is_file());
+    // Refusals end with what is accepted.
+    let full = dir.join("full");
+    std::fs::create_dir_all(&full).unwrap();
+    std::fs::write(full.join("notes.txt"), "x").unwrap();
+    refused(
+        &["explore", "--out", full.to_str().unwrap()],
+        &["holds no polywear run; accepted: an empty or absent directory"],
+    );
+    refused(
+        &["simulate", "--plot", dir.join("p.jpg").to_str().unwrap()],
+        &["accepted: .png, .svg"],
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -199,24 +199,24 @@ pub fn parse_threads(s: &str) -> Result<usize, String> {
     whole_in("--threads", 1, THREADS_MAX as u64)(s)
 }
 
-/// Refuses an output file whose directory does not exist (or that is a directory), before any
-/// work starts.
+/// Prepares an output file before any work starts: a missing folder is created (as every
+/// command does with its output paths), a directory given as the file is refused.
 pub fn check_out_file(path: &Path, flag: &str) -> CliResult {
     if path.is_dir() {
         return Err(CliError(format!(
-            "{flag} {}: is a directory; give a file name",
+            "{flag} {}: is a directory; accepted: a file name",
             path.display()
         )));
     }
     let parent = path.parent().filter(|d| !d.as_os_str().is_empty());
     if let Some(dir) = parent {
-        if !dir.is_dir() {
-            return Err(CliError(format!(
-                "{flag} {}: directory {} does not exist",
+        std::fs::create_dir_all(dir).map_err(|e| {
+            CliError(format!(
+                "{flag} {}: cannot create the folder {}: {e}",
                 path.display(),
                 dir.display()
-            )));
-        }
+            ))
+        })?;
     }
     Ok(())
 }

@@ -42,10 +42,12 @@ pub struct SimulateArgs {
     /// Print one JSON object per wheel (the columns of reference/points.csv and more)
     #[arg(long)]
     pub json: bool,
-    /// Write the time series (t, wheel, z, y, v) to FILE.parquet or FILE.csv
+    /// Write the time series (t, wheel, z, y, v) to FILE.parquet or FILE.csv (a missing folder
+    /// is created)
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
-    /// Draw time history, phase portrait and spectrum of v to FILE.png or FILE.svg
+    /// Draw time history, phase portrait and spectrum of v to FILE.png or FILE.svg (a missing
+    /// folder is created)
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
 }
