@@ -635,3 +635,23 @@ fn refusals_name_the_value_its_place_and_what_is_accepted() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn flag_refusals_end_with_what_is_accepted() {
+    refused(
+        &["bifurcation", "--param", "speed_kmh", "--from", "80", "--to", "80"],
+        &["--from and --to are both 80; accepted: two different values of speed_kmh in its range (0, 400] km/h"],
+    );
+    refused(
+        &["simulate", "--kick", "-1"],
+        &["accepted: a positive lateral velocity amplitude in m/s"],
+    );
+    refused(
+        &["analyze", ".", "--pair", "load_n,load_n"],
+        &["accepted: two different parameter names"],
+    );
+    refused(
+        &["explore", "--log-every", "0"],
+        &["--log-every `0` must be a number of seconds in [0.1, 86400]"],
+    );
+}

@@ -54,7 +54,7 @@ fn parse_pair(s: &str) -> Result<(String, String), String> {
         }
     }
     if a == b {
-        return Err(format!("--pair `{s}`: the two axes must differ"));
+        return Err(format!("--pair `{s}`: the two axes must differ; accepted: two different parameter names, e.g. g_mod,load_n"));
     }
     Ok((a.to_string(), b.to_string()))
 }

@@ -70,12 +70,18 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
         p.validate().map_err(|e| CliError(format!("{flag}: {e}")))?;
     }
     if args.from == args.to {
-        return Err(CliError("--from and --to must differ".into()));
+        return Err(CliError(format!(
+            "--from and --to are both {}; accepted: two different values of {} in its range {} {}",
+            plain(args.from, 12),
+            s.name,
+            s.range_text(),
+            s.unit
+        )));
     }
     if let Some(k) = args.kick {
         if k.is_nan() || k <= 0.0 {
             return Err(CliError(format!(
-                "--kick = {k} m/s must be a positive number"
+                "--kick = {k} m/s is refused; accepted: a positive lateral velocity amplitude in m/s, e.g. 0.05"
             )));
         }
     }

@@ -35,7 +35,12 @@ pub fn run(args: &CalibrateArgs) -> CliResult {
         for n in &args.fit {
             let name = polywear::params::spec(n.trim())
                 .map(|s| s.name)
-                .ok_or_else(|| CliError(format!("--fit: unknown parameter `{n}`")))?;
+                .ok_or_else(|| {
+                    let e = polywear::params::ParamError::Unknown {
+                        name: n.trim().to_string(),
+                    };
+                    CliError(format!("--fit: {e}"))
+                })?;
             if fit.contains(&name) {
                 return Err(CliError(format!("--fit: `{name}` is named twice")));
             }

@@ -78,7 +78,7 @@ fn read_points(path: &PathBuf, base: &Params) -> CliResult<Vec<Params>> {
         for (name, cell) in header.iter().zip(cells) {
             let v: f64 = cell.trim().parse().map_err(|_| {
                 CliError(format!(
-                    "{}: row {}, `{name}` = `{cell}` is not a number",
+                    "{}: row {}, `{name}` = `{cell}` is not a number; accepted: a number in the parameter's unit",
                     path.display(),
                     i + 1
                 ))

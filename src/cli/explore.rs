@@ -8,7 +8,7 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::batch::{signal_name, Interrupt, ProgressLog};
-use super::common::{BudgetArgs, CliError, CliResult};
+use super::common::{BudgetArgs, CliError, CliResult, FigureFormat};
 use polywear::explore::{RunPlan, Shard};
 use polywear::recorded_run::{changed_lines, param_changes, shell_word, RecordedRun};
 use polywear::study::{Study, DEFAULT_STUDY, SEED_MAX};
@@ -60,6 +60,9 @@ pub struct ExploreArgs {
     /// Skip the analysis report (risk maps, probabilities) written to DIR/_report at the end
     #[arg(long)]
     pub no_report: bool,
+    /// File type of the report's figures
+    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    pub format: FigureFormat,
     #[command(flatten)]
     pub budget: BudgetArgs,
 }
@@ -238,11 +241,11 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         }
         return Ok(());
     }
-    super::analyze::report(
-        std::slice::from_ref(&plan.out_dir),
-        &polywear::analysis::report::ReportOptions::defaults(plan.out_dir.join("_report")),
-        !args.quiet,
-    )
+    let opts = polywear::analysis::report::ReportOptions {
+        figure_format: args.format.ext(),
+        ..polywear::analysis::report::ReportOptions::defaults(plan.out_dir.join("_report"))
+    };
+    super::analyze::report(std::slice::from_ref(&plan.out_dir), &opts, !args.quiet)
 }
 
 /// Refuses a flag of `--resume --out DIR` that contradicts the run recorded in DIR, showing

@@ -69,7 +69,7 @@ pub fn run(args: &SimulateArgs) -> CliResult {
     if let Some(k) = args.kick {
         if !(k > 0.0 && k.is_finite()) {
             return Err(CliError(format!(
-                "--kick = {k} m/s must be a positive number"
+                "--kick = {k} m/s is refused; accepted: a positive lateral velocity amplitude in m/s, e.g. 0.05"
             )));
         }
     }
