@@ -214,7 +214,7 @@ pub fn run(args: &ExploreArgs) -> CliResult {
     }
     if !args.quiet {
         println!(
-            "{} samples evaluated in {} s ({} samples/s); {} already saved; {} chunk files in {}",
+            "{} samples evaluated in {} s ({} samples/s); {} already saved; {} chunk files written to {}",
             summary.samples_evaluated,
             plain(secs, 2),
             plain(summary.samples_evaluated as f64 / secs.max(1e-9), 3),
