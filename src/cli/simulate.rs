@@ -190,14 +190,21 @@ fn print_table(records: &[WheelRecord]) {
         print!("{:>22}", r.wheel);
     }
     println!();
-    for (label, f) in rows {
+    for (k, (label, f)) in rows.iter().enumerate() {
         // Padded by characters, not bytes: `µ` takes two bytes.
         print!(
             "{label}{}",
             " ".repeat(20usize.saturating_sub(label.chars().count()))
         );
         for r in records {
-            print!("{:>22}", f(r));
+            // A stable wheel has no cycle: no amplitude, frequency, polygon order, energy or
+            // Floquet multiplier.
+            let cell = if (8..14).contains(&k) && r.class == Class::Stable {
+                "-".to_string()
+            } else {
+                f(r)
+            };
+            print!("{cell:>22}");
         }
         println!();
     }

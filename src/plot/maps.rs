@@ -248,6 +248,10 @@ pub fn band_panel<DB: DrawingBackend>(
             continue;
         }
         if b.discrete {
+            // Side by side around each level, so that the wheels' points do not hide each other.
+            let shift = (i as f64 - 0.5 * (bands.len() as f64 - 1.0)) * 0.012 * (x1 - x0);
+            let pts: Vec<(f64, f64, f64, f64)> =
+                pts.iter().map(|p| (p.0 + shift, p.1, p.2, p.3)).collect();
             chart
                 .draw_series(
                     pts.iter().map(|p| {
