@@ -65,7 +65,7 @@ pub enum StudyError {
     FixedParams(ParamError),
     #[error("`name` = \"{0}\" must be non-empty letters, digits, `_` or `-`")]
     BadName(String),
-    #[error("`design` = \"{0}\" is unknown; accepted: random, lhs, sobol, grid, saltelli")]
+    #[error("`design` = \"{0}\" is unknown;{hint} accepted: random, lhs, sobol, grid, saltelli", hint = did_you_mean(.0, ["random", "lhs", "sobol", "grid", "saltelli"]))]
     UnknownDesign(String),
     #[error("`variants` lists \"{0}\" twice")]
     RepeatedVariant(String),
@@ -75,9 +75,9 @@ pub enum StudyError {
     NotAParameter { key: String },
     #[error("`{key}` needs `dist` (one of {DISTS})")]
     NoDist { key: String },
-    #[error("`{key}.dist` = \"{dist}\" is unknown; accepted: {DISTS}, fixed")]
+    #[error("`{key}.dist` = \"{dist}\" is unknown;{hint} accepted: {DISTS}, fixed", hint = did_you_mean(dist, DISTS.split(", ").chain(["fixed"])))]
     UnknownDist { key: String, dist: String },
-    #[error("`{key}.{field}` is not a key of a {dist} distribution; accepted: {accepted}")]
+    #[error("`{key}.{field}` is not a key of a {dist} distribution;{hint} accepted: {accepted}", hint = did_you_mean(field, accepted.split(", ")))]
     NotADistKey {
         key: String,
         field: String,
@@ -141,6 +141,8 @@ const TOP_KEYS: &[&str] = &[
     "max_wheel_seconds",
     "params",
 ];
+use crate::wording::did_you_mean;
+
 const DISTS: &str = "uniform, normal, truncated_normal, lognormal, levels";
 
 /// One `[params]` entry: a fixed value or a distribution.

@@ -374,6 +374,31 @@ fn misspelt_names_get_a_suggestion_wherever_they_are_typed() {
         ],
         &["unknown key `sampels`; did you mean `samples`?"],
     );
+    for (line, needle) in [
+        (
+            "design = \"sobel\"",
+            "`design` = \"sobel\" is unknown; did you mean `sobol`?",
+        ),
+        (
+            "[params]\nload_n = { dist = \"unifrom\", min = 1000, max = 2000 }",
+            "did you mean `uniform`?",
+        ),
+        (
+            "[params]\nload_n = { dist = \"normal\", mean = 4000, sdev = 800 }",
+            "`params.load_n.sdev` is not a key of a normal distribution; did you mean `sd`?",
+        ),
+    ] {
+        std::fs::write(&study2, format!("name = \"t\"\nsamples = 10\n{line}\n")).unwrap();
+        refused(
+            &[
+                "explore",
+                study2.to_str().unwrap(),
+                "--out",
+                dir.join("o").to_str().unwrap(),
+            ],
+            &[needle],
+        );
+    }
     refused(
         &["simulate", "--set", "gmod=0.9e6"],
         &["unknown parameter `gmod`; did you mean `g_mod`?"],
