@@ -70,9 +70,12 @@ pub struct ExploreArgs {
 pub fn run(args: &ExploreArgs) -> CliResult {
     // `--resume --out DIR` continues the run recorded there: its study, parameters, samples,
     // seed and shard are the defaults, and a flag that contradicts them is refused.
+    // A manifest this build cannot read back (damaged, or from a version that recorded less) is
+    // left to `prepare_output`, which says how the directory differs from this run.
     let recorded = match (&args.out, args.resume) {
         (Some(dir), true) => RecordedRun::read(dir)
-            .map_err(|e| CliError(format!("--out {}: {e}", dir.display())))?
+            .ok()
+            .flatten()
             .map(|run| (dir.clone(), run)),
         _ => None,
     };
