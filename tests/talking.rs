@@ -680,3 +680,33 @@ fn flag_refusals_end_with_what_is_accepted() {
         &["--log-every `0` must be a number of seconds in [0.1, 86400]"],
     );
 }
+
+#[test]
+fn the_papers_figures_can_be_svg_too() {
+    let dir = tmp("reproduce-svg");
+    let out = dir.join("paper");
+    let (code, _, stderr) = polywear(&[
+        "reproduce",
+        "--out",
+        out.to_str().unwrap(),
+        "--steps",
+        "21",
+        "--paired-samples",
+        "20",
+        "--format",
+        "svg",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    for fig in [
+        "fig4_adhesion",
+        "bifurcation_speed_kmh_sliding_share",
+        "fig18_amplitude_vs_speed",
+    ] {
+        let svg = std::fs::read_to_string(out.join(format!("{fig}.svg"))).unwrap();
+        assert!(svg.starts_with("<svg"), "{fig}");
+        assert!(md.contains(&format!("![]({fig}.svg)")), "{fig}");
+        assert!(!out.join(format!("{fig}.png")).exists());
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -5,11 +5,11 @@ use std::time::Instant;
 
 use clap::Args;
 
-use super::common::{CliError, CliResult};
+use super::common::{CliError, CliResult, FigureFormat};
 
 #[derive(Debug, Args)]
 pub struct ReproduceArgs {
-    /// Output directory
+    /// Output directory, created when missing
     #[arg(long, value_name = "DIR", default_value = "data/paper_2014")]
     pub out: PathBuf,
     /// Values per bifurcation sweep, accepted [11, 2001]
@@ -23,6 +23,9 @@ pub struct ReproduceArgs {
     /// reference constants) instead of the defaults
     #[arg(long, value_name = "FILE")]
     pub params: Option<PathBuf>,
+    /// File type of the figures
+    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    pub format: FigureFormat,
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
     pub threads: Option<usize>,
@@ -46,7 +49,13 @@ pub fn run(args: &ReproduceArgs) -> CliResult {
     let start = Instant::now();
     let r = pool
         .install(|| {
-            polywear::reproduce::reproduce(&base, &args.out, args.steps, args.paired_samples)
+            polywear::reproduce::reproduce_as(
+                &base,
+                &args.out,
+                args.steps,
+                args.paired_samples,
+                args.format.ext(),
+            )
         })
         .map_err(CliError)?;
     println!(
