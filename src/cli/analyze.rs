@@ -16,7 +16,7 @@ pub struct AnalyzeArgs {
     /// directories)
     #[arg(value_name = "DIR", required = true)]
     pub inputs: Vec<PathBuf>,
-    /// Where the report goes [default: <first input>/_report]
+    /// Where the report goes, created when missing [default: <first input>/_report]
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Bins per axis for conditional probabilities, accepted [2, 200]

@@ -16,7 +16,7 @@ pub struct CalibrateArgs {
     /// Parameters to fit, comma-separated (overrides the file's `fit`)
     #[arg(long, value_name = "A,B,...", value_delimiter = ',')]
     pub fit: Vec<String>,
-    /// Where the fitted parameter file goes
+    /// Where the fitted parameter file goes (a missing folder is created)
     #[arg(
         long,
         value_name = "FILE",

@@ -20,7 +20,8 @@ pub struct ClassifyArgs {
     /// one operating point per row; other columns are refused, missing parameters keep defaults
     #[arg(value_name = "POINTS.csv")]
     pub points: PathBuf,
-    /// Output: FILE.csv or FILE.parquet, one row per point and wheel (column `point` = row index)
+    /// Output: FILE.csv or FILE.parquet, one row per point and wheel (column `point` = row index);
+    /// a missing folder is created
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
     /// Friction variant: sliding_share (default), paper or combined (see `simulate --help`)
