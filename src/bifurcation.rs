@@ -12,10 +12,13 @@ use crate::numeric::brent;
 use crate::params::Params;
 use crate::plot::{self, Series};
 use crate::records::WheelRecord;
+use crate::wording::plain;
 
 /// The result of a sweep: one record per (value, wheel), in `jobs` order.
 #[derive(Debug, Clone)]
 pub struct Sweep {
+    /// The values of every parameter but the swept one.
+    pub base: Params,
     /// The parameter swept.
     pub param: &'static str,
     /// Its unit.
@@ -55,6 +58,7 @@ pub fn sweep(
         .collect();
     let hopf = locate_hopf(base, param, &jobs, &records, variant);
     Sweep {
+        base: *base,
         param,
         unit: spec.unit,
         variant,
@@ -144,17 +148,60 @@ pub fn locate_hopf(
 }
 
 impl Sweep {
-    /// Draws the paper's two views: Re λ against the parameter, and the limit-cycle envelope.
+    /// Draws the paper's two views: Re λ against the parameter (in full, and zoomed on zero
+    /// where the Hopf points are), and the limit-cycle envelope. PNG or SVG by the extension.
     pub fn draw(&self, path: &Path) -> Result<(), String> {
-        draw(
-            path,
-            self.param,
-            self.unit,
-            self.variant,
-            &self.jobs,
-            &self.records,
-            &self.hopf,
-        )
+        draw(path, self)
+    }
+
+    /// The operating point held fixed while the parameter is swept, and every other parameter
+    /// that differs from its default: "speed 120 km/h, load 4000 N, pressure 240 kPa".
+    pub fn held_fixed(&self) -> String {
+        held_fixed(&self.base, self.param)
+    }
+
+    /// One plain sentence per wheel and window of vibration, e.g. "follower vibrates for
+    /// toe-in 0.0812°–0.427°" (the equilibrium is unstable there: between Hopf points or a
+    /// Hopf point and the sweep's end), or that the wheel is stable over the whole sweep.
+    pub fn windows_in_words(&self, wheel: Wheel) -> Vec<String> {
+        let what = crate::params::label(self.param).to_lowercase();
+        let (first, last) = match (self.jobs.first(), self.jobs.last()) {
+            (Some(a), Some(b)) => (a.0.min(b.0), a.0.max(b.0)),
+            _ => return vec![],
+        };
+        // "0.081°–0.427°", but "95–143 km/h".
+        let span = |a: f64, b: f64| {
+            let (lo, hi) = (a.min(b), a.max(b));
+            if self.unit == "deg" {
+                format!(
+                    "{}–{}",
+                    value_with_unit(lo, "deg"),
+                    value_with_unit(hi, "deg")
+                )
+            } else {
+                format!("{}–{}", plain(lo, 3), value_with_unit(hi, self.unit))
+            }
+        };
+        let ranges = self.unstable_ranges(wheel);
+        if ranges.is_empty() {
+            return vec![format!(
+                "{wheel} is stable over the whole sweep ({what} {})",
+                span(first, last)
+            )];
+        }
+        ranges
+            .iter()
+            .map(|&(a, b)| {
+                if a.min(b) <= first && a.max(b) >= last {
+                    format!(
+                        "{wheel} vibrates over the whole sweep ({what} {})",
+                        span(a, b)
+                    )
+                } else {
+                    format!("{wheel} vibrates for {what} {}", span(a, b))
+                }
+            })
+            .collect()
     }
 
     /// Intervals of the parameter where the wheel's equilibrium is unstable, from the Hopf points
@@ -187,18 +234,72 @@ impl Sweep {
     }
 }
 
+/// A value and its unit as written in a sentence: `0.081°`, `120 km/h`, `0.9` (no unit).
+fn value_with_unit(v: f64, unit: &str) -> String {
+    let v = plain(v, 3);
+    match unit {
+        "deg" => format!("{v}°"),
+        "" | "-" => v,
+        u => format!("{v} {u}"),
+    }
+}
+
+/// See [`Sweep::held_fixed`].
+pub fn held_fixed(base: &Params, swept: &str) -> String {
+    let defaults = Params::default();
+    let mut parts: Vec<String> = crate::params::SPECS
+        .iter()
+        .filter(|s| s.name != swept)
+        .filter(|s| {
+            s.group == crate::params::Group::OperatingPoint
+                || base.get(s.name) != defaults.get(s.name)
+        })
+        .map(|s| {
+            let v = base.get(s.name).expect("a parameter");
+            let name = match s.group {
+                crate::params::Group::OperatingPoint => crate::params::label(s.name).to_lowercase(),
+                _ => s.name.to_string(),
+            };
+            format!("{name} {}", value_with_unit(v, s.unit))
+        })
+        .collect();
+    if parts.is_empty() {
+        parts.push("all other parameters at their defaults".into());
+    }
+    parts.join(", ")
+}
+
+/// Half-height of the zoomed eigenvalue panel: twice the largest |Re λ| at the sweep values
+/// next to a sign change (so each crossing is seen with its neighbours), or twice the smallest
+/// |Re λ| when there is none (how close the sweep comes to a Hopf point).
+fn zoom_half_height(pts: &[(Wheel, Vec<(f64, f64)>)]) -> f64 {
+    let mut near = 0.0f64;
+    let mut closest = f64::INFINITY;
+    for (_, p) in pts {
+        for w in p.windows(2) {
+            let (a, b) = (w[0].1, w[1].1);
+            if a.is_finite() && b.is_finite() && (a < 0.0) != (b < 0.0) {
+                near = near.max(a.abs()).max(b.abs());
+            }
+        }
+        for q in p.iter().filter(|q| q.1.is_finite()) {
+            closest = closest.min(q.1.abs());
+        }
+    }
+    let h = if near > 0.0 { near } else { closest };
+    if h.is_finite() && h > 0.0 {
+        2.0 * h
+    } else {
+        1.0
+    }
+}
+
 /// Points drawn for one sweep value and its record.
 type PointsOf = dyn Fn(f64, &WheelRecord) -> Vec<(f64, f64)>;
 
-fn draw(
-    path: &std::path::Path,
-    name: &str,
-    unit: &str,
-    variant: Variant,
-    jobs: &[(f64, Wheel)],
-    records: &[WheelRecord],
-    hopf: &[HopfPoint],
-) -> Result<(), String> {
+fn draw(path: &std::path::Path, sw: &Sweep) -> Result<(), String> {
+    let (name, unit, variant) = (sw.param, sw.unit, sw.variant);
+    let (jobs, records) = (&sw.jobs, &sw.records);
     let per_wheel = |f: &PointsOf| -> Vec<(Wheel, Vec<(f64, f64)>)> {
         Wheel::BOTH
             .iter()
@@ -215,34 +316,41 @@ fn draw(
     };
     let eig = per_wheel(&|x, r| vec![(x, r.eig_re_max)]);
     let amp = per_wheel(&|x, r| vec![(x, r.amp_y_m * 1e3), (x, -r.amp_y_m * 1e3)]);
-    let hopf_text: Vec<String> = hopf
+    let zoom = zoom_half_height(&eig);
+    let windows: Vec<String> = Wheel::BOTH
         .iter()
-        .map(|h| format!("{} {:.4}", h.wheel, h.value))
+        .flat_map(|&w| sw.windows_in_words(w))
         .collect();
     let title = format!(
-        "Bifurcation in {name} ({variant} variant); Hopf: {}",
-        if hopf_text.is_empty() {
-            "none".into()
-        } else {
-            hopf_text.join(", ")
-        }
+        "{} sweep at {} ({variant} variant)",
+        crate::params::label(name),
+        sw.held_fixed(),
     );
-    let x_label = format!("{name} [{unit}]");
-    plot::panels(path, (1300, 1100), (2, 1), &title, |i, area| {
-        let (data, title, y, points) = if i == 0 {
-            (
+    let zoom_title = format!("Zoomed on zero: {}", windows.join("; "));
+    let x_label = crate::params::axis_label(name, unit);
+    plot::panels(path, (1400, 1500), (3, 1), &title, |i, area| {
+        let (data, title, y, points, range) = match i {
+            0 => (
                 &eig,
-                "Real part of the leading eigenvalue (the paper's Fig. 6 for speed)",
+                "Growth rate of a disturbance: real part of the leading eigenvalue (above 0: vibrates)",
                 "max Re(lambda) [1/s]",
                 false,
-            )
-        } else {
-            (
+                None,
+            ),
+            1 => (
+                &eig,
+                zoom_title.as_str(),
+                "max Re(lambda) [1/s]",
+                false,
+                Some((-zoom, zoom)),
+            ),
+            _ => (
                 &amp,
                 "Limit-cycle envelope of y - y0 (Figs. 7, 12, 14, 16)",
                 "+/- amplitude of y [mm]",
                 true,
-            )
+                None,
+            ),
         };
         let series: Vec<Series<'_>> = data
             .iter()
@@ -251,6 +359,6 @@ fn draw(
                 points: pts.clone(),
             })
             .collect();
-        plot::line_panel(area, title, &x_label, y, &series, points)
+        plot::line_panel_with(area, title, &x_label, y, &series, points, range, i < 2)
     })
 }

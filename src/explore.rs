@@ -11,13 +11,14 @@
 
 use std::collections::{BTreeMap, HashSet};
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use crate::classify::{classify_point_hinted, Class, ClassifierOptions, WheelVerdict};
 use crate::model::{ModelFailure, Variant, Wheel};
 use crate::output_dir::{self, DirLock};
 use crate::parquet_out::{write_durably, write_table_digest, Column};
+use crate::recorded_run::{changed_lines, occupied, param_changes, shell_word};
 use crate::records::{record_columns, WheelRecord};
 use crate::study::{Sampler, Study};
 
@@ -254,14 +255,12 @@ impl RunPlan {
             return Ok(false);
         }
         if !self.resume {
-            return Err(e(
-                "directory is not empty; use --resume to continue the run there, or choose another directory".into(),
-            ));
+            return Err(e(occupied(dir)));
         }
         let manifest_path = dir.join(output_dir::MANIFEST);
         let text = std::fs::read_to_string(&manifest_path).map_err(|err| {
             e(format!(
-                "nothing to resume here ({}: {err})",
+                "nothing to resume here ({}: {err}); accepted: a directory written by `polywear explore`, or an empty or absent one",
                 manifest_path.display()
             ))
         })?;
@@ -277,10 +276,19 @@ impl RunPlan {
                 crate::sampling::RNG_NAME
             )));
         }
+        if old["study"] != new["study"] {
+            let lines = changed_lines(
+                old["study"].as_str().unwrap_or(""),
+                new["study"].as_str().unwrap_or(""),
+            );
+            return Err(e(format!(
+                "--resume: this directory holds a run of another study; the lines that differ (- the run's, + this one's):\n    {}\nleave the study file out to continue the run with its own study, or choose another --out",
+                lines.join("\n    ")
+            )));
+        }
         output_dir::same_operating_points(&old, &new).map_err(e)?;
         for key in [
             "polywear_version",
-            "study",
             "params",
             "seed",
             "samples",
@@ -288,10 +296,14 @@ impl RunPlan {
             "shard",
         ] {
             if old[key] != new[key] {
+                let what = if key == "params" {
+                    param_changes(&old[key], &new[key])
+                } else {
+                    format!("{key} {}, now {}", old[key], new[key])
+                };
                 return Err(e(format!(
-                    "--resume: this directory holds a different run ({key} was {}, now {})",
-                    short(&old[key]),
-                    short(&new[key])
+                    "--resume: this directory holds a different run (the run's {what}); continue it with `--resume --out {}` alone, or choose another --out",
+                    shell_word(&dir.display().to_string())
                 )));
             }
         }
@@ -373,6 +385,19 @@ impl RunPlan {
         out: &PreparedOutput,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<RunSummary, ExploreError> {
+        self.run_until(out, progress, &|| false)
+    }
+
+    /// [`RunPlan::run`] that stops early once `stop` returns true (a signal arrived): no chunk
+    /// starts after that, samples not yet begun are skipped, and a chunk in flight is written
+    /// only when all its samples were evaluated, else dropped. The journal thus records exactly
+    /// the chunks on disk, and `--resume` redoes the dropped ones.
+    pub fn run_until(
+        &self,
+        out: &PreparedOutput,
+        progress: &(dyn Fn(u64) + Sync),
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<RunSummary, ExploreError> {
         let sampler = self.study.sampler(self.seed, self.samples);
         let opts = ClassifierOptions {
             budget: self.study.budget,
@@ -387,6 +412,7 @@ impl RunPlan {
             sampler: &sampler,
             opts: &opts,
             progress,
+            stop,
             pending: Mutex::new(Box::new(out.pending(self))),
             summary: Mutex::new(summary),
             failure: Mutex::new(None),
@@ -487,6 +513,7 @@ struct Pipeline<'a> {
     sampler: &'a Sampler<'a>,
     opts: &'a ClassifierOptions,
     progress: &'a (dyn Fn(u64) + Sync),
+    stop: &'a (dyn Fn() -> bool + Sync),
     /// The chunks still to launch, in order (lazily: a huge run starts at once).
     pending: Mutex<Box<dyn Iterator<Item = u64> + Send + 'a>>,
     summary: Mutex<RunSummary>,
@@ -499,6 +526,8 @@ struct ChunkWork {
     lo: u64,
     rows: Mutex<Vec<Option<SampleRows>>>,
     remaining: AtomicU64,
+    /// A sample was skipped because the run is stopping: the chunk is not written.
+    dropped: AtomicBool,
 }
 
 impl<'a> Pipeline<'a> {
@@ -509,7 +538,7 @@ impl<'a> Pipeline<'a> {
     where
         'a: 's,
     {
-        if self.failure.lock().expect("lock").is_some() {
+        if self.failure.lock().expect("lock").is_some() || (self.stop)() {
             return;
         }
         let Some(chunk) = self.pending.lock().expect("lock").next() else {
@@ -523,15 +552,22 @@ impl<'a> Pipeline<'a> {
             lo,
             rows: Mutex::new((lo..hi).map(|_| None).collect()),
             remaining: AtomicU64::new(hi - lo),
+            dropped: AtomicBool::new(false),
         });
         for i in lo..hi {
             let work = Arc::clone(&work);
             s.spawn_fifo(move |s| {
-                let r = evaluate_sample(&plan.study, self.sampler, i, self.opts);
-                (self.progress)(1);
-                work.rows.lock().expect("lock")[(i - work.lo) as usize] = Some(r);
+                if (self.stop)() {
+                    work.dropped.store(true, Ordering::Release);
+                } else {
+                    let r = evaluate_sample(&plan.study, self.sampler, i, self.opts);
+                    (self.progress)(1);
+                    work.rows.lock().expect("lock")[(i - work.lo) as usize] = Some(r);
+                }
                 if work.remaining.fetch_sub(1, Ordering::AcqRel) == 1 {
-                    self.finish(&work);
+                    if !work.dropped.load(Ordering::Acquire) {
+                        self.finish(&work);
+                    }
                     self.launch_next(s);
                 }
             });
@@ -565,16 +601,6 @@ impl<'a> Pipeline<'a> {
         }
         summary.samples_evaluated += rows.len() as u64;
         summary.chunks_written += 1;
-    }
-}
-
-/// A value shortened to 60 characters for a message (cut at a character, never inside one).
-fn short(v: &serde_json::Value) -> String {
-    let s = v.to_string();
-    if s.chars().count() > 60 {
-        format!("{}…", s.chars().take(60).collect::<String>())
-    } else {
-        s
     }
 }
 
@@ -695,12 +721,5 @@ mod tests {
                 );
             }
         }
-    }
-
-    #[test]
-    fn short_cuts_at_a_character() {
-        let v = serde_json::Value::from(format!("# {}", "é".repeat(80)));
-        let s = short(&v);
-        assert_eq!(s.chars().count(), 61);
     }
 }

@@ -4,6 +4,8 @@
 
 use std::fmt;
 
+use crate::wording::plain;
+
 /// Where a default value comes from (MODEL.md#sources-and-the-lost-digits).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Provenance {
@@ -133,9 +135,12 @@ impl fmt::Display for ParamError {
         match self {
             ParamError::Unknown { name } => {
                 let names: Vec<&str> = SPECS.iter().map(|s| s.name).collect();
+                let hint = suggest_name(name)
+                    .map(|s| format!(" did you mean `{s}`?"))
+                    .unwrap_or_default();
                 write!(
                     f,
-                    "unknown parameter `{name}`; known parameters: {}",
+                    "unknown parameter `{name}`;{hint} accepted: {}",
                     names.join(", ")
                 )
             }
@@ -146,7 +151,8 @@ impl fmt::Display for ParamError {
                 unit,
             } => write!(
                 f,
-                "parameter `{name}` = {value} is outside its accepted range {range} {unit}"
+                "parameter `{name}` = {} is outside its accepted range {range} {unit}",
+                plain(*value, 12)
             ),
             ParamError::Inconsistent { message } => write!(f, "{message}"),
         }
@@ -257,6 +263,52 @@ pub const R0_OVERRIDES: &[(&str, f64)] = &[
     ("c_s", 18.0),
 ];
 
+/// Below this tire pressure [kPa] a value is more likely in bar (2.3 bar = 230 kPa).
+pub const PLAUSIBLE_PRESSURE_KPA: f64 = 50.0;
+/// Below this wheel load [N] a value is more likely in kg (400 kg carry 3923 N).
+pub const PLAUSIBLE_LOAD_N: f64 = 500.0;
+/// Standard gravity [m/s^2], for the kg-to-N hint.
+const STANDARD_GRAVITY: f64 = 9.80665;
+
+/// The parameter name closest to a misspelt `typed` one ("sped_kmh" → "speed_kmh", "speed" →
+/// "speed_kmh"), for "did you mean" in every place a name is typed: study keys, `--set`,
+/// `--param`, `--pair` and the columns of input files.
+pub fn suggest_name(typed: &str) -> Option<&'static str> {
+    crate::wording::closest(typed, SPECS.iter().map(|s| s.name))
+}
+
+/// A parameter named in words for titles, axes and sentences: "Speed", "Toe-in", "Load",
+/// "Pressure" for the operating point; otherwise the first clause of its description and its
+/// symbol ("Shear modulus of the tread rubber G"); an unknown name as it is.
+pub fn label(name: &str) -> String {
+    let short = match name {
+        "speed_kmh" => "Speed",
+        "toe_deg" => "Toe-in",
+        "load_n" => "Load",
+        "pressure_kpa" => "Pressure",
+        _ => {
+            let Some(s) = spec(name) else {
+                return name.to_string();
+            };
+            let clause = s.description.split([':', '.']).next().unwrap_or(name);
+            let clause = clause.split(" (").next().unwrap_or(name).trim();
+            return format!("{clause} {}", s.symbol);
+        }
+    };
+    short.to_string()
+}
+
+/// An axis label with its unit from the parameter table, "Speed [km/h]"; `unit` is used for a
+/// name that is not a parameter (a record column); no brackets for a dimensionless one.
+pub fn axis_label(name: &str, unit: &str) -> String {
+    let unit = spec(name).map_or(unit, |s| s.unit);
+    if unit.is_empty() || unit == "-" {
+        label(name)
+    } else {
+        format!("{} [{unit}]", label(name))
+    }
+}
+
 /// Looks a parameter up by name.
 pub fn spec(name: &str) -> Option<&'static ParamSpec> {
     SPECS.iter().find(|s| s.name == name)
@@ -292,7 +344,8 @@ impl Params {
             return Err(ParamError::Inconsistent {
                 message: format!(
                     "parameter `mu_s` = {} must not exceed `mu_m` = {} (sliding friction is at most the static maximum)",
-                    self.mu_s, self.mu_m
+                    plain(self.mu_s, 12),
+                    plain(self.mu_m, 12)
                 ),
             });
         }
@@ -300,11 +353,36 @@ impl Params {
             return Err(ParamError::Inconsistent {
                 message: format!(
                     "parameter `n_driven` = {} must not exceed `n_wheels` = {}",
-                    self.n_driven, self.n_wheels
+                    plain(self.n_driven, 12),
+                    plain(self.n_wheels, 12)
                 ),
             });
         }
         Ok(())
+    }
+
+    /// Values that are accepted but implausible for a road tire, each with the unit mix-up that
+    /// most likely produced it (a pressure in bar, a load in kg). Printed as warnings: the
+    /// model still evaluates them, and a contact patch it cannot form is reported per wheel.
+    pub fn unit_warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if self.pressure_kpa < PLAUSIBLE_PRESSURE_KPA {
+            out.push(format!(
+                "pressure_kpa = {} kPa is implausibly low for a tire (below {PLAUSIBLE_PRESSURE_KPA} kPa); was it in bar? {} bar = {} kPa",
+                plain(self.pressure_kpa, 6),
+                plain(self.pressure_kpa, 6),
+                plain(self.pressure_kpa * 100.0, 6)
+            ));
+        }
+        if self.load_n < PLAUSIBLE_LOAD_N {
+            out.push(format!(
+                "load_n = {} N is implausibly low for a wheel load (below {PLAUSIBLE_LOAD_N} N); was it in kg? {} kg carry {} N",
+                plain(self.load_n, 6),
+                plain(self.load_n, 6),
+                plain(self.load_n * STANDARD_GRAVITY, 4)
+            ));
+        }
+        out
     }
 
     /// Vehicle speed in m/s (MODEL.md#operating-point-and-wheels: SI units inside).
@@ -352,6 +430,8 @@ mod tests {
             p.set("nope", 1.0),
             Err(ParamError::Unknown { .. })
         ));
+        let e = p.set("sped_kmh", 1.0).unwrap_err().to_string();
+        assert!(e.starts_with("unknown parameter `sped_kmh`; did you mean `speed_kmh`? accepted: speed_kmh, toe_deg"), "{e}");
         let e = p.set("toe_deg", 0.0).unwrap_err().to_string();
         assert!(e.contains("toe_deg") && e.contains("(0, 10]"), "{e}");
         assert!(p.set("load_n", f64::NAN).is_err());

@@ -63,7 +63,12 @@ fn bounds(axis: &str) -> (f64, f64) {
 }
 
 /// Fig. 4: lateral against longitudinal force as the slip ratio grows, for several slip angles.
-fn adhesion_ellipse(base: &Params, dir: &Path, files: &mut Vec<PathBuf>) -> Result<(), String> {
+fn adhesion_ellipse(
+    base: &Params,
+    dir: &Path,
+    ext: &str,
+    files: &mut Vec<PathBuf>,
+) -> Result<(), String> {
     let angles = [0.5, 1.0, 2.0, 4.0];
     let slips: Vec<f64> = (0..=200)
         .map(|i| 0.5 * (i as f64 / 200.0).powi(2))
@@ -94,7 +99,7 @@ fn adhesion_ellipse(base: &Params, dir: &Path, files: &mut Vec<PathBuf>) -> Resu
         );
         series.push(Series { label, points: pts });
     }
-    let png = dir.join("fig4_adhesion.png");
+    let png = dir.join(format!("fig4_adhesion.{ext}"));
     plot::panels(
         &png,
         (1000, 760),
@@ -135,10 +140,21 @@ pub fn reproduce(
     steps: usize,
     paired_samples: u64,
 ) -> Result<Reproduction, String> {
+    reproduce_as(base, dir, steps, paired_samples, "png")
+}
+
+/// [`reproduce`] with the figures written as `ext` files: `png` or `svg`.
+pub fn reproduce_as(
+    base: &Params,
+    dir: &Path,
+    steps: usize,
+    paired_samples: u64,
+    ext: &str,
+) -> Result<Reproduction, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut files = Vec::new();
     let opts = ClassifierOptions::default();
-    adhesion_ellipse(base, dir, &mut files)?;
+    adhesion_ellipse(base, dir, ext, &mut files)?;
 
     // Bifurcation diagrams (Figs. 6, 7, 12, 14, 16, 18, 20, 22, 23) for all three variants.
     let mut sweeps = Vec::new();
@@ -146,7 +162,7 @@ pub fn reproduce(
         for (axis, from, to) in AXES {
             let name = crate::params::spec(axis).expect("known").name;
             let sw = sweep(base, name, &linspace(from, to, steps), variant, &opts);
-            let png = dir.join(format!("bifurcation_{axis}_{variant}.png"));
+            let png = dir.join(format!("bifurcation_{axis}_{variant}.{ext}"));
             sw.draw(&png)?;
             files.push(png);
             sweeps.push(sw);
@@ -185,7 +201,7 @@ pub fn reproduce(
 
     // Fig. 18: the cycle amplitude against speed, follower beside the driving wheel of each
     // variant (the follower is the same in every variant).
-    amplitude_vs_speed(&sweeps, dir, &mut files)?;
+    amplitude_vs_speed(&sweeps, dir, ext, &mut files)?;
 
     // Time histories, phase portraits and spectra at the paper's points (Figs. 8–10, 13, 15, 17,
     // 19), both wheels in each figure, under the default variant; the driving wheel at 100 km/h
@@ -214,7 +230,7 @@ pub fn reproduce(
                 series.push((wheel, time_series(m, 3.0, 20_000.0, opts.disturbance_m)));
             }
         }
-        let png = dir.join(format!("{name}.png"));
+        let png = dir.join(format!("{name}.{ext}"));
         plot_point(&png, &series, &records, 20_000.0)?;
         files.push(png);
         point_records.push((name, records));
@@ -246,6 +262,7 @@ pub fn reproduce(
 fn amplitude_vs_speed(
     sweeps: &[Sweep],
     dir: &Path,
+    ext: &str,
     files: &mut Vec<PathBuf>,
 ) -> Result<(), String> {
     let mut labels = Vec::new();
@@ -284,7 +301,7 @@ fn amplitude_vs_speed(
         .zip(points)
         .map(|(label, points)| Series { label, points })
         .collect();
-    let png = dir.join("fig18_amplitude_vs_speed.png");
+    let png = dir.join(format!("fig18_amplitude_vs_speed.{ext}"));
     plot::panels(
         &png,
         (1000, 700),
@@ -535,7 +552,7 @@ fn report(
     let amp = |pt: &str, w: Wheel| rec(pt, w).map_or(f64::NAN, |r| r.amp_y_m);
     let _ = writeln!(
         s,
-        "\nUnder `{d}` the driving wheel's amplitude at 100 km/h is {:.0}% of the follower's (the paper: lower oscillation energy). `fig18_amplitude_vs_speed.png` draws the amplitude against speed for the follower and each variant's driving wheel; `fig9_10_speed100.png` and `fig19_speed150.png` show both wheels' time histories.",
+        "\nUnder `{d}` the driving wheel's amplitude at 100 km/h is {:.0}% of the follower's (the paper: lower oscillation energy). `fig18_amplitude_vs_speed` draws the amplitude against speed for the follower and each variant's driving wheel; `fig9_10_speed100` and `fig19_speed150` show both wheels' time histories.",
         100.0 * amp("fig9_10_speed100", Wheel::Driving) / amp("fig9_10_speed100", f)
     );
 
@@ -595,13 +612,15 @@ fn report(
     let _ = writeln!(s, "- The shipped constants G, C and α2 (reconstructed, MODEL.md#constants; α2's digits were all lost) are fitted to both wheels' legible Table 3 results under `sliding_share` (`polywear calibrate studies/paper_targets.toml`), with the decoded constants kept at values their legible digits allow. The reference constants R0 (MODEL.md#r0-and-the-shipped-defaults) remain available as `--params studies/params_r0.toml`. `studies/decoding.toml` checks that the conclusion does not hang on one reading of the lost digits.\n");
 
     let _ = writeln!(s, "## Figures\n");
-    for f in files.iter().filter(|f| name(f).ends_with(".png")) {
-        let _ = writeln!(
-            s,
-            "### {}\n\n![]({})\n",
-            name(f).trim_end_matches(".png"),
-            name(f)
-        );
+    let is_figure = |f: &PathBuf| {
+        f.extension()
+            .is_some_and(|e| crate::plot::backend::FORMATS.iter().any(|x| e == *x))
+    };
+    for f in files.iter().filter(|f| is_figure(f)) {
+        let stem = f
+            .file_stem()
+            .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+        let _ = writeln!(s, "### {stem}\n\n![]({})\n", name(f));
     }
     let _ = writeln!(s, "Tables: `bifurcation.parquet` (every sweep, both wheels, all three variants), `fig4_adhesion.csv`.");
     s

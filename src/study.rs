@@ -88,7 +88,7 @@ pub enum StudyError {
     #[error("`name` = \"{0}\" must be non-empty letters, digits, `_` or `-`")]
     BadName(String),
     /// A design that does not exist.
-    #[error("`design` = \"{0}\" is unknown; accepted: random, lhs, sobol, grid, saltelli")]
+    #[error("`design` = \"{0}\" is unknown;{hint} accepted: random, lhs, sobol, grid, saltelli", hint = did_you_mean(.0, ["random", "lhs", "sobol", "grid", "saltelli"]))]
     UnknownDesign(String),
     /// A variant listed twice.
     #[error("`variants` lists \"{0}\" twice")]
@@ -109,7 +109,7 @@ pub enum StudyError {
         key: String,
     },
     /// A distribution that does not exist.
-    #[error("`{key}.dist` = \"{dist}\" is unknown; accepted: {DISTS}, fixed")]
+    #[error("`{key}.dist` = \"{dist}\" is unknown;{hint} accepted: {DISTS}, fixed", hint = did_you_mean(dist, DISTS.split(", ").chain(["fixed"])))]
     UnknownDist {
         /// The key, in full.
         key: String,
@@ -117,7 +117,7 @@ pub enum StudyError {
         dist: String,
     },
     /// A key the distribution does not take.
-    #[error("`{key}.{field}` is not a key of a {dist} distribution; accepted: {accepted}")]
+    #[error("`{key}.{field}` is not a key of a {dist} distribution;{hint} accepted: {accepted}", hint = did_you_mean(field, accepted.split(", ")))]
     NotADistKey {
         /// The parameter's key.
         key: String,
@@ -234,6 +234,8 @@ const TOP_KEYS: &[&str] = &[
     "params",
     "operating_points",
 ];
+use crate::wording::did_you_mean;
+
 const DISTS: &str = "uniform, normal, truncated_normal, lognormal, levels";
 
 /// One `[params]` entry: a fixed value or a distribution.
@@ -354,6 +356,17 @@ fn parse_param(name: &str, v: &toml::Value) -> Result<ParamEntry, StudyError> {
 /// quantiles at the extreme coordinates (normal tails reach about ±8.1 sd), and every level.
 fn check_support(s: &ParamSpec, d: &Distribution) -> Result<(), StudyError> {
     let key = format!("params.{}", s.name);
+    // Levels are checked one by one, each named by its place in the list (counted from 0, as
+    // every `levels[i]` in a message).
+    if let Distribution::Levels(levels) = d {
+        for (i, x) in levels.iter().enumerate() {
+            s.check(*x).map_err(|source| StudyError::Param {
+                key: format!("{key}.levels[{i}]"),
+                source,
+            })?;
+        }
+        return Ok(());
+    }
     let (lo, hi) = (d.quantile(0.0), d.quantile(1.0 - f64::EPSILON));
     for (which, x) in [("smallest", lo), ("largest", hi)] {
         if let Err(source) = s.check(x) {
@@ -372,14 +385,6 @@ fn check_support(s: &ParamSpec, d: &Distribution) -> Result<(), StudyError> {
                 source,
                 hint,
             });
-        }
-    }
-    if let Distribution::Levels(levels) = d {
-        for (i, x) in levels.iter().enumerate() {
-            s.check(*x).map_err(|source| StudyError::Param {
-                key: format!("{key}.levels[{i}]"),
-                source,
-            })?;
         }
     }
     Ok(())

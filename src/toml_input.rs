@@ -193,7 +193,10 @@ impl<'a> Section<'a> {
         match self.table.keys().find(|k| !accepted.contains(&k.as_str())) {
             Some(k) => Err(TomlError::UnknownKey {
                 key: self.key(k),
-                accepted: hint.to_string(),
+                accepted: match crate::wording::closest(k, accepted.iter().copied()) {
+                    Some(c) => format!("did you mean `{c}`? {hint}"),
+                    None => hint.to_string(),
+                },
             }),
             None => Ok(()),
         }

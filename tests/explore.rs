@@ -165,7 +165,10 @@ fn resume_after_kill_gives_the_uninterrupted_rows() {
         "--resume",
     ]);
     assert_eq!(code, 2);
-    assert!(stderr.contains("different run"), "{stderr}");
+    assert!(
+        stderr.contains("--seed 5 contradicts the run's seed 11"),
+        "{stderr}"
+    );
     std::fs::remove_dir_all(&base).ok();
 }
 

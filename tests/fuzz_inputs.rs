@@ -285,7 +285,14 @@ fn command_line(rng: &mut Rng, fx: &Fixtures, case: usize) -> Vec<String> {
         2 => {
             a.push("classify".into());
             a.push(fx.csvs[rng.below(fx.csvs.len())].clone());
-            let outs = [out("csv"), out("txt"), "no/such/dir/x.csv".to_string()];
+            // A missing folder is created, so it lies inside the fixture's folder.
+            let missing = fx
+                .dir
+                .join("no/such/dir/x.csv")
+                .to_str()
+                .unwrap()
+                .to_string();
+            let outs = [out("csv"), out("txt"), missing];
             a.extend(["--out".into(), outs[rng.below(3)].clone()]);
             if rng.below(2) == 0 {
                 flag(&mut a, "--threads", &int, rng);

@@ -41,15 +41,21 @@ pub fn conditional(
         path,
         (520 * cols as u32, 360 * rows as u32 + 40),
         (rows, cols),
-        &format!("P(limit cycle | parameter), {variant} variant, 95% Wilson bands"),
+        &format!("Risk of tread vibration by parameter ({variant} variant; shaded or bars: 95% interval)"),
         |i, area| {
             let Some(axis) = axes.get(i) else {
                 return Ok(());
             };
+            // Levels (lo = hi) are drawn as points: nothing lies between them.
+            let discrete = bins
+                .iter()
+                .filter(|b| &b.axis == axis)
+                .all(|b| b.lo == b.hi);
             let bands: Vec<maps::Band<'_>> = Wheel::BOTH
                 .iter()
                 .map(|wh| maps::Band {
                     label: wh.as_str(),
+                    discrete,
                     points: bins
                         .iter()
                         .filter(|b| {
@@ -65,13 +71,21 @@ pub fn conditional(
                         .collect(),
                 })
                 .collect();
-            maps::band_panel(area, axis, &label(axis), "P(limit cycle)", &bands)
+            maps::band_panel(
+                area,
+                &crate::params::label(axis),
+                &label(axis),
+                "Risk of vibration",
+                &bands,
+            )
         },
     )
 }
 
-/// One risk map: follower, driving and their difference side by side; grey cells hold fewer
-/// than `min_count` classified rows.
+/// One risk map: the risk of vibration of the follower and the driving wheel in percent, side
+/// by side, and the difference in percentage points (blue where the driving wheel is less
+/// exposed); grey cells hold fewer than `min_count` classified rows. Small grids carry their
+/// numbers in the cells.
 pub fn risk_map(
     path: &Path,
     map: &RiskMap,
@@ -111,8 +125,13 @@ pub fn risk_map(
             .collect(),
     ];
     let (xe, ye) = (draw_edges(&map.x_bins), draw_edges(&map.y_bins));
-    let pf = map.probability(Wheel::Follower, min_count);
-    let pd = map.probability(Wheel::Driving, min_count);
+    let percent = |w| -> Vec<Vec<f64>> {
+        map.probability(w, min_count)
+            .iter()
+            .map(|c| c.iter().map(|p| 100.0 * p).collect())
+            .collect()
+    };
+    let (pf, pd) = (percent(Wheel::Follower), percent(Wheel::Driving));
     let diff: Vec<Vec<f64>> = pd
         .iter()
         .zip(&pf)
@@ -123,27 +142,36 @@ pub fn risk_map(
         .flatten()
         .filter(|v| v.is_finite())
         .fold(0.0f64, |m, v| m.max(v.abs()))
-        .max(1e-3);
+        .max(0.1);
     let title = format!(
-        "Risk of polygonal wear: P(limit cycle) over {x} × {y} ({} variant; grey: fewer than {min_count} samples)",
+        "Risk of tread vibration (polygonal wear) over {} and {} ({} variant; grey: fewer than {min_count} samples)",
+        crate::params::label(x).to_lowercase(),
+        crate::params::label(y).to_lowercase(),
         map.variant
     );
-    plot::figure(path, (1900, 620), &title, |area| {
+    plot::figure(path, (2100, 760), &title, |area| {
         let parts = area.split_evenly((1, 3));
         for (k, (part, (name, values))) in parts
             .iter()
             .zip([
-                ("follower", &pf),
-                ("driving", &pd),
-                ("driving − follower", &diff),
+                ("Risk of tread vibration, follower wheel", &pf),
+                ("Risk of tread vibration, driving wheel", &pd),
+                (
+                    "Driving minus follower (blue: driving wheel less exposed)",
+                    &diff,
+                ),
             ])
             .enumerate()
         {
-            let (main, bar) = part.split_horizontally(part.dim_in_pixel().0 as i32 - 100);
+            let (main, bar) = part.split_horizontally(part.dim_in_pixel().0 as i32 - 120);
             let (range, cmap, bar_label): ((f64, f64), maps::ColorMap, &str) = if k < 2 {
-                ((0.0, 1.0), maps::viridis, "P(limit cycle)")
+                ((0.0, 100.0), maps::viridis, "Risk of vibration [%]")
             } else {
-                ((-max_abs, max_abs), maps::diverging, "difference")
+                (
+                    (-max_abs, max_abs),
+                    maps::diverging,
+                    "Difference [percentage points]",
+                )
             };
             maps::heatmap(
                 &main,

@@ -106,10 +106,17 @@ pub fn parquet_files(inputs: &[PathBuf]) -> Result<(Vec<PathBuf>, Vec<PathBuf>),
         }
     }
     if files.is_empty() {
+        let names: Vec<String> = inputs.iter().map(|p| p.display().to_string()).collect();
         return Err(if manifests.is_empty() {
-            "no Parquet files found in the given inputs".into()
+            format!(
+                "no Parquet files in {}; accepted: an explore output directory (chunk-*.parquet), Parquet files, or several of them",
+                names.join(", ")
+            )
         } else {
-            "the inputs hold no rows: every directory is an explore output without chunk files (empty shards)".into()
+            format!(
+                "{} hold no rows: every directory is an explore output without chunk files (empty shards or a run stopped before its first chunk; `polywear explore --resume --out DIR` continues one)",
+                names.join(", ")
+            )
         });
     }
     Ok((files, manifests))

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use super::report::{Analysis, ReportOptions};
 use crate::classify::Class;
+use crate::wording::plain;
 
 fn pct(p: f64) -> String {
     if p.is_finite() {
@@ -141,11 +142,9 @@ pub fn page(opts: &ReportOptions, a: &Analysis) -> String {
     }
     let _ = writeln!(s, "### Risk maps\n");
     let _ = writeln!(s, "P(limit cycle) over pairs of axes, per wheel, and the driving-minus-follower difference. Grey cells hold fewer than {} classified samples: unknown, not zero. Tables: `riskmap_<x>_<y>.csv` and `.parquet`.\n", opts.min_count);
-    for f in a
-        .files
-        .iter()
-        .filter(|f| rel(f).starts_with("riskmap_") && rel(f).ends_with(".png"))
-    {
+    for f in a.files.iter().filter(|f| {
+        rel(f).starts_with("riskmap_") && rel(f).ends_with(&format!(".{}", opts.figure_format))
+    }) {
         let _ = writeln!(s, "![]({})\n", rel(f));
     }
     for n in &a.notes {
@@ -162,23 +161,21 @@ pub fn page(opts: &ReportOptions, a: &Analysis) -> String {
     for v in &a.severity {
         let _ = writeln!(
             s,
-            "| {} | {} | {} [{}] | {} | {:.4e} | {:.4e} | {:.4e} | {:.4e} |",
+            "| {} | {} | {} [{}] | {} | {} | {} | {} | {} |",
             v.variant,
             v.wheel,
             v.quantity,
             v.unit,
             v.n,
-            v.mean,
-            v.quantiles[0],
-            v.quantiles[2],
-            v.quantiles[4]
+            plain(v.mean, 4),
+            plain(v.quantiles[0], 4),
+            plain(v.quantiles[2], 4),
+            plain(v.quantiles[4], 4)
         );
     }
-    for f in a
-        .files
-        .iter()
-        .filter(|f| rel(f).starts_with("severity_") && rel(f).ends_with(".png"))
-    {
+    for f in a.files.iter().filter(|f| {
+        rel(f).starts_with("severity_") && rel(f).ends_with(&format!(".{}", opts.figure_format))
+    }) {
         let _ = writeln!(s, "\n![]({})", rel(f));
     }
     let _ = writeln!(s, "\n## Which parameters drive it?\n");

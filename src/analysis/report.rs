@@ -28,6 +28,8 @@ pub struct ReportOptions {
     pub pairs: Vec<(String, String)>,
     /// Bootstrap resamples behind the Sobol indices' intervals.
     pub bootstrap: usize,
+    /// File type of the figures: `png` or `svg` ([`crate::plot::backend::FORMATS`]).
+    pub figure_format: &'static str,
 }
 
 impl ReportOptions {
@@ -57,6 +59,7 @@ impl ReportOptions {
             min_count: Self::DEFAULT_MIN_COUNT,
             pairs: Self::default_pairs(),
             bootstrap: Self::DEFAULT_BOOTSTRAP,
+            figure_format: "png",
         }
     }
 }
@@ -212,16 +215,10 @@ pub fn analyze(info: RunInfo, opts: &ReportOptions) -> Result<Analysis, String> 
     }
 
     // Figures.
-    let label = |name: &str| {
-        let unit = info.unit(name);
-        if unit.is_empty() || unit == "-" {
-            name.to_string()
-        } else {
-            format!("{name} [{unit}]")
-        }
-    };
+    let label = |name: &str| crate::params::axis_label(name, info.unit(name));
+    let ext = opts.figure_format;
     for &variant in &variants {
-        let p = dir.join(format!("conditional_{variant}.png"));
+        let p = dir.join(format!("conditional_{variant}.{ext}"));
         figures::conditional(
             &p,
             variant,
@@ -234,7 +231,7 @@ pub fn analyze(info: RunInfo, opts: &ReportOptions) -> Result<Analysis, String> 
     }
     let study = info.parsed_study();
     for map in &maps {
-        let p = dir.join(format!("riskmap_{}_{}_{}.png", map.x, map.y, map.variant));
+        let p = dir.join(format!("riskmap_{}_{}_{}.{ext}", map.x, map.y, map.variant));
         let nominal = study.as_ref().and_then(|s| {
             crate::chart::nominal_curves(
                 s,
@@ -249,7 +246,7 @@ pub fn analyze(info: RunInfo, opts: &ReportOptions) -> Result<Analysis, String> 
         files.push(p);
     }
     for &variant in &variants {
-        let p = dir.join(format!("severity_{variant}.png"));
+        let p = dir.join(format!("severity_{variant}.{ext}"));
         figures::severity(&p, variant, &severity)?;
         files.push(p);
     }

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use clap::Args;
 
-use super::common::{CliError, CliResult};
+use super::common::{CliError, CliResult, FigureFormat};
 use polywear::analysis::inputs::check_inputs;
 use polywear::analysis::report::{analyze, Analysis, ReportOptions};
 
@@ -24,7 +24,7 @@ pub struct AnalyzeArgs {
     /// directories)
     #[arg(value_name = "DIR", required = true)]
     pub inputs: Vec<PathBuf>,
-    /// Where the report goes [default: <first input>/_report]
+    /// Where the report goes, created when missing [default: <first input>/_report]
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Bins per axis for conditional probabilities, accepted [2, 200]
@@ -43,6 +43,9 @@ pub struct AnalyzeArgs {
     /// Bootstrap resamples for the Sobol indices' intervals, accepted [10, 100000]
     #[arg(long, default_value_t = ReportOptions::DEFAULT_BOOTSTRAP, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--bootstrap", 10, 100_000))]
     pub bootstrap: usize,
+    /// File type of the figures
+    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    pub format: FigureFormat,
 }
 
 fn parse_pair(s: &str) -> Result<(String, String), String> {
@@ -52,11 +55,14 @@ fn parse_pair(s: &str) -> Result<(String, String), String> {
     let (a, b) = (a.trim(), b.trim());
     for n in [a, b] {
         if polywear::params::spec(n).is_none() {
-            return Err(format!("--pair: unknown parameter `{n}`"));
+            let e = polywear::params::ParamError::Unknown {
+                name: n.to_string(),
+            };
+            return Err(format!("--pair `{s}`: {e}"));
         }
     }
     if a == b {
-        return Err(format!("--pair `{s}`: the two axes must differ"));
+        return Err(format!("--pair `{s}`: the two axes must differ; accepted: two different parameter names, e.g. g_mod,load_n"));
     }
     Ok((a.to_string(), b.to_string()))
 }
@@ -101,6 +107,7 @@ pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
         min_count: args.min_count,
         pairs,
         bootstrap: args.bootstrap,
+        figure_format: args.format.ext(),
     };
     report(&args.inputs, &opts, verbose)
 }

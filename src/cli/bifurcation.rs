@@ -5,13 +5,14 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::common::{base_metadata, BudgetArgs, CliError, CliResult, PointArgs};
+use super::common::{base_metadata, BudgetArgs, CliError, CliResult, FigureFormat, PointArgs};
 use polywear::bifurcation::{linspace, sweep};
 use polywear::classify::ClassifierOptions;
 use polywear::model::{Variant, Wheel};
 use polywear::params::spec;
 use polywear::parquet_out::{write_table, Column};
 use polywear::records::{record_columns, WheelRecord};
+use polywear::wording::plain;
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -40,9 +41,13 @@ pub struct BifurcationArgs {
     pub kick: Option<f64>,
     #[command(flatten)]
     pub budget: BudgetArgs,
-    /// Output prefix: writes PREFIX.parquet and PREFIX.png [default: data/bifurcation_<param>]
+    /// Output prefix: writes PREFIX.parquet and PREFIX.png (or .svg); a missing folder is
+    /// created [default: data/bifurcation_<param>]
     #[arg(long, value_name = "PREFIX")]
     pub out: Option<PathBuf>,
+    /// File type of the figure
+    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    pub format: FigureFormat,
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
     pub threads: Option<usize>,
@@ -71,12 +76,18 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
         p.validate().map_err(|e| CliError(format!("{flag}: {e}")))?;
     }
     if args.from == args.to {
-        return Err(CliError("--from and --to must differ".into()));
+        return Err(CliError(format!(
+            "--from and --to are both {}; accepted: two different values of {} in its range {} {}",
+            plain(args.from, 12),
+            s.name,
+            s.range_text(),
+            s.unit
+        )));
     }
     if let Some(k) = args.kick {
         if k.is_nan() || k <= 0.0 {
             return Err(CliError(format!(
-                "--kick = {k} m/s must be a positive number"
+                "--kick = {k} m/s is refused; accepted: a positive lateral velocity amplitude in m/s, e.g. 0.05"
             )));
         }
     }
@@ -100,9 +111,19 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
     let (jobs, records, hopf) = (&sw.jobs, &sw.records, &sw.hopf);
 
     println!(
-        "sweep of {} from {} to {} {} ({} values, variant {variant})",
-        s.name, args.from, args.to, s.unit, args.steps
+        "sweep of {} from {} to {} {} ({} values, variant {variant}) at {}",
+        s.name,
+        plain(args.from, 6),
+        plain(args.to, 6),
+        s.unit,
+        args.steps,
+        sw.held_fixed()
     );
+    for wheel in Wheel::BOTH {
+        for line in sw.windows_in_words(wheel) {
+            println!("{line}");
+        }
+    }
     for wheel in Wheel::BOTH {
         let rows: Vec<&WheelRecord> = records.iter().filter(|r| r.wheel == wheel).collect();
         let vib = rows.iter().filter(|r| r.class.vibrates()).count();
@@ -143,8 +164,8 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
     ));
     let pq = prefix.with_extension("parquet");
     write_table(&pq, &cols, &meta)?;
-    let png = prefix.with_extension("png");
-    sw.draw(&png).map_err(CliError)?;
-    eprintln!("wrote {} and {}", pq.display(), png.display());
+    let figure = prefix.with_extension(args.format.ext());
+    sw.draw(&figure).map_err(CliError)?;
+    eprintln!("wrote {} and {}", pq.display(), figure.display());
     Ok(())
 }

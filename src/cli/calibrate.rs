@@ -24,7 +24,7 @@ pub struct CalibrateArgs {
     /// Parameters to fit, comma-separated (overrides the file's `fit`)
     #[arg(long, value_name = "A,B,...", value_delimiter = ',')]
     pub fit: Vec<String>,
-    /// Where the fitted parameter file goes
+    /// Where the fitted parameter file goes (a missing folder is created)
     #[arg(
         long,
         value_name = "FILE",
@@ -43,7 +43,12 @@ pub fn run(args: &CalibrateArgs) -> CliResult {
         for n in &args.fit {
             let name = polywear::params::spec(n.trim())
                 .map(|s| s.name)
-                .ok_or_else(|| CliError(format!("--fit: unknown parameter `{n}`")))?;
+                .ok_or_else(|| {
+                    let e = polywear::params::ParamError::Unknown {
+                        name: n.trim().to_string(),
+                    };
+                    CliError(format!("--fit: {e}"))
+                })?;
             if fit.contains(&name) {
                 return Err(CliError(format!("--fit: `{name}` is named twice")));
             }

@@ -26,7 +26,8 @@ pub struct ClassifyArgs {
     /// one operating point per row; other columns are refused, missing parameters keep defaults
     #[arg(value_name = "POINTS.csv")]
     pub points: PathBuf,
-    /// Output: FILE.csv or FILE.parquet, one row per point and wheel (column `point` = row index)
+    /// Output: FILE.csv or FILE.parquet, one row per point and wheel (column `point` = row index);
+    /// a missing folder is created
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
     /// Friction variant: sliding_share (default), paper or combined (see `simulate --help`)
@@ -53,11 +54,10 @@ fn read_points(path: &PathBuf, base: &Params) -> CliResult<Vec<Params>> {
         .split(',')
         .map(|h| {
             spec(h.trim()).map(|s| s.name).ok_or_else(|| {
-                CliError(format!(
-                    "{}: column `{}` is not a parameter name",
-                    path.display(),
-                    h.trim()
-                ))
+                let e = polywear::params::ParamError::Unknown {
+                    name: h.trim().to_string(),
+                };
+                CliError(format!("{}: column `{}`: {e}", path.display(), h.trim()))
             })
         })
         .collect::<CliResult<_>>()?;
@@ -85,7 +85,7 @@ fn read_points(path: &PathBuf, base: &Params) -> CliResult<Vec<Params>> {
         for (name, cell) in header.iter().zip(cells) {
             let v: f64 = cell.trim().parse().map_err(|_| {
                 CliError(format!(
-                    "{}: row {}, `{name}` = `{cell}` is not a number",
+                    "{}: row {}, `{name}` = `{cell}` is not a number; accepted: a number in the parameter's unit",
                     path.display(),
                     i + 1
                 ))

@@ -35,17 +35,13 @@ pub type CliResult<T = ()> = Result<T, CliError>;
 /// The operating point and any other model parameter.
 #[derive(Debug, Args, Clone)]
 pub struct PointArgs {
-    /// Vehicle speed [km/h], accepted (0, 400]
-    #[arg(long, value_name = "KMH", allow_negative_numbers = true)]
+    #[arg(long, value_name = "KMH", allow_negative_numbers = true, help = flag_help("speed_kmh"))]
     pub speed: Option<f64>,
-    /// Toe-in (slip) angle [deg], accepted (0, 10]
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true, help = flag_help("toe_deg"))]
     pub toe: Option<f64>,
-    /// Vertical load on the tire [N], accepted (0, 50000]
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, help = flag_help("load_n"))]
     pub load: Option<f64>,
-    /// Tire pressure [kPa], accepted (0, 2000]
-    #[arg(long, value_name = "KPA", allow_negative_numbers = true)]
+    #[arg(long, value_name = "KPA", allow_negative_numbers = true, help = flag_help("pressure_kpa"))]
     pub pressure: Option<f64>,
     /// Any model parameter by name, e.g. `--set g_mod=0.9e6` (repeatable; `polywear params`
     /// lists names, units, defaults and ranges)
@@ -81,6 +77,23 @@ impl From<VariantArg> for Variant {
     }
 }
 
+/// File type of the figures a command writes.
+#[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq, Default)]
+pub enum FigureFormat {
+    #[default]
+    Png,
+    Svg,
+}
+
+impl FigureFormat {
+    pub fn ext(self) -> &'static str {
+        match self {
+            FigureFormat::Png => "png",
+            FigureFormat::Svg => "svg",
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
 pub enum WheelArg {
     Follower,
@@ -96,6 +109,19 @@ impl WheelArg {
             WheelArg::Both => Wheel::BOTH.to_vec(),
         }
     }
+}
+
+/// The help of an operating-point flag, from the parameter table: what it is, its unit, its
+/// accepted range and its default, e.g. "Vehicle speed [km/h], accepted (0, 400] [default: 100]".
+fn flag_help(name: &str) -> String {
+    let s = polywear::params::spec(name).expect("an operating-point parameter");
+    format!(
+        "{} [{}], accepted {} [default: {}]",
+        s.description.trim_end_matches('.'),
+        s.unit,
+        s.range_text(),
+        polywear::wording::plain(s.default, 6)
+    )
 }
 
 pub fn parse_assignment(s: &str) -> Result<(String, f64), String> {
@@ -128,6 +154,9 @@ impl PointArgs {
             }
         }
         p.validate()?;
+        for w in p.unit_warnings() {
+            eprintln!("warning: {w}");
+        }
         Ok(p)
     }
 }
@@ -170,24 +199,24 @@ pub fn parse_threads(s: &str) -> Result<usize, String> {
     whole_in("--threads", 1, THREADS_MAX as u64)(s)
 }
 
-/// Refuses an output file whose directory does not exist (or that is a directory), before any
-/// work starts.
+/// Prepares an output file before any work starts: a missing folder is created (as every
+/// command does with its output paths), a directory given as the file is refused.
 pub fn check_out_file(path: &Path, flag: &str) -> CliResult {
     if path.is_dir() {
         return Err(CliError(format!(
-            "{flag} {}: is a directory; give a file name",
+            "{flag} {}: is a directory; accepted: a file name",
             path.display()
         )));
     }
     let parent = path.parent().filter(|d| !d.as_os_str().is_empty());
     if let Some(dir) = parent {
-        if !dir.is_dir() {
-            return Err(CliError(format!(
-                "{flag} {}: directory {} does not exist",
+        std::fs::create_dir_all(dir).map_err(|e| {
+            CliError(format!(
+                "{flag} {}: cannot create the folder {}: {e}",
                 path.display(),
                 dir.display()
-            )));
-        }
+            ))
+        })?;
     }
     Ok(())
 }

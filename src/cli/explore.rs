@@ -1,14 +1,18 @@
 //! `polywear explore`: the batch study, with progress bar, summary, resume and shards.
 
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use super::common::{BudgetArgs, CliError, CliResult};
+use super::batch::{signal_name, Interrupt, ProgressLog};
+use super::common::{BudgetArgs, CliError, CliResult, FigureFormat};
 use polywear::explore::{RunPlan, Shard};
+use polywear::recorded_run::{changed_lines, param_changes, shell_word, RecordedRun};
 use polywear::study::{Study, DEFAULT_STUDY, SEED_MAX};
+use polywear::wording::plain;
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -38,12 +42,14 @@ pub struct ExploreArgs {
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
     pub threads: Option<usize>,
-    /// Output directory (must be empty or absent unless --resume)
+    /// Output directory, created when missing (must be empty or absent unless --resume)
     /// [default: data/explore_<study>_seed<seed>]
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Continue a killed run in --out: complete chunk files are kept, the rest is redone
-    /// (starts the run if --out is absent or empty)
+    /// Continue a stopped run in --out with its own study, parameters, samples, seed and shard
+    /// (`polywear explore --resume --out DIR`; repeating them is accepted, contradicting them is
+    /// refused). Complete chunk files are kept, the rest is redone; starts the run if --out is
+    /// absent or empty. SIGINT/SIGTERM stop a run cleanly and print this command
     #[arg(long)]
     pub resume: bool,
     /// Evaluate only shard k of N (k from 0), e.g. `--shard $SLURM_ARRAY_TASK_ID/16`; the N
@@ -54,50 +60,93 @@ pub struct ExploreArgs {
     /// parameter the study does not name
     #[arg(long, value_name = "FILE")]
     pub params: Option<PathBuf>,
-    /// No progress bar and no summary
+    /// No progress bar, progress lines or summary
     #[arg(long, short)]
     pub quiet: bool,
+    /// When stderr is not a terminal (a batch log), print a progress line (done, rate, ETA)
+    /// every S seconds instead of the bar, accepted [0.1, 86400]
+    #[arg(long, value_name = "S", default_value_t = 5.0, value_parser = parse_log_every)]
+    pub log_every: f64,
     /// Skip the analysis report (risk maps, probabilities) written to DIR/_report at the end
     #[arg(long)]
     pub no_report: bool,
+    /// File type of the report's figures
+    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    pub format: FigureFormat,
     #[command(flatten)]
     pub budget: BudgetArgs,
 }
 
 pub fn run(args: &ExploreArgs) -> CliResult {
-    let (source, origin) = match &args.study {
-        Some(path) => (
+    // `--resume --out DIR` continues the run recorded there: its study, parameters, samples,
+    // seed and shard are the defaults, and a flag that contradicts them is refused.
+    // A manifest this build cannot read back (damaged, or from a version that recorded less) is
+    // left to `prepare_output`, which says how the directory differs from this run.
+    let recorded = match (&args.out, args.resume) {
+        (Some(dir), true) => RecordedRun::read(dir)
+            .ok()
+            .flatten()
+            .map(|run| (dir.clone(), run)),
+        _ => None,
+    };
+    let (source, origin) = match (&args.study, &recorded) {
+        (Some(path), _) => (
             std::fs::read_to_string(path)
                 .map_err(|e| CliError(format!("study {}: {e}", path.display())))?,
             path.display().to_string(),
         ),
-        None => (
+        (None, Some((dir, run))) => (
+            run.study.clone(),
+            format!("the study recorded in {}", dir.display()),
+        ),
+        (None, None) => (
             DEFAULT_STUDY.to_string(),
             "built-in default study".to_string(),
         ),
     };
-    let base = super::common::base_params(args.params.as_deref())?;
-    // A relative `[operating_points]` file is found beside the study file.
-    let study_dir = args.study.as_deref().and_then(Path::parent);
-    let mut study = Study::parse_at(&source, base, study_dir.unwrap_or(Path::new("")))
+    let base = match (&args.params, &recorded) {
+        // The recorded values already hold the study's fixed ones, which parsing sets again.
+        (None, Some((_, run))) => run.params,
+        _ => super::common::base_params(args.params.as_deref())?,
+    };
+    // A relative `[operating_points]` file is found beside the study file (for a recorded
+    // study, where the run found it).
+    let study_dir = match (&args.study, &recorded) {
+        (Some(path), _) => path.parent().map(Path::to_path_buf).unwrap_or_default(),
+        (None, Some((_, run))) => run.operating_points_dir.clone().unwrap_or_default(),
+        (None, None) => PathBuf::new(),
+    };
+    let mut study = Study::parse_at(&source, base, &study_dir)
         .map_err(|e| CliError(format!("{origin}: {e}")))?;
+    if let Some((dir, run)) = &recorded {
+        check_against_recorded(args, &study, dir, run)?;
+    }
     study.budget = args.budget.apply(study.budget)?;
-    let base_samples = args.samples.unwrap_or(study.samples);
+    let recorded_samples = recorded
+        .as_ref()
+        .map(|(_, run)| run.samples / study.evaluations(1));
+    let base_samples = args.samples.or(recorded_samples).unwrap_or(study.samples);
     study
         .check_samples(base_samples)
         .map_err(|e| CliError(format!("{origin}: {e}")))?;
     // A Saltelli design needs k + 2 evaluations per base sample.
     let samples = study.evaluations(base_samples);
-    let seed = args.seed.unwrap_or(study.seed);
+    let seed = args
+        .seed
+        .or(recorded.as_ref().map(|(_, run)| run.seed))
+        .unwrap_or(study.seed);
     let out_dir = args
         .out
         .clone()
         .unwrap_or_else(|| default_out_dir(&study, seed));
+    let recorded_shard = recorded
+        .as_ref()
+        .and_then(|(_, run)| Shard::new(run.shard.0, run.shard.1));
     let plan = RunPlan {
         study,
         seed,
         samples,
-        shard: args.shard.unwrap_or(Shard::WHOLE),
+        shard: args.shard.or(recorded_shard).unwrap_or(Shard::WHOLE),
         out_dir,
         resume: args.resume,
         command: std::env::args().collect::<Vec<_>>().join(" "),
@@ -109,7 +158,9 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         eprintln!("resume: {line}");
     }
     let todo = prepared.pending_samples(&plan);
-    let bar = if args.quiet {
+    let log = (!args.quiet && !std::io::stderr().is_terminal())
+        .then(|| ProgressLog::new(todo, Duration::from_secs_f64(args.log_every)));
+    let bar = if args.quiet || log.is_some() {
         ProgressBar::hidden()
     } else {
         ProgressBar::with_draw_target(Some(todo), ProgressDrawTarget::stderr())
@@ -142,43 +193,55 @@ pub fn run(args: &ExploreArgs) -> CliResult {
             pool.current_num_threads(),
             plan.out_dir.display()
         );
+        let kept = prepared.kept_samples(&plan);
+        if kept > 0 {
+            eprintln!(
+                "resume: {kept} of {} samples already saved; {todo} to do",
+                plan.owned_samples()
+            );
+        }
     }
+    let stop = Interrupt::install()?;
     let start = Instant::now();
-    let result = pool.install(|| plan.run(&prepared, &|n| bar.inc(n)));
+    let result = pool.install(|| {
+        plan.run_until(
+            &prepared,
+            &|n| {
+                bar.inc(n);
+                if let Some(log) = &log {
+                    log.add(n);
+                }
+            },
+            &|| stop.signal().is_some(),
+        )
+    });
     bar.finish_and_clear();
+    // From here on a signal ends the program at once: the rows are saved.
+    stop.disarm();
     let summary = result.map_err(|e| CliError(e.to_string()))?;
     let secs = start.elapsed().as_secs_f64();
+    let saved = summary.samples_skipped + summary.samples_evaluated;
+    if let Some(signal) = stop.signal() {
+        drop(prepared);
+        eprintln!(
+            "\nstopped by {}: {saved} of {} samples are saved in {}; the chunks in flight were dropped and are redone on resume",
+            signal_name(signal),
+            plan.owned_samples(),
+            plan.out_dir.display()
+        );
+        eprintln!("resume with: {}", resume_command(args, &plan));
+        std::process::exit(128 + signal);
+    }
     if !args.quiet {
         println!(
-            "{} samples evaluated in {secs:.1} s ({:.0} samples/s); {} already done; {} chunk files in {}",
+            "{} samples evaluated in {} s ({} samples/s); {} already saved; {} chunk files written to {}",
             summary.samples_evaluated,
-            summary.samples_evaluated as f64 / secs.max(1e-9),
+            plain(secs, 2),
+            plain(summary.samples_evaluated as f64 / secs.max(1e-9), 3),
             summary.samples_skipped,
             summary.chunks_written,
             plan.out_dir.display()
         );
-        // In the order of the names, as always printed.
-        let mut groups: Vec<_> = summary.classes.iter().collect();
-        groups.sort_by_key(|((variant, wheel), _)| (variant.as_str(), wheel.as_str()));
-        for ((variant, wheel), classes) in groups {
-            let total: u64 = classes.values().sum();
-            let vib: u64 = classes
-                .iter()
-                .filter(|(c, _)| c.vibrates())
-                .map(|(_, n)| n)
-                .sum();
-            let mut rest: Vec<(&str, u64)> =
-                classes.iter().map(|(c, n)| (c.as_str(), *n)).collect();
-            rest.sort_unstable();
-            let rest: Vec<String> = rest.iter().map(|(c, n)| format!("{c} {n}")).collect();
-            println!(
-                "  {:>8} {:>8}: limit cycle in {:.2}% ({})",
-                variant.as_str(),
-                wheel.as_str(),
-                100.0 * vib as f64 / total.max(1) as f64,
-                rest.join(", ")
-            );
-        }
     }
     // A shard that owns no chunk (fewer chunks than shards) did all it had to: say so, exit 0.
     if plan.owned_chunks().next().is_none() {
@@ -187,15 +250,110 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         }
         return Ok(());
     }
-    // The analysis of the whole output directory (this shard's files), unless asked not to.
-    if !args.no_report {
-        super::analyze::report(
-            std::slice::from_ref(&plan.out_dir),
-            &polywear::analysis::report::ReportOptions::defaults(plan.out_dir.join("_report")),
-            !args.quiet,
-        )?;
+    // The analysis of the whole output directory (this shard's files, those of an earlier
+    // session included), unless asked not to: its summary is the run's one summary.
+    if args.no_report {
+        if !args.quiet {
+            println!(
+                "no report (--no-report); the whole run's summary: polywear analyze {}",
+                shell_word(&plan.out_dir.display().to_string())
+            );
+        }
+        return Ok(());
+    }
+    let opts = polywear::analysis::report::ReportOptions {
+        figure_format: args.format.ext(),
+        ..polywear::analysis::report::ReportOptions::defaults(plan.out_dir.join("_report"))
+    };
+    super::analyze::report(std::slice::from_ref(&plan.out_dir), &opts, !args.quiet)
+}
+
+/// Refuses a flag of `--resume --out DIR` that contradicts the run recorded in DIR, showing
+/// both values; repeating the recorded value is accepted.
+fn check_against_recorded(
+    args: &ExploreArgs,
+    study: &Study,
+    dir: &Path,
+    run: &RecordedRun,
+) -> CliResult {
+    let d = shell_word(&dir.display().to_string());
+    let refuse = |what: String| {
+        let sep = if what.ends_with('\n') { "" } else { "; " };
+        CliError(format!(
+            "--resume --out {d}: {what}{sep}leave it out to continue the run as it started (`polywear explore --resume --out {d}`), or choose another --out for a new run"
+        ))
+    };
+    if let Some(path) = &args.study {
+        if study.source != run.study {
+            let lines = changed_lines(&run.study, &study.source);
+            return Err(refuse(format!(
+                "{} differs from the run's study in these lines (- the run's, + the file's):\n    {}\n",
+                path.display(),
+                lines.join("\n    ")
+            )));
+        }
+    }
+    if let Some(seed) = args.seed.filter(|s| *s != run.seed) {
+        return Err(refuse(format!(
+            "--seed {seed} contradicts the run's seed {}",
+            run.seed
+        )));
+    }
+    if let Some(n) = args
+        .samples
+        .filter(|n| study.evaluations(*n) != run.samples)
+    {
+        return Err(refuse(format!(
+            "--samples {n} contradicts the run's {} samples",
+            run.samples / study.evaluations(1)
+        )));
+    }
+    if let Some(s) = args.shard.filter(|s| (s.index, s.count) != run.shard) {
+        return Err(refuse(format!(
+            "--shard {s} contradicts the run's shard {}/{}",
+            run.shard.0, run.shard.1
+        )));
+    }
+    if let Some(path) = &args.params {
+        if study.base != run.params {
+            let json = |p: &polywear::params::Params| serde_json::to_value(p).expect("json");
+            return Err(refuse(format!(
+                "--params {} contradicts the run's values ({}, now from the file)",
+                path.display(),
+                param_changes(&json(&run.params), &json(&study.base))
+            )));
+        }
     }
     Ok(())
+}
+
+/// The command that continues `plan`'s run: `--resume --out DIR`, and the flags the manifest
+/// does not record (work budget, threads).
+fn resume_command(args: &ExploreArgs, plan: &RunPlan) -> String {
+    let mut words = vec![
+        std::env::args().next().unwrap_or_else(|| "polywear".into()),
+        "explore".into(),
+        "--resume".into(),
+        "--out".into(),
+        plan.out_dir.display().to_string(),
+    ];
+    if let Some(n) = args.budget.max_rhs_evals {
+        words.extend(["--max-rhs-evals".into(), n.to_string()]);
+    }
+    if let Some(s) = args.budget.max_wheel_seconds {
+        words.extend(["--max-wheel-seconds".into(), s.to_string()]);
+    }
+    if let Some(t) = args.threads {
+        words.extend(["--threads".into(), t.to_string()]);
+    }
+    if args.no_report {
+        words.push("--no-report".into());
+    }
+    words
+        .iter()
+        .map(|w| shell_word(w))
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// The closing report of a shard that owns no chunk: `_report/report.md` says it holds no rows.
@@ -244,6 +402,15 @@ pub fn parse_shard(s: &str) -> Result<Shard, String> {
         .parse()
         .map_err(|_| format!("--shard `{s}`: N is not a whole number"))?;
     Shard::new(k, n).ok_or_else(|| format!("--shard `{s}`: need 0 <= k < N"))
+}
+
+/// Parses `--log-every`: seconds in [0.1, 86400].
+fn parse_log_every(s: &str) -> Result<f64, String> {
+    s.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|x| (0.1..=86_400.0).contains(x))
+        .ok_or_else(|| format!("--log-every `{s}` must be a number of seconds in [0.1, 86400]"))
 }
 
 /// Parses `--samples`: 1e6, 1_000_000 and 1000000 all mean one million.

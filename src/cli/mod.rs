@@ -1,6 +1,7 @@
 //! The command line: one module per subcommand, all errors mapped to exit code 2.
 
 pub mod analyze;
+pub mod batch;
 pub mod bifurcation;
 pub mod calibrate;
 pub mod chart;

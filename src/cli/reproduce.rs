@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use clap::Args;
 
-use super::common::{CliError, CliResult};
+use super::common::{CliError, CliResult, FigureFormat};
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -17,7 +17,7 @@ use super::common::{CliError, CliResult};
     "\nGuide: GUIDE.md#reproduce"
 ))]
 pub struct ReproduceArgs {
-    /// Output directory
+    /// Output directory, created when missing
     #[arg(long, value_name = "DIR", default_value = "data/paper_2014")]
     pub out: PathBuf,
     /// Values per bifurcation sweep, accepted [11, 2001]
@@ -31,6 +31,9 @@ pub struct ReproduceArgs {
     /// constants R0, MODEL.md#r0-and-the-shipped-defaults) instead of the defaults
     #[arg(long, value_name = "FILE")]
     pub params: Option<PathBuf>,
+    /// File type of the figures
+    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    pub format: FigureFormat,
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
     pub threads: Option<usize>,
@@ -54,7 +57,13 @@ pub fn run(args: &ReproduceArgs) -> CliResult {
     let start = Instant::now();
     let r = pool
         .install(|| {
-            polywear::reproduce::reproduce(&base, &args.out, args.steps, args.paired_samples)
+            polywear::reproduce::reproduce_as(
+                &base,
+                &args.out,
+                args.steps,
+                args.paired_samples,
+                args.format.ext(),
+            )
         })
         .map_err(CliError)?;
     println!(

@@ -8,11 +8,12 @@ use super::common::{
     base_metadata, check_extension, check_out_file, BudgetArgs, CliError, CliResult, PointArgs,
     WheelArg,
 };
-use polywear::classify::{classify_point, ClassifierOptions};
+use polywear::classify::{classify_point, Class, ClassifierOptions};
 use polywear::model::{Variant, Wheel};
 use polywear::parquet_out::{write_csv, write_table, Column};
 use polywear::records::WheelRecord;
 use polywear::trajectory::{plot_point, time_series, Samples};
+use polywear::wording::plain;
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -50,10 +51,12 @@ pub struct SimulateArgs {
     /// Print one JSON object per wheel (the columns of tests/data/points.csv and more)
     #[arg(long)]
     pub json: bool,
-    /// Write the time series (t, wheel, z, y, v) to FILE.parquet or FILE.csv
+    /// Write the time series (t, wheel, z, y, v) to FILE.parquet or FILE.csv (a missing folder
+    /// is created)
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
-    /// Draw time history, phase portrait and spectrum of v to FILE.png
+    /// Draw time history, phase portrait and spectrum of v to FILE.png or FILE.svg (a missing
+    /// folder is created)
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
 }
@@ -75,7 +78,7 @@ pub fn run(args: &SimulateArgs) -> CliResult {
     if let Some(k) = args.kick {
         if !(k > 0.0 && k.is_finite()) {
             return Err(CliError(format!(
-                "--kick = {k} m/s must be a positive number"
+                "--kick = {k} m/s is refused; accepted: a positive lateral velocity amplitude in m/s, e.g. 0.05"
             )));
         }
     }
@@ -84,7 +87,7 @@ pub fn run(args: &SimulateArgs) -> CliResult {
         check_out_file(out, "--out")?;
     }
     if let Some(plot) = &args.plot {
-        check_extension(plot, &["png"], "--plot")?;
+        check_extension(plot, &polywear::plot::backend::FORMATS, "--plot")?;
         check_out_file(plot, "--plot")?;
     }
     let variant: Variant = args.point.variant.into();
@@ -128,47 +131,91 @@ pub fn run(args: &SimulateArgs) -> CliResult {
     Ok(())
 }
 
+/// The verdict of one wheel in words, the first thing `simulate` prints:
+/// "follower: vibrates (65.4 mm/s, 38.5 µm, 270 Hz, 19.4-gon)", "driving: stable (decays at
+/// 7.07 1/s)".
+pub fn verdict_line(r: &WheelRecord) -> String {
+    let cycle = || {
+        format!(
+            "{} mm/s, {} µm, {} Hz, {}-gon",
+            plain(r.amp_v_mps * 1e3, 3),
+            plain(r.amp_y_m * 1e6, 3),
+            plain(r.freq_hz, 3),
+            plain(r.polygon_order, 3)
+        )
+    };
+    let verdict = match r.class {
+        Class::LimitCycle => format!("vibrates ({})", cycle()),
+        Class::Bistable => format!(
+            "stable, but vibrates once disturbed hard enough (bistable: {})",
+            cycle()
+        ),
+        Class::Stable => format!("stable (decays at {} 1/s)", plain(-r.eig_re_max, 3)),
+        Class::NoTraction => format!("no traction ({})", r.reason),
+        Class::Failed => format!("no verdict ({})", r.reason),
+    };
+    format!("{}: {verdict}", r.wheel)
+}
+
 fn print_table(records: &[WheelRecord]) {
     let Some(first) = records.first() else { return };
+    for r in records {
+        println!("{}", verdict_line(r));
+    }
+    println!();
     println!(
         "operating point: {} km/h, toe {} deg, load {} N, pressure {} kPa, variant {}",
-        first.speed_kmh, first.toe_deg, first.load_n, first.pressure_kpa, first.variant
+        plain(first.speed_kmh, 6),
+        plain(first.toe_deg, 6),
+        plain(first.load_n, 6),
+        plain(first.pressure_kpa, 6),
+        first.variant
     );
     type Cell = fn(&WheelRecord) -> String;
     let rows: [(&str, Cell); 14] = [
         ("class", |r| r.class.to_string()),
-        ("slip ratio", |r| format!("{:.6}", r.slip_ratio)),
-        ("contact length [m]", |r| {
-            format!("{:.5}", r.contact_length_m)
+        ("slip ratio", |r| plain(r.slip_ratio, 4)),
+        ("contact length [mm]", |r| {
+            plain(r.contact_length_m * 1e3, 4)
         }),
-        ("contact width [m]", |r| format!("{:.5}", r.contact_width_m)),
-        ("K_s [N/m]", |r| format!("{:.4e}", r.k_s)),
-        ("F_m / F_s [N]", |r| format!("{:.1} / {:.1}", r.f_m, r.f_s)),
-        ("eig re max [1/s]", |r| format!("{:.4}", r.eig_re_max)),
-        ("eig freq [Hz]", |r| format!("{:.2}", r.eig_freq_hz)),
-        ("amplitude y [m]", |r| format!("{:.4e}", r.amp_y_m)),
-        ("amplitude v [m/s]", |r| format!("{:.4e}", r.amp_v_mps)),
-        ("cycle freq [Hz]", |r| format!("{:.2}", r.freq_hz)),
-        ("polygon order", |r| format!("{:.2}", r.polygon_order)),
-        ("energy/cycle [J]", |r| {
-            format!("{:.4e}", r.energy_per_cycle_j)
+        ("contact width [mm]", |r| plain(r.contact_width_m * 1e3, 4)),
+        ("K_s [N/m]", |r| plain(r.k_s, 5)),
+        ("F_m / F_s [N]", |r| {
+            format!("{} / {}", plain(r.f_m, 4), plain(r.f_s, 4))
         }),
-        ("Floquet max |mu|", |r| format!("{:.4}", r.floquet_max)),
+        ("eig re max [1/s]", |r| plain(r.eig_re_max, 4)),
+        ("eig freq [Hz]", |r| plain(r.eig_freq_hz, 5)),
+        ("amplitude y [µm]", |r| plain(r.amp_y_m * 1e6, 4)),
+        ("amplitude v [mm/s]", |r| plain(r.amp_v_mps * 1e3, 4)),
+        ("cycle freq [Hz]", |r| plain(r.freq_hz, 5)),
+        ("polygon order", |r| plain(r.polygon_order, 4)),
+        ("energy/cycle [µJ]", |r| {
+            plain(r.energy_per_cycle_j * 1e6, 4)
+        }),
+        ("Floquet max |mu|", |r| plain(r.floquet_max, 4)),
     ];
     print!("{:<20}", "");
     for r in records {
         print!("{:>22}", r.wheel);
     }
     println!();
-    for (label, f) in rows {
-        print!("{label:<20}");
+    for (k, (label, f)) in rows.iter().enumerate() {
+        // Padded by characters, not bytes: `µ` takes two bytes.
+        print!(
+            "{label}{}",
+            " ".repeat(20usize.saturating_sub(label.chars().count()))
+        );
         for r in records {
-            print!("{:>22}", f(r));
+            // A stable wheel has no cycle: no amplitude, frequency, polygon order, energy or
+            // Floquet multiplier.
+            let cell = if (8..14).contains(&k) && r.class == Class::Stable {
+                "-".to_string()
+            } else {
+                f(r)
+            };
+            print!("{cell:>22}");
         }
         println!();
-    }
-    for r in records.iter().filter(|r| !r.reason.is_empty()) {
-        println!("{}: {}", r.wheel, r.reason);
     }
 }
 

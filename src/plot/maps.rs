@@ -2,6 +2,7 @@
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::{format_tick, PALETTE};
 
@@ -69,10 +70,10 @@ pub fn heatmap<DB: DrawingBackend>(
     let (x0, x1) = (x_edges[0], *x_edges.last().unwrap());
     let (y0, y1) = (y_edges[0], *y_edges.last().unwrap());
     let mut chart = ChartBuilder::on(area)
-        .caption(title, ("sans-serif", 17))
-        .margin(8)
-        .x_label_area_size(40)
-        .y_label_area_size(62)
+        .caption(title, ("sans-serif", 22))
+        .margin(10)
+        .x_label_area_size(52)
+        .y_label_area_size(78)
         .build_cartesian_2d(x0..x1, y0..y1)
         .map_err(|e| e.to_string())?;
     chart
@@ -80,8 +81,8 @@ pub fn heatmap<DB: DrawingBackend>(
         .disable_mesh()
         .x_desc(x_label)
         .y_desc(y_label)
-        .label_style(("sans-serif", 13))
-        .axis_desc_style(("sans-serif", 14))
+        .label_style(("sans-serif", 16))
+        .axis_desc_style(("sans-serif", 18))
         .x_label_formatter(&|v| format_tick(*v))
         .y_label_formatter(&|v| format_tick(*v))
         .draw()
@@ -104,6 +105,32 @@ pub fn heatmap<DB: DrawingBackend>(
         }
     }
     chart.draw_series(rects).map_err(|e| e.to_string())?;
+    // The value in each cell, when the cells are few and large enough to hold it.
+    let cells = values.len() * values.first().map_or(0, Vec::len);
+    if cells > 0 && cells <= MAX_CELLS_WITH_NUMBERS {
+        let mut texts = Vec::new();
+        for (ix, col) in values.iter().enumerate() {
+            for (iy, v) in col.iter().enumerate() {
+                let centre = (
+                    0.5 * (x_edges[ix] + x_edges[ix + 1]),
+                    0.5 * (y_edges[iy] + y_edges[iy + 1]),
+                );
+                let (text, dark) = if v.is_finite() {
+                    let t = (v - vmin) / (vmax - vmin);
+                    (cell_text(*v), luminance(cmap(t)) < 0.5)
+                } else {
+                    ("?".to_string(), false)
+                };
+                let color = if dark { WHITE } else { BLACK };
+                let style = ("sans-serif", 16)
+                    .into_font()
+                    .color(&color)
+                    .pos(Pos::new(HPos::Center, VPos::Center));
+                texts.push(Text::new(text, centre, style));
+            }
+        }
+        chart.draw_series(texts).map_err(|e| e.to_string())?;
+    }
     for o in overlay {
         for (k, line) in o.lines.iter().enumerate() {
             let style = o.color.stroke_width(3);
@@ -132,10 +159,31 @@ pub fn heatmap<DB: DrawingBackend>(
     Ok(())
 }
 
+/// Maps with at most this many cells get their values written in the cells.
+pub const MAX_CELLS_WITH_NUMBERS: usize = 100;
+
+/// A cell's value as written in it: whole numbers (the maps are in percent), one decimal below
+/// 10 so small risks do not read as 0.
+fn cell_text(v: f64) -> String {
+    if v.abs() < 9.95 && v != 0.0 {
+        format!("{v:.1}")
+    } else {
+        format!("{v:.0}")
+    }
+}
+
+/// Relative luminance of a colour (0 black, 1 white), to pick a legible text colour.
+fn luminance(c: RGBColor) -> f64 {
+    (0.2126 * c.0 as f64 + 0.7152 * c.1 as f64 + 0.0722 * c.2 as f64) / 255.0
+}
+
 /// Lines drawn over a heatmap (e.g. the nominal tire's Hopf curves), with their legend label.
 pub struct Overlay {
+    /// The legend's text for these lines.
     pub label: String,
+    /// Their colour.
     pub color: RGBColor,
+    /// Polylines in the map's axis units.
     pub lines: Vec<Vec<(f64, f64)>>,
 }
 
@@ -147,10 +195,10 @@ pub fn colorbar<DB: DrawingBackend>(
     cmap: ColorMap,
 ) -> Result<(), String> {
     let mut chart = ChartBuilder::on(area)
-        .margin_top(40)
-        .margin_bottom(48)
+        .margin_top(48)
+        .margin_bottom(62)
         .margin_right(8)
-        .y_label_area_size(58)
+        .y_label_area_size(72)
         .build_cartesian_2d(0.0..1.0, vmin..vmax)
         .map_err(|e| e.to_string())?;
     chart
@@ -158,8 +206,8 @@ pub fn colorbar<DB: DrawingBackend>(
         .disable_mesh()
         .disable_x_axis()
         .y_desc(label)
-        .label_style(("sans-serif", 13))
-        .axis_desc_style(("sans-serif", 14))
+        .label_style(("sans-serif", 16))
+        .axis_desc_style(("sans-serif", 18))
         .y_label_formatter(&|v| format_tick(*v))
         .draw()
         .map_err(|e| e.to_string())?;
@@ -181,6 +229,8 @@ pub fn colorbar<DB: DrawingBackend>(
 pub struct Band<'a> {
     /// The legend's label.
     pub label: &'a str,
+    /// The x values are discrete levels: drawn as points with interval bars, not joined.
+    pub discrete: bool,
     /// (x, p, lo, hi)
     pub points: Vec<(f64, f64, f64, f64)>,
 }
@@ -206,27 +256,54 @@ pub fn band_panel<DB: DrawingBackend>(
     if x1 <= x0 {
         (x0, x1) = (x0 - 0.5, x0 + 0.5);
     }
-    let pad = 0.02 * (x1 - x0);
+    let pad = if bands.iter().any(|b| b.discrete) {
+        0.08
+    } else {
+        0.02
+    } * (x1 - x0);
     let mut chart = ChartBuilder::on(area)
-        .caption(title, ("sans-serif", 16))
+        .caption(title, ("sans-serif", 20))
         .margin(8)
-        .x_label_area_size(38)
-        .y_label_area_size(48)
+        .x_label_area_size(46)
+        .y_label_area_size(64)
         .build_cartesian_2d(x0 - pad..x1 + pad, 0.0..1.0)
         .map_err(|e| e.to_string())?;
     chart
         .configure_mesh()
         .x_desc(x_label)
         .y_desc(y_label)
-        .label_style(("sans-serif", 12))
-        .axis_desc_style(("sans-serif", 13))
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 16))
         .x_label_formatter(&|v| format_tick(*v))
+        .y_label_formatter(&|v| format!("{:.0}%", 100.0 * v))
         .draw()
         .map_err(|e| e.to_string())?;
     for (i, b) in bands.iter().enumerate() {
         let color = PALETTE[i % PALETTE.len()];
         let pts: Vec<&(f64, f64, f64, f64)> = b.points.iter().filter(|p| p.1.is_finite()).collect();
         if pts.is_empty() {
+            continue;
+        }
+        if b.discrete {
+            // Side by side around each level, so that the wheels' points do not hide each other.
+            let shift = (i as f64 - 0.5 * (bands.len() as f64 - 1.0)) * 0.012 * (x1 - x0);
+            let pts: Vec<(f64, f64, f64, f64)> =
+                pts.iter().map(|p| (p.0 + shift, p.1, p.2, p.3)).collect();
+            chart
+                .draw_series(
+                    pts.iter().map(|p| {
+                        PathElement::new(vec![(p.0, p.2), (p.0, p.3)], color.stroke_width(2))
+                    }),
+                )
+                .map_err(|e| e.to_string())?;
+            chart
+                .draw_series(
+                    pts.iter()
+                        .map(|p| Circle::new((p.0, p.1), 5, color.filled())),
+                )
+                .map_err(|e| e.to_string())?
+                .label(b.label)
+                .legend(move |(x, y)| Circle::new((x + 8, y), 5, color.filled()));
             continue;
         }
         let mut poly: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.3)).collect();
@@ -256,7 +333,7 @@ pub fn band_panel<DB: DrawingBackend>(
         .position(SeriesLabelPosition::UpperLeft)
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
-        .label_font(("sans-serif", 12))
+        .label_font(("sans-serif", 15))
         .draw()
         .map_err(|e| e.to_string())?;
     Ok(())

@@ -6,6 +6,9 @@ use std::sync::Once;
 
 use plotters::prelude::*;
 
+use backend::FigureBackend;
+
+pub mod backend;
 pub mod cycle;
 pub mod maps;
 pub mod spectrum;
@@ -75,7 +78,35 @@ pub fn line_panel<DB: DrawingBackend>(
     series: &[Series<'_>],
     points_only: bool,
 ) -> Result<(), String> {
-    let ((x0, x1), (y0, y1)) = bounds(series.iter().flat_map(|s| s.points.iter()));
+    line_panel_with(
+        area,
+        title,
+        x_label,
+        y_label,
+        series,
+        points_only,
+        None,
+        false,
+    )
+}
+
+/// [`line_panel`] with a fixed y range (points outside it are clipped) and, when `zero_line`,
+/// a dashed line at y = 0 (where an eigenvalue's real part changes sign).
+#[allow(clippy::too_many_arguments)]
+pub fn line_panel_with<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series<'_>],
+    points_only: bool,
+    y_range: Option<(f64, f64)>,
+    zero_line: bool,
+) -> Result<(), String> {
+    let ((x0, x1), (mut y0, mut y1)) = bounds(series.iter().flat_map(|s| s.points.iter()));
+    if let Some(r) = y_range {
+        (y0, y1) = r;
+    }
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", 20))
         .margin(12)
@@ -93,6 +124,18 @@ pub fn line_panel<DB: DrawingBackend>(
         .x_label_formatter(&|v| format_tick(*v))
         .draw()
         .map_err(|e| e.to_string())?;
+    if zero_line && y0 < 0.0 && y1 > 0.0 {
+        chart
+            .draw_series(DashedLineSeries::new(
+                [(x0, 0.0), (x1, 0.0)],
+                8,
+                5,
+                BLACK.stroke_width(1),
+            ))
+            .map_err(|e| e.to_string())?;
+    }
+    // Clipped to the panel: a fixed y range may leave points outside it.
+    let inside = |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite() && p.1 >= y0 && p.1 <= y1;
     for (i, s) in series.iter().enumerate() {
         let color = PALETTE[i % PALETTE.len()];
         let anno = if points_only {
@@ -100,19 +143,24 @@ pub fn line_panel<DB: DrawingBackend>(
                 .draw_series(
                     s.points
                         .iter()
-                        .filter(|p| p.1.is_finite())
+                        .filter(|p| inside(p))
                         .map(|p| Circle::new(*p, 2, color.filled())),
                 )
                 .map_err(|e| e.to_string())?
         } else {
+            let finite: Vec<(f64, f64)> = s
+                .points
+                .iter()
+                .copied()
+                .filter(|p| p.0.is_finite() && p.1.is_finite())
+                .collect();
             chart
-                .draw_series(LineSeries::new(
-                    s.points
-                        .iter()
-                        .copied()
-                        .filter(|p| p.0.is_finite() && p.1.is_finite()),
-                    color.stroke_width(2),
-                ))
+                .draw_series(
+                    finite
+                        .windows(2)
+                        .filter_map(|w| clip_segment(w[0], w[1], y0, y1))
+                        .map(|(a, b)| PathElement::new(vec![a, b], color.stroke_width(2))),
+                )
                 .map_err(|e| e.to_string())?
         };
         anno.label(s.label).legend(move |(x, y)| {
@@ -130,6 +178,32 @@ pub fn line_panel<DB: DrawingBackend>(
             .map_err(|e| e.to_string())?;
     }
     Ok(())
+}
+
+/// The part of the segment a–b with y in [y0, y1] (None when it lies wholly outside), so that
+/// a curve leaving a fixed y range is cut at the edge instead of drawn along it.
+fn clip_segment(
+    a: (f64, f64),
+    b: (f64, f64),
+    y0: f64,
+    y1: f64,
+) -> Option<((f64, f64), (f64, f64))> {
+    let at = |y: f64| (a.0 + (b.0 - a.0) * (y - a.1) / (b.1 - a.1), y);
+    let clip = |p: (f64, f64)| {
+        if p.1 < y0 {
+            at(y0)
+        } else if p.1 > y1 {
+            at(y1)
+        } else {
+            p
+        }
+    };
+    let out = |p: (f64, f64)| (p.1 < y0, p.1 > y1);
+    let (oa, ob) = (out(a), out(b));
+    if (oa.0 && ob.0) || (oa.1 && ob.1) {
+        return None;
+    }
+    Some((clip(a), clip(b)))
 }
 
 /// Tick label: plain for ordinary magnitudes, scientific for very small or large ones.
@@ -151,15 +225,16 @@ pub fn format_tick(v: f64) -> String {
     }
 }
 
-/// A PNG figure with a title; `draw` lays out and draws the area under the title.
+/// A figure with a title, PNG or SVG by the extension of `path`; `draw` lays out and draws the
+/// area under the title.
 pub fn figure(
     path: &Path,
     size: (u32, u32),
     title: &str,
-    draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>) -> Result<(), String>,
+    draw: impl FnOnce(&DrawingArea<FigureBackend<'_>, plotters::coord::Shift>) -> Result<(), String>,
 ) -> Result<(), String> {
     ensure_font();
-    let root = BitMapBackend::new(path, size).into_drawing_area();
+    let root = FigureBackend::new(path, size).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(path, e))?;
     let area = root
         .titled(title, ("sans-serif", 22))
@@ -177,7 +252,7 @@ pub fn panels(
     title: &str,
     mut draw: impl FnMut(
         usize,
-        &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+        &DrawingArea<FigureBackend<'_>, plotters::coord::Shift>,
     ) -> Result<(), String>,
 ) -> Result<(), String> {
     figure(path, size, title, |area| {

@@ -1,0 +1,156 @@
+//! One drawing backend for every figure, picked by the output file's extension: `.png` through
+//! plotters' bitmap backend, `.svg` through its SVG backend (vector text and shapes, for
+//! reports and slides). Each drawing call is handed to the backend it wraps, so a figure's code
+//! is written once for both formats.
+
+use std::path::Path;
+
+use plotters::prelude::{BitMapBackend, SVGBackend};
+use plotters_backend::{
+    BackendColor, BackendCoord, BackendStyle, BackendTextStyle, DrawingBackend, DrawingErrorKind,
+};
+
+/// The figure formats `--format` accepts.
+pub const FORMATS: [&str; 2] = ["png", "svg"];
+
+/// A PNG or SVG backend.
+pub enum FigureBackend<'a> {
+    /// A PNG bitmap.
+    Png(BitMapBackend<'a>),
+    /// An SVG document.
+    Svg(SVGBackend<'a>),
+}
+
+impl<'a> FigureBackend<'a> {
+    /// The backend for `path`: SVG when it ends in `.svg`, PNG otherwise.
+    pub fn new(path: &'a Path, size: (u32, u32)) -> FigureBackend<'a> {
+        if path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
+        {
+            FigureBackend::Svg(SVGBackend::new(path, size))
+        } else {
+            FigureBackend::Png(BitMapBackend::new(path, size))
+        }
+    }
+}
+
+/// The error of either backend, as text.
+#[derive(Debug)]
+pub struct FigureError(String);
+
+impl std::fmt::Display for FigureError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for FigureError {}
+
+fn lift<E: std::error::Error + Send + Sync>(
+    e: DrawingErrorKind<E>,
+) -> DrawingErrorKind<FigureError> {
+    match e {
+        DrawingErrorKind::DrawingError(e) => {
+            DrawingErrorKind::DrawingError(FigureError(e.to_string()))
+        }
+        DrawingErrorKind::FontError(e) => DrawingErrorKind::FontError(e),
+    }
+}
+
+/// Calls the same method on whichever backend is inside, lifting its error.
+macro_rules! each {
+    ($self:ident, $b:ident => $call:expr) => {
+        match $self {
+            FigureBackend::Png($b) => $call.map_err(lift),
+            FigureBackend::Svg($b) => $call.map_err(lift),
+        }
+    };
+}
+
+type Drawn<T = ()> = Result<T, DrawingErrorKind<FigureError>>;
+
+impl DrawingBackend for FigureBackend<'_> {
+    type ErrorType = FigureError;
+
+    fn get_size(&self) -> (u32, u32) {
+        match self {
+            FigureBackend::Png(b) => b.get_size(),
+            FigureBackend::Svg(b) => b.get_size(),
+        }
+    }
+
+    fn ensure_prepared(&mut self) -> Drawn {
+        each!(self, b => b.ensure_prepared())
+    }
+
+    fn present(&mut self) -> Drawn {
+        each!(self, b => b.present())
+    }
+
+    fn draw_pixel(&mut self, point: BackendCoord, color: BackendColor) -> Drawn {
+        each!(self, b => b.draw_pixel(point, color))
+    }
+
+    fn draw_line<S: BackendStyle>(
+        &mut self,
+        from: BackendCoord,
+        to: BackendCoord,
+        style: &S,
+    ) -> Drawn {
+        each!(self, b => b.draw_line(from, to, style))
+    }
+
+    fn draw_rect<S: BackendStyle>(
+        &mut self,
+        upper_left: BackendCoord,
+        bottom_right: BackendCoord,
+        style: &S,
+        fill: bool,
+    ) -> Drawn {
+        each!(self, b => b.draw_rect(upper_left, bottom_right, style, fill))
+    }
+
+    fn draw_path<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
+        &mut self,
+        path: I,
+        style: &S,
+    ) -> Drawn {
+        each!(self, b => b.draw_path(path, style))
+    }
+
+    fn draw_circle<S: BackendStyle>(
+        &mut self,
+        center: BackendCoord,
+        radius: u32,
+        style: &S,
+        fill: bool,
+    ) -> Drawn {
+        each!(self, b => b.draw_circle(center, radius, style, fill))
+    }
+
+    fn fill_polygon<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
+        &mut self,
+        vert: I,
+        style: &S,
+    ) -> Drawn {
+        each!(self, b => b.fill_polygon(vert, style))
+    }
+
+    fn draw_text<T: BackendTextStyle>(
+        &mut self,
+        text: &str,
+        style: &T,
+        pos: BackendCoord,
+    ) -> Drawn {
+        each!(self, b => b.draw_text(text, style, pos))
+    }
+
+    fn estimate_text_size<T: BackendTextStyle>(&self, text: &str, style: &T) -> Drawn<(u32, u32)> {
+        each!(self, b => b.estimate_text_size(text, style))
+    }
+
+    fn blit_bitmap(&mut self, pos: BackendCoord, size: (u32, u32), src: &[u8]) -> Drawn {
+        each!(self, b => b.blit_bitmap(pos, size, src))
+    }
+}
