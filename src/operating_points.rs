@@ -79,8 +79,11 @@ impl OperatingPoints {
                     None => " (a weight column needs `weight = \"NAME\"` in [operating_points])"
                         .to_string(),
                 };
+                let hint = crate::params::suggest_name(c)
+                    .map(|n| format!("; did you mean `{n}`?"))
+                    .unwrap_or_default();
                 format!(
-                    "{shown}: column `{c}` (column {}) is not a parameter of `polywear params`{weight_hint}",
+                    "{shown}: column `{c}` (column {}) is not a parameter of `polywear params`{weight_hint}{hint}",
                     j + 1
                 )
             })?;

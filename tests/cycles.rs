@@ -220,6 +220,10 @@ fn bad_cycles_exit_2_naming_file_row_and_column_before_any_work() {
         ),
         ("time_s,speed_kmh,gear\n0,10,1\n1,20,2\n", "column `gear`"),
         (
+            "time_s,speed_kmh,toe_dg\n0,10,0.3\n1,20,0.3\n",
+            "column `toe_dg` (column 3) is neither `time_s` nor a parameter of `polywear params`; did you mean `toe_deg`?",
+        ),
+        (
             "time_s,speed_kmh,mu_s\n0,10,0.6\n1,20,0.9\n",
             "row 2 (line 3)",
         ),

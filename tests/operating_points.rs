@@ -158,6 +158,11 @@ fn bad_files_are_refused_naming_file_row_and_column() {
             &["points.csv", "column `vin`", "polywear params"],
         ),
         (
+            "speed_kmh,presure_kpa,hours\n100,240,1\n",
+            w,
+            &["column `presure_kpa`", "did you mean `pressure_kpa`?"],
+        ),
+        (
             "speed_kmh,load_n,speed_kmh,hours\n1,2,3,4\n",
             w,
             &["points.csv", "`speed_kmh` appears twice"],

@@ -75,8 +75,11 @@ impl DriveCycle {
                 continue;
             }
             let s = spec(c).ok_or_else(|| {
+                let hint = crate::params::suggest_name(c)
+                    .map(|n| format!("; did you mean `{n}`?"))
+                    .unwrap_or_default();
                 format!(
-                    "{shown}: column `{c}` (column {}) is neither `time_s` nor a parameter of `polywear params`",
+                    "{shown}: column `{c}` (column {}) is neither `time_s` nor a parameter of `polywear params`{hint}",
                     j + 1
                 )
             })?;
