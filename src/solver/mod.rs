@@ -29,16 +29,17 @@ impl OdeSystem<12> for Variational<'_> {
     #[inline(always)]
     fn rhs(&self, s: &[f64; 12]) -> [f64; 12] {
         let x = [s[0], s[1], s[2]];
-        let f = self.0.rhs(&x);
-        let j = self.0.jacobian(&x);
+        let (f, j) = self.0.rhs_and_jacobian(&x);
         let mut out = [0.0; 12];
         out[..3].copy_from_slice(&f);
+        // J has the row (0, 0, 1) of dy/dt = v and zeros at (0, 1): those products are skipped.
+        let (j00, j02) = (j[(0, 0)], j[(0, 2)]);
+        let (j20, j21, j22) = (j[(2, 0)], j[(2, 1)], j[(2, 2)]);
         for col in 0..3 {
-            let phi = [s[3 + 3 * col], s[4 + 3 * col], s[5 + 3 * col]];
-            for row in 0..3 {
-                out[3 + 3 * col + row] =
-                    j[(row, 0)] * phi[0] + j[(row, 1)] * phi[1] + j[(row, 2)] * phi[2];
-            }
+            let [p0, p1, p2] = [s[3 + 3 * col], s[4 + 3 * col], s[5 + 3 * col]];
+            out[3 + 3 * col] = j00 * p0 + j02 * p2;
+            out[4 + 3 * col] = p2;
+            out[5 + 3 * col] = j20 * p0 + j21 * p1 + j22 * p2;
         }
         out
     }
