@@ -11,6 +11,10 @@ pub use dopri5::{integrate, Control, IntegrationError, Outcome, SolverOptions, S
 
 /// An autonomous ODE dx/dt = f(x) on N states.
 pub trait OdeSystem<const N: usize> {
+    /// Components the error norm averages over (the root mean square of the scaled errors):
+    /// N, unless a reduced system keeps the step control of the larger one it stands for.
+    const ERROR_NORM_COMPONENTS: usize = N;
+
     fn rhs(&self, x: &[f64; N]) -> [f64; N];
 }
 
@@ -42,6 +46,32 @@ impl OdeSystem<12> for Variational<'_> {
             out[5 + 3 * col] = j20 * p0 + j21 * p1 + j22 * p2;
         }
         out
+    }
+}
+
+/// The tread ODE with the variational equations of the two start directions that stay on the
+/// section y = y_eq, z and v: Φ's first and third columns after x (states 3–5: ∂x/∂z0,
+/// states 6–8: ∂x/∂v0). The return map's derivative and the Floquet multipliers need no other
+/// column (the section fixes y), and each column evolves on its own, so these are exactly the
+/// columns of [`Variational`] for three quarters of its work. The sensitivities carry no
+/// tolerance (infinite atol), and the error norm averages over the 12 components of the full
+/// system, so the steps are the full system's steps.
+pub struct SectionVariational<'a>(pub &'a crate::model::TreadOde);
+
+impl OdeSystem<9> for SectionVariational<'_> {
+    const ERROR_NORM_COMPONENTS: usize = 12;
+
+    #[inline(always)]
+    fn rhs(&self, s: &[f64; 9]) -> [f64; 9] {
+        let x = [s[0], s[1], s[2]];
+        let (f, j) = self.0.rhs_and_jacobian(&x);
+        let (j00, j02) = (j[(0, 0)], j[(0, 2)]);
+        let (j20, j21, j22) = (j[(2, 0)], j[(2, 1)], j[(2, 2)]);
+        let column =
+            |p0: f64, p1: f64, p2: f64| [j00 * p0 + j02 * p2, p2, j20 * p0 + j21 * p1 + j22 * p2];
+        let [a0, a1, a2] = column(s[3], s[4], s[5]);
+        let [b0, b1, b2] = column(s[6], s[7], s[8]);
+        [f[0], f[1], f[2], a0, a1, a2, b0, b1, b2]
     }
 }
 
