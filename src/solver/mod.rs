@@ -26,7 +26,8 @@ impl OdeSystem<3> for crate::model::TreadOde {
 }
 
 /// The tread ODE together with its variational equations dΦ/dt = J(x) Φ (Φ stored column by
-/// column after x), whose value after one period is the monodromy matrix used by shooting.
+/// column after x), whose value after one period is the monodromy matrix. Shooting needs only
+/// two of its columns and integrates [`SectionVariational`].
 pub struct Variational<'a>(pub &'a crate::model::TreadOde);
 
 impl OdeSystem<12> for Variational<'_> {
@@ -99,4 +100,76 @@ pub fn sample_uniform<const N: usize, S: OdeSystem<N>>(
         Control::Continue
     });
     (samples, out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{Variant, Wheel, WheelModel};
+    use crate::params::Params;
+
+    /// The section system takes the full system's steps and gives its z and v columns bit for
+    /// bit (the documented equivalence shooting relies on).
+    #[test]
+    fn section_variational_is_the_full_systems_z_and_v_columns() {
+        for (wheel, variant) in [
+            (Wheel::Follower, Variant::Paper),
+            (Wheel::Driving, Variant::SlidingShare),
+        ] {
+            let ode = WheelModel::build(&Params::default(), wheel, variant)
+                .unwrap()
+                .ode;
+            let eq = ode.equilibrium();
+            let x = [eq[0] * 1.05, eq[1], 0.3 * ode.u_mps.abs()];
+            let period = 1.0 / ode.linear_stability().eig_freq_hz;
+            let atol_x = [
+                1e-9 * eq[0].abs(),
+                1e-9 * eq[1].abs(),
+                1e-9 * ode.u_mps.abs(),
+            ];
+            let opts = |n: usize| {
+                let mut atol = vec![f64::INFINITY; n];
+                atol[..3].copy_from_slice(&atol_x);
+                (1e-9, atol, period / 8.0)
+            };
+            let (rtol, atol12, h_max) = opts(12);
+            let full = integrate(
+                &Variational(&ode),
+                0.0,
+                [
+                    x[0], x[1], x[2], 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0,
+                ],
+                3.0 * period,
+                &SolverOptions {
+                    rtol,
+                    atol: atol12.try_into().unwrap(),
+                    h_max,
+                    h0: Some(period / 40.0),
+                    max_steps: 100_000,
+                },
+                |_| Control::Continue,
+            )
+            .unwrap();
+            let (_, atol9, _) = opts(9);
+            let section = integrate(
+                &SectionVariational(&ode),
+                0.0,
+                [x[0], x[1], x[2], 1.0, 0.0, 0.0, 0.0, 0.0, 1.0],
+                3.0 * period,
+                &SolverOptions {
+                    rtol,
+                    atol: atol9.try_into().unwrap(),
+                    h_max,
+                    h0: Some(period / 40.0),
+                    max_steps: 100_000,
+                },
+                |_| Control::Continue,
+            )
+            .unwrap();
+            assert_eq!(full.rhs_evals, section.rhs_evals);
+            let f = full.x;
+            let expected = [f[0], f[1], f[2], f[3], f[4], f[5], f[9], f[10], f[11]];
+            assert_eq!(section.x, expected, "{wheel} {variant}");
+        }
+    }
 }
