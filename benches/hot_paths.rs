@@ -1,5 +1,7 @@
-//! Hot paths: one RHS evaluation, a 1-second trajectory, and the classifier per wheel at the
-//! default point next to the brute-force reference.
+//! Hot paths: one RHS evaluation (the shipped one beside the `powf`/`hypot` form that evaluates
+//! the Stribeck curve again for the Jacobian, kept in `before` for the comparison), a 1-second
+//! trajectory, and the classifier per wheel at the default point next to the brute-force
+//! reference.
 //! Run: `cargo bench --bench hot_paths`.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
@@ -7,20 +9,129 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use polywear::classify::{classify, envelope, ClassifierOptions, Scales};
 use polywear::model::{Variant, Wheel, WheelModel};
 use polywear::params::Params;
-use polywear::solver::{integrate, Control, SolverOptions};
+use polywear::solver::{integrate, Control, OdeSystem, SolverOptions, Variational};
+
+/// The right-hand side as first written: `powf` for (w_t/V_s)^φ, `hypot` for w_t, and the
+/// Jacobian of the variational equations evaluating the sliding speed and the curve again.
+mod before {
+    use polywear::model::{TreadOde, Variant};
+
+    fn sliding_speed(o: &TreadOde, w: f64) -> (f64, f64) {
+        match o.variant {
+            Variant::Paper => (w.abs(), if w >= 0.0 { 1.0 } else { -1.0 }),
+            Variant::Combined | Variant::SlidingShare => {
+                let wt = w.hypot(o.v_sx_mps);
+                (wt, if wt > 0.0 { w / wt } else { 1.0 })
+            }
+        }
+    }
+
+    fn stribeck(o: &TreadOde, w_t: f64) -> f64 {
+        o.f_s + (o.f_m - o.f_s) * (-(w_t / o.v_s).powf(o.phi)).exp()
+    }
+
+    fn stribeck_with_slope(o: &TreadOde, w_t: f64) -> (f64, f64) {
+        let x = w_t / o.v_s;
+        if x == 0.0 {
+            return (o.f_m, 0.0);
+        }
+        let xp = x.powf(o.phi);
+        let e = (o.f_m - o.f_s) * (-xp).exp();
+        (o.f_s + e, -e * o.phi * xp / w_t)
+    }
+
+    pub fn rhs(o: &TreadOde, x: &[f64; 3]) -> [f64; 3] {
+        let [z, y, v] = *x;
+        let w = v - o.u_mps;
+        let (w_t, _) = sliding_speed(o, w);
+        let g = stribeck(o, w_t);
+        let dz = w - o.sigma0 * w_t * z / g;
+        let dv = -(o.c_s * v + o.k_s * y + o.sigma0 * z + o.sigma1 * dz) / o.mass_kg;
+        [dz, v, dv]
+    }
+
+    pub fn jacobian(o: &TreadOde, x: &[f64; 3]) -> [[f64; 3]; 3] {
+        let [z, _, v] = *x;
+        let w = v - o.u_mps;
+        let (w_t, dwt_dw) = sliding_speed(o, w);
+        let (g, dg) = stribeck_with_slope(o, w_t);
+        let dfz_dz = -o.sigma0 * w_t / g;
+        let dfz_dv = 1.0 - o.sigma0 * z * dwt_dw * (g - w_t * dg) / (g * g);
+        let m = o.mass_kg;
+        [
+            [dfz_dz, 0.0, dfz_dv],
+            [0.0, 0.0, 1.0],
+            [
+                -(o.sigma0 + o.sigma1 * dfz_dz) / m,
+                -o.k_s / m,
+                -(o.c_s + o.sigma1 * dfz_dv) / m,
+            ],
+        ]
+    }
+
+    pub fn variational(o: &TreadOde, s: &[f64; 12]) -> [f64; 12] {
+        let x = [s[0], s[1], s[2]];
+        let f = rhs(o, &x);
+        let j = jacobian(o, &x);
+        let mut out = [0.0; 12];
+        out[..3].copy_from_slice(&f);
+        for col in 0..3 {
+            let phi = [s[3 + 3 * col], s[4 + 3 * col], s[5 + 3 * col]];
+            for row in 0..3 {
+                out[3 + 3 * col + row] =
+                    j[row][0] * phi[0] + j[row][1] * phi[1] + j[row][2] * phi[2];
+            }
+        }
+        out
+    }
+}
 
 fn default_model() -> WheelModel {
     WheelModel::build(&Params::default(), Wheel::Follower, Variant::Paper).unwrap()
 }
 
 fn bench_rhs(c: &mut Criterion) {
-    let m = default_model();
-    let eq = m.ode.equilibrium();
-    let x = [eq[0] * 1.01, eq[1], 0.01];
-    c.bench_function("rhs_eval", |b| b.iter(|| m.ode.rhs(black_box(&x))));
-    c.bench_function("jacobian_eval", |b| {
-        b.iter(|| m.ode.jacobian(black_box(&x)))
-    });
+    let follower = default_model().ode;
+    let driving = WheelModel::build(&Params::default(), Wheel::Driving, Variant::SlidingShare)
+        .unwrap()
+        .ode;
+    for (name, ode) in [
+        ("follower_paper", follower),
+        ("driving_sliding_share", driving),
+    ] {
+        let eq = ode.equilibrium();
+        let x = [eq[0] * 1.01, eq[1], 0.01];
+        let s = [
+            x[0], x[1], x[2], 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0,
+        ];
+        let mut g = c.benchmark_group(format!("rhs_{name}"));
+        g.bench_function("rhs_before", |b| {
+            b.iter(|| before::rhs(black_box(&ode), black_box(&x)))
+        });
+        g.bench_function("rhs", |b| b.iter(|| black_box(&ode).rhs(black_box(&x))));
+        g.bench_function("variational_before", |b| {
+            b.iter(|| before::variational(black_box(&ode), black_box(&s)))
+        });
+        g.bench_function("variational", |b| {
+            b.iter(|| Variational(black_box(&ode)).rhs(black_box(&s)))
+        });
+        g.bench_function("jacobian", |b| {
+            b.iter(|| black_box(&ode).jacobian(black_box(&x)))
+        });
+        g.finish();
+        // The comparison is only fair if both compute the same thing.
+        let (new, old) = (ode.rhs(&x), before::rhs(&ode, &x));
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-13 * a.abs().max(b.abs()).max(1e-300);
+        assert!(
+            new.iter().zip(&old).all(|(a, b)| close(*a, *b)),
+            "{new:?} vs {old:?}"
+        );
+        let (new, old) = (Variational(&ode).rhs(&s), before::variational(&ode, &s));
+        assert!(
+            new.iter().zip(&old).all(|(a, b)| close(*a, *b)),
+            "{new:?} vs {old:?}"
+        );
+    }
 }
 
 fn bench_trajectory(c: &mut Criterion) {

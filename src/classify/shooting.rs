@@ -1,13 +1,13 @@
 //! The periodic orbit found directly: Newton's method on the Poincaré return map, with the
 //! variational equations giving the monodromy matrix and so the Floquet multipliers.
 
-use nalgebra::{Matrix2, Matrix3, Vector2};
+use nalgebra::{Matrix2, Vector2};
 
 use super::budget::Meter;
 use super::section::{first_return, Return};
 use super::{Scales, MIN_CYCLE_V_REL};
 use crate::model::{State, TreadOde};
-use crate::solver::{OdeSystem, SolverOptions, Step, Variational};
+use crate::solver::{OdeSystem, SectionVariational, SolverOptions, Step};
 
 /// A converged limit cycle, represented by its point on the section y = y_eq, with what one
 /// period along it measures.
@@ -34,8 +34,8 @@ pub struct CycleMeasure {
     pub energy_j: f64,
 }
 
-/// y, v and their sensitivities to the start point (rows y and v of the variational matrix Φ)
-/// at one time along an orbit.
+/// y, v and their sensitivities to the start point's z and v (rows y and v of the variational
+/// matrix Φ, its y column left out: the start stays on the section) at one time along an orbit.
 #[derive(Clone, Copy)]
 struct Sample {
     y: f64,
@@ -45,14 +45,28 @@ struct Sample {
 }
 
 impl Sample {
-    /// From the variational state (x, Φ stored column by column).
-    fn of(s: &[f64; 12]) -> Self {
+    /// The components of a [`SectionVariational`] state (x, then Φ's z and v columns) that a
+    /// sample reads.
+    const COMPONENTS: [usize; 6] = [1, 2, 4, 5, 7, 8];
+
+    /// From the state of [`SectionVariational`].
+    fn of(s: &[f64; 9]) -> Self {
+        Self::of_components(Self::COMPONENTS.map(|i| s[i]))
+    }
+
+    /// From the components [`Sample::COMPONENTS`].
+    fn of_components([y, v, dy_z, dv_z, dy_v, dv_v]: [f64; 6]) -> Self {
         Sample {
-            y: s[1],
-            v: s[2],
-            dy: [s[4], s[7], s[10]],
-            dv: [s[5], s[8], s[11]],
+            y,
+            v,
+            dy: [dy_z, 0.0, dy_v],
+            dv: [dv_z, 0.0, dv_v],
         }
+    }
+
+    /// At time t inside an accepted step, through its dense output.
+    fn at(s: &Step<'_, 9>, t: f64) -> Self {
+        Self::of_components(s.interpolate_components(t, Self::COMPONENTS))
     }
 
     /// y and v on the trajectory started `d` away, to first order.
@@ -72,7 +86,7 @@ struct OrbitSamples {
 }
 
 impl OrbitSamples {
-    fn new(start: &[f64; 12]) -> Self {
+    fn new(start: &[f64; 9]) -> Self {
         OrbitSamples {
             extremes: vec![Sample::of(start)],
             quadrature: Vec::new(),
@@ -80,7 +94,7 @@ impl OrbitSamples {
     }
 
     /// Adds the part [t0, t_hi] of an accepted step.
-    fn add(&mut self, s: &Step<'_, 12>, t_hi: f64) {
+    fn add(&mut self, s: &Step<'_, 9>, t_hi: f64) {
         const GL: [(f64, f64); 3] = [
             (0.112_701_665_379_258_3, 5.0 / 18.0),
             (0.5, 8.0 / 18.0),
@@ -91,12 +105,11 @@ impl OrbitSamples {
             return;
         }
         for j in 1..=8 {
-            let x = s.interpolate(s.t0 + h * j as f64 / 8.0);
-            self.extremes.push(Sample::of(&x));
+            self.extremes.push(Sample::at(s, s.t0 + h * j as f64 / 8.0));
         }
         for (node, w) in GL {
-            let x = s.interpolate(s.t0 + h * node);
-            self.quadrature.push((w * h, Sample::of(&x)));
+            self.quadrature
+                .push((w * h, Sample::at(s, s.t0 + h * node)));
         }
     }
 
@@ -242,7 +255,7 @@ pub fn newton_orbit(
 ) -> Result<PeriodicOrbit, String> {
     let y_sec = scales.y_eq;
     let options = |rtol: f64| {
-        let mut atol = [f64::INFINITY; 12];
+        let mut atol = [f64::INFINITY; 9];
         atol[..3].copy_from_slice(&scales.atol(rtol));
         SolverOptions {
             rtol,
@@ -259,11 +272,11 @@ pub fn newton_orbit(
     // The previous iteration's multiplier and relative step.
     let mut last: Option<(f64, f64)> = None;
     for iter in 0..MAX_NEWTON {
-        let start = [z, y_sec, v, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+        let start = [z, y_sec, v, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0];
         let mut samples = OrbitSamples::new(&start);
         let opts = if tight { &fine } else { &coarse };
         let ret = next_return(
-            &Variational(ode),
+            &SectionVariational(ode),
             start,
             y_sec,
             linear_period_s,
@@ -277,18 +290,13 @@ pub fn newton_orbit(
         )?;
         let s = ret.state;
         let x_t = [s[0], s[1], s[2]];
-        let monodromy = Matrix3::from_column_slice(&s[3..12]);
+        // The monodromy matrix's z and v columns.
+        let (m_z, m_v) = ([s[3], s[4], s[5]], [s[6], s[7], s[8]]);
         let f_t = ode.rhs(&x_t);
         // Derivative of the return map: project the flow's derivative along the vector field
         // onto the section (saltation-free: the section is crossed transversally, f_y = v > 0).
-        let mut dp = monodromy;
-        for col in 0..3 {
-            let m_y = monodromy[(1, col)];
-            for row in 0..3 {
-                dp[(row, col)] -= f_t[row] * m_y / f_t[1];
-            }
-        }
-        let reduced = Matrix2::new(dp[(0, 0)], dp[(0, 2)], dp[(2, 0)], dp[(2, 2)]);
+        let dp = |m: &[f64; 3], row: usize| m[row] - f_t[row] * m[1] / f_t[1];
+        let reduced = Matrix2::new(dp(&m_z, 0), dp(&m_v, 0), dp(&m_z, 2), dp(&m_v, 2));
         let g = Vector2::new(x_t[0] - z, x_t[2] - v);
         let converged = (g[0] / scales.z).abs() < newton_tol && (g[1] / v).abs() < newton_tol;
         let jac = reduced - Matrix2::identity();
@@ -312,7 +320,7 @@ pub fn newton_orbit(
             }
             // The orbit through the corrected start returns later by dT = −(M d)_y / f_y.
             let d = [dz, 0.0, dv];
-            let dt_s = -(monodromy[(1, 0)] * dz + monodromy[(1, 2)] * dv) / f_t[1];
+            let dt_s = -(m_z[1] * dz + m_v[1] * dv) / f_t[1];
             return Ok(PeriodicOrbit {
                 start: [z + dz, y_sec, v + dv],
                 period_s: ret.period_s + dt_s,

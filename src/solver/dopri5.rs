@@ -87,6 +87,18 @@ impl<const N: usize> Step<'_, N> {
             c[0][i] + theta * (c[1][i] + theta1 * (c[2][i] + theta * (c[3][i] + theta1 * c[4][i])))
         })
     }
+
+    /// The components `idx` of the state at t in [t0, t1]: the same values as
+    /// [`Step::interpolate`] gives them, for callers that read a few of many components.
+    #[inline]
+    pub fn interpolate_components<const K: usize>(&self, t: f64, idx: [usize; K]) -> [f64; K] {
+        let theta = (t - self.t0) / (self.t1 - self.t0);
+        let theta1 = 1.0 - theta;
+        let c = self.cont;
+        idx.map(|i| {
+            c[0][i] + theta * (c[1][i] + theta1 * (c[2][i] + theta * (c[3][i] + theta1 * c[4][i])))
+        })
+    }
 }
 
 /// Where an integration ended and what it cost.
@@ -158,6 +170,7 @@ fn error_norm<const N: usize>(
     x0: &[f64; N],
     x1: &[f64; N],
     opts: &SolverOptions<N>,
+    components: usize,
 ) -> f64 {
     let mut s = 0.0;
     for i in 0..N {
@@ -165,7 +178,7 @@ fn error_norm<const N: usize>(
         let r = err[i] / sc;
         s += r * r;
     }
-    (s / N as f64).sqrt()
+    (s / components as f64).sqrt()
 }
 
 /// Hairer's starting step guess.
@@ -177,7 +190,9 @@ fn initial_step<const N: usize, S: OdeSystem<N>>(
 ) -> (f64, usize) {
     let sc: [f64; N] = std::array::from_fn(|i| opts.atol[i] + opts.rtol * x0[i].abs());
     let norm = |v: &[f64; N]| {
-        (v.iter().zip(&sc).map(|(a, s)| (a / s).powi(2)).sum::<f64>() / N as f64).sqrt()
+        (v.iter().zip(&sc).map(|(a, s)| (a / s).powi(2)).sum::<f64>()
+            / S::ERROR_NORM_COMPONENTS as f64)
+            .sqrt()
     };
     let d0 = norm(x0);
     let d1 = norm(f0);
@@ -263,7 +278,7 @@ pub fn integrate<const N: usize, S: OdeSystem<N>>(
         let err: [f64; N] = std::array::from_fn(|i| {
             h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i])
         });
-        let err = error_norm(&err, &x, &x_new, opts);
+        let err = error_norm(&err, &x, &x_new, opts, S::ERROR_NORM_COMPONENTS);
         if !err.is_finite() || x_new.iter().any(|v| !v.is_finite()) {
             // Retry with a much smaller step before declaring the state broken.
             if h > h_min_rel * t.abs().max(1e-12) * 1e3 {
