@@ -1,6 +1,6 @@
 //! The boundary's uncertainty: K tire structures drawn from a study's distributions of the
-//! parameters that are not the operating point (MODEL.md, "Tire structure", "Friction and
-//! damping", "Vehicle"), each one's stability on the chart's grid, and per cell the share of
+//! parameters that are not the operating point (the groups "Tire structure", "Friction and
+//! damping" and "Vehicle" of `polywear params`, MODEL.md#parameter-table), each one's stability on the chart's grid, and per cell the share of
 //! structures for which the wheel is unstable. Cells with a share between 5% and 95% form the
 //! band in which 90% of the structures put the boundary.
 
@@ -19,6 +19,7 @@ pub const BAND: (f64, f64) = (0.05, 0.95);
 pub struct StructureBand {
     /// Names of the drawn parameters.
     pub drawn: Vec<&'static str>,
+    /// The K structures: the chart's base parameters with the drawn ones set per sample.
     pub structures: Vec<Params>,
     /// Cells per axis; shares are row-major in y, then x.
     pub cells: usize,

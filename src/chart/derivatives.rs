@@ -1,4 +1,4 @@
-//! Exact second and third state derivatives of the tread ODE (MODEL.md step 6; paper Eq. 21),
+//! Exact second and third state derivatives of the tread ODE (MODEL.md#step-6-tread-ode; paper Eq. 21),
 //! for the first Lyapunov coefficient.
 //!
 //! The state enters nonlinearly only through h(z, w) = σ0 z φ(w), φ(w) = w_t(w) / g(w_t(w)),
@@ -25,12 +25,15 @@ impl Jet {
     pub fn var(x: f64) -> Jet {
         Jet([x, 1.0, 0.0, 0.0])
     }
+    /// The constant c (all higher coefficients zero).
     pub fn constant(c: f64) -> Jet {
         Jet([c, 0.0, 0.0, 0.0])
     }
+    /// The series multiplied by the constant k.
     pub fn scale(self, k: f64) -> Jet {
         Jet(self.0.map(|c| c * k))
     }
+    /// exp of the series (coefficient recurrence of e' = a' e).
     pub fn exp(self) -> Jet {
         let a = self.0;
         let mut e = [a[0].exp(), 0.0, 0.0, 0.0];
@@ -39,6 +42,7 @@ impl Jet {
         }
         Jet(e)
     }
+    /// ln of the series, for c0 > 0 (coefficient recurrence of l' = a' / a).
     pub fn ln(self) -> Jet {
         let a = self.0;
         let mut l = [a[0].ln(), 0.0, 0.0, 0.0];
@@ -52,6 +56,7 @@ impl Jet {
     pub fn powf(self, r: f64) -> Jet {
         self.ln().scale(r).exp()
     }
+    /// |x| near c0 ≠ 0 (the series negated where c0 < 0).
     pub fn abs(self) -> Jet {
         if self.0[0] < 0.0 {
             self.scale(-1.0)

@@ -1,6 +1,7 @@
 //! Stability charts: every Hopf curve of both wheels in the plane of any two parameters, with
 //! the frequency, the first Lyapunov coefficient and the criticality of the onset at each point
-//! (MODEL.md steps 1–8 for the model; [`crate::continuation`] for the numerics).
+//! (MODEL.md#first-lyapunov-coefficient; MODEL.md#step-1-deflection to #step-8-linear-stability
+//! for the model; [`crate::continuation`] for the numerics).
 //!
 //! The tread ODE's coefficients depend on the two parameters through steps 1–5 (contact patch,
 //! tread block, slip ratio, friction levels), so the family rebuilds the [`WheelModel`] at each
@@ -25,9 +26,13 @@ use derivatives::TreadSystem;
 /// The tread ODE of one wheel as a function of two named parameters, the others from `base`.
 #[derive(Debug, Clone, Copy)]
 pub struct TireFamily {
+    /// The parameters not on the axes.
     pub base: Params,
+    /// Which wheel's tread ODE (MODEL.md#operating-point-and-wheels).
     pub wheel: Wheel,
+    /// The friction variant (MODEL.md#variants).
     pub variant: Variant,
+    /// The names of the x and y parameters, as in `polywear params`.
     pub names: [&'static str; 2],
 }
 
@@ -59,18 +64,26 @@ impl TwoParameterFamily for TireFamily {
 /// What a chart is asked for.
 #[derive(Debug, Clone)]
 pub struct ChartRequest {
+    /// The parameters not on the axes, and the nominal point marked on the chart.
     pub base: Params,
+    /// The friction variant (MODEL.md#variants).
     pub variant: Variant,
+    /// The wheels to trace, each independently.
     pub wheels: Vec<Wheel>,
+    /// The parameter on the x axis.
     pub x: &'static ParamSpec,
+    /// The parameter on the y axis.
     pub y: &'static ParamSpec,
+    /// The box in the parameters' own units (x range, y range).
     pub bounds: ParamBox,
 }
 
 /// Every Hopf curve of one wheel.
 #[derive(Debug, Clone)]
 pub struct WheelCurves {
+    /// The wheel.
     pub wheel: Wheel,
+    /// Its Hopf curves and special points in the request's box.
     pub curves: HopfCurves,
 }
 
@@ -79,6 +92,7 @@ pub struct WheelCurves {
 pub const RE_LAMBDA_BOUND: f64 = 1e-8;
 
 impl ChartRequest {
+    /// The family of `wheel`'s tread ODE over the chart's two parameters.
     pub fn family(&self, wheel: Wheel) -> TireFamily {
         TireFamily {
             base: self.base,
@@ -284,6 +298,7 @@ pub fn band_columns(req: &ChartRequest, band: &band::StructureBand) -> Vec<Colum
     ]
 }
 
+/// Linear frequency \[Hz\] of an angular frequency ω \[rad/s\].
 pub fn freq_hz(omega: f64) -> f64 {
     omega / (2.0 * std::f64::consts::PI)
 }

@@ -45,6 +45,19 @@ fn band_study(args: &ChartArgs, req: &ChartRequest) -> CliResult<Option<(Study, 
 }
 
 #[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  # speed x toe-in, both wheels: Hopf curves, l1, Bautin points, picture\n",
+    "  polywear chart --x speed_kmh --x-from 60 --x-to 250 --y toe_deg --y-from 0.05 --y-to 0.6 \\\n",
+    "      --out data/chart_speed_toe.parquet\n",
+    "  # load x pressure at 120 km/h, follower only\n",
+    "  polywear chart --x load_n --x-from 2000 --x-to 8000 --y pressure_kpa --y-from 150 \\\n",
+    "      --y-to 350 --speed 120 --wheel follower --out data/chart_load_pressure.parquet\n",
+    "  # the boundary's uncertainty band over 64 tire structures of a study\n",
+    "  polywear chart --x speed_kmh --x-from 60 --x-to 250 --y toe_deg --y-from 0.05 --y-to 0.6 \\\n",
+    "      --study studies/default.toml --structure-samples 64 --out data/chart_band.parquet\n",
+    "\nGuide: GUIDE.md#stability-charts"
+))]
 pub struct ChartArgs {
     /// Parameter on the horizontal axis, by name (see `polywear params`), e.g. speed_kmh
     #[arg(long, value_name = "NAME")]

@@ -19,6 +19,15 @@ use polywear::study::Study;
 const STRUCTURE_SAMPLES_MAX: u64 = 100_000;
 
 #[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  # the WLTC at 0.3 deg toe-in: share of time and distance in vibration per wheel\n",
+    "  polywear cycle data/cycles/wltc_class3b.csv --set toe_deg=0.3 --out data/wltc\n",
+    "  # the highway cycle over 100 tire structures of a study: means and 90% intervals\n",
+    "  polywear cycle data/cycles/hwfet.csv --study studies/default.toml --structure-samples 100 \\\n",
+    "      --out data/hwfet\n",
+    "\nGuide: GUIDE.md#drive-cycles-polywear-cycle"
+))]
 pub struct CycleArgs {
     /// Drive cycle (CSV or Parquet): `time_s` (increasing) and `speed_kmh` (0 = standstill),
     /// optionally a column per step for any parameter of `polywear params` (toe_deg, load_n,

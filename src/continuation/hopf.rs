@@ -53,18 +53,24 @@ pub fn equilibrium<S: OdeWithJacobian>(sys: &S, scale: &DVector<f64>) -> Option<
 pub struct Solution {
     /// Box-relative parameters.
     pub s: [f64; 2],
+    /// The equilibrium state.
     pub x: DVector<f64>,
+    /// Newton iterations taken.
     pub iterations: usize,
 }
 
 /// The Hopf system of one family in one box.
 pub struct HopfSystem<'a, F: TwoParameterFamily> {
+    /// The two-parameter family.
     pub family: &'a F,
+    /// The box; the unknowns s are relative to it.
     pub bounds: ParamBox,
+    /// Size per state below which a component counts as zero (the family's `state_scale`).
     pub scale: DVector<f64>,
 }
 
 impl<'a, F: TwoParameterFamily> HopfSystem<'a, F> {
+    /// The Hopf system of `family` in the box `bounds`.
     pub fn new(family: &'a F, bounds: ParamBox) -> Self {
         HopfSystem {
             family,
@@ -73,6 +79,7 @@ impl<'a, F: TwoParameterFamily> HopfSystem<'a, F> {
         }
     }
 
+    /// The system at box-relative parameters s, or `None` where the model does not exist.
     pub fn system(&self, s: [f64; 2]) -> Option<F::System> {
         self.family.at(self.bounds.to_param(s))
     }
@@ -189,7 +196,8 @@ pub struct HopfData {
     pub omega: f64,
     /// Re λ of the critical pair [1/s] (zero up to the corrector's tolerance).
     pub re_lambda: f64,
-    /// First Lyapunov coefficient (Kuznetsov eq. 3.20); negative: supercritical.
+    /// First Lyapunov coefficient (Kuznetsov eq. 3.20, MODEL.md#first-lyapunov-coefficient);
+    /// negative: supercritical (soft onset), positive: subcritical (hard onset).
     pub l1: f64,
     /// det A: its sign changes where a real eigenvalue crosses zero.
     pub det_a: f64,
@@ -251,7 +259,7 @@ pub fn analyse<S: OdeWithJacobian>(
 /// First Lyapunov coefficient at a Hopf point with critical pair ±iω (Kuznetsov eq. 3.20):
 /// l1 = Re(⟨p, C(q,q,q̄)⟩ − 2⟨p, B(q, A⁻¹B(q,q̄))⟩ + ⟨p, B(q̄, (2iωI − A)⁻¹B(q,q))⟩) / (2ω),
 /// with A q = iω q, Aᵀ p = −iω p, ⟨q, q⟩ = 1, ⟨p, q⟩ = 1. Its value depends on the state's units
-/// through the normalisation ⟨q, q⟩ = 1; its sign does not.
+/// through the normalisation ⟨q, q⟩ = 1; its sign does not (MODEL.md#first-lyapunov-coefficient).
 pub fn first_lyapunov<S: OdeWithJacobian>(
     sys: &S,
     x: &DVector<f64>,

@@ -6,7 +6,8 @@
 //!
 //! - [`hopf`]: the Hopf defining system (equilibrium equations plus the bialternate-product test
 //!   function det(2A⊙I), Kuznetsov, *Elements of Applied Bifurcation Theory*, §10.2.2), Newton's
-//!   corrector on it, and the first Lyapunov coefficient l1 (Kuznetsov eq. 3.20);
+//!   corrector on it, and the first Lyapunov coefficient l1 (Kuznetsov eq. 3.20,
+//!   MODEL.md#first-lyapunov-coefficient);
 //! - [`trace`]: pseudo-arclength continuation with step control, seeds from scan lines, curve
 //!   ends on the box, closed curves, Bautin points (l1 = 0) by Brent's method.
 
@@ -39,6 +40,7 @@ pub trait OdeWithJacobian {
 
 /// A two-parameter family of ODEs: the system at parameters p = (P, Q) in their own units.
 pub trait TwoParameterFamily: Sync {
+    /// The ODE at fixed parameters.
     type System: OdeWithJacobian;
     /// The system at p, or `None` where the model does not exist there.
     fn at(&self, p: [f64; 2]) -> Option<Self::System>;
@@ -49,7 +51,9 @@ pub trait TwoParameterFamily: Sync {
 /// The rectangle [lo, hi] of the parameter plane in which curves are traced.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ParamBox {
+    /// Lower corner (P, Q) in the parameters' own units.
     pub lo: [f64; 2],
+    /// Upper corner (P, Q) in the parameters' own units.
     pub hi: [f64; 2],
 }
 

@@ -19,7 +19,9 @@ type C = Complex<f64>;
 /// The Brusselator at parameters (a, b).
 #[derive(Debug, Clone, Copy)]
 pub struct Brusselator {
+    /// The parameter a > 0 (the equilibrium is (a, b/a)).
     pub a: f64,
+    /// The parameter b; the Hopf curve is b = 1 + a².
     pub b: f64,
 }
 
@@ -84,7 +86,9 @@ impl TwoParameterFamily for BrusselatorFamily {
 /// Hopf normal form z' = (μ + i)z + c z|z|² − z|z|⁴ in real coordinates.
 #[derive(Debug, Clone, Copy)]
 pub struct NormalForm {
+    /// The unfolding parameter μ: Hopf points at μ = 0.
     pub mu: f64,
+    /// The cubic coefficient c: l1 = 2c at μ = 0 (with ⟨q, q⟩ = 1), a Bautin point at c = 0.
     pub cubic: f64,
 }
 
@@ -180,7 +184,9 @@ impl TwoParameterFamily for RingFamily {
 /// ω = √(−β2), and at the Bogdanov–Takens point (0, 0) the complex pair turns real.
 #[derive(Debug, Clone, Copy)]
 pub struct BogdanovTakens {
+    /// The unfolding parameter β1.
     pub beta1: f64,
+    /// The unfolding parameter β2.
     pub beta2: f64,
 }
 

@@ -18,8 +18,9 @@ pub struct TraceOptions {
     pub scan_lines: usize,
     /// Samples per scan line.
     pub scan_samples: usize,
-    /// Largest and smallest arclength step.
+    /// Largest arclength step (box-relative).
     pub h_max: f64,
+    /// Smallest arclength step (box-relative): below it the curve ends as `Stopped`.
     pub h_min: f64,
     /// Most points per curve.
     pub max_points: usize,
@@ -54,6 +55,7 @@ pub enum SpecialKind {
 }
 
 impl SpecialKind {
+    /// The kind's name in output tables (`bautin`, `box_end`, ...).
     pub fn as_str(self) -> &'static str {
         match self {
             SpecialKind::Bautin => "bautin",
@@ -68,24 +70,33 @@ impl SpecialKind {
 /// A special point on curve `curve`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpecialPoint {
+    /// What the point is.
     pub kind: SpecialKind,
+    /// Index of the curve it lies on in [`HopfCurves::curves`].
     pub curve: usize,
+    /// The parameters (P, Q) in their own units.
     pub p: [f64; 2],
+    /// Angular frequency ω of the critical pair \[rad/s\] (for the tire; 1/time in general).
     pub omega: f64,
+    /// First Lyapunov coefficient there (MODEL.md#first-lyapunov-coefficient).
     pub l1: f64,
 }
 
 /// One Hopf curve: its points in order; a closed curve repeats its first point at the end.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Curve {
+    /// The Hopf points in order along the curve.
     pub points: Vec<HopfData>,
+    /// Whether the curve closes on itself inside the box.
     pub closed: bool,
 }
 
 /// Every Hopf curve in the box, with the special points on them.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct HopfCurves {
+    /// The curves; a curve's number is its index here.
     pub curves: Vec<Curve>,
+    /// The special points on them.
     pub special: Vec<SpecialPoint>,
 }
 

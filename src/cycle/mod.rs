@@ -1,11 +1,12 @@
 //! Drive cycles: a speed trace (`time_s`, `speed_kmh`, optionally any parameter per step) whose
 //! every step is classified for both wheels as if the operating point were held (quasi-static:
-//! MODEL.md steps 1–9 at each step's parameters). Standstill (0 km/h) is a step of its own: no
-//! sliding, no tread dynamics, not vibrating.
+//! MODEL.md#step-1-deflection to #step-9-attractor at each step's parameters). Standstill
+//! (0 km/h) is a step of its own: no sliding, no tread dynamics, not vibrating.
 //!
 //! Quasi-static validity. The tread answers a change of operating point within its time
-//! constant τ = 1/|Re λ| (λ the leading eigenvalue at the equilibrium, MODEL.md step 8). The
-//! speed's change moves Re λ; the time it takes to move Re λ by its own size is
+//! constant τ = 1/|Re λ| (λ the leading eigenvalue at the equilibrium,
+//! MODEL.md#step-8-linear-stability). The speed's change moves Re λ; the time it takes to move
+//! Re λ by its own size is
 //! T = |Re λ| / |d(Re λ)/dt|. The quasi-static verdict holds at a step when τ ≤ T, i.e. when
 //! |d(Re λ)/dt| ≤ (Re λ)²: the tread settles before its stability has changed appreciably. It
 //! fails near every crossing of a Hopf boundary (Re λ → 0), where the tread lags the speed (a
