@@ -1,6 +1,8 @@
-//! Fault injection: `kill -9` at random moments of a multi-chunk explore run (at least 5 kills),
-//! one kept chunk corrupted, then `--resume`: the rows equal an uninterrupted run, row for row,
-//! and the resume says which chunk it redid and why.
+//! Fault injection: `kill -9` at random moments of a multi-chunk explore run (6 kills), one kept
+//! chunk corrupted, then `--resume`: the rows equal an uninterrupted run, row for row, and the
+//! resume says which chunk it redid and why. The moments are set by progress (a random number of
+//! new chunk files, then a random few milliseconds), not by wall time, so the test does the same
+//! on a fast machine and on a loaded one.
 
 mod common;
 #[path = "common/parquet_rows.rs"]
@@ -8,7 +10,7 @@ mod parquet_rows;
 
 use std::path::Path;
 use std::process::{Command, Stdio};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use parquet_rows::rows_in_dir;
 
@@ -69,48 +71,48 @@ load_n = {{ dist = "truncated_normal", mean = 4000, sd = 800, min = 2500, max = 
     .unwrap();
 
     let whole = base.join("whole");
-    let t0 = Instant::now();
     let st = explore(&study, &whole, false).status().unwrap();
-    let full_run = t0.elapsed();
     assert!(st.success());
     let expected = rows_in_dir(&[&whole]);
     assert_eq!(expected.len() as u64, SAMPLES * 2);
 
-    // Kill at random moments between 2% and 12% of a full run's time after each start, so
-    // that 6 kills take well under one run's worth of progress (at most 72%, less the start-up
-    // of each process). Should the machine speed up and the run finish after the 5th kill, the
-    // corruption and the resume below still test what they test.
+    // Each start is killed once it has written 1 to 30 new chunk files and then run 0 to 4 ms
+    // more (inside the next chunk's work, its write or its journal entry): 6 kills take at most
+    // 180 of the 300 chunks, so the run cannot finish before them.
     let killed = base.join("killed");
     let mut rng = 2014u64;
     let mut kills = 0;
-    let mut finished = false;
     let mut chunks_seen = Vec::new();
-    while kills < 6 && !finished {
+    while kills < 6 {
+        let target = chunk_files(&killed).len() + 1 + (next(&mut rng) % 30) as usize;
+        let extra = Duration::from_micros(next(&mut rng) % 4000);
         let mut child = explore(&study, &killed, true)
             .stderr(Stdio::null())
             .spawn()
             .unwrap();
-        let frac = 0.02 + 0.10 * (next(&mut rng) % 1000) as f64 / 1000.0;
-        std::thread::sleep(full_run.mul_f64(frac));
-        match child.try_wait().unwrap() {
-            Some(status) => {
-                assert!(status.success());
-                finished = true;
+        // A hang guard only: a start that makes no progress for minutes is a failure.
+        let started = Instant::now();
+        loop {
+            if let Some(status) = child.try_wait().unwrap() {
+                panic!("the run ended ({status}) before its kill at {target} chunk files");
             }
-            None => {
-                child.kill().unwrap(); // SIGKILL
-                child.wait().unwrap();
-                kills += 1;
-                chunks_seen.push(chunk_files(&killed).len());
+            if chunk_files(&killed).len() >= target {
+                std::thread::sleep(extra);
+                break;
             }
+            assert!(
+                started.elapsed() < Duration::from_secs(300),
+                "no chunk file in 300 s (target {target}): a hang"
+            );
+            std::thread::sleep(Duration::from_millis(1));
         }
+        child.kill().unwrap(); // SIGKILL
+        child.wait().unwrap();
+        kills += 1;
+        chunks_seen.push(chunk_files(&killed).len());
     }
-    assert!(
-        kills >= 5,
-        "only {kills} kills before the run finished (chunks at each kill: {chunks_seen:?})"
-    );
     eprintln!(
-        "{kills} kills; chunk files at each: {chunks_seen:?} of {}; full run {full_run:?}",
+        "{kills} kills; chunk files at each: {chunks_seen:?} of {}",
         SAMPLES / CHUNK
     );
 

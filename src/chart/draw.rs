@@ -34,8 +34,10 @@ pub fn draw(
 ) -> Result<(), String> {
     let (x, y) = (req.x, req.y);
     let title = format!(
-        "Stability chart in {} and {} ({} variant; other parameters as given)",
-        x.name, y.name, req.variant
+        "Where the tread vibrates: {} × {} ({} variant; other parameters as given)",
+        crate::params::label(x.name),
+        crate::params::label(y.name),
+        req.variant
     );
     figure(path, (1200, 950), &title, |area| {
         let (lo, hi) = (req.bounds.lo, req.bounds.hi);
@@ -47,8 +49,8 @@ pub fn draw(
             .map_err(|e| e.to_string())?;
         chart
             .configure_mesh()
-            .x_desc(format!("{} ({}) [{}]", x.name, x.symbol, x.unit))
-            .y_desc(format!("{} ({}) [{}]", y.name, y.symbol, y.unit))
+            .x_desc(crate::params::axis_label(x.name, x.unit))
+            .y_desc(crate::params::axis_label(y.name, y.unit))
             .light_line_style(TRANSPARENT)
             .label_style(("sans-serif", 15))
             .axis_desc_style(("sans-serif", 17))
