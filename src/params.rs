@@ -263,9 +263,9 @@ pub const R0_OVERRIDES: &[(&str, f64)] = &[
     ("c_s", 18.0),
 ];
 
-/// Below this tire pressure [kPa] a value is more likely in bar (2.3 bar = 230 kPa).
+/// Below this tire pressure \[kPa\] a value is more likely in bar (2.3 bar = 230 kPa).
 pub const PLAUSIBLE_PRESSURE_KPA: f64 = 50.0;
-/// Below this wheel load [N] a value is more likely in kg (400 kg carry 3923 N).
+/// Below this wheel load \[N\] a value is more likely in kg (400 kg carry 3923 N).
 pub const PLAUSIBLE_LOAD_N: f64 = 500.0;
 /// Standard gravity [m/s^2], for the kg-to-N hint.
 const STANDARD_GRAVITY: f64 = 9.80665;
