@@ -5,7 +5,7 @@ use super::budget::Meter;
 use super::section::{crossing_in_step, metered};
 use super::{Scales, MIN_CYCLE_V_REL};
 use crate::model::{State, TreadOde};
-use crate::solver::{integrate, Control, SolverOptions};
+use crate::solver::{integrate, Control, Method, SolverOptions};
 
 /// Where a trajectory was heading when envelope tracking stopped.
 #[derive(Debug, Clone, Copy)]
@@ -46,7 +46,9 @@ pub fn track(
     let mut hist: Vec<(f64, f64)> = Vec::new(); // (z, v) at crossings
     let mut verdict = None;
     let mut steady = 0;
-    metered(ode, start, max_time_s, &opts, meter, |step| {
+    // The fallback stays on DOPRI5, with which its verdicts near the Hopf point were set.
+    let dopri5 = Method::Dopri5;
+    metered(dopri5, ode, start, max_time_s, &opts, meter, |step| {
         let Some((_, x)) = crossing_in_step(step, scales.y_eq) else {
             return Control::Continue;
         };

@@ -11,6 +11,7 @@
 
 pub mod budget;
 pub mod envelope;
+mod peak;
 pub mod section;
 pub mod shooting;
 pub mod validation;

@@ -3,7 +3,9 @@
 
 use super::budget::Meter;
 use crate::numeric::brent;
-use crate::solver::{integrate, Control, IntegrationError, OdeSystem, SolverOptions, Step};
+use crate::solver::{
+    integrate_with, Control, IntegrationError, Method, OdeSystem, SolverOptions, Step,
+};
 
 /// Locates an upward crossing of y = `y_sec` inside an accepted step, if there is one.
 #[inline]
@@ -34,10 +36,11 @@ pub struct Return<const N: usize> {
     pub h_last: f64,
 }
 
-/// Runs `integrate` under the wheel's budget: the step limit shrinks to the evaluations left,
+/// Runs `method` under the wheel's budget: the step limit shrinks to the evaluations left,
 /// the step callback stops once the wall time is spent, and the work is charged to `meter`
 /// (also when the integration fails).
 pub fn metered<const N: usize, S: OdeSystem<N>>(
+    method: Method,
     sys: &S,
     start: [f64; N],
     t_end: f64,
@@ -49,7 +52,7 @@ pub fn metered<const N: usize, S: OdeSystem<N>>(
         max_steps: meter.max_steps(opts.max_steps),
         ..*opts
     };
-    let out = integrate(sys, 0.0, start, t_end, &opts, |step| {
+    let out = integrate_with(method, sys, 0.0, start, t_end, &opts, |step| {
         if meter.out_of_time() {
             return Control::Stop;
         }
@@ -62,7 +65,7 @@ pub fn metered<const N: usize, S: OdeSystem<N>>(
         }
         Err(e) => {
             if let IntegrationError::TooManySteps { steps, .. } = e {
-                meter.charge(6 * steps + 1);
+                meter.charge(method.evals_per_step() * steps + 1);
             }
             Err(e.to_string())
         }
@@ -72,7 +75,9 @@ pub fn metered<const N: usize, S: OdeSystem<N>>(
 /// Integrates from a point on the section until the next upward crossing after `t_min`.
 /// `observe(step, t_hi)` sees every accepted step up to the return, `t_hi` being the end of the
 /// part of the step that belongs to the orbit (the return time in the last step).
+#[allow(clippy::too_many_arguments)]
 pub fn first_return<const N: usize, S: OdeSystem<N>>(
+    method: Method,
     sys: &S,
     start: [f64; N],
     y_sec: f64,
@@ -82,7 +87,7 @@ pub fn first_return<const N: usize, S: OdeSystem<N>>(
     mut observe: impl FnMut(&Step<'_, N>, f64),
 ) -> Result<Return<N>, String> {
     let mut hit = None;
-    let out = metered(sys, start, t_max, opts, meter, |step| {
+    let out = metered(method, sys, start, t_max, opts, meter, |step| {
         if step.t1 > t_min {
             if let Some(c) = crossing_in_step(step, y_sec) {
                 if c.0 > t_min {

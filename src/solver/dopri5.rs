@@ -73,19 +73,44 @@ pub struct Step<'a, const N: usize> {
     pub x0: &'a [f64; N],
     /// State at `t1`.
     pub x1: &'a [f64; N],
-    cont: &'a [[f64; N]; 5],
+    pub(super) dense: Dense<'a, N>,
+}
+
+/// The dense-output polynomial of a step, in the integrator's own form.
+pub(super) enum Dense<'a, const N: usize> {
+    /// DOPRI5's 4th-order polynomial (Hairer's CONTD5 coefficients, x0 included).
+    Dopri5(&'a [[f64; N]; 5]),
+    /// DOP853's 7th-order polynomial (Hairer's CONTD8 coefficients, x0 excluded).
+    Dop853(&'a [[f64; N]; 7]),
 }
 
 impl<const N: usize> Step<'_, N> {
-    /// State at any t in [t0, t1] (4th-order accurate).
+    /// Component `i` at the relative position `theta` = (t − t0)/(t1 − t0).
+    #[inline(always)]
+    fn component(&self, theta: f64, i: usize) -> f64 {
+        let theta1 = 1.0 - theta;
+        match self.dense {
+            Dense::Dopri5(c) => {
+                c[0][i]
+                    + theta * (c[1][i] + theta1 * (c[2][i] + theta * (c[3][i] + theta1 * c[4][i])))
+            }
+            Dense::Dop853(c) => {
+                let inner = c[4][i] + theta1 * (c[5][i] + theta * c[6][i]);
+                self.x0[i]
+                    + theta
+                        * (c[0][i]
+                            + theta1
+                                * (c[1][i]
+                                    + theta * (c[2][i] + theta1 * (c[3][i] + theta * inner))))
+            }
+        }
+    }
+
+    /// State at any t in [t0, t1] (4th-order accurate for DOPRI5, 7th-order for DOP853).
     #[inline]
     pub fn interpolate(&self, t: f64) -> [f64; N] {
         let theta = (t - self.t0) / (self.t1 - self.t0);
-        let theta1 = 1.0 - theta;
-        let c = self.cont;
-        std::array::from_fn(|i| {
-            c[0][i] + theta * (c[1][i] + theta1 * (c[2][i] + theta * (c[3][i] + theta1 * c[4][i])))
-        })
+        std::array::from_fn(|i| self.component(theta, i))
     }
 
     /// The components `idx` of the state at t in [t0, t1]: the same values as
@@ -93,11 +118,7 @@ impl<const N: usize> Step<'_, N> {
     #[inline]
     pub fn interpolate_components<const K: usize>(&self, t: f64, idx: [usize; K]) -> [f64; K] {
         let theta = (t - self.t0) / (self.t1 - self.t0);
-        let theta1 = 1.0 - theta;
-        let c = self.cont;
-        idx.map(|i| {
-            c[0][i] + theta * (c[1][i] + theta1 * (c[2][i] + theta * (c[3][i] + theta1 * c[4][i])))
-        })
+        idx.map(|i| self.component(theta, i))
     }
 }
 
@@ -165,7 +186,7 @@ fn axpy<const N: usize>(x: &[f64; N], h: f64, terms: &[(f64, &[f64; N])]) -> [f6
 }
 
 #[inline(always)]
-fn error_norm<const N: usize>(
+pub(super) fn error_norm<const N: usize>(
     err: &[f64; N],
     x0: &[f64; N],
     x1: &[f64; N],
@@ -181,12 +202,13 @@ fn error_norm<const N: usize>(
     (s / components as f64).sqrt()
 }
 
-/// Hairer's starting step guess.
-fn initial_step<const N: usize, S: OdeSystem<N>>(
+/// Hairer's starting step guess for a method of order `order`.
+pub(super) fn initial_step<const N: usize, S: OdeSystem<N>>(
     sys: &S,
     x0: &[f64; N],
     f0: &[f64; N],
     opts: &SolverOptions<N>,
+    order: i32,
 ) -> (f64, usize) {
     let sc: [f64; N] = std::array::from_fn(|i| opts.atol[i] + opts.rtol * x0[i].abs());
     let norm = |v: &[f64; N]| {
@@ -209,7 +231,7 @@ fn initial_step<const N: usize, S: OdeSystem<N>>(
     let h1 = if d1.max(d2) <= 1e-15 {
         (h * 1e-3).max(1e-6)
     } else {
-        (0.01 / d1.max(d2)).powf(1.0 / 5.0)
+        (0.01 / d1.max(d2)).powf(1.0 / order as f64)
     };
     ((100.0 * h).min(h1).min(opts.h_max), 1)
 }
@@ -232,7 +254,7 @@ pub fn integrate<const N: usize, S: OdeSystem<N>>(
     let mut evals = 1;
     let (mut h, extra) = match opts.h0 {
         Some(h) => (h.min(opts.h_max), 0),
-        None => initial_step(sys, &x, &k1, opts),
+        None => initial_step(sys, &x, &k1, opts, 5),
     };
     evals += extra;
     let mut facold: f64 = 1e-4;
@@ -314,7 +336,7 @@ pub fn integrate<const N: usize, S: OdeSystem<N>>(
                 t1: t_new,
                 x0: &x,
                 x1: &x_new,
-                cont: &cont,
+                dense: Dense::Dopri5(&cont),
             });
             t = t_new;
             x = x_new;

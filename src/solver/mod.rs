@@ -1,13 +1,53 @@
-//! Time integration: an adaptive Dormand–Prince 5(4) Runge–Kutta method with error control and
-//! 4th-order dense output, on fixed-size state (no allocation per step).
+//! Time integration: adaptive Dormand–Prince Runge–Kutta methods with error control and dense
+//! output, on fixed-size state (no allocation per step): 5(4) with 4th-order dense output for
+//! loose and moderate tolerances, 8(5,3) with 7th-order dense output for tight ones.
 //!
 //! The split follows DifferentialEquations.jl: an [`OdeSystem`] is the problem, [`integrate`] is
 //! the solver, and the caller sees each accepted [`Step`] through a callback (for section
 //! crossings, envelope tracking or recording), which decides whether to go on.
 
+mod dop853;
+mod dop853_tableau;
 mod dopri5;
 
+pub use dop853::integrate as integrate_dop853;
 pub use dopri5::{integrate, Control, IntegrationError, Outcome, SolverOptions, Step};
+
+/// Which Runge–Kutta pair integrates: both give the same [`Step`]s to the callback.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// DOPRI5, 6 evaluations per step: the cheaper one at loose and moderate tolerances.
+    Dopri5,
+    /// DOP853, 15 evaluations per step with its dense output: the cheaper one at tight
+    /// tolerances, where its 8th order takes a fraction of DOPRI5's steps.
+    Dop853,
+}
+
+impl Method {
+    /// Right-hand-side evaluations one step costs (for charging steps that were not finished).
+    pub fn evals_per_step(self) -> usize {
+        match self {
+            Method::Dopri5 => 6,
+            Method::Dop853 => 15,
+        }
+    }
+}
+
+/// [`integrate`] or [`integrate_dop853`], as `method` says.
+pub fn integrate_with<const N: usize, S: OdeSystem<N>>(
+    method: Method,
+    sys: &S,
+    t0: f64,
+    x0: [f64; N],
+    t_end: f64,
+    opts: &SolverOptions<N>,
+    on_step: impl FnMut(&Step<'_, N>) -> Control,
+) -> Result<Outcome<N>, IntegrationError> {
+    match method {
+        Method::Dopri5 => integrate(sys, t0, x0, t_end, opts, on_step),
+        Method::Dop853 => integrate_dop853(sys, t0, x0, t_end, opts, on_step),
+    }
+}
 
 /// An autonomous ODE dx/dt = f(x) on N states.
 pub trait OdeSystem<const N: usize> {
