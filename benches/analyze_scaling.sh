@@ -10,7 +10,7 @@
 # Usage: benches/analyze_scaling.sh [SAMPLES...]   (default: 1e6 4e6)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bin=target/release/polywear
+bin=${CARGO_TARGET_DIR:-target}/release/polywear
 [ -x "$bin" ] || cargo build --release --quiet
 sizes=("$@")
 [ ${#sizes[@]} -gt 0 ] || sizes=(1e6 4e6)

@@ -4,7 +4,7 @@
 # Prints one line per thread count: threads, samples, seconds, samples/s, speed-up over 1 thread.
 set -euo pipefail
 samples=${1:-20000}
-bin=${2:-target/release/polywear}
+bin=${2:-${CARGO_TARGET_DIR:-target}/release/polywear}
 [ -x "$bin" ] || cargo build --release --quiet
 cores=$(nproc)
 counts="1"; t=2

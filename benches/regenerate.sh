@@ -27,15 +27,15 @@ done
 if [ "$quick" = 1 ]; then
   EXPLORE_N=2000; SCALING_N=1000; FSYNC_N=400; VALIDATE_N=4; THROUGHPUT_N=500
   ANALYZE_SIZES="2e4 4e4"; ANALYZE_RUNS=1; REPRODUCE="--steps 11 --paired-samples 200"
-  DECODING_N=2560; PEERS_N=20; PEERS_SCIPY=2; CRITERION="--test"
+  DECODING_N=2560; PEERS_N=20; PEERS_SCIPY=2; CRITERION="--test"; CYCLE_REPEATS=1
 else
   EXPLORE_N=1e6; SCALING_N=20000; FSYNC_N=4000; VALIDATE_N=340; THROUGHPUT_N=20000
   ANALYZE_SIZES="1e6 4e6"; ANALYZE_RUNS=3; REPRODUCE=""
-  DECODING_N=51200; PEERS_N=1000; PEERS_SCIPY=50; CRITERION="--warm-up-time 1 --measurement-time 3"
+  DECODING_N=51200; PEERS_N=1000; PEERS_SCIPY=50; CRITERION="--warm-up-time 1 --measurement-time 3"; CYCLE_REPEATS=9
 fi
 
 cargo build --release --quiet --bin polywear
-bin=target/release/polywear
+bin=${CARGO_TARGET_DIR:-target}/release/polywear
 mkdir -p "$out"
 work=$(mktemp -d "$out/run.XXXXXX")
 trap 'rm -rf "$work"' EXIT
@@ -125,6 +125,21 @@ if want classifier-throughput; then
   say "same samples; the peers' own section below runs them on a point set)."
   say ""
   cargo bench --quiet --bench classifier_throughput -- "$THROUGHPUT_N" 2>/dev/null | block
+fi
+
+if want chart; then
+  section "chart"
+  say "Command: \`cargo bench --bench chart -- $CRITERION\` (one speed × toe-in chart of both wheels beside a 200×200 eigenvalue grid of the same box; criterion: low, mean and high estimate)."
+  say ""
+  # shellcheck disable=SC2086
+  cargo bench --quiet --bench chart -- $CRITERION 2>/dev/null | criterion_lines | block
+fi
+
+if want cycle; then
+  section "cycle"
+  say "Command: \`cargo bench --bench cycle -- $CYCLE_REPEATS\` (the WLTC class 3b, 1,801 steps × 2 wheels, beside the same steps classified independently, alternating)."
+  say ""
+  cargo bench --quiet --bench cycle -- "$CYCLE_REPEATS" 2>/dev/null | block
 fi
 
 if want sampling; then

@@ -7,4 +7,4 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 python3 -m pip install --quiet --disable-pip-version-check scipy numba pandas pyarrow 2>&1 | grep -v "as the 'root' user" || true
 cargo build --release --quiet
-python3 benches/peers/compare.py data/peers target/release/polywear "${1:-1000}" "${2:-50}"
+python3 benches/peers/compare.py data/peers "${CARGO_TARGET_DIR:-target}/release/polywear" "${1:-1000}" "${2:-50}"
