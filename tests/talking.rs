@@ -710,3 +710,22 @@ fn the_papers_figures_can_be_svg_too() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_time_history_as_svg_is_one_polyline_per_curve_not_one_per_segment() {
+    let dir = tmp("simulate-svg");
+    let svg_path = dir.join("point.svg");
+    let (code, _, stderr) = polywear(&["simulate", "--plot", svg_path.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    let svg = std::fs::read_to_string(&svg_path).unwrap();
+    assert!(svg.starts_with("<svg"));
+    // Both wheels' time histories, phase portraits and spectra: a handful of curves, each an
+    // unbroken polyline; drawn segment by segment they were tens of thousands of elements.
+    let polylines = svg.matches("<polyline").count();
+    assert!(
+        polylines < 2_000,
+        "{polylines} polylines, {} bytes",
+        svg.len()
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

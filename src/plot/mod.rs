@@ -154,12 +154,23 @@ pub fn line_panel_with<DB: DrawingBackend>(
                 .copied()
                 .filter(|p| p.0.is_finite() && p.1.is_finite())
                 .collect();
+            // Consecutive clipped segments joined into one path each, so that an SVG holds one
+            // polyline per unbroken stretch rather than one element per segment.
+            let mut paths: Vec<Vec<(f64, f64)>> = Vec::new();
+            for (a, b) in finite
+                .windows(2)
+                .filter_map(|w| clip_segment(w[0], w[1], y0, y1))
+            {
+                match paths.last_mut() {
+                    Some(path) if path.last() == Some(&a) => path.push(b),
+                    _ => paths.push(vec![a, b]),
+                }
+            }
             chart
                 .draw_series(
-                    finite
-                        .windows(2)
-                        .filter_map(|w| clip_segment(w[0], w[1], y0, y1))
-                        .map(|(a, b)| PathElement::new(vec![a, b], color.stroke_width(2))),
+                    paths
+                        .into_iter()
+                        .map(|path| PathElement::new(path, color.stroke_width(2))),
                 )
                 .map_err(|e| e.to_string())?
         };
