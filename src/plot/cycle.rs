@@ -5,7 +5,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use super::{figure, format_tick, PALETTE};
+use super::{draw_legend, figure, format_tick, PALETTE};
 
 /// What the figure shows of one wheel: its name and, per step, whether it vibrates and its
 /// polygon order (NaN when it does not vibrate).
@@ -97,14 +97,7 @@ pub fn cycle_figure(
                     Rectangle::new([(x, y - 5), (x + 18, y + 5)], color.filled())
                 });
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()
-            .map_err(|e| e.to_string())?;
+        draw_legend(&mut chart)?;
 
         let orders = wheels
             .iter()
@@ -145,14 +138,7 @@ pub fn cycle_figure(
                 .label(w.label)
                 .legend(move |(x, y)| Circle::new((x + 9, y), 4, color.filled()));
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()
-            .map_err(|e| e.to_string())?;
+        draw_legend(&mut chart)?;
         Ok(())
     })
 }
