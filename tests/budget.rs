@@ -80,11 +80,18 @@ fn a_wheel_over_its_evaluation_budget_is_failed_with_the_reason() {
 
 #[test]
 fn the_wall_time_budget_stops_the_work() {
+    // Not exceeded before its time: an hour's budget (a short one could run out on a loaded
+    // machine between two lines of this test).
+    let roomy = Meter::new(WheelBudget {
+        max_wheel_seconds: 3600.0,
+        ..WheelBudget::default()
+    });
+    assert!(roomy.exceeded().is_none() && !roomy.out_of_time());
+    // Exceeded after it: the sleep guarantees the elapsed time, whatever the load.
     let meter = Meter::new(WheelBudget {
         max_wheel_seconds: 1e-3,
         ..WheelBudget::default()
     });
-    assert!(meter.exceeded().is_none());
     std::thread::sleep(Duration::from_millis(5));
     assert!(meter.out_of_time());
     let reason = meter.exceeded().unwrap();

@@ -406,6 +406,7 @@ fn paired_from(combos: &BTreeMap<(Variant, i64), u64>) -> Vec<Paired> {
     let mut out = Vec::new();
     let variants: Vec<Variant> = {
         let mut v: Vec<Variant> = combos.keys().map(|k| k.0).collect();
+        v.sort();
         v.dedup();
         v
     };

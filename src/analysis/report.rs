@@ -152,6 +152,7 @@ pub fn analyze(info: RunInfo, opts: &ReportOptions) -> Result<Analysis, String> 
         .unwrap_or_default();
     let variants: Vec<Variant> = {
         let mut v: Vec<Variant> = occurrence.iter().map(|o| o.variant).collect();
+        v.sort();
         v.dedup();
         v
     };
