@@ -115,9 +115,10 @@ fn study_and_parameter_files_never_panic_and_refusals_name_a_field() {
             Ok(Ok(())) => {}
         }
     }
+    // A hang guard, not a speed test: the cases take well under a minute.
     assert!(
-        t0.elapsed() < Duration::from_secs(60),
-        "took {:?}",
+        t0.elapsed() < Duration::from_secs(900),
+        "took {:?}: a parser or sampler that hangs",
         t0.elapsed()
     );
 }
