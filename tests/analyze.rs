@@ -581,3 +581,37 @@ toe_deg = { dist = "uniform", min = 0.2, max = 0.4, count = 1 }
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn the_analysis_reads_the_runs_parameter_values_back_for_its_nominal_tire() {
+    // A run made with `--params`: the study the analysis re-reads (for the nominal tire whose
+    // Hopf curves overlay the risk maps) stands on the run's values, not on the defaults.
+    let dir = tmp("params-back");
+    let study = dir.join("small.toml");
+    std::fs::write(
+        &study,
+        "name = \"small\"\nsamples = 64\n[params]\nspeed_kmh = { dist = \"uniform\", min = 80, max = 160 }\n",
+    )
+    .unwrap();
+    let out = dir.join("run");
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        study.to_str().unwrap(),
+        "--params",
+        concat!(env!("CARGO_MANIFEST_DIR"), "/studies/params_r0.toml"),
+        "--quiet",
+        "--no-report",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let info = polywear::analysis::inputs::check_inputs(&[out]).unwrap();
+    let base = info.parsed_study().unwrap().base;
+    let r0 = polywear::params::Params::r0();
+    assert_eq!(
+        (base.g_mod, base.c_brush, base.alpha2),
+        (r0.g_mod, r0.c_brush, r0.alpha2)
+    );
+    assert_ne!(base.g_mod, polywear::params::Params::default().g_mod);
+    std::fs::remove_dir_all(&dir).ok();
+}

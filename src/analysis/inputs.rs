@@ -4,6 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::params::Params;
 use crate::study::{text_hash, Study};
 
 /// What the files' metadata says about the run.
@@ -35,12 +36,16 @@ pub struct RunInfo {
     pub samples_present: u64,
     /// Rows in the files.
     pub rows: u64,
+    /// The values every parameter had before the draws (`params` metadata: the defaults, a
+    /// `--params` file and the study's fixed values); None where the files do not record them.
+    pub params: Option<Params>,
 }
 
 impl RunInfo {
-    /// The study as parsed from the metadata text (None for text this version cannot read).
+    /// The study as parsed from the metadata text, on the run's recorded parameter values (None
+    /// for text this version cannot read).
     pub fn parsed_study(&self) -> Option<Study> {
-        Study::parse(&self.study).ok()
+        Study::parse_with_base(&self.study, self.params.unwrap_or_default()).ok()
     }
 
     /// The unit of column `name` from the `units` metadata ("" when none is recorded).
@@ -321,7 +326,19 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, String> {
         files,
         samples_present: present,
         rows,
+        params: recorded_params(&get("params")),
     })
+}
+
+/// The `params` metadata (a JSON object of every parameter's value) as [`Params`]; None when it
+/// is missing or names a value this version cannot take.
+fn recorded_params(json: &str) -> Option<Params> {
+    let values: serde_json::Map<String, serde_json::Value> = serde_json::from_str(json).ok()?;
+    let mut params = Params::default();
+    for (name, value) in &values {
+        params.set(name, value.as_f64()?).ok()?;
+    }
+    Some(params)
 }
 
 fn short(s: &str) -> String {
