@@ -25,7 +25,8 @@ pub const ROW_AXIS: u64 = (1 << 36) - 1;
 pub struct OperatingPoints {
     /// The path as the study writes it (`file`).
     pub file: String,
-    /// The path read: `file` resolved against the study file's folder.
+    /// The path read: `file` resolved against the study file's folder, made absolute, so that
+    /// a run's metadata finds the file again from any working directory (analysis, resume).
     pub path: PathBuf,
     /// The weight column's name, when the study gives one.
     pub weight: Option<String>,
@@ -135,7 +136,7 @@ impl OperatingPoints {
         })?;
         Ok(OperatingPoints {
             file: file.to_string(),
-            path,
+            path: std::path::absolute(&path).unwrap_or(path),
             weight: weight.map(str::to_string),
             names,
             values,

@@ -124,8 +124,9 @@ impl RecordedRun {
     }
 }
 
-/// `path` = dir.join(`file`) as the manifest records an operating-point file: gives back dir.
-fn operating_points_dir(op: &serde_json::Value) -> Option<PathBuf> {
+/// `path` = dir.join(`file`) as the manifest and the chunks record an operating-point file:
+/// gives back dir, where the recorded study finds its file again.
+pub fn operating_points_dir(op: &serde_json::Value) -> Option<PathBuf> {
     let (file, path) = (op["file"].as_str()?, op["path"].as_str()?);
     let dir = path.strip_suffix(file)?;
     Some(PathBuf::from(dir))

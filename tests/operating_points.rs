@@ -427,3 +427,35 @@ fn a_parquet_file_is_read_like_the_csv_and_refused_like_it() {
     );
     std::fs::remove_dir_all(&d).ok();
 }
+
+#[test]
+fn the_analysis_finds_a_relative_file_again_from_another_working_directory() {
+    // Explore run from the study's own folder with relative paths; the analysis (here, in the
+    // test's working directory) re-reads the study and must find the file it names.
+    let d = dir("relative");
+    study_file(&d);
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_polywear"))
+        .current_dir(&d)
+        .args([
+            "explore",
+            "fleet.toml",
+            "--quiet",
+            "--no-report",
+            "--samples",
+            "50",
+        ])
+        .args(["--out", "run"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let info = polywear::analysis::inputs::check_inputs(&[d.join("run")]).unwrap();
+    let study = info
+        .parsed_study()
+        .expect("the study re-read beside its file");
+    assert!(study.operating_points.is_some());
+    std::fs::remove_dir_all(&d).ok();
+}

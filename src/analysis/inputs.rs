@@ -39,13 +39,17 @@ pub struct RunInfo {
     /// The values every parameter had before the draws (`params` metadata: the defaults, a
     /// `--params` file and the study's fixed values); None where the files do not record them.
     pub params: Option<Params>,
+    /// The folder the run found a relative `[operating_points]` file in (from the recorded
+    /// path), so that the study re-read here reads the same file.
+    pub operating_points_dir: Option<PathBuf>,
 }
 
 impl RunInfo {
     /// The study as parsed from the metadata text, on the run's recorded parameter values (None
     /// for text this version cannot read).
     pub fn parsed_study(&self) -> Option<Study> {
-        Study::parse_with_base(&self.study, self.params.unwrap_or_default()).ok()
+        let dir = self.operating_points_dir.clone().unwrap_or_default();
+        Study::parse_at(&self.study, self.params.unwrap_or_default(), &dir).ok()
     }
 
     /// The unit of column `name` from the `units` metadata ("" when none is recorded).
@@ -327,6 +331,9 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, String> {
         samples_present: present,
         rows,
         params: recorded_params(&get("params")),
+        operating_points_dir: serde_json::from_str(&get("operating_points"))
+            .ok()
+            .and_then(|op| crate::recorded_run::operating_points_dir(&op)),
     })
 }
 
