@@ -459,3 +459,30 @@ fn the_analysis_finds_a_relative_file_again_from_another_working_directory() {
     assert!(study.operating_points.is_some());
     std::fs::remove_dir_all(&d).ok();
 }
+
+#[test]
+fn the_analysis_bins_a_files_column_by_its_values_that_can_be_drawn() {
+    let d = dir("levels");
+    let s = study_file(&d);
+    let out = d.join("run");
+    let (code, _, err) = polywear(&[
+        "explore",
+        "--quiet",
+        s.to_str().unwrap(),
+        "--samples",
+        "400",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let csv = std::fs::read_to_string(out.join("_report/conditional.csv")).unwrap();
+    let mut mids: Vec<String> = csv
+        .lines()
+        .filter(|l| l.starts_with("sliding_share,follower,speed_kmh,"))
+        .map(|l| l.split(',').nth(5).unwrap().to_string())
+        .collect();
+    mids.dedup();
+    // The speeds of the rows of positive weight; 100 and 160 km/h have 0 hours.
+    assert_eq!(mids, ["80", "110", "120", "140"], "{csv}");
+    std::fs::remove_dir_all(&d).ok();
+}

@@ -598,10 +598,30 @@ pub fn axis_bins(
     Bins::equal_width(lo, hi, n_bins)
 }
 
+/// At most this many distinct values of an operating-point column are used as its levels; a
+/// column with more (raw telematics rather than bins) is binned in equal widths.
+pub const MAX_OPERATING_POINT_LEVELS: usize = 40;
+
 /// The levels a study draws a parameter from: `levels`, or a grid's `count` values, as the
-/// sampler itself lists them ([`Distribution::grid_values`]), so a label is always a sampled value.
+/// sampler itself lists them ([`Distribution::grid_values`]), so a label is always a sampled
+/// value; for a column of `[operating_points]`, its distinct values among the rows that can be
+/// drawn (positive weight), when there are few.
 pub fn study_levels(info: &RunInfo, name: &str) -> Option<Vec<f64>> {
     let study = info.parsed_study()?;
+    if let Some(op) = &study.operating_points {
+        if let Some(j) = op.names.iter().position(|n| *n == name) {
+            let mut levels: Vec<f64> = op
+                .values
+                .iter()
+                .zip(&op.weights)
+                .filter(|(_, w)| **w > 0.0)
+                .map(|(row, _)| row[j])
+                .collect();
+            levels.sort_by(f64::total_cmp);
+            levels.dedup();
+            return (levels.len() <= MAX_OPERATING_POINT_LEVELS).then_some(levels);
+        }
+    }
     let d = study.drawn.iter().find(|d| d.name == name)?;
     match &d.dist {
         Distribution::Levels(_) => d.dist.grid_values(),
