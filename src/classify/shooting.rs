@@ -459,32 +459,25 @@ pub fn amplitude_guess(
     // growth itself is that small (q0 = 2e-6 put a cycle at half its amplitude): one more.
     let method = method_for(rtol);
     let settling_returns = if q0 < SETTLE_TWICE_BELOW_Q0 { 2 } else { 1 };
-    let map = |a: f64| -> Result<MapPoint, String> {
-        let mut x1 = [scales.z_eq + a * dz_per_v, y_sec, a];
-        for _ in 0..settling_returns {
-            x1 = next_return(
-                method,
-                ode,
-                x1,
-                y_sec,
-                linear_period_s,
-                &opts,
-                meter,
-                |_, _| {},
-            )?
-            .state;
-        }
-        let x2 = next_return(
+    let state_after_return = |x: [f64; 3]| -> Result<[f64; 3], String> {
+        let r = next_return(
             method,
             ode,
-            x1,
+            x,
             y_sec,
             linear_period_s,
             &opts,
             meter,
             |_, _| {},
-        )?
-        .state;
+        )?;
+        Ok(r.state)
+    };
+    let map = |a: f64| -> Result<MapPoint, String> {
+        let mut x1 = [scales.z_eq + a * dz_per_v, y_sec, a];
+        for _ in 0..settling_returns {
+            x1 = state_after_return(x1)?;
+        }
+        let x2 = state_after_return(x1)?;
         if !(x1[2] > 0.0 && x2[2].is_finite()) {
             return Err("shooting: the return map along the Hopf direction is not finite".into());
         }
