@@ -42,6 +42,21 @@ macro_rules! display_and_parse {
     };
 }
 
+/// `serde::Deserialize` from the enum's name through its `FromStr`, whose refusal (with the
+/// accepted names) becomes the error of the key that holds it.
+macro_rules! deserialize_by_name {
+    ($($t:ty),* $(,)?) => {$(
+        impl<'de> serde::Deserialize<'de> for $t {
+            fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+                let name = <std::borrow::Cow<'de, str>>::deserialize(d)?;
+                name.parse().map_err(serde::de::Error::custom)
+            }
+        }
+    )*};
+}
+
+deserialize_by_name!(crate::model::Variant);
+
 #[cfg(test)]
 mod tests {
     use crate::classify::{Class, Method};

@@ -1,10 +1,14 @@
 //! One typed reading of the TOML input files: study files ([`crate::study`]), calibration
 //! targets ([`crate::calibrate`]) and parameter files (`--params`). Each file is parsed into a
-//! table once; [`Section`] then reads it key by key into plain Rust values, refuses keys it does
-//! not know, and names the full key (`target[0].weight`, `params.toe_deg.levels[2]`) in every
-//! error. Checks of meaning (ranges, consistency) stay with the stage that owns them.
+//! table once, then read into a derived serde schema by [`from_value`] (or, for the targets,
+//! key by key through [`Section`]); either way unknown keys are refused and every error names
+//! the full key (`target[0].weight`, `params.toe_deg.levels[2]`). Checks of meaning (ranges,
+//! consistency) stay with the stage that owns them, in a typed pass that knows each key.
 
 use std::str::FromStr;
+
+mod de;
+pub use de::from_value;
 
 /// A problem with the shape of a TOML input: syntax, an unknown key, a missing key or a value
 /// of the wrong type. Every variant names the key it concerns.
@@ -34,10 +38,20 @@ pub enum TomlError {
     WrongType {
         /// The key, in full.
         key: String,
-        /// The type wanted.
-        expected: &'static str,
-        /// The type given.
-        got: &'static str,
+        /// The type wanted, in words ("a number").
+        expected: String,
+        /// The type given, as TOML names it.
+        got: String,
+    },
+    /// A name (a distribution, an enum's case) that names nothing.
+    #[error("`{key}` = \"{name}\" is unknown;{hint} accepted: {accepted}", hint = crate::wording::did_you_mean(name, accepted.split(", ")))]
+    UnknownName {
+        /// The key, in full.
+        key: String,
+        /// The name given.
+        name: String,
+        /// The accepted names, comma-separated.
+        accepted: String,
     },
     /// NaN or an infinity where a finite number is wanted.
     #[error("`{key}` = {value} must be finite")]
@@ -69,6 +83,86 @@ pub enum TomlError {
     },
 }
 
+impl TomlError {
+    /// The error as seen from the table or array that holds the value: `segment` (a key, or
+    /// `[i]`) is put in front of the key, so that the key is complete once the error leaves the
+    /// file's top level.
+    pub fn within(mut self, segment: &str) -> TomlError {
+        match &mut self {
+            TomlError::Malformed(_) => {}
+            TomlError::UnknownKey { key, .. }
+            | TomlError::Missing { key, .. }
+            | TomlError::WrongType { key, .. }
+            | TomlError::UnknownName { key, .. }
+            | TomlError::NotFinite { key, .. }
+            | TomlError::NotWhole { key, .. }
+            | TomlError::Unparsable { key, .. } => {
+                *key = if key.is_empty() {
+                    segment.to_string()
+                } else if key.starts_with('[') {
+                    format!("{segment}{key}")
+                } else {
+                    format!("{segment}.{key}")
+                };
+            }
+        }
+        self
+    }
+
+    /// The key the error names, in full (empty for a syntax error).
+    pub fn key(&self) -> &str {
+        match self {
+            TomlError::Malformed(_) => "",
+            TomlError::UnknownKey { key, .. }
+            | TomlError::Missing { key, .. }
+            | TomlError::WrongType { key, .. }
+            | TomlError::UnknownName { key, .. }
+            | TomlError::NotFinite { key, .. }
+            | TomlError::NotWhole { key, .. }
+            | TomlError::Unparsable { key, .. } => key,
+        }
+    }
+}
+
+/// "did you mean `x`? " (when a name is close) followed by `hint`.
+fn accepted_hint(typed: &str, accepted: &[&str], hint: &str) -> String {
+    match crate::wording::closest(typed, accepted.iter().copied()) {
+        Some(c) => format!("did you mean `{c}`? {hint}"),
+        None => hint.to_string(),
+    }
+}
+
+/// Parses a TOML document and reads it into the derived schema `T`; errors name the full key.
+pub fn from_str<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, TomlError> {
+    let table = toml::Value::Table(parse(text)?);
+    from_value(&table)
+}
+
+/// A finite number at `key` (already read as a number).
+pub fn finite_at(x: f64, key: &str) -> Result<f64, TomlError> {
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(TomlError::NotFinite {
+            key: key.to_string(),
+            value: x,
+        })
+    }
+}
+
+/// A whole number in [lo, hi] at `key` (already read as a number; `1e3` is 1000).
+pub fn whole_at(x: f64, key: &str, lo: u64, hi: u64) -> Result<u64, TomlError> {
+    if x.fract() != 0.0 || x < lo as f64 || x > hi as f64 {
+        return Err(TomlError::NotWhole {
+            key: key.to_string(),
+            value: x,
+            lo,
+            hi,
+        });
+    }
+    Ok(x as u64)
+}
+
 /// Parses a TOML document into its top-level table.
 pub fn parse(text: &str) -> Result<toml::Table, TomlError> {
     text.parse()
@@ -86,29 +180,12 @@ pub fn number(v: &toml::Value, key: &str) -> Result<f64, TomlError> {
 
 /// A finite number at `key`.
 pub fn finite(v: &toml::Value, key: &str) -> Result<f64, TomlError> {
-    let x = number(v, key)?;
-    if x.is_finite() {
-        Ok(x)
-    } else {
-        Err(TomlError::NotFinite {
-            key: key.to_string(),
-            value: x,
-        })
-    }
+    finite_at(number(v, key)?, key)
 }
 
 /// A whole number in [lo, hi] at `key` (`1e3` is accepted as 1000).
 pub fn whole(v: &toml::Value, key: &str, lo: u64, hi: u64) -> Result<u64, TomlError> {
-    let x = number(v, key)?;
-    if x.fract() != 0.0 || x < lo as f64 || x > hi as f64 {
-        return Err(TomlError::NotWhole {
-            key: key.to_string(),
-            value: x,
-            lo,
-            hi,
-        });
-    }
-    Ok(x as u64)
+    whole_at(number(v, key)?, key, lo, hi)
 }
 
 /// A string at `key`.
@@ -143,8 +220,8 @@ pub fn array<'v>(
 fn wrong_type(key: &str, expected: &'static str, v: &toml::Value) -> TomlError {
     TomlError::WrongType {
         key: key.to_string(),
-        expected,
-        got: v.type_str(),
+        expected: expected.to_string(),
+        got: v.type_str().to_string(),
     }
 }
 
@@ -193,10 +270,7 @@ impl<'a> Section<'a> {
         match self.table.keys().find(|k| !accepted.contains(&k.as_str())) {
             Some(k) => Err(TomlError::UnknownKey {
                 key: self.key(k),
-                accepted: match crate::wording::closest(k, accepted.iter().copied()) {
-                    Some(c) => format!("did you mean `{c}`? {hint}"),
-                    None => hint.to_string(),
-                },
+                accepted: accepted_hint(k, accepted, hint),
             }),
             None => Ok(()),
         }

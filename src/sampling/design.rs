@@ -74,6 +74,15 @@ impl std::str::FromStr for Design {
     }
 }
 
+/// A design by its name in a study file; an unknown name is refused with the accepted ones.
+impl<'de> serde::Deserialize<'de> for Design {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        const NAMES: &[&str] = &["random", "lhs", "sobol", "grid", "saltelli"];
+        let name = <std::borrow::Cow<'de, str>>::deserialize(d)?;
+        Design::parse(&name).ok_or_else(|| serde::de::Error::unknown_variant(&name, NAMES))
+    }
+}
+
 /// Largest number of drawn axes a Sobol design supports (one Sobol dimension each).
 pub const SOBOL_MAX_AXES: usize = MAX_DIMENSIONS;
 

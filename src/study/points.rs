@@ -3,29 +3,24 @@
 
 use std::path::Path;
 
+use super::schema::OperatingPointsSection;
 use super::{DrawnParam, Sampler, Study, StudyError};
 use crate::operating_points::OperatingPoints;
 use crate::params::{ParamId, Params};
 use crate::sampling::design::Design;
-use crate::toml_input::{self, Section};
 
-/// Reads `[operating_points]` (`file`, optional `weight`) and its file. Refused: a design other
-/// than random (stratifying axes says nothing about drawing rows), and a parameter both in the
-/// file and in `[params]` (drawn or fixed: the file's value would silently replace it).
-pub(super) fn parse_operating_points(
-    top: &Section,
+/// Reads `[operating_points]`'s file and checks it against the rest of the study. Refused: a
+/// design other than random (stratifying axes says nothing about drawing rows), and a parameter
+/// both in the file and in `[params]` (drawn or `fixed`: the file's value would silently
+/// replace it).
+pub(super) fn operating_points(
+    section: &OperatingPointsSection,
     base: &Params,
     drawn: &[DrawnParam],
+    fixed: &[ParamId],
     design: Design,
     dir: &Path,
-) -> Result<Option<OperatingPoints>, StudyError> {
-    let Some(v) = top.get("operating_points") else {
-        return Ok(None);
-    };
-    let t = Section::of(v, "operating_points", "a table")?;
-    t.deny_unknown(&["file", "weight"])?;
-    let file = t.req("file", toml_input::text)?;
-    let weight = t.opt("weight", toml_input::text)?;
+) -> Result<OperatingPoints, StudyError> {
     if design != Design::Random {
         return Err(StudyError::OperatingPoints(format!(
             "`design` = \"{design}\" cannot draw measured operating points: rows are drawn at random in proportion to their weights, which the stratified axes of a `{design}` design cannot express; use design = \"random\""
@@ -34,24 +29,22 @@ pub(super) fn parse_operating_points(
     let cross = drawn
         .iter()
         .any(|d| ParamId::CROSS_RULES.contains(&d.param));
-    let op = OperatingPoints::load(file, weight, dir, base, cross)
+    let op = OperatingPoints::load(&section.file, section.weight.as_deref(), dir, base, cross)
         .map_err(StudyError::OperatingPoints)?;
-    let named = top.get("params").and_then(|p| p.as_table());
     for name in &op.names {
-        if let Some(how) = named
-            .and_then(|p| p.get(*name))
-            .map(|v| match v.is_table() {
-                true if drawn.iter().any(|d| d.param.name() == *name) => "drawn",
-                _ => "fixed",
-            })
-        {
-            return Err(StudyError::OperatingPoints(format!(
-                "{}: column `{name}` is also {how} in [params] (`params.{name}`); a parameter comes from the file or from [params], not both",
-                op.path.display()
-            )));
-        }
+        let how = if drawn.iter().any(|d| d.param.name() == *name) {
+            "drawn"
+        } else if fixed.iter().any(|f| f.name() == *name) {
+            "fixed"
+        } else {
+            continue;
+        };
+        return Err(StudyError::OperatingPoints(format!(
+            "{}: column `{name}` is also {how} in [params] (`params.{name}`); a parameter comes from the file or from [params], not both",
+            op.path.display()
+        )));
     }
-    Ok(Some(op))
+    Ok(op)
 }
 
 impl Study {

@@ -1,0 +1,162 @@
+//! What can be wrong with a study or a parameter file: one error per problem, each naming the
+//! key it concerns and the accepted values.
+
+use crate::params::ParamError;
+use crate::toml_input::TomlError;
+use crate::wording::did_you_mean;
+
+use super::schema::DISTS;
+
+/// A study problem, with the key it concerns.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StudyError {
+    /// A per-wheel budget key out of its accepted range (the message names the key).
+    #[error("{0}")]
+    Budget(String),
+    /// Syntax, unknown or missing keys, values of the wrong type.
+    #[error(transparent)]
+    Input(#[from] TomlError),
+    /// A value refused by its parameter's accepted range, or an unknown parameter name.
+    #[error("`{key}`: {source}")]
+    Param {
+        /// The key, in full.
+        key: String,
+        /// Why it was refused.
+        source: ParamError,
+    },
+    /// The parameters of a parameter file do not fit together.
+    #[error("{0}")]
+    Inconsistent(ParamError),
+    /// The study's fixed parameters do not fit together.
+    #[error("fixed parameters: {0}")]
+    FixedParams(ParamError),
+    /// A `name` that cannot name a directory.
+    #[error("`name` = \"{0}\" must be non-empty letters, digits, `_` or `-`")]
+    BadName(String),
+    /// A design that does not exist.
+    #[error("`design` = \"{0}\" is unknown;{hint} accepted: random, lhs, sobol, grid, saltelli", hint = did_you_mean(.0, ["random", "lhs", "sobol", "grid", "saltelli"]))]
+    UnknownDesign(String),
+    /// A variant listed twice.
+    #[error("`variants` lists \"{0}\" twice")]
+    RepeatedVariant(String),
+    /// A list or text that must not be empty.
+    #[error("`{0}` must not be empty")]
+    Empty(String),
+    /// A distribution table without `dist`.
+    #[error("`{key}` needs `dist` (one of {DISTS})")]
+    NoDist {
+        /// The key, in full.
+        key: String,
+    },
+    /// A distribution that does not exist.
+    #[error("`{key}.dist` = \"{dist}\" is unknown;{hint} accepted: {DISTS}, fixed", hint = did_you_mean(dist, DISTS.split(", ").chain(["fixed"])))]
+    UnknownDist {
+        /// The key, in full.
+        key: String,
+        /// The name given.
+        dist: String,
+    },
+    /// A key the distribution does not take.
+    #[error("`{key}.{field}` is not a key of a {dist} distribution;{hint} accepted: {accepted}", hint = did_you_mean(field, accepted.split(", ")))]
+    NotADistKey {
+        /// The parameter's key.
+        key: String,
+        /// The key it does not take.
+        field: String,
+        /// The distribution.
+        dist: String,
+        /// The keys it takes.
+        accepted: String,
+    },
+    /// A distribution missing one of its keys.
+    #[error("`{key}` ({dist}) needs `{field}`")]
+    DistNeeds {
+        /// The parameter's key.
+        key: String,
+        /// The distribution.
+        dist: String,
+        /// The missing key.
+        field: String,
+    },
+    /// A spread (sd, sigma) that is not positive.
+    #[error("`{key}` = {value} must be positive")]
+    NotPositive {
+        /// The key, in full.
+        key: String,
+        /// The value given.
+        value: f64,
+    },
+    /// Bounds with min not below max.
+    #[error("`{key}`: min = {min} must be below max = {max}")]
+    Unordered {
+        /// The parameter's key.
+        key: String,
+        /// The lower bound given.
+        min: f64,
+        /// The upper bound given.
+        max: f64,
+    },
+    /// A distribution can produce values outside its parameter's accepted range.
+    #[error("`{key}`: its {which} value is outside the accepted range ({source}){hint}")]
+    TailOutOfRange {
+        /// The parameter's key.
+        key: String,
+        /// Which end: `smallest` or `largest`.
+        which: &'static str,
+        /// The range check that failed.
+        source: ParamError,
+        /// How to fix it (e.g. use a truncated normal), or empty.
+        hint: &'static str,
+    },
+    /// A grid design with a parameter that has no grid values.
+    #[error("`{0}`: a grid design needs `levels` or a uniform `count` on every drawn parameter")]
+    GridNeedsLevels(String),
+    /// A grid of more than 2^40 points.
+    #[error("`params`: the grid has more than 2^40 points")]
+    GridTooLarge,
+    /// `samples` that differs from the grid's size.
+    #[error("`samples` = {samples} disagrees with the grid's size {size}")]
+    GridSamples {
+        /// The sample count given.
+        samples: u64,
+        /// The grid's size.
+        size: u64,
+    },
+    /// More drawn parameters than the design supports.
+    #[error(
+        "`design` = \"{design}\" supports at most {max} drawn parameters, this study draws {drawn}"
+    )]
+    TooManyAxes {
+        /// The design.
+        design: &'static str,
+        /// Its limit.
+        max: usize,
+        /// Parameters the study draws.
+        drawn: usize,
+    },
+    /// A study that draws nothing.
+    #[error("the study draws no parameter: give at least one a `dist` in [params]")]
+    NothingDrawn,
+    /// A problem with `[operating_points]` or its file (the message names file, row, column).
+    #[error("[operating_points]: {0}")]
+    OperatingPoints(String),
+    /// A sample count of 0.
+    #[error("--samples must be at least 1")]
+    NoSamples,
+    /// `--samples` that differs from the grid's size.
+    #[error("--samples = {samples} disagrees with the grid's size {size}")]
+    FlagGridSamples {
+        /// The sample count given.
+        samples: u64,
+        /// The grid's size.
+        size: u64,
+    },
+    /// More samples than the design can address.
+    #[error("--samples: a {design} design supports at most {max} samples")]
+    TooManySamples {
+        /// The design.
+        design: &'static str,
+        /// Its limit, as people read it.
+        max: &'static str,
+    },
+}
