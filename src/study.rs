@@ -323,6 +323,23 @@ mod tests {
     }
 
     #[test]
+    fn a_grid_axis_of_one_level_samples_the_middle_its_levels_name() {
+        let s = Study::parse(
+            r#"design = "grid"
+               [params]
+               toe_deg = { dist = "uniform", min = 0.2, max = 0.4, count = 1 }"#,
+        )
+        .unwrap();
+        assert_eq!(s.samples, 1);
+        // One source: the sampler's value is the level the analysis labels it with.
+        let levels = s.drawn[0].dist.grid_values().unwrap();
+        assert_eq!(levels.len(), 1);
+        assert!((levels[0] - 0.3).abs() < 1e-15, "{levels:?}");
+        let sampler = s.sampler(s.seed, s.samples);
+        assert_eq!(sampler.sample(0).0.toe_deg, levels[0]);
+    }
+
+    #[test]
     fn grid_covers_exactly_its_levels() {
         let s = Study::parse(
             r#"design = "grid"

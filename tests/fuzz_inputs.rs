@@ -1,5 +1,6 @@
 //! Property ("fuzz") tests over study files, parameter files and command lines: never a panic,
-//! never a hang, and either success or a refusal (exit 2) whose message names a field.
+//! never a hang, and either success or a refusal (exit 2) whose message names what was changed:
+//! the mutated key of a file (or its parameter), or a flag, path or parameter of the command line.
 //!
 //! Cases come from a fixed-seed generator (splitmix64), so a failure reproduces exactly: the
 //! assertion prints the case. Thousands of study and parameter-file texts run in-process
@@ -35,21 +36,190 @@ impl Rng {
     }
 }
 
-/// Whether a refusal names what it refuses: a key in backticks, a flag, an argument, a file.
-fn names_a_field(msg: &str) -> bool {
-    msg.contains('`') || msg.contains("--") || msg.contains('<') || msg.contains("TOML")
+/// One place of a seed text a mutation may hit: a key or a value, on one line.
+struct Site {
+    /// Byte range in the seed text.
+    start: usize,
+    end: usize,
+    /// 1-based line number.
+    line: usize,
+    /// 1-based line number of the next entry (after blank and comment lines), or of the end.
+    next_line: usize,
+    /// The names a refusal of this mutation must mention (one of them): the top-level key, or
+    /// the parameter and, inside its table, the key.
+    names: Vec<String>,
+    /// Whether the site is a key (its mutated text is then a name the refusal may quote).
+    is_key: bool,
 }
 
-/// Mutates `text` with 1–8 random byte edits from an alphabet of TOML punctuation and words.
-fn mutate(rng: &mut Rng, text: &str) -> String {
-    let alphabet = b"[]{}=\",.-_0123456789eE abcdefghijklmnopqrstuvwxyz\n#+";
-    let words: [&str; 12] = [
+/// Splits `s` (a value's text starting at byte `at` of the line) at depth-0 commas.
+fn split_top(s: &str, at: usize) -> Vec<(usize, &str)> {
+    let (mut depth, mut quoted, mut from) = (0i32, false, 0);
+    let mut out = Vec::new();
+    for (i, c) in s.char_indices() {
+        match c {
+            '"' => quoted = !quoted,
+            '[' | '{' if !quoted => depth += 1,
+            ']' | '}' if !quoted => depth -= 1,
+            ',' if !quoted && depth == 0 => {
+                out.push((at + from, &s[from..i]));
+                from = i + 1;
+            }
+            _ => {}
+        }
+    }
+    out.push((at + from, &s[from..]));
+    out
+}
+
+/// The trimmed span of `part` (at byte `at`) as (start, end).
+fn trimmed(at: usize, part: &str) -> (usize, usize) {
+    let lead = part.len() - part.trim_start().len();
+    (at + lead, at + lead + part.trim().len())
+}
+
+/// Every key and value of a seed text written one entry per line (as the shipped studies are):
+/// top-level keys, table headers, `[params]` entries, and the keys, values and array elements
+/// of their inline tables.
+fn sites(text: &str) -> Vec<Site> {
+    let mut out = Vec::new();
+    let mut table = String::new();
+    let mut offset = 0;
+    for (n, line) in text.split_inclusive('\n').enumerate() {
+        let at = offset;
+        offset += line.len();
+        // The entry without its comment (no `#` inside the seeds' strings).
+        let body = line.split('#').next().unwrap().trim_end();
+        if body.trim().is_empty() {
+            continue;
+        }
+        let lead = body.len() - body.trim_start().len();
+        if body.trim_start().starts_with('[') {
+            let name = body.trim().trim_matches(['[', ']']);
+            table = name.to_string();
+            let start = at + body.find(name).unwrap();
+            out.push(Site {
+                start,
+                end: start + name.len(),
+                line: n + 1,
+                next_line: 0,
+                names: vec![name.into()],
+                is_key: true,
+            });
+            continue;
+        }
+        let Some(eq) = body.find('=') else { continue };
+        let key = body[..eq].trim();
+        let (ks, ke) = trimmed(at, &body[..eq]);
+        let _ = lead;
+        let (vs, ve) = trimmed(at + eq + 1, &body[eq + 1..]);
+        let names = vec![key.to_string()];
+        out.push(Site {
+            start: ks,
+            end: ke,
+            line: n + 1,
+            next_line: 0,
+            names: names.clone(),
+            is_key: true,
+        });
+        out.push(Site {
+            start: vs,
+            end: ve,
+            line: n + 1,
+            next_line: 0,
+            names: names.clone(),
+            is_key: false,
+        });
+        let value = &text[vs..ve];
+        let inner = |vs: usize, value: &str| -> Option<(usize, String)> {
+            let open = value.chars().next()?;
+            let close = value.chars().last()?;
+            (matches!((open, close), ('{', '}') | ('[', ']')) && value.len() >= 2)
+                .then(|| (vs + 1, value[1..value.len() - 1].to_string()))
+        };
+        if let Some((is, inside)) = inner(vs, value) {
+            let param = if table == "params" { key } else { "" };
+            for (pa, part) in split_top(&inside, is) {
+                if let Some(peq) = part.find('=') {
+                    let k = part[..peq].trim();
+                    let names = vec![param.to_string(), k.to_string()];
+                    let (ks, ke) = trimmed(pa, &part[..peq]);
+                    out.push(Site {
+                        start: ks,
+                        end: ke,
+                        line: n + 1,
+                        next_line: 0,
+                        names: names.clone(),
+                        is_key: true,
+                    });
+                    let (es, ee) = trimmed(pa + peq + 1, &part[peq + 1..]);
+                    out.push(Site {
+                        start: es,
+                        end: ee,
+                        line: n + 1,
+                        next_line: 0,
+                        names: names.clone(),
+                        is_key: false,
+                    });
+                    if let Some((ais, arr)) = inner(es, &text[es..ee]) {
+                        for (ea, elem) in split_top(&arr, ais) {
+                            let (es, ee) = trimmed(ea, elem);
+                            out.push(Site {
+                                start: es,
+                                end: ee,
+                                line: n + 1,
+                                next_line: 0,
+                                names: names.clone(),
+                                is_key: false,
+                            });
+                        }
+                    }
+                } else {
+                    // An array's elements (`variants = ["paper", ...]`).
+                    let (es, ee) = trimmed(pa, part);
+                    out.push(Site {
+                        start: es,
+                        end: ee,
+                        line: n + 1,
+                        next_line: 0,
+                        names: vec![key.to_string()],
+                        is_key: false,
+                    });
+                }
+            }
+        }
+    }
+    out.retain(|s| s.names.iter().all(|n| !n.is_empty()) || s.names.len() == 1);
+    let entries: Vec<usize> = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'))
+        .map(|(i, _)| i + 1)
+        .collect();
+    for s in &mut out {
+        s.names.retain(|n| !n.is_empty());
+        s.next_line = entries
+            .iter()
+            .copied()
+            .find(|l| *l > s.line)
+            .unwrap_or(text.lines().count() + 1);
+    }
+    out
+}
+
+/// Mutates one site of `text` with 1–4 random edits inside it (TOML punctuation, letters,
+/// digits and hostile words; never a line break or a comment, so the entry stays one line).
+/// Returns the text and the site's text after the edits.
+fn mutate(rng: &mut Rng, text: &str, site: &Site) -> (String, String) {
+    let alphabet = b"[]{}=\",.-_0123456789eE abcdefghijklmnopqrstuvwxyz+";
+    let words: [&str; 14] = [
         "nan", "inf", "-inf", "-5", "0", "1e308", "levels", "dist", "\"grid\"", "[]", "{}", "é",
+        "\"x\"", "true",
     ];
-    let mut b = text.as_bytes().to_vec();
-    for _ in 0..1 + rng.below(8) {
+    let mut b = text.as_bytes()[site.start..site.end].to_vec();
+    for _ in 0..1 + rng.below(4) {
         let pos = rng.below(b.len() + 1);
-        match rng.below(4) {
+        match rng.below(5) {
             0 if pos < b.len() => {
                 b.remove(pos);
             }
@@ -60,15 +230,33 @@ fn mutate(rng: &mut Rng, text: &str) -> String {
                     b.insert(pos + i, c);
                 }
             }
+            3 if !site.is_key => {
+                // The whole value replaced by a hostile one.
+                b = words[rng.below(words.len())].as_bytes().to_vec();
+            }
             _ if pos < b.len() => b[pos] = alphabet[rng.below(alphabet.len())],
             _ => {}
         }
     }
-    String::from_utf8_lossy(&b).into_owned()
+    let edited = String::from_utf8_lossy(&b).into_owned();
+    let out = format!("{}{}{}", &text[..site.start], edited, &text[site.end..]);
+    (out, edited)
+}
+
+/// Whether a refusal of a mutation at `site` names it: one of the site's names (the top-level
+/// key, or the parameter or the key of its table), or, for a mutated key, the key as the file now
+/// spells it. A file that no longer parses as TOML is named by the parser's line: the mutated
+/// line, or the next entry's (where an array left open is found to be unclosed).
+fn names_the_site(msg: &str, site: &Site, edited: &str) -> bool {
+    let edited = edited.trim().trim_matches('"');
+    site.names.iter().any(|n| msg.contains(n.as_str()))
+        || (site.is_key && !edited.is_empty() && msg.contains(edited))
+        || (msg.contains("malformed TOML")
+            && (site.line..=site.next_line).any(|l| msg.contains(&format!("at line {l},"))))
 }
 
 #[test]
-fn study_and_parameter_files_never_panic_and_refusals_name_a_field() {
+fn study_and_parameter_files_never_panic_and_refusals_name_the_mutated_key() {
     let seeds = [
         DEFAULT_STUDY,
         include_str!("../studies/grid_4axes.toml"),
@@ -79,15 +267,30 @@ fn study_and_parameter_files_never_panic_and_refusals_name_a_field() {
         "[params]\ng_mod = 0.9e6\nmu_s = 0.6\n",
         "[params]\nspeed_kmh = 120\n",
     ];
+    let seed_sites: Vec<Vec<Site>> = seeds.iter().map(|t| sites(t)).collect();
+    let param_sites: Vec<Vec<Site>> = param_seeds.iter().map(|t| sites(t)).collect();
+    // The site finder sees every entry: the grid study's four axes with their keys and values.
+    assert!(seed_sites[1]
+        .iter()
+        .any(|s| s.names == ["toe_deg", "levels"] && !s.is_key));
+    assert!(seed_sites[0]
+        .iter()
+        .any(|s| s.names == ["seed"] && !s.is_key));
     let mut rng = Rng(13);
     let t0 = Instant::now();
+    let (mut accepted, mut refused) = (0, 0);
     for case in 0..4000 {
         let study = case % 4 != 3;
-        let text = if study {
-            mutate(&mut rng, seeds[case % seeds.len()])
+        let (seed, all) = if study {
+            (seeds[case % seeds.len()], &seed_sites[case % seeds.len()])
         } else {
-            mutate(&mut rng, param_seeds[case % param_seeds.len()])
+            (
+                param_seeds[case % param_seeds.len()],
+                &param_sites[case % param_seeds.len()],
+            )
         };
+        let site = &all[rng.below(all.len())];
+        let (text, edited) = mutate(&mut rng, seed, site);
         let result = std::panic::catch_unwind(|| {
             if study {
                 match Study::parse(&text) {
@@ -108,14 +311,22 @@ fn study_and_parameter_files_never_panic_and_refusals_name_a_field() {
         });
         match result {
             Err(_) => panic!("case {case}: panic on\n{text}"),
-            Ok(Err(msg)) => assert!(
-                names_a_field(&msg),
-                "case {case}: `{msg}` names no field; text:\n{text}"
-            ),
-            Ok(Ok(())) => {}
+            Ok(Err(msg)) => {
+                refused += 1;
+                assert!(
+                    names_the_site(&msg, site, &edited),
+                    "case {case}: `{msg}` names none of {:?} (mutated to `{edited}`); text:\n{text}",
+                    site.names
+                )
+            }
+            Ok(Ok(())) => accepted += 1,
         }
     }
-    // A hang guard, not a speed test: the cases take well under a minute.
+    assert!(
+        refused > 1000 && accepted > 100,
+        "{accepted} accepted, {refused} refused"
+    );
+    // A hang guard, not a speed test: the cases take seconds.
     assert!(
         t0.elapsed() < Duration::from_secs(900),
         "took {:?}: a parser or sampler that hangs",
@@ -198,6 +409,35 @@ fn fixtures() -> Fixtures {
         csvs,
         explore_out,
     }
+}
+
+/// What a refusal of `args` may name: a flag of the line (not the harmless `--quiet` and
+/// `--no-report`), a path on it (the study, the input, the output), the parameter of a `--set`
+/// (or the assignment, when it has no name), or the stray argument after the command.
+fn line_names(args: &[String]) -> Vec<String> {
+    let mut names = Vec::new();
+    for (i, a) in args.iter().enumerate().skip(1) {
+        if a.starts_with("--") && a != "--quiet" && a != "--no-report" {
+            names.push(a.clone());
+        }
+        if a.contains('/') {
+            names.push(a.clone());
+        }
+        if args[i - 1] == "--set" {
+            let name = a.split('=').next().unwrap_or("");
+            names.push(if name.is_empty() {
+                a.clone()
+            } else {
+                name.to_string()
+            });
+        }
+    }
+    // A stray argument right after the command (`simulate -5`).
+    if args.len() > 1 && args[1].starts_with('-') && !args[1].starts_with("--") {
+        names.push(args[1].clone());
+    }
+    names.retain(|n| !n.is_empty());
+    names
 }
 
 /// A random command line; `case` makes output paths unique.
@@ -368,7 +608,7 @@ fn command_line(rng: &mut Rng, fx: &Fixtures, case: usize) -> Vec<String> {
 }
 
 #[test]
-fn command_lines_never_panic_or_hang_and_refusals_name_a_field() {
+fn command_lines_never_panic_or_hang_and_refusals_name_what_they_refuse() {
     let fx = fixtures();
     let mut rng = Rng(2014);
     let t0 = Instant::now();
@@ -385,13 +625,10 @@ fn command_lines_never_panic_or_hang_and_refusals_name_a_field() {
             0 => ok += 1,
             2 => {
                 refused += 1;
-                // A flag, a key, or the file it concerns (an input path given on the line).
-                let names_a_path = args[1..]
-                    .iter()
-                    .any(|x| x.contains('/') && stderr.contains(x.as_str()));
+                let names = line_names(&args);
                 assert!(
-                    names_a_field(&stderr) || names_a_path,
-                    "refusal names no field: polywear {line}\n{stderr}"
+                    names.iter().any(|n| stderr.contains(n.as_str())),
+                    "refusal names none of {names:?}: polywear {line}\n{stderr}"
                 );
             }
             _ => panic!("exit {code}: polywear {line}\n{stderr}"),

@@ -56,12 +56,10 @@ pub struct BifurcationArgs {
 pub fn run(args: &BifurcationArgs) -> CliResult {
     let base = args.point.params()?;
     let s = spec(&args.param).ok_or_else(|| {
-        CliError(
-            polywear::params::ParamError::Unknown {
-                name: args.param.clone(),
-            }
-            .to_string(),
-        )
+        let e = polywear::params::ParamError::Unknown {
+            name: args.param.clone(),
+        };
+        CliError(format!("--param: {e}"))
     })?;
     if !(2..=100_000).contains(&args.steps) {
         return Err(CliError(format!(

@@ -35,13 +35,13 @@ pub type CliResult<T = ()> = Result<T, CliError>;
 /// The operating point and any other model parameter.
 #[derive(Debug, Args, Clone)]
 pub struct PointArgs {
-    #[arg(long, value_name = "KMH", allow_negative_numbers = true, help = flag_help(ParamId::SpeedKmh))]
+    #[arg(long, value_name = "KMH", allow_hyphen_values = true, help = flag_help(ParamId::SpeedKmh))]
     pub speed: Option<f64>,
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true, help = flag_help(ParamId::ToeDeg))]
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, help = flag_help(ParamId::ToeDeg))]
     pub toe: Option<f64>,
-    #[arg(long, value_name = "N", allow_negative_numbers = true, help = flag_help(ParamId::LoadN))]
+    #[arg(long, value_name = "N", allow_hyphen_values = true, help = flag_help(ParamId::LoadN))]
     pub load: Option<f64>,
-    #[arg(long, value_name = "KPA", allow_negative_numbers = true, help = flag_help(ParamId::PressureKpa))]
+    #[arg(long, value_name = "KPA", allow_hyphen_values = true, help = flag_help(ParamId::PressureKpa))]
     pub pressure: Option<f64>,
     /// Any model parameter by name, e.g. `--set g_mod=0.9e6` (repeatable; `polywear params`
     /// lists names, units, defaults and ranges)
@@ -141,16 +141,18 @@ impl PointArgs {
     pub fn params(&self) -> CliResult<Params> {
         let mut p = base_params(self.params.as_deref())?;
         for (name, value) in &self.set {
-            p.set(name, *value)?;
+            p.set(name, *value)
+                .map_err(|e| CliError(format!("--set {name}={value}: {e}")))?;
         }
-        for (id, value) in [
-            (ParamId::SpeedKmh, self.speed),
-            (ParamId::ToeDeg, self.toe),
-            (ParamId::LoadN, self.load),
-            (ParamId::PressureKpa, self.pressure),
+        for (flag, id, value) in [
+            ("--speed", ParamId::SpeedKmh, self.speed),
+            ("--toe", ParamId::ToeDeg, self.toe),
+            ("--load", ParamId::LoadN, self.load),
+            ("--pressure", ParamId::PressureKpa, self.pressure),
         ] {
             if let Some(v) = value {
-                p.try_set(id, v)?;
+                p.try_set(id, v)
+                    .map_err(|e| CliError(format!("{flag} {v}: {e}")))?;
             }
         }
         p.validate()?;

@@ -54,7 +54,7 @@ pub struct ExploreArgs {
     pub resume: bool,
     /// Evaluate only shard k of N (k from 0), e.g. `--shard $SLURM_ARRAY_TASK_ID/16`; the N
     /// shards' files together are the single-machine output
-    #[arg(long, value_name = "k/N", value_parser = parse_shard)]
+    #[arg(long, value_name = "k/N", allow_hyphen_values = true, value_parser = parse_shard)]
     pub shard: Option<Shard>,
     /// Parameter file (TOML `[params]`, e.g. from `polywear calibrate`): values for every
     /// parameter the study does not name

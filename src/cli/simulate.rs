@@ -44,7 +44,7 @@ pub struct SimulateArgs {
     pub sample_rate: f64,
     /// Hard-excitation check: also start at this lateral velocity amplitude [m/s] to find a
     /// limit cycle coexisting with a stable equilibrium (class `bistable`)
-    #[arg(long, value_name = "MPS", allow_negative_numbers = true)]
+    #[arg(long, value_name = "MPS", allow_hyphen_values = true)]
     pub kick: Option<f64>,
     #[command(flatten)]
     pub budget: BudgetArgs,
