@@ -6,8 +6,7 @@
 
 #![warn(missing_docs)]
 
-#[macro_use]
-mod text_enum;
+pub mod text_enum;
 
 pub mod analysis;
 pub mod bifurcation;

@@ -218,13 +218,14 @@ impl Study {
         })
     }
 
-    /// Checks a sample count for this study (`--samples`); grids accept only their size.
+    /// Checks a sample count for a run of this study; grids accept only their size. The error
+    /// does not name the flag: the command line says which of its flags gave the count.
     pub fn check_samples(&self, samples: u64) -> Result<(), StudyError> {
         if samples == 0 {
             return Err(StudyError::NoSamples);
         }
         if self.design == Design::Grid && samples != self.samples {
-            return Err(StudyError::FlagGridSamples {
+            return Err(StudyError::SamplesNotGridSize {
                 samples,
                 size: self.samples,
             });

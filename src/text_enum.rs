@@ -1,66 +1,115 @@
-//! Enums written as names in files and on screen (wheel, variant, class, method, design): one
-//! place that turns them into text and back, so that nothing else compares their names.
+//! Enums written as names in files and on screen (wheel, variant, class, method, design). Their
+//! names come from one derive (strum: `EnumString`, `Display`, `IntoStaticStr`, `VariantNames`
+//! with `serialize_all = "snake_case"`), so the name written, the name parsed and the list of
+//! accepted names cannot drift apart; this module adds what the derive does not give: the
+//! refusal of an unknown name with the accepted ones, and serde by name.
 
-/// `serde::Serialize` as the enum's `as_str()` name (e.g. `"limit_cycle"` in `simulate --json`).
-macro_rules! serialize_as_str {
-    ($($t:ty),* $(,)?) => {$(
+/// A name that names no case of an enum written as text.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown {kind} `{name}`; accepted: {}", accepted.join(", "))]
+pub struct UnknownName {
+    /// What the enum names ("class", "variant").
+    pub kind: &'static str,
+    /// The name given.
+    pub name: String,
+    /// The accepted names, in the order of the declaration.
+    pub accepted: &'static [&'static str],
+}
+
+/// The refusal as text, for callers whose own errors are still text.
+impl From<UnknownName> for String {
+    fn from(e: UnknownName) -> String {
+        e.to_string()
+    }
+}
+
+/// An enum written as text: its kind, for messages (the names come from the derive).
+pub trait TextEnum: strum::VariantNames {
+    /// What the enum names, for messages ("class").
+    const KIND: &'static str;
+}
+
+/// The refusal of `name` as a `T` (the `parse_err_fn` of the derive).
+pub fn unknown<T: TextEnum>(name: &str) -> UnknownName {
+    UnknownName {
+        kind: T::KIND,
+        name: name.to_string(),
+        accepted: T::VARIANTS,
+    }
+}
+
+/// `TextEnum`, `as_str` (the derived name as `&'static str`), `serde::Serialize` as that name
+/// and `serde::Deserialize` from it (an unknown name is refused with the accepted ones).
+macro_rules! text_enum {
+    ($($t:ty => $kind:literal),* $(,)?) => {$(
+        impl $crate::text_enum::TextEnum for $t {
+            const KIND: &'static str = $kind;
+        }
+
+        impl $t {
+            /// The name written in output files and accepted by parsers.
+            pub fn as_str(self) -> &'static str {
+                self.into()
+            }
+        }
+
         impl serde::Serialize for $t {
             fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
                 s.serialize_str(self.as_str())
             }
         }
-    )*};
-}
 
-/// `Display` as `as_str()` (honouring width and alignment), and `FromStr` accepting exactly the names of `ALL`, refusing any
-/// other with the accepted names listed; `$what` names the kind in that message.
-macro_rules! display_and_parse {
-    ($t:ty, $what:literal) => {
-        impl std::fmt::Display for $t {
-            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                f.pad(self.as_str())
-            }
-        }
-
-        impl std::str::FromStr for $t {
-            type Err = String;
-            fn from_str(s: &str) -> Result<Self, String> {
-                <$t>::ALL
-                    .iter()
-                    .copied()
-                    .find(|x| x.as_str() == s)
-                    .ok_or_else(|| {
-                        let names: Vec<&str> = <$t>::ALL.iter().map(|x| x.as_str()).collect();
-                        format!(
-                            concat!("unknown ", $what, " `{}`; accepted: {}"),
-                            s,
-                            names.join(", ")
-                        )
-                    })
-            }
-        }
-    };
-}
-
-/// `serde::Deserialize` from the enum's name through its `FromStr`, whose refusal (with the
-/// accepted names) becomes the error of the key that holds it.
-macro_rules! deserialize_by_name {
-    ($($t:ty),* $(,)?) => {$(
         impl<'de> serde::Deserialize<'de> for $t {
             fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
                 let name = <std::borrow::Cow<'de, str>>::deserialize(d)?;
-                name.parse().map_err(serde::de::Error::custom)
+                name.parse().map_err(|_| {
+                    serde::de::Error::unknown_variant(
+                        &name,
+                        <$t as strum::VariantNames>::VARIANTS,
+                    )
+                })
             }
         }
     )*};
 }
 
-deserialize_by_name!(crate::model::Variant);
+text_enum!(
+    crate::model::Wheel => "wheel",
+    crate::model::Variant => "variant",
+    crate::classify::Class => "class",
+    crate::classify::Method => "method",
+    crate::sampling::design::Design => "design",
+);
 
 #[cfg(test)]
 mod tests {
     use crate::classify::{Class, Method};
     use crate::model::{Variant, Wheel};
+    use crate::sampling::design::Design;
+
+    /// The names written into Parquet files: they must never change.
+    #[test]
+    fn names_are_the_ones_in_files() {
+        let names = |v: &[&str]| v.join(",");
+        assert_eq!(names(&Wheel::BOTH.map(Wheel::as_str)), "follower,driving");
+        assert_eq!(
+            names(&Variant::ALL.map(Variant::as_str)),
+            "paper,combined,sliding_share"
+        );
+        assert_eq!(
+            names(&Class::ALL.map(Class::as_str)),
+            "stable,limit_cycle,bistable,no_traction,failed"
+        );
+        assert_eq!(
+            names(&Method::ALL.map(Method::as_str)),
+            "linear,shooting,envelope,reference"
+        );
+        assert_eq!(
+            names(&Design::ALL.map(Design::as_str)),
+            "random,lhs,sobol,grid,saltelli"
+        );
+        assert_eq!("latin_hypercube".parse(), Ok(Design::LatinHypercube));
+    }
 
     #[test]
     fn names_round_trip_and_unknown_names_are_refused() {
@@ -76,12 +125,38 @@ mod tests {
         }
         for w in Wheel::BOTH {
             assert_eq!(format!("{w:>9}"), format!("{:>9}", w.as_str()));
+            assert_eq!(w.as_str().parse::<Wheel>(), Ok(w));
         }
-        let e = "oscillating".parse::<Class>().unwrap_err();
-        assert!(
-            e.contains("`oscillating`") && e.contains("limit_cycle"),
-            "{e}"
+        for d in Design::ALL {
+            assert_eq!(d.as_str().parse::<Design>(), Ok(d));
+        }
+        // The ALL lists hold every case, in the order of the declaration.
+        assert_eq!(
+            <Class as strum::VariantNames>::VARIANTS,
+            Class::ALL.map(Class::as_str)
         );
+        assert_eq!(
+            <Variant as strum::VariantNames>::VARIANTS,
+            Variant::ALL.map(Variant::as_str)
+        );
+        assert_eq!(
+            <Method as strum::VariantNames>::VARIANTS,
+            Method::ALL.map(Method::as_str)
+        );
+        assert_eq!(
+            <Wheel as strum::VariantNames>::VARIANTS,
+            Wheel::BOTH.map(Wheel::as_str)
+        );
+        assert_eq!(
+            <Design as strum::VariantNames>::VARIANTS,
+            Design::ALL.map(Design::as_str)
+        );
+        let e = "oscillating".parse::<Class>().unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "unknown class `oscillating`; accepted: stable, limit_cycle, bistable, no_traction, failed"
+        );
+        assert!("Stable".parse::<Class>().is_err(), "names are exact");
         let json = serde_json::to_string(&(Class::LimitCycle, Wheel::Driving)).unwrap();
         assert_eq!(json, r#"["limit_cycle","driving"]"#);
     }

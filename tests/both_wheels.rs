@@ -122,7 +122,7 @@ fn every_variant_is_accepted_by_name_everywhere() {
     for v in Variant::ALL {
         assert_eq!(v.as_str().parse::<Variant>().unwrap(), v);
     }
-    let e = "magic".parse::<Variant>().unwrap_err();
+    let e = "magic".parse::<Variant>().unwrap_err().to_string();
     assert!(e.contains("sliding_share"), "{e}");
 }
 

@@ -30,7 +30,25 @@ use envelope::Envelope;
 pub const MIN_CYCLE_V_REL: f64 = 1e-5;
 
 /// The verdict's class (the `class` column; written and read back by its name, see `as_str`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    PartialOrd,
+    Ord,
+    strum::EnumString,
+    strum::Display,
+    strum::IntoStaticStr,
+    strum::VariantNames,
+)]
+#[strum(
+    serialize_all = "snake_case",
+    parse_err_fn = crate::text_enum::unknown::<Self>,
+    parse_err_ty = crate::text_enum::UnknownName
+)]
 pub enum Class {
     /// The equilibrium attracts: no self-excited vibration.
     Stable,
@@ -45,10 +63,6 @@ pub enum Class {
     Failed,
 }
 
-serialize_as_str!(Class, Method);
-display_and_parse!(Class, "class");
-display_and_parse!(Method, "method");
-
 impl Class {
     /// Every class, in the order of the declaration.
     pub const ALL: [Class; 5] = [
@@ -59,17 +73,6 @@ impl Class {
         Class::Failed,
     ];
 
-    /// The name written in output files and accepted by parsers.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Class::Stable => "stable",
-            Class::LimitCycle => "limit_cycle",
-            Class::Bistable => "bistable",
-            Class::NoTraction => "no_traction",
-            Class::Failed => "failed",
-        }
-    }
-
     /// Whether the tread vibrates (or can, after a hard enough disturbance).
     pub fn vibrates(self) -> bool {
         matches!(self, Class::LimitCycle | Class::Bistable)
@@ -77,7 +80,25 @@ impl Class {
 }
 
 /// How the verdict was reached (the `method` column).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    PartialOrd,
+    Ord,
+    strum::EnumString,
+    strum::Display,
+    strum::IntoStaticStr,
+    strum::VariantNames,
+)]
+#[strum(
+    serialize_all = "snake_case",
+    parse_err_fn = crate::text_enum::unknown::<Self>,
+    parse_err_ty = crate::text_enum::UnknownName
+)]
 pub enum Method {
     /// Eigenvalues alone (stable equilibrium, or no model).
     Linear,
@@ -97,16 +118,6 @@ impl Method {
         Method::Envelope,
         Method::Reference,
     ];
-
-    /// The name written in output files and accepted by parsers.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Method::Linear => "linear",
-            Method::Shooting => "shooting",
-            Method::Envelope => "envelope",
-            Method::Reference => "reference",
-        }
-    }
 }
 
 /// Everything the classifier says about one wheel. Amplitudes are half peak-to-peak; all

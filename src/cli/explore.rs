@@ -128,7 +128,7 @@ pub fn run(args: &ExploreArgs) -> CliResult {
     let base_samples = args.samples.or(recorded_samples).unwrap_or(study.samples);
     study
         .check_samples(base_samples)
-        .map_err(|e| CliError(format!("{origin}: {e}")))?;
+        .map_err(|e| CliError(format!("{origin}: --samples {base_samples}: {e}")))?;
     // A Saltelli design needs k + 2 evaluations per base sample.
     let samples = study.evaluations(base_samples);
     let seed = args

@@ -7,7 +7,6 @@ pub mod tire;
 pub mod tread;
 
 use std::fmt;
-use std::str::FromStr;
 
 use crate::params::Params;
 pub use brush::{FrictionLevels, NoTraction};
@@ -15,7 +14,25 @@ pub use tire::{ContactPatch, TreadBlock};
 pub use tread::{LinearStability, State, TreadOde};
 
 /// Driving wheels transmit the drive force through a slip ratio; followers roll freely (S = 0).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    PartialOrd,
+    Ord,
+    strum::EnumString,
+    strum::Display,
+    strum::IntoStaticStr,
+    strum::VariantNames,
+)]
+#[strum(
+    serialize_all = "snake_case",
+    parse_err_fn = crate::text_enum::unknown::<Self>,
+    parse_err_ty = crate::text_enum::UnknownName
+)]
 pub enum Wheel {
     /// Rolls freely: slip ratio S = 0.
     Follower,
@@ -26,17 +43,28 @@ pub enum Wheel {
 impl Wheel {
     /// Both wheels, follower first.
     pub const BOTH: [Wheel; 2] = [Wheel::Follower, Wheel::Driving];
-    /// The name written in output files and accepted by parsers.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Wheel::Follower => "follower",
-            Wheel::Driving => "driving",
-        }
-    }
 }
 
 /// How the Stribeck curve sees sliding (MODEL.md#step-6-tread-ode).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    PartialOrd,
+    Ord,
+    strum::EnumString,
+    strum::Display,
+    strum::IntoStaticStr,
+    strum::VariantNames,
+)]
+#[strum(
+    serialize_all = "snake_case",
+    parse_err_fn = crate::text_enum::unknown::<Self>,
+    parse_err_ty = crate::text_enum::UnknownName
+)]
 pub enum Variant {
     /// The paper's Eq. 21: only the lateral sliding speed, w_t = |w|.
     Paper,
@@ -55,53 +83,6 @@ impl Variant {
     pub const ALL: [Variant; 3] = [Variant::Paper, Variant::Combined, Variant::SlidingShare];
     /// The variant every command and built-in study uses unless told otherwise.
     pub const DEFAULT: Variant = Variant::SlidingShare;
-    /// The name written in output files and accepted by parsers.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Variant::Paper => "paper",
-            Variant::Combined => "combined",
-            Variant::SlidingShare => "sliding_share",
-        }
-    }
-}
-
-impl fmt::Display for Wheel {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.pad(self.as_str())
-    }
-}
-
-impl fmt::Display for Variant {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.pad(self.as_str())
-    }
-}
-
-serialize_as_str!(Wheel, Variant);
-
-impl FromStr for Wheel {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "follower" => Ok(Wheel::Follower),
-            "driving" => Ok(Wheel::Driving),
-            _ => Err(format!("unknown wheel `{s}`; accepted: follower, driving")),
-        }
-    }
-}
-
-impl FromStr for Variant {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "paper" => Ok(Variant::Paper),
-            "combined" => Ok(Variant::Combined),
-            "sliding_share" => Ok(Variant::SlidingShare),
-            _ => Err(format!(
-                "unknown variant `{s}`; accepted: paper, combined, sliding_share"
-            )),
-        }
-    }
 }
 
 /// Longitudinal sliding speed seen by the Stribeck curve (MODEL.md#step-6-tread-ode) [m/s]: none

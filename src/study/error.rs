@@ -140,19 +140,19 @@ pub enum StudyError {
     /// A problem with `[operating_points]` or its file (the message names file, row, column).
     #[error("[operating_points]: {0}")]
     OperatingPoints(String),
-    /// A sample count of 0.
-    #[error("--samples must be at least 1")]
+    /// A sample count of 0 (the command line names the flag that gave it).
+    #[error("the sample count must be at least 1")]
     NoSamples,
-    /// `--samples` that differs from the grid's size.
-    #[error("--samples = {samples} disagrees with the grid's size {size}")]
-    FlagGridSamples {
+    /// A sample count for a run that differs from the grid's size.
+    #[error("{samples} samples disagree with the grid's size {size}: a grid study takes exactly its size")]
+    SamplesNotGridSize {
         /// The sample count given.
         samples: u64,
         /// The grid's size.
         size: u64,
     },
     /// More samples than the design can address.
-    #[error("--samples: a {design} design supports at most {max} samples")]
+    #[error("a {design} design supports at most {max} samples")]
     TooManySamples {
         /// The design.
         design: &'static str,
