@@ -1,6 +1,8 @@
 //! Study files (TOML): which parameters are fixed and which are drawn, how (distribution and
-//! design), the seed, the variants and the default sample count. Parsed into plain data and
-//! checked completely before any work starts; every error names the key and the accepted values.
+//! design), the seed, the variants and the default sample count. Read into a derived schema
+//! (`schema`), checked completely before any work starts in a typed pass whose every error names
+//! the key and the accepted values (`error`), with the measured operating points of
+//! `[operating_points]` (`points`); the `Sampler` (`sampler`) then draws the parameter sets.
 
 use std::path::Path;
 
@@ -8,17 +10,17 @@ use crate::classify::WheelBudget;
 use crate::model::Variant;
 use crate::operating_points::OperatingPoints;
 use crate::params::{ParamId, Params};
-use crate::sampling::design::{
-    grid_digits, Coordinates, Design, SALTELLI_MAX_AXES, SOBOL_MAX_AXES, SOBOL_MAX_SAMPLES,
-};
+use crate::sampling::design::{Design, SALTELLI_MAX_AXES, SOBOL_MAX_AXES, SOBOL_MAX_SAMPLES};
 use crate::sampling::distribution::Distribution;
 use crate::toml_input::{self, TomlError};
 
 mod error;
 mod points;
+mod sampler;
 mod schema;
 pub use error::StudyError;
 use points::operating_points;
+pub use sampler::Sampler;
 use schema::ParamFile;
 
 /// Largest accepted seed (in study files and on the command line).
@@ -246,59 +248,6 @@ impl Study {
             Design::Saltelli => samples * (self.drawn.len() as u64 + 2),
             _ => samples,
         }
-    }
-
-    /// The sampler for a run of `samples` points with `seed`.
-    pub fn sampler(&self, seed: u64, samples: u64) -> Sampler<'_> {
-        let grid = if self.design == Design::Grid {
-            self.drawn
-                .iter()
-                .map(|d| d.dist.grid_values().unwrap_or_default())
-                .collect()
-        } else {
-            Vec::new()
-        };
-        Sampler {
-            study: self,
-            coords: Coordinates::new(self.design, seed, samples, self.drawn.len()),
-            grid,
-            streams: crate::sampling::Streams::new(seed),
-        }
-    }
-}
-
-/// Draws parameter sets: a pure function of (study, seed, samples, index).
-pub struct Sampler<'a> {
-    study: &'a Study,
-    coords: Coordinates,
-    grid: Vec<Vec<f64>>,
-    streams: crate::sampling::Streams,
-}
-
-impl Sampler<'_> {
-    /// Parameter set of sample `index`, and the drawn values in the study's `drawn` order
-    /// (without the operating-point row: see [`Sampler::sample_with_row`]).
-    pub fn sample(&self, index: u64) -> (Params, Vec<f64>) {
-        let mut p = self.study.base;
-        let values: Vec<f64> = if self.study.design == Design::Grid {
-            let sizes: Vec<usize> = self.grid.iter().map(Vec::len).collect();
-            grid_digits(index, &sizes)
-                .iter()
-                .zip(&self.grid)
-                .map(|(k, levels)| levels[*k])
-                .collect()
-        } else {
-            self.study
-                .drawn
-                .iter()
-                .enumerate()
-                .map(|(dim, d)| self.coords.value(index, dim, &d.dist))
-                .collect()
-        };
-        for (d, v) in self.study.drawn.iter().zip(&values) {
-            p[d.param] = *v;
-        }
-        (p, values)
     }
 }
 

@@ -1,0 +1,63 @@
+//! Drawing a study's parameter sets: sample `index` of a run is a pure function of the study,
+//! the seed, the sample count and the index (the reproducibility contract: shards and threads
+//! do not change it).
+
+use super::Study;
+use crate::params::Params;
+use crate::sampling::design::{grid_digits, Coordinates, Design};
+use crate::sampling::Streams;
+
+impl Study {
+    /// The sampler for a run of `samples` points with `seed`.
+    pub fn sampler(&self, seed: u64, samples: u64) -> Sampler<'_> {
+        let grid = if self.design == Design::Grid {
+            self.drawn
+                .iter()
+                .map(|d| d.dist.grid_values().unwrap_or_default())
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Sampler {
+            study: self,
+            coords: Coordinates::new(self.design, seed, samples, self.drawn.len()),
+            grid,
+            streams: Streams::new(seed),
+        }
+    }
+}
+
+/// Draws parameter sets: a pure function of (study, seed, samples, index).
+pub struct Sampler<'a> {
+    pub(super) study: &'a Study,
+    coords: Coordinates,
+    grid: Vec<Vec<f64>>,
+    pub(super) streams: Streams,
+}
+
+impl Sampler<'_> {
+    /// Parameter set of sample `index`, and the drawn values in the study's `drawn` order
+    /// (without the operating-point row: see [`Sampler::sample_with_row`]).
+    pub fn sample(&self, index: u64) -> (Params, Vec<f64>) {
+        let mut p = self.study.base;
+        let values: Vec<f64> = if self.study.design == Design::Grid {
+            let sizes: Vec<usize> = self.grid.iter().map(Vec::len).collect();
+            grid_digits(index, &sizes)
+                .iter()
+                .zip(&self.grid)
+                .map(|(k, levels)| levels[*k])
+                .collect()
+        } else {
+            self.study
+                .drawn
+                .iter()
+                .enumerate()
+                .map(|(dim, d)| self.coords.value(index, dim, &d.dist))
+                .collect()
+        };
+        for (d, v) in self.study.drawn.iter().zip(&values) {
+            p[d.param] = *v;
+        }
+        (p, values)
+    }
+}
