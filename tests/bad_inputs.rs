@@ -185,6 +185,19 @@ fn negative_and_absurd_integer_flags_name_their_range() {
             &["validate", "--seed", "-1"],
             &["--seed", "[0, 4398046510080]"],
         ),
+        // A count the design cannot address: the study's check, named by the flag that gave it.
+        (
+            &[
+                "explore",
+                "studies/wide_structure.toml",
+                "--samples",
+                "4294967297",
+            ],
+            &[
+                "--samples 4294967297",
+                "sobol design supports at most 2^32 samples",
+            ],
+        ),
     ];
     for (args, needles) in cases {
         refused(args, needles);
