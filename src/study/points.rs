@@ -68,9 +68,8 @@ impl Sampler<'_> {
             return (p, values, None);
         };
         let row = op.draw(&self.streams, index);
-        for (name, v) in op.names.iter().zip(&op.values[row]) {
-            *p.get_mut(name)
-                .expect("operating-point columns are parameter names") = *v;
+        for (&id, v) in self.op_params.iter().zip(&op.values[row]) {
+            p[id] = *v;
             values.push(*v);
         }
         (p, values, Some(row))

@@ -3,7 +3,7 @@
 //! do not change it).
 
 use super::Study;
-use crate::params::Params;
+use crate::params::{ParamId, Params};
 use crate::sampling::design::{grid_digits, Coordinates, Design};
 use crate::sampling::Streams;
 
@@ -18,11 +18,19 @@ impl Study {
         } else {
             Vec::new()
         };
+        // The operating-point columns were checked to be parameter names when the file was read.
+        let op_params = self
+            .operating_points
+            .iter()
+            .flat_map(|o| &o.names)
+            .map(|n| n.parse().expect("operating-point columns are parameter names"))
+            .collect();
         Sampler {
             study: self,
             coords: Coordinates::new(self.design, seed, samples, self.drawn.len()),
             grid,
             streams: Streams::new(seed),
+            op_params,
         }
     }
 }
@@ -33,6 +41,8 @@ pub struct Sampler<'a> {
     coords: Coordinates,
     grid: Vec<Vec<f64>>,
     pub(super) streams: Streams,
+    /// The parameters of the operating-point file's columns, in its column order.
+    pub(super) op_params: Vec<ParamId>,
 }
 
 impl Sampler<'_> {
