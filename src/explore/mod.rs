@@ -1,0 +1,318 @@
+//! The batch engine behind `polywear explore`: draws samples of a study, classifies every
+//! sample for both wheels (and each variant) in parallel with rayon, and streams the rows to
+//! Parquet, one file per chunk of samples.
+//!
+//! A chunk is the unit of output, resume and sharding. Its file is written under a temporary
+//! name, fsynced and renamed when complete, then recorded (rows, size, CRC-32) in the manifest's
+//! journal ([`crate::output_dir`]); `--resume` keeps the chunks that match their record, redoes
+//! the rest and says which and why, giving exactly the rows of an uninterrupted run.
+//! Shard k of N owns the chunks whose index is k mod N; chunk files carry their global index,
+//! so the shards' files together are the single-machine output.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use crate::classify::Class;
+use crate::model::{Variant, Wheel};
+use crate::output_dir;
+use crate::study::Study;
+
+pub mod manifest;
+mod output;
+mod pipeline;
+
+pub use manifest::{OperatingPointsRecord, RunManifest};
+pub use output::PreparedOutput;
+pub use pipeline::{chunk_columns, evaluate_sample, SampleRows, CHUNKS_IN_FLIGHT};
+
+/// The part of a run one machine evaluates: the chunks whose index ≡ `index` (mod `count`),
+/// shard k of N with k counted from 0 (as Slurm array and Kubernetes indexed-job indices).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// This shard's index k, from 0.
+    pub index: u64,
+    /// The number of shards N.
+    pub count: u64,
+}
+
+impl Shard {
+    /// The whole run on one machine (0/1).
+    pub const WHOLE: Shard = Shard { index: 0, count: 1 };
+
+    /// Shard `index` of `count`; None unless 0 <= index < count.
+    pub fn new(index: u64, count: u64) -> Option<Shard> {
+        (index < count).then_some(Shard { index, count })
+    }
+
+    /// Whether chunk `chunk` belongs to this shard.
+    pub fn owns(self, chunk: u64) -> bool {
+        chunk % self.count == self.index
+    }
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
+
+/// What one explore run does.
+#[derive(Debug, Clone)]
+pub struct RunPlan {
+    /// The study.
+    pub study: Study,
+    /// The seed of the random streams.
+    pub seed: u64,
+    /// Samples of the whole run (all shards).
+    pub samples: u64,
+    /// This run evaluates the chunks of this shard.
+    pub shard: Shard,
+    /// The output directory.
+    pub out_dir: PathBuf,
+    /// Keep verified chunks of an earlier run in `out_dir` and do the rest.
+    pub resume: bool,
+    /// The command line, stored in the metadata.
+    pub command: String,
+}
+
+/// Why a run cannot start or go on; all are reported with exit code 2. The messages name the
+/// directory, never a command-line flag: the command line says which flag gave it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ExploreError {
+    /// The output directory cannot be created, locked, listed or written.
+    #[error("{}: {message}", dir.display())]
+    OutputDir {
+        /// The output directory.
+        dir: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// Another process changed the directory between the first look and the lock.
+    #[error("{}: changed by another process while starting; try again", dir.display())]
+    Raced {
+        /// The output directory.
+        dir: PathBuf,
+    },
+    /// A new run into a directory that is not empty.
+    #[error("{}: {state}", dir.display())]
+    Occupied {
+        /// The output directory.
+        dir: PathBuf,
+        /// What the directory holds.
+        state: crate::recorded_run::DirState,
+    },
+    /// A resume into a directory without a readable manifest.
+    #[error("{}: nothing to resume here ({manifest}: {message}); accepted: a directory written by `polywear explore`, or an empty or absent one", dir.display())]
+    NothingToResume {
+        /// The output directory.
+        dir: PathBuf,
+        /// The manifest's path, as shown.
+        manifest: String,
+        /// Why it cannot be read.
+        message: String,
+    },
+    /// The manifest is there but cannot be read as a run's.
+    #[error("{}: unreadable {}: {message}", dir.display(), output_dir::MANIFEST)]
+    UnreadableManifest {
+        /// The output directory.
+        dir: PathBuf,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// The recorded run drew with another random generator (None: none recorded).
+    #[error("{}: this directory was written with another random generator ({}); this polywear uses {}, whose rows would differ: start a new directory", dir.display(), recorded.as_deref().unwrap_or("none recorded, polywear before 0.2.0"), crate::sampling::RNG_NAME)]
+    OtherGenerator {
+        /// The output directory.
+        dir: PathBuf,
+        /// The generator the run recorded.
+        recorded: Option<String>,
+    },
+    /// The recorded run is of another study text.
+    #[error("{}: this directory holds a run of another study; the lines that differ (- the run's, + this one's):\n    {}", dir.display(), lines.join("\n    "))]
+    OtherStudy {
+        /// The output directory.
+        dir: PathBuf,
+        /// The differing lines ([`crate::recorded_run::changed_lines`]).
+        lines: Vec<String>,
+    },
+    /// The operating-point file changed since the run started.
+    #[error("{}: the operating-point file changed since this run started ({recorded_path} had hash {recorded_hash}, {path} now has hash {hash}); its rows decide every sample's draw, so the chunks would not fit together: restore the file or start a new directory", dir.display())]
+    OperatingPointsChanged {
+        /// The output directory.
+        dir: PathBuf,
+        /// The file the run read ("none" without one).
+        recorded_path: String,
+        /// Its hash then ("none" without one).
+        recorded_hash: String,
+        /// The file read now ("none" without one).
+        path: String,
+        /// Its hash now ("none" without one).
+        hash: String,
+    },
+    /// The recorded run differs in a value other than the study (version, parameters, seed,
+    /// samples, chunk size, shard).
+    #[error("{}: this directory holds a different run (the run's {what})", dir.display())]
+    DifferentRun {
+        /// The output directory.
+        dir: PathBuf,
+        /// What differs, as "seed 1, now 2".
+        what: String,
+    },
+    /// A chunk file in the directory is not one of this run's (shard).
+    #[error("{}: {name} is not a chunk of this run (chunks 0..{chunks} of shard {shard}); move it away and resume again", dir.display())]
+    ForeignChunk {
+        /// The output directory.
+        dir: PathBuf,
+        /// The file's name.
+        name: String,
+        /// Chunks of the run.
+        chunks: u64,
+        /// This run's shard.
+        shard: Shard,
+    },
+    /// A chunk file or the journal cannot be written.
+    #[error("cannot write output: {0}")]
+    Write(String),
+}
+
+/// Counts of classes per (variant, wheel) among the samples evaluated by this run.
+#[derive(Debug, Clone, Default)]
+pub struct RunSummary {
+    /// Samples this run evaluated.
+    pub samples_evaluated: u64,
+    /// Samples of kept chunks (resume).
+    pub samples_skipped: u64,
+    /// Chunk files this run wrote.
+    pub chunks_written: u64,
+    /// Rows per class of the evaluated samples, per (variant, wheel).
+    pub classes: BTreeMap<(Variant, Wheel), BTreeMap<Class, u64>>,
+}
+
+impl RunPlan {
+    /// Chunks of the whole run.
+    pub fn n_chunks(&self) -> u64 {
+        self.samples.div_ceil(self.study.chunk_size)
+    }
+
+    /// Global chunk indices this shard owns.
+    pub fn owned_chunks(&self) -> impl Iterator<Item = u64> + '_ {
+        let Shard { index: k, count: n } = self.shard;
+        (k..self.n_chunks()).step_by(n as usize)
+    }
+
+    /// Samples in the chunks this shard owns (closed form: no loop over the chunks).
+    pub fn owned_samples(&self) -> u64 {
+        let Shard { index: k, count: n } = self.shard;
+        let chunks = self.n_chunks();
+        if k >= chunks {
+            return 0;
+        }
+        let owned = (chunks - 1 - k) / n + 1;
+        let last = chunks - 1;
+        let short_by = self.study.chunk_size - self.chunk_len(last);
+        owned * self.study.chunk_size - if last % n == k { short_by } else { 0 }
+    }
+
+    /// Samples in chunk `chunk` (the last one may be short).
+    pub fn chunk_len(&self, chunk: u64) -> u64 {
+        (self.samples - chunk * self.study.chunk_size).min(self.study.chunk_size)
+    }
+
+    /// Path of chunk `chunk`'s file.
+    pub fn chunk_path(&self, chunk: u64) -> PathBuf {
+        self.out_dir.join(output_dir::chunk_file_name(chunk))
+    }
+
+    /// What the run is, as its manifest records it (written before the first chunk).
+    pub fn manifest(&self) -> RunManifest {
+        RunManifest {
+            polywear_version: env!("CARGO_PKG_VERSION").to_string(),
+            command: None,
+            rng: Some(crate::sampling::RNG_NAME.to_string()),
+            study_name: self.study.name.clone(),
+            study: Some(self.study.source.clone()),
+            study_hash: Some(self.study.source_hash()),
+            seed: self.seed,
+            samples: self.samples,
+            design: None,
+            variants: None,
+            chunk: None,
+            drawn_names: None,
+            chunk_size: self.study.chunk_size,
+            shard: self.shard,
+            params: self.study.base,
+            drawn: None,
+            operating_points: self
+                .study
+                .operating_points
+                .as_ref()
+                .map(OperatingPointsRecord::of),
+            chunks: Some(output_dir::JOURNAL.to_string()),
+            checksum: Some("CRC-32 (IEEE) of each whole chunk file".to_string()),
+            columns: None,
+        }
+    }
+
+    /// What chunk `chunk`'s footer records: the run (the study text only by its hash, as the
+    /// manifest keeps it once), the writing command, and what the rows hold.
+    pub fn chunk_metadata(&self, chunk: u64) -> RunManifest {
+        RunManifest {
+            command: Some(self.command.clone()),
+            study: None,
+            design: Some(self.study.design),
+            variants: Some(self.study.variants.clone()),
+            chunk: Some(chunk),
+            drawn_names: Some(
+                self.study
+                    .value_names()
+                    .into_iter()
+                    .map(str::to_string)
+                    .collect(),
+            ),
+            drawn: Some(self.study.drawn_json()),
+            chunks: None,
+            checksum: None,
+            columns: Some(
+                "one row per sample, variant and wheel; sample_id identifies the sample".into(),
+            ),
+            ..self.manifest()
+        }
+    }
+
+    /// Rows of chunk `chunk`: one per sample, variant and wheel.
+    pub fn chunk_rows(&self, chunk: u64) -> u64 {
+        self.chunk_len(chunk) * 2 * self.study.variants.len() as u64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn owned_samples_match_the_chunks() {
+        let mut study = Study::parse(crate::study::DEFAULT_STUDY).unwrap();
+        for (samples, chunk_size, n) in
+            [(1, 1, 1), (10, 3, 2), (100, 7, 3), (64, 64, 5), (65, 8, 4)]
+        {
+            study.chunk_size = chunk_size;
+            for k in 0..n {
+                let plan = RunPlan {
+                    study: study.clone(),
+                    seed: 1,
+                    samples,
+                    shard: Shard::new(k, n).unwrap(),
+                    out_dir: PathBuf::new(),
+                    resume: false,
+                    command: String::new(),
+                };
+                let by_loop: u64 = plan.owned_chunks().map(|c| plan.chunk_len(c)).sum();
+                assert_eq!(
+                    plan.owned_samples(),
+                    by_loop,
+                    "{samples} {chunk_size} {k}/{n}"
+                );
+            }
+        }
+    }
+}
