@@ -5,6 +5,7 @@
 use std::collections::BTreeMap;
 
 use super::inputs::RunInfo;
+use crate::params::ParamId;
 use crate::sampling::design::Design;
 use crate::sampling::distribution::Distribution;
 
@@ -91,13 +92,13 @@ impl Bins {
 pub fn axis_bins(
     info: &RunInfo,
     ranges: &BTreeMap<String, (f64, f64)>,
-    name: &str,
+    param: ParamId,
     n_bins: usize,
 ) -> Bins {
-    if let Some(levels) = study_levels(info, name) {
+    if let Some(levels) = study_levels(info, param) {
         return Bins::levels(levels);
     }
-    let (lo, hi) = ranges.get(name).copied().unwrap_or((0.0, 1.0));
+    let (lo, hi) = ranges.get(param.name()).copied().unwrap_or((0.0, 1.0));
     Bins::equal_width(lo, hi, n_bins)
 }
 
@@ -109,10 +110,10 @@ pub const MAX_OPERATING_POINT_LEVELS: usize = 40;
 /// sampler itself lists them ([`Distribution::grid_values`]), so a label is always a sampled
 /// value; for a column of `[operating_points]`, its distinct values among the rows that can be
 /// drawn (positive weight), when there are few.
-pub fn study_levels(info: &RunInfo, name: &str) -> Option<Vec<f64>> {
+pub fn study_levels(info: &RunInfo, param: ParamId) -> Option<Vec<f64>> {
     let study = info.study.as_ref()?;
     if let Some(op) = &study.operating_points {
-        if let Some(j) = op.names.iter().position(|n| *n == name) {
+        if let Some(j) = op.names.iter().position(|n| *n == param.name()) {
             let mut levels: Vec<f64> = op
                 .values
                 .iter()
@@ -125,7 +126,7 @@ pub fn study_levels(info: &RunInfo, name: &str) -> Option<Vec<f64>> {
             return (levels.len() <= MAX_OPERATING_POINT_LEVELS).then_some(levels);
         }
     }
-    let d = study.drawn.iter().find(|d| d.name == name)?;
+    let d = study.drawn.iter().find(|d| d.param == param)?;
     match &d.dist {
         Distribution::Levels(_) => d.dist.grid_values(),
         Distribution::Uniform { count: Some(_), .. } if study.design == Design::Grid => {

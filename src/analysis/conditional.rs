@@ -7,6 +7,7 @@ use super::counts::ClassCounts;
 use super::rows::{GroupKey, Rows};
 use super::AnalysisError;
 use crate::model::{Variant, Wheel};
+use crate::params::ParamId;
 
 /// Probability in one bin of one axis.
 #[derive(Debug, Clone, PartialEq)]
@@ -16,7 +17,7 @@ pub struct BinStat {
     /// The wheel.
     pub wheel: Wheel,
     /// The drawn parameter binned.
-    pub axis: String,
+    pub axis: ParamId,
     /// Lower edge of the bin (the level itself for levels).
     pub lo: f64,
     /// Upper edge of the bin (the level itself for levels).
@@ -29,8 +30,8 @@ pub struct BinStat {
 
 /// P(vibration | axis in bin), per variant, wheel and bin of one axis: every bin of every
 /// (variant, wheel) present, empty bins included.
-pub fn conditional(rows: &Rows, axis: &str, bins: &Bins) -> Result<Vec<BinStat>, AnalysisError> {
-    let groups = rows.class_counts(&[GroupKey::Bin(axis, bins)])?;
+pub fn conditional(rows: &Rows, axis: ParamId, bins: &Bins) -> Result<Vec<BinStat>, AnalysisError> {
+    let groups = rows.class_counts(&[GroupKey::Bin(axis.name(), bins)])?;
     let mut map: BTreeMap<(Variant, Wheel, i64), ClassCounts> = BTreeMap::new();
     for g in &groups {
         map.entry((g.variant, g.wheel, g.bins[0]))
@@ -47,7 +48,7 @@ pub fn conditional(rows: &Rows, axis: &str, bins: &Bins) -> Result<Vec<BinStat>,
             out.push(BinStat {
                 variant,
                 wheel,
-                axis: axis.to_string(),
+                axis,
                 lo,
                 hi,
                 mid,

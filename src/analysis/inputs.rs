@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use super::AnalysisError;
 use crate::explore::RunManifest;
 use crate::model::Variant;
-use crate::params::Params;
+use crate::params::{ParamId, Params};
 use crate::sampling::design::Design;
 use crate::study::{text_hash, Study};
 
@@ -37,7 +37,7 @@ pub struct RunInfo {
     /// The polywear version that wrote the files (`polywear_version`).
     pub version: String,
     /// Names of the drawn parameters, in column order.
-    pub drawn_names: Vec<String>,
+    pub drawn_names: Vec<ParamId>,
     /// Units of the columns (from the `units` metadata).
     pub units: BTreeMap<String, String>,
     /// The chunk files read, in order.
@@ -318,7 +318,7 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
         None => serde_json::from_value::<Vec<String>>(run.drawn.clone().unwrap_or_default())
             .unwrap_or_default()
             .iter()
-            .filter_map(|d| d.split(':').next().map(str::to_string))
+            .filter_map(|d| d.split(':').next()?.parse().ok())
             .collect(),
     };
     let units = first

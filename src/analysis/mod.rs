@@ -39,6 +39,7 @@ use severity::{Severity, SEVERITY_QUANTITIES};
 
 use crate::classify::Class;
 use crate::model::Variant;
+use crate::params::ParamId;
 
 /// What an analysis computes: bins, risk maps, the smallest count shown, bootstrap resamples.
 #[derive(Debug, Clone, PartialEq)]
@@ -50,7 +51,7 @@ pub struct AnalysisOptions {
     /// Cells with fewer classified samples are shown as "too few", not as a probability.
     pub min_count: u64,
     /// Pairs of axes for risk maps (those absent from the run are skipped with a note).
-    pub pairs: Vec<(String, String)>,
+    pub pairs: Vec<(ParamId, ParamId)>,
     /// Bootstrap resamples behind the Sobol indices' intervals.
     pub bootstrap: usize,
 }
@@ -66,10 +67,10 @@ impl AnalysisOptions {
     pub const DEFAULT_BOOTSTRAP: usize = 200;
 
     /// The risk maps always drawn: speed × toe-in and load × pressure.
-    pub fn default_pairs() -> Vec<(String, String)> {
+    pub fn default_pairs() -> Vec<(ParamId, ParamId)> {
         vec![
-            ("speed_kmh".to_string(), "toe_deg".to_string()),
-            ("load_n".to_string(), "pressure_kpa".to_string()),
+            (ParamId::SpeedKmh, ParamId::ToeDeg),
+            (ParamId::LoadN, ParamId::PressureKpa),
         ]
     }
 
@@ -297,20 +298,21 @@ pub fn run_with_progress(
     let paired = paired::paired(&info.files, PAIRED_BATCH_ROWS)?;
     progress(Step::Paired);
     let quantities: Vec<&str> = SEVERITY_QUANTITIES.iter().map(|q| q.0).collect();
-    let ranges = rows.ranges(&info.drawn_names, &quantities)?;
+    let axes: Vec<&str> = info.drawn_names.iter().map(|p| p.name()).collect();
+    let ranges = rows.ranges(&axes, &quantities)?;
     progress(Step::Ranges);
     let mut conditional = Vec::new();
-    for axis in &info.drawn_names {
+    for &axis in &info.drawn_names {
         let b = bins::axis_bins(&info, &ranges, axis, opts.bins);
         conditional.extend(conditional::conditional(&rows, axis, &b)?);
         progress(Step::Conditional);
     }
     let mut maps = Vec::new();
-    for (x, y) in &opts.pairs {
-        if !info.drawn_names.contains(x) || !info.drawn_names.contains(y) {
+    for &(x, y) in &opts.pairs {
+        if !info.drawn_names.contains(&x) || !info.drawn_names.contains(&y) {
             notes.push(format!(
                 "risk map {x} × {y} skipped: the run does not draw both (it draws {})",
-                info.drawn_names.join(", ")
+                axes.join(", ")
             ));
             continue;
         }
@@ -338,8 +340,8 @@ pub fn run_with_progress(
             map.nominal = crate::chart::nominal_curves(
                 study,
                 map.variant,
-                &map.x,
-                &map.y,
+                map.x.name(),
+                map.y.name(),
                 &risk_map::draw_edges(&map.x_bins),
                 &risk_map::draw_edges(&map.y_bins),
             );

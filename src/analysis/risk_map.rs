@@ -8,6 +8,7 @@ use super::rows::{GroupKey, Rows};
 use super::AnalysisError;
 use crate::chart::WheelCurves;
 use crate::model::{Variant, Wheel};
+use crate::params::ParamId;
 
 /// Class counts per cell, indexed `[ix][iy]`.
 pub type CountGrid = Vec<Vec<ClassCounts>>;
@@ -18,9 +19,9 @@ pub struct RiskMap {
     /// The friction variant.
     pub variant: Variant,
     /// The parameter on the horizontal axis.
-    pub x: String,
+    pub x: ParamId,
     /// The parameter on the vertical axis.
-    pub y: String,
+    pub y: ParamId,
     /// Bins of the horizontal axis.
     pub x_bins: Bins,
     /// Bins of the vertical axis.
@@ -67,13 +68,13 @@ pub fn draw_edges(b: &Bins) -> Vec<f64> {
 /// Risk maps of every variant over the axes `x` × `y` (without their nominal curves).
 pub fn risk_maps(
     rows: &Rows,
-    (x, xb): (&str, &Bins),
-    (y, yb): (&str, &Bins),
+    (x, xb): (ParamId, &Bins),
+    (y, yb): (ParamId, &Bins),
 ) -> Result<Vec<RiskMap>, AnalysisError> {
     let ny = yb.count() as i64;
     let empty = || vec![vec![ClassCounts::default(); yb.count()]; xb.count()];
     let mut maps: BTreeMap<Variant, BTreeMap<Wheel, CountGrid>> = BTreeMap::new();
-    for g in rows.class_counts(&[GroupKey::Cell(x, xb, y, yb)])? {
+    for g in rows.class_counts(&[GroupKey::Cell(x.name(), xb, y.name(), yb)])? {
         let grid = maps
             .entry(g.variant)
             .or_default()
@@ -90,8 +91,8 @@ pub fn risk_maps(
         .into_iter()
         .map(|(variant, wheels)| RiskMap {
             variant,
-            x: x.into(),
-            y: y.into(),
+            x,
+            y,
             x_bins: xb.clone(),
             y_bins: yb.clone(),
             cells: Wheel::BOTH

@@ -10,10 +10,8 @@ use super::rows::{GroupKey, Rows};
 use super::stats::wilson;
 use super::AnalysisError;
 use crate::model::{Variant, Wheel};
+use crate::params::ParamId;
 use crate::sampling::distribution::Distribution;
-
-/// The operating axes: never part of a "decoding".
-pub const OPERATING_AXES: [&str; 4] = ["speed_kmh", "toe_deg", "load_n", "pressure_kpa"];
 
 /// One decoding of the paper's lost digits: a combination of the levels of the parameters the
 /// study draws with `levels` (operating axes aside), with the class counts of both wheels.
@@ -45,7 +43,7 @@ impl Decoding {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Robustness {
     /// The decoded parameters (those drawn with `levels`, operating axes aside).
-    pub params: Vec<String>,
+    pub params: Vec<ParamId>,
     /// Every decoding present in the rows.
     pub decodings: Vec<Decoding>,
 }
@@ -111,15 +109,15 @@ impl Robustness {
 }
 
 /// The parameters a study draws with `levels`, the operating axes aside: the decoded constants.
-pub fn decoded_params(info: &RunInfo) -> Vec<String> {
+pub fn decoded_params(info: &RunInfo) -> Vec<ParamId> {
     let Some(study) = &info.study else {
         return Vec::new();
     };
     study
         .drawn
         .iter()
-        .filter(|d| matches!(d.dist, Distribution::Levels(_)) && !OPERATING_AXES.contains(&d.name))
-        .map(|d| d.name.to_string())
+        .filter(|d| matches!(d.dist, Distribution::Levels(_)) && !d.param.is_operating_axis())
+        .map(|d| d.param)
         .collect()
 }
 
@@ -130,7 +128,7 @@ pub fn robustness(rows: &Rows, info: &RunInfo) -> Result<Option<Robustness>, Ana
     if params.is_empty() {
         return Ok(None);
     }
-    let keys: Vec<GroupKey<'_>> = params.iter().map(|p| GroupKey::Value(p)).collect();
+    let keys: Vec<GroupKey<'_>> = params.iter().map(|p| GroupKey::Value(p.name())).collect();
     // (variant, value bits) -> (values, follower, driving)
     type Entry = (Vec<f64>, ClassCounts, ClassCounts);
     let mut map: BTreeMap<(Variant, Vec<u64>), Entry> = BTreeMap::new();

@@ -183,13 +183,13 @@ impl Rows {
     /// only over vibrating rows with a finite value.
     pub fn ranges(
         &self,
-        axes: &[String],
+        axes: &[&str],
         quantities: &[&str],
     ) -> Result<BTreeMap<String, (f64, f64)>, AnalysisError> {
         let mut exprs = Vec::new();
         for a in axes {
-            exprs.push(col(a.as_str()).min().alias(format!("{a}\u{1}min")));
-            exprs.push(col(a.as_str()).max().alias(format!("{a}\u{1}max")));
+            exprs.push(col(*a).min().alias(format!("{a}\u{1}min")));
+            exprs.push(col(*a).max().alias(format!("{a}\u{1}max")));
         }
         for q in quantities {
             let keep = vib_expr().and(col(*q).is_finite());
@@ -203,11 +203,7 @@ impl Rows {
         }
         let df = collect(self.lf.clone().select(exprs))?;
         let mut out = BTreeMap::new();
-        for name in axes
-            .iter()
-            .map(String::as_str)
-            .chain(quantities.iter().copied())
-        {
+        for name in axes.iter().chain(quantities) {
             let lo = floats(&df, &format!("{name}\u{1}min"))?;
             let hi = floats(&df, &format!("{name}\u{1}max"))?;
             out.insert(

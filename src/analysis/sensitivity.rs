@@ -9,6 +9,7 @@ use super::stats::sobol_with_bootstrap;
 use super::AnalysisError;
 use crate::classify::Class;
 use crate::model::{Variant, Wheel};
+use crate::params::ParamId;
 use crate::sampling::design::Design;
 
 /// First-order and total Sobol indices of one output with respect to one parameter.
@@ -21,7 +22,7 @@ pub struct Sensitivity {
     /// `limit_cycle` (the 0/1 indicator) or `amp_v_mps` (0 without a cycle).
     pub output: &'static str,
     /// The drawn parameter the indices belong to.
-    pub param: String,
+    pub param: ParamId,
     /// Base points of the Saltelli design used.
     pub base_samples: u64,
     /// Base points left out because a block is missing or unclassified.
@@ -93,14 +94,14 @@ pub fn sensitivity(
             let f = |r: &Vec<(f64, f64)>, b: usize| raw(r, b) - mean;
             let fa: Vec<f64> = complete.iter().map(|r| f(r, 0)).collect();
             let fb: Vec<f64> = complete.iter().map(|r| f(r, 1)).collect();
-            for (m, name) in info.drawn_names.iter().enumerate() {
+            for (m, param) in info.drawn_names.iter().enumerate() {
                 let fab: Vec<f64> = complete.iter().map(|r| f(r, 2 + m)).collect();
                 let (s, st) = sobol_with_bootstrap(&fa, &fb, &fab, resamples, 17 + m as u64);
                 out.push(Sensitivity {
                     variant,
                     wheel,
                     output,
-                    param: name.clone(),
+                    param: *param,
                     base_samples: complete.len() as u64,
                     left_out: total - complete.len() as u64,
                     s,

@@ -9,6 +9,7 @@ use clap::Args;
 use super::common::{CliError, CliResult, FigureFormat};
 use polywear::analysis::inputs::check_inputs;
 use polywear::analysis::{Analysis, AnalysisError, AnalysisOptions};
+use polywear::params::ParamId;
 use polywear::render::RenderOptions;
 
 #[derive(Debug, Args, Clone)]
@@ -40,7 +41,7 @@ pub struct AnalyzeArgs {
     /// Extra risk map over two drawn parameters, e.g. `--pair g_mod,load_n` (repeatable); the
     /// maps speed_kmh,toe_deg and load_n,pressure_kpa are always drawn
     #[arg(long, value_name = "X,Y", value_parser = parse_pair)]
-    pub pair: Vec<(String, String)>,
+    pub pair: Vec<(ParamId, ParamId)>,
     /// Bootstrap resamples for the Sobol indices' intervals, accepted [10, 100000]
     #[arg(long, default_value_t = AnalysisOptions::DEFAULT_BOOTSTRAP, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--bootstrap", 10, 100_000))]
     pub bootstrap: usize,
@@ -49,23 +50,20 @@ pub struct AnalyzeArgs {
     pub format: FigureFormat,
 }
 
-fn parse_pair(s: &str) -> Result<(String, String), String> {
+fn parse_pair(s: &str) -> Result<(ParamId, ParamId), String> {
     let (a, b) = s
         .split_once(',')
         .ok_or_else(|| format!("--pair `{s}`: expected X,Y"))?;
-    let (a, b) = (a.trim(), b.trim());
-    for n in [a, b] {
-        if polywear::params::spec(n).is_none() {
-            let e = polywear::params::ParamError::Unknown {
-                name: n.to_string(),
-            };
-            return Err(format!("--pair `{s}`: {e}"));
-        }
-    }
+    let parse = |n: &str| {
+        n.trim()
+            .parse::<ParamId>()
+            .map_err(|e| format!("--pair `{s}`: {e}"))
+    };
+    let (a, b) = (parse(a)?, parse(b)?);
     if a == b {
         return Err(format!("--pair `{s}`: the two axes must differ; accepted: two different parameter names, e.g. g_mod,load_n"));
     }
-    Ok((a.to_string(), b.to_string()))
+    Ok((a, b))
 }
 
 pub fn run(args: &AnalyzeArgs) -> CliResult {
@@ -98,7 +96,7 @@ pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
     let mut pairs = AnalysisOptions::default_pairs();
     for p in &args.pair {
         if !pairs.contains(p) {
-            pairs.push(p.clone());
+            pairs.push(*p);
         }
     }
     let opts = AnalysisOptions {

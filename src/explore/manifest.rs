@@ -12,7 +12,7 @@ use super::Shard;
 use crate::key_value::{self, KeyValueError};
 use crate::model::Variant;
 use crate::operating_points::OperatingPoints;
-use crate::params::Params;
+use crate::params::{ParamId, Params};
 use crate::sampling::design::Design;
 
 /// What a run is: written once into the manifest and into every chunk's footer. Fields that
@@ -58,7 +58,7 @@ pub struct RunManifest {
     pub chunk: Option<u64>,
     /// Names of the drawn values, in column order (chunks only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub drawn_names: Option<Vec<String>>,
+    pub drawn_names: Option<Vec<ParamId>>,
     /// Samples per chunk file.
     #[serde(default)]
     pub chunk_size: u64,

@@ -262,13 +262,7 @@ impl RunPlan {
             design: Some(self.study.design),
             variants: Some(self.study.variants.clone()),
             chunk: Some(chunk),
-            drawn_names: Some(
-                self.study
-                    .value_names()
-                    .into_iter()
-                    .map(str::to_string)
-                    .collect(),
-            ),
+            drawn_names: Some(value_params(&self.study)),
             drawn: Some(self.study.drawn_json()),
             chunks: None,
             checksum: None,
@@ -283,6 +277,18 @@ impl RunPlan {
     pub fn chunk_rows(&self, chunk: u64) -> u64 {
         self.chunk_len(chunk) * 2 * self.study.variants.len() as u64
     }
+}
+
+/// The parameters of a sample's drawn values, in [`Study::value_names`] order: the drawn
+/// parameters, then the operating-point file's columns (named by the file's header).
+pub fn value_params(study: &Study) -> Vec<crate::params::ParamId> {
+    let op = study.operating_points.iter().flat_map(|o| o.names.iter());
+    study
+        .drawn
+        .iter()
+        .map(|d| d.param)
+        .chain(op.map(|n| n.parse().expect("an operating-point column is a parameter")))
+        .collect()
 }
 
 #[cfg(test)]

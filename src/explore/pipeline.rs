@@ -257,9 +257,6 @@ pub fn evaluate_sample(
     }
 }
 
-/// Operating-point parameters already present as record columns.
-const RECORD_PARAMS: [&str; 4] = ["speed_kmh", "toe_deg", "load_n", "pressure_kpa"];
-
 /// Columns of a chunk: sample_id, the operating-point row (1-based, as error messages count
 /// the file's rows) when the study has one, the drawn values that are not record columns, then
 /// the record columns.
@@ -278,12 +275,12 @@ pub fn chunk_columns(study: &Study, rows: &[SampleRows]) -> Vec<Column> {
         let rows = flat.iter().map(|(s, _)| row(s)).collect();
         cols.push(Column::i64("operating_point_row", "", rows));
     }
-    for (k, name) in study.value_names().into_iter().enumerate() {
-        if !RECORD_PARAMS.contains(&name) {
-            let unit = crate::params::spec(name).map_or("", |s| s.unit);
+    // The operating axes are record columns already.
+    for (k, id) in super::value_params(study).into_iter().enumerate() {
+        if !id.is_operating_axis() {
             cols.push(Column::f64(
-                name,
-                unit,
+                id.name(),
+                id.spec().unit,
                 flat.iter().map(|(s, _)| s.drawn[k]).collect(),
             ));
         }

@@ -9,6 +9,7 @@ use crate::analysis::conditional::BinStat;
 use crate::analysis::risk_map::{draw_edges, RiskMap};
 use crate::analysis::severity::{Severity, SEVERITY_QUANTITIES};
 use crate::model::{Variant, Wheel};
+use crate::params::ParamId;
 use crate::plot::{self, maps, Series};
 
 /// P(limit cycle | parameter) along every axis of one variant, both wheels, 95% Wilson bands;
@@ -16,8 +17,8 @@ use crate::plot::{self, maps, Series};
 pub fn conditional(
     path: &Path,
     variant: Variant,
-    axes: &[String],
-    label: &dyn Fn(&str) -> String,
+    axes: &[ParamId],
+    label: &dyn Fn(ParamId) -> String,
     bins: &[BinStat],
     min_count: u64,
 ) -> Result<(), RenderError> {
@@ -35,7 +36,7 @@ pub fn conditional(
             // Levels (lo = hi) are drawn as points: nothing lies between them.
             let discrete = bins
                 .iter()
-                .filter(|b| &b.axis == axis)
+                .filter(|b| b.axis == *axis)
                 .all(|b| b.lo == b.hi);
             let bands: Vec<maps::Band<'_>> = Wheel::BOTH
                 .iter()
@@ -47,7 +48,7 @@ pub fn conditional(
                         .filter(|b| {
                             b.variant == variant
                                 && b.wheel == *wh
-                                && &b.axis == axis
+                                && b.axis == *axis
                                 && b.counts.enough(min_count)
                         })
                         .map(|b| {
@@ -59,8 +60,8 @@ pub fn conditional(
                 .collect();
             maps::band_panel(
                 area,
-                &crate::params::label(axis),
-                &label(axis),
+                &axis.label(),
+                &label(*axis),
                 "Risk of vibration",
                 &bands,
             )
@@ -76,11 +77,11 @@ pub fn conditional(
 pub fn risk_map(
     path: &Path,
     map: &RiskMap,
-    label: &dyn Fn(&str) -> String,
+    label: &dyn Fn(ParamId) -> String,
     min_count: u64,
 ) -> Result<(), RenderError> {
     let nominal = map.nominal.as_deref();
-    let (x, y) = (&map.x, &map.y);
+    let (x, y) = (map.x, map.y);
     // The nominal tire's Hopf curves: each wheel's on its own panel, both on the difference.
     let curves = |wheel: Wheel, color: plotters::style::RGBColor| -> Vec<maps::Overlay> {
         nominal
@@ -132,8 +133,8 @@ pub fn risk_map(
         .max(0.1);
     let title = format!(
         "Risk of tread vibration (polygonal wear) over {} and {} ({} variant; grey: fewer than {min_count} samples)",
-        crate::params::label(x).to_lowercase(),
-        crate::params::label(y).to_lowercase(),
+        x.label().to_lowercase(),
+        y.label().to_lowercase(),
         map.variant
     );
     plot::figure(path, (2100, 760), &title, |area| {

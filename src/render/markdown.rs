@@ -270,7 +270,11 @@ fn robustness_section(s: &mut String, a: &Analysis) {
     let _ = writeln!(
         s,
         "\n| variant | {} | follower P(limit cycle) | driving P(limit cycle) | driving less exposed |",
-        r.params.join(" | ")
+        r.params
+            .iter()
+            .map(|p| p.name())
+            .collect::<Vec<_>>()
+            .join(" | ")
     );
     let _ = writeln!(s, "|---|{}---:|---:|---|", "---:|".repeat(r.params.len()));
     for d in r.decodings.iter().take(SHOWN) {

@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 
 use crate::analysis::Analysis;
 use crate::model::Variant;
+use crate::params::ParamId;
 
 /// Where and how the report is written.
 #[derive(Debug, Clone, PartialEq)]
@@ -26,9 +27,9 @@ pub struct RiskMapFigure {
     /// The friction variant.
     pub variant: Variant,
     /// The horizontal axis.
-    pub x: String,
+    pub x: ParamId,
     /// The vertical axis.
-    pub y: String,
+    pub y: ParamId,
     /// The file.
     pub path: PathBuf,
 }
@@ -123,7 +124,7 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
     let (dir, ext) = (&opts.out_dir, opts.figure_format);
     let min_count = a.options.min_count;
     let info = &a.info;
-    let label = |name: &str| crate::params::axis_label(name, info.unit(name));
+    let label = |p: ParamId| crate::params::axis_label(p.name(), info.unit(p.name()));
     let mut out = Figures::default();
     for variant in a.variants() {
         let p = dir.join(format!("conditional_{variant}.{ext}"));
@@ -142,8 +143,8 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
         figures::risk_map(&p, map, &label, min_count)?;
         out.risk_maps.push(RiskMapFigure {
             variant: map.variant,
-            x: map.x.clone(),
-            y: map.y.clone(),
+            x: map.x,
+            y: map.y,
             path: p,
         });
     }

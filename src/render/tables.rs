@@ -39,7 +39,7 @@ pub fn write_all(dir: &Path, a: &Analysis) -> Result<Vec<PathBuf>, RenderError> 
         &mut files,
     )?;
     for (x, y) in &a.options.pairs {
-        let of_pair: Vec<&RiskMap> = a.maps.iter().filter(|m| &m.x == x && &m.y == y).collect();
+        let of_pair: Vec<&RiskMap> = a.maps.iter().filter(|m| m.x == *x && m.y == *y).collect();
         if !of_pair.is_empty() {
             write_tables(
                 dir,
@@ -181,7 +181,7 @@ fn conditional_columns(b: &[BinStat], min_count: u64) -> Vec<Column> {
     let mut cols = vec![
         str_col("variant", b, |x| x.variant.to_string()),
         str_col("wheel", b, |x| x.wheel.to_string()),
-        str_col("axis", b, |x| x.axis.clone()),
+        str_col("axis", b, |x| x.axis.to_string()),
         f64_col("bin_lo", b, |x| x.lo),
         f64_col("bin_hi", b, |x| x.hi),
         f64_col("bin_mid", b, |x| x.mid),
@@ -239,7 +239,7 @@ fn sensitivity_columns(s: &[Sensitivity]) -> Vec<Column> {
         str_col("variant", s, |x| x.variant.to_string()),
         str_col("wheel", s, |x| x.wheel.to_string()),
         str_col("output", s, |x| x.output.to_string()),
-        str_col("param", s, |x| x.param.clone()),
+        str_col("param", s, |x| x.param.to_string()),
         count_col("base_samples", s, |x| x.base_samples),
         f64_col("first_order", s, |x| x.s.0),
         f64_col("first_order_lo", s, |x| x.s.1),
@@ -255,7 +255,7 @@ fn robustness_columns(r: &Robustness, min_count: u64) -> Vec<Column> {
     let d = &r.decodings;
     let mut cols = vec![str_col("variant", d, |x| x.variant.to_string())];
     for (i, p) in r.params.iter().enumerate() {
-        cols.push(f64_col(p, d, |x| x.values[i]));
+        cols.push(f64_col(p.name(), d, |x| x.values[i]));
     }
     cols.extend([
         count_col("follower_samples", d, |x| x.follower.classified()),
