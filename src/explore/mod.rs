@@ -321,4 +321,87 @@ mod tests {
             }
         }
     }
+
+    fn plan() -> RunPlan {
+        RunPlan {
+            study: Study::parse(crate::study::DEFAULT_STUDY).unwrap(),
+            seed: 2014,
+            samples: 100,
+            shard: Shard::new(1, 3).unwrap(),
+            out_dir: PathBuf::new(),
+            resume: false,
+            command: "polywear explore --shard 1/3".into(),
+        }
+    }
+
+    #[test]
+    fn a_chunk_footer_has_the_keys_pandas_users_read_and_reads_back_the_same() {
+        let meta = plan().chunk_metadata(4);
+        let kv = meta.to_key_values();
+        let keys: Vec<&str> = kv.iter().map(|(k, _)| k.as_str()).collect();
+        assert_eq!(
+            keys,
+            [
+                "polywear_version",
+                "command",
+                "rng",
+                "study_name",
+                "study_hash",
+                "seed",
+                "samples",
+                "design",
+                "variant",
+                "chunk",
+                "drawn_names",
+                "chunk_size",
+                "shard",
+                "params",
+                "drawn",
+                "columns"
+            ]
+        );
+        let get = |k: &str| kv.iter().find(|(key, _)| key == k).unwrap().1.as_str();
+        assert_eq!(get("seed"), "2014");
+        assert_eq!(get("shard"), "1/3");
+        assert_eq!(get("chunk"), "4");
+        assert_eq!(get("variant"), "sliding_share");
+        assert!(
+            get("drawn_names").starts_with("[\"speed_kmh\""),
+            "{}",
+            get("drawn_names")
+        );
+        assert!(get("params").starts_with('{'));
+        assert_eq!(RunManifest::from_key_values(&kv).unwrap(), meta);
+    }
+
+    #[test]
+    fn the_manifest_reads_back_the_same_and_holds_the_study_once() {
+        let m = plan().manifest();
+        let text = m.to_json_text();
+        assert_eq!(RunManifest::from_json_text(&text).unwrap(), m);
+        let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let keys: Vec<&String> = v.as_object().unwrap().keys().collect();
+        assert_eq!(
+            keys,
+            [
+                "checksum",
+                "chunk_size",
+                "chunks",
+                "operating_points",
+                "params",
+                "polywear_version",
+                "rng",
+                "samples",
+                "seed",
+                "shard",
+                "study",
+                "study_hash",
+                "study_name"
+            ]
+        );
+        assert!(v["operating_points"].is_null());
+        assert_eq!(v["seed"], 2014);
+        // The chunks carry the study's hash, not its text.
+        assert!(plan().chunk_metadata(0).study.is_none());
+    }
 }
