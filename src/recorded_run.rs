@@ -220,13 +220,14 @@ pub fn changed_lines(old: &str, new: &str) -> Vec<String> {
     out
 }
 
-/// The parameters whose values differ between two recorded `params` objects, as
-/// "g_mod 855700, now 900000".
-pub fn param_changes(old: &serde_json::Value, new: &serde_json::Value) -> String {
-    let changed: Vec<String> = crate::params::SPECS
+/// The parameters whose values differ between two sets, as "g_mod 855700.0, now 900000.0"
+/// (the values as the manifest writes them).
+pub fn param_changes(old: &Params, new: &Params) -> String {
+    let json = |x: f64| serde_json::to_string(&x).expect("json");
+    let changed: Vec<String> = crate::params::ParamId::ALL
         .iter()
-        .filter(|s| old[s.name] != new[s.name])
-        .map(|s| format!("{} {}, now {}", s.name, old[s.name], new[s.name]))
+        .filter(|&&id| old[id] != new[id])
+        .map(|&id| format!("{id} {}, now {}", json(old[id]), json(new[id])))
         .collect();
     if changed.is_empty() {
         "parameters differ".into()

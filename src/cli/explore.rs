@@ -319,11 +319,10 @@ fn check_against_recorded(
     }
     if let Some(path) = &args.params {
         if study.base != run.params {
-            let json = |p: &polywear::params::Params| serde_json::to_value(p).expect("json");
             return Err(refuse(format!(
                 "--params {} contradicts the run's values ({}, now from the file)",
                 path.display(),
-                param_changes(&json(&run.params), &json(&study.base))
+                param_changes(&run.params, &study.base)
             )));
         }
     }

@@ -165,10 +165,7 @@ impl RunPlan {
             });
         }
         let what = if old.params != new.params {
-            Some(param_changes(
-                &serde_json::to_value(old.params).expect("json"),
-                &serde_json::to_value(new.params).expect("json"),
-            ))
+            Some(param_changes(&old.params, &new.params))
         } else {
             None
         };
