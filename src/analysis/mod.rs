@@ -361,3 +361,41 @@ pub fn run_with_progress(
         notes,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn analysis_errors_name_files_and_keys_but_no_command_line_flag() {
+        let e = AnalysisError::NoRows {
+            inputs: "runs/a".into(),
+        };
+        assert!(!e.to_string().contains("--"), "{e}");
+        let e = AnalysisError::Mismatch {
+            first: "a.parquet".into(),
+            other: "b.parquet".into(),
+            key: "seed",
+            ours: "1".into(),
+            theirs: "2".into(),
+        };
+        assert_eq!(
+            e.to_string(),
+            "a.parquet and b.parquet do not belong together: their `seed` differs (1 vs 2); analyze one run at a time"
+        );
+    }
+
+    #[test]
+    fn hot_tables_grow_with_the_risk_maps_within_bounds() {
+        let size = |map_bins| {
+            AnalysisOptions {
+                map_bins,
+                ..AnalysisOptions::default()
+            }
+            .hot_table_size()
+        };
+        assert_eq!(size(2), 16_384);
+        assert_eq!(size(24), 65_536);
+        assert_eq!(size(200), 1 << 22);
+    }
+}

@@ -123,3 +123,45 @@ fn paired_from(combos: &PairCounts) -> Vec<Paired> {
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_tally_counts_each_pair_of_outcomes_once() {
+        use Class::*;
+        let mut t = PairTally::default();
+        for (f, d) in [
+            (LimitCycle, Stable),
+            (Bistable, Stable),
+            (Stable, LimitCycle),
+            (LimitCycle, Bistable),
+            (Stable, Stable),
+            (Stable, NoTraction),
+            (Failed, Failed),
+        ] {
+            t.add(Variant::SlidingShare, f, d);
+        }
+        t.add(Variant::Paper, Stable, Stable);
+        let p = t.paired();
+        assert_eq!(p.len(), 2);
+        let s = p
+            .iter()
+            .find(|p| p.variant == Variant::SlidingShare)
+            .unwrap();
+        assert_eq!(
+            (
+                s.only_follower,
+                s.only_driving,
+                s.both,
+                s.neither,
+                s.unclassified
+            ),
+            (2, 1, 1, 1, 2)
+        );
+        assert_eq!(s.pairs, 5);
+        assert_eq!((s.follower_vibrating(), s.driving_vibrating()), (3, 2));
+        assert_eq!(mcnemar(2, 1).1, s.p_value);
+    }
+}

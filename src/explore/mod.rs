@@ -404,4 +404,43 @@ mod tests {
         // The chunks carry the study's hash, not its text.
         assert!(plan().chunk_metadata(0).study.is_none());
     }
+
+    #[test]
+    fn explore_errors_name_no_command_line_flag() {
+        let dir = PathBuf::from("runs/a");
+        let errors = [
+            ExploreError::OtherGenerator {
+                dir: dir.clone(),
+                recorded: None,
+            },
+            ExploreError::OtherStudy {
+                dir: dir.clone(),
+                lines: vec!["- samples = 1".into()],
+            },
+            ExploreError::DifferentRun {
+                dir: dir.clone(),
+                what: "seed 1, now 2".into(),
+            },
+            ExploreError::Occupied {
+                dir: dir.clone(),
+                state: crate::recorded_run::DirState::Foreign,
+            },
+            ExploreError::NothingToResume {
+                dir: dir.clone(),
+                manifest: "runs/a/_manifest.json".into(),
+                message: "not found".into(),
+            },
+            ExploreError::ForeignChunk {
+                dir,
+                name: "chunk-0000009.parquet".into(),
+                chunks: 3,
+                shard: Shard::WHOLE,
+            },
+        ];
+        for e in errors {
+            let text = e.to_string();
+            assert!(text.starts_with("runs/a: "), "{text}");
+            assert!(!text.contains("--"), "{text}");
+        }
+    }
 }
