@@ -85,6 +85,7 @@ fn main() {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
     let cli = Cli::parse();
+    size_polars_group_tables(&cli.command);
     let result = match &cli.command {
         Command::Explore(a) => cli::explore::run(a),
         Command::Analyze(a) => cli::analyze::run(a),
@@ -104,5 +105,24 @@ fn main() {
     if let Err(e) = result {
         eprintln!("error: {e}");
         std::process::exit(2);
+    }
+}
+
+/// Sizes polars' streaming group-by tables for the analysis a command runs (`analyze`, and
+/// `explore`'s closing report): polars 0.55 reads `POLARS_HOT_TABLE_SIZE` from the environment
+/// and has no API for it, and the environment may only be changed while no other thread runs,
+/// which holds here, before any work starts. A value the user set is kept.
+fn size_polars_group_tables(command: &Command) {
+    use polywear::analysis::AnalysisOptions;
+    let opts = match command {
+        Command::Analyze(a) => AnalysisOptions {
+            map_bins: a.map_bins,
+            ..AnalysisOptions::default()
+        },
+        Command::Explore(a) if !a.no_report => AnalysisOptions::default(),
+        _ => return,
+    };
+    if std::env::var_os("POLARS_HOT_TABLE_SIZE").is_none() {
+        std::env::set_var("POLARS_HOT_TABLE_SIZE", opts.hot_table_size().to_string());
     }
 }

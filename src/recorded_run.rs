@@ -6,6 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::explore::{RunManifest, Shard};
 use crate::output_dir::{self, MANIFEST};
 use crate::params::Params;
 
@@ -25,11 +26,21 @@ pub struct RecordedRun {
     pub samples: u64,
     /// Samples per chunk file.
     pub chunk_size: u64,
-    /// Shard `(k, N)`: the run owns the chunks whose index is k mod N.
-    pub shard: (u64, u64),
+    /// The shard that wrote the run: it owns the chunks whose index is k mod N.
+    pub shard: Shard,
     /// The folder a relative `[operating_points]` file was found in (the recorded path less
     /// the file name the study gives), so that the recorded study reads the same file again.
     pub operating_points_dir: Option<PathBuf>,
+}
+
+/// Why a directory's manifest cannot be read back.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{}: {message}", path.display())]
+pub struct ManifestReadError {
+    /// The manifest file.
+    pub path: PathBuf,
+    /// What is wrong.
+    pub message: String,
 }
 
 /// How much of a recorded run the journal holds.
@@ -55,50 +66,30 @@ impl Saved {
 impl RecordedRun {
     /// Reads the manifest of `dir`: `Ok(None)` when there is none, an error naming the file when
     /// it cannot be read or lacks a field.
-    pub fn read(dir: &Path) -> Result<Option<RecordedRun>, String> {
+    pub fn read(dir: &Path) -> Result<Option<RecordedRun>, ManifestReadError> {
         let path = dir.join(MANIFEST);
+        let bad = |message: String| ManifestReadError {
+            path: path.clone(),
+            message,
+        };
         let text = match std::fs::read_to_string(&path) {
             Ok(t) => t,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-            Err(e) => return Err(format!("{}: {e}", path.display())),
+            Err(e) => return Err(bad(e.to_string())),
         };
-        let bad = |what: &str| format!("{}: {what}", path.display());
-        let v: serde_json::Value =
-            serde_json::from_str(&text).map_err(|e| bad(&format!("unreadable: {e}")))?;
-        let field_u64 = |k: &str| {
-            v[k].as_u64()
-                .ok_or_else(|| bad(&format!("`{k}` is missing or not a whole number")))
-        };
-        let mut params = Params::default();
-        let recorded = v["params"]
-            .as_object()
-            .ok_or_else(|| bad("`params` is missing"))?;
-        for (name, x) in recorded {
-            let x = x
-                .as_f64()
-                .ok_or_else(|| bad(&format!("`params.{name}` is not a number")))?;
-            params
-                .set(name, x)
-                .map_err(|e| bad(&format!("`params`: {e}")))?;
-        }
-        let shard = v["shard"]
-            .as_str()
-            .and_then(|s| s.split_once('/'))
-            .and_then(|(k, n)| Some((k.parse().ok()?, n.parse().ok()?)))
-            .filter(|(k, n): &(u64, u64)| k < n)
-            .ok_or_else(|| bad("`shard` is missing or not k/N"))?;
+        let m = RunManifest::from_json_text(&text).map_err(|e| bad(e.to_string()))?;
         Ok(Some(RecordedRun {
-            study_name: v["study_name"].as_str().unwrap_or("").to_string(),
-            study: v["study"]
-                .as_str()
-                .ok_or_else(|| bad("`study` is missing"))?
-                .to_string(),
-            params,
-            seed: field_u64("seed")?,
-            samples: field_u64("samples")?,
-            chunk_size: field_u64("chunk_size")?.max(1),
-            shard,
-            operating_points_dir: operating_points_dir(&v["operating_points"]),
+            study: m
+                .study
+                .clone()
+                .ok_or_else(|| bad("`study` is missing".into()))?,
+            study_name: m.study_name,
+            params: m.params,
+            seed: m.seed,
+            samples: m.samples,
+            chunk_size: m.chunk_size.max(1),
+            shard: m.shard,
+            operating_points_dir: m.operating_points.as_ref().and_then(|o| o.dir()),
         }))
     }
 
@@ -112,7 +103,7 @@ impl RecordedRun {
     pub fn saved(&self, dir: &Path) -> Saved {
         let journal = output_dir::read_journal(dir).unwrap_or_default();
         let n_chunks = self.samples.div_ceil(self.chunk_size);
-        let (k, n) = self.shard;
+        let Shard { index: k, count: n } = self.shard;
         let owned = || (k..n_chunks).step_by(n as usize);
         let done = || owned().filter(|c| journal.contains_key(c));
         Saved {
@@ -124,40 +115,71 @@ impl RecordedRun {
     }
 }
 
-/// `path` = dir.join(`file`) as the manifest and the chunks record an operating-point file:
-/// gives back dir, where the recorded study finds its file again.
-pub fn operating_points_dir(op: &serde_json::Value) -> Option<PathBuf> {
-    let (file, path) = (op["file"].as_str()?, op["path"].as_str()?);
-    let dir = path.strip_suffix(file)?;
-    Some(PathBuf::from(dir))
+/// What a non-empty output directory holds, for the message that refuses it to a new run.
+#[derive(Debug, Clone, PartialEq)]
+pub enum DirState {
+    /// A run whose chunks are all saved.
+    Finished {
+        /// The run as its manifest records it.
+        run: Box<RecordedRun>,
+    },
+    /// A run with chunks still to do.
+    Unfinished {
+        /// The run as its manifest records it.
+        run: Box<RecordedRun>,
+        /// How much of it is saved.
+        saved: Saved,
+    },
+    /// Files, but no polywear run.
+    Foreign,
+    /// A manifest that cannot be read.
+    Unreadable(ManifestReadError),
 }
 
-/// Why a non-empty `--out` is refused for a new run, and what to do instead: a finished run is
-/// named as finished with `polywear analyze` suggested, an unfinished one with its progress and
-/// `--resume`.
-pub fn occupied(dir: &Path) -> String {
-    let d = shell_word(&dir.display().to_string());
-    let another = "or choose another --out for a new run";
+impl DirState {
+    /// "study `x`, seed 1, 600 samples" for a run; None for a directory without one.
+    pub fn run_summary(&self) -> Option<String> {
+        match self {
+            DirState::Finished { run } | DirState::Unfinished { run, .. } => Some(format!(
+                "study `{}`, seed {}, {} samples",
+                run.study_name, run.seed, run.samples
+            )),
+            _ => None,
+        }
+    }
+}
+
+impl std::fmt::Display for DirState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let what = self.run_summary().unwrap_or_default();
+        match self {
+            DirState::Finished { .. } => write!(f, "holds a finished run ({what})"),
+            DirState::Unfinished { saved, .. } => write!(
+                f,
+                "holds an unfinished run ({what}; {} of {} samples saved)",
+                saved.samples, saved.samples_owned
+            ),
+            DirState::Foreign => f.write_str("is not empty and holds no polywear run"),
+            DirState::Unreadable(e) => write!(f, "holds an unreadable run ({e})"),
+        }
+    }
+}
+
+/// What the non-empty directory `dir` holds: a finished or unfinished run (with its progress),
+/// something else, or an unreadable manifest.
+pub fn directory_state(dir: &Path) -> DirState {
     match RecordedRun::read(dir) {
         Ok(Some(run)) => {
             let saved = run.saved(dir);
-            let what = format!(
-                "study `{}`, seed {}, {} samples",
-                run.study_name, run.seed, run.samples
-            );
+            let run = Box::new(run);
             if saved.finished() {
-                format!(
-                    "holds a finished run ({what}); analyse it with `polywear analyze {d}`, {another}"
-                )
+                DirState::Finished { run }
             } else {
-                format!(
-                    "holds an unfinished run ({what}; {} of {} samples saved); continue it with `polywear explore --resume --out {d}`, {another}",
-                    saved.samples, saved.samples_owned
-                )
+                DirState::Unfinished { run, saved }
             }
         }
-        Ok(None) => "is not empty and holds no polywear run; accepted: an empty or absent directory (for a new run), or a run's directory with --resume".to_string(),
-        Err(e) => format!("holds an unreadable run ({e}); choose another --out"),
+        Ok(None) => DirState::Foreign,
+        Err(e) => DirState::Unreadable(e),
     }
 }
 
@@ -198,13 +220,14 @@ pub fn changed_lines(old: &str, new: &str) -> Vec<String> {
     out
 }
 
-/// The parameters whose values differ between two recorded `params` objects, as
-/// "g_mod 855700, now 900000".
-pub fn param_changes(old: &serde_json::Value, new: &serde_json::Value) -> String {
-    let changed: Vec<String> = crate::params::SPECS
+/// The parameters whose values differ between two sets, as "g_mod 855700.0, now 900000.0"
+/// (the values as the manifest writes them).
+pub fn param_changes(old: &Params, new: &Params) -> String {
+    let json = |x: f64| serde_json::to_string(&x).expect("json");
+    let changed: Vec<String> = crate::params::ParamId::ALL
         .iter()
-        .filter(|s| old[s.name] != new[s.name])
-        .map(|s| format!("{} {}, now {}", s.name, old[s.name], new[s.name]))
+        .filter(|&&id| old[id] != new[id])
+        .map(|&id| format!("{id} {}, now {}", json(old[id]), json(new[id])))
         .collect();
     if changed.is_empty() {
         "parameters differ".into()

@@ -6,6 +6,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use crate::analysis::paired::{PairTally, Paired};
 use crate::bifurcation::{linspace, sweep, Sweep};
 use crate::classify::{classify_point, ClassifierOptions};
 use crate::model::{brush, tire, Variant, Wheel};
@@ -32,7 +33,7 @@ pub struct Reproduction {
     /// The text of `report.md`.
     pub report: String,
     /// Driving against follower on samples of the default study, per variant.
-    pub paired: Vec<PairedRow>,
+    pub paired: Vec<Paired>,
 }
 
 /// Vibration intervals for people: an interval reaching an end of the sweep reads "≥ a" / "≤ b".
@@ -62,13 +63,48 @@ fn bounds(axis: &str) -> (f64, f64) {
         .map_or((f64::NAN, f64::NAN), |a| (a.1, a.2))
 }
 
+/// Why the paper's analyses cannot be regenerated: a file that cannot be written, or a stage
+/// that failed (in that stage's words).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ReproduceError {
+    /// The output folder or the report cannot be written.
+    #[error("{}: {message}", path.display())]
+    Io {
+        /// The file or folder.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// The model cannot be built for a point of a figure.
+    #[error("{0}")]
+    Model(String),
+    /// A figure cannot be drawn.
+    #[error("{0}")]
+    Figure(String),
+    /// A table cannot be written.
+    #[error("{0}")]
+    Table(String),
+    /// The built-in default study cannot be read.
+    #[error("{0}")]
+    Study(String),
+}
+
+impl ReproduceError {
+    fn io(path: &Path, e: impl std::fmt::Display) -> ReproduceError {
+        ReproduceError::Io {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        }
+    }
+}
+
 /// Fig. 4: lateral against longitudinal force as the slip ratio grows, for several slip angles.
 fn adhesion_ellipse(
     base: &Params,
     dir: &Path,
     ext: &str,
     files: &mut Vec<PathBuf>,
-) -> Result<(), String> {
+) -> Result<(), ReproduceError> {
     let angles = [0.5, 1.0, 2.0, 4.0];
     let slips: Vec<f64> = (0..=200)
         .map(|i| 0.5 * (i as f64 / 200.0).powi(2))
@@ -81,7 +117,7 @@ fn adhesion_ellipse(
             toe_deg: *a,
             ..*base
         };
-        let patch = tire::contact_patch(&p)?;
+        let patch = tire::contact_patch(&p).map_err(ReproduceError::Model)?;
         let pts: Vec<(f64, f64)> = slips
             .iter()
             .map(|s| {
@@ -115,7 +151,8 @@ fn adhesion_ellipse(
                 false,
             )
         },
-    )?;
+    )
+    .map_err(ReproduceError::Figure)?;
     files.push(png);
     let csv = dir.join("fig4_adhesion.csv");
     write_csv(
@@ -127,7 +164,7 @@ fn adhesion_ellipse(
             Column::f64("f_y_n", "N", rows.iter().map(|r| r.3).collect()),
         ],
     )
-    .map_err(|e| e.to_string())?;
+    .map_err(|e| ReproduceError::Table(e.to_string()))?;
     files.push(csv);
     Ok(())
 }
@@ -139,7 +176,7 @@ pub fn reproduce(
     dir: &Path,
     steps: usize,
     paired_samples: u64,
-) -> Result<Reproduction, String> {
+) -> Result<Reproduction, ReproduceError> {
     reproduce_as(base, dir, steps, paired_samples, "png")
 }
 
@@ -150,8 +187,8 @@ pub fn reproduce_as(
     steps: usize,
     paired_samples: u64,
     ext: &str,
-) -> Result<Reproduction, String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+) -> Result<Reproduction, ReproduceError> {
+    std::fs::create_dir_all(dir).map_err(|e| ReproduceError::io(dir, e))?;
     let mut files = Vec::new();
     let opts = ClassifierOptions::default();
     adhesion_ellipse(base, dir, ext, &mut files)?;
@@ -163,7 +200,7 @@ pub fn reproduce_as(
             let name = crate::params::spec(axis).expect("known").name;
             let sw = sweep(base, name, &linspace(from, to, steps), variant, &opts);
             let png = dir.join(format!("bifurcation_{axis}_{variant}.{ext}"));
-            sw.draw(&png)?;
+            sw.draw(&png).map_err(ReproduceError::Figure)?;
             files.push(png);
             sweeps.push(sw);
         }
@@ -196,7 +233,7 @@ pub fn reproduce_as(
         &cols,
         &[("params".into(), serde_json::to_string(base).expect("json"))],
     )
-    .map_err(|e| e.to_string())?;
+    .map_err(|e| ReproduceError::Table(e.to_string()))?;
     files.push(pq);
 
     // Fig. 18: the cycle amplitude against speed, follower beside the driving wheel of each
@@ -231,14 +268,15 @@ pub fn reproduce_as(
             }
         }
         let png = dir.join(format!("{name}.{ext}"));
-        plot_point(&png, &series, &records, 20_000.0)?;
+        plot_point(&png, &series, &records, 20_000.0).map_err(ReproduceError::Figure)?;
         files.push(png);
         point_records.push((name, records));
     }
 
     // Stability charts of the four axes two at a time, both wheels (default variant).
     let (chart_files, charts_md) =
-        crate::chart::pairs::operating_pairs(base, Variant::DEFAULT, &AXES, dir)?;
+        crate::chart::pairs::operating_pairs(base, Variant::DEFAULT, &AXES, dir)
+            .map_err(ReproduceError::Figure)?;
     files.extend(chart_files);
 
     let paired = paired_comparison(base, paired_samples)?;
@@ -248,7 +286,7 @@ pub fn reproduce_as(
         1,
     );
     let md = dir.join("report.md");
-    std::fs::write(&md, &report).map_err(|e| format!("{}: {e}", md.display()))?;
+    std::fs::write(&md, &report).map_err(|e| ReproduceError::io(&md, e))?;
     files.push(md);
     Ok(Reproduction {
         sweeps,
@@ -264,7 +302,7 @@ fn amplitude_vs_speed(
     dir: &Path,
     ext: &str,
     files: &mut Vec<PathBuf>,
-) -> Result<(), String> {
+) -> Result<(), ReproduceError> {
     let mut labels = Vec::new();
     let mut points = Vec::new();
     for (variant, wheel) in [
@@ -317,48 +355,19 @@ fn amplitude_vs_speed(
                 false,
             )
         },
-    )?;
+    )
+    .map_err(ReproduceError::Figure)?;
     files.push(png);
     Ok(())
 }
 
-/// Driving against follower on the same samples of the built-in default study, per variant.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PairedRow {
-    /// The friction variant.
-    pub variant: Variant,
-    /// Samples where both wheels were classified (no failure, no traction loss).
-    pub samples: u64,
-    /// Samples where the follower vibrates.
-    pub follower: u64,
-    /// Samples where the driving wheel vibrates.
-    pub driving: u64,
-    /// Samples where both vibrate.
-    pub both: u64,
-    /// Samples where only the follower vibrates.
-    pub follower_only: u64,
-    /// Samples where only the driving wheel vibrates.
-    pub driving_only: u64,
-}
-
-impl PairedRow {
-    /// Share of samples where the follower vibrates.
-    pub fn p_follower(&self) -> f64 {
-        self.follower as f64 / self.samples as f64
-    }
-    /// Share of samples where the driving wheel vibrates.
-    pub fn p_driving(&self) -> f64 {
-        self.driving as f64 / self.samples as f64
-    }
-}
-
 /// Draws `samples` points of the built-in default study (its tire-structure uncertainty around
-/// `base`) and classifies both wheels under every variant.
-pub fn paired_comparison(base: &Params, samples: u64) -> Result<Vec<PairedRow>, String> {
-    use crate::classify::Class;
+/// `base`), classifies both wheels under every variant, and pairs them as the analysis does
+/// ([`PairTally`]): driving against follower on the same samples, per variant.
+pub fn paired_comparison(base: &Params, samples: u64) -> Result<Vec<Paired>, ReproduceError> {
     use rayon::prelude::*;
     let mut study = crate::study::Study::parse_with_base(crate::study::DEFAULT_STUDY, *base)
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| ReproduceError::Study(e.to_string()))?;
     study.variants = Variant::ALL.to_vec();
     let sampler = study.sampler(study.seed, samples);
     let opts = ClassifierOptions::default();
@@ -366,42 +375,21 @@ pub fn paired_comparison(base: &Params, samples: u64) -> Result<Vec<PairedRow>, 
         .into_par_iter()
         .map(|i| crate::explore::evaluate_sample(&study, &sampler, i, &opts))
         .collect();
-    let classified = |r: &WheelRecord| !matches!(r.class, Class::Failed | Class::NoTraction);
-    Ok(Variant::ALL
-        .iter()
-        .map(|&variant| {
-            let mut row = PairedRow {
-                variant,
-                samples: 0,
-                follower: 0,
-                driving: 0,
-                both: 0,
-                follower_only: 0,
-                driving_only: 0,
+    let mut tally = PairTally::default();
+    for s in &rows {
+        for &variant in &Variant::ALL {
+            let class = |w: Wheel| {
+                s.records
+                    .iter()
+                    .find(|r| r.variant == variant && r.wheel == w)
+                    .map(|r| r.class)
             };
-            for s in &rows {
-                let get = |w: Wheel| {
-                    s.records
-                        .iter()
-                        .find(|r| r.variant == variant && r.wheel == w)
-                };
-                let (Some(f), Some(d)) = (get(Wheel::Follower), get(Wheel::Driving)) else {
-                    continue;
-                };
-                if !classified(f) || !classified(d) {
-                    continue;
-                }
-                let (vf, vd) = (f.class.vibrates(), d.class.vibrates());
-                row.samples += 1;
-                row.follower += u64::from(vf);
-                row.driving += u64::from(vd);
-                row.both += u64::from(vf && vd);
-                row.follower_only += u64::from(vf && !vd);
-                row.driving_only += u64::from(vd && !vf);
+            if let (Some(f), Some(d)) = (class(Wheel::Follower), class(Wheel::Driving)) {
+                tally.add(variant, f, d);
             }
-            row
-        })
-        .collect())
+        }
+    }
+    Ok(tally.paired())
 }
 
 fn find<'a>(sweeps: &'a [Sweep], param: &str, variant: Variant) -> &'a Sweep {
@@ -428,7 +416,7 @@ fn report(
     base: &Params,
     sweeps: &[Sweep],
     points: &[(&str, Vec<WheelRecord>)],
-    paired: &[PairedRow],
+    paired: &[Paired],
     files: &[PathBuf],
 ) -> String {
     let mut s = String::new();
@@ -560,7 +548,7 @@ fn report(
         s,
         "\n## Which wheel vibrates more often: the default study, paired\n"
     );
-    let n = paired.first().map_or(0, |r| r.samples);
+    let n = paired.first().map_or(0, |r| r.pairs);
     let _ = writeln!(s, "The same {n} samples of the built-in default study (`studies/default.toml`: speed, toe-in, load, pressure and tire-structure uncertainty), both wheels of each, under each variant. Samples where a wheel failed or lost traction are left out of this table.\n");
     let _ = writeln!(s, "| variant | samples | P(follower vibrates) | P(driving vibrates) | both | follower only | driving only |");
     let _ = writeln!(s, "|---|---|---|---|---|---|---|");
@@ -569,12 +557,12 @@ fn report(
             s,
             "| `{}` | {} | {:.2}% | {:.2}% | {} | {} | {} |",
             r.variant,
-            r.samples,
+            r.pairs,
             100.0 * r.p_follower(),
             100.0 * r.p_driving(),
             r.both,
-            r.follower_only,
-            r.driving_only
+            r.only_follower,
+            r.only_driving
         );
     }
 
@@ -608,7 +596,7 @@ fn report(
     let _ = writeln!(s, "- In Eq. 19 the driving wheel's slip ratio S enters F_m and F_s through the same factor q(3−2q)(1+S)tan α / r(S). At 100 km/h both friction levels move together by {:+.2}%, and in this regime *lower* friction levels destabilise, so the driving wheel comes out marginally less stable than the follower (onset {:.2} km/h against {:.2} km/h), vibrates slightly more often, and there are samples where only the driving wheel vibrates and none where only the follower does.", 100.0 * (fm_d / fm_f - 1.0), hopf(Variant::Paper, Wheel::Driving), hopf(d, f));
     let _ = writeln!(s, "- Eq. 21 lets only the lateral sliding speed w reach the Stribeck curve. A driving wheel also slides lengthwise, and a Stribeck curve is a function of the total sliding speed: that is the missing mechanism. Taking the full longitudinal sliding speed V cos α S/(1+S) (`combined`, a 2-D LuGre law) is too strong: {v_sx_full:.4} m/s at 100 km/h against U = V sin α = {:.4} m/s and V_s = {} m/s, it pushes the driving wheel past the Stribeck drop and makes it stable everywhere.", v * alpha.sin(), base.v_s);
     let share = paired.iter().find(|r| r.variant == Variant::SlidingShare);
-    let _ = writeln!(s, "- `sliding_share` assumes what the brush model itself says: only the sliding share q of the contact length slides; the adhesion zone moves with the road. The patch-mean longitudinal sliding speed is therefore q·V cos α S/(1+S) ({v_sx_share:.4} m/s at 100 km/h, q = {q:.4}). With it the driving wheel's vibration ranges lie inside the follower's on every axis (Table 3 above), its amplitude is lower, it vibrates in {:.1}% of the default-study samples against the follower's {:.1}%, and {} samples vibrate on the driving wheel alone: the paper's Table 3 and conclusion.", share.map_or(f64::NAN, |r| 100.0 * r.p_driving()), share.map_or(f64::NAN, |r| 100.0 * r.p_follower()), share.map_or(0, |r| r.driving_only));
+    let _ = writeln!(s, "- `sliding_share` assumes what the brush model itself says: only the sliding share q of the contact length slides; the adhesion zone moves with the road. The patch-mean longitudinal sliding speed is therefore q·V cos α S/(1+S) ({v_sx_share:.4} m/s at 100 km/h, q = {q:.4}). With it the driving wheel's vibration ranges lie inside the follower's on every axis (Table 3 above), its amplitude is lower, it vibrates in {:.1}% of the default-study samples against the follower's {:.1}%, and {} samples vibrate on the driving wheel alone: the paper's Table 3 and conclusion.", share.map_or(f64::NAN, |r| 100.0 * r.p_driving()), share.map_or(f64::NAN, |r| 100.0 * r.p_follower()), share.map_or(0, |r| r.only_driving));
     let _ = writeln!(s, "- The shipped constants G, C and α2 (reconstructed, MODEL.md#constants; α2's digits were all lost) are fitted to both wheels' legible Table 3 results under `sliding_share` (`polywear calibrate studies/paper_targets.toml`), with the decoded constants kept at values their legible digits allow. The reference constants R0 (MODEL.md#r0-and-the-shipped-defaults) remain available as `--params studies/params_r0.toml`. `studies/decoding.toml` checks that the conclusion does not hang on one reading of the lost digits.\n");
 
     let _ = writeln!(s, "## Figures\n");

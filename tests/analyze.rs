@@ -520,8 +520,8 @@ fn pairing_by_row_order_equals_pairing_by_sample_id() {
         &[],
     );
     let (files, _) = polywear::analysis::inputs::parquet_files(&[run]).unwrap();
-    let by_order = polywear::analysis::queries::paired(&files, 1000).unwrap();
-    let by_group = polywear::analysis::queries::paired_by_group(&files, 1000).unwrap();
+    let by_order = polywear::analysis::paired::paired(&files, 1000).unwrap();
+    let by_group = polywear::analysis::paired::paired_by_group(&files, 1000).unwrap();
     assert_eq!(by_order, by_group);
     assert_eq!(by_order.len(), 2);
     for p in &by_order {
@@ -606,7 +606,7 @@ fn the_analysis_reads_the_runs_parameter_values_back_for_its_nominal_tire() {
     ]);
     assert_eq!(code, 0, "{stderr}");
     let info = polywear::analysis::inputs::check_inputs(&[out]).unwrap();
-    let base = info.parsed_study().unwrap().base;
+    let base = info.study.unwrap().base;
     let r0 = polywear::params::Params::r0();
     assert_eq!(
         (base.g_mod, base.c_brush, base.alpha2),

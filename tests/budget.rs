@@ -65,8 +65,8 @@ fn a_wheel_over_its_evaluation_budget_is_failed_with_the_reason() {
         "{}",
         v.reason
     );
-    // The work stops at the limit (slack: one integration step and its start, 13 evaluations).
-    assert!(v.rhs_evals <= budget.max_rhs_evals + 13, "{v:?}");
+    // The work stops at the limit (slack: one DOP853 step and its start, 16 evaluations).
+    assert!(v.rhs_evals <= budget.max_rhs_evals + 16, "{v:?}");
     // A budget just above what the wheel needs changes nothing.
     let enough = ClassifierOptions {
         budget: WheelBudget {

@@ -453,9 +453,7 @@ fn the_analysis_finds_a_relative_file_again_from_another_working_directory() {
         String::from_utf8_lossy(&out.stderr)
     );
     let info = polywear::analysis::inputs::check_inputs(&[d.join("run")]).unwrap();
-    let study = info
-        .parsed_study()
-        .expect("the study re-read beside its file");
+    let study = info.study.expect("the study re-read beside its file");
     assert!(study.operating_points.is_some());
     std::fs::remove_dir_all(&d).ok();
 }

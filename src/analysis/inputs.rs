@@ -2,34 +2,44 @@
 //! whether they belong together. Everything here reads only footers and manifests, so inputs
 //! that do not belong together are refused before any row is read.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use crate::params::Params;
+use super::AnalysisError;
+use crate::explore::RunManifest;
+use crate::model::Variant;
+use crate::params::{ParamId, Params};
+use crate::sampling::design::Design;
 use crate::study::{text_hash, Study};
 
-/// What the files' metadata says about the run.
-#[derive(Debug, Clone, Default)]
+/// What the files' metadata says about the run, read back typed.
+#[derive(Debug, Clone)]
 pub struct RunInfo {
     /// The study's `name` (the `study_name` metadata).
     pub study_name: String,
-    /// The study's TOML text, from the manifest (chunk footers hold only its hash).
-    pub study: String,
+    /// The study's TOML text, from the manifest (chunk footers hold only its hash); "" when the
+    /// inputs are chunk files without their directory's manifest.
+    pub study_text: String,
+    /// The study, parsed once from its recorded text on the run's recorded parameter values
+    /// (and its operating-point file where the run found it); None without a recorded text, or
+    /// for a text this version cannot read.
+    pub study: Option<Study>,
     /// Fingerprint of the study text (`study_hash`).
     pub study_hash: String,
-    /// The run's seed, as written in the metadata.
-    pub seed: String,
-    /// Samples of the whole run (all shards), from the metadata.
+    /// The run's seed.
+    pub seed: u64,
+    /// Samples of the whole run (all shards).
     pub samples: u64,
-    /// The sampling design's name (the `design` metadata).
-    pub design: String,
-    /// The variants of the run, as written in the metadata.
-    pub variant: String,
+    /// The sampling design.
+    pub design: Design,
+    /// The friction variants of the run, in the order of the rows.
+    pub variants: Vec<Variant>,
     /// The polywear version that wrote the files (`polywear_version`).
     pub version: String,
     /// Names of the drawn parameters, in column order.
-    pub drawn_names: Vec<String>,
+    pub drawn_names: Vec<ParamId>,
     /// Units of the columns (from the `units` metadata).
-    pub units: serde_json::Map<String, serde_json::Value>,
+    pub units: BTreeMap<String, String>,
     /// The chunk files read, in order.
     pub files: Vec<PathBuf>,
     /// Distinct samples present in the files (each file holds a contiguous block of ids).
@@ -37,24 +47,23 @@ pub struct RunInfo {
     /// Rows in the files.
     pub rows: u64,
     /// The values every parameter had before the draws (`params` metadata: the defaults, a
-    /// `--params` file and the study's fixed values); None where the files do not record them.
-    pub params: Option<Params>,
-    /// The folder the run found a relative `[operating_points]` file in (from the recorded
-    /// path), so that the study re-read here reads the same file.
-    pub operating_points_dir: Option<PathBuf>,
+    /// parameter file and the study's fixed values).
+    pub params: Params,
 }
 
 impl RunInfo {
-    /// The study as parsed from the metadata text, on the run's recorded parameter values (None
-    /// for text this version cannot read).
-    pub fn parsed_study(&self) -> Option<Study> {
-        let dir = self.operating_points_dir.clone().unwrap_or_default();
-        Study::parse_at(&self.study, self.params.unwrap_or_default(), &dir).ok()
-    }
-
     /// The unit of column `name` from the `units` metadata ("" when none is recorded).
     pub fn unit(&self, name: &str) -> &str {
-        self.units.get(name).and_then(|u| u.as_str()).unwrap_or("")
+        self.units.get(name).map_or("", String::as_str)
+    }
+
+    /// The variants as the metadata writes them: `paper,combined`.
+    pub fn variant_text(&self) -> String {
+        self.variants
+            .iter()
+            .map(|v| v.as_str())
+            .collect::<Vec<_>>()
+            .join(",")
     }
 }
 
@@ -63,37 +72,52 @@ impl RunInfo {
 struct FileFooter {
     path: PathBuf,
     meta: Vec<(String, String)>,
+    /// The run as the footer records it (None when the metadata is not a run's).
+    run: Option<RunManifest>,
     rows: u64,
     /// (min, max) of `sample_id` from the column statistics.
     id_range: Option<(i64, i64)>,
 }
 
 impl FileFooter {
-    fn get(&self, key: &str) -> Option<&str> {
+    /// Whether the footer is an explore chunk's: it names the drawn values.
+    fn is_explore(&self) -> bool {
         self.meta
             .iter()
-            .find(|(k, _)| k == key)
-            .map(|(_, v)| v.as_str())
+            .any(|(k, _)| k == "drawn_names" || k == "drawn")
     }
 
-    /// The study's identity: `study_hash`, or the hash of the `study` text for older files.
-    fn study_hash(&self) -> String {
-        self.get("study_hash")
-            .map(str::to_string)
-            .unwrap_or_else(|| text_hash(self.get("study").unwrap_or("")))
+    /// The run the footer records.
+    fn run(&self) -> Result<&RunManifest, AnalysisError> {
+        self.run.as_ref().ok_or_else(|| {
+            let message = RunManifest::from_key_values(&self.meta)
+                .err()
+                .map_or_else(String::new, |e| e.to_string());
+            AnalysisError::Metadata {
+                path: self.path.clone(),
+                message,
+            }
+        })
     }
+}
+
+/// The study's identity: `study_hash`, or the hash of the `study` text for older files.
+fn study_hash(run: &RunManifest) -> String {
+    run.study_hash
+        .clone()
+        .unwrap_or_else(|| text_hash(run.study.as_deref().unwrap_or("")))
 }
 
 /// The Parquet files behind the given inputs (files or directories), and the explore manifests
 /// of the directories. A directory with a manifest and no chunk files (an empty shard) adds no
 /// files; one with neither is not an explore output.
-pub fn parquet_files(inputs: &[PathBuf]) -> Result<(Vec<PathBuf>, Vec<PathBuf>), String> {
+pub fn parquet_files(inputs: &[PathBuf]) -> Result<(Vec<PathBuf>, Vec<PathBuf>), AnalysisError> {
     let mut files = Vec::new();
     let mut manifests = Vec::new();
     for input in inputs {
         if input.is_dir() {
             let mut found: Vec<PathBuf> = std::fs::read_dir(input)
-                .map_err(|e| format!("{}: {e}", input.display()))?
+                .map_err(|e| AnalysisError::io(input, e))?
                 .filter_map(|e| e.ok().map(|e| e.path()))
                 .filter(|p| {
                     p.extension().is_some_and(|x| x == "parquet")
@@ -111,38 +135,31 @@ pub fn parquet_files(inputs: &[PathBuf]) -> Result<(Vec<PathBuf>, Vec<PathBuf>),
         } else if input.is_file() {
             files.push(input.clone());
         } else {
-            return Err(format!("{}: no such file or directory", input.display()));
+            return Err(AnalysisError::NoSuchInput(input.clone()));
         }
     }
     if files.is_empty() {
-        let names: Vec<String> = inputs.iter().map(|p| p.display().to_string()).collect();
+        let inputs = inputs
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ");
         return Err(if manifests.is_empty() {
-            format!(
-                "no Parquet files in {}; accepted: an explore output directory (chunk-*.parquet), Parquet files, or several of them",
-                names.join(", ")
-            )
+            AnalysisError::NoParquet { inputs }
         } else {
-            format!(
-                "{} hold no rows: every directory is an explore output without chunk files (empty shards or a run stopped before its first chunk; `polywear explore --resume --out DIR` continues one)",
-                names.join(", ")
-            )
+            AnalysisError::NoRows { inputs }
         });
     }
     Ok((files, manifests))
 }
 
-/// Footer key–value metadata of one Parquet file.
-pub fn file_metadata(path: &Path) -> Result<Vec<(String, String)>, String> {
-    Ok(read_footer(path)?.meta)
-}
-
-fn read_footer(path: &Path) -> Result<FileFooter, String> {
+fn read_footer(path: &Path) -> Result<FileFooter, AnalysisError> {
     use parquet::file::reader::{FileReader, SerializedFileReader};
     use parquet::file::statistics::Statistics;
-    let f = std::fs::File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let r = SerializedFileReader::new(f).map_err(|e| format!("{}: {e}", path.display()))?;
+    let f = std::fs::File::open(path).map_err(|e| AnalysisError::io(path, e))?;
+    let r = SerializedFileReader::new(f).map_err(|e| AnalysisError::io(path, e))?;
     let md = r.metadata();
-    let meta = md
+    let meta: Vec<(String, String)> = md
         .file_metadata()
         .key_value_metadata()
         .map(|kv| {
@@ -177,6 +194,7 @@ fn read_footer(path: &Path) -> Result<FileFooter, String> {
     }
     Ok(FileFooter {
         path: path.to_path_buf(),
+        run: RunManifest::from_key_values(&meta).ok(),
         meta,
         rows,
         id_range: if stats_complete { id_range } else { None },
@@ -186,79 +204,76 @@ fn read_footer(path: &Path) -> Result<FileFooter, String> {
 /// Reads every footer and manifest and checks that the inputs belong together: the same study
 /// text (`study_hash`), seed, variant set and sample count, and no sample's rows twice.
 /// Returns what the metadata says about the run. Errors name both files and the key.
-pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, String> {
+pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
     let (files, manifests) = parquet_files(inputs)?;
     let footers: Vec<FileFooter> = files
         .iter()
         .map(|p| read_footer(p))
         .collect::<Result<_, _>>()?;
     let first = &footers[0];
-    if first.get("drawn_names").is_none() && first.get("drawn").is_none() {
-        return Err(format!(
-            "{}: not an explore output (no `drawn_names` metadata); analyze reads what `polywear explore` writes",
-            first.path.display()
-        ));
+    if !first.is_explore() {
+        return Err(AnalysisError::NotExplore {
+            path: first.path.clone(),
+        });
     }
+    let run = first.run()?;
+    let mismatch = |other: &Path, key: &'static str, ours: String, theirs: String| {
+        if ours == theirs {
+            return Ok(());
+        }
+        Err(AnalysisError::Mismatch {
+            first: first.path.clone(),
+            other: other.to_path_buf(),
+            key,
+            ours: short(&ours),
+            theirs: short(&theirs),
+        })
+    };
     // The same run: compare every file with the first.
     for f in &footers[1..] {
-        let differs = |key: &str, a: String, b: String| -> Result<(), String> {
-            if a != b {
-                return Err(format!(
-                    "{} and {} do not belong together: their `{key}` differs ({} vs {}); analyze one run at a time",
-                    first.path.display(),
-                    f.path.display(),
-                    short(&a),
-                    short(&b)
-                ));
-            }
-            Ok(())
-        };
+        let theirs = f.run()?;
         // The specific keys first: two studies that differ only in their variants name `variant`.
-        for key in ["seed", "variant", "samples"] {
-            differs(
-                key,
-                first.get(key).unwrap_or("").into(),
-                f.get(key).unwrap_or("").into(),
-            )?;
-        }
-        differs("study_hash", first.study_hash(), f.study_hash())?;
+        mismatch(
+            &f.path,
+            "seed",
+            run.seed.to_string(),
+            theirs.seed.to_string(),
+        )?;
+        mismatch(
+            &f.path,
+            "variant",
+            run.variant_text(),
+            theirs.variant_text(),
+        )?;
+        mismatch(
+            &f.path,
+            "samples",
+            run.samples.to_string(),
+            theirs.samples.to_string(),
+        )?;
+        mismatch(&f.path, "study_hash", study_hash(run), study_hash(theirs))?;
     }
     // Manifests (empty shards have only these) must describe the same run.
     let mut manifest_study: Option<String> = None;
     for m in &manifests {
-        let text = std::fs::read_to_string(m).map_err(|e| format!("{}: {e}", m.display()))?;
-        let v: serde_json::Value =
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", m.display()))?;
-        if manifest_study.is_none() {
-            manifest_study = v["study"].as_str().map(str::to_string);
-        }
-        let as_text = |x: &serde_json::Value| match x {
-            serde_json::Value::String(s) => s.clone(),
-            other => other.to_string(),
-        };
-        for (key, theirs) in [
-            ("seed", as_text(&v["seed"])),
-            ("samples", as_text(&v["samples"])),
-            ("study_hash", text_hash(v["study"].as_str().unwrap_or(""))),
-        ] {
-            let ours = if key == "study_hash" {
-                first.study_hash()
-            } else {
-                first.get(key).unwrap_or("").to_string()
-            };
-            if ours != theirs {
-                return Err(format!(
-                    "{} and {} do not belong together: their `{key}` differs ({} vs {}); analyze one run at a time",
-                    first.path.display(),
-                    m.display(),
-                    short(&ours),
-                    short(&theirs)
-                ));
-            }
-        }
+        let text = std::fs::read_to_string(m).map_err(|e| AnalysisError::io(m, e))?;
+        let recorded = RunManifest::from_json_text(&text).map_err(|e| AnalysisError::Metadata {
+            path: m.clone(),
+            message: e.to_string(),
+        })?;
+        let recorded_study = recorded.study.clone().unwrap_or_default();
+        mismatch(m, "seed", run.seed.to_string(), recorded.seed.to_string())?;
+        mismatch(
+            m,
+            "samples",
+            run.samples.to_string(),
+            recorded.samples.to_string(),
+        )?;
+        mismatch(m, "study_hash", study_hash(run), text_hash(&recorded_study))?;
+        manifest_study.get_or_insert(recorded_study);
     }
-    let variants = first.get("variant").unwrap_or("paper").split(',').count() as u64;
-    let rows_per_sample = 2 * variants.max(1);
+    let variants = run.variants.clone().unwrap_or_else(|| vec![Variant::Paper]);
+    let rows_per_sample = 2 * variants.len().max(1) as u64;
     // Each explore file holds a contiguous block of sample ids, every variant and wheel once:
     // rows = ids × rows per sample. Blocks of different files must not overlap.
     let mut blocks: Vec<(i64, i64, &FileFooter)> = Vec::new();
@@ -270,20 +285,18 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, String> {
             if f.rows == 0 {
                 continue;
             }
-            return Err(format!(
-                "{}: no `sample_id` statistics in the footer; analyze reads what `polywear explore` writes",
-                f.path.display()
-            ));
+            return Err(AnalysisError::NoIdStatistics {
+                path: f.path.clone(),
+            });
         };
         let ids = (hi - lo + 1) as u64;
         if f.rows != ids * rows_per_sample {
-            return Err(format!(
-                "{}: {} rows for sample_id {lo}..={hi}, expected {} ({} per sample): duplicate or missing (sample_id, variant, wheel) rows",
-                f.path.display(),
-                f.rows,
-                ids * rows_per_sample,
-                rows_per_sample
-            ));
+            return Err(AnalysisError::RowCount {
+                path: f.path.clone(),
+                rows: f.rows,
+                ids: (lo, hi),
+                per_sample: rows_per_sample,
+            });
         }
         present += ids;
         blocks.push((lo, hi, f));
@@ -292,60 +305,55 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, String> {
     for w in blocks.windows(2) {
         let (a, b) = (&w[0], &w[1]);
         if b.0 <= a.1 {
-            return Err(format!(
-                "{} and {} hold the same rows: duplicate (sample_id, variant, wheel) rows for sample_id {}..={} (the same directory given twice, or overlapping shards)",
-                a.2.path.display(),
-                b.2.path.display(),
-                b.0,
-                a.1.min(b.1)
-            ));
+            return Err(AnalysisError::Overlap {
+                first: a.2.path.clone(),
+                other: b.2.path.clone(),
+                ids: (b.0, a.1.min(b.1)),
+            });
         }
     }
-    let get = |k: &str| first.get(k).unwrap_or("").to_string();
-    let mut drawn_names: Vec<String> =
-        serde_json::from_str(&get("drawn_names")).unwrap_or_default();
-    if drawn_names.is_empty() {
+    let drawn_names = match &run.drawn_names {
+        Some(names) => names.clone(),
         // Files without `drawn_names` lead each `drawn` entry with its name (`name:...`).
-        let drawn: Vec<String> = serde_json::from_str(&get("drawn")).unwrap_or_default();
-        drawn_names = drawn
+        None => serde_json::from_value::<Vec<String>>(run.drawn.clone().unwrap_or_default())
+            .unwrap_or_default()
             .iter()
-            .filter_map(|d| d.split(':').next().map(str::to_string))
-            .collect();
-    }
+            .filter_map(|d| d.split(':').next()?.parse().ok())
+            .collect(),
+    };
+    let units = first
+        .meta
+        .iter()
+        .find(|(k, _)| k == "units")
+        .and_then(|(_, v)| serde_json::from_str(v).ok())
+        .unwrap_or_default();
+    let study_text = run.study.clone().or(manifest_study).unwrap_or_default();
+    let dir = run
+        .operating_points
+        .as_ref()
+        .and_then(|o| o.dir())
+        .unwrap_or_default();
+    let study = Study::parse_at(&study_text, run.params, &dir).ok();
     Ok(RunInfo {
-        study_name: get("study_name"),
-        study: first
-            .get("study")
-            .map(str::to_string)
-            .or(manifest_study)
-            .unwrap_or_default(),
-        study_hash: first.study_hash(),
-        seed: get("seed"),
-        samples: get("samples").parse().unwrap_or(present),
-        design: get("design"),
-        variant: get("variant"),
-        version: get("polywear_version"),
+        study_name: run.study_name.clone(),
+        study_text,
+        study,
+        study_hash: study_hash(run),
+        seed: run.seed,
+        samples: run.samples,
+        design: run.design.ok_or_else(|| AnalysisError::Metadata {
+            path: first.path.clone(),
+            message: "no `design` recorded".into(),
+        })?,
+        variants,
+        version: run.polywear_version.clone(),
         drawn_names,
-        units: serde_json::from_str(&get("units")).unwrap_or_default(),
+        units,
         files,
         samples_present: present,
         rows,
-        params: recorded_params(&get("params")),
-        operating_points_dir: serde_json::from_str(&get("operating_points"))
-            .ok()
-            .and_then(|op| crate::recorded_run::operating_points_dir(&op)),
+        params: run.params,
     })
-}
-
-/// The `params` metadata (a JSON object of every parameter's value) as [`Params`]; None when it
-/// is missing or names a value this version cannot take.
-fn recorded_params(json: &str) -> Option<Params> {
-    let values: serde_json::Map<String, serde_json::Value> = serde_json::from_str(json).ok()?;
-    let mut params = Params::default();
-    for (name, value) in &values {
-        params.set(name, value.as_f64()?).ok()?;
-    }
-    Some(params)
 }
 
 fn short(s: &str) -> String {

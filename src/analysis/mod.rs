@@ -3,14 +3,399 @@
 //! wheels, where in the operating space does the risk live, how severe is it, and which
 //! parameters drive it.
 //!
-//! The stages of a report: [`inputs`] (footers checked before any row is read), [`queries`]
-//! (polars lazy queries on the streaming engine, returning small tables), [`stats`] (intervals
-//! and tests on those tables), then [`figures`] and [`markdown`]; [`report`] runs them in order
-//! and writes the tables.
+//! Problem → result: [`inputs::check_inputs`] reads the footers and manifests (inputs that do
+//! not belong together are refused before any row is read) into a [`RunInfo`]; [`run`] answers
+//! every question for [`AnalysisOptions`] and returns an [`Analysis`], plain data.
+//! [`crate::render`] writes its tables, figures and page. One module per question:
+//! [`occurrence`], [`paired`], [`conditional`] (per axis, on [`bins`]), [`risk_map`],
+//! [`severity`], [`sensitivity`], [`robustness`]; [`rows`] alone speaks to polars, and
+//! [`stats`] holds the intervals and tests.
 
-pub mod figures;
+pub mod bins;
+pub mod conditional;
+pub mod counts;
 pub mod inputs;
-pub mod markdown;
-pub mod queries;
-pub mod report;
+pub mod occurrence;
+pub mod paired;
+pub mod risk_map;
+pub mod robustness;
+pub mod rows;
+pub mod sensitivity;
+pub mod severity;
 pub mod stats;
+
+use std::path::{Path, PathBuf};
+
+use conditional::BinStat;
+use counts::ClassCounts;
+pub use inputs::RunInfo;
+use occurrence::Occurrence;
+use paired::Paired;
+use risk_map::RiskMap;
+use robustness::{Robustness, RobustnessSummary};
+use rows::Rows;
+use sensitivity::Sensitivity;
+use severity::{Severity, SEVERITY_QUANTITIES};
+
+use crate::classify::Class;
+use crate::model::Variant;
+use crate::params::ParamId;
+
+/// What an analysis computes: bins, risk maps, the smallest count shown, bootstrap resamples.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AnalysisOptions {
+    /// Bins per axis of the conditional probabilities.
+    pub bins: usize,
+    /// Bins per axis of the risk maps.
+    pub map_bins: usize,
+    /// Cells with fewer classified samples are shown as "too few", not as a probability.
+    pub min_count: u64,
+    /// Pairs of axes for risk maps (those absent from the run are skipped with a note).
+    pub pairs: Vec<(ParamId, ParamId)>,
+    /// Bootstrap resamples behind the Sobol indices' intervals.
+    pub bootstrap: usize,
+}
+
+impl AnalysisOptions {
+    /// Default bins per axis of the conditional probabilities.
+    pub const DEFAULT_BINS: usize = 20;
+    /// Default bins per axis of the risk maps.
+    pub const DEFAULT_MAP_BINS: usize = 24;
+    /// Default smallest classified count of a shown cell.
+    pub const DEFAULT_MIN_COUNT: u64 = 30;
+    /// Default bootstrap resamples of the Sobol indices' intervals.
+    pub const DEFAULT_BOOTSTRAP: usize = 200;
+
+    /// The risk maps always drawn: speed × toe-in and load × pressure.
+    pub fn default_pairs() -> Vec<(ParamId, ParamId)> {
+        vec![
+            (ParamId::SpeedKmh, ParamId::ToeDeg),
+            (ParamId::LoadN, ParamId::PressureKpa),
+        ]
+    }
+
+    /// The size polars' streaming group-by should give its per-thread hot tables for this
+    /// analysis: its largest group-by is a risk map's cells for every variant and both wheels
+    /// (counted for every variant there is, as the run's are not known before its files are
+    /// read). polars reads it from `POLARS_HOT_TABLE_SIZE`; see [`rows`].
+    pub fn hot_table_size(&self) -> usize {
+        rows::hot_table_size(Variant::ALL.len() * 2 * self.map_bins * self.map_bins)
+    }
+}
+
+impl Default for AnalysisOptions {
+    fn default() -> Self {
+        AnalysisOptions {
+            bins: Self::DEFAULT_BINS,
+            map_bins: Self::DEFAULT_MAP_BINS,
+            min_count: Self::DEFAULT_MIN_COUNT,
+            pairs: Self::default_pairs(),
+            bootstrap: Self::DEFAULT_BOOTSTRAP,
+        }
+    }
+}
+
+/// Everything an analysis computes: plain data for the printed summary and for
+/// [`crate::render`].
+#[derive(Debug, Clone)]
+pub struct Analysis {
+    /// What the files' metadata says about the run.
+    pub info: RunInfo,
+    /// The options it was computed with.
+    pub options: AnalysisOptions,
+    /// P(limit cycle) per variant and wheel.
+    pub occurrence: Vec<Occurrence>,
+    /// Driving against follower on the same samples, per variant.
+    pub paired: Vec<Paired>,
+    /// P(limit cycle) per bin of every drawn parameter.
+    pub conditional: Vec<BinStat>,
+    /// Risk maps over pairs of axes.
+    pub maps: Vec<RiskMap>,
+    /// Cycle quantities among the vibrating rows.
+    pub severity: Vec<Severity>,
+    /// Sobol indices (only for a Saltelli design).
+    pub sensitivity: Option<Vec<Sensitivity>>,
+    /// P(limit cycle) per lost-digit decoding (only when the study draws decodings).
+    pub robustness: Option<Robustness>,
+    /// How often the driving wheel is less exposed, per variant.
+    pub robustness_summary: Vec<RobustnessSummary>,
+    /// Remarks for the report (skipped pairs, a design without Sobol indices, ...).
+    pub notes: Vec<String>,
+}
+
+impl Analysis {
+    /// Class counts over every variant and wheel.
+    pub fn totals(&self) -> ClassCounts {
+        let mut t = ClassCounts::default();
+        for o in &self.occurrence {
+            t.merge(&o.counts);
+        }
+        t
+    }
+
+    /// True when no row has a verdict (every row failed or had no traction).
+    pub fn nothing_classified(&self) -> bool {
+        self.totals().classified() == 0
+    }
+
+    /// The variants present in the rows, in order.
+    pub fn variants(&self) -> Vec<Variant> {
+        let mut v: Vec<Variant> = self.occurrence.iter().map(|o| o.variant).collect();
+        v.sort();
+        v.dedup();
+        v
+    }
+}
+
+/// Why an analysis cannot be done: inputs that do not belong together (named by file and key),
+/// rows this version cannot read, or a failed query.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum AnalysisError {
+    /// A file or directory cannot be read.
+    #[error("{}: {message}", path.display())]
+    Io {
+        /// The file or directory.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// An input that does not exist.
+    #[error("{}: no such file or directory", .0.display())]
+    NoSuchInput(PathBuf),
+    /// No Parquet file among the inputs.
+    #[error("no Parquet files in {inputs}; accepted: an explore output directory (chunk-*.parquet), Parquet files, or several of them")]
+    NoParquet {
+        /// The inputs, comma-separated.
+        inputs: String,
+    },
+    /// Only explore directories without chunk files (empty shards, or runs stopped before
+    /// their first chunk, which a resume continues).
+    #[error("{inputs} hold no rows: every directory is an explore output without chunk files (empty shards or a run stopped before its first chunk)")]
+    NoRows {
+        /// The inputs, comma-separated.
+        inputs: String,
+    },
+    /// A Parquet file that explore did not write.
+    #[error("{}: not an explore output (no `drawn_names` metadata); analyze reads what `polywear explore` writes", path.display())]
+    NotExplore {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A footer or manifest whose run metadata cannot be read.
+    #[error("{}: the run's metadata cannot be read: {message}", path.display())]
+    Metadata {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+    /// Two inputs of different runs.
+    #[error("{} and {} do not belong together: their `{key}` differs ({ours} vs {theirs}); analyze one run at a time", first.display(), other.display())]
+    Mismatch {
+        /// The first input file.
+        first: PathBuf,
+        /// The file that differs from it.
+        other: PathBuf,
+        /// The metadata key that differs.
+        key: &'static str,
+        /// The first file's value (shortened).
+        ours: String,
+        /// The other file's value (shortened).
+        theirs: String,
+    },
+    /// A file without `sample_id` statistics.
+    #[error("{}: no `sample_id` statistics in the footer; analyze reads what `polywear explore` writes", path.display())]
+    NoIdStatistics {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A file whose rows are not every variant and wheel of each sample once.
+    #[error("{}: {rows} rows for sample_id {}..={}, expected {} ({per_sample} per sample): duplicate or missing (sample_id, variant, wheel) rows", path.display(), ids.0, ids.1, (ids.1 - ids.0 + 1) as u64 * per_sample)]
+    RowCount {
+        /// The file.
+        path: PathBuf,
+        /// Its rows.
+        rows: u64,
+        /// Its sample ids, first and last.
+        ids: (i64, i64),
+        /// Rows per sample (two wheels per variant).
+        per_sample: u64,
+    },
+    /// Two files holding rows of the same samples.
+    #[error("{} and {} hold the same rows: duplicate (sample_id, variant, wheel) rows for sample_id {}..={} (the same directory given twice, or overlapping shards)", first.display(), other.display(), ids.0, ids.1)]
+    Overlap {
+        /// One file.
+        first: PathBuf,
+        /// The other.
+        other: PathBuf,
+        /// The shared sample ids, first and last.
+        ids: (i64, i64),
+    },
+    /// Rows of a class this version does not know.
+    #[error("{rows} rows have a `class` this version does not know; accepted: {}", Class::ALL.map(|c| c.as_str()).join(", "))]
+    UnknownClass {
+        /// How many.
+        rows: u64,
+    },
+    /// A variant, wheel or class name this version does not know.
+    #[error("{0}")]
+    Row(String),
+    /// polars failed.
+    #[error("analysis query: {0}")]
+    Query(String),
+}
+
+impl AnalysisError {
+    fn io(path: &Path, e: impl std::fmt::Display) -> AnalysisError {
+        AnalysisError::Io {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        }
+    }
+}
+
+/// Rows of the paired comparison in a sample's outcome table use this many rows per file batch.
+const PAIRED_BATCH_ROWS: u64 = 400_000;
+
+/// A step of an analysis, reported when it is done (each is one or a few streaming queries).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Step {
+    /// Rows per class, per variant and wheel.
+    Occurrence,
+    /// The paired comparison.
+    Paired,
+    /// The observed ranges of the axes and cycle quantities.
+    Ranges,
+    /// The conditional probabilities along one axis.
+    Conditional,
+    /// The risk maps of one pair of axes.
+    RiskMap,
+    /// The severity histograms.
+    Severity,
+    /// The Sobol indices.
+    Sensitivity,
+    /// The lost-digit decodings.
+    Robustness,
+}
+
+/// Answers every question of the analysis on checked inputs. polars' group tables are sized by
+/// the process ([`AnalysisOptions::hot_table_size`]).
+pub fn run(info: RunInfo, opts: &AnalysisOptions) -> Result<Analysis, AnalysisError> {
+    run_with_progress(info, opts, &mut |_| {})
+}
+
+/// [`run`], calling `progress` after each [`Step`]: a caller can report progress, or hand the
+/// memory a finished query freed back to the system (as the command line does).
+pub fn run_with_progress(
+    info: RunInfo,
+    opts: &AnalysisOptions,
+    progress: &mut dyn FnMut(Step),
+) -> Result<Analysis, AnalysisError> {
+    let mut notes = Vec::new();
+    let rows = Rows::scan(&info.files)?;
+    let occurrence = occurrence::occurrence(&rows)?;
+    progress(Step::Occurrence);
+    let paired = paired::paired(&info.files, PAIRED_BATCH_ROWS)?;
+    progress(Step::Paired);
+    let quantities: Vec<&str> = SEVERITY_QUANTITIES.iter().map(|q| q.0).collect();
+    let axes: Vec<&str> = info.drawn_names.iter().map(|p| p.name()).collect();
+    let ranges = rows.ranges(&axes, &quantities)?;
+    progress(Step::Ranges);
+    let mut conditional = Vec::new();
+    for &axis in &info.drawn_names {
+        let b = bins::axis_bins(&info, &ranges, axis, opts.bins);
+        conditional.extend(conditional::conditional(&rows, axis, &b)?);
+        progress(Step::Conditional);
+    }
+    let mut maps = Vec::new();
+    for &(x, y) in &opts.pairs {
+        if !info.drawn_names.contains(&x) || !info.drawn_names.contains(&y) {
+            notes.push(format!(
+                "risk map {x} × {y} skipped: the run does not draw both (it draws {})",
+                axes.join(", ")
+            ));
+            continue;
+        }
+        let xb = bins::axis_bins(&info, &ranges, x, opts.map_bins);
+        let yb = bins::axis_bins(&info, &ranges, y, opts.map_bins);
+        maps.extend(risk_map::risk_maps(&rows, (x, &xb), (y, &yb))?);
+        progress(Step::RiskMap);
+    }
+    let severity = severity::severity(&rows, &ranges)?;
+    progress(Step::Severity);
+    let sensitivity = sensitivity::sensitivity(&rows, &info, opts.bootstrap)?;
+    progress(Step::Sensitivity);
+    let robustness = robustness::robustness(&rows, &info)?;
+    progress(Step::Robustness);
+    let robustness_summary = robustness
+        .as_ref()
+        .map(|r| r.summary(opts.min_count))
+        .unwrap_or_default();
+    if sensitivity.is_none() {
+        notes.push("Sobol indices need a Saltelli design (`design = \"saltelli\"` in the study); this run used another.".into());
+    }
+    // The nominal tire's Hopf curves over each map's box.
+    if let Some(study) = &info.study {
+        for map in &mut maps {
+            map.nominal = crate::chart::nominal_curves(
+                study,
+                map.variant,
+                map.x.name(),
+                map.y.name(),
+                &risk_map::draw_edges(&map.x_bins),
+                &risk_map::draw_edges(&map.y_bins),
+            );
+        }
+    }
+    Ok(Analysis {
+        info,
+        options: opts.clone(),
+        occurrence,
+        paired,
+        conditional,
+        maps,
+        severity,
+        sensitivity,
+        robustness,
+        robustness_summary,
+        notes,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn analysis_errors_name_files_and_keys_but_no_command_line_flag() {
+        let e = AnalysisError::NoRows {
+            inputs: "runs/a".into(),
+        };
+        assert!(!e.to_string().contains("--"), "{e}");
+        let e = AnalysisError::Mismatch {
+            first: "a.parquet".into(),
+            other: "b.parquet".into(),
+            key: "seed",
+            ours: "1".into(),
+            theirs: "2".into(),
+        };
+        assert_eq!(
+            e.to_string(),
+            "a.parquet and b.parquet do not belong together: their `seed` differs (1 vs 2); analyze one run at a time"
+        );
+    }
+
+    #[test]
+    fn hot_tables_grow_with_the_risk_maps_within_bounds() {
+        let size = |map_bins| {
+            AnalysisOptions {
+                map_bins,
+                ..AnalysisOptions::default()
+            }
+            .hot_table_size()
+        };
+        assert_eq!(size(2), 16_384);
+        assert_eq!(size(24), 65_536);
+        assert_eq!(size(200), 1 << 22);
+    }
+}

@@ -96,10 +96,10 @@ impl Meter {
     }
 
     /// The step limit for the next integration: `cap`, or less where the evaluations left
-    /// (6 per Dormand–Prince step) run out first.
-    pub fn max_steps(&self, cap: usize) -> usize {
+    /// run out first at `evals_per_step` per step (6 for DOPRI5, 15 for DOP853).
+    pub fn max_steps(&self, cap: usize, evals_per_step: usize) -> usize {
         let left = self.budget.max_rhs_evals.saturating_sub(self.used.get());
-        cap.min((left / 6) as usize + 1)
+        cap.min((left / evals_per_step.max(1) as u64) as usize + 1)
     }
 
     /// Whether the wall-time limit has passed (the clock is read every 64th call).

@@ -11,18 +11,18 @@
 
 pub mod budget;
 pub mod envelope;
+mod hopf_start;
 mod peak;
 pub mod section;
 pub mod shooting;
 pub mod validation;
-
-use nalgebra::{Complex, Vector3};
 
 use crate::model::{ModelFailure, TreadOde, Variant, Wheel, WheelModel};
 use crate::params::Params;
 use budget::Meter;
 pub use budget::WheelBudget;
 use envelope::Envelope;
+use hopf_start::{hopf_dz_per_v, normal_form_section_v};
 
 /// Smallest section velocity of a limit cycle, relative to the road's lateral speed U: smaller
 /// "cycles" are the equilibrium seen through integration noise (a stable equilibrium has a
@@ -426,8 +426,8 @@ fn classify_metered(
     }
 
     // Unstable equilibrium: find the limit cycle by shooting, from the neighbouring wheel's
-    // cycle when there is one, else from the Hopf direction with an amplitude predicted by the
-    // normal form; a failed Newton is retried once from a closer guess.
+    // cycle when there is one, else from where the Hopf normal form puts it; failing that, from
+    // the amplitude the return map along the Hopf direction predicts, retried once closer.
     if oscillatory {
         let period = 1.0 / lin.eig_freq_hz;
         let q0 = growth.exp_m1();
@@ -437,26 +437,40 @@ fn classify_metered(
             return cycle_verdict(&orbit, &lin, rotation_hz);
         }
         let dz = hopf_dz_per_v(ode, lin.leading);
-        for handoff in [shooting::HANDOFF, shooting::HANDOFF_CLOSE] {
-            let guess = shooting::amplitude_guess(
+        // Newton's residual test passes an orbit whose amplitude is off by about newton_tol /
+        // (2·growth): only well above the Hopf point can it start from a guess 20% off.
+        let from_normal_form = hopf_start::normal_form_applies(growth, opts.newton_tol);
+        let a = if from_normal_form {
+            normal_form_section_v(growth)
+        } else {
+            hopf_start::GUESS_START_V_REL
+        } * scales.v;
+        if from_normal_form {
+            let orbit = shooting::newton_orbit(
                 ode,
                 &scales,
-                dz,
-                q0,
-                0.3 * scales.v,
+                (scales.z_eq + a * dz, a),
                 period,
-                tols.guess,
-                handoff,
+                &tols.looser_first(),
+                opts.newton_tol,
                 meter,
+            );
+            if let Some(orbit) = attracting(orbit) {
+                return cycle_verdict(&orbit, &lin, rotation_hz);
+            }
+        }
+        for handoff in [shooting::HANDOFF, shooting::HANDOFF_CLOSE] {
+            if meter.exceeded().is_some() {
+                break;
+            }
+            let guess = shooting::amplitude_guess(
+                ode, &scales, dz, q0, a, period, tols.guess, handoff, meter,
             );
             let Ok(guess) = guess else {
                 break;
             };
             if let Some(orbit) = attracting(newton(guess, period)) {
                 return cycle_verdict(&orbit, &lin, rotation_hz);
-            }
-            if meter.exceeded().is_some() {
-                break;
             }
         }
     }
@@ -514,48 +528,6 @@ fn classify_metered(
     }
 }
 
-/// Direction of the Hopf eigenvector on the section y = y_eq, as dz per unit v.
-fn hopf_dz_per_v(ode: &TreadOde, lambda: Complex<f64>) -> f64 {
-    let jac = ode.jacobian(&ode.equilibrium());
-    let row = |i: usize| {
-        Vector3::new(
-            Complex::new(jac[(i, 0)], 0.0)
-                - if i == 0 {
-                    lambda
-                } else {
-                    Complex::new(0.0, 0.0)
-                },
-            Complex::new(jac[(i, 1)], 0.0)
-                - if i == 1 {
-                    lambda
-                } else {
-                    Complex::new(0.0, 0.0)
-                },
-            Complex::new(jac[(i, 2)], 0.0)
-                - if i == 2 {
-                    lambda
-                } else {
-                    Complex::new(0.0, 0.0)
-                },
-        )
-    };
-    // The eigenvector spans the null space of J − λI: cross product of two independent rows.
-    let q = row(0).cross(&row(1));
-    let q = if q.norm() > 0.0 {
-        q
-    } else {
-        row(1).cross(&row(2))
-    };
-    // Rotate the phase so that the y component is purely imaginary: Re(q) then lies on y = 0.
-    let rot = Complex::from_polar(1.0, std::f64::consts::FRAC_PI_2 - q[1].arg());
-    let d = q.map(|c| (c * rot).re);
-    if d[2] == 0.0 {
-        0.0
-    } else {
-        d[0] / d[2]
-    }
-}
-
 /// The verdict of a cycle read off the trajectory from the envelope's settled section state
 /// `start`, for when Newton cannot hold on (within about 1e-4 s⁻¹ of the Hopf point the return
 /// map is the identity to within the integration error). 40 linear periods are integrated and
@@ -579,7 +551,7 @@ fn settled_cycle(
         atol: scales.atol(rtol),
         h_max: period / 8.0,
         h0: None,
-        max_steps: meter.max_steps(1_000_000),
+        max_steps: meter.max_steps(1_000_000, crate::solver::Method::Dopri5.evals_per_step()),
     };
     let window_s = 20.0 * period;
     let (prev, last, evals) =

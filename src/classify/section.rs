@@ -49,7 +49,7 @@ pub fn metered<const N: usize, S: OdeSystem<N>>(
     mut on_step: impl FnMut(&Step<'_, N>) -> Control,
 ) -> Result<crate::solver::Outcome<N>, String> {
     let opts = SolverOptions {
-        max_steps: meter.max_steps(opts.max_steps),
+        max_steps: meter.max_steps(opts.max_steps, method.evals_per_step()),
         ..*opts
     };
     let out = integrate_with(method, sys, 0.0, start, t_end, &opts, |step| {

@@ -214,7 +214,11 @@ pub const FINE_RTOL_FLOOR: f64 = 1e-12;
 pub struct Tolerances {
     /// The amplitude guess ([`amplitude_guess`]).
     pub guess: f64,
-    /// Newton's first iterations.
+    /// Newton's first iteration. From a guess that is only known to a few per cent (the Hopf
+    /// normal form's), the first step is large whatever the tolerance: [`Tolerances::looser_first`]
+    /// spends the guess's tolerance on it.
+    pub first: f64,
+    /// Newton's other coarse iterations.
     pub coarse: f64,
     /// Newton's last iteration, which measures the cycle.
     pub fine: f64,
@@ -228,10 +232,20 @@ impl Tolerances {
     pub fn for_growth(growth: f64, rtol: f64) -> Self {
         let g = growth.abs();
         let fine = rtol.min((FINE_RTOL_PER_GROWTH_1_5 * g.powf(1.5)).max(FINE_RTOL_FLOOR));
+        let coarse = (1e-4 * g).clamp(fine, COARSE_RTOL.max(fine));
         Tolerances {
             guess: (1e-3 * g).clamp(fine, GUESS_RTOL.max(fine)),
-            coarse: (1e-4 * g).clamp(fine, COARSE_RTOL.max(fine)),
+            first: coarse,
+            coarse,
             fine,
+        }
+    }
+
+    /// The same, with Newton's first iteration at the guess's tolerance.
+    pub fn looser_first(self) -> Self {
+        Tolerances {
+            first: self.guess,
+            ..self
         }
     }
 }
@@ -291,6 +305,7 @@ pub fn newton_orbit(
         }
     };
     let (fine, coarse) = (options(tols.fine), options(tols.coarse.max(tols.fine)));
+    let first = options(tols.first.max(tols.fine));
     let mut tight = tols.coarse <= tols.fine;
     let fine_method = method_for(tols.fine);
     let (mut z, mut v) = (guess_z, guess_v);
@@ -300,7 +315,11 @@ pub fn newton_orbit(
     for iter in 0..MAX_NEWTON {
         let start = [z, y_sec, v, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0];
         let mut samples = OrbitSamples::new(&start);
-        let opts = if tight { &fine } else { &coarse };
+        let opts = match (tight, iter) {
+            (true, _) => &fine,
+            (false, 0) => &first,
+            (false, _) => &coarse,
+        };
         let ret = next_return(
             if tight { fine_method } else { Method::Dopri5 },
             &SectionVariational(ode),
@@ -563,6 +582,7 @@ mod tests {
         let period = 1.0 / lin.eig_freq_hz;
         let at_1e9 = Tolerances {
             guess: 1e-9,
+            first: 1e-9,
             coarse: 1e-9,
             fine: 1e-9,
         };

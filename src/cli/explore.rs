@@ -9,8 +9,8 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::batch::{signal_name, Interrupt, ProgressLog};
 use super::common::{BudgetArgs, CliError, CliResult, FigureFormat};
-use polywear::explore::{RunPlan, Shard};
-use polywear::recorded_run::{changed_lines, param_changes, shell_word, RecordedRun};
+use polywear::explore::{ExploreError, RunPlan, Shard};
+use polywear::recorded_run::{changed_lines, param_changes, shell_word, DirState, RecordedRun};
 use polywear::study::{Study, DEFAULT_STUDY, SEED_MAX};
 use polywear::wording::plain;
 
@@ -139,9 +139,7 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         .out
         .clone()
         .unwrap_or_else(|| default_out_dir(&study, seed));
-    let recorded_shard = recorded
-        .as_ref()
-        .and_then(|(_, run)| Shard::new(run.shard.0, run.shard.1));
+    let recorded_shard = recorded.as_ref().map(|(_, run)| run.shard);
     let plan = RunPlan {
         study,
         seed,
@@ -153,7 +151,7 @@ pub fn run(args: &ExploreArgs) -> CliResult {
     };
     let pool = super::common::thread_pool(args.threads)?;
     // Checks and locks --out; the lock is held until this function returns.
-    let prepared = plan.prepare_output().map_err(|e| CliError(e.to_string()))?;
+    let prepared = plan.prepare_output().map_err(explore_error)?;
     for line in &prepared.redone {
         eprintln!("resume: {line}");
     }
@@ -218,7 +216,7 @@ pub fn run(args: &ExploreArgs) -> CliResult {
     bar.finish_and_clear();
     // From here on a signal ends the program at once: the rows are saved.
     stop.disarm();
-    let summary = result.map_err(|e| CliError(e.to_string()))?;
+    let summary = result.map_err(explore_error)?;
     let secs = start.elapsed().as_secs_f64();
     let saved = summary.samples_skipped + summary.samples_evaluated;
     if let Some(signal) = stop.signal() {
@@ -261,11 +259,16 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         }
         return Ok(());
     }
-    let opts = polywear::analysis::report::ReportOptions {
+    let render = polywear::render::RenderOptions {
+        out_dir: plan.out_dir.join("_report"),
         figure_format: args.format.ext(),
-        ..polywear::analysis::report::ReportOptions::defaults(plan.out_dir.join("_report"))
     };
-    super::analyze::report(std::slice::from_ref(&plan.out_dir), &opts, !args.quiet)
+    super::analyze::report(
+        std::slice::from_ref(&plan.out_dir),
+        &polywear::analysis::AnalysisOptions::default(),
+        &render,
+        !args.quiet,
+    )
 }
 
 /// Refuses a flag of `--resume --out DIR` that contradicts the run recorded in DIR, showing
@@ -308,23 +311,70 @@ fn check_against_recorded(
             run.samples / study.evaluations(1)
         )));
     }
-    if let Some(s) = args.shard.filter(|s| (s.index, s.count) != run.shard) {
+    if let Some(s) = args.shard.filter(|s| *s != run.shard) {
         return Err(refuse(format!(
-            "--shard {s} contradicts the run's shard {}/{}",
-            run.shard.0, run.shard.1
+            "--shard {s} contradicts the run's shard {}",
+            run.shard
         )));
     }
     if let Some(path) = &args.params {
         if study.base != run.params {
-            let json = |p: &polywear::params::Params| serde_json::to_value(p).expect("json");
             return Err(refuse(format!(
                 "--params {} contradicts the run's values ({}, now from the file)",
                 path.display(),
-                param_changes(&json(&run.params), &json(&study.base))
+                param_changes(&run.params, &study.base)
             )));
         }
     }
     Ok(())
+}
+
+/// An explore error in the words of the command line: the output directory as `--out`, a
+/// resume's refusals as `--resume`'s, each with the flags that get on.
+fn explore_error(e: ExploreError) -> CliError {
+    let dir = match &e {
+        ExploreError::Write(_) => return CliError(e.to_string()),
+        ExploreError::OutputDir { dir, .. }
+        | ExploreError::Raced { dir }
+        | ExploreError::Occupied { dir, .. }
+        | ExploreError::NothingToResume { dir, .. }
+        | ExploreError::UnreadableManifest { dir, .. }
+        | ExploreError::OtherGenerator { dir, .. }
+        | ExploreError::OtherStudy { dir, .. }
+        | ExploreError::OperatingPointsChanged { dir, .. }
+        | ExploreError::DifferentRun { dir, .. }
+        | ExploreError::ForeignChunk { dir, .. } => dir.clone(),
+    };
+    let text = e.to_string();
+    let prefix = format!("{}: ", dir.display());
+    let what = text.strip_prefix(&prefix).unwrap_or(&text);
+    let d = shell_word(&dir.display().to_string());
+    let another = "or choose another --out for a new run";
+    let message = match &e {
+        ExploreError::Occupied { state, .. } => match state {
+            DirState::Finished { .. } => {
+                format!("{what}; analyse it with `polywear analyze {d}`, {another}")
+            }
+            DirState::Unfinished { .. } => format!(
+                "{what}; continue it with `polywear explore --resume --out {d}`, {another}"
+            ),
+            DirState::Foreign => format!(
+                "{what}; accepted: an empty or absent directory (for a new run), or a run's directory with --resume"
+            ),
+            DirState::Unreadable(_) => format!("{what}; choose another --out"),
+        },
+        ExploreError::OtherGenerator { .. } | ExploreError::OperatingPointsChanged { .. } => {
+            format!("--resume: {what}")
+        }
+        ExploreError::OtherStudy { .. } => format!(
+            "--resume: {what}\nleave the study file out to continue the run with its own study, or choose another --out"
+        ),
+        ExploreError::DifferentRun { .. } => format!(
+            "--resume: {what}; continue it with `--resume --out {d}` alone, or choose another --out"
+        ),
+        _ => what.to_string(),
+    };
+    CliError(format!("--out {}: {message}", dir.display()))
 }
 
 /// The command that continues `plan`'s run: `--resume --out DIR`, and the flags the manifest

@@ -65,7 +65,7 @@ pub fn run(args: &ReproduceArgs) -> CliResult {
                 args.format.ext(),
             )
         })
-        .map_err(CliError)?;
+        .map_err(|e| CliError(e.to_string()))?;
     println!(
         "reproduced the paper's analyses in {:.1} s: {} files in {}; read {}",
         start.elapsed().as_secs_f64(),

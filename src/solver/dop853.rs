@@ -6,7 +6,8 @@
 //! interpolate inside every step.
 
 use super::dop853_tableau::{A, B, D, E3, E5};
-use super::dopri5::{initial_step, Dense};
+use super::dopri5::Dense;
+use super::driver::{drive, EmbeddedPair};
 use super::{Control, IntegrationError, OdeSystem, Outcome, SolverOptions, Step};
 
 /// x + h Σ_j a_j k_j over the stages whose coefficient is not zero.
@@ -40,47 +41,55 @@ pub fn integrate<const N: usize, S: OdeSystem<N>>(
     x0: [f64; N],
     t_end: f64,
     opts: &SolverOptions<N>,
-    mut on_step: impl FnMut(&Step<'_, N>) -> Control,
+    on_step: impl FnMut(&Step<'_, N>) -> Control,
 ) -> Result<Outcome<N>, IntegrationError> {
-    const SAFE: f64 = 0.9;
-    const EXPO1: f64 = 1.0 / 8.0;
-    // Step-size ratio bounds: at most 6x larger, at most 3x smaller.
-    const FACC1: f64 = 1.0 / 0.333;
-    const FACC2: f64 = 1.0 / 6.0;
-    let mut t = t0;
-    let mut x = x0;
-    let mut k = [[0.0; N]; 16];
-    k[0] = sys.rhs(&x);
-    let mut evals = 1;
-    let (mut h, extra) = match opts.h0 {
-        Some(h) => (h.min(opts.h_max), 0),
-        None => initial_step(sys, &x, &k[0], opts, 8),
-    };
-    evals += extra;
-    let mut accepted = 0;
-    let mut rejected = 0;
-    let mut last_rejected = false;
-    let mut cont = [[0.0; N]; 7];
-    let h_min_rel = 16.0 * f64::EPSILON;
-    let components = S::ERROR_NORM_COMPONENTS as f64;
-    while t < t_end {
-        if accepted + rejected >= opts.max_steps {
-            return Err(IntegrationError::TooManySteps {
-                t,
-                steps: accepted + rejected,
-            });
+    drive::<N, S, Dop853<N>>(sys, t0, x0, t_end, opts, on_step)
+}
+
+/// DOP853's 16 stages (12 for the step, k\[12\] = f at the new state, 3 for the dense output)
+/// and its step-size controller.
+struct Dop853<const N: usize> {
+    k: [[f64; N]; 16],
+    /// Dense output of the last accepted step (Hairer's CONTD8 coefficients, x0 excluded).
+    cont: [[f64; N]; 7],
+}
+
+const SAFE: f64 = 0.9;
+const EXPO1: f64 = 1.0 / 8.0;
+// Step-size ratio bounds: at most 6x larger, at most 3x smaller.
+const FACC1: f64 = 1.0 / 0.333;
+const FACC2: f64 = 1.0 / 6.0;
+
+impl<const N: usize> EmbeddedPair<N> for Dop853<N> {
+    const ORDER: i32 = 8;
+
+    #[inline(always)]
+    fn start(f0: [f64; N]) -> Self {
+        let mut k = [[0.0; N]; 16];
+        k[0] = f0;
+        Dop853 {
+            k,
+            cont: [[0.0; N]; 7],
         }
-        if h < h_min_rel * t.abs().max(1e-300) {
-            return Err(IntegrationError::StepSizeUnderflow { t });
-        }
-        let last = t + 1.01 * h >= t_end;
-        if last {
-            h = t_end - t;
-        }
+    }
+
+    #[inline(always)]
+    fn f0(&self) -> &[f64; N] {
+        &self.k[0]
+    }
+
+    #[inline(always)]
+    fn try_step<S: OdeSystem<N>>(
+        &mut self,
+        sys: &S,
+        x: &[f64; N],
+        h: f64,
+        opts: &SolverOptions<N>,
+    ) -> ([f64; N], f64, usize) {
+        let k = &mut self.k;
         for s in 1..12 {
-            k[s] = sys.rhs(&stage_point(&x, h, &A[s], &k, s));
+            k[s] = sys.rhs(&stage_point(x, h, &A[s], k, s));
         }
-        evals += 11;
         let x_new: [f64; N] = std::array::from_fn(|i| {
             let mut sum = 0.0;
             for j in 0..12 {
@@ -101,89 +110,61 @@ pub fn integrate<const N: usize, S: OdeSystem<N>>(
         }
         let deno = err5 + 0.01 * err3;
         let err = if deno > 0.0 {
-            h * err5 / (components * deno).sqrt()
+            h * err5 / (S::ERROR_NORM_COMPONENTS as f64 * deno).sqrt()
         } else {
             0.0
         };
-        if !err.is_finite() || x_new.iter().any(|v| !v.is_finite()) {
-            // Retry with a much smaller step before declaring the state broken.
-            if h > h_min_rel * t.abs().max(1e-12) * 1e3 {
-                h *= 0.1;
-                rejected += 1;
-                last_rejected = true;
-                continue;
-            }
-            return Err(IntegrationError::NonFinite { t });
-        }
-        let fac11 = err.powf(EXPO1);
-        if err <= 1.0 {
-            let fac = (fac11 / SAFE).clamp(FACC2, FACC1);
-            let mut h_new = (h / fac).min(opts.h_max);
-            if last_rejected {
-                h_new = h_new.min(h);
-            }
-            // f at the new state: the next step's first stage and the dense output's k[12].
-            k[12] = sys.rhs(&x_new);
-            for s in 13..16 {
-                k[s] = sys.rhs(&stage_point(&x, h, &A[s], &k, s));
-            }
-            evals += 4;
-            for i in 0..N {
-                let ydiff = x_new[i] - x[i];
-                let bspl = h * k[0][i] - ydiff;
-                cont[0][i] = ydiff;
-                cont[1][i] = bspl;
-                cont[2][i] = ydiff - h * k[12][i] - bspl;
-                for (r, d) in D.iter().enumerate() {
-                    let mut sum = 0.0;
-                    for j in 0..16 {
-                        if d[j] != 0.0 {
-                            sum += d[j] * k[j][i];
-                        }
-                    }
-                    cont[3 + r][i] = h * sum;
-                }
-            }
-            let t_new = if last { t_end } else { t + h };
-            accepted += 1;
-            let control = on_step(&Step {
-                t0: t,
-                t1: t_new,
-                x0: &x,
-                x1: &x_new,
-                dense: Dense::Dop853(&cont),
-            });
-            t = t_new;
-            x = x_new;
-            k[0] = k[12];
-            h = h_new;
-            last_rejected = false;
-            if control == Control::Stop {
-                return Ok(Outcome {
-                    t,
-                    x,
-                    accepted_steps: accepted,
-                    rejected_steps: rejected,
-                    rhs_evals: evals,
-                    stopped: true,
-                    h_last: h,
-                });
-            }
-        } else {
-            h /= (fac11 / SAFE).min(FACC1);
-            rejected += 1;
-            last_rejected = true;
-        }
+        (x_new, err, 11)
     }
-    Ok(Outcome {
-        t,
-        x,
-        accepted_steps: accepted,
-        rejected_steps: rejected,
-        rhs_evals: evals,
-        stopped: false,
-        h_last: h,
-    })
+
+    #[inline(always)]
+    fn accepted_factor(&mut self, err: f64) -> f64 {
+        (err.powf(EXPO1) / SAFE).clamp(FACC2, FACC1)
+    }
+
+    #[inline(always)]
+    fn rejected_factor(&self, err: f64) -> f64 {
+        (err.powf(EXPO1) / SAFE).min(FACC1)
+    }
+
+    #[inline(always)]
+    fn finish_step<S: OdeSystem<N>>(
+        &mut self,
+        sys: &S,
+        x: &[f64; N],
+        x_new: &[f64; N],
+        h: f64,
+    ) -> usize {
+        let k = &mut self.k;
+        // f at the new state: the next step's first stage and the dense output's k[12].
+        k[12] = sys.rhs(x_new);
+        for s in 13..16 {
+            k[s] = sys.rhs(&stage_point(x, h, &A[s], k, s));
+        }
+        for i in 0..N {
+            let ydiff = x_new[i] - x[i];
+            let bspl = h * k[0][i] - ydiff;
+            self.cont[0][i] = ydiff;
+            self.cont[1][i] = bspl;
+            self.cont[2][i] = ydiff - h * k[12][i] - bspl;
+            for (r, d) in D.iter().enumerate() {
+                let mut sum = 0.0;
+                for j in 0..16 {
+                    if d[j] != 0.0 {
+                        sum += d[j] * k[j][i];
+                    }
+                }
+                self.cont[3 + r][i] = h * sum;
+            }
+        }
+        k[0] = k[12];
+        4
+    }
+
+    #[inline(always)]
+    fn dense(&self) -> Dense<'_, N> {
+        Dense::Dop853(&self.cont)
+    }
 }
 
 #[cfg(test)]

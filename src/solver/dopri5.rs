@@ -1,6 +1,7 @@
 //! Dormand–Prince 5(4) with Hairer's PI step-size control and dense output (Hairer, Nørsett,
 //! Wanner, "Solving ODEs I", DOPRI5).
 
+use super::driver::{drive, EmbeddedPair};
 use super::OdeSystem;
 
 /// Tolerances and limits of one integration.
@@ -243,132 +244,118 @@ pub fn integrate<const N: usize, S: OdeSystem<N>>(
     x0: [f64; N],
     t_end: f64,
     opts: &SolverOptions<N>,
-    mut on_step: impl FnMut(&Step<'_, N>) -> Control,
+    on_step: impl FnMut(&Step<'_, N>) -> Control,
 ) -> Result<Outcome<N>, IntegrationError> {
-    const SAFE: f64 = 0.9;
-    const BETA: f64 = 0.04;
-    const EXPO1: f64 = 0.2 - BETA * 0.75;
-    let mut t = t0;
-    let mut x = x0;
-    let mut k1 = sys.rhs(&x);
-    let mut evals = 1;
-    let (mut h, extra) = match opts.h0 {
-        Some(h) => (h.min(opts.h_max), 0),
-        None => initial_step(sys, &x, &k1, opts, 5),
-    };
-    evals += extra;
-    let mut facold: f64 = 1e-4;
-    let mut accepted = 0;
-    let mut rejected = 0;
-    let mut last_rejected = false;
-    let mut cont = [[0.0; N]; 5];
-    let h_min_rel = 16.0 * f64::EPSILON;
-    while t < t_end {
-        if accepted + rejected >= opts.max_steps {
-            return Err(IntegrationError::TooManySteps {
-                t,
-                steps: accepted + rejected,
-            });
+    drive::<N, S, Dopri5<N>>(sys, t0, x0, t_end, opts, on_step)
+}
+
+/// DOPRI5's stages (k7 = f at the new state is the next step's k1) and Hairer's PI controller.
+struct Dopri5<const N: usize> {
+    k: [[f64; N]; 7],
+    /// Dense output of the last accepted step (Hairer's CONTD5 coefficients).
+    cont: [[f64; N]; 5],
+    /// The previous accepted step's error norm, for the PI controller.
+    facold: f64,
+}
+
+const SAFE: f64 = 0.9;
+const BETA: f64 = 0.04;
+const EXPO1: f64 = 0.2 - BETA * 0.75;
+
+impl<const N: usize> EmbeddedPair<N> for Dopri5<N> {
+    const ORDER: i32 = 5;
+
+    #[inline(always)]
+    fn start(f0: [f64; N]) -> Self {
+        let mut k = [[0.0; N]; 7];
+        k[0] = f0;
+        Dopri5 {
+            k,
+            cont: [[0.0; N]; 5],
+            facold: 1e-4,
         }
-        if h < h_min_rel * t.abs().max(1e-300) {
-            return Err(IntegrationError::StepSizeUnderflow { t });
-        }
-        let last = t + 1.01 * h >= t_end;
-        if last {
-            h = t_end - t;
-        }
-        let k2 = sys.rhs(&axpy(&x, h, &[(A21, &k1)]));
-        let k3 = sys.rhs(&axpy(&x, h, &[(A31, &k1), (A32, &k2)]));
-        let k4 = sys.rhs(&axpy(&x, h, &[(A41, &k1), (A42, &k2), (A43, &k3)]));
+    }
+
+    #[inline(always)]
+    fn f0(&self) -> &[f64; N] {
+        &self.k[0]
+    }
+
+    #[inline(always)]
+    fn try_step<S: OdeSystem<N>>(
+        &mut self,
+        sys: &S,
+        x: &[f64; N],
+        h: f64,
+        opts: &SolverOptions<N>,
+    ) -> ([f64; N], f64, usize) {
+        let k1 = self.k[0];
+        let k2 = sys.rhs(&axpy(x, h, &[(A21, &k1)]));
+        let k3 = sys.rhs(&axpy(x, h, &[(A31, &k1), (A32, &k2)]));
+        let k4 = sys.rhs(&axpy(x, h, &[(A41, &k1), (A42, &k2), (A43, &k3)]));
         let k5 = sys.rhs(&axpy(
-            &x,
+            x,
             h,
             &[(A51, &k1), (A52, &k2), (A53, &k3), (A54, &k4)],
         ));
         let k6 = sys.rhs(&axpy(
-            &x,
+            x,
             h,
             &[(A61, &k1), (A62, &k2), (A63, &k3), (A64, &k4), (A65, &k5)],
         ));
         let x_new = axpy(
-            &x,
+            x,
             h,
             &[(A71, &k1), (A73, &k3), (A74, &k4), (A75, &k5), (A76, &k6)],
         );
         let k7 = sys.rhs(&x_new);
-        evals += 6;
         let err: [f64; N] = std::array::from_fn(|i| {
             h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i])
         });
-        let err = error_norm(&err, &x, &x_new, opts, S::ERROR_NORM_COMPONENTS);
-        if !err.is_finite() || x_new.iter().any(|v| !v.is_finite()) {
-            // Retry with a much smaller step before declaring the state broken.
-            if h > h_min_rel * t.abs().max(1e-12) * 1e3 {
-                h *= 0.1;
-                rejected += 1;
-                last_rejected = true;
-                continue;
-            }
-            return Err(IntegrationError::NonFinite { t });
-        }
-        let fac11 = err.powf(EXPO1);
-        if err <= 1.0 {
-            let fac = (fac11 / facold.powf(BETA) / SAFE).clamp(0.2, 10.0);
-            facold = err.max(1e-4);
-            let mut h_new = (h / fac).min(opts.h_max);
-            if last_rejected {
-                h_new = h_new.min(h);
-            }
-            for i in 0..N {
-                let ydiff = x_new[i] - x[i];
-                let bspl = h * k1[i] - ydiff;
-                cont[0][i] = x[i];
-                cont[1][i] = ydiff;
-                cont[2][i] = bspl;
-                cont[3][i] = ydiff - h * k7[i] - bspl;
-                cont[4][i] = h
-                    * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
-            }
-            let t_new = if last { t_end } else { t + h };
-            accepted += 1;
-            let control = on_step(&Step {
-                t0: t,
-                t1: t_new,
-                x0: &x,
-                x1: &x_new,
-                dense: Dense::Dopri5(&cont),
-            });
-            t = t_new;
-            x = x_new;
-            k1 = k7;
-            h = h_new;
-            last_rejected = false;
-            if control == Control::Stop {
-                return Ok(Outcome {
-                    t,
-                    x,
-                    accepted_steps: accepted,
-                    rejected_steps: rejected,
-                    rhs_evals: evals,
-                    stopped: true,
-                    h_last: h,
-                });
-            }
-        } else {
-            h /= (fac11 / SAFE).min(5.0);
-            rejected += 1;
-            last_rejected = true;
-        }
+        let err = error_norm(&err, x, &x_new, opts, S::ERROR_NORM_COMPONENTS);
+        self.k = [k1, k2, k3, k4, k5, k6, k7];
+        (x_new, err, 6)
     }
-    Ok(Outcome {
-        t,
-        x,
-        accepted_steps: accepted,
-        rejected_steps: rejected,
-        rhs_evals: evals,
-        stopped: false,
-        h_last: h,
-    })
+
+    #[inline(always)]
+    fn accepted_factor(&mut self, err: f64) -> f64 {
+        let fac = (err.powf(EXPO1) / self.facold.powf(BETA) / SAFE).clamp(0.2, 10.0);
+        self.facold = err.max(1e-4);
+        fac
+    }
+
+    #[inline(always)]
+    fn rejected_factor(&self, err: f64) -> f64 {
+        (err.powf(EXPO1) / SAFE).min(5.0)
+    }
+
+    #[inline(always)]
+    fn finish_step<S: OdeSystem<N>>(
+        &mut self,
+        _sys: &S,
+        x: &[f64; N],
+        x_new: &[f64; N],
+        h: f64,
+    ) -> usize {
+        let [k1, _, k3, k4, k5, k6, k7] = &self.k;
+        for i in 0..N {
+            let ydiff = x_new[i] - x[i];
+            let bspl = h * k1[i] - ydiff;
+            self.cont[0][i] = x[i];
+            self.cont[1][i] = ydiff;
+            self.cont[2][i] = bspl;
+            self.cont[3][i] = ydiff - h * k7[i] - bspl;
+            self.cont[4][i] =
+                h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
+        }
+        self.k[0] = self.k[6];
+        0
+    }
+
+    #[inline(always)]
+    fn dense(&self) -> Dense<'_, N> {
+        Dense::Dopri5(&self.cont)
+    }
 }
 
 #[cfg(test)]

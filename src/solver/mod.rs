@@ -9,6 +9,7 @@
 mod dop853;
 mod dop853_tableau;
 mod dopri5;
+mod driver;
 
 pub use dop853::integrate as integrate_dop853;
 pub use dopri5::{integrate, Control, IntegrationError, Outcome, SolverOptions, Step};

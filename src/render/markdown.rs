@@ -3,8 +3,12 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::report::{Analysis, ReportOptions};
+use super::Figures;
+use crate::analysis::severity::SEVERITY_FINE_BINS;
+use crate::analysis::stats::format_p;
+use crate::analysis::Analysis;
 use crate::classify::Class;
+use crate::model::Variant;
 use crate::wording::plain;
 
 fn pct(p: f64) -> String {
@@ -21,10 +25,11 @@ fn rel(path: &Path) -> String {
         .unwrap_or_default()
 }
 
-/// The report page.
-pub fn page(opts: &ReportOptions, a: &Analysis) -> String {
+/// The report page, showing `figures`.
+pub fn page(a: &Analysis, figures: &Figures) -> String {
     let mut s = String::new();
     let i = &a.info;
+    let opts = &a.options;
     let _ = writeln!(s, "# Polygonal-wear risk: study `{}`\n", i.study_name);
     let _ = writeln!(
         s,
@@ -39,7 +44,7 @@ pub fn page(opts: &ReportOptions, a: &Analysis) -> String {
         i.study_name,
         i.design,
         i.seed,
-        i.variant,
+        i.variant_text(),
         i.version
     );
     if i.samples_present < i.samples {
@@ -71,7 +76,7 @@ pub fn page(opts: &ReportOptions, a: &Analysis) -> String {
             totals.no_traction()
         );
     }
-    if i.variant.contains("paper") {
+    if i.variants.contains(&Variant::Paper) {
         let _ = writeln!(
             s,
             "> Under the `paper` variant the driving wheel comes out almost identical to the follower: \
@@ -121,7 +126,7 @@ pub fn page(opts: &ReportOptions, a: &Analysis) -> String {
             p.both,
             p.neither,
             p.unclassified,
-            super::stats::format_p(p.p_value),
+            format_p(p.p_value),
             p.method
         );
     }
@@ -133,26 +138,20 @@ pub fn page(opts: &ReportOptions, a: &Analysis) -> String {
     );
     let _ = writeln!(s, "## Where does the risk live?\n");
     let _ = writeln!(s, "Probability of a limit cycle as a function of each drawn parameter ({} bins, or the study's levels), with 95% Wilson bands; bins with fewer than {} classified samples are left out. Tables: `conditional.csv`, `conditional.parquet`.\n", opts.bins, opts.min_count);
-    for f in a
-        .files
-        .iter()
-        .filter(|f| rel(f).starts_with("conditional_"))
-    {
+    for (_, f) in &figures.conditional {
         let _ = writeln!(s, "![]({})\n", rel(f));
     }
     let _ = writeln!(s, "### Risk maps\n");
     let _ = writeln!(s, "P(limit cycle) over pairs of axes, per wheel, and the driving-minus-follower difference. Grey cells hold fewer than {} classified samples: unknown, not zero. Tables: `riskmap_<x>_<y>.csv` and `.parquet`.\n", opts.min_count);
-    for f in a.files.iter().filter(|f| {
-        rel(f).starts_with("riskmap_") && rel(f).ends_with(&format!(".{}", opts.figure_format))
-    }) {
-        let _ = writeln!(s, "![]({})\n", rel(f));
+    for f in &figures.risk_maps {
+        let _ = writeln!(s, "![]({})\n", rel(&f.path));
     }
     for n in &a.notes {
         let _ = writeln!(s, "- {n}");
     }
-    robustness_section(&mut s, opts, a);
+    robustness_section(&mut s, a);
     let _ = writeln!(s, "\n## How severe is it?\n");
-    let _ = writeln!(s, "Among the limit cycles: amplitude of the lateral displacement and velocity (half peak-to-peak), vibration energy per cycle (∮ C_s v² dt) and polygon order (cycle frequency over wheel rotation frequency: the number of wear facets). Quantiles are read from a {}-bin histogram of each quantity (exact to 1/{} of its range).\n", super::queries::SEVERITY_FINE_BINS, super::queries::SEVERITY_FINE_BINS);
+    let _ = writeln!(s, "Among the limit cycles: amplitude of the lateral displacement and velocity (half peak-to-peak), vibration energy per cycle (∮ C_s v² dt) and polygon order (cycle frequency over wheel rotation frequency: the number of wear facets). Quantiles are read from a {}-bin histogram of each quantity (exact to 1/{} of its range).\n", SEVERITY_FINE_BINS, SEVERITY_FINE_BINS);
     let _ = writeln!(
         s,
         "| variant | wheel | quantity | cycles | mean | 5% | median | 95% |"
@@ -173,9 +172,7 @@ pub fn page(opts: &ReportOptions, a: &Analysis) -> String {
             plain(v.quantiles[4], 4)
         );
     }
-    for f in a.files.iter().filter(|f| {
-        rel(f).starts_with("severity_") && rel(f).ends_with(&format!(".{}", opts.figure_format))
-    }) {
+    for (_, f) in &figures.severity {
         let _ = writeln!(s, "\n![]({})", rel(f));
     }
     let _ = writeln!(s, "\n## Which parameters drive it?\n");
@@ -211,13 +208,18 @@ pub fn page(opts: &ReportOptions, a: &Analysis) -> String {
             );
         }
     }
-    let _ = writeln!(s, "\n## The study\n\n```toml\n{}\n```", i.study.trim_end());
+    let _ = writeln!(
+        s,
+        "\n## The study\n\n```toml\n{}\n```",
+        i.study_text.trim_end()
+    );
     s
 }
 
 /// "Robustness to the lost digits": P(limit cycle) per wheel for each decoding of the paper's
 /// lost digits, and for what share of decodings the driving wheel is less exposed.
-fn robustness_section(s: &mut String, opts: &ReportOptions, a: &Analysis) {
+fn robustness_section(s: &mut String, a: &Analysis) {
+    let opts = &a.options;
     let Some(r) = &a.robustness else {
         return;
     };
@@ -268,15 +270,17 @@ fn robustness_section(s: &mut String, opts: &ReportOptions, a: &Analysis) {
     let _ = writeln!(
         s,
         "\n| variant | {} | follower P(limit cycle) | driving P(limit cycle) | driving less exposed |",
-        r.params.join(" | ")
+        r.params
+            .iter()
+            .map(|p| p.name())
+            .collect::<Vec<_>>()
+            .join(" | ")
     );
     let _ = writeln!(s, "|---|{}---:|---:|---|", "---:|".repeat(r.params.len()));
     for d in r.decodings.iter().take(SHOWN) {
-        let enough = d.follower.classified() >= opts.min_count.max(1)
-            && d.driving.classified() >= opts.min_count.max(1);
-        let verdict = if !enough {
+        let verdict = if !d.comparable(opts.min_count) {
             "too few samples"
-        } else if d.driving.p() < d.follower.p() {
+        } else if d.driving_less_exposed() {
             "yes"
         } else {
             "no"

@@ -1,40 +1,27 @@
-//! The report's figures (PNG), drawn from the small tables the queries return: conditional
+//! The report's figures (PNG or SVG), drawn from the small tables the queries return: conditional
 //! probabilities with Wilson bands, risk maps per wheel with their difference, and severity
 //! histograms.
 
 use std::path::Path;
 
-use super::queries::{BinStat, Bins, RiskMap, Severity};
-use crate::chart::WheelCurves;
+use super::RenderError;
+use crate::analysis::conditional::BinStat;
+use crate::analysis::risk_map::{draw_edges, RiskMap};
+use crate::analysis::severity::{Severity, SEVERITY_QUANTITIES};
 use crate::model::{Variant, Wheel};
+use crate::params::ParamId;
 use crate::plot::{self, maps, Series};
-
-/// Edges for drawing: bin edges, or cells centred on grid levels.
-pub fn draw_edges(b: &Bins) -> Vec<f64> {
-    if !b.levels {
-        return b.edges.clone();
-    }
-    let l = &b.edges;
-    if l.len() == 1 {
-        let w = (l[0].abs() * 0.05).max(1e-9);
-        return vec![l[0] - w, l[0] + w];
-    }
-    let mut e = vec![l[0] - 0.5 * (l[1] - l[0])];
-    e.extend(l.windows(2).map(|w| 0.5 * (w[0] + w[1])));
-    e.push(l[l.len() - 1] + 0.5 * (l[l.len() - 1] - l[l.len() - 2]));
-    e
-}
 
 /// P(limit cycle | parameter) along every axis of one variant, both wheels, 95% Wilson bands;
 /// bins with fewer than `min_count` classified rows are left out. `label` gives axis titles.
 pub fn conditional(
     path: &Path,
     variant: Variant,
-    axes: &[String],
-    label: &dyn Fn(&str) -> String,
+    axes: &[ParamId],
+    label: &dyn Fn(ParamId) -> String,
     bins: &[BinStat],
     min_count: u64,
-) -> Result<(), String> {
+) -> Result<(), RenderError> {
     let cols = if axes.len() <= 4 { 2 } else { 3 };
     let rows = axes.len().div_ceil(cols).max(1);
     plot::panels(
@@ -49,7 +36,7 @@ pub fn conditional(
             // Levels (lo = hi) are drawn as points: nothing lies between them.
             let discrete = bins
                 .iter()
-                .filter(|b| &b.axis == axis)
+                .filter(|b| b.axis == *axis)
                 .all(|b| b.lo == b.hi);
             let bands: Vec<maps::Band<'_>> = Wheel::BOTH
                 .iter()
@@ -61,8 +48,8 @@ pub fn conditional(
                         .filter(|b| {
                             b.variant == variant
                                 && b.wheel == *wh
-                                && &b.axis == axis
-                                && b.counts.classified() >= min_count.max(1)
+                                && b.axis == *axis
+                                && b.counts.enough(min_count)
                         })
                         .map(|b| {
                             let (lo, hi) = b.counts.wilson();
@@ -73,13 +60,14 @@ pub fn conditional(
                 .collect();
             maps::band_panel(
                 area,
-                &crate::params::label(axis),
-                &label(axis),
+                &axis.label(),
+                &label(*axis),
                 "Risk of vibration",
                 &bands,
             )
         },
     )
+    .map_err(RenderError::Figure)
 }
 
 /// One risk map: the risk of vibration of the follower and the driving wheel in percent, side
@@ -89,11 +77,11 @@ pub fn conditional(
 pub fn risk_map(
     path: &Path,
     map: &RiskMap,
-    label: &dyn Fn(&str) -> String,
+    label: &dyn Fn(ParamId) -> String,
     min_count: u64,
-    nominal: Option<&[WheelCurves]>,
-) -> Result<(), String> {
-    let (x, y) = (&map.x, &map.y);
+) -> Result<(), RenderError> {
+    let nominal = map.nominal.as_deref();
+    let (x, y) = (map.x, map.y);
     // The nominal tire's Hopf curves: each wheel's on its own panel, both on the difference.
     let curves = |wheel: Wheel, color: plotters::style::RGBColor| -> Vec<maps::Overlay> {
         nominal
@@ -145,8 +133,8 @@ pub fn risk_map(
         .max(0.1);
     let title = format!(
         "Risk of tread vibration (polygonal wear) over {} and {} ({} variant; grey: fewer than {min_count} samples)",
-        crate::params::label(x).to_lowercase(),
-        crate::params::label(y).to_lowercase(),
+        x.label().to_lowercase(),
+        y.label().to_lowercase(),
         map.variant
     );
     plot::figure(path, (2100, 760), &title, |area| {
@@ -189,19 +177,15 @@ pub fn risk_map(
         }
         Ok(())
     })
+    .map_err(RenderError::Figure)
 }
 
 /// Bars of the severity figure: the fine histogram summed into this many.
 pub const SEVERITY_FIGURE_BINS: usize = 40;
 
 /// Severity histograms of one variant: each quantity's share of limit cycles per bin, per wheel.
-pub fn severity(path: &Path, variant: Variant, severity: &[Severity]) -> Result<(), String> {
-    let quantities = [
-        "amp_y_m",
-        "amp_v_mps",
-        "energy_per_cycle_j",
-        "polygon_order",
-    ];
+pub fn severity(path: &Path, variant: Variant, severity: &[Severity]) -> Result<(), RenderError> {
+    let quantities = SEVERITY_QUANTITIES.map(|q| q.0);
     plot::panels(
         path,
         (1400, 900),
@@ -259,4 +243,5 @@ pub fn severity(path: &Path, variant: Variant, severity: &[Severity]) -> Result<
             )
         },
     )
+    .map_err(RenderError::Figure)
 }

@@ -1,0 +1,24 @@
+//! The analysis from Rust instead of the command line: `RunInfo` → `Analysis` → rendered
+//! report (GUIDE.md#analyze).
+//!
+//! Run: `cargo run --release --example analyze_in_rust -- EXPLORE_DIR REPORT_DIR`.
+
+use std::error::Error;
+
+fn main() -> Result<(), Box<dyn Error>> {
+    let mut args = std::env::args().skip(1);
+    let (Some(dir), Some(out)) = (args.next(), args.next()) else {
+        return Err("usage: analyze_in_rust EXPLORE_DIR REPORT_DIR".into());
+    };
+    let info = polywear::analysis::inputs::check_inputs(&[dir.into()])?;
+    let a = polywear::analysis::run(info, &polywear::analysis::AnalysisOptions::default())?;
+    for o in &a.occurrence {
+        println!("{} {}: P(vibrates) = {:.3}", o.variant, o.wheel, o.p());
+    }
+    let opts = polywear::render::RenderOptions {
+        out_dir: out.into(),
+        figure_format: "png",
+    };
+    polywear::render::write(&a, &opts)?;
+    Ok(())
+}

@@ -1,0 +1,544 @@
+//! The one place that speaks to polars: the chunk files as a lazy frame, and the few kinds of
+//! streaming query the analysis asks of them (class counts per group, ranges, histograms, the
+//! paired outcomes, the rows of a Saltelli design). Every query is a group-by or a selection
+//! that returns a few hundred rows at most, so memory does not grow with the number of rows;
+//! what comes back is plain Rust data for the query modules.
+//!
+//! polars 0.55 sizes the streaming group-by's per-thread table of "hot" groups from the
+//! `POLARS_HOT_TABLE_SIZE` environment variable, read when a query is built, and has no API for
+//! it; [`hot_table_size`] says what it should be, and the binary sets it at its start, before
+//! any thread exists.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use polars::prelude::*;
+
+use super::bins::Bins;
+use super::counts::{outcome_code, ClassCounts};
+use super::AnalysisError;
+use crate::classify::Class;
+use crate::model::{Variant, Wheel};
+
+fn pl_err(e: PolarsError) -> AnalysisError {
+    AnalysisError::Query(e.to_string())
+}
+
+/// The size of polars' per-thread "hot" group tables for queries of up to `max_groups` groups.
+/// The streaming group-by keeps a fixed-size table of hot groups per thread (4096 by default);
+/// a key that collides or overflows is evicted as a partial aggregate that is only merged at
+/// the end, so with many groups memory grows with the rows. Sixteen slots per group (at least
+/// 16384) keep evictions rare, and the peak flat in the row count.
+pub fn hot_table_size(max_groups: usize) -> usize {
+    (16 * max_groups).next_power_of_two().clamp(16_384, 1 << 22)
+}
+
+/// The chunk files of a run as one lazy frame (only the columns a query names are read).
+#[derive(Clone)]
+pub struct Rows {
+    lf: LazyFrame,
+}
+
+/// An extra key of a class count, besides variant and wheel.
+#[derive(Debug, Clone, Copy)]
+pub enum GroupKey<'a> {
+    /// The bin of a column (its index in [`Group::bins`]).
+    Bin(&'a str, &'a Bins),
+    /// The cell of two binned columns, `x bin × (y bins) + y bin` (one key, not two).
+    Cell(&'a str, &'a Bins, &'a str, &'a Bins),
+    /// The value of a column itself (in [`Group::values`]).
+    Value(&'a str),
+}
+
+/// Rows per class of one group.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Group {
+    /// The friction variant.
+    pub variant: Variant,
+    /// The wheel.
+    pub wheel: Wheel,
+    /// The bin or cell indices of the `Bin` and `Cell` keys, in key order.
+    pub bins: Vec<i64>,
+    /// The values of the `Value` keys, in key order.
+    pub values: Vec<f64>,
+    /// Rows per class.
+    pub counts: ClassCounts,
+}
+
+/// A bin of a severity histogram.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HistogramBin {
+    /// The friction variant.
+    pub variant: Variant,
+    /// The wheel.
+    pub wheel: Wheel,
+    /// The bin index.
+    pub bin: i64,
+    /// Rows in the bin.
+    pub n: i64,
+    /// The sum of the rows' values in fixed point ([`FIXED_POINT_SCALE`] units of the range
+    /// above its low end).
+    pub fixed_sum: i64,
+}
+
+/// One row's outcome, for estimators that need every row (Sobol indices).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RowOutcome {
+    /// The friction variant.
+    pub variant: Variant,
+    /// The wheel.
+    pub wheel: Wheel,
+    /// The sample.
+    pub sample_id: i64,
+    /// The row's class.
+    pub class: Class,
+    /// The velocity amplitude \[m/s\].
+    pub amp_v_mps: f64,
+}
+
+impl Rows {
+    /// The chunk files as one lazy frame.
+    pub fn scan(files: &[PathBuf]) -> Result<Rows, AnalysisError> {
+        let paths: Vec<PlRefPath> = files
+            .iter()
+            .map(|p| PlRefPath::new(p.to_string_lossy().as_ref()))
+            .collect();
+        let lf = LazyFrame::scan_parquet_files(
+            paths.into_iter().collect(),
+            ScanArgsParquet {
+                low_memory: true,
+                ..ScanArgsParquet::default()
+            },
+        )
+        .map_err(pl_err)?;
+        Ok(Rows { lf })
+    }
+
+    /// Rows per class for each variant, wheel and combination of `keys`: one group per key
+    /// combination with a count column per class (grouping by class as well would multiply the
+    /// groups by five, and polars' streaming group-by keeps rows of groups beyond its hot table
+    /// in memory until the end). Rows of a class this version does not know are refused.
+    pub fn class_counts(&self, keys: &[GroupKey<'_>]) -> Result<Vec<Group>, AnalysisError> {
+        let mut exprs = vec![col("variant"), col("wheel")];
+        for (k, key) in keys.iter().enumerate() {
+            let name = format!("key{k}");
+            exprs.push(match *key {
+                GroupKey::Bin(c, b) => bin_expr(b, col(c)).alias(name),
+                GroupKey::Cell(x, xb, y, yb) => (bin_expr(xb, col(x)) * lit(yb.count() as i64)
+                    + bin_expr(yb, col(y)))
+                .alias(name),
+                GroupKey::Value(c) => col(c).alias(name),
+            });
+        }
+        let known = Class::ALL;
+        let mut aggs = vec![len().cast(DataType::Int64).alias("n")];
+        aggs.extend(known.iter().map(|c| {
+            col("class")
+                .eq(lit(c.as_str()))
+                .cast(DataType::Int64)
+                .sum()
+                .alias(format!("n_{}", c.as_str()))
+        }));
+        let df = collect(self.lf.clone().group_by(exprs).agg(aggs))?;
+        let total = ints(&df, "n")?;
+        let per_class: Vec<Vec<i64>> = known
+            .iter()
+            .map(|c| ints(&df, &format!("n_{}", c.as_str())))
+            .collect::<Result<_, _>>()?;
+        let mut bins: Vec<Vec<i64>> = Vec::new();
+        let mut values: Vec<Vec<f64>> = Vec::new();
+        for (k, key) in keys.iter().enumerate() {
+            let name = format!("key{k}");
+            match key {
+                GroupKey::Value(_) => values.push(floats(&df, &name)?),
+                _ => bins.push(ints(&df, &name)?),
+            }
+        }
+        let groups = variant_wheel(&df)?;
+        let mut out = Vec::with_capacity(df.height());
+        for (i, (variant, wheel)) in groups.into_iter().enumerate() {
+            let mut counts = ClassCounts::default();
+            let mut known_rows = 0;
+            for (k, class) in known.iter().enumerate() {
+                counts.add(*class, per_class[k][i] as u64);
+                known_rows += per_class[k][i];
+            }
+            if known_rows != total[i] {
+                return Err(AnalysisError::UnknownClass {
+                    rows: (total[i] - known_rows) as u64,
+                });
+            }
+            out.push(Group {
+                variant,
+                wheel,
+                bins: bins.iter().map(|b| b[i]).collect(),
+                values: values.iter().map(|v| v[i]).collect(),
+                counts,
+            });
+        }
+        Ok(out)
+    }
+
+    /// Observed minimum and maximum of each column, in one streaming pass; the `quantities`
+    /// only over vibrating rows with a finite value.
+    pub fn ranges(
+        &self,
+        axes: &[&str],
+        quantities: &[&str],
+    ) -> Result<BTreeMap<String, (f64, f64)>, AnalysisError> {
+        let mut exprs = Vec::new();
+        for a in axes {
+            exprs.push(col(*a).min().alias(format!("{a}\u{1}min")));
+            exprs.push(col(*a).max().alias(format!("{a}\u{1}max")));
+        }
+        for q in quantities {
+            let keep = vib_expr().and(col(*q).is_finite());
+            exprs.push(
+                col(*q)
+                    .filter(keep.clone())
+                    .min()
+                    .alias(format!("{q}\u{1}min")),
+            );
+            exprs.push(col(*q).filter(keep).max().alias(format!("{q}\u{1}max")));
+        }
+        let df = collect(self.lf.clone().select(exprs))?;
+        let mut out = BTreeMap::new();
+        for name in axes.iter().chain(quantities) {
+            let lo = floats(&df, &format!("{name}\u{1}min"))?;
+            let hi = floats(&df, &format!("{name}\u{1}max"))?;
+            out.insert(
+                name.to_string(),
+                (
+                    lo.first().copied().unwrap_or(f64::NAN),
+                    hi.first().copied().unwrap_or(f64::NAN),
+                ),
+            );
+        }
+        Ok(out)
+    }
+
+    /// The histogram of `quantity` over the vibrating rows with a finite value, per variant and
+    /// wheel, on `bins` (equal widths over `[lo, hi]`), with each bin's fixed-point sum.
+    pub fn histogram(
+        &self,
+        quantity: &str,
+        bins: &Bins,
+        (lo, hi): (f64, f64),
+    ) -> Result<Vec<HistogramBin>, AnalysisError> {
+        let df = collect(
+            self.lf
+                .clone()
+                .filter(vib_expr().and(col(quantity).is_finite()))
+                .group_by([
+                    col("variant"),
+                    col("wheel"),
+                    bin_expr(bins, col(quantity)).alias("bin"),
+                ])
+                .agg([
+                    len().cast(DataType::Int64).alias("n"),
+                    fixed_point(col(quantity), lo, hi).sum().alias("sum"),
+                ]),
+        )?;
+        let (b, n, sum) = (ints(&df, "bin")?, ints(&df, "n")?, ints(&df, "sum")?);
+        Ok(variant_wheel(&df)?
+            .into_iter()
+            .enumerate()
+            .map(|(i, (variant, wheel))| HistogramBin {
+                variant,
+                wheel,
+                bin: b[i],
+                n: n[i],
+                fixed_sum: sum[i],
+            })
+            .collect())
+    }
+
+    /// Every row's outcome, sorted by variant, wheel and sample.
+    pub fn outcomes_by_sample(&self) -> Result<Vec<RowOutcome>, AnalysisError> {
+        let df = collect(
+            self.lf
+                .clone()
+                .select([
+                    col("variant"),
+                    col("wheel"),
+                    col("sample_id"),
+                    col("class"),
+                    col("amp_v_mps"),
+                ])
+                .sort(
+                    ["variant", "wheel", "sample_id"],
+                    SortMultipleOptions::default(),
+                ),
+        )?;
+        let groups = variant_wheel(&df)?;
+        let (sid, class, amp) = (
+            ints(&df, "sample_id")?,
+            strs(&df, "class")?,
+            floats(&df, "amp_v_mps")?,
+        );
+        groups
+            .into_iter()
+            .enumerate()
+            .map(|(i, (variant, wheel))| {
+                Ok(RowOutcome {
+                    variant,
+                    wheel,
+                    sample_id: sid[i],
+                    class: class[i].parse().map_err(AnalysisError::Row)?,
+                    amp_v_mps: amp[i],
+                })
+            })
+            .collect()
+    }
+}
+
+/// Samples per (variant, follower code + 3 × driving code) ([`outcome_code`]).
+pub type PairCounts = BTreeMap<(Variant, i64), u64>;
+
+/// Samples per (variant, follower code + 3 × driving code) ([`outcome_code`]) in one streaming
+/// pass, pairing each follower row with the row after it: explore writes each sample's rows
+/// together, variant by variant, follower then driving. The query checks that (same sample_id
+/// and variant, driving wheel) for every follower row; None when the files are ordered
+/// otherwise (then [`pairs_by_sample`] pairs them).
+pub fn pairs_in_row_order(files: &[PathBuf]) -> Result<Option<PairCounts>, AnalysisError> {
+    let lf = Rows::scan(files)?.lf;
+    let next = |c: &str| col(c).shift(lit(-1i64));
+    let df = collect(
+        lf.select([
+            col("variant"),
+            col("wheel"),
+            col("sample_id"),
+            outcome_expr().alias("code"),
+        ])
+        .select([
+            col("variant"),
+            col("code"),
+            next("code").alias("next_code"),
+            col("wheel")
+                .eq(lit(Wheel::Follower.as_str()))
+                .alias("is_follower"),
+            next("sample_id")
+                .eq(col("sample_id"))
+                .and(next("variant").eq(col("variant")))
+                .and(next("wheel").eq(lit(Wheel::Driving.as_str())))
+                .fill_null(lit(false))
+                .alias("pair_ok"),
+        ])
+        .filter(col("is_follower"))
+        .group_by([
+            col("variant"),
+            col("pair_ok"),
+            col("code"),
+            col("next_code"),
+        ])
+        .agg([len().cast(DataType::Int64).alias("n")]),
+    )?;
+    let ok: Vec<bool> = df
+        .column("pair_ok")
+        .map_err(pl_err)?
+        .bool()
+        .map_err(pl_err)?
+        .iter()
+        .map(|v| v.unwrap_or(false))
+        .collect();
+    if ok.iter().any(|v| !v) {
+        return Ok(None);
+    }
+    let (v, f, d, n) = (
+        strs(&df, "variant")?,
+        ints(&df, "code")?,
+        ints(&df, "next_code")?,
+        ints(&df, "n")?,
+    );
+    let mut combos = PairCounts::new();
+    for i in 0..df.height() {
+        let variant = v[i].parse().map_err(AnalysisError::Row)?;
+        *combos.entry((variant, f[i] + 3 * d[i])).or_default() += n[i] as u64;
+    }
+    Ok(Some(combos))
+}
+
+/// [`pairs_in_row_order`] by grouping the rows by sample, for files in any row order. The two
+/// wheels of a sample always lie in the same chunk file, so the files are grouped in batches of
+/// about `batch_rows` rows: the group-by never holds more than one batch's samples.
+pub fn pairs_by_sample(files: &[PathBuf], batch_rows: u64) -> Result<PairCounts, AnalysisError> {
+    // Per sample: follower + 3 × driving.
+    let weight = when(col("wheel").eq(lit(Wheel::Follower.as_str())))
+        .then(lit(1i64))
+        .otherwise(lit(3i64));
+    let mut combos = PairCounts::new();
+    let mut start = 0;
+    while start < files.len() {
+        let mut end = start;
+        let mut rows = 0u64;
+        while end < files.len() && (end == start || rows < batch_rows) {
+            rows += file_rows(&files[end]);
+            end += 1;
+        }
+        let lf = Rows::scan(&files[start..end])?.lf;
+        let df = collect(
+            lf.select([
+                col("variant"),
+                col("sample_id"),
+                (outcome_expr() * weight.clone()).alias("code"),
+            ])
+            .group_by([col("variant"), col("sample_id")])
+            .agg([col("code").sum().alias("combo")])
+            .group_by([col("variant"), col("combo")])
+            .agg([len().cast(DataType::Int64).alias("n")]),
+        )?;
+        let v = strs(&df, "variant")?;
+        let c = ints(&df, "combo")?;
+        let n = ints(&df, "n")?;
+        for i in 0..df.height() {
+            let variant = v[i].parse().map_err(AnalysisError::Row)?;
+            *combos.entry((variant, c[i])).or_default() += n[i] as u64;
+        }
+        start = end;
+    }
+    Ok(combos)
+}
+
+/// Rows of a Parquet file, from its footer (0 when it cannot be read: the scan then says why).
+fn file_rows(path: &Path) -> u64 {
+    use parquet::file::reader::{FileReader, SerializedFileReader};
+    std::fs::File::open(path)
+        .ok()
+        .and_then(|f| SerializedFileReader::new(f).ok())
+        .map(|r| r.metadata().file_metadata().num_rows() as u64)
+        .unwrap_or(0)
+}
+
+/// Units of the fixed-point sums: 2^32 per range, so up to 2^31 rows sum without overflow.
+pub const FIXED_POINT_SCALE: f64 = 4_294_967_296.0;
+
+/// A value in [lo, hi] as a whole number of 2^-32 ranges above `lo`: integer sums are exact and
+/// do not depend on the order polars adds the rows in, so the mean is the same whatever the
+/// threads, shards or files (a float sum is not).
+fn fixed_point(x: Expr, lo: f64, hi: f64) -> Expr {
+    let scale = if hi > lo {
+        FIXED_POINT_SCALE / (hi - lo)
+    } else {
+        0.0
+    };
+    ((x - lit(lo)) * lit(scale) + lit(0.5)).cast(DataType::Int64)
+}
+
+/// The bin index as a polars expression (Int64), by the rule of [`Bins::index`].
+fn bin_expr(bins: &Bins, x: Expr) -> Expr {
+    if bins.levels {
+        return bins.midpoints().fold(lit(0i64), |acc, m| {
+            acc + x.clone().gt(lit(m)).cast(DataType::Int64)
+        });
+    }
+    let (lo, hi) = (bins.edges[0], *bins.edges.last().unwrap());
+    let n = bins.count() as i64;
+    if hi <= lo {
+        return lit(0i64);
+    }
+    let raw = ((x - lit(lo)) * lit(n as f64 / (hi - lo))).cast(DataType::Int64);
+    when(raw.clone().gt_eq(lit(n)))
+        .then(lit(n - 1))
+        .when(raw.clone().lt(lit(0i64)))
+        .then(lit(0i64))
+        .otherwise(raw)
+}
+
+/// Runs a query on polars' streaming engine.
+fn collect(lf: LazyFrame) -> Result<DataFrame, AnalysisError> {
+    lf.collect_with_engine(Engine::Streaming)
+        .map(|r| r.unwrap_single())
+        .map_err(pl_err)
+}
+
+fn vib_expr() -> Expr {
+    col("class")
+        .eq(lit(Class::LimitCycle.as_str()))
+        .or(col("class").eq(lit(Class::Bistable.as_str())))
+}
+
+/// [`outcome_code`] of the row's class; a class this version does not know is unclassified.
+fn outcome_expr() -> Expr {
+    Class::ALL.iter().rev().fold(lit(2i64), |otherwise, c| {
+        when(col("class").eq(lit(c.as_str())))
+            .then(lit(outcome_code(*c)))
+            .otherwise(otherwise)
+    })
+}
+
+fn strs(df: &DataFrame, name: &str) -> Result<Vec<String>, AnalysisError> {
+    Ok(df
+        .column(name)
+        .map_err(pl_err)?
+        .str()
+        .map_err(pl_err)?
+        .iter()
+        .map(|s| s.unwrap_or("").to_string())
+        .collect())
+}
+
+fn ints(df: &DataFrame, name: &str) -> Result<Vec<i64>, AnalysisError> {
+    let c = df
+        .column(name)
+        .map_err(pl_err)?
+        .cast(&DataType::Int64)
+        .map_err(pl_err)?;
+    Ok(c.i64()
+        .map_err(pl_err)?
+        .iter()
+        .map(|v| v.unwrap_or(-1))
+        .collect())
+}
+
+fn floats(df: &DataFrame, name: &str) -> Result<Vec<f64>, AnalysisError> {
+    let c = df
+        .column(name)
+        .map_err(pl_err)?
+        .cast(&DataType::Float64)
+        .map_err(pl_err)?;
+    Ok(c.f64()
+        .map_err(pl_err)?
+        .iter()
+        .map(|v| v.unwrap_or(f64::NAN))
+        .collect())
+}
+
+/// Variant and wheel of each row of a grouped table.
+fn variant_wheel(df: &DataFrame) -> Result<Vec<(Variant, Wheel)>, AnalysisError> {
+    let v = strs(df, "variant")?;
+    let w = strs(df, "wheel")?;
+    v.iter()
+        .zip(&w)
+        .map(|(v, w)| {
+            Ok((
+                v.parse::<Variant>().map_err(AnalysisError::Row)?,
+                w.parse::<Wheel>().map_err(AnalysisError::Row)?,
+            ))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn polars_bin_expression_agrees_with_index() {
+        let values: Vec<f64> = (0..=200).map(|i| i as f64 * 0.5).collect();
+        for bins in [
+            Bins::equal_width(0.0, 100.0, 7),
+            Bins::levels(vec![0.0, 10.0, 55.5, 100.0]),
+        ] {
+            let df = df!("x" => values.clone()).unwrap();
+            let out = df
+                .lazy()
+                .select([bin_expr(&bins, col("x")).alias("b")])
+                .collect()
+                .unwrap();
+            let got = ints(&out, "b").unwrap();
+            for (v, b) in values.iter().zip(got) {
+                assert_eq!(Some(b as usize), bins.index(*v), "{v} in {bins:?}");
+            }
+        }
+    }
+}

@@ -1,0 +1,157 @@
+//! Render stage: writes an [`Analysis`] as files: the tables ([`tables`], CSV and Parquet), the
+//! figures ([`figures`]) and `report.md` ([`markdown`]), which ties them together in words. It
+//! computes nothing; everything it shows is in the `Analysis`.
+
+pub mod figures;
+pub mod markdown;
+pub mod tables;
+
+use std::path::{Path, PathBuf};
+
+use crate::analysis::Analysis;
+use crate::model::Variant;
+use crate::params::ParamId;
+
+/// Where and how the report is written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RenderOptions {
+    /// Where the tables, figures and `report.md` go (created when missing).
+    pub out_dir: PathBuf,
+    /// File type of the figures: `png` or `svg` ([`crate::plot::backend::FORMATS`]).
+    pub figure_format: &'static str,
+}
+
+/// A risk map's figure.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RiskMapFigure {
+    /// The friction variant.
+    pub variant: Variant,
+    /// The horizontal axis.
+    pub x: ParamId,
+    /// The vertical axis.
+    pub y: ParamId,
+    /// The file.
+    pub path: PathBuf,
+}
+
+/// The figures written, by kind.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Figures {
+    /// P(limit cycle) per bin of every drawn parameter, one figure per variant.
+    pub conditional: Vec<(Variant, PathBuf)>,
+    /// One figure per risk map (pair of axes and variant), in the analysis' map order.
+    pub risk_maps: Vec<RiskMapFigure>,
+    /// Severity histograms, one figure per variant.
+    pub severity: Vec<(Variant, PathBuf)>,
+}
+
+impl Figures {
+    /// Every figure, in the order written.
+    pub fn paths(&self) -> impl Iterator<Item = &Path> {
+        self.conditional
+            .iter()
+            .map(|(_, p)| p.as_path())
+            .chain(self.risk_maps.iter().map(|f| f.path.as_path()))
+            .chain(self.severity.iter().map(|(_, p)| p.as_path()))
+    }
+}
+
+/// What was written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rendered {
+    /// The tables (CSV and Parquet), in order.
+    pub tables: Vec<PathBuf>,
+    /// The figures.
+    pub figures: Figures,
+    /// `report.md`.
+    pub report: PathBuf,
+}
+
+impl Rendered {
+    /// Every file written: tables, figures, then the page.
+    pub fn files(&self) -> Vec<PathBuf> {
+        self.tables
+            .iter()
+            .cloned()
+            .chain(self.figures.paths().map(Path::to_path_buf))
+            .chain([self.report.clone()])
+            .collect()
+    }
+}
+
+/// Why a report cannot be written.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RenderError {
+    /// The output directory or the page cannot be written.
+    #[error("{}: {message}", path.display())]
+    Io {
+        /// The file or directory.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// A table cannot be written.
+    #[error("{0}")]
+    Write(String),
+    /// A figure cannot be drawn.
+    #[error("{0}")]
+    Figure(String),
+}
+
+/// Writes the tables, figures and `report.md` of `a` into `opts.out_dir`.
+pub fn write(a: &Analysis, opts: &RenderOptions) -> Result<Rendered, RenderError> {
+    let dir = &opts.out_dir;
+    std::fs::create_dir_all(dir).map_err(|e| RenderError::Io {
+        path: dir.clone(),
+        message: e.to_string(),
+    })?;
+    let tables = tables::write_all(dir, a)?;
+    let figures = write_figures(a, opts)?;
+    let page = markdown::page(a, &figures);
+    let report = dir.join("report.md");
+    std::fs::write(&report, page).map_err(|e| RenderError::Io {
+        path: report.clone(),
+        message: e.to_string(),
+    })?;
+    Ok(Rendered {
+        tables,
+        figures,
+        report,
+    })
+}
+
+fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderError> {
+    let (dir, ext) = (&opts.out_dir, opts.figure_format);
+    let min_count = a.options.min_count;
+    let info = &a.info;
+    let label = |p: ParamId| crate::params::axis_label(p.name(), info.unit(p.name()));
+    let mut out = Figures::default();
+    for variant in a.variants() {
+        let p = dir.join(format!("conditional_{variant}.{ext}"));
+        figures::conditional(
+            &p,
+            variant,
+            &info.drawn_names,
+            &label,
+            &a.conditional,
+            min_count,
+        )?;
+        out.conditional.push((variant, p));
+    }
+    for map in &a.maps {
+        let p = dir.join(format!("riskmap_{}_{}_{}.{ext}", map.x, map.y, map.variant));
+        figures::risk_map(&p, map, &label, min_count)?;
+        out.risk_maps.push(RiskMapFigure {
+            variant: map.variant,
+            x: map.x,
+            y: map.y,
+            path: p,
+        });
+    }
+    for variant in a.variants() {
+        let p = dir.join(format!("severity_{variant}.{ext}"));
+        figures::severity(&p, variant, &a.severity)?;
+        out.severity.push((variant, p));
+    }
+    Ok(out)
+}

@@ -1,0 +1,282 @@
+//! The analysis' tables, each as CSV (RFC 4180) and Parquet with the run's metadata in its
+//! footer: one row per variant and wheel (occurrence), variant (paired), bin (conditional),
+//! cell (risk maps), quantity (severity), parameter (sensitivity) or decoding (robustness).
+
+use std::path::{Path, PathBuf};
+
+use super::RenderError;
+use crate::analysis::conditional::BinStat;
+use crate::analysis::counts::ClassCounts;
+use crate::analysis::occurrence::Occurrence;
+use crate::analysis::paired::Paired;
+use crate::analysis::risk_map::RiskMap;
+use crate::analysis::robustness::Robustness;
+use crate::analysis::sensitivity::Sensitivity;
+use crate::analysis::severity::Severity;
+use crate::analysis::Analysis;
+use crate::classify::Class;
+use crate::model::{Variant, Wheel};
+use crate::parquet_out::{write_csv, write_table, Column};
+
+/// Writes every table of `a` into `dir`; returns the files written, in order.
+pub fn write_all(dir: &Path, a: &Analysis) -> Result<Vec<PathBuf>, RenderError> {
+    let mut files = Vec::new();
+    let min_count = a.options.min_count;
+    let meta = table_metadata(a);
+    write_tables(
+        dir,
+        "occurrence",
+        &occurrence_columns(&a.occurrence),
+        &meta,
+        &mut files,
+    )?;
+    write_tables(dir, "paired", &paired_columns(&a.paired), &meta, &mut files)?;
+    write_tables(
+        dir,
+        "conditional",
+        &conditional_columns(&a.conditional, min_count),
+        &meta,
+        &mut files,
+    )?;
+    for (x, y) in &a.options.pairs {
+        let of_pair: Vec<&RiskMap> = a.maps.iter().filter(|m| m.x == *x && m.y == *y).collect();
+        if !of_pair.is_empty() {
+            write_tables(
+                dir,
+                &format!("riskmap_{x}_{y}"),
+                &riskmap_columns(&of_pair, min_count),
+                &meta,
+                &mut files,
+            )?;
+        }
+    }
+    write_tables(
+        dir,
+        "severity",
+        &severity_columns(&a.severity),
+        &meta,
+        &mut files,
+    )?;
+    if let Some(sens) = &a.sensitivity {
+        write_tables(
+            dir,
+            "sensitivity",
+            &sensitivity_columns(sens),
+            &meta,
+            &mut files,
+        )?;
+    }
+    if let Some(r) = &a.robustness {
+        write_tables(
+            dir,
+            "robustness",
+            &robustness_columns(r, min_count),
+            &meta,
+            &mut files,
+        )?;
+    }
+    Ok(files)
+}
+
+/// Footer metadata of the Parquet tables: which run and settings they come from.
+fn table_metadata(a: &Analysis) -> Vec<(String, String)> {
+    let info = &a.info;
+    vec![
+        ("study_name".into(), info.study_name.clone()),
+        ("study_hash".into(), info.study_hash.clone()),
+        ("seed".into(), info.seed.to_string()),
+        ("variant".into(), info.variant_text()),
+        ("samples".into(), info.samples.to_string()),
+        ("samples_present".into(), info.samples_present.to_string()),
+        ("min_count".into(), a.options.min_count.to_string()),
+        (
+            "polywear_version".into(),
+            env!("CARGO_PKG_VERSION").to_string(),
+        ),
+    ]
+}
+
+/// Writes one table as `stem.csv` (RFC 4180) and `stem.parquet`.
+fn write_tables(
+    dir: &Path,
+    stem: &str,
+    cols: &[Column],
+    meta: &[(String, String)],
+    files: &mut Vec<PathBuf>,
+) -> Result<(), RenderError> {
+    let csv = dir.join(format!("{stem}.csv"));
+    write_csv(&csv, cols).map_err(|e| RenderError::Write(e.to_string()))?;
+    files.push(csv);
+    let pq = dir.join(format!("{stem}.parquet"));
+    write_table(&pq, cols, meta).map_err(|e| RenderError::Write(e.to_string()))?;
+    files.push(pq);
+    Ok(())
+}
+
+fn count_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> u64) -> Column {
+    Column::i64(name, "", rows.iter().map(|r| f(r) as i64).collect())
+}
+
+fn f64_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> f64) -> Column {
+    Column::f64(name, "", rows.iter().map(f).collect())
+}
+
+fn str_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> String) -> Column {
+    Column::str(name, rows.iter().map(f).collect())
+}
+
+/// The class-count columns every probability table carries: classified rows (`samples`),
+/// vibrating rows, p with its Wilson interval, and the unclassified rows on their own.
+fn class_columns<T>(rows: &[T], counts: impl Fn(&T) -> ClassCounts, min_count: u64) -> Vec<Column> {
+    let c = |r: &T| counts(r);
+    vec![
+        count_col("samples", rows, |r| c(r).classified()),
+        count_col("vibrating", rows, |r| c(r).vibrating()),
+        f64_col("p", rows, |r| {
+            if c(r).enough(min_count) {
+                c(r).p()
+            } else {
+                f64::NAN
+            }
+        }),
+        f64_col("wilson95_lo", rows, |r| c(r).wilson().0),
+        f64_col("wilson95_hi", rows, |r| c(r).wilson().1),
+        count_col(Class::Stable.as_str(), rows, |r| c(r).get(Class::Stable)),
+        count_col(Class::LimitCycle.as_str(), rows, |r| {
+            c(r).get(Class::LimitCycle)
+        }),
+        count_col(Class::Bistable.as_str(), rows, |r| {
+            c(r).get(Class::Bistable)
+        }),
+        count_col(Class::NoTraction.as_str(), rows, |r| c(r).no_traction()),
+        count_col(Class::Failed.as_str(), rows, |r| c(r).failed()),
+    ]
+}
+
+fn occurrence_columns(o: &[Occurrence]) -> Vec<Column> {
+    let mut cols = vec![
+        str_col("variant", o, |x| x.variant.to_string()),
+        str_col("wheel", o, |x| x.wheel.to_string()),
+    ];
+    cols.extend(class_columns(o, |x| x.counts, 1));
+    cols
+}
+
+fn paired_columns(p: &[Paired]) -> Vec<Column> {
+    vec![
+        str_col("variant", p, |x| x.variant.to_string()),
+        count_col("pairs", p, |x| x.pairs),
+        count_col("only_follower", p, |x| x.only_follower),
+        count_col("only_driving", p, |x| x.only_driving),
+        count_col("both", p, |x| x.both),
+        count_col("neither", p, |x| x.neither),
+        count_col("unclassified_pairs", p, |x| x.unclassified),
+        f64_col("mcnemar_chi2", p, |x| x.chi2),
+        f64_col("p_value", p, |x| x.p_value),
+        str_col("method", p, |x| x.method.to_string()),
+    ]
+}
+
+fn conditional_columns(b: &[BinStat], min_count: u64) -> Vec<Column> {
+    let mut cols = vec![
+        str_col("variant", b, |x| x.variant.to_string()),
+        str_col("wheel", b, |x| x.wheel.to_string()),
+        str_col("axis", b, |x| x.axis.to_string()),
+        f64_col("bin_lo", b, |x| x.lo),
+        f64_col("bin_hi", b, |x| x.hi),
+        f64_col("bin_mid", b, |x| x.mid),
+    ];
+    cols.extend(class_columns(b, |x| x.counts, min_count));
+    cols
+}
+
+fn riskmap_columns(maps: &[&RiskMap], min_count: u64) -> Vec<Column> {
+    // (variant, wheel, x_lo, x_hi, y_lo, y_hi, counts)
+    type Cell = (Variant, Wheel, f64, f64, f64, f64, ClassCounts);
+    let mut rows: Vec<Cell> = Vec::new();
+    for map in maps {
+        for (wheel, grid) in &map.cells {
+            for (ix, col) in grid.iter().enumerate() {
+                for (iy, c) in col.iter().enumerate() {
+                    let (xl, xh, _) = map.x_bins.range(ix);
+                    let (yl, yh, _) = map.y_bins.range(iy);
+                    rows.push((map.variant, *wheel, xl, xh, yl, yh, *c));
+                }
+            }
+        }
+    }
+    let (x, y) = (&maps[0].x, &maps[0].y);
+    let mut cols = vec![
+        str_col("variant", &rows, |r| r.0.to_string()),
+        str_col("wheel", &rows, |r| r.1.to_string()),
+        f64_col(&format!("{x}_lo"), &rows, |r| r.2),
+        f64_col(&format!("{x}_hi"), &rows, |r| r.3),
+        f64_col(&format!("{y}_lo"), &rows, |r| r.4),
+        f64_col(&format!("{y}_hi"), &rows, |r| r.5),
+    ];
+    cols.extend(class_columns(&rows, |r| r.6, min_count));
+    cols
+}
+
+fn severity_columns(s: &[Severity]) -> Vec<Column> {
+    vec![
+        str_col("variant", s, |x| x.variant.to_string()),
+        str_col("wheel", s, |x| x.wheel.to_string()),
+        str_col("quantity", s, |x| x.quantity.to_string()),
+        str_col("unit", s, |x| x.unit.to_string()),
+        count_col("limit_cycles", s, |x| x.n),
+        f64_col("mean", s, |x| x.mean),
+        f64_col("q05", s, |x| x.quantiles[0]),
+        f64_col("q25", s, |x| x.quantiles[1]),
+        f64_col("median", s, |x| x.quantiles[2]),
+        f64_col("q75", s, |x| x.quantiles[3]),
+        f64_col("q95", s, |x| x.quantiles[4]),
+    ]
+}
+
+fn sensitivity_columns(s: &[Sensitivity]) -> Vec<Column> {
+    vec![
+        str_col("variant", s, |x| x.variant.to_string()),
+        str_col("wheel", s, |x| x.wheel.to_string()),
+        str_col("output", s, |x| x.output.to_string()),
+        str_col("param", s, |x| x.param.to_string()),
+        count_col("base_samples", s, |x| x.base_samples),
+        f64_col("first_order", s, |x| x.s.0),
+        f64_col("first_order_lo", s, |x| x.s.1),
+        f64_col("first_order_hi", s, |x| x.s.2),
+        f64_col("total", s, |x| x.st.0),
+        f64_col("total_lo", s, |x| x.st.1),
+        f64_col("total_hi", s, |x| x.st.2),
+        count_col("base_samples_left_out", s, |x| x.left_out),
+    ]
+}
+
+fn robustness_columns(r: &Robustness, min_count: u64) -> Vec<Column> {
+    let d = &r.decodings;
+    let mut cols = vec![str_col("variant", d, |x| x.variant.to_string())];
+    for (i, p) in r.params.iter().enumerate() {
+        cols.push(f64_col(p.name(), d, |x| x.values[i]));
+    }
+    cols.extend([
+        count_col("follower_samples", d, |x| x.follower.classified()),
+        count_col("follower_vibrating", d, |x| x.follower.vibrating()),
+        f64_col("follower_p", d, |x| x.follower.p()),
+        count_col("driving_samples", d, |x| x.driving.classified()),
+        count_col("driving_vibrating", d, |x| x.driving.vibrating()),
+        f64_col("driving_p", d, |x| x.driving.p()),
+        count_col("unclassified", d, |x| {
+            x.follower.total() - x.follower.classified() + x.driving.total()
+                - x.driving.classified()
+        }),
+        str_col("driving_less_exposed", d, |x| {
+            if !x.comparable(min_count) {
+                "too few samples".into()
+            } else if x.driving_less_exposed() {
+                "yes".into()
+            } else {
+                "no".into()
+            }
+        }),
+    ]);
+    cols
+}
