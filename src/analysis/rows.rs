@@ -19,6 +19,7 @@ use super::counts::{outcome_code, ClassCounts};
 use super::AnalysisError;
 use crate::classify::Class;
 use crate::model::{Variant, Wheel};
+use crate::text_enum::UnknownName;
 
 fn pl_err(e: PolarsError) -> AnalysisError {
     AnalysisError::Query(e.to_string())
@@ -284,7 +285,9 @@ impl Rows {
                     variant,
                     wheel,
                     sample_id: sid[i],
-                    class: class[i].parse().map_err(AnalysisError::Row)?,
+                    class: class[i]
+                        .parse()
+                        .map_err(|e: UnknownName| AnalysisError::Row(e.to_string()))?,
                     amp_v_mps: amp[i],
                 })
             })
@@ -352,7 +355,9 @@ pub fn pairs_in_row_order(files: &[PathBuf]) -> Result<Option<PairCounts>, Analy
     );
     let mut combos = PairCounts::new();
     for i in 0..df.height() {
-        let variant = v[i].parse().map_err(AnalysisError::Row)?;
+        let variant = v[i]
+            .parse()
+            .map_err(|e: UnknownName| AnalysisError::Row(e.to_string()))?;
         *combos.entry((variant, f[i] + 3 * d[i])).or_default() += n[i] as u64;
     }
     Ok(Some(combos))
@@ -391,7 +396,9 @@ pub fn pairs_by_sample(files: &[PathBuf], batch_rows: u64) -> Result<PairCounts,
         let c = ints(&df, "combo")?;
         let n = ints(&df, "n")?;
         for i in 0..df.height() {
-            let variant = v[i].parse().map_err(AnalysisError::Row)?;
+            let variant = v[i]
+                .parse()
+                .map_err(|e: UnknownName| AnalysisError::Row(e.to_string()))?;
             *combos.entry((variant, c[i])).or_default() += n[i] as u64;
         }
         start = end;
@@ -511,8 +518,10 @@ fn variant_wheel(df: &DataFrame) -> Result<Vec<(Variant, Wheel)>, AnalysisError>
         .zip(&w)
         .map(|(v, w)| {
             Ok((
-                v.parse::<Variant>().map_err(AnalysisError::Row)?,
-                w.parse::<Wheel>().map_err(AnalysisError::Row)?,
+                v.parse::<Variant>()
+                    .map_err(|e| AnalysisError::Row(e.to_string()))?,
+                w.parse::<Wheel>()
+                    .map_err(|e| AnalysisError::Row(e.to_string()))?,
             ))
         })
         .collect()

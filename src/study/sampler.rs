@@ -23,7 +23,10 @@ impl Study {
             .operating_points
             .iter()
             .flat_map(|o| &o.names)
-            .map(|n| n.parse().expect("operating-point columns are parameter names"))
+            .map(|n| {
+                n.parse()
+                    .expect("operating-point columns are parameter names")
+            })
             .collect();
         Sampler {
             study: self,
