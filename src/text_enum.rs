@@ -16,13 +16,6 @@ pub struct UnknownName {
     pub accepted: &'static [&'static str],
 }
 
-/// The refusal as text, for callers whose own errors are still text.
-impl From<UnknownName> for String {
-    fn from(e: UnknownName) -> String {
-        e.to_string()
-    }
-}
-
 /// An enum written as text: its kind, for messages (the names come from the derive).
 pub trait TextEnum: strum::VariantNames {
     /// What the enum names, for messages ("class").
