@@ -23,13 +23,7 @@ pub fn time_series(
 ) -> Samples {
     let scales = Scales::new(&m.ode);
     let x0 = [scales.z_eq, scales.y_eq + disturbance_m, 0.0];
-    let sopts = SolverOptions {
-        rtol: 1e-9,
-        atol: scales.atol(1e-9),
-        h_max: 1e-3,
-        h0: None,
-        max_steps: 100_000_000,
-    };
+    let sopts = SolverOptions::transient(1e-9, scales.atol(1e-9), 100_000_000);
     let (samples, outcome) = sample_uniform(&m.ode, x0, duration_s, 1.0 / sample_rate_hz, &sopts);
     if let Err(e) = outcome {
         eprintln!("warning: {} wheel time series ends early: {e}", m.wheel);

@@ -36,13 +36,7 @@ pub fn track(
     rtol: f64,
     meter: &Meter,
 ) -> Result<Envelope, String> {
-    let opts = SolverOptions {
-        rtol,
-        atol: scales.atol(rtol),
-        h_max: 1e-3,
-        h0: None,
-        max_steps: 50_000_000,
-    };
+    let opts = SolverOptions::transient(rtol, scales.atol(rtol), 50_000_000);
     let mut hist: Vec<(f64, f64)> = Vec::new(); // (z, v) at crossings
     let mut verdict = None;
     let mut steady = 0;
@@ -123,13 +117,7 @@ pub fn brute_force(
     window_s: f64,
     rtol: f64,
 ) -> Result<(WindowMeasure, WindowMeasure, usize), String> {
-    let opts = SolverOptions {
-        rtol,
-        atol: scales.atol(rtol),
-        h_max: 1e-3,
-        h0: None,
-        max_steps: 500_000_000,
-    };
+    let opts = SolverOptions::transient(rtol, scales.atol(rtol), 500_000_000);
     let start = [scales.z_eq, scales.y_eq + disturbance_m, 0.0];
     measure_windows(ode, start, duration_s, window_s, &opts)
 }

@@ -563,13 +563,12 @@ fn settled_cycle(
     meter: &Meter,
 ) -> Result<WheelVerdict, String> {
     let period = 1.0 / lin.eig_freq_hz;
-    let opts = crate::solver::SolverOptions {
+    let opts = crate::solver::SolverOptions::per_period(
         rtol,
-        atol: scales.atol(rtol),
-        h_max: period / 8.0,
-        h0: None,
-        max_steps: meter.max_steps(1_000_000),
-    };
+        scales.atol(rtol),
+        period,
+        meter.max_steps(1_000_000),
+    );
     let window_s = 20.0 * period;
     let (prev, last, evals) =
         envelope::measure_windows(ode, start, 2.0 * window_s, window_s, &opts)?;

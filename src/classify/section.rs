@@ -48,10 +48,7 @@ pub fn metered<const N: usize, S: OdeSystem<N>>(
     meter: &Meter,
     mut on_step: impl FnMut(&Step<'_, N>) -> Control,
 ) -> Result<crate::solver::Outcome<N>, String> {
-    let opts = SolverOptions {
-        max_steps: meter.max_steps(opts.max_steps),
-        ..*opts
-    };
+    let opts = opts.with_max_steps(meter.max_steps(opts.max_steps));
     let out = integrate_with(method, sys, 0.0, start, t_end, &opts, |step| {
         if meter.out_of_time() {
             return Control::Stop;
