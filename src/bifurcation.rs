@@ -8,7 +8,7 @@ use rayon::prelude::*;
 
 use crate::classify::{classify_point, ClassifierOptions};
 use crate::model::{Variant, Wheel, WheelModel};
-use crate::numeric::brent;
+use crate::numeric::sign_change_roots;
 use crate::params::Params;
 use crate::plot::{self, Series};
 use crate::records::WheelRecord;
@@ -128,19 +128,20 @@ pub fn locate_hopf(
             .filter(|(j, _)| j.1 == wheel)
             .map(|(j, r)| (j.0, r.eig_re_max))
             .collect();
-        for w in pts.windows(2) {
-            let ((x0, f0), (x1, f1)) = (w[0], w[1]);
-            if f0.is_finite() && f1.is_finite() && (f0 < 0.0) != (f1 < 0.0) {
-                let tol = 1e-7 * x0.abs().max(x1.abs());
-                if let Some(x) = brent(|x| eig_re(base, name, x, wheel, variant), x0, x1, tol, 200)
-                {
-                    out.push(HopfPoint {
-                        wheel,
-                        value: x,
-                        destabilizing: (f1 > f0) == (x1 > x0),
-                        l1: l1_at(base, name, x, wheel, variant),
-                    });
-                }
+        let crossings = sign_change_roots(
+            pts,
+            |x| eig_re(base, name, x, wheel, variant),
+            |x0, x1| 1e-7 * x0.abs().max(x1.abs()),
+            200,
+        );
+        for c in crossings {
+            if let Some(x) = c.root {
+                out.push(HopfPoint {
+                    wheel,
+                    value: x,
+                    destabilizing: c.rising_with_x(),
+                    l1: l1_at(base, name, x, wheel, variant),
+                });
             }
         }
     }
