@@ -64,7 +64,7 @@ fn main() {
         };
         let stem = f.file_stem().unwrap().to_string_lossy().to_string();
         for d in &study.drawn {
-            cases.push((format!("{stem}.{}", d.name), d.dist.clone()));
+            cases.push((format!("{stem}.{}", d.param), d.dist.clone()));
         }
     }
     let tn = |mean, sd, min, max| Distribution::TruncatedNormal { mean, sd, min, max };

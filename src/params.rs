@@ -105,14 +105,16 @@ impl ParamSpec {
 }
 
 /// A parameter problem found before any work starts.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParamError {
     /// No parameter has this name.
+    #[error("unknown parameter `{name}`;{hint} accepted: {names}", hint = unknown_hint(name), names = ParamId::names().join(", "))]
     Unknown {
         /// The name given.
         name: String,
     },
     /// A value outside its parameter's accepted range.
+    #[error("parameter `{name}` = {} is outside its accepted range {range} {unit}", plain(*value, 12))]
     OutOfRange {
         /// The parameter.
         name: &'static str,
@@ -124,47 +126,24 @@ pub enum ParamError {
         unit: &'static str,
     },
     /// Values that do not fit together (e.g. μ_s above μ_m).
+    #[error("{message}")]
     Inconsistent {
         /// What does not fit, with the names and values.
         message: String,
     },
 }
 
-impl fmt::Display for ParamError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ParamError::Unknown { name } => {
-                let names: Vec<&str> = SPECS.iter().map(|s| s.name).collect();
-                let hint = suggest_name(name)
-                    .map(|s| format!(" did you mean `{s}`?"))
-                    .unwrap_or_default();
-                write!(
-                    f,
-                    "unknown parameter `{name}`;{hint} accepted: {}",
-                    names.join(", ")
-                )
-            }
-            ParamError::OutOfRange {
-                name,
-                value,
-                range,
-                unit,
-            } => write!(
-                f,
-                "parameter `{name}` = {} is outside its accepted range {range} {unit}",
-                plain(*value, 12)
-            ),
-            ParamError::Inconsistent { message } => write!(f, "{message}"),
-        }
-    }
+/// " did you mean `speed_kmh`?" for a misspelt name, or nothing.
+fn unknown_hint(name: &str) -> String {
+    suggest_name(name)
+        .map(|s| format!(" did you mean `{s}`?"))
+        .unwrap_or_default()
 }
 
-impl std::error::Error for ParamError {}
-
-/// Declares the [`Params`] struct, its defaults and the [`SPECS`] table from one list, so that a
-/// field, its name and its range can never drift apart.
+/// Declares the [`Params`] struct, its defaults, the [`ParamId`] enum and the [`SPECS`] table
+/// from one list, so that a field, its name, its identifier and its range can never drift apart.
 macro_rules! define_params {
-    ($( $field:ident : $symbol:literal, $unit:literal, $default:expr, $prov:ident, $group:ident,
+    ($( $id:ident $field:ident : $symbol:literal, $unit:literal, $default:expr, $prov:ident, $group:ident,
         $min:expr, $minx:literal, $max:expr, $int:literal, $desc:literal; )*) => {
         /// All model inputs in the units of their names (km/h, deg, N, kPa; SI otherwise).
         #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -174,6 +153,17 @@ macro_rules! define_params {
             fn default() -> Self { Params { $( $field: $default, )* } }
         }
 
+        /// One model parameter, typed: indexes [`Params`] (`p[ParamId::SpeedKmh]`) and names its
+        /// [`ParamSpec`]. Names become identifiers only by parsing (`"speed_kmh".parse()`), at
+        /// the edges where people type them (study files, `--set`, column headers).
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum ParamId { $( #[doc = $desc] $id, )* }
+
+        impl ParamId {
+            /// Every parameter, in the canonical column order (the order of [`SPECS`]).
+            pub const ALL: &'static [ParamId] = &[ $( ParamId::$id, )* ];
+        }
+
         /// Every parameter, in the canonical column order.
         pub const SPECS: &[ParamSpec] = &[ $( ParamSpec {
             name: stringify!($field), symbol: $symbol, unit: $unit, default: $default,
@@ -181,72 +171,73 @@ macro_rules! define_params {
             min_exclusive: $minx, max: $max, integer: $int, description: $desc,
         }, )* ];
 
-        impl Params {
-            /// Value of a parameter by its name.
-            pub fn get(&self, name: &str) -> Option<f64> {
-                match name { $( stringify!($field) => Some(self.$field), )* _ => None }
+        impl std::ops::Index<ParamId> for Params {
+            type Output = f64;
+            fn index(&self, id: ParamId) -> &f64 {
+                match id { $( ParamId::$id => &self.$field, )* }
             }
+        }
 
-            /// Mutable access by name, for `--set name=value`, studies and sweeps.
-            pub fn get_mut(&mut self, name: &str) -> Option<&mut f64> {
-                match name { $( stringify!($field) => Some(&mut self.$field), )* _ => None }
+        impl std::ops::IndexMut<ParamId> for Params {
+            fn index_mut(&mut self, id: ParamId) -> &mut f64 {
+                match id { $( ParamId::$id => &mut self.$field, )* }
             }
         }
     };
 }
 
 define_params! {
-    speed_kmh: "V", "km/h", 100.0, Decoded, OperatingPoint, 0.0, true, 400.0, false,
+    SpeedKmh speed_kmh: "V", "km/h", 100.0, Decoded, OperatingPoint, 0.0, true, 400.0, false,
         "Vehicle speed.";
-    toe_deg: "alpha", "deg", 0.3, Decoded, OperatingPoint, 0.0, true, 10.0, false,
+    ToeDeg toe_deg: "alpha", "deg", 0.3, Decoded, OperatingPoint, 0.0, true, 10.0, false,
         "Toe-in (slip) angle between wheel plane and vehicle velocity.";
-    load_n: "F_Z", "N", 4000.0, Decoded, OperatingPoint, 0.0, true, 50000.0, false,
+    LoadN load_n: "F_Z", "N", 4000.0, Decoded, OperatingPoint, 0.0, true, 50000.0, false,
         "Vertical load on the tire.";
-    pressure_kpa: "P", "kPa", 240.0, Decoded, OperatingPoint, 0.0, true, 2000.0, false,
+    PressureKpa pressure_kpa: "P", "kPa", 240.0, Decoded, OperatingPoint, 0.0, true, 2000.0, false,
         "Tire inflation pressure.";
-    r_b: "r_B", "m", 0.317, Paper, TireStructure, 0.0, true, 2.0, false,
+    RB r_b: "r_B", "m", 0.317, Paper, TireStructure, 0.0, true, 2.0, false,
         "Tire radius.";
-    r_w: "r_w", "m", 0.155, Paper, TireStructure, 0.0, true, 10.0, false,
+    RW r_w: "r_w", "m", 0.155, Paper, TireStructure, 0.0, true, 10.0, false,
         "Tread lateral curvature radius.";
-    b0: "b0", "m", 0.166, Paper, TireStructure, 0.0, true, 1.0, false,
+    B0 b0: "b0", "m", 0.166, Paper, TireStructure, 0.0, true, 1.0, false,
         "Crown width.";
-    xi: "xi", "-", 0.67, Decoded, TireStructure, 0.0, true, 10.0, false,
+    Xi xi: "xi", "-", 0.67, Decoded, TireStructure, 0.0, true, 10.0, false,
         "Structure constant of the contact length.";
-    psi: "psi", "1/m", 115.0, Decoded, TireStructure, 0.0, true, 1.0e4, false,
+    Psi psi: "psi", "1/m", 115.0, Decoded, TireStructure, 0.0, true, 1.0e4, false,
         "Structure constant of the contact width.";
-    tread_height: "h", "m", 0.015, Decoded, TireStructure, 0.0, true, 0.2, false,
+    TreadHeight tread_height: "h", "m", 0.015, Decoded, TireStructure, 0.0, true, 0.2, false,
         "Tread height.";
-    rho: "rho", "kg/m^3", 1250.0, Decoded, TireStructure, 0.0, true, 2.0e4, false,
+    Rho rho: "rho", "kg/m^3", 1250.0, Decoded, TireStructure, 0.0, true, 2.0e4, false,
         "Tread mass density.";
-    g_mod: "G", "Pa", 0.8557e6, Fitted, TireStructure, 0.0, true, 1.0e10, false,
+    GMod g_mod: "G", "Pa", 0.8557e6, Fitted, TireStructure, 0.0, true, 1.0e10, false,
         "Shear modulus of the tread rubber (reconstructed; R0 0.8645e6).";
-    c_brush: "C", "N/m^3", 3.537e7, Fitted, TireStructure, 0.0, true, 1.0e13, false,
+    CBrush c_brush: "C", "N/m^3", 3.537e7, Fitted, TireStructure, 0.0, true, 1.0e13, false,
         "Tangential elastic constant of rubber (brush stiffness per area; reconstructed; R0 3.6e7).";
-    alpha2: "alpha2", "m^2/N", 8.68e-9, Fitted, TireStructure, 0.0, false, 1.0e-3, false,
+    Alpha2 alpha2: "alpha2", "m^2/N", 8.68e-9, Fitted, TireStructure, 0.0, false, 1.0e-3, false,
         "Carcass deflection constant (digits all lost in the paper; R0 4.0e-8).";
-    mu_m: "mu_m", "-", 0.76, Decoded, Friction, 0.0, true, 5.0, false,
+    MuM mu_m: "mu_m", "-", 0.76, Decoded, Friction, 0.0, true, 5.0, false,
         "Maximum static friction coefficient.";
-    mu_s: "mu_s", "-", 0.63, Decoded, Friction, 0.0, true, 5.0, false,
+    MuS mu_s: "mu_s", "-", 0.63, Decoded, Friction, 0.0, true, 5.0, false,
         "Sliding friction coefficient (at most mu_m).";
-    v_s: "V_s", "m/s", 0.106, Fitted, Friction, 0.0, true, 100.0, false,
+    VS v_s: "V_s", "m/s", 0.106, Fitted, Friction, 0.0, true, 100.0, false,
         "Stribeck speed (lost-digit reading \"0.1?6\" chosen by the fit; R0 0.126).";
-    phi: "phi", "-", 0.9, Fitted, Friction, 0.0, true, 10.0, false,
+    Phi phi: "phi", "-", 0.9, Fitted, Friction, 0.0, true, 10.0, false,
         "Stribeck index, normally 0.5..2 (lost-digit reading \"0.9?\" chosen by the fit; R0 0.94).";
-    sigma1: "sigma1", "N s/m", 10.0, Decoded, Friction, 0.0, false, 1.0e6, false,
+    Sigma1 sigma1: "sigma1", "N s/m", 10.0, Decoded, Friction, 0.0, false, 1.0e6, false,
         "LuGre bristle damping.";
-    c_s: "C_s", "N s/m", 14.0, Fitted, Friction, 0.0, false, 1.0e6, false,
+    CS c_s: "C_s", "N s/m", 14.0, Fitted, Friction, 0.0, false, 1.0e6, false,
         "Tread lateral damping (lost-digit reading \"1?\" chosen by the fit; R0 18).";
-    c_d: "C_D", "-", 0.315, Paper, Vehicle, 0.0, false, 5.0, false,
+    CD c_d: "C_D", "-", 0.315, Paper, Vehicle, 0.0, false, 5.0, false,
         "Air-resistance coefficient (driving wheel only).";
-    area: "A", "m^2", 2.2, Decoded, Vehicle, 0.0, false, 50.0, false,
+    Area area: "A", "m^2", 2.2, Decoded, Vehicle, 0.0, false, 50.0, false,
         "Windward (frontal) area (driving wheel only).";
-    f0: "f0", "-", 0.0076, Reconstructed, Vehicle, 0.0, false, 1.0, false,
+    F0 f0: "f0", "-", 0.0076, Reconstructed, Vehicle, 0.0, false, 1.0, false,
         "Rolling resistance, constant term (textbook radial-tire formula).";
-    f1: "f1", "h/km", 0.000056, Reconstructed, Vehicle, 0.0, false, 0.1, false,
+    F1 f1: "f1", "h/km", 0.000056, Reconstructed, Vehicle, 0.0, false, 0.1, false,
         "Rolling resistance, speed term: f = f0 + f1 * V[km/h].";
-    n_wheels: "n_w", "-", 4.0, Reconstructed, Vehicle, 1.0, false, 64.0, true,
+    NWheels n_wheels: "n_w", "-", 4.0, Reconstructed, Vehicle, 1.0, false, 64.0, true,
         "Wheels sharing the rolling resistance.";
-    n_driven: "n_d", "-", 2.0, Reconstructed, Vehicle, 1.0, false, 64.0, true,
+    NDriven n_driven: "n_d", "-", 2.0, Reconstructed, Vehicle, 1.0, false, 64.0, true,
         "Driven wheels sharing the drive force.";
 }
 
@@ -254,14 +245,95 @@ define_params! {
 /// differ from them. The reference data in `tests/data/` was computed with R0; tests pass
 /// [`Params::r0`] so that defaults can move.
 /// `studies/params_r0.toml` holds the same values for `--params`.
-pub const R0_OVERRIDES: &[(&str, f64)] = &[
-    ("g_mod", 0.8645e6),
-    ("c_brush", 3.6e7),
-    ("alpha2", 4.0e-8),
-    ("v_s", 0.126),
-    ("phi", 0.94),
-    ("c_s", 18.0),
+pub const R0_OVERRIDES: &[(ParamId, f64)] = &[
+    (ParamId::GMod, 0.8645e6),
+    (ParamId::CBrush, 3.6e7),
+    (ParamId::Alpha2, 4.0e-8),
+    (ParamId::VS, 0.126),
+    (ParamId::Phi, 0.94),
+    (ParamId::CS, 18.0),
 ];
+
+/// The operating point, the axes studies explore and every record carries (speed, toe-in, load,
+/// pressure; MODEL.md#operating-point-and-wheels): the parameters of [`Group::OperatingPoint`],
+/// in column order.
+pub const OPERATING_AXES: [ParamId; 4] = [
+    ParamId::SpeedKmh,
+    ParamId::ToeDeg,
+    ParamId::LoadN,
+    ParamId::PressureKpa,
+];
+
+impl ParamId {
+    /// The parameters tied together by [`Params::validate`]'s cross-parameter rules (μ_s ≤ μ_m,
+    /// n_d ≤ n_w): drawing one of them can make a sample inconsistent.
+    pub const CROSS_RULES: [ParamId; 4] = [
+        ParamId::MuS,
+        ParamId::MuM,
+        ParamId::NDriven,
+        ParamId::NWheels,
+    ];
+
+    /// The parameter's row of the table: name, unit, default, accepted range.
+    pub fn spec(self) -> &'static ParamSpec {
+        &SPECS[self as usize]
+    }
+
+    /// The name used on the command line, in study files and in output columns.
+    pub fn name(self) -> &'static str {
+        self.spec().name
+    }
+
+    /// Every parameter's name, in column order.
+    pub fn names() -> Vec<&'static str> {
+        SPECS.iter().map(|s| s.name).collect()
+    }
+
+    /// Whether the parameter is one of the [`OPERATING_AXES`].
+    pub fn is_operating_axis(self) -> bool {
+        self.spec().group == Group::OperatingPoint
+    }
+
+    /// The parameter named in words for titles, axes and sentences (see [`label`]).
+    pub fn label(self) -> String {
+        label(self.name())
+    }
+}
+
+impl fmt::Display for ParamId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for ParamId {
+    type Err = ParamError;
+
+    /// Parses a parameter's exact name; an unknown one is refused with the accepted names and the
+    /// closest one.
+    fn from_str(name: &str) -> Result<ParamId, ParamError> {
+        SPECS
+            .iter()
+            .position(|s| s.name == name)
+            .map(|i| ParamId::ALL[i])
+            .ok_or_else(|| ParamError::Unknown {
+                name: name.to_string(),
+            })
+    }
+}
+
+impl serde::Serialize for ParamId {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for ParamId {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<ParamId, D::Error> {
+        let name = <std::borrow::Cow<'de, str>>::deserialize(d)?;
+        name.parse().map_err(serde::de::Error::custom)
+    }
+}
 
 /// Below this tire pressure \[kPa\] a value is more likely in bar (2.3 bar = 230 kPa).
 pub const PLAUSIBLE_PRESSURE_KPA: f64 = 50.0;
@@ -281,15 +353,16 @@ pub fn suggest_name(typed: &str) -> Option<&'static str> {
 /// "Pressure" for the operating point; otherwise the first clause of its description and its
 /// symbol ("Shear modulus of the tread rubber G"); an unknown name as it is.
 pub fn label(name: &str) -> String {
-    let short = match name {
-        "speed_kmh" => "Speed",
-        "toe_deg" => "Toe-in",
-        "load_n" => "Load",
-        "pressure_kpa" => "Pressure",
+    let Ok(id) = name.parse::<ParamId>() else {
+        return name.to_string();
+    };
+    let short = match id {
+        ParamId::SpeedKmh => "Speed",
+        ParamId::ToeDeg => "Toe-in",
+        ParamId::LoadN => "Load",
+        ParamId::PressureKpa => "Pressure",
         _ => {
-            let Some(s) = spec(name) else {
-                return name.to_string();
-            };
+            let s = id.spec();
             let clause = s.description.split([':', '.']).next().unwrap_or(name);
             let clause = clause.split(" (").next().unwrap_or(name).trim();
             return format!("{clause} {}", s.symbol);
@@ -309,9 +382,10 @@ pub fn axis_label(name: &str, unit: &str) -> String {
     }
 }
 
-/// Looks a parameter up by name.
+/// Looks a parameter up by name: the parsing boundary for names people type (prefer
+/// [`ParamId::spec`] once the name is parsed).
 pub fn spec(name: &str) -> Option<&'static ParamSpec> {
-    SPECS.iter().find(|s| s.name == name)
+    name.parse::<ParamId>().ok().map(ParamId::spec)
 }
 
 impl Params {
@@ -319,26 +393,40 @@ impl Params {
     /// [`R0_OVERRIDES`] applied.
     pub fn r0() -> Params {
         let mut p = Params::default();
-        for (name, value) in R0_OVERRIDES {
-            *p.get_mut(name).expect("R0 names are parameters") = *value;
+        for (id, value) in R0_OVERRIDES {
+            p[*id] = *value;
         }
         p
     }
 
-    /// Sets a parameter by name, checking its range.
+    /// Value of a parameter by its name: the parsing boundary for names read from text (output
+    /// metadata, `--set`); typed code indexes with a [`ParamId`].
+    pub fn get(&self, name: &str) -> Option<f64> {
+        name.parse::<ParamId>().ok().map(|id| self[id])
+    }
+
+    /// Mutable access by name, for names read from text; typed code indexes with a [`ParamId`].
+    pub fn get_mut(&mut self, name: &str) -> Option<&mut f64> {
+        name.parse::<ParamId>().ok().map(|id| &mut self[id])
+    }
+
+    /// Sets a parameter by name, checking its range: the parsing boundary for `--set name=value`
+    /// and named values in files (an unknown name is refused with the accepted names).
     pub fn set(&mut self, name: &str, value: f64) -> Result<(), ParamError> {
-        let spec = spec(name).ok_or_else(|| ParamError::Unknown {
-            name: name.to_string(),
-        })?;
-        spec.check(value)?;
-        *self.get_mut(name).expect("SPECS and Params agree") = value;
+        self.try_set(name.parse()?, value)
+    }
+
+    /// Sets a parameter, checking its accepted range.
+    pub fn try_set(&mut self, id: ParamId, value: f64) -> Result<(), ParamError> {
+        id.spec().check(value)?;
+        self[id] = value;
         Ok(())
     }
 
     /// Checks every value and the rules that tie several together. Called before any work.
     pub fn validate(&self) -> Result<(), ParamError> {
-        for s in SPECS {
-            s.check(self.get(s.name).expect("SPECS and Params agree"))?;
+        for &id in ParamId::ALL {
+            id.spec().check(self[id])?;
         }
         if self.mu_s > self.mu_m {
             return Err(ParamError::Inconsistent {
@@ -402,9 +490,9 @@ impl Params {
 
     /// `(name, value)` for every parameter, in canonical order (for metadata and records).
     pub fn pairs(&self) -> Vec<(&'static str, f64)> {
-        SPECS
+        ParamId::ALL
             .iter()
-            .map(|s| (s.name, self.get(s.name).expect("SPECS and Params agree")))
+            .map(|&id| (id.name(), self[id]))
             .collect()
     }
 }
@@ -421,6 +509,50 @@ mod tests {
             assert_eq!(p.get(s.name), Some(s.default), "{}", s.name);
         }
         assert_eq!(SPECS.len(), 26);
+        assert_eq!(ParamId::ALL.len(), SPECS.len());
+    }
+
+    #[test]
+    fn ids_index_their_own_field_and_name() {
+        // Index and name must agree field by field: give every field a distinct value through
+        // the struct literal's order (SPECS order) and read it back by id and by name.
+        let mut p = Params::default();
+        for (k, &id) in ParamId::ALL.iter().enumerate() {
+            p[id] = k as f64 + 0.5;
+        }
+        for (k, &id) in ParamId::ALL.iter().enumerate() {
+            assert_eq!(id.spec().name, SPECS[k].name);
+            assert_eq!(id.name().parse::<ParamId>(), Ok(id));
+            assert_eq!(p.get(id.name()), Some(k as f64 + 0.5), "{id}");
+            assert_eq!(p.pairs()[k], (id.name(), k as f64 + 0.5));
+        }
+        assert_eq!(p.speed_kmh, 0.5);
+        assert_eq!(p.n_driven, 25.5);
+        assert_eq!(p[ParamId::GMod], p.g_mod);
+    }
+
+    #[test]
+    fn operating_axes_are_the_operating_point_group() {
+        let group: Vec<ParamId> = ParamId::ALL
+            .iter()
+            .copied()
+            .filter(|id| id.spec().group == Group::OperatingPoint)
+            .collect();
+        assert_eq!(group, OPERATING_AXES);
+        assert!(OPERATING_AXES.iter().all(|a| a.is_operating_axis()));
+    }
+
+    #[test]
+    fn unknown_name_lists_the_accepted_and_the_closest() {
+        let e = "sped_kmh".parse::<ParamId>().unwrap_err();
+        assert_eq!(
+            e,
+            ParamError::Unknown {
+                name: "sped_kmh".into()
+            }
+        );
+        assert!(e.to_string().contains("did you mean `speed_kmh`?"));
+        assert!(e.to_string().ends_with("n_wheels, n_driven"), "{e}");
     }
 
     #[test]

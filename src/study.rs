@@ -7,7 +7,7 @@ use std::path::Path;
 use crate::classify::WheelBudget;
 use crate::model::Variant;
 use crate::operating_points::OperatingPoints;
-use crate::params::{spec, ParamError, ParamSpec, Params};
+use crate::params::{ParamError, ParamId, ParamSpec, Params};
 use crate::sampling::design::{
     grid_digits, Coordinates, Design, SALTELLI_MAX_AXES, SOBOL_MAX_AXES, SOBOL_MAX_SAMPLES,
 };
@@ -26,8 +26,8 @@ pub const DEFAULT_STUDY: &str = include_str!("../studies/default.toml");
 /// One drawn parameter.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DrawnParam {
-    /// The parameter's name.
-    pub name: &'static str,
+    /// The parameter.
+    pub param: ParamId,
     /// How it is drawn.
     pub dist: Distribution,
 }
@@ -402,7 +402,11 @@ pub fn apply_param_file(base: &Params, text: &str) -> Result<Params, StudyError>
         for (name, value) in params.table {
             let key = params.key(name);
             let x = toml_input::number(value, &key)?;
-            p.set(name, x)
+            let id: ParamId = name.parse().map_err(|source| StudyError::Param {
+                key: key.clone(),
+                source,
+            })?;
+            p.try_set(id, x)
                 .map_err(|source| StudyError::Param { key, source })?;
         }
     }
@@ -497,22 +501,22 @@ fn parse_params(top: &Section, mut base: Params) -> Result<(Params, Vec<DrawnPar
         let params = Section::of(v, "params", "a table")?;
         for (name, v) in params.table {
             let key = params.key(name);
-            let s = spec(name).ok_or_else(|| StudyError::Param {
+            let param: ParamId = name.parse().map_err(|source| StudyError::Param {
                 key: key.clone(),
-                source: ParamError::Unknown { name: name.clone() },
+                source,
             })?;
             match parse_param(name, v)? {
                 ParamEntry::Fixed(x) => base
-                    .set(s.name, x)
+                    .try_set(param, x)
                     .map_err(|source| StudyError::Param { key, source })?,
                 ParamEntry::Drawn(dist) => {
-                    check_support(s, &dist)?;
-                    drawn.push(DrawnParam { name: s.name, dist });
+                    check_support(param.spec(), &dist)?;
+                    drawn.push(DrawnParam { param, dist });
                 }
             }
         }
     }
-    drawn.sort_by_key(|d| crate::params::SPECS.iter().position(|s| s.name == d.name));
+    drawn.sort_by_key(|d| d.param);
     base.validate().map_err(StudyError::FixedParams)?;
     Ok((base, drawn))
 }
@@ -527,7 +531,7 @@ fn sample_count(top: &Section, design: Design, drawn: &[DrawnParam]) -> Result<u
                 let n = d
                     .dist
                     .grid_values()
-                    .ok_or_else(|| StudyError::GridNeedsLevels(format!("params.{}", d.name)))?;
+                    .ok_or_else(|| StudyError::GridNeedsLevels(format!("params.{}", d.param)))?;
                 size = size
                     .checked_mul(n.len() as u64)
                     .filter(|s| *s <= 1u64 << 40)
@@ -565,7 +569,7 @@ impl DrawnParam {
             }
             Distribution::Levels(levels) => json!({"dist": "levels", "levels": levels}),
         };
-        v["name"] = json!(self.name);
+        v["name"] = json!(self.param.name());
         v
     }
 }
@@ -711,7 +715,7 @@ impl Sampler<'_> {
                 .collect()
         };
         for (d, v) in self.study.drawn.iter().zip(&values) {
-            *p.get_mut(d.name).expect("drawn names are parameter names") = *v;
+            p[d.param] = *v;
         }
         (p, values)
     }
@@ -735,7 +739,7 @@ mod tests {
     fn default_study_parses() {
         let s = Study::parse(DEFAULT_STUDY).unwrap();
         assert_eq!(s.name, "highway_fleet");
-        assert!(s.drawn.iter().any(|d| d.name == "speed_kmh"));
+        assert!(s.drawn.iter().any(|d| d.param == ParamId::SpeedKmh));
     }
 
     #[test]

@@ -133,7 +133,7 @@ fn decoding_study_draws_each_decoded_constant_over_its_lost_digit_readings() {
     )
     .unwrap();
     let study = polywear::study::Study::parse(&text).unwrap();
-    let names: Vec<&str> = study.drawn.iter().map(|d| d.name).collect();
+    let names: Vec<&str> = study.drawn.iter().map(|d| d.param.name()).collect();
     for n in [
         "phi",
         "v_s",

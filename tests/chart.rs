@@ -600,9 +600,9 @@ fn analyze_overlay_traces_the_nominal_tire_at_the_study_median() {
         for d in study
             .drawn
             .iter()
-            .filter(|d| !["speed_kmh", "toe_deg"].contains(&d.name))
+            .filter(|d| !["speed_kmh", "toe_deg"].contains(&d.param.name()))
         {
-            *p.get_mut(d.name).unwrap() = d.dist.quantile(0.5);
+            p[d.param] = d.dist.quantile(0.5);
         }
         assert!((p.load_n - 4000.0).abs() < 100.0 && (p.g_mod - 0.8557e6).abs() < 1.0);
         p

@@ -49,7 +49,10 @@ fn twenty_axis_study(design: &str) -> (Study, Vec<(f64, f64)>) {
         .drawn
         .iter()
         .map(|d| {
-            let (_, min, max) = ranges.iter().find(|(n, _, _)| *n == d.name).unwrap();
+            let (_, min, max) = ranges
+                .iter()
+                .find(|(n, _, _)| *n == d.param.name())
+                .unwrap();
             (*min, *max)
         })
         .collect();

@@ -622,7 +622,7 @@ pub fn study_levels(info: &RunInfo, name: &str) -> Option<Vec<f64>> {
             return (levels.len() <= MAX_OPERATING_POINT_LEVELS).then_some(levels);
         }
     }
-    let d = study.drawn.iter().find(|d| d.name == name)?;
+    let d = study.drawn.iter().find(|d| d.param.name() == name)?;
     match &d.dist {
         Distribution::Levels(_) => d.dist.grid_values(),
         Distribution::Uniform { count: Some(_), .. } if study.design == Design::Grid => {
@@ -1138,8 +1138,10 @@ pub fn decoded_params(info: &RunInfo) -> Vec<String> {
     study
         .drawn
         .iter()
-        .filter(|d| matches!(d.dist, Distribution::Levels(_)) && !OPERATING_AXES.contains(&d.name))
-        .map(|d| d.name.to_string())
+        .filter(|d| {
+            matches!(d.dist, Distribution::Levels(_)) && !OPERATING_AXES.contains(&d.param.name())
+        })
+        .map(|d| d.param.name().to_string())
         .collect()
 }
 

@@ -32,7 +32,7 @@ pub fn structure_params(req: &ChartRequest, study: &Study) -> Vec<&'static str> 
     study
         .drawn
         .iter()
-        .map(|d| d.name)
+        .map(|d| d.param.name())
         .filter(|n| {
             let s = spec(n).expect("drawn names are parameters");
             s.group != Group::OperatingPoint && *n != req.x.name && *n != req.y.name
@@ -56,8 +56,8 @@ pub fn structure_band(
             let (_, values) = sampler.sample(i);
             let mut q = req.base;
             for (d, v) in study.drawn.iter().zip(values) {
-                if drawn.contains(&d.name) {
-                    *q.get_mut(d.name).expect("known") = v;
+                if drawn.contains(&d.param.name()) {
+                    q[d.param] = v;
                 }
             }
             q

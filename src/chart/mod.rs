@@ -160,8 +160,8 @@ pub fn nominal_curves(
     }
     let mut base = study.base;
     for d in &study.drawn {
-        if d.name != x && d.name != y {
-            *base.get_mut(d.name)? = d.dist.quantile(0.5);
+        if d.param.name() != x && d.param.name() != y {
+            base[d.param] = d.dist.quantile(0.5);
         }
     }
     let req = ChartRequest {

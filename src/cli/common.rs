@@ -6,7 +6,7 @@ use clap::{Args, ValueEnum};
 
 use polywear::classify::WheelBudget;
 use polywear::model::{Variant, Wheel};
-use polywear::params::{ParamError, Params};
+use polywear::params::{ParamError, ParamId, Params};
 
 /// An error that ends the program: printed as `error: …`, exit code 2.
 #[derive(Debug)]
@@ -35,13 +35,13 @@ pub type CliResult<T = ()> = Result<T, CliError>;
 /// The operating point and any other model parameter.
 #[derive(Debug, Args, Clone)]
 pub struct PointArgs {
-    #[arg(long, value_name = "KMH", allow_negative_numbers = true, help = flag_help("speed_kmh"))]
+    #[arg(long, value_name = "KMH", allow_negative_numbers = true, help = flag_help(ParamId::SpeedKmh))]
     pub speed: Option<f64>,
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true, help = flag_help("toe_deg"))]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true, help = flag_help(ParamId::ToeDeg))]
     pub toe: Option<f64>,
-    #[arg(long, value_name = "N", allow_negative_numbers = true, help = flag_help("load_n"))]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, help = flag_help(ParamId::LoadN))]
     pub load: Option<f64>,
-    #[arg(long, value_name = "KPA", allow_negative_numbers = true, help = flag_help("pressure_kpa"))]
+    #[arg(long, value_name = "KPA", allow_negative_numbers = true, help = flag_help(ParamId::PressureKpa))]
     pub pressure: Option<f64>,
     /// Any model parameter by name, e.g. `--set g_mod=0.9e6` (repeatable; `polywear params`
     /// lists names, units, defaults and ranges)
@@ -113,8 +113,8 @@ impl WheelArg {
 
 /// The help of an operating-point flag, from the parameter table: what it is, its unit, its
 /// accepted range and its default, e.g. "Vehicle speed [km/h], accepted (0, 400] [default: 100]".
-fn flag_help(name: &str) -> String {
-    let s = polywear::params::spec(name).expect("an operating-point parameter");
+fn flag_help(id: ParamId) -> String {
+    let s = id.spec();
     format!(
         "{} [{}], accepted {} [default: {}]",
         s.description.trim_end_matches('.'),
@@ -143,14 +143,14 @@ impl PointArgs {
         for (name, value) in &self.set {
             p.set(name, *value)?;
         }
-        for (name, value) in [
-            ("speed_kmh", self.speed),
-            ("toe_deg", self.toe),
-            ("load_n", self.load),
-            ("pressure_kpa", self.pressure),
+        for (id, value) in [
+            (ParamId::SpeedKmh, self.speed),
+            (ParamId::ToeDeg, self.toe),
+            (ParamId::LoadN, self.load),
+            (ParamId::PressureKpa, self.pressure),
         ] {
             if let Some(v) = value {
-                p.set(name, v)?;
+                p.try_set(id, v)?;
             }
         }
         p.validate()?;

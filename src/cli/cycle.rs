@@ -100,7 +100,7 @@ fn structures(
     let names: Vec<&'static str> = study
         .drawn
         .iter()
-        .map(|d| d.name)
+        .map(|d| d.param.name())
         .filter(|n| is_structure(n))
         .collect();
     if names.is_empty() {

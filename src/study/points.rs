@@ -5,7 +5,7 @@ use std::path::Path;
 
 use super::{DrawnParam, Sampler, Study, StudyError};
 use crate::operating_points::OperatingPoints;
-use crate::params::Params;
+use crate::params::{ParamId, Params};
 use crate::sampling::design::Design;
 use crate::toml_input::{self, Section};
 
@@ -33,7 +33,7 @@ pub(super) fn parse_operating_points(
     }
     let cross = drawn
         .iter()
-        .any(|d| ["mu_s", "mu_m", "n_driven", "n_wheels"].contains(&d.name));
+        .any(|d| ParamId::CROSS_RULES.contains(&d.param));
     let op = OperatingPoints::load(file, weight, dir, base, cross)
         .map_err(StudyError::OperatingPoints)?;
     let named = top.get("params").and_then(|p| p.as_table());
@@ -41,7 +41,7 @@ pub(super) fn parse_operating_points(
         if let Some(how) = named
             .and_then(|p| p.get(*name))
             .map(|v| match v.is_table() {
-                true if drawn.iter().any(|d| d.name == *name) => "drawn",
+                true if drawn.iter().any(|d| d.param.name() == *name) => "drawn",
                 _ => "fixed",
             })
         {
@@ -60,7 +60,7 @@ impl Study {
         let op = self.operating_points.iter().flat_map(|o| o.names.iter());
         self.drawn
             .iter()
-            .map(|d| d.name)
+            .map(|d| d.param.name())
             .chain(op.copied())
             .collect()
     }
