@@ -81,7 +81,7 @@ fn adhesion_ellipse(
             toe_deg: *a,
             ..*base
         };
-        let patch = tire::contact_patch(&p)?;
+        let patch = tire::contact_patch(&p).map_err(|e| e.to_string())?;
         let pts: Vec<(f64, f64)> = slips
             .iter()
             .map(|s| {
@@ -160,8 +160,8 @@ pub fn reproduce_as(
     let mut sweeps = Vec::new();
     for variant in Variant::ALL {
         for (axis, from, to) in AXES {
-            let name = crate::params::spec(axis).expect("known").name;
-            let sw = sweep(base, name, &linspace(from, to, steps), variant, &opts);
+            let param: crate::params::ParamId = axis.parse().expect("AXES are parameters");
+            let sw = sweep(base, param, &linspace(from, to, steps), variant, &opts);
             let png = dir.join(format!("bifurcation_{axis}_{variant}.{ext}"));
             sw.draw(&png)?;
             files.push(png);
@@ -227,7 +227,8 @@ pub fn reproduce_as(
             let (model, verdict) = classify_point(&p, wheel, variant, &opts);
             records.push(WheelRecord::new(&p, wheel, variant, &model, &verdict));
             if let Ok(m) = &model {
-                series.push((wheel, time_series(m, 3.0, 20_000.0, opts.disturbance_m)));
+                let ts = time_series(m, 3.0, 20_000.0, opts.disturbance_m);
+                series.push((wheel, ts.samples));
             }
         }
         let png = dir.join(format!("{name}.{ext}"));
@@ -237,8 +238,13 @@ pub fn reproduce_as(
     }
 
     // Stability charts of the four axes two at a time, both wheels (default variant).
+    let axes: Vec<(crate::params::ParamId, f64, f64)> = AXES
+        .iter()
+        .map(|&(name, from, to)| (name.parse().expect("AXES are parameters"), from, to))
+        .collect();
     let (chart_files, charts_md) =
-        crate::chart::pairs::operating_pairs(base, Variant::DEFAULT, &AXES, dir)?;
+        crate::chart::pairs::operating_pairs(base, Variant::DEFAULT, &axes, dir)
+            .map_err(|e| e.to_string())?;
     files.extend(chart_files);
 
     let paired = paired_comparison(base, paired_samples)?;
@@ -407,7 +413,7 @@ pub fn paired_comparison(base: &Params, samples: u64) -> Result<Vec<PairedRow>, 
 fn find<'a>(sweeps: &'a [Sweep], param: &str, variant: Variant) -> &'a Sweep {
     sweeps
         .iter()
-        .find(|s| s.param == param && s.variant == variant)
+        .find(|s| s.param.name() == param && s.variant == variant)
         .expect("swept")
 }
 

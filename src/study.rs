@@ -480,7 +480,9 @@ impl Header {
         if let Some(x) = top.opt("max_wheel_seconds", toml_input::number)? {
             budget.max_wheel_seconds = x;
         }
-        budget.check("").map_err(StudyError::Budget)?;
+        budget
+            .check()
+            .map_err(|e| StudyError::Budget(e.to_string()))?;
         Ok(Header {
             name,
             description,

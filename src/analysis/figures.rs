@@ -80,6 +80,7 @@ pub fn conditional(
             )
         },
     )
+    .map_err(String::from)
 }
 
 /// One risk map: the risk of vibration of the follower and the driving wheel in percent, side
@@ -189,6 +190,7 @@ pub fn risk_map(
         }
         Ok(())
     })
+    .map_err(String::from)
 }
 
 /// Bars of the severity figure: the fine histogram summed into this many.
@@ -259,4 +261,5 @@ pub fn severity(path: &Path, variant: Variant, severity: &[Severity]) -> Result<
             )
         },
     )
+    .map_err(String::from)
 }

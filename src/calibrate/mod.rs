@@ -19,7 +19,7 @@ use crate::bifurcation::eig_re;
 use crate::classify::{classify_point, ClassifierOptions};
 use crate::model::{Variant, Wheel, WheelModel};
 use crate::numeric::sign_change_roots;
-use crate::params::{ParamError, Params, Provenance, SPECS};
+use crate::params::{ParamError, ParamId, Params, Provenance};
 
 /// What a target observes.
 #[derive(Debug, Clone, PartialEq)]
@@ -27,7 +27,7 @@ pub enum Observable {
     /// The value of `param` in [from, to] where Re λ changes sign (a Hopf point).
     Hopf {
         /// The parameter swept.
-        param: &'static str,
+        param: ParamId,
         /// Start of the searched range.
         from: f64,
         /// End of the searched range.
@@ -36,13 +36,13 @@ pub enum Observable {
     /// The linear vibration frequency |Im λ|/2π \[Hz\] at a point given by `at`.
     Frequency {
         /// The point: (parameter, value) pairs applied on top of the parameters.
-        at: Vec<(&'static str, f64)>,
+        at: Vec<(ParamId, f64)>,
     },
     /// The limit-cycle amplitude (half peak-to-peak of y) of the target's wheel divided by that
     /// of `relative_to`, at the point `at` (0 where the target's wheel is stable).
     AmplitudeRatio {
         /// The point: (parameter, value) pairs applied on top of the parameters.
-        at: Vec<(&'static str, f64)>,
+        at: Vec<(ParamId, f64)>,
         /// The wheel whose amplitude is the denominator.
         relative_to: Wheel,
     },
@@ -71,7 +71,7 @@ pub struct Target {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Problem {
     /// Parameters fitted continuously (in log space).
-    pub fit: Vec<&'static str>,
+    pub fit: Vec<ParamId>,
     /// Log-space standard deviation of the prior around the starting values (None: no prior).
     pub prior_sigma: Option<f64>,
     /// Starting values of every parameter.
@@ -80,25 +80,26 @@ pub struct Problem {
     pub targets: Vec<Target>,
     /// Parameters restricted to a few values each (e.g. a decoded constant's lost-digit
     /// alternatives); every combination is tried. Not fitted continuously.
-    pub choices: Vec<(&'static str, Vec<f64>)>,
+    pub choices: Vec<(ParamId, Vec<f64>)>,
 }
 
 /// The tire-structure and friction parameters MODEL.md#constants marks as decoded or reconstructed:
 /// the default set to fit (the operating point is what targets vary; vehicle parameters do not act
 /// on the follower).
-pub fn default_fit() -> Vec<&'static str> {
+pub fn default_fit() -> Vec<ParamId> {
     use crate::params::Group;
-    SPECS
+    ParamId::ALL
         .iter()
-        .filter(|s| matches!(s.group, Group::TireStructure | Group::Friction))
-        .filter(|s| {
-            matches!(
-                s.provenance,
-                Provenance::Decoded | Provenance::Reconstructed | Provenance::Fitted
-            )
+        .copied()
+        .filter(|id| {
+            let s = id.spec();
+            matches!(s.group, Group::TireStructure | Group::Friction)
+                && matches!(
+                    s.provenance,
+                    Provenance::Decoded | Provenance::Reconstructed | Provenance::Fitted
+                )
+                && s.default > 0.0
         })
-        .filter(|s| s.default > 0.0)
-        .map(|s| s.name)
         .collect()
 }
 
@@ -114,10 +115,10 @@ pub enum ParamFileError {
 }
 
 /// `p` with a target's `at` values set (the point where it is observed).
-fn at_point(p: &Params, at: &[(&'static str, f64)]) -> Params {
+fn at_point(p: &Params, at: &[(ParamId, f64)]) -> Params {
     let mut q = *p;
-    for (k, x) in at {
-        *q.get_mut(k).expect("known") = *x;
+    for &(id, x) in at {
+        q[id] = x;
     }
     q
 }
@@ -128,7 +129,7 @@ pub fn observe(t: &Target, p: &Params) -> f64 {
         Observable::Hopf { param, from, to } => {
             // The first sign change on a scan of 48 intervals, then Brent.
             let n = 48;
-            let f = |x: f64| eig_re(p, param, x, t.wheel, t.variant);
+            let f = |x: f64| eig_re(p, *param, x, t.wheel, t.variant);
             let scan = (0..=n).map(move |i| {
                 let x = from + (to - from) * i as f64 / n as f64;
                 (x, f(x))
@@ -218,9 +219,9 @@ pub struct Fit {
     /// Every parameter at the fit.
     pub params: Params,
     /// (name, start value, fitted value)
-    pub fitted: Vec<(&'static str, f64, f64)>,
+    pub fitted: Vec<(ParamId, f64, f64)>,
     /// (name, chosen value) for each parameter restricted by `choices`.
-    pub chosen: Vec<(&'static str, f64)>,
+    pub chosen: Vec<(ParamId, f64)>,
     /// Each target beside the model's values.
     pub targets: Vec<TargetResult>,
     /// d ln(model_i) / d ln(param_j) at the fit, targets × fitted parameters.
@@ -233,10 +234,10 @@ pub struct Fit {
     pub combinations: usize,
 }
 
-fn with_log(start: &Params, fit: &[&'static str], x: &[f64]) -> Params {
+fn with_log(start: &Params, fit: &[ParamId], x: &[f64]) -> Params {
     let mut p = *start;
     for (name, xi) in fit.iter().zip(x) {
-        *p.get_mut(name).expect("known") = xi.exp();
+        p[*name] = xi.exp();
     }
     p
 }
@@ -266,7 +267,7 @@ fn residuals(problem: &Problem, x: &[f64], x0: &[f64]) -> Option<Vec<f64>> {
 }
 
 /// Every combination of the choices, in a fixed order.
-fn combinations(choices: &[(&'static str, Vec<f64>)]) -> Vec<Vec<(&'static str, f64)>> {
+fn combinations(choices: &[(ParamId, Vec<f64>)]) -> Vec<Vec<(ParamId, f64)>> {
     let mut out = vec![Vec::new()];
     for (name, vals) in choices {
         out = out
@@ -293,18 +294,14 @@ pub fn calibrate(problem: &Problem) -> Fit {
         .filter_map(|combo| {
             let mut start = problem.start;
             for (n, v) in combo {
-                *start.get_mut(n).expect("known") = *v;
+                start[*n] = *v;
             }
             start.validate().ok()?;
             let sub = Problem {
                 start,
                 ..problem.clone()
             };
-            let x0: Vec<f64> = sub
-                .fit
-                .iter()
-                .map(|n| sub.start.get(n).expect("known").ln())
-                .collect();
+            let x0: Vec<f64> = sub.fit.iter().map(|&n| sub.start[n].ln()).collect();
             residuals(&sub, &x0, &x0)?;
             let (x, cost, evals) = levenberg_marquardt(|x| residuals(&sub, x, &x0), &x0, 200);
             Some((combo.clone(), start, x0, x, cost, evals))
@@ -315,11 +312,7 @@ pub fn calibrate(problem: &Problem) -> Fit {
         .into_iter()
         .min_by(|a, b| a.4.total_cmp(&b.4))
         .unwrap_or_else(|| {
-            let x0: Vec<f64> = problem
-                .fit
-                .iter()
-                .map(|n| problem.start.get(n).expect("known").ln())
-                .collect();
+            let x0: Vec<f64> = problem.fit.iter().map(|&n| problem.start[n].ln()).collect();
             (Vec::new(), problem.start, x0.clone(), x0, f64::NAN, 0)
         });
     let params = with_log(&start, &problem.fit, &x);
@@ -401,7 +394,13 @@ mod tests {
     #[test]
     fn default_fit_is_the_decoded_and_reconstructed_structure_and_friction() {
         let f = default_fit();
-        assert!(f.contains(&"g_mod") && f.contains(&"c_brush") && f.contains(&"v_s"));
-        assert!(!f.contains(&"speed_kmh") && !f.contains(&"r_b") && !f.contains(&"f0"));
+        assert!(
+            f.contains(&ParamId::GMod) && f.contains(&ParamId::CBrush) && f.contains(&ParamId::VS)
+        );
+        assert!(
+            !f.contains(&ParamId::SpeedKmh)
+                && !f.contains(&ParamId::RB)
+                && !f.contains(&ParamId::F0)
+        );
     }
 }

@@ -3,7 +3,7 @@
 
 use super::{default_fit, Observable, Problem, Target};
 use crate::model::{Variant, Wheel};
-use crate::params::{spec, ParamError, ParamSpec, Params};
+use crate::params::{ParamError, ParamId, Params};
 use crate::toml_input::{self, Section, TomlError};
 
 /// A targets-file problem, with the key it concerns.
@@ -45,7 +45,7 @@ pub enum TargetsError {
         /// The list's key.
         key: String,
         /// The parameter named twice.
-        name: &'static str,
+        name: ParamId,
     },
     /// An empty list of parameters.
     #[error("`{0}` must name at least one parameter")]
@@ -54,10 +54,10 @@ pub enum TargetsError {
     #[error(
         "`{0}` is both in `fit` (continuous) and in `choices` (discrete); name it in one only"
     )]
-    FitAndChoice(&'static str),
+    FitAndChoice(ParamId),
     /// A fitted parameter that starts at 0 (log space cannot move it).
     #[error("`fit`: `{0}` starts at 0 and cannot be fitted in log space")]
-    ZeroStart(&'static str),
+    ZeroStart(ParamId),
     /// The file has no `[[target]]`.
     #[error("no [[target]] entries")]
     NoTargets,
@@ -96,21 +96,21 @@ pub enum TargetsError {
 }
 
 /// A parameter name at `key`.
-fn param_name(name: &str, key: &str) -> Result<&'static ParamSpec, TargetsError> {
-    spec(name).ok_or_else(|| TargetsError::Param {
+fn param_name(name: &str, key: &str) -> Result<ParamId, TargetsError> {
+    name.parse().map_err(|source| TargetsError::Param {
         key: key.to_string(),
-        source: ParamError::Unknown {
-            name: name.to_string(),
-        },
+        source,
     })
 }
 
 /// `value` checked against parameter `s`'s accepted range, errors under `key`.
-fn in_range(s: &ParamSpec, value: f64, key: &str) -> Result<f64, TargetsError> {
-    s.check(value).map_err(|source| TargetsError::Param {
-        key: key.to_string(),
-        source,
-    })?;
+fn in_range(s: ParamId, value: f64, key: &str) -> Result<f64, TargetsError> {
+    s.spec()
+        .check(value)
+        .map_err(|source| TargetsError::Param {
+            key: key.to_string(),
+            source,
+        })?;
     Ok(value)
 }
 
@@ -138,7 +138,7 @@ const TARGET_KEYS: &[&str] = &[
 ];
 
 /// An operating point `at = { name = value, ... }` of target `t`.
-fn point(t: &Section) -> Result<Vec<(&'static str, f64)>, TargetsError> {
+fn point(t: &Section) -> Result<Vec<(ParamId, f64)>, TargetsError> {
     let mut at = Vec::new();
     if let Some(v) = t.get("at") {
         let path = t.key("at");
@@ -146,7 +146,7 @@ fn point(t: &Section) -> Result<Vec<(&'static str, f64)>, TargetsError> {
         for (k, x) in a.table {
             let s = param_name(k, &path)?;
             let x = toml_input::finite(x, &a.key(k))?;
-            at.push((s.name, in_range(s, x, &path)?));
+            at.push((s, in_range(s, x, &path)?));
         }
     }
     Ok(at)
@@ -187,11 +187,7 @@ fn parse_target(i: usize, v: &toml::Value) -> Result<Target, TargetsError> {
             if from >= to {
                 return Err(TargetsError::Unordered { key, from, to });
             }
-            Observable::Hopf {
-                param: s.name,
-                from,
-                to,
-            }
+            Observable::Hopf { param: s, from, to }
         }
         "frequency" => Observable::Frequency { at: point(&t)? },
         "amplitude_ratio" => {
@@ -238,14 +234,14 @@ fn parse_target(i: usize, v: &toml::Value) -> Result<Target, TargetsError> {
 }
 
 /// A list of distinct parameter names at `key`.
-fn name_list(v: &toml::Value, key: &str) -> Result<Vec<&'static str>, TargetsError> {
-    let mut out: Vec<&'static str> = Vec::new();
+fn name_list(v: &toml::Value, key: &str) -> Result<Vec<ParamId>, TargetsError> {
+    let mut out: Vec<ParamId> = Vec::new();
     for (i, x) in toml_input::array(v, key, "an array of parameter names")?
         .iter()
         .enumerate()
     {
         let k = format!("{key}[{i}]");
-        let name = param_name(toml_input::text(x, &k)?, &k)?.name;
+        let name = param_name(toml_input::text(x, &k)?, &k)?;
         if out.contains(&name) {
             return Err(TargetsError::Repeated {
                 key: key.to_string(),
@@ -281,7 +277,7 @@ fn parse_start(top: &Section) -> Result<Params, TargetsError> {
 }
 
 /// `[choices]`: each a parameter restricted to a few values.
-fn parse_choices(top: &Section) -> Result<Vec<(&'static str, Vec<f64>)>, TargetsError> {
+fn parse_choices(top: &Section) -> Result<Vec<(ParamId, Vec<f64>)>, TargetsError> {
     let mut choices = Vec::new();
     if let Some(c) = top.get("choices") {
         let c = Section::of(c, "choices", "a table")?;
@@ -300,7 +296,7 @@ fn parse_choices(top: &Section) -> Result<Vec<(&'static str, Vec<f64>)>, Targets
                     in_range(s, toml_input::finite(x, &k)?, &k)
                 })
                 .collect::<Result<Vec<f64>, _>>()?;
-            choices.push((s.name, vals));
+            choices.push((s, vals));
         }
     }
     let combos: usize = choices.iter().map(|(_, v)| v.len()).product();
@@ -336,9 +332,9 @@ pub fn parse_problem(text: &str) -> Result<Problem, TargetsError> {
         Some(v) => name_list(v, "fit")?,
     };
     if let Some((n, _)) = choices.iter().find(|(c, _)| fit.contains(c)) {
-        return Err(TargetsError::FitAndChoice(n));
+        return Err(TargetsError::FitAndChoice(*n));
     }
-    if let Some(n) = fit.iter().find(|n| start.get(n).is_none_or(|v| v <= 0.0)) {
+    if let Some(&n) = fit.iter().find(|&&n| start[n] <= 0.0) {
         return Err(TargetsError::ZeroStart(n));
     }
     let targets = top

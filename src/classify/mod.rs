@@ -11,6 +11,7 @@
 
 pub mod budget;
 pub mod envelope;
+mod error;
 mod peak;
 pub mod section;
 pub mod shooting;
@@ -21,8 +22,9 @@ use nalgebra::{Complex, Vector3};
 use crate::model::{ModelFailure, TreadOde, Variant, Wheel, WheelModel};
 use crate::params::Params;
 use budget::Meter;
-pub use budget::WheelBudget;
+pub use budget::{BudgetError, WheelBudget};
 use envelope::Envelope;
+pub use error::ClassifyError;
 
 /// Smallest section velocity of a limit cycle, relative to the road's lateral speed U: smaller
 /// "cycles" are the equilibrium seen through integration noise (a stable equilibrium has a
@@ -499,7 +501,7 @@ fn classify_metered(
             "not settled within {} s (last section velocity {last_v:.3e} m/s)",
             opts.fallback_max_s
         )),
-        Err(reason) => fail(reason),
+        Err(reason) => fail(reason.to_string()),
     }
 }
 
@@ -561,7 +563,7 @@ fn settled_cycle(
     start: crate::model::State,
     rtol: f64,
     meter: &Meter,
-) -> Result<WheelVerdict, String> {
+) -> Result<WheelVerdict, ClassifyError> {
     let period = 1.0 / lin.eig_freq_hz;
     let opts = crate::solver::SolverOptions::per_period(
         rtol,
@@ -576,10 +578,10 @@ fn settled_cycle(
     let ok =
         |m: &envelope::WindowMeasure| m.amp_v_mps > MIN_CYCLE_V_REL * scales.v && m.freq_hz > 0.0;
     if !(ok(&prev) && ok(&last)) {
-        return Err(format!(
-            "the settled trajectory shows no cycle (amplitude of v {:.3e} then {:.3e} m/s)",
-            prev.amp_v_mps, last.amp_v_mps
-        ));
+        return Err(ClassifyError::NoSettledCycle {
+            prev_mps: prev.amp_v_mps,
+            last_mps: last.amp_v_mps,
+        });
     }
     let re = lin.eig_re_max;
     let drift = (last.amp_v_mps / prev.amp_v_mps).ln() / window_s;
@@ -589,9 +591,10 @@ fn settled_cycle(
         let a_mid = (last.amp_v_mps * prev.amp_v_mps).sqrt();
         a_mid * (re / (re - drift)).sqrt() / last.amp_v_mps
     } else {
-        return Err(format!(
-            "the cycle's amplitude still grows ({drift:.3e} 1/s against Re λ = {re:.3e} 1/s): no supercritical cycle to extrapolate to"
-        ));
+        return Err(ClassifyError::StillGrowing {
+            drift_per_s: drift,
+            re_per_s: re,
+        });
     };
     let amp_v_mps = scale * last.amp_v_mps;
     Ok(WheelVerdict {

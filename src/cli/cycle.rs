@@ -9,7 +9,7 @@ use clap::Args;
 use super::common::{base_metadata, BudgetArgs, CliError, CliResult, VariantArg};
 use polywear::classify::ClassifierOptions;
 use polywear::cycle::output::CycleRun;
-use polywear::cycle::{classify_cycles, DriveCycle};
+use polywear::cycle::{classify_cycles, CycleError, DriveCycle};
 use polywear::model::Variant;
 use polywear::params::{spec, Group, Params};
 use polywear::sampling::design::Design;
@@ -145,7 +145,7 @@ pub fn run(args: &CycleArgs) -> CliResult {
         ..ClassifierOptions::default()
     };
     let variant: Variant = args.variant.into();
-    let cycle = DriveCycle::read(&args.cycle).map_err(CliError)?;
+    let cycle = DriveCycle::read(&args.cycle).map_err(|e| CliError(e.to_string()))?;
     let mut base = super::common::base_params(args.params.as_deref())?;
     let mut set_by: Vec<(&str, &str)> = Vec::new();
     for (name, value) in &args.set {
@@ -195,7 +195,9 @@ pub fn run(args: &CycleArgs) -> CliResult {
     };
     // Every step's parameters fit together on the first base (rules tying several parameters:
     // mu_s <= mu_m, n_driven <= n_wheels), before any work.
-    cycle.check_steps(&bases[0]).map_err(CliError)?;
+    cycle
+        .check_steps(&bases[0])
+        .map_err(|e| CliError(e.to_string()))?;
     let pool = super::common::thread_pool(args.threads)?;
     let start = Instant::now();
     let steps = pool.install(|| classify_cycles(&cycle, &bases, variant, &opts));
@@ -208,7 +210,10 @@ pub fn run(args: &CycleArgs) -> CliResult {
         steps,
         metadata,
     };
-    let written = run.write(&args.out).map_err(CliError)?;
+    let written = run.write(&args.out).map_err(|e| match e {
+        CycleError::CreateDir { .. } => CliError(format!("--out {e}")),
+        e => CliError(e.to_string()),
+    })?;
     if !args.quiet {
         print_summary(&run, secs, pool.current_num_threads());
         for p in written {

@@ -6,10 +6,11 @@
 use std::path::{Path, PathBuf};
 
 use super::summary::{summarise, summary_columns, WheelSummary};
-use super::{DriveCycle, StepWheel};
+use super::{CycleError, DriveCycle, StepWheel};
 use crate::model::Variant;
 use crate::parquet_out::{write_csv, write_table, Column, ColumnData};
 use crate::plot::cycle::{cycle_figure, WheelTrace};
+use crate::plot::PlotError;
 use crate::records::record_columns;
 
 /// Operating-point parameters already present as record columns.
@@ -99,8 +100,11 @@ impl CycleRun<'_> {
 
     /// Writes `cycle.parquet`, `cycle_summary.csv` (+ `.parquet`) and `cycle.png` into `dir`;
     /// returns the paths written.
-    pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>, String> {
-        std::fs::create_dir_all(dir).map_err(|e| format!("--out {}: {e}", dir.display()))?;
+    pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>, CycleError> {
+        std::fs::create_dir_all(dir).map_err(|source| CycleError::CreateDir {
+            dir: dir.to_path_buf(),
+            source,
+        })?;
         let mut meta = self.metadata.clone();
         meta.push((
             "columns".into(),
@@ -108,14 +112,14 @@ impl CycleRun<'_> {
         ));
         let mut written = Vec::new();
         let table = dir.join("cycle.parquet");
-        write_table(&table, &self.columns(), &meta).map_err(|e| e.to_string())?;
+        write_table(&table, &self.columns(), &meta)?;
         written.push(table);
         let summary = summary_columns(&self.summaries());
         let csv = dir.join("cycle_summary.csv");
-        write_csv(&csv, &summary).map_err(|e| e.to_string())?;
+        write_csv(&csv, &summary)?;
         written.push(csv);
         let sidecar = dir.join("cycle_summary.parquet");
-        write_table(&sidecar, &summary, &self.metadata).map_err(|e| e.to_string())?;
+        write_table(&sidecar, &summary, &self.metadata)?;
         written.push(sidecar);
         let png = dir.join("cycle.png");
         self.figure(&png)?;
@@ -124,7 +128,7 @@ impl CycleRun<'_> {
     }
 
     /// The picture of structure sample 0.
-    fn figure(&self, path: &Path) -> Result<(), String> {
+    fn figure(&self, path: &Path) -> Result<(), PlotError> {
         let steps = &self.steps[0];
         let traces: Vec<WheelTrace<'_>> = (0..2)
             .map(|w| WheelTrace {

@@ -35,7 +35,7 @@ pub(super) fn parse_operating_points(
         .iter()
         .any(|d| ParamId::CROSS_RULES.contains(&d.param));
     let op = OperatingPoints::load(file, weight, dir, base, cross)
-        .map_err(StudyError::OperatingPoints)?;
+        .map_err(|e| StudyError::OperatingPoints(e.to_string()))?;
     let named = top.get("params").and_then(|p| p.as_table());
     for name in &op.names {
         if let Some(how) = named
