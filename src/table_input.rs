@@ -112,22 +112,53 @@ fn check_header(path: &Path, columns: &[String]) -> Result<(), TableError> {
     Ok(())
 }
 
+/// The records of a CSV text with the line each starts on, blank lines left out; the fields
+/// are split by the `csv` crate (RFC 4180: quoted fields may hold commas, quotes and line
+/// breaks), each then stripped by [`cell`].
+pub fn csv_records(path: &Path, text: &str) -> Result<Vec<(usize, Vec<String>)>, TableError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(text.as_bytes());
+    let mut out = Vec::new();
+    // Line breaks before byte `counted`, counted once for the whole file.
+    let (mut counted, mut newlines) = (0usize, 0usize);
+    for record in reader.records() {
+        let record = record.map_err(|e| TableError(format!("{}: {e}", path.display())))?;
+        if record.len() == 1 && record[0].trim().is_empty() {
+            continue;
+        }
+        // The line the record's first field is on: the reader's own line count leaves out the
+        // blank lines it skips, so it is counted from the record's byte offset.
+        let start = record.position().map_or(0, |p| p.byte() as usize);
+        let first = start
+            + text.as_bytes()[start.min(text.len())..]
+                .iter()
+                .take_while(|b| matches!(b, b'\r' | b'\n'))
+                .count();
+        let first = first.min(text.len());
+        newlines += text.as_bytes()[counted..first]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        counted = first;
+        let line = 1 + newlines;
+        out.push((line, record.iter().map(|c| cell(c).to_string()).collect()));
+    }
+    Ok(out)
+}
+
 fn read_csv(path: &Path, bytes: &[u8]) -> Result<NumericTable, TableError> {
     let text = std::str::from_utf8(bytes)
         .map_err(|e| TableError(format!("{}: not UTF-8 text: {e}", path.display())))?;
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l))
-        .filter(|(_, l)| !l.trim().is_empty());
-    let Some((_, header)) = lines.next() else {
+    let mut lines = csv_records(path, text)?.into_iter();
+    let Some((_, columns)) = lines.next() else {
         return Err(TableError(format!(
             "{}: empty file (expected a header line, then one row per line)",
             path.display()
         )));
     };
-    let columns: Vec<String> = header.split(',').map(|c| cell(c).to_string()).collect();
     check_header(path, &columns)?;
     let mut t = NumericTable {
         path: path.to_path_buf(),
@@ -137,8 +168,7 @@ fn read_csv(path: &Path, bytes: &[u8]) -> Result<NumericTable, TableError> {
         hash: String::new(),
         bytes: 0,
     };
-    for (line, text) in lines {
-        let cells: Vec<&str> = text.split(',').map(cell).collect();
+    for (line, cells) in lines {
         let row = t.rows.len();
         t.lines.push(line);
         if cells.len() != t.columns.len() {
@@ -263,6 +293,11 @@ mod tests {
         assert_eq!(t.columns, vec!["a", "b"]);
         assert_eq!(t.rows, vec![vec![1.0, 2.0], vec![3.5, -40.0]]);
         assert_eq!(t.row_name(1), "row 2 (line 4)");
+        // RFC 4180: a quoted field holds commas, doubled quotes and line breaks.
+        let t = table("q.csv", "x,\"a,b\"\n\n\"1\",2\n\"3\n\",4\n5,6\n").unwrap();
+        assert_eq!(t.columns, vec!["x", "a,b"]);
+        assert_eq!(t.rows.len(), 3);
+        assert_eq!(t.row_name(2), "row 3 (line 6)");
         let err = |name: &str, text: &str| table(name, text).unwrap_err().0;
         assert!(err("e1.csv", "").contains("empty file"));
         assert!(err("e2.csv", "a,b\n").contains("no rows"));
