@@ -1,4 +1,9 @@
 //! Levenberg–Marquardt for the calibration's least squares.
+//!
+//! Our own 60 lines rather than the `levenberg-marquardt` crate (5 more crates, 1.1 CPU-s of
+//! release build on top of our nalgebra): the crate's MINPACK trust region takes other steps,
+//! so the shipped fitted constants would no longer be reproduced, and it has no rejected
+//! step for a parameter set the model refuses (our residuals return `None` there).
 
 fn sum_sq(r: &[f64]) -> f64 {
     r.iter().map(|v| v * v).sum()
