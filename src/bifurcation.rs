@@ -322,7 +322,7 @@ fn draw(path: &std::path::Path, sw: &Sweep) -> Result<(), PlotError> {
         .collect();
     let title = format!(
         "{} sweep at {} ({variant} variant)",
-        crate::params::label(name),
+        sw.param.label(),
         sw.held_fixed(),
     );
     let zoom_title = format!("Zoomed on zero: {}", windows.join("; "));

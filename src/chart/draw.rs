@@ -35,8 +35,8 @@ pub fn draw(
     let (x, y) = (req.x, req.y);
     let title = format!(
         "Where the tread vibrates: {} × {} ({} variant; other parameters as given)",
-        crate::params::label(x.name()),
-        crate::params::label(y.name()),
+        x.label(),
+        y.label(),
         req.variant
     );
     figure(path, (1200, 950), &title, |area| {

@@ -23,7 +23,7 @@ use rayon::prelude::*;
 
 use crate::classify::{classify_point_hinted, Class, ClassifierOptions, Method, WheelVerdict};
 use crate::model::{ModelFailure, Variant, Wheel};
-use crate::params::{spec, ParamError, Params};
+use crate::params::{ParamError, ParamId, Params};
 use crate::parquet_out::WriteError;
 use crate::plot::PlotError;
 use crate::records::WheelRecord;
@@ -133,7 +133,7 @@ pub struct DriveCycle {
     /// Vehicle speed at each step \[km/h\].
     pub speed_kmh: Vec<f64>,
     /// Parameters given per step (other than the speed), in file order.
-    pub names: Vec<&'static str>,
+    pub names: Vec<ParamId>,
     /// `values[i][j]`: step i's value of `names[j]`.
     pub values: Vec<Vec<f64>>,
     table: NumericTable,
@@ -159,12 +159,12 @@ impl DriveCycle {
             if j == tc || j == vc {
                 continue;
             }
-            let s = spec(c).ok_or_else(|| CycleError::UnknownColumn {
+            let id: ParamId = c.parse().map_err(|_| CycleError::UnknownColumn {
                 path: path.to_path_buf(),
                 name: c.clone(),
                 number: j + 1,
             })?;
-            names.push(s.name);
+            names.push(id);
             cols.push(j);
         }
         if t.rows.len() < 2 {
@@ -172,7 +172,7 @@ impl DriveCycle {
                 path: path.to_path_buf(),
             });
         }
-        let speed_spec = spec("speed_kmh").expect("speed is a parameter");
+        let speed_spec = ParamId::SpeedKmh.spec();
         let mut values = Vec::with_capacity(t.rows.len());
         for (i, row) in t.rows.iter().enumerate() {
             if i > 0 && row[tc] <= t.rows[i - 1][tc] {
@@ -197,12 +197,13 @@ impl DriveCycle {
                 })?;
             }
             let mut step = Vec::with_capacity(cols.len());
-            for (&j, name) in cols.iter().zip(&names) {
-                let s = spec(name).expect("checked above");
-                s.check(row[j]).map_err(|source| CycleError::Param {
-                    at: t.at(i, j),
-                    source,
-                })?;
+            for (&j, id) in cols.iter().zip(&names) {
+                id.spec()
+                    .check(row[j])
+                    .map_err(|source| CycleError::Param {
+                        at: t.at(i, j),
+                        source,
+                    })?;
                 step.push(row[j]);
             }
             values.push(step);
@@ -254,8 +255,8 @@ impl DriveCycle {
     /// standstill step keeps `base`'s speed; it is never classified).
     pub fn step_params(&self, base: &Params, i: usize) -> Params {
         let mut p = *base;
-        for (name, v) in self.names.iter().zip(&self.values[i]) {
-            *p.get_mut(name).expect("cycle columns are parameter names") = *v;
+        for (&id, v) in self.names.iter().zip(&self.values[i]) {
+            p[id] = *v;
         }
         if !self.standstill(i) {
             p.speed_kmh = self.speed_kmh[i];
