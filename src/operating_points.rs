@@ -16,7 +16,7 @@ use crate::sampling::Streams;
 use crate::table_input::{NumericTable, TableError};
 
 /// Why an operating-point file is refused, naming the file, row and column.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 pub enum OperatingPointsError {
     /// The file cannot be read as a table of numbers.
     #[error(transparent)]
