@@ -66,13 +66,6 @@ impl<E: std::error::Error + Send + Sync> From<DrawingAreaErrorKind<E>> for PlotE
     }
 }
 
-/// A panel drawn by a caller whose own steps report text.
-impl From<String> for PlotError {
-    fn from(message: String) -> Self {
-        PlotError::Draw(message)
-    }
-}
-
 /// For callers whose errors are still messages.
 impl From<PlotError> for String {
     fn from(e: PlotError) -> Self {
