@@ -8,15 +8,15 @@ use polywear::chart::ChartRequest;
 use polywear::continuation::trace::TraceOptions;
 use polywear::continuation::ParamBox;
 use polywear::model::{Variant, Wheel};
-use polywear::params::{spec, Params};
+use polywear::params::{ParamId, Params};
 
 fn speed_toe() -> ChartRequest {
     ChartRequest {
         base: Params::default(),
         variant: Variant::SlidingShare,
         wheels: Wheel::BOTH.to_vec(),
-        x: spec("speed_kmh").unwrap(),
-        y: spec("toe_deg").unwrap(),
+        x: ParamId::SpeedKmh,
+        y: ParamId::ToeDeg,
         bounds: ParamBox {
             lo: [60.0, 0.05],
             hi: [250.0, 0.6],

@@ -8,9 +8,9 @@ use rayon::prelude::*;
 
 use crate::classify::{classify_point, ClassifierOptions};
 use crate::model::{Variant, Wheel, WheelModel};
-use crate::numeric::brent;
-use crate::params::Params;
-use crate::plot::{self, Series};
+use crate::numeric::sign_change_roots;
+use crate::params::{ParamId, Params};
+use crate::plot::{self, PlotError, Series};
 use crate::records::WheelRecord;
 use crate::wording::plain;
 
@@ -20,7 +20,7 @@ pub struct Sweep {
     /// The values of every parameter but the swept one.
     pub base: Params,
     /// The parameter swept.
-    pub param: &'static str,
+    pub param: ParamId,
     /// Its unit.
     pub unit: &'static str,
     /// The friction variant.
@@ -37,12 +37,11 @@ pub struct Sweep {
 /// on the current rayon pool, and locates the Hopf points.
 pub fn sweep(
     base: &Params,
-    param: &'static str,
+    param: ParamId,
     values: &[f64],
     variant: Variant,
     opts: &ClassifierOptions,
 ) -> Sweep {
-    let spec = crate::params::spec(param).expect("sweep of a known parameter");
     let jobs: Vec<(f64, Wheel)> = values
         .iter()
         .flat_map(|&x| Wheel::BOTH.map(|w| (x, w)))
@@ -51,7 +50,7 @@ pub fn sweep(
         .par_iter()
         .map(|&(x, wheel)| {
             let mut p = *base;
-            *p.get_mut(param).expect("known") = x;
+            p[param] = x;
             let (model, verdict) = classify_point(&p, wheel, variant, opts);
             WheelRecord::new(&p, wheel, variant, &model, &verdict)
         })
@@ -60,7 +59,7 @@ pub fn sweep(
     Sweep {
         base: *base,
         param,
-        unit: spec.unit,
+        unit: param.spec().unit,
         variant,
         jobs,
         records,
@@ -75,10 +74,10 @@ pub fn linspace(from: f64, to: f64, steps: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Real part of the leading eigenvalue with `name` set to `x` (NaN where no model exists).
-pub fn eig_re(p: &Params, name: &str, x: f64, wheel: Wheel, variant: Variant) -> f64 {
+/// Real part of the leading eigenvalue with `param` set to `x` (NaN where no model exists).
+pub fn eig_re(p: &Params, param: ParamId, x: f64, wheel: Wheel, variant: Variant) -> f64 {
     let mut q = *p;
-    *q.get_mut(name).expect("name checked") = x;
+    q[param] = x;
     WheelModel::build(&q, wheel, variant).map_or(f64::NAN, |m| m.ode.linear_stability().eig_re_max)
 }
 
@@ -97,10 +96,10 @@ pub struct HopfPoint {
     pub l1: f64,
 }
 
-/// l1 at the Hopf point where `name` = `x` (NaN where no model or no complex pair exists).
-pub fn l1_at(p: &Params, name: &str, x: f64, wheel: Wheel, variant: Variant) -> f64 {
+/// l1 at the Hopf point where `param` = `x` (NaN where no model or no complex pair exists).
+pub fn l1_at(p: &Params, param: ParamId, x: f64, wheel: Wheel, variant: Variant) -> f64 {
     let mut q = *p;
-    *q.get_mut(name).expect("name checked") = x;
+    q[param] = x;
     let Ok(m) = WheelModel::build(&q, wheel, variant) else {
         return f64::NAN;
     };
@@ -115,7 +114,7 @@ pub fn l1_at(p: &Params, name: &str, x: f64, wheel: Wheel, variant: Variant) -> 
 /// Brent on Re λ between neighbouring sweep values whose signs differ, to 1e-6 relative.
 pub fn locate_hopf(
     base: &Params,
-    name: &str,
+    param: ParamId,
     jobs: &[(f64, Wheel)],
     records: &[WheelRecord],
     variant: Variant,
@@ -128,19 +127,20 @@ pub fn locate_hopf(
             .filter(|(j, _)| j.1 == wheel)
             .map(|(j, r)| (j.0, r.eig_re_max))
             .collect();
-        for w in pts.windows(2) {
-            let ((x0, f0), (x1, f1)) = (w[0], w[1]);
-            if f0.is_finite() && f1.is_finite() && (f0 < 0.0) != (f1 < 0.0) {
-                let tol = 1e-7 * x0.abs().max(x1.abs());
-                if let Some(x) = brent(|x| eig_re(base, name, x, wheel, variant), x0, x1, tol, 200)
-                {
-                    out.push(HopfPoint {
-                        wheel,
-                        value: x,
-                        destabilizing: (f1 > f0) == (x1 > x0),
-                        l1: l1_at(base, name, x, wheel, variant),
-                    });
-                }
+        let crossings = sign_change_roots(
+            pts,
+            |x| eig_re(base, param, x, wheel, variant),
+            |x0, x1| 1e-7 * x0.abs().max(x1.abs()),
+            200,
+        );
+        for c in crossings {
+            if let Some(x) = c.root {
+                out.push(HopfPoint {
+                    wheel,
+                    value: x,
+                    destabilizing: c.rising_with_x(),
+                    l1: l1_at(base, param, x, wheel, variant),
+                });
             }
         }
     }
@@ -150,7 +150,7 @@ pub fn locate_hopf(
 impl Sweep {
     /// Draws the paper's two views: Re λ against the parameter (in full, and zoomed on zero
     /// where the Hopf points are), and the limit-cycle envelope. PNG or SVG by the extension.
-    pub fn draw(&self, path: &Path) -> Result<(), String> {
+    pub fn draw(&self, path: &Path) -> Result<(), PlotError> {
         draw(path, self)
     }
 
@@ -164,7 +164,7 @@ impl Sweep {
     /// toe-in 0.0812°–0.427°" (the equilibrium is unstable there: between Hopf points or a
     /// Hopf point and the sweep's end), or that the wheel is stable over the whole sweep.
     pub fn windows_in_words(&self, wheel: Wheel) -> Vec<String> {
-        let what = crate::params::label(self.param).to_lowercase();
+        let what = self.param.label().to_lowercase();
         let (first, last) = match (self.jobs.first(), self.jobs.last()) {
             (Some(a), Some(b)) => (a.0.min(b.0), a.0.max(b.0)),
             _ => return vec![],
@@ -245,19 +245,18 @@ fn value_with_unit(v: f64, unit: &str) -> String {
 }
 
 /// See [`Sweep::held_fixed`].
-pub fn held_fixed(base: &Params, swept: &str) -> String {
+pub fn held_fixed(base: &Params, swept: ParamId) -> String {
     let defaults = Params::default();
-    let mut parts: Vec<String> = crate::params::SPECS
+    let mut parts: Vec<String> = ParamId::ALL
         .iter()
-        .filter(|s| s.name != swept)
-        .filter(|s| {
-            s.group == crate::params::Group::OperatingPoint
-                || base.get(s.name) != defaults.get(s.name)
+        .filter(|&&id| id != swept)
+        .filter(|&&id| {
+            id.spec().group == crate::params::Group::OperatingPoint || base[id] != defaults[id]
         })
-        .map(|s| {
-            let v = base.get(s.name).expect("a parameter");
+        .map(|&id| {
+            let (s, v) = (id.spec(), base[id]);
             let name = match s.group {
-                crate::params::Group::OperatingPoint => crate::params::label(s.name).to_lowercase(),
+                crate::params::Group::OperatingPoint => id.label().to_lowercase(),
                 _ => s.name.to_string(),
             };
             format!("{name} {}", value_with_unit(v, s.unit))
@@ -297,8 +296,8 @@ fn zoom_half_height(pts: &[(Wheel, Vec<(f64, f64)>)]) -> f64 {
 /// Points drawn for one sweep value and its record.
 type PointsOf = dyn Fn(f64, &WheelRecord) -> Vec<(f64, f64)>;
 
-fn draw(path: &std::path::Path, sw: &Sweep) -> Result<(), String> {
-    let (name, unit, variant) = (sw.param, sw.unit, sw.variant);
+fn draw(path: &std::path::Path, sw: &Sweep) -> Result<(), PlotError> {
+    let (name, unit, variant) = (sw.param.name(), sw.unit, sw.variant);
     let (jobs, records) = (&sw.jobs, &sw.records);
     let per_wheel = |f: &PointsOf| -> Vec<(Wheel, Vec<(f64, f64)>)> {
         Wheel::BOTH
@@ -323,7 +322,7 @@ fn draw(path: &std::path::Path, sw: &Sweep) -> Result<(), String> {
         .collect();
     let title = format!(
         "{} sweep at {} ({variant} variant)",
-        crate::params::label(name),
+        sw.param.label(),
         sw.held_fixed(),
     );
     let zoom_title = format!("Zoomed on zero: {}", windows.join("; "));

@@ -10,10 +10,87 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::params::{spec, ParamError, Params};
+use crate::params::{ParamError, ParamId, Params};
 use crate::sampling::alias::AliasTable;
 use crate::sampling::Streams;
-use crate::table_input::NumericTable;
+use crate::table_input::{NumericTable, TableError};
+
+/// Why an operating-point file is refused, naming the file, row and column.
+#[derive(Debug, thiserror::Error)]
+pub enum OperatingPointsError {
+    /// The file cannot be read as a table of numbers.
+    #[error(transparent)]
+    Table(#[from] TableError),
+    /// The weight column named in the study is missing.
+    #[error("{}: no column `{weight}`, which `operating_points.weight` names (columns: {})", path.display(), columns.join(", "))]
+    NoWeightColumn {
+        /// The file.
+        path: PathBuf,
+        /// The weight column named.
+        weight: String,
+        /// The columns it has.
+        columns: Vec<String>,
+    },
+    /// A column that is neither a parameter nor the weight column.
+    #[error("{}: column `{name}` (column {number}) is not a parameter of `polywear params`{}{}", path.display(), weight_hint(weight.as_deref()), did_you_mean(name))]
+    UnknownColumn {
+        /// The file.
+        path: PathBuf,
+        /// The column's name.
+        name: String,
+        /// Its position, counted from 1.
+        number: usize,
+        /// The weight column, if the study names one.
+        weight: Option<String>,
+    },
+    /// Only a weight column.
+    #[error("{}: no parameter column (columns: {}); name parameters of `polywear params`, e.g. speed_kmh,load_n,pressure_kpa", path.display(), columns.join(", "))]
+    NoParameterColumn {
+        /// The file.
+        path: PathBuf,
+        /// The columns it has.
+        columns: Vec<String>,
+    },
+    /// A value outside its parameter's range, or a row whose values do not fit together.
+    #[error("{at}: {source}")]
+    Param {
+        /// File and row (and column for one cell).
+        at: String,
+        /// The parameter's refusal.
+        source: ParamError,
+    },
+    /// A negative weight.
+    #[error("{at}: weight {weight} is negative; weights must be >= 0")]
+    NegativeWeight {
+        /// File, row and column.
+        at: String,
+        /// The weight given.
+        weight: f64,
+    },
+    /// No row can be drawn.
+    #[error("{}, column `{weight}`: every weight is zero; at least one row needs a positive weight", path.display())]
+    AllWeightsZero {
+        /// The file.
+        path: PathBuf,
+        /// The weight column.
+        weight: String,
+    },
+}
+
+/// " nor the weight column `hours`", or how to name one.
+fn weight_hint(weight: Option<&str>) -> String {
+    match weight {
+        Some(w) => format!(" nor the weight column `{w}`"),
+        None => " (a weight column needs `weight = \"NAME\"` in [operating_points])".to_string(),
+    }
+}
+
+/// "; did you mean `speed_kmh`?" for a misspelt parameter name, or nothing.
+fn did_you_mean(name: &str) -> String {
+    crate::params::suggest_name(name)
+        .map(|n| format!("; did you mean `{n}`?"))
+        .unwrap_or_default()
+}
 
 /// The generator axis of the row draw within each sample's stream: the last axis a stream has
 /// (2^36 − 1, see [`crate::sampling::rng`]), far from the drawn parameters' axes 0, 1, …, so
@@ -55,60 +132,61 @@ impl OperatingPoints {
         dir: &Path,
         base: &Params,
         cross_rules_drawn: bool,
-    ) -> Result<OperatingPoints, String> {
+    ) -> Result<OperatingPoints, OperatingPointsError> {
         let path = dir.join(file);
-        let t = NumericTable::read(&path).map_err(|e| e.0)?;
-        let shown = path.display();
+        let t = NumericTable::read(&path)?;
         let weight_col = match weight {
-            Some(w) => Some(t.column(w).ok_or_else(|| {
-                format!(
-                    "{shown}: no column `{w}`, which `operating_points.weight` names (columns: {})",
-                    t.columns.join(", ")
-                )
-            })?),
+            Some(w) => Some(
+                t.column(w)
+                    .ok_or_else(|| OperatingPointsError::NoWeightColumn {
+                        path: path.clone(),
+                        weight: w.to_string(),
+                        columns: t.columns.clone(),
+                    })?,
+            ),
             None => None,
         };
         let mut names = Vec::new();
+        let mut ids = Vec::new();
         let mut param_cols = Vec::new();
         for (j, c) in t.columns.iter().enumerate() {
             if Some(j) == weight_col {
                 continue;
             }
-            let s = spec(c).ok_or_else(|| {
-                let weight_hint = match weight {
-                    Some(w) => format!(" nor the weight column `{w}`"),
-                    None => " (a weight column needs `weight = \"NAME\"` in [operating_points])"
-                        .to_string(),
-                };
-                let hint = crate::params::suggest_name(c)
-                    .map(|n| format!("; did you mean `{n}`?"))
-                    .unwrap_or_default();
-                format!(
-                    "{shown}: column `{c}` (column {}) is not a parameter of `polywear params`{weight_hint}{hint}",
-                    j + 1
-                )
+            let id: ParamId = c.parse().map_err(|_| OperatingPointsError::UnknownColumn {
+                path: path.clone(),
+                name: c.clone(),
+                number: j + 1,
+                weight: weight.map(str::to_string),
             })?;
-            names.push(s.name);
+            ids.push(id);
+            names.push(id.name());
             param_cols.push(j);
         }
         if names.is_empty() {
-            return Err(format!(
-                "{shown}: no parameter column (columns: {}); name parameters of `polywear params`, e.g. speed_kmh,load_n,pressure_kpa",
-                t.columns.join(", ")
-            ));
+            return Err(OperatingPointsError::NoParameterColumn {
+                path,
+                columns: t.columns.clone(),
+            });
         }
         let mut values = Vec::with_capacity(t.rows.len());
         for (i, row) in t.rows.iter().enumerate() {
             let mut p = *base;
             let mut v = Vec::with_capacity(names.len());
-            for (&j, name) in param_cols.iter().zip(&names) {
-                p.set(name, row[j])
-                    .map_err(|e| format!("{}: {e}", t.at(i, j)))?;
+            for (&j, &id) in param_cols.iter().zip(&ids) {
+                p.try_set(id, row[j])
+                    .map_err(|source| OperatingPointsError::Param {
+                        at: t.at(i, j),
+                        source,
+                    })?;
                 v.push(row[j]);
             }
             if !cross_rules_drawn {
-                if let Err(e @ ParamError::Inconsistent { .. }) = p.validate() {
-                    return Err(format!("{shown}, {}: {e}", t.row_name(i)));
+                if let Err(source @ ParamError::Inconsistent { .. }) = p.validate() {
+                    return Err(OperatingPointsError::Param {
+                        at: format!("{}, {}", path.display(), t.row_name(i)),
+                        source,
+                    });
                 }
             }
             values.push(v);
@@ -117,23 +195,21 @@ impl OperatingPoints {
             Some(j) => {
                 for (i, row) in t.rows.iter().enumerate() {
                     if row[j] < 0.0 {
-                        return Err(format!(
-                            "{}: weight {} is negative; weights must be >= 0",
-                            t.at(i, j),
-                            row[j]
-                        ));
+                        return Err(OperatingPointsError::NegativeWeight {
+                            at: t.at(i, j),
+                            weight: row[j],
+                        });
                     }
                 }
                 t.rows.iter().map(|r| r[j]).collect()
             }
             None => vec![1.0; t.rows.len()],
         };
-        let table = AliasTable::new(&weights).ok_or_else(|| {
-            format!(
-                "{shown}, column `{}`: every weight is zero; at least one row needs a positive weight",
-                weight.unwrap_or_default()
-            )
-        })?;
+        let table =
+            AliasTable::new(&weights).ok_or_else(|| OperatingPointsError::AllWeightsZero {
+                path: path.clone(),
+                weight: weight.unwrap_or_default().to_string(),
+            })?;
         Ok(OperatingPoints {
             file: file.to_string(),
             path: std::path::absolute(&path).unwrap_or(path),

@@ -322,39 +322,27 @@ pub fn write_table_digest(
     w.finish()
 }
 
-/// Writes the same table as CSV (RFC 4180 quoting, `\n` line ends): a field holding a comma, a
-/// double quote, a line break or leading/trailing space is quoted, with inner quotes doubled;
-/// numbers are written in full precision (`NaN` for a missing value).
+/// Writes the same table as CSV through the `csv` crate (RFC 4180 quoting, `\n` line ends): a
+/// field holding a comma, a double quote or a line break is quoted, with inner quotes doubled;
+/// numbers are written in full precision as Rust prints them (`NaN` for a missing value).
 pub fn write_csv(path: &Path, columns: &[Column]) -> Result<(), WriteError> {
-    let err = |e: std::io::Error| WriteError(format!("{}: {e}", path.display()));
-    let mut f = std::io::BufWriter::new(File::create(path).map_err(err)?);
-    let header: Vec<String> = columns.iter().map(|c| csv_field(&c.name)).collect();
-    writeln!(f, "{}", header.join(",")).map_err(err)?;
+    let err = |e: &dyn std::fmt::Display| WriteError(format!("{}: {e}", path.display()));
+    let file = File::create(path).map_err(|e| err(&e))?;
+    let mut w = csv::WriterBuilder::new()
+        .terminator(csv::Terminator::Any(b'\n'))
+        .from_writer(std::io::BufWriter::new(file));
+    w.write_record(columns.iter().map(|c| c.name.as_str()))
+        .map_err(|e| err(&e))?;
     let n = columns.first().map_or(0, |c| c.data.len());
     for row in 0..n {
-        let cells: Vec<String> = columns
-            .iter()
-            .map(|c| match &c.data {
-                ColumnData::F64(v) => format!("{}", v[row]),
-                ColumnData::I64(v) => v[row].to_string(),
-                ColumnData::Str(v) => csv_field(&v[row]),
-            })
-            .collect();
-        writeln!(f, "{}", cells.join(",")).map_err(err)?;
+        let cells = columns.iter().map(|c| match &c.data {
+            ColumnData::F64(v) => format!("{}", v[row]),
+            ColumnData::I64(v) => v[row].to_string(),
+            ColumnData::Str(v) => v[row].clone(),
+        });
+        w.write_record(cells).map_err(|e| err(&e))?;
     }
-    f.flush().map_err(err)
-}
-
-/// One CSV field, quoted when RFC 4180 requires it (and around leading/trailing spaces).
-pub fn csv_field(s: &str) -> String {
-    let needs = s.contains([',', '"', '\n', '\r'])
-        || s.starts_with(char::is_whitespace)
-        || s.ends_with(char::is_whitespace);
-    if needs {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
+    w.flush().map_err(|e| err(&e))
 }
 
 #[cfg(test)]
@@ -363,11 +351,18 @@ mod csv_tests {
 
     #[test]
     fn csv_fields_are_quoted_as_rfc_4180_says() {
-        assert_eq!(csv_field("paper"), "paper");
-        assert_eq!(csv_field("a,b"), "\"a,b\"");
-        assert_eq!(csv_field("say \"hi\""), "\"say \"\"hi\"\"\"");
-        assert_eq!(csv_field("two\nlines"), "\"two\nlines\"");
-        assert_eq!(csv_field(" padded"), "\" padded\"");
-        assert_eq!(csv_field(""), "");
+        let path = std::env::temp_dir().join(format!("polywear-csv-{}.csv", std::process::id()));
+        let texts = ["paper", "a,b", "say \"hi\"", "two\nlines", ""];
+        let columns = [
+            Column::str("text", texts.iter().map(|s| s.to_string()).collect()),
+            Column::f64("x", "-", vec![0.1, 1e-7, f64::NAN, -2.0, 1e21]),
+        ];
+        write_csv(&path, &columns).unwrap();
+        let written = std::fs::read_to_string(&path).unwrap();
+        std::fs::remove_file(&path).ok();
+        assert_eq!(
+            written,
+            "text,x\npaper,0.1\n\"a,b\",0.0000001\n\"say \"\"hi\"\"\",NaN\n\"two\nlines\",-2\n,1000000000000000000000\n"
+        );
     }
 }

@@ -65,7 +65,7 @@ fn bounds(axis: &str) -> (f64, f64) {
 
 /// Why the paper's analyses cannot be regenerated: a file that cannot be written, or a stage
 /// that failed (in that stage's words).
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 pub enum ReproduceError {
     /// The output folder or the report cannot be written.
     #[error("{}: {message}", path.display())]
@@ -77,10 +77,13 @@ pub enum ReproduceError {
     },
     /// The model cannot be built for a point of a figure.
     #[error("{0}")]
-    Model(String),
+    Model(crate::model::tire::FlatTire),
     /// A figure cannot be drawn.
     #[error("{0}")]
-    Figure(String),
+    Figure(crate::plot::PlotError),
+    /// A stability chart cannot be drawn or written.
+    #[error("{0}")]
+    Chart(crate::chart::pairs::ChartError),
     /// A table cannot be written.
     #[error("{0}")]
     Table(String),
@@ -197,8 +200,8 @@ pub fn reproduce_as(
     let mut sweeps = Vec::new();
     for variant in Variant::ALL {
         for (axis, from, to) in AXES {
-            let name = crate::params::spec(axis).expect("known").name;
-            let sw = sweep(base, name, &linspace(from, to, steps), variant, &opts);
+            let param: crate::params::ParamId = axis.parse().expect("AXES are parameters");
+            let sw = sweep(base, param, &linspace(from, to, steps), variant, &opts);
             let png = dir.join(format!("bifurcation_{axis}_{variant}.{ext}"));
             sw.draw(&png).map_err(ReproduceError::Figure)?;
             files.push(png);
@@ -264,7 +267,8 @@ pub fn reproduce_as(
             let (model, verdict) = classify_point(&p, wheel, variant, &opts);
             records.push(WheelRecord::new(&p, wheel, variant, &model, &verdict));
             if let Ok(m) = &model {
-                series.push((wheel, time_series(m, 3.0, 20_000.0, opts.disturbance_m)));
+                let ts = time_series(m, 3.0, 20_000.0, opts.disturbance_m);
+                series.push((wheel, ts.samples));
             }
         }
         let png = dir.join(format!("{name}.{ext}"));
@@ -274,9 +278,13 @@ pub fn reproduce_as(
     }
 
     // Stability charts of the four axes two at a time, both wheels (default variant).
+    let axes: Vec<(crate::params::ParamId, f64, f64)> = AXES
+        .iter()
+        .map(|&(name, from, to)| (name.parse().expect("AXES are parameters"), from, to))
+        .collect();
     let (chart_files, charts_md) =
-        crate::chart::pairs::operating_pairs(base, Variant::DEFAULT, &AXES, dir)
-            .map_err(ReproduceError::Figure)?;
+        crate::chart::pairs::operating_pairs(base, Variant::DEFAULT, &axes, dir)
+            .map_err(ReproduceError::Chart)?;
     files.extend(chart_files);
 
     let paired = paired_comparison(base, paired_samples)?;
@@ -395,7 +403,7 @@ pub fn paired_comparison(base: &Params, samples: u64) -> Result<Vec<Paired>, Rep
 fn find<'a>(sweeps: &'a [Sweep], param: &str, variant: Variant) -> &'a Sweep {
     sweeps
         .iter()
-        .find(|s| s.param == param && s.variant == variant)
+        .find(|s| s.param.name() == param && s.variant == variant)
         .expect("swept")
 }
 

@@ -22,16 +22,135 @@ pub struct NumericTable {
     pub bytes: u64,
 }
 
-/// A refusal, naming the file and, where it applies, the row and column.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{0}")]
-pub struct TableError(pub String);
+/// A refusal, naming the file and, where it applies, the row and column (`at`: "FILE, row R
+/// (line L), column `NAME`", as [`NumericTable::at`] words it).
+#[derive(Debug, thiserror::Error)]
+pub enum TableError {
+    /// The file cannot be read.
+    #[error("{}: cannot read: {source}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// A CSV file that is not UTF-8 text.
+    #[error("{}: not UTF-8 text: {source}", path.display())]
+    NotUtf8 {
+        /// The file.
+        path: PathBuf,
+        /// Where the text breaks.
+        source: std::str::Utf8Error,
+    },
+    /// The CSV reader failed.
+    #[error("{}: {source}", path.display())]
+    Csv {
+        /// The file.
+        path: PathBuf,
+        /// The reader's error.
+        source: csv::Error,
+    },
+    /// No header line.
+    #[error("{}: empty file (expected a header line, then one row per line)", path.display())]
+    Empty {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A header without data rows.
+    #[error("{}: no rows (only the header line)", path.display())]
+    NoRows {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A column without a name.
+    #[error("{}: header, column {number}: empty column name", path.display())]
+    EmptyColumnName {
+        /// The file.
+        path: PathBuf,
+        /// The column, counted from 1.
+        number: usize,
+    },
+    /// A column name given twice.
+    #[error("{}: header, column `{name}` appears twice (columns {first} and {second})", path.display())]
+    RepeatedColumn {
+        /// The file.
+        path: PathBuf,
+        /// The name.
+        name: String,
+        /// Its first column, counted from 1.
+        first: usize,
+        /// Its second column, counted from 1.
+        second: usize,
+    },
+    /// A row whose cell count differs from the header's.
+    #[error("{row}: {cells} cells, the header has {columns} columns")]
+    CellCount {
+        /// File and row.
+        row: String,
+        /// Cells in the row.
+        cells: usize,
+        /// Columns in the header.
+        columns: usize,
+    },
+    /// An empty cell.
+    #[error("{at}: empty cell")]
+    EmptyCell {
+        /// File, row and column.
+        at: String,
+    },
+    /// A cell that is not a number.
+    #[error("{at}: `{text}` is not a number")]
+    NotANumber {
+        /// File, row and column.
+        at: String,
+        /// The cell.
+        text: String,
+    },
+    /// NaN or an infinity.
+    #[error("{at}: {value} is not a finite number (NaN and inf are refused)")]
+    NotFinite {
+        /// File, row and column.
+        at: String,
+        /// The value.
+        value: f64,
+    },
+    /// A Parquet file that cannot be read as a flat table of numbers.
+    #[error("{}: {message}", path.display())]
+    Parquet {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+    /// A Parquet cell without a value.
+    #[error("{at}: missing value")]
+    MissingValue {
+        /// File, row and column.
+        at: String,
+    },
+    /// A Parquet column of another type than numbers.
+    #[error("{at}: `{value}` is not a number (the column must be numeric)")]
+    NotNumeric {
+        /// File, row and column.
+        at: String,
+        /// The cell as Parquet prints it.
+        value: String,
+    },
+    /// A nested or repeated Parquet column.
+    #[error("{row}: nested or repeated columns are not supported")]
+    Nested {
+        /// File and row.
+        row: String,
+    },
+}
 
 impl NumericTable {
     /// Reads `path`: Parquet when it ends in `.parquet`, CSV otherwise.
     pub fn read(path: &Path) -> Result<NumericTable, TableError> {
-        let bytes = std::fs::read(path)
-            .map_err(|e| TableError(format!("{}: cannot read: {e}", path.display())))?;
+        let bytes = std::fs::read(path).map_err(|source| TableError::Read {
+            path: path.to_path_buf(),
+            source,
+        })?;
         let hash = bytes_hash(&bytes);
         let n = bytes.len() as u64;
         let is_parquet = path
@@ -94,40 +213,74 @@ fn cell(s: &str) -> &str {
 fn check_header(path: &Path, columns: &[String]) -> Result<(), TableError> {
     for (j, name) in columns.iter().enumerate() {
         if name.is_empty() {
-            return Err(TableError(format!(
-                "{}: header, column {}: empty column name",
-                path.display(),
-                j + 1
-            )));
+            return Err(TableError::EmptyColumnName {
+                path: path.to_path_buf(),
+                number: j + 1,
+            });
         }
         if let Some(k) = columns[..j].iter().position(|c| c == name) {
-            return Err(TableError(format!(
-                "{}: header, column `{name}` appears twice (columns {} and {})",
-                path.display(),
-                k + 1,
-                j + 1
-            )));
+            return Err(TableError::RepeatedColumn {
+                path: path.to_path_buf(),
+                name: name.clone(),
+                first: k + 1,
+                second: j + 1,
+            });
         }
     }
     Ok(())
 }
 
-fn read_csv(path: &Path, bytes: &[u8]) -> Result<NumericTable, TableError> {
-    let text = std::str::from_utf8(bytes)
-        .map_err(|e| TableError(format!("{}: not UTF-8 text: {e}", path.display())))?;
+/// The records of a CSV text with the line each starts on, blank lines left out; the fields
+/// are split by the `csv` crate (RFC 4180: quoted fields may hold commas, quotes and line
+/// breaks), each then trimmed and stripped of surrounding quotes.
+pub fn csv_records(path: &Path, text: &str) -> Result<Vec<(usize, Vec<String>)>, TableError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l))
-        .filter(|(_, l)| !l.trim().is_empty());
-    let Some((_, header)) = lines.next() else {
-        return Err(TableError(format!(
-            "{}: empty file (expected a header line, then one row per line)",
-            path.display()
-        )));
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(text.as_bytes());
+    let mut out = Vec::new();
+    // Line breaks before byte `counted`, counted once for the whole file.
+    let (mut counted, mut newlines) = (0usize, 0usize);
+    for record in reader.records() {
+        let record = record.map_err(|source| TableError::Csv {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        if record.len() == 1 && record[0].trim().is_empty() {
+            continue;
+        }
+        // The line the record's first field is on: the reader's own line count leaves out the
+        // blank lines it skips, so it is counted from the record's byte offset.
+        let start = record.position().map_or(0, |p| p.byte() as usize);
+        let first = start
+            + text.as_bytes()[start.min(text.len())..]
+                .iter()
+                .take_while(|b| matches!(b, b'\r' | b'\n'))
+                .count();
+        let first = first.min(text.len());
+        newlines += text.as_bytes()[counted..first]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        counted = first;
+        let line = 1 + newlines;
+        out.push((line, record.iter().map(|c| cell(c).to_string()).collect()));
+    }
+    Ok(out)
+}
+
+fn read_csv(path: &Path, bytes: &[u8]) -> Result<NumericTable, TableError> {
+    let text = std::str::from_utf8(bytes).map_err(|source| TableError::NotUtf8 {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let mut lines = csv_records(path, text)?.into_iter();
+    let Some((_, columns)) = lines.next() else {
+        return Err(TableError::Empty {
+            path: path.to_path_buf(),
+        });
     };
-    let columns: Vec<String> = header.split(',').map(|c| cell(c).to_string()).collect();
     check_header(path, &columns)?;
     let mut t = NumericTable {
         path: path.to_path_buf(),
@@ -137,43 +290,42 @@ fn read_csv(path: &Path, bytes: &[u8]) -> Result<NumericTable, TableError> {
         hash: String::new(),
         bytes: 0,
     };
-    for (line, text) in lines {
-        let cells: Vec<&str> = text.split(',').map(cell).collect();
+    for (line, cells) in lines {
         let row = t.rows.len();
         t.lines.push(line);
         if cells.len() != t.columns.len() {
-            return Err(TableError(format!(
-                "{}, {}: {} cells, the header has {} columns",
-                path.display(),
-                t.row_name(row),
-                cells.len(),
-                t.columns.len()
-            )));
+            return Err(TableError::CellCount {
+                row: format!("{}, {}", path.display(), t.row_name(row)),
+                cells: cells.len(),
+                columns: t.columns.len(),
+            });
         }
         let mut values = Vec::with_capacity(cells.len());
         for (j, c) in cells.iter().enumerate() {
             let x: f64 = c.parse().map_err(|_| {
-                TableError(if c.is_empty() {
-                    format!("{}: empty cell", t.at(row, j))
+                if c.is_empty() {
+                    TableError::EmptyCell { at: t.at(row, j) }
                 } else {
-                    format!("{}: `{c}` is not a number", t.at(row, j))
-                })
+                    TableError::NotANumber {
+                        at: t.at(row, j),
+                        text: c.clone(),
+                    }
+                }
             })?;
             if !x.is_finite() {
-                return Err(TableError(format!(
-                    "{}: {x} is not a finite number (NaN and inf are refused)",
-                    t.at(row, j)
-                )));
+                return Err(TableError::NotFinite {
+                    at: t.at(row, j),
+                    value: x,
+                });
             }
             values.push(x);
         }
         t.rows.push(values);
     }
     if t.rows.is_empty() {
-        return Err(TableError(format!(
-            "{}: no rows (only the header line)",
-            path.display()
-        )));
+        return Err(TableError::NoRows {
+            path: path.to_path_buf(),
+        });
     }
     Ok(t)
 }
@@ -181,7 +333,10 @@ fn read_csv(path: &Path, bytes: &[u8]) -> Result<NumericTable, TableError> {
 fn read_parquet(path: &Path) -> Result<NumericTable, TableError> {
     use parquet::file::reader::{FileReader, SerializedFileReader};
     use parquet::record::Field;
-    let e = |m: &dyn std::fmt::Display| TableError(format!("{}: {m}", path.display()));
+    let e = |m: &dyn std::fmt::Display| TableError::Parquet {
+        path: path.to_path_buf(),
+        message: m.to_string(),
+    };
     let f = std::fs::File::open(path).map_err(|err| e(&err))?;
     let reader = SerializedFileReader::new(f).map_err(|err| e(&err))?;
     let schema = reader.metadata().file_metadata().schema_descr();
@@ -214,28 +369,26 @@ fn read_parquet(path: &Path) -> Result<NumericTable, TableError> {
                 Field::UShort(x) => f64::from(*x),
                 Field::UInt(x) => f64::from(*x),
                 Field::ULong(x) => *x as f64,
-                Field::Null => return Err(TableError(format!("{}: missing value", t.at(i, j)))),
+                Field::Null => return Err(TableError::MissingValue { at: t.at(i, j) }),
                 other => {
-                    return Err(TableError(format!(
-                        "{}: `{other}` is not a number (the column must be numeric)",
-                        t.at(i, j)
-                    )))
+                    return Err(TableError::NotNumeric {
+                        at: t.at(i, j),
+                        value: other.to_string(),
+                    })
                 }
             };
             if !x.is_finite() {
-                return Err(TableError(format!(
-                    "{}: {x} is not a finite number (NaN and inf are refused)",
-                    t.at(i, j)
-                )));
+                return Err(TableError::NotFinite {
+                    at: t.at(i, j),
+                    value: x,
+                });
             }
             values.push(x);
         }
         if values.len() != t.columns.len() {
-            return Err(TableError(format!(
-                "{}, {}: nested or repeated columns are not supported",
-                path.display(),
-                t.row_name(i)
-            )));
+            return Err(TableError::Nested {
+                row: format!("{}, {}", path.display(), t.row_name(i)),
+            });
         }
         t.rows.push(values);
     }
@@ -263,7 +416,12 @@ mod tests {
         assert_eq!(t.columns, vec!["a", "b"]);
         assert_eq!(t.rows, vec![vec![1.0, 2.0], vec![3.5, -40.0]]);
         assert_eq!(t.row_name(1), "row 2 (line 4)");
-        let err = |name: &str, text: &str| table(name, text).unwrap_err().0;
+        // RFC 4180: a quoted field holds commas, doubled quotes and line breaks.
+        let t = table("q.csv", "x,\"a,b\"\n\n\"1\",2\n\"3\n\",4\n5,6\n").unwrap();
+        assert_eq!(t.columns, vec!["x", "a,b"]);
+        assert_eq!(t.rows.len(), 3);
+        assert_eq!(t.row_name(2), "row 3 (line 6)");
+        let err = |name: &str, text: &str| table(name, text).unwrap_err().to_string();
         assert!(err("e1.csv", "").contains("empty file"));
         assert!(err("e2.csv", "a,b\n").contains("no rows"));
         let m = err("e3.csv", "a,b\n1,2\n1,NaN\n");

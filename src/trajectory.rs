@@ -6,35 +6,52 @@ use std::path::Path;
 
 use crate::classify::Scales;
 use crate::model::{Wheel, WheelModel};
-use crate::plot::{self, Series};
+use crate::plot::{self, PlotError, Series};
 use crate::records::WheelRecord;
-use crate::solver::{sample_uniform, SolverOptions};
+use crate::solver::{sample_uniform, IntegrationError, SolverOptions};
 
 /// (t, [z, y, v]) samples.
 pub type Samples = Vec<(f64, [f64; 3])>;
 
+/// A wheel's sampled trajectory, and why it ends before the requested duration if it does.
+#[derive(Debug, Clone)]
+pub struct TimeSeries {
+    /// The samples, up to where the integration went.
+    pub samples: Samples,
+    /// Set when the integration failed before the end (the caller warns).
+    pub ended_early: Option<EndedEarly>,
+}
+
+/// A time series that ends before its duration because the integration failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{wheel} wheel time series ends early: {error}")]
+pub struct EndedEarly {
+    /// The wheel.
+    pub wheel: Wheel,
+    /// Why the integration stopped.
+    pub error: IntegrationError,
+}
+
 /// Trajectory from the equilibrium with y disturbed by `disturbance_m`, sampled at
-/// `sample_rate_hz` for `duration_s`; a failing integration ends the series early (with a warning).
+/// `sample_rate_hz` for `duration_s`; a failing integration ends the series early, and the
+/// series says why.
 pub fn time_series(
     m: &WheelModel,
     duration_s: f64,
     sample_rate_hz: f64,
     disturbance_m: f64,
-) -> Samples {
+) -> TimeSeries {
     let scales = Scales::new(&m.ode);
     let x0 = [scales.z_eq, scales.y_eq + disturbance_m, 0.0];
-    let sopts = SolverOptions {
-        rtol: 1e-9,
-        atol: scales.atol(1e-9),
-        h_max: 1e-3,
-        h0: None,
-        max_steps: 100_000_000,
-    };
+    let sopts = SolverOptions::transient(1e-9, scales.atol(1e-9), 100_000_000);
     let (samples, outcome) = sample_uniform(&m.ode, x0, duration_s, 1.0 / sample_rate_hz, &sopts);
-    if let Err(e) = outcome {
-        eprintln!("warning: {} wheel time series ends early: {e}", m.wheel);
+    TimeSeries {
+        samples,
+        ended_early: outcome.err().map(|error| EndedEarly {
+            wheel: m.wheel,
+            error,
+        }),
     }
-    samples
 }
 
 /// Time history, displacement detail, phase portrait and spectrum for the given wheels.
@@ -43,8 +60,8 @@ pub fn plot_point(
     series: &[(Wheel, Samples)],
     records: &[WheelRecord],
     sample_rate: f64,
-) -> Result<(), String> {
-    let r0 = records.first().ok_or("nothing to plot")?;
+) -> Result<(), PlotError> {
+    let r0 = records.first().ok_or(PlotError::Empty)?;
     let title = format!(
         "{} km/h, toe {} deg, {} N, {} kPa ({} variant)",
         r0.speed_kmh, r0.toe_deg, r0.load_n, r0.pressure_kpa, r0.variant

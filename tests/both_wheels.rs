@@ -9,11 +9,11 @@ use common::polywear;
 use polywear::bifurcation::{linspace, sweep};
 use polywear::classify::ClassifierOptions;
 use polywear::model::{Variant, Wheel, WheelModel};
-use polywear::params::Params;
+use polywear::params::{ParamId, Params};
 use polywear::reproduce::paired_comparison;
 
 /// Unstable interval of `axis` for a wheel, from a sweep of the shipped defaults.
-fn window(p: &Params, axis: &'static str, from: f64, to: f64, wheel: Wheel) -> (f64, f64) {
+fn window(p: &Params, axis: ParamId, from: f64, to: f64, wheel: Wheel) -> (f64, f64) {
     let sw = sweep(
         p,
         axis,
@@ -44,20 +44,20 @@ fn default_variant_is_sliding_share() {
 fn shipped_defaults_put_both_wheels_in_the_papers_bands() {
     let p = Params::default();
     let (f, d) = (Wheel::Follower, Wheel::Driving);
-    let fs = window(&p, "speed_kmh", 40.0, 260.0, f);
-    let ds = window(&p, "speed_kmh", 40.0, 260.0, d);
+    let fs = window(&p, ParamId::SpeedKmh, 40.0, 260.0, f);
+    let ds = window(&p, ParamId::SpeedKmh, 40.0, 260.0, d);
     inside(fs.0, (72.0, 95.0), "follower speed onset");
     inside(fs.1, (142.0, 210.0), "follower speed end");
-    let ft = window(&p, "toe_deg", 0.05, 1.0, f);
-    let dt = window(&p, "toe_deg", 0.05, 1.0, d);
+    let ft = window(&p, ParamId::ToeDeg, 0.05, 1.0, f);
+    let dt = window(&p, ParamId::ToeDeg, 0.05, 1.0, d);
     inside(ft.1, (0.37, 0.45), "follower toe end");
     inside(dt.1, (0.315, 0.385), "driving toe end");
-    let fl = window(&p, "load_n", 2000.0, 7000.0, f);
-    let dl = window(&p, "load_n", 2000.0, 7000.0, d);
+    let fl = window(&p, ParamId::LoadN, 2000.0, 7000.0, f);
+    let dl = window(&p, ParamId::LoadN, 2000.0, 7000.0, d);
     inside(fl.0, (3160.0, 3870.0), "follower load threshold");
     inside(dl.0, (3450.0, 4230.0), "driving load threshold");
-    let fp = window(&p, "pressure_kpa", 150.0, 450.0, f);
-    let dp = window(&p, "pressure_kpa", 150.0, 450.0, d);
+    let fp = window(&p, ParamId::PressureKpa, 150.0, 450.0, f);
+    let dp = window(&p, ParamId::PressureKpa, 150.0, 450.0, d);
     inside(fp.1, (300.0, 368.0), "follower pressure threshold");
     inside(dp.1, (205.0, 300.0), "driving pressure threshold");
     let freq = WheelModel::build(&p, f, Variant::DEFAULT)

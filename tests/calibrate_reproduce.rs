@@ -5,7 +5,7 @@ mod common;
 
 use common::polywear;
 use polywear::calibrate::{calibrate, observe, parse_problem};
-use polywear::params::Params;
+use polywear::params::{ParamId, Params};
 
 const TARGETS: &str = r#"
 fit = ["g_mod", "v_s"]
@@ -69,7 +69,7 @@ fn calibration_recovers_known_parameters() {
     // Starting from the defaults, the fit finds the truth again.
     let fit = calibrate(&problem);
     for (name, start, got) in &fit.fitted {
-        let want = truth.get(name).unwrap();
+        let want = truth[*name];
         assert!(
             ((got - want) / want).abs() < 1e-4,
             "{name}: fitted {got}, truth {want}, start {start}"
@@ -253,7 +253,7 @@ fn calibration_of_both_wheels_picks_the_lost_digit_reading() {
     assert_eq!(template.targets[0].wheel, polywear::model::Wheel::Driving);
     assert_eq!(
         template.choices,
-        vec![("phi", vec![0.90, 0.92, 0.94, 0.98])]
+        vec![(ParamId::Phi, vec![0.90, 0.92, 0.94, 0.98])]
     );
     let v: Vec<f64> = template
         .targets
@@ -268,7 +268,7 @@ fn calibration_of_both_wheels_picks_the_lost_digit_reading() {
     .unwrap();
     let fit = calibrate(&problem);
     assert_eq!(fit.combinations, 4);
-    assert_eq!(fit.chosen, vec![("phi", 0.92)]);
+    assert_eq!(fit.chosen, vec![(ParamId::Phi, 0.92)]);
     assert!(
         (fit.params.g_mod / truth.g_mod - 1.0).abs() < 1e-4,
         "{}",

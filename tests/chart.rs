@@ -13,15 +13,15 @@ use polywear::continuation::hopf::{analyse, HopfData};
 use polywear::continuation::trace::TraceOptions;
 use polywear::continuation::{CVector, OdeWithJacobian, ParamBox};
 use polywear::model::{Variant, Wheel, WheelModel};
-use polywear::params::{spec, Params};
+use polywear::params::{ParamId, Params};
 
 fn request(x: &str, xr: (f64, f64), y: &str, yr: (f64, f64)) -> ChartRequest {
     ChartRequest {
         base: Params::default(),
         variant: Variant::SlidingShare,
         wheels: Wheel::BOTH.to_vec(),
-        x: spec(x).unwrap(),
-        y: spec(y).unwrap(),
+        x: x.parse().unwrap(),
+        y: y.parse().unwrap(),
         bounds: ParamBox {
             lo: [xr.0, yr.0],
             hi: [xr.1, yr.1],
@@ -413,7 +413,7 @@ fn bifurcation_hopf_points_carry_the_charts_l1() {
     let base = Params::default();
     let sw = sweep(
         &base,
-        "speed_kmh",
+        ParamId::SpeedKmh,
         &linspace(60.0, 250.0, 20),
         Variant::SlidingShare,
         &ClassifierOptions::default(),

@@ -8,7 +8,7 @@ use rayon::prelude::*;
 
 use super::ChartRequest;
 use crate::model::Wheel;
-use crate::params::{spec, Group, Params};
+use crate::params::{Group, ParamId, Params};
 use crate::study::Study;
 
 /// The shares at which the band starts and ends.
@@ -17,8 +17,8 @@ pub const BAND: (f64, f64) = (0.05, 0.95);
 /// The structures' draws and, per wheel, the unstable share of each grid cell.
 #[derive(Debug, Clone)]
 pub struct StructureBand {
-    /// Names of the drawn parameters.
-    pub drawn: Vec<&'static str>,
+    /// The drawn parameters.
+    pub drawn: Vec<ParamId>,
     /// The K structures: the chart's base parameters with the drawn ones set per sample.
     pub structures: Vec<Params>,
     /// Cells per axis; shares are row-major in y, then x.
@@ -28,15 +28,12 @@ pub struct StructureBand {
 }
 
 /// The study's drawn parameters that are neither operating-point parameters nor chart axes.
-pub fn structure_params(req: &ChartRequest, study: &Study) -> Vec<&'static str> {
+pub fn structure_params(req: &ChartRequest, study: &Study) -> Vec<ParamId> {
     study
         .drawn
         .iter()
-        .map(|d| d.param.name())
-        .filter(|n| {
-            let s = spec(n).expect("drawn names are parameters");
-            s.group != Group::OperatingPoint && *n != req.x.name && *n != req.y.name
-        })
+        .map(|d| d.param)
+        .filter(|&id| id.spec().group != Group::OperatingPoint && id != req.x && id != req.y)
         .collect()
 }
 
@@ -56,7 +53,7 @@ pub fn structure_band(
             let (_, values) = sampler.sample(i);
             let mut q = req.base;
             for (d, v) in study.drawn.iter().zip(values) {
-                if drawn.contains(&d.param.name()) {
+                if drawn.contains(&d.param) {
                     q[d.param] = v;
                 }
             }

@@ -11,7 +11,7 @@ use super::band::StructureBand;
 use super::{ChartRequest, WheelCurves};
 use crate::continuation::trace::SpecialKind;
 use crate::model::Wheel;
-use crate::plot::{figure, format_tick, PALETTE};
+use crate::plot::{figure, format_tick, PlotError, PALETTE};
 
 /// Cells per axis of the shading (evaluated by eigenvalues at their centres).
 pub const SHADE_CELLS: usize = 120;
@@ -31,12 +31,12 @@ pub fn draw(
     charts: &[WheelCurves],
     grids: &[Vec<Option<bool>>],
     band: Option<&StructureBand>,
-) -> Result<(), String> {
+) -> Result<(), PlotError> {
     let (x, y) = (req.x, req.y);
     let title = format!(
         "Where the tread vibrates: {} × {} ({} variant; other parameters as given)",
-        crate::params::label(x.name),
-        crate::params::label(y.name),
+        x.label(),
+        y.label(),
         req.variant
     );
     figure(path, (1200, 950), &title, |area| {
@@ -46,18 +46,18 @@ pub fn draw(
             .x_label_area_size(50)
             .y_label_area_size(80)
             .build_cartesian_2d(lo[0]..hi[0], lo[1]..hi[1])
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::from)?;
         chart
             .configure_mesh()
-            .x_desc(crate::params::axis_label(x.name, x.unit))
-            .y_desc(crate::params::axis_label(y.name, y.unit))
+            .x_desc(crate::params::axis_label(x.name(), x.spec().unit))
+            .y_desc(crate::params::axis_label(y.name(), y.spec().unit))
             .light_line_style(TRANSPARENT)
             .label_style(("sans-serif", 15))
             .axis_desc_style(("sans-serif", 17))
             .x_label_formatter(&|v| format_tick(*v))
             .y_label_formatter(&|v| format_tick(*v))
             .draw()
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::from)?;
         let n = SHADE_CELLS;
         let cell = |i: usize, j: usize| {
             let a = req
@@ -68,7 +68,7 @@ pub fn draw(
                 .to_param([(i + 1) as f64 / n as f64, (j + 1) as f64 / n as f64]);
             [(a[0], a[1]), (b[0], b[1])]
         };
-        let e = |e: DrawingAreaErrorKind<_>| e.to_string();
+        let e = |e: DrawingAreaErrorKind<_>| PlotError::from(e);
         for (c, grid) in charts.iter().zip(grids) {
             let col = colour(c.wheel);
             let unstable = (0..n * n).filter(|k| grid[*k] == Some(true));
@@ -188,9 +188,9 @@ pub fn draw(
         let inside = (0..2).all(|k| (lo[k]..=hi[k]).contains(&nom[k]));
         let nom_label = format!(
             "nominal operating point ({} = {}, {} = {}){}",
-            x.name,
+            x.name(),
             format_tick(nom[0]),
-            y.name,
+            y.name(),
             format_tick(nom[1]),
             if inside { "" } else { ", outside this box" }
         );

@@ -19,7 +19,7 @@ use rayon::prelude::*;
 use crate::continuation::trace::{trace_all, HopfCurves, SpecialKind, TraceOptions};
 use crate::continuation::{ParamBox, TwoParameterFamily};
 use crate::model::{Variant, Wheel, WheelModel};
-use crate::params::{ParamSpec, Params};
+use crate::params::{ParamId, Params};
 use crate::parquet_out::Column;
 use derivatives::TreadSystem;
 
@@ -32,16 +32,16 @@ pub struct TireFamily {
     pub wheel: Wheel,
     /// The friction variant (MODEL.md#variants).
     pub variant: Variant,
-    /// The names of the x and y parameters, as in `polywear params`.
-    pub names: [&'static str; 2],
+    /// The x and y parameters.
+    pub axes: [ParamId; 2],
 }
 
 impl TireFamily {
     /// The parameters at p.
     pub fn params(&self, p: [f64; 2]) -> Params {
         let mut q = self.base;
-        for (name, v) in self.names.iter().zip(p) {
-            *q.get_mut(name).expect("chart axes are parameters") = v;
+        for (&id, v) in self.axes.iter().zip(p) {
+            q[id] = v;
         }
         q
     }
@@ -71,9 +71,9 @@ pub struct ChartRequest {
     /// The wheels to trace, each independently.
     pub wheels: Vec<Wheel>,
     /// The parameter on the x axis.
-    pub x: &'static ParamSpec,
+    pub x: ParamId,
     /// The parameter on the y axis.
-    pub y: &'static ParamSpec,
+    pub y: ParamId,
     /// The box in the parameters' own units (x range, y range).
     pub bounds: ParamBox,
 }
@@ -98,16 +98,13 @@ impl ChartRequest {
             base: self.base,
             wheel,
             variant: self.variant,
-            names: [self.x.name, self.y.name],
+            axes: [self.x, self.y],
         }
     }
 
     /// The parameters of the operating point the user gave (`base`), on the chart's axes.
     pub fn nominal(&self) -> [f64; 2] {
-        [
-            self.base.get(self.x.name).expect("axis"),
-            self.base.get(self.y.name).expect("axis"),
-        ]
+        [self.base[self.x], self.base[self.y]]
     }
 
     /// Traces the curves of every wheel (the wheels in parallel).
@@ -152,7 +149,7 @@ pub fn nominal_curves(
     x_edges: &[f64],
     y_edges: &[f64],
 ) -> Option<Vec<WheelCurves>> {
-    let (xs, ys) = (crate::params::spec(x)?, crate::params::spec(y)?);
+    let (xs, ys): (ParamId, ParamId) = (x.parse().ok()?, y.parse().ok()?);
     let (x0, x1) = (*x_edges.first()?, *x_edges.last()?);
     let (y0, y1) = (*y_edges.first()?, *y_edges.last()?);
     if !(x0 < x1 && y0 < y1) {
@@ -160,7 +157,7 @@ pub fn nominal_curves(
     }
     let mut base = study.base;
     for d in &study.drawn {
-        if d.param.name() != x && d.param.name() != y {
+        if d.param != xs && d.param != ys {
             base[d.param] = d.dist.quantile(0.5);
         }
     }
@@ -211,13 +208,13 @@ pub fn curve_columns(req: &ChartRequest, charts: &[WheelCurves]) -> Vec<Column> 
         Column::str("variant", vec![req.variant.as_str().into(); rows.len()]),
         Column::i64("curve", "", rows.iter().map(|r| r.1 as i64).collect()),
         Column::f64(
-            req.x.name,
-            req.x.unit,
+            req.x.name(),
+            req.x.spec().unit,
             rows.iter().map(|r| r.2.p[0]).collect(),
         ),
         Column::f64(
-            req.y.name,
-            req.y.unit,
+            req.y.name(),
+            req.y.spec().unit,
             rows.iter().map(|r| r.2.p[1]).collect(),
         ),
         Column::f64(
@@ -253,13 +250,13 @@ pub fn special_columns(req: &ChartRequest, charts: &[WheelCurves]) -> Vec<Column
             rows.iter().map(|r| r.1.kind.as_str().into()).collect(),
         ),
         Column::f64(
-            req.x.name,
-            req.x.unit,
+            req.x.name(),
+            req.x.spec().unit,
             rows.iter().map(|r| r.1.p[0]).collect(),
         ),
         Column::f64(
-            req.y.name,
-            req.y.unit,
+            req.y.name(),
+            req.y.spec().unit,
             rows.iter().map(|r| r.1.p[1]).collect(),
         ),
         Column::f64(
@@ -292,8 +289,8 @@ pub fn band_columns(req: &ChartRequest, band: &band::StructureBand) -> Vec<Colum
     vec![
         Column::str("wheel", cols.0),
         Column::str("variant", vec![req.variant.as_str().into(); rows]),
-        Column::f64(req.x.name, req.x.unit, cols.1),
-        Column::f64(req.y.name, req.y.unit, cols.2),
+        Column::f64(req.x.name(), req.x.spec().unit, cols.1),
+        Column::f64(req.y.name(), req.y.spec().unit, cols.2),
         Column::f64("unstable_share", "", cols.3),
     ]
 }
@@ -332,14 +329,14 @@ pub fn summary(req: &ChartRequest, charts: &[WheelCurves]) -> Vec<String> {
             out.push(format!(
                 "           curve {k}: {} points, {} {:.4}..{:.4} {}, {} {:.4}..{:.4} {}, {:.1}..{:.1} Hz, {}",
                 curve.points.len(),
-                req.x.name,
+                req.x.name(),
                 xmin,
                 xmax,
-                req.x.unit,
-                req.y.name,
+                req.x.spec().unit,
+                req.y.name(),
                 ymin,
                 ymax,
-                req.y.unit,
+                req.y.spec().unit,
                 fmin,
                 fmax,
                 if sub == 0 {
@@ -357,9 +354,9 @@ pub fn summary(req: &ChartRequest, charts: &[WheelCurves]) -> Vec<String> {
                     "           {} on curve {} at {} = {:.6}, {} = {:.6}",
                     s.kind.as_str(),
                     s.curve,
-                    req.x.name,
+                    req.x.name(),
                     s.p[0],
-                    req.y.name,
+                    req.y.name(),
                     s.p[1]
                 ));
             }

@@ -10,17 +10,29 @@ use super::{criticality, curve_columns, ChartRequest, WheelCurves};
 use crate::continuation::trace::{SpecialKind, TraceOptions};
 use crate::continuation::ParamBox;
 use crate::model::{Variant, Wheel};
-use crate::params::{spec, Params};
-use crate::parquet_out::write_table;
+use crate::params::{ParamId, Params};
+use crate::parquet_out::{write_table, WriteError};
+use crate::plot::PlotError;
+
+/// Why a chart of the operating pairs was not written.
+#[derive(Debug, thiserror::Error)]
+pub enum ChartError {
+    /// The picture could not be drawn.
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+    /// The table could not be written.
+    #[error(transparent)]
+    Write(#[from] WriteError),
+}
 
 /// Draws the six charts of `axes` (name, from, to) into `dir` as `chart_<x>_<y>.png` and
 /// `.parquet`; returns the files and the report's Markdown section.
 pub fn operating_pairs(
     base: &Params,
     variant: Variant,
-    axes: &[(&str, f64, f64)],
+    axes: &[(ParamId, f64, f64)],
     dir: &Path,
-) -> Result<(Vec<PathBuf>, String), String> {
+) -> Result<(Vec<PathBuf>, String), ChartError> {
     let mut files = Vec::new();
     let mut md = String::new();
     let _ = writeln!(
@@ -42,8 +54,8 @@ pub fn operating_pairs(
                 base: *base,
                 variant,
                 wheels: Wheel::BOTH.to_vec(),
-                x: spec(x.0).ok_or_else(|| format!("unknown axis {}", x.0))?,
-                y: spec(y.0).ok_or_else(|| format!("unknown axis {}", y.0))?,
+                x: x.0,
+                y: y.0,
                 bounds: ParamBox {
                     lo: [x.1, y.1],
                     hi: [x.2, y.2],
@@ -63,10 +75,10 @@ pub fn operating_pairs(
                 ("polywear_version".into(), env!("CARGO_PKG_VERSION").into()),
                 ("variant".into(), variant.as_str().into()),
                 ("params".into(), serde_json::to_string(base).expect("json")),
-                ("chart_x".into(), x.0.into()),
-                ("chart_y".into(), y.0.into()),
+                ("chart_x".into(), x.0.name().into()),
+                ("chart_y".into(), y.0.name().into()),
             ];
-            write_table(&pq, &curve_columns(&req, &charts), &meta).map_err(|e| e.to_string())?;
+            write_table(&pq, &curve_columns(&req, &charts), &meta)?;
             let _ = writeln!(
                 md,
                 "| [{stem}]({stem}.png) | {} | {} | {} | {} |",
@@ -145,7 +157,10 @@ fn onset(charts: &[WheelCurves], req: &ChartRequest) -> String {
                 .map(|s| {
                     format!(
                         "{} = {:.4}, {} = {:.4}",
-                        req.x.name, s.p[0], req.y.name, s.p[1]
+                        req.x.name(),
+                        s.p[0],
+                        req.y.name(),
+                        s.p[1]
                     )
                 })
                 .collect();

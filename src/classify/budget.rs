@@ -22,33 +22,54 @@ impl WheelBudget {
     /// Accepted range of `max_wheel_seconds`.
     pub const SECONDS_RANGE: (f64, f64) = (1e-3, 86_400.0);
 
-    /// Checks both limits against their accepted ranges. The error names the key as the
-    /// study file spells it, or as the flag (`--max-rhs-evals`) when `flag_prefix` is "--".
-    pub fn check(&self, flag_prefix: &str) -> Result<(), String> {
-        let name = |key: &str| {
-            if flag_prefix.is_empty() {
-                format!("`{key}`")
-            } else {
-                format!("{flag_prefix}{}", key.replace('_', "-"))
-            }
-        };
+    /// Checks both limits against their accepted ranges; the error names the key as the
+    /// study file spells it.
+    pub fn check(&self) -> Result<(), BudgetError> {
         let (lo, hi) = Self::RHS_EVALS_RANGE;
         if !(lo..=hi).contains(&self.max_rhs_evals) {
-            return Err(format!(
-                "{} = {} is outside the accepted range [{lo}, {hi}]",
-                name("max_rhs_evals"),
-                self.max_rhs_evals
-            ));
+            return Err(BudgetError::RhsEvals(self.max_rhs_evals));
         }
         let (lo, hi) = Self::SECONDS_RANGE;
         let s = self.max_wheel_seconds;
         if !(s.is_finite() && (lo..=hi).contains(&s)) {
-            return Err(format!(
-                "{} = {s} is outside the accepted range [{lo}, {hi}] s",
-                name("max_wheel_seconds")
-            ));
+            return Err(BudgetError::WheelSeconds(s));
         }
         Ok(())
+    }
+}
+
+/// A budget limit outside its accepted range.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BudgetError {
+    /// `max_rhs_evals` outside [`WheelBudget::RHS_EVALS_RANGE`].
+    #[error("`max_rhs_evals` {}", self.refusal())]
+    RhsEvals(u64),
+    /// `max_wheel_seconds` outside [`WheelBudget::SECONDS_RANGE`].
+    #[error("`max_wheel_seconds` {}", self.refusal())]
+    WheelSeconds(f64),
+}
+
+impl BudgetError {
+    /// The key as a study file spells it (the command line maps it to its flag).
+    pub fn key(&self) -> &'static str {
+        match self {
+            BudgetError::RhsEvals(_) => "max_rhs_evals",
+            BudgetError::WheelSeconds(_) => "max_wheel_seconds",
+        }
+    }
+
+    /// The refusal after the key's name: "= value is outside the accepted range \[lo, hi\]".
+    pub fn refusal(&self) -> String {
+        match self {
+            BudgetError::RhsEvals(n) => {
+                let (lo, hi) = WheelBudget::RHS_EVALS_RANGE;
+                format!("= {n} is outside the accepted range [{lo}, {hi}]")
+            }
+            BudgetError::WheelSeconds(s) => {
+                let (lo, hi) = WheelBudget::SECONDS_RANGE;
+                format!("= {s} is outside the accepted range [{lo}, {hi}] s")
+            }
+        }
     }
 }
 

@@ -3,7 +3,7 @@
 
 use super::budget::Meter;
 use super::section::{crossing_in_step, metered};
-use super::{Scales, MIN_CYCLE_V_REL};
+use super::{ClassifyError, Scales, MIN_CYCLE_V_REL};
 use crate::model::{State, TreadOde};
 use crate::solver::{integrate, Control, Method, SolverOptions};
 
@@ -35,14 +35,8 @@ pub fn track(
     max_time_s: f64,
     rtol: f64,
     meter: &Meter,
-) -> Result<Envelope, String> {
-    let opts = SolverOptions {
-        rtol,
-        atol: scales.atol(rtol),
-        h_max: 1e-3,
-        h0: None,
-        max_steps: 50_000_000,
-    };
+) -> Result<Envelope, ClassifyError> {
+    let opts = SolverOptions::transient(rtol, scales.atol(rtol), 50_000_000);
     let mut hist: Vec<(f64, f64)> = Vec::new(); // (z, v) at crossings
     let mut verdict = None;
     let mut steady = 0;
@@ -122,14 +116,8 @@ pub fn brute_force(
     duration_s: f64,
     window_s: f64,
     rtol: f64,
-) -> Result<(WindowMeasure, WindowMeasure, usize), String> {
-    let opts = SolverOptions {
-        rtol,
-        atol: scales.atol(rtol),
-        h_max: 1e-3,
-        h0: None,
-        max_steps: 500_000_000,
-    };
+) -> Result<(WindowMeasure, WindowMeasure, usize), ClassifyError> {
+    let opts = SolverOptions::transient(rtol, scales.atol(rtol), 500_000_000);
     let start = [scales.z_eq, scales.y_eq + disturbance_m, 0.0];
     measure_windows(ode, start, duration_s, window_s, &opts)
 }
@@ -142,7 +130,7 @@ pub fn measure_windows(
     duration_s: f64,
     window_s: f64,
     opts: &SolverOptions<3>,
-) -> Result<(WindowMeasure, WindowMeasure, usize), String> {
+) -> Result<(WindowMeasure, WindowMeasure, usize), ClassifyError> {
     let mut windows = [WindowStats::new(), WindowStats::new()];
     let w_prev = duration_s - 2.0 * window_s;
     let w_last = duration_s - window_s;
@@ -168,8 +156,7 @@ pub fn measure_windows(
             windows[idx].add(t, x);
         }
         Control::Continue
-    })
-    .map_err(|e| e.to_string())?;
+    })?;
     let [prev, last] = windows;
     Ok((prev.finish(), last.finish(), out.rhs_evals))
 }
@@ -259,7 +246,7 @@ pub fn reference_verdict(ode: &TreadOde, rotation_hz: f64) -> super::WheelVerdic
         }
         Err(reason) => {
             v.class = Class::Failed;
-            v.reason = reason;
+            v.reason = reason.to_string();
         }
     }
     v

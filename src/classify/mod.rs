@@ -11,6 +11,7 @@
 
 pub mod budget;
 pub mod envelope;
+mod error;
 mod hopf_start;
 mod peak;
 pub mod section;
@@ -20,8 +21,9 @@ pub mod validation;
 use crate::model::{ModelFailure, TreadOde, Variant, Wheel, WheelModel};
 use crate::params::Params;
 use budget::Meter;
-pub use budget::WheelBudget;
+pub use budget::{BudgetError, WheelBudget};
 use envelope::Envelope;
+pub use error::ClassifyError;
 use hopf_start::{hopf_dz_per_v, normal_form_section_v};
 
 /// Smallest section velocity of a limit cycle, relative to the road's lateral speed U: smaller
@@ -524,7 +526,7 @@ fn classify_metered(
             "not settled within {} s (last section velocity {last_v:.3e} m/s)",
             opts.fallback_max_s
         )),
-        Err(reason) => fail(reason),
+        Err(reason) => fail(reason.to_string()),
     }
 }
 
@@ -544,15 +546,14 @@ fn settled_cycle(
     start: crate::model::State,
     rtol: f64,
     meter: &Meter,
-) -> Result<WheelVerdict, String> {
+) -> Result<WheelVerdict, ClassifyError> {
     let period = 1.0 / lin.eig_freq_hz;
-    let opts = crate::solver::SolverOptions {
+    let opts = crate::solver::SolverOptions::per_period(
         rtol,
-        atol: scales.atol(rtol),
-        h_max: period / 8.0,
-        h0: None,
-        max_steps: meter.max_steps(1_000_000, crate::solver::Method::Dopri5.evals_per_step()),
-    };
+        scales.atol(rtol),
+        period,
+        meter.max_steps(1_000_000, crate::solver::Method::Dopri5.evals_per_step()),
+    );
     let window_s = 20.0 * period;
     let (prev, last, evals) =
         envelope::measure_windows(ode, start, 2.0 * window_s, window_s, &opts)?;
@@ -560,10 +561,10 @@ fn settled_cycle(
     let ok =
         |m: &envelope::WindowMeasure| m.amp_v_mps > MIN_CYCLE_V_REL * scales.v && m.freq_hz > 0.0;
     if !(ok(&prev) && ok(&last)) {
-        return Err(format!(
-            "the settled trajectory shows no cycle (amplitude of v {:.3e} then {:.3e} m/s)",
-            prev.amp_v_mps, last.amp_v_mps
-        ));
+        return Err(ClassifyError::NoSettledCycle {
+            prev_mps: prev.amp_v_mps,
+            last_mps: last.amp_v_mps,
+        });
     }
     let re = lin.eig_re_max;
     let drift = (last.amp_v_mps / prev.amp_v_mps).ln() / window_s;
@@ -573,9 +574,10 @@ fn settled_cycle(
         let a_mid = (last.amp_v_mps * prev.amp_v_mps).sqrt();
         a_mid * (re / (re - drift)).sqrt() / last.amp_v_mps
     } else {
-        return Err(format!(
-            "the cycle's amplitude still grows ({drift:.3e} 1/s against Re λ = {re:.3e} 1/s): no supercritical cycle to extrapolate to"
-        ));
+        return Err(ClassifyError::StillGrowing {
+            drift_per_s: drift,
+            re_per_s: re,
+        });
     };
     let amp_v_mps = scale * last.amp_v_mps;
     Ok(WheelVerdict {

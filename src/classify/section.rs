@@ -2,6 +2,7 @@
 //! long-integration classifiers. State index 1 is y in every system used here.
 
 use super::budget::Meter;
+use super::ClassifyError;
 use crate::numeric::brent;
 use crate::solver::{
     integrate_with, Control, IntegrationError, Method, OdeSystem, SolverOptions, Step,
@@ -47,11 +48,8 @@ pub fn metered<const N: usize, S: OdeSystem<N>>(
     opts: &SolverOptions<N>,
     meter: &Meter,
     mut on_step: impl FnMut(&Step<'_, N>) -> Control,
-) -> Result<crate::solver::Outcome<N>, String> {
-    let opts = SolverOptions {
-        max_steps: meter.max_steps(opts.max_steps, method.evals_per_step()),
-        ..*opts
-    };
+) -> Result<crate::solver::Outcome<N>, ClassifyError> {
+    let opts = opts.with_max_steps(meter.max_steps(opts.max_steps, method.evals_per_step()));
     let out = integrate_with(method, sys, 0.0, start, t_end, &opts, |step| {
         if meter.out_of_time() {
             return Control::Stop;
@@ -67,7 +65,7 @@ pub fn metered<const N: usize, S: OdeSystem<N>>(
             if let IntegrationError::TooManySteps { steps, .. } = e {
                 meter.charge(method.evals_per_step() * steps + 1);
             }
-            Err(e.to_string())
+            Err(e.into())
         }
     }
 }
@@ -85,7 +83,7 @@ pub fn first_return<const N: usize, S: OdeSystem<N>>(
     opts: &SolverOptions<N>,
     meter: &Meter,
     mut observe: impl FnMut(&Step<'_, N>, f64),
-) -> Result<Return<N>, String> {
+) -> Result<Return<N>, ClassifyError> {
     let mut hit = None;
     let out = metered(method, sys, start, t_max, opts, meter, |step| {
         if step.t1 > t_min {
@@ -107,8 +105,6 @@ pub fn first_return<const N: usize, S: OdeSystem<N>>(
             rhs_evals: out.rhs_evals,
             h_last: out.h_last,
         }),
-        None => Err(format!(
-            "no return to the section within {t_max:.4} s (motion not oscillatory)"
-        )),
+        None => Err(ClassifyError::NoReturn { t_max_s: t_max }),
     }
 }

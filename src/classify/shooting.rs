@@ -169,6 +169,7 @@ fn next_return<const N: usize, S: OdeSystem<N>>(
         meter,
         observe,
     )
+    .map_err(String::from)
 }
 
 /// Tolerances at or below which DOP853 integrates instead of DOPRI5: there its 8th order

@@ -9,7 +9,7 @@ use super::common::{base_metadata, BudgetArgs, CliError, CliResult, FigureFormat
 use polywear::bifurcation::{linspace, sweep};
 use polywear::classify::ClassifierOptions;
 use polywear::model::{Variant, Wheel};
-use polywear::params::spec;
+use polywear::params::{ParamError, ParamId};
 use polywear::parquet_out::{write_table, Column};
 use polywear::records::{record_columns, WheelRecord};
 use polywear::wording::plain;
@@ -55,12 +55,11 @@ pub struct BifurcationArgs {
 
 pub fn run(args: &BifurcationArgs) -> CliResult {
     let base = args.point.params()?;
-    let s = spec(&args.param).ok_or_else(|| {
-        let e = polywear::params::ParamError::Unknown {
-            name: args.param.clone(),
-        };
-        CliError(format!("--param: {e}"))
-    })?;
+    let param: ParamId = args
+        .param
+        .parse()
+        .map_err(|e: ParamError| CliError(format!("--param: {e}")))?;
+    let s = param.spec();
     if !(2..=100_000).contains(&args.steps) {
         return Err(CliError(format!(
             "--steps = {} is outside its accepted range [2, 100000]",
@@ -70,7 +69,7 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
     for (flag, v) in [("--from", args.from), ("--to", args.to)] {
         s.check(v).map_err(|e| CliError(format!("{flag}: {e}")))?;
         let mut p = base;
-        p.set(s.name, v)?;
+        p.try_set(param, v)?;
         p.validate().map_err(|e| CliError(format!("{flag}: {e}")))?;
     }
     if args.from == args.to {
@@ -105,7 +104,7 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
     };
     let values = linspace(args.from, args.to, args.steps);
     let pool = super::common::thread_pool(args.threads)?;
-    let sw = pool.install(|| sweep(&base, s.name, &values, variant, &opts));
+    let sw = pool.install(|| sweep(&base, param, &values, variant, &opts));
     let (jobs, records, hopf) = (&sw.jobs, &sw.records, &sw.hopf);
 
     println!(
@@ -163,7 +162,7 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
     let pq = prefix.with_extension("parquet");
     write_table(&pq, &cols, &meta)?;
     let figure = prefix.with_extension(args.format.ext());
-    sw.draw(&figure).map_err(CliError)?;
+    sw.draw(&figure).map_err(|e| CliError(e.to_string()))?;
     eprintln!("wrote {} and {}", pq.display(), figure.display());
     Ok(())
 }

@@ -7,6 +7,7 @@ use clap::Args;
 
 use super::common::{CliError, CliResult};
 use polywear::calibrate::{calibrate, parameter_file, parse_problem};
+use polywear::params::{ParamError, ParamId};
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -39,16 +40,12 @@ pub fn run(args: &CalibrateArgs) -> CliResult {
     let mut problem =
         parse_problem(&text).map_err(|e| CliError(format!("{}: {e}", args.targets.display())))?;
     if !args.fit.is_empty() {
-        let mut fit: Vec<&'static str> = Vec::new();
+        let mut fit: Vec<ParamId> = Vec::new();
         for n in &args.fit {
-            let name = polywear::params::spec(n.trim())
-                .map(|s| s.name)
-                .ok_or_else(|| {
-                    let e = polywear::params::ParamError::Unknown {
-                        name: n.trim().to_string(),
-                    };
-                    CliError(format!("--fit: {e}"))
-                })?;
+            let name: ParamId = n
+                .trim()
+                .parse()
+                .map_err(|e: ParamError| CliError(format!("--fit: {e}")))?;
             if fit.contains(&name) {
                 return Err(CliError(format!("--fit: `{name}` is named twice")));
             }
@@ -118,14 +115,15 @@ pub fn run(args: &CalibrateArgs) -> CliResult {
     );
     for (name, a, b) in &fit.fitted {
         println!(
-            "{name:<14} {a:>14.6e} {b:>14.6e} {:>8.2}%",
+            "{:<14} {a:>14.6e} {b:>14.6e} {:>8.2}%",
+            name.name(),
             100.0 * (b - a) / a
         );
     }
     println!("\nsensitivity d ln(target) / d ln(parameter) at the fit:");
     print!("{:<28}", "");
     for (name, _, _) in &fit.fitted {
-        print!(" {name:>10}");
+        print!(" {:>10}", name.name());
     }
     println!();
     for (t, row) in fit.targets.iter().zip(&fit.sensitivity) {

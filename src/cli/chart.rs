@@ -15,7 +15,7 @@ use polywear::chart::{
 };
 use polywear::continuation::trace::TraceOptions;
 use polywear::continuation::ParamBox;
-use polywear::params::{spec, ParamError, ParamSpec, Params};
+use polywear::params::{ParamError, ParamId, Params};
 use polywear::parquet_out::{write_csv, write_table};
 use polywear::study::Study;
 
@@ -103,15 +103,11 @@ pub struct ChartArgs {
 }
 
 /// An axis: its parameter, checked by name and range, with the flags named in errors.
-fn axis(name: &str, from: f64, to: f64, flag: &str) -> CliResult<&'static ParamSpec> {
-    let s = spec(name).ok_or_else(|| {
-        CliError(format!(
-            "--{flag}: {}",
-            ParamError::Unknown {
-                name: name.to_string()
-            }
-        ))
-    })?;
+fn axis(name: &str, from: f64, to: f64, flag: &str) -> CliResult<ParamId> {
+    let id: ParamId = name
+        .parse()
+        .map_err(|e: ParamError| CliError(format!("--{flag}: {e}")))?;
+    let s = id.spec();
     for (which, v) in [("from", from), ("to", to)] {
         s.check(v)
             .map_err(|e| CliError(format!("--{flag}-{which}: {e}")))?;
@@ -124,17 +120,16 @@ fn axis(name: &str, from: f64, to: f64, flag: &str) -> CliResult<&'static ParamS
             s.unit
         )));
     }
-    Ok(s)
+    Ok(id)
 }
 
 /// Checks the request and builds it, before any work.
 pub fn request(args: &ChartArgs) -> CliResult<ChartRequest> {
     let x = axis(&args.x, args.x_from, args.x_to, "x")?;
     let y = axis(&args.y, args.y_from, args.y_to, "y")?;
-    if x.name == y.name {
+    if x == y {
         return Err(CliError(format!(
-            "--x and --y are both `{}`; a chart needs two different parameters",
-            x.name
+            "--x and --y are both `{x}`; a chart needs two different parameters"
         )));
     }
     let base = args.point.params()?;
@@ -142,8 +137,8 @@ pub fn request(args: &ChartArgs) -> CliResult<ChartRequest> {
     for (xf, xv) in [("--x-from", args.x_from), ("--x-to", args.x_to)] {
         for (yf, yv) in [("--y-from", args.y_from), ("--y-to", args.y_to)] {
             let mut p: Params = base;
-            p.set(x.name, xv)?;
-            p.set(y.name, yv)?;
+            p.try_set(x, xv)?;
+            p.try_set(y, yv)?;
             p.validate()
                 .map_err(|e| CliError(format!("corner {xf}, {yf}: {e}")))?;
         }
@@ -189,12 +184,12 @@ pub fn run(args: &ChartArgs) -> CliResult {
         .map(|(study, k)| pool.install(|| structure_band(&req, study, study.seed, *k, BAND_CELLS)));
     println!(
         "chart of {} [{}] {}..{} x {} [{}] {}..{} (variant {}), {:.2} s",
-        req.x.name,
-        req.x.unit,
+        req.x.name(),
+        req.x.spec().unit,
         args.x_from,
         args.x_to,
-        req.y.name,
-        req.y.unit,
+        req.y.name(),
+        req.y.spec().unit,
         args.y_from,
         args.y_to,
         req.variant,
@@ -204,13 +199,13 @@ pub fn run(args: &ChartArgs) -> CliResult {
         println!("{line}");
     }
     let mut meta = base_metadata(&req.base, req.variant);
-    meta.push(("chart_x".into(), req.x.name.into()));
-    meta.push(("chart_y".into(), req.y.name.into()));
+    meta.push(("chart_x".into(), req.x.name().into()));
+    meta.push(("chart_y".into(), req.y.name().into()));
     meta.push((
         "chart_box".into(),
         serde_json::json!({
-            req.x.name: [args.x_from, args.x_to],
-            req.y.name: [args.y_from, args.y_to],
+            req.x.name(): [args.x_from, args.x_to],
+            req.y.name(): [args.y_from, args.y_to],
         })
         .to_string(),
     ));
@@ -239,20 +234,31 @@ pub fn run(args: &ChartArgs) -> CliResult {
             "uncertainty band: {k} structures from study `{}` (seed {}), drawn: {}",
             study.name,
             study.seed,
-            b.drawn.join(", ")
+            b.drawn
+                .iter()
+                .map(|d| d.name())
+                .collect::<Vec<_>>()
+                .join(", ")
         );
         let mut band_meta = meta.clone();
         band_meta.push(("study".into(), study.name.clone()));
         band_meta.push(("study_source".into(), study.source.clone()));
         band_meta.push(("seed".into(), study.seed.to_string()));
         band_meta.push(("structure_samples".into(), k.to_string()));
-        band_meta.push(("structure_params".into(), b.drawn.join(",")));
+        band_meta.push((
+            "structure_params".into(),
+            b.drawn
+                .iter()
+                .map(|d| d.name())
+                .collect::<Vec<_>>()
+                .join(","),
+        ));
         let cols = band_columns(&req, b);
         write_table(&sibling(&args.out, "_band", "parquet"), &cols, &band_meta)?;
         write_csv(&sibling(&args.out, "_band", "csv"), &cols)?;
     }
     let png = args.out.with_extension("png");
-    draw(&png, &req, &charts, &grids, band.as_ref()).map_err(CliError)?;
+    draw(&png, &req, &charts, &grids, band.as_ref()).map_err(|e| CliError(e.to_string()))?;
     eprintln!(
         "wrote {}, {}, {}, {} and {}",
         args.out.display(),

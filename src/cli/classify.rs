@@ -10,9 +10,10 @@ use rayon::prelude::*;
 use super::common::{check_extension, check_out_file, BudgetArgs, CliError, CliResult, VariantArg};
 use polywear::classify::{classify_point, ClassifierOptions};
 use polywear::model::{Variant, Wheel};
-use polywear::params::{spec, Params};
+use polywear::params::{ParamError, ParamId, Params};
 use polywear::parquet_out::{write_csv, write_table, Column};
 use polywear::records::{record_columns, WheelRecord};
+use polywear::table_input::csv_records;
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -47,18 +48,15 @@ pub struct ClassifyArgs {
 fn read_points(path: &PathBuf, base: &Params) -> CliResult<Vec<Params>> {
     let text =
         std::fs::read_to_string(path).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
-    let mut lines = text.lines().filter(|l| !l.trim().is_empty());
-    let header: Vec<&'static str> = lines
+    let records = csv_records(path, &text).map_err(|e| CliError(e.to_string()))?;
+    let mut lines = records.into_iter().map(|(_, cells)| cells);
+    let header: Vec<ParamId> = lines
         .next()
         .ok_or_else(|| CliError(format!("{}: empty file", path.display())))?
-        .split(',')
+        .iter()
         .map(|h| {
-            spec(h.trim()).map(|s| s.name).ok_or_else(|| {
-                let e = polywear::params::ParamError::Unknown {
-                    name: h.trim().to_string(),
-                };
-                CliError(format!("{}: column `{}`: {e}", path.display(), h.trim()))
-            })
+            h.parse()
+                .map_err(|e: ParamError| CliError(format!("{}: column `{h}`: {e}", path.display())))
         })
         .collect::<CliResult<_>>()?;
     for (i, name) in header.iter().enumerate() {
@@ -70,8 +68,7 @@ fn read_points(path: &PathBuf, base: &Params) -> CliResult<Vec<Params>> {
         }
     }
     let mut out = Vec::new();
-    for (i, line) in lines.enumerate() {
-        let cells: Vec<&str> = line.split(',').collect();
+    for (i, cells) in lines.enumerate() {
         if cells.len() != header.len() {
             return Err(CliError(format!(
                 "{}: row {} has {} cells, the header {}",
@@ -82,15 +79,15 @@ fn read_points(path: &PathBuf, base: &Params) -> CliResult<Vec<Params>> {
             )));
         }
         let mut p = *base;
-        for (name, cell) in header.iter().zip(cells) {
-            let v: f64 = cell.trim().parse().map_err(|_| {
+        for (&name, cell) in header.iter().zip(&cells) {
+            let v: f64 = cell.parse().map_err(|_| {
                 CliError(format!(
                     "{}: row {}, `{name}` = `{cell}` is not a number; accepted: a number in the parameter's unit",
                     path.display(),
                     i + 1
                 ))
             })?;
-            p.set(name, v)
+            p.try_set(name, v)
                 .map_err(|e| CliError(format!("{}: row {}: {e}", path.display(), i + 1)))?;
         }
         p.validate()

@@ -300,7 +300,8 @@ impl BudgetArgs {
         if let Some(s) = self.max_wheel_seconds {
             b.max_wheel_seconds = s;
         }
-        b.check("--").map_err(CliError)?;
+        b.check()
+            .map_err(|e| CliError(format!("--{} {}", e.key().replace('_', "-"), e.refusal())))?;
         Ok(b)
     }
 }

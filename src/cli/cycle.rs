@@ -9,9 +9,9 @@ use clap::Args;
 use super::common::{base_metadata, BudgetArgs, CliError, CliResult, VariantArg};
 use polywear::classify::ClassifierOptions;
 use polywear::cycle::output::CycleRun;
-use polywear::cycle::{classify_cycles, DriveCycle};
+use polywear::cycle::{classify_cycles, CycleError, DriveCycle};
 use polywear::model::Variant;
-use polywear::params::{spec, Group, Params};
+use polywear::params::{Group, ParamError, ParamId, Params};
 use polywear::sampling::design::Design;
 use polywear::study::Study;
 
@@ -69,14 +69,14 @@ pub struct CycleArgs {
 
 /// The tire structures: `(names, values per sample, parameter base per sample)`, and the
 /// study's metadata.
-type Structures = (Vec<&'static str>, Vec<Vec<f64>>, Vec<Params>);
+type Structures = (Vec<ParamId>, Vec<Vec<f64>>, Vec<Params>);
 
 /// Draws the structure samples of `--study` on top of `base`.
 fn structures(
     path: &Path,
     k: u64,
     base: Params,
-    fixed_elsewhere: &[(&str, &str)],
+    fixed_elsewhere: &[(ParamId, &str)],
 ) -> CliResult<(Structures, Study)> {
     let origin = format!("--study {}", path.display());
     let source = std::fs::read_to_string(path).map_err(|e| CliError(format!("{origin}: {e}")))?;
@@ -96,12 +96,11 @@ fn structures(
     study
         .check_samples(k)
         .map_err(|e| CliError(format!("{origin}: --structure-samples: {e}")))?;
-    let is_structure = |name: &str| spec(name).is_some_and(|s| s.group != Group::OperatingPoint);
-    let names: Vec<&'static str> = study
+    let names: Vec<ParamId> = study
         .drawn
         .iter()
-        .map(|d| d.param.name())
-        .filter(|n| is_structure(n))
+        .map(|d| d.param)
+        .filter(|id| id.spec().group != Group::OperatingPoint)
         .collect();
     if names.is_empty() {
         return Err(CliError(format!(
@@ -122,10 +121,9 @@ fn structures(
         let (p, _) = sampler.sample(i);
         let mut b = study.base;
         let mut v = Vec::with_capacity(names.len());
-        for name in &names {
-            let x = p.get(name).expect("drawn names are parameters");
-            *b.get_mut(name).expect("drawn names are parameters") = x;
-            v.push(x);
+        for &id in &names {
+            b[id] = p[id];
+            v.push(p[id]);
         }
         values.push(v);
         bases.push(b);
@@ -145,23 +143,28 @@ pub fn run(args: &CycleArgs) -> CliResult {
         ..ClassifierOptions::default()
     };
     let variant: Variant = args.variant.into();
-    let cycle = DriveCycle::read(&args.cycle).map_err(CliError)?;
+    let cycle = DriveCycle::read(&args.cycle).map_err(|e| CliError(e.to_string()))?;
     let mut base = super::common::base_params(args.params.as_deref())?;
-    let mut set_by: Vec<(&str, &str)> = Vec::new();
+    let mut set_by: Vec<(ParamId, &str)> = Vec::new();
+    let mut set: Vec<(ParamId, f64)> = Vec::new();
     for (name, value) in &args.set {
-        if name == "speed_kmh" {
+        let id: ParamId = name
+            .parse()
+            .map_err(|e: ParamError| CliError(format!("--set {name}: {e}")))?;
+        if id == ParamId::SpeedKmh {
             return Err(CliError(
                 "--set speed_kmh: the cycle gives the speed at every step (its `speed_kmh` column)"
                     .into(),
             ));
         }
-        base.set(name, *value)
+        base.try_set(id, *value)
             .map_err(|e| CliError(format!("--set {name}: {e}")))?;
-        set_by.push((name.as_str(), "--set"));
+        set_by.push((id, "--set"));
+        set.push((id, *value));
     }
     let cycle_by = format!("{} (a column)", args.cycle.display());
-    for name in &cycle.names {
-        set_by.push((name, cycle_by.as_str()));
+    for &id in &cycle.names {
+        set_by.push((id, cycle_by.as_str()));
     }
     let mut metadata = base_metadata(&base, variant);
     metadata.push(("cycle".into(), args.cycle.display().to_string()));
@@ -172,8 +175,8 @@ pub fn run(args: &CycleArgs) -> CliResult {
             let study_base = super::common::base_params(args.params.as_deref())?;
             let ((names, values, mut bases), study) = structures(path, k, study_base, &set_by)?;
             for b in &mut bases {
-                for (name, value) in &args.set {
-                    b.set(name, *value)?;
+                for &(id, value) in &set {
+                    b.try_set(id, value)?;
                 }
             }
             // The study's work limits, unless the flags say otherwise.
@@ -195,7 +198,9 @@ pub fn run(args: &CycleArgs) -> CliResult {
     };
     // Every step's parameters fit together on the first base (rules tying several parameters:
     // mu_s <= mu_m, n_driven <= n_wheels), before any work.
-    cycle.check_steps(&bases[0]).map_err(CliError)?;
+    cycle
+        .check_steps(&bases[0])
+        .map_err(|e| CliError(e.to_string()))?;
     let pool = super::common::thread_pool(args.threads)?;
     let start = Instant::now();
     let steps = pool.install(|| classify_cycles(&cycle, &bases, variant, &opts));
@@ -208,7 +213,10 @@ pub fn run(args: &CycleArgs) -> CliResult {
         steps,
         metadata,
     };
-    let written = run.write(&args.out).map_err(CliError)?;
+    let written = run.write(&args.out).map_err(|e| match e {
+        CycleError::CreateDir { .. } => CliError(format!("--out {e}")),
+        e => CliError(e.to_string()),
+    })?;
     if !args.quiet {
         print_summary(&run, secs, pool.current_num_threads());
         for p in written {

@@ -105,10 +105,11 @@ pub fn run(args: &SimulateArgs) -> CliResult {
         records.push(WheelRecord::new(&p, wheel, variant, &model, &verdict));
         if let Ok(m) = &model {
             if args.out.is_some() || args.plot.is_some() {
-                series.push((
-                    wheel,
-                    time_series(m, args.duration, args.sample_rate, opts.disturbance_m),
-                ));
+                let ts = time_series(m, args.duration, args.sample_rate, opts.disturbance_m);
+                if let Some(w) = &ts.ended_early {
+                    eprintln!("warning: {w}");
+                }
+                series.push((wheel, ts.samples));
             }
         }
     }
@@ -125,7 +126,8 @@ pub fn run(args: &SimulateArgs) -> CliResult {
         eprintln!("wrote time series to {}", out.display());
     }
     if let Some(path) = &args.plot {
-        plot_point(path, &series, &records, args.sample_rate).map_err(CliError)?;
+        plot_point(path, &series, &records, args.sample_rate)
+            .map_err(|e| CliError(e.to_string()))?;
         eprintln!("wrote plot to {}", path.display());
     }
     Ok(())

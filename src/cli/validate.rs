@@ -7,6 +7,7 @@ use clap::Args;
 use super::common::{check_extension, BudgetArgs, CliError, CliResult};
 use polywear::classify::validation::{compare_with, median, Comparison, HOPF_BAND};
 use polywear::classify::ClassifierOptions;
+use polywear::params::OPERATING_AXES;
 use polywear::parquet_out::{write_csv, Column};
 
 #[derive(Debug, Args)]
@@ -143,17 +144,18 @@ fn report(rows: &[Comparison]) {
 
 fn write_rows(path: &std::path::Path, rows: &[Comparison]) -> CliResult {
     let f = |g: &dyn Fn(&Comparison) -> f64| rows.iter().map(g).collect::<Vec<f64>>();
-    let cols = vec![
+    let mut cols = vec![
         Column::i64("point", "", rows.iter().map(|r| r.index as i64).collect()),
         Column::str("wheel", rows.iter().map(|r| r.wheel.to_string()).collect()),
         Column::str(
             "variant",
             rows.iter().map(|r| r.variant.to_string()).collect(),
         ),
-        Column::f64("speed_kmh", "km/h", f(&|r| r.params.speed_kmh)),
-        Column::f64("toe_deg", "deg", f(&|r| r.params.toe_deg)),
-        Column::f64("load_n", "N", f(&|r| r.params.load_n)),
-        Column::f64("pressure_kpa", "kPa", f(&|r| r.params.pressure_kpa)),
+    ];
+    for id in OPERATING_AXES {
+        cols.push(Column::f64(id.name(), id.spec().unit, f(&|r| r.params[id])));
+    }
+    cols.extend([
         Column::f64("eig_re_max", "1/s", f(&|r| r.fast.eig_re_max)),
         Column::str(
             "fast_class",
@@ -177,7 +179,7 @@ fn write_rows(path: &std::path::Path, rows: &[Comparison]) -> CliResult {
             "",
             f(&|r| r.reference.rhs_evals as f64),
         ),
-    ];
+    ]);
     write_csv(path, &cols)?;
     Ok(())
 }

@@ -8,7 +8,7 @@ use rayon::prelude::*;
 
 use super::hopf::{analyse, equilibrium, HopfData, HopfSystem, NotHopf, Solution};
 use super::{OdeWithJacobian, ParamBox, TwoParameterFamily};
-use crate::numeric::brent;
+use crate::numeric::{brent, sign_change_roots};
 
 /// How finely the box is searched and the curves are stepped (box-relative units).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -181,17 +181,19 @@ fn find_seeds<F: TwoParameterFamily>(sys: &HopfSystem<'_, F>, opts: &TraceOption
     let found: Vec<Vec<Traced>> = lines
         .par_iter()
         .map(|&(axis, c)| {
-            let g: Vec<f64> = (0..m)
-                .map(|i| sys.scan_value(at(axis, c, i as f64 / (m - 1) as f64)))
-                .collect();
             let mut seeds = Vec::new();
-            for i in 0..m - 1 {
-                let (g0, g1) = (g[i], g[i + 1]);
-                if !(g0.is_finite() && g1.is_finite()) || (g0 < 0.0) == (g1 < 0.0) {
-                    continue;
-                }
-                let (t0, t1) = (i as f64 / (m - 1) as f64, (i + 1) as f64 / (m - 1) as f64);
-                let Some(t) = brent(|t| sys.scan_value(at(axis, c, t)), t0, t1, 1e-13, 200) else {
+            let samples = (0..m).map(|i| {
+                let t = i as f64 / (m - 1) as f64;
+                (t, sys.scan_value(at(axis, c, t)))
+            });
+            let crossings = sign_change_roots(
+                samples,
+                |t| sys.scan_value(at(axis, c, t)),
+                |_, _| 1e-13,
+                200,
+            );
+            for crossing in crossings {
+                let Some(t) = crossing.root else {
                     continue;
                 };
                 let s = at(axis, c, t);

@@ -23,9 +23,95 @@ use rayon::prelude::*;
 
 use crate::classify::{classify_point_hinted, Class, ClassifierOptions, Method, WheelVerdict};
 use crate::model::{ModelFailure, Variant, Wheel};
-use crate::params::{spec, Params};
+use crate::params::{ParamError, ParamId, Params};
+use crate::parquet_out::WriteError;
+use crate::plot::PlotError;
 use crate::records::WheelRecord;
-use crate::table_input::NumericTable;
+use crate::table_input::{NumericTable, TableError};
+
+/// Why a drive cycle is refused (before any work, naming the file, row and column) or its
+/// outputs are not written.
+#[derive(Debug, thiserror::Error)]
+pub enum CycleError {
+    /// The file cannot be read as a table of numbers.
+    #[error(transparent)]
+    Table(#[from] TableError),
+    /// `time_s` or `speed_kmh` is missing.
+    #[error("{}: no column `{name}` (columns: {}); a cycle needs `time_s` and `speed_kmh`", path.display(), columns.join(", "))]
+    MissingColumn {
+        /// The cycle file.
+        path: PathBuf,
+        /// The missing column.
+        name: &'static str,
+        /// The columns it has.
+        columns: Vec<String>,
+    },
+    /// A column that is no parameter.
+    #[error("{}: column `{name}` (column {number}) is neither `time_s` nor a parameter of `polywear params`{}", path.display(), did_you_mean(name))]
+    UnknownColumn {
+        /// The cycle file.
+        path: PathBuf,
+        /// The column's name.
+        name: String,
+        /// Its position, counted from 1.
+        number: usize,
+    },
+    /// A single row: no step duration.
+    #[error("{}: one step only; a cycle needs at least two (the time between steps sets their durations)", path.display())]
+    OneStep {
+        /// The cycle file.
+        path: PathBuf,
+    },
+    /// A time not after the previous row's.
+    #[error("{at}: time_s = {time_s} does not follow the previous row's {previous_s} (times must increase)")]
+    TimeNotIncreasing {
+        /// File, row and column.
+        at: String,
+        /// The row's time \[s\].
+        time_s: f64,
+        /// The previous row's time \[s\].
+        previous_s: f64,
+    },
+    /// A negative speed.
+    #[error("{at}: speed_kmh = {speed_kmh} is negative; accepted 0 (standstill) or {range}")]
+    NegativeSpeed {
+        /// File, row and column.
+        at: String,
+        /// The speed given \[km/h\].
+        speed_kmh: f64,
+        /// The speed's accepted range.
+        range: String,
+    },
+    /// A value outside its parameter's range, or a step whose parameters do not fit together.
+    #[error("{at}: {source}")]
+    Param {
+        /// File and row (and column for one cell).
+        at: String,
+        /// The parameter's refusal.
+        source: ParamError,
+    },
+    /// The output directory cannot be created.
+    #[error("{}: {source}", dir.display())]
+    CreateDir {
+        /// The output directory.
+        dir: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// A table could not be written.
+    #[error(transparent)]
+    Write(#[from] WriteError),
+    /// The figure could not be drawn.
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+}
+
+/// "; did you mean `speed_kmh`?" for a misspelt parameter name, or nothing.
+fn did_you_mean(name: &str) -> String {
+    crate::params::suggest_name(name)
+        .map(|n| format!("; did you mean `{n}`?"))
+        .unwrap_or_default()
+}
 
 /// Consecutive steps classified in order by one worker, each starting its shooting from the
 /// previous step's cycle (the neighbouring step's cycle is close: the speed changes little in
@@ -47,7 +133,7 @@ pub struct DriveCycle {
     /// Vehicle speed at each step \[km/h\].
     pub speed_kmh: Vec<f64>,
     /// Parameters given per step (other than the speed), in file order.
-    pub names: Vec<&'static str>,
+    pub names: Vec<ParamId>,
     /// `values[i][j]`: step i's value of `names[j]`.
     pub values: Vec<Vec<f64>>,
     table: NumericTable,
@@ -57,15 +143,13 @@ impl DriveCycle {
     /// Reads and checks a cycle file (CSV or Parquet): `time_s` strictly increasing, `speed_kmh`
     /// in [0, 400], every other column a parameter of `polywear params` within its range, at
     /// least two steps. Refusals name the file, row and column.
-    pub fn read(path: &Path) -> Result<DriveCycle, String> {
-        let t = NumericTable::read(path).map_err(|e| e.0)?;
-        let shown = path.display();
-        let need = |name: &str| {
-            t.column(name).ok_or_else(|| {
-                format!(
-                    "{shown}: no column `{name}` (columns: {}); a cycle needs `time_s` and `speed_kmh`",
-                    t.columns.join(", ")
-                )
+    pub fn read(path: &Path) -> Result<DriveCycle, CycleError> {
+        let t = NumericTable::read(path)?;
+        let need = |name: &'static str| {
+            t.column(name).ok_or_else(|| CycleError::MissingColumn {
+                path: path.to_path_buf(),
+                name,
+                columns: t.columns.clone(),
             })
         };
         let (tc, vc) = (need("time_s")?, need("speed_kmh")?);
@@ -75,52 +159,51 @@ impl DriveCycle {
             if j == tc || j == vc {
                 continue;
             }
-            let s = spec(c).ok_or_else(|| {
-                let hint = crate::params::suggest_name(c)
-                    .map(|n| format!("; did you mean `{n}`?"))
-                    .unwrap_or_default();
-                format!(
-                    "{shown}: column `{c}` (column {}) is neither `time_s` nor a parameter of `polywear params`{hint}",
-                    j + 1
-                )
+            let id: ParamId = c.parse().map_err(|_| CycleError::UnknownColumn {
+                path: path.to_path_buf(),
+                name: c.clone(),
+                number: j + 1,
             })?;
-            names.push(s.name);
+            names.push(id);
             cols.push(j);
         }
         if t.rows.len() < 2 {
-            return Err(format!(
-                "{shown}: one step only; a cycle needs at least two (the time between steps sets their durations)"
-            ));
+            return Err(CycleError::OneStep {
+                path: path.to_path_buf(),
+            });
         }
-        let speed_spec = spec("speed_kmh").expect("speed is a parameter");
+        let speed_spec = ParamId::SpeedKmh.spec();
         let mut values = Vec::with_capacity(t.rows.len());
         for (i, row) in t.rows.iter().enumerate() {
             if i > 0 && row[tc] <= t.rows[i - 1][tc] {
-                return Err(format!(
-                    "{}: time_s = {} does not follow the previous row's {} (times must increase)",
-                    t.at(i, tc),
-                    row[tc],
-                    t.rows[i - 1][tc]
-                ));
+                return Err(CycleError::TimeNotIncreasing {
+                    at: t.at(i, tc),
+                    time_s: row[tc],
+                    previous_s: t.rows[i - 1][tc],
+                });
             }
             let v = row[vc];
             if v < 0.0 {
-                return Err(format!(
-                    "{}: speed_kmh = {v} is negative; accepted 0 (standstill) or {}",
-                    t.at(i, vc),
-                    speed_spec.range_text()
-                ));
+                return Err(CycleError::NegativeSpeed {
+                    at: t.at(i, vc),
+                    speed_kmh: v,
+                    range: speed_spec.range_text(),
+                });
             }
             if v > 0.0 {
-                speed_spec
-                    .check(v)
-                    .map_err(|e| format!("{}: {e}", t.at(i, vc)))?;
+                speed_spec.check(v).map_err(|source| CycleError::Param {
+                    at: t.at(i, vc),
+                    source,
+                })?;
             }
             let mut step = Vec::with_capacity(cols.len());
-            for (&j, name) in cols.iter().zip(&names) {
-                let s = spec(name).expect("checked above");
-                s.check(row[j])
-                    .map_err(|e| format!("{}: {e}", t.at(i, j)))?;
+            for (&j, id) in cols.iter().zip(&names) {
+                id.spec()
+                    .check(row[j])
+                    .map_err(|source| CycleError::Param {
+                        at: t.at(i, j),
+                        source,
+                    })?;
                 step.push(row[j]);
             }
             values.push(step);
@@ -172,8 +255,8 @@ impl DriveCycle {
     /// standstill step keeps `base`'s speed; it is never classified).
     pub fn step_params(&self, base: &Params, i: usize) -> Params {
         let mut p = *base;
-        for (name, v) in self.names.iter().zip(&self.values[i]) {
-            *p.get_mut(name).expect("cycle columns are parameter names") = *v;
+        for (&id, v) in self.names.iter().zip(&self.values[i]) {
+            p[id] = *v;
         }
         if !self.standstill(i) {
             p.speed_kmh = self.speed_kmh[i];
@@ -183,11 +266,14 @@ impl DriveCycle {
 
     /// Refuses, before any work, a step whose parameters break a rule tying several together
     /// (e.g. mu_s ≤ mu_m) on top of `base`, naming its row.
-    pub fn check_steps(&self, base: &Params) -> Result<(), String> {
+    pub fn check_steps(&self, base: &Params) -> Result<(), CycleError> {
         for i in 0..self.len() {
             self.step_params(base, i)
                 .validate()
-                .map_err(|e| format!("{}, {}: {e}", self.path.display(), self.table.row_name(i)))?;
+                .map_err(|source| CycleError::Param {
+                    at: format!("{}, {}", self.path.display(), self.table.row_name(i)),
+                    source,
+                })?;
         }
         Ok(())
     }
@@ -391,7 +477,7 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let p = dir.join(format!("c{}.csv", text.len()));
         std::fs::write(&p, text).unwrap();
-        DriveCycle::read(&p)
+        DriveCycle::read(&p).map_err(|e| e.to_string())
     }
 
     #[test]

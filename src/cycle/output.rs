@@ -6,14 +6,13 @@
 use std::path::{Path, PathBuf};
 
 use super::summary::{summarise, summary_columns, WheelSummary};
-use super::{DriveCycle, StepWheel};
+use super::{CycleError, DriveCycle, StepWheel};
 use crate::model::Variant;
+use crate::params::{ParamId, OPERATING_AXES};
 use crate::parquet_out::{write_csv, write_table, Column, ColumnData};
 use crate::plot::cycle::{cycle_figure, WheelTrace};
+use crate::plot::PlotError;
 use crate::records::record_columns;
-
-/// Operating-point parameters already present as record columns.
-const RECORD_PARAMS: [&str; 4] = ["speed_kmh", "toe_deg", "load_n", "pressure_kpa"];
 
 /// A classified cycle, for one or several tire structures.
 pub struct CycleRun<'a> {
@@ -21,8 +20,8 @@ pub struct CycleRun<'a> {
     pub cycle: &'a DriveCycle,
     /// The model variant used for both wheels.
     pub variant: Variant,
-    /// Names of the parameters drawn per structure sample (empty without a study).
-    pub structure_names: Vec<&'static str>,
+    /// The parameters drawn per structure sample (empty without a study).
+    pub structure_names: Vec<ParamId>,
     /// `structure_values[k][j]`: sample k's value of `structure_names[j]`.
     pub structure_values: Vec<Vec<f64>>,
     /// `steps[k][i]`: sample k, step i, both wheels.
@@ -60,15 +59,15 @@ impl CycleRun<'_> {
                 idx.iter().map(|r| dt[r.1]).collect(),
             ),
         ];
-        let unit = |name: &str| crate::params::spec(name).map_or("", |s| s.unit);
-        for (j, name) in self.structure_names.iter().enumerate() {
+        for (j, id) in self.structure_names.iter().enumerate() {
             let v = idx.iter().map(|r| self.structure_values[r.0][j]).collect();
-            cols.push(Column::f64(*name, unit(name), v));
+            cols.push(Column::f64(id.name(), id.spec().unit, v));
         }
-        for (j, name) in c.names.iter().enumerate() {
-            if !RECORD_PARAMS.contains(name) {
+        // The operating axes are record columns already.
+        for (j, id) in c.names.iter().enumerate() {
+            if !OPERATING_AXES.contains(id) {
                 let v = idx.iter().map(|r| c.values[r.1][j]).collect();
-                cols.push(Column::f64(*name, unit(name), v));
+                cols.push(Column::f64(id.name(), id.spec().unit, v));
             }
         }
         let records: Vec<_> = rows.iter().map(|s| s.record.clone()).collect();
@@ -99,8 +98,11 @@ impl CycleRun<'_> {
 
     /// Writes `cycle.parquet`, `cycle_summary.csv` (+ `.parquet`) and `cycle.png` into `dir`;
     /// returns the paths written.
-    pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>, String> {
-        std::fs::create_dir_all(dir).map_err(|e| format!("--out {}: {e}", dir.display()))?;
+    pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>, CycleError> {
+        std::fs::create_dir_all(dir).map_err(|source| CycleError::CreateDir {
+            dir: dir.to_path_buf(),
+            source,
+        })?;
         let mut meta = self.metadata.clone();
         meta.push((
             "columns".into(),
@@ -108,14 +110,14 @@ impl CycleRun<'_> {
         ));
         let mut written = Vec::new();
         let table = dir.join("cycle.parquet");
-        write_table(&table, &self.columns(), &meta).map_err(|e| e.to_string())?;
+        write_table(&table, &self.columns(), &meta)?;
         written.push(table);
         let summary = summary_columns(&self.summaries());
         let csv = dir.join("cycle_summary.csv");
-        write_csv(&csv, &summary).map_err(|e| e.to_string())?;
+        write_csv(&csv, &summary)?;
         written.push(csv);
         let sidecar = dir.join("cycle_summary.parquet");
-        write_table(&sidecar, &summary, &self.metadata).map_err(|e| e.to_string())?;
+        write_table(&sidecar, &summary, &self.metadata)?;
         written.push(sidecar);
         let png = dir.join("cycle.png");
         self.figure(&png)?;
@@ -124,7 +126,7 @@ impl CycleRun<'_> {
     }
 
     /// The picture of structure sample 0.
-    fn figure(&self, path: &Path) -> Result<(), String> {
+    fn figure(&self, path: &Path) -> Result<(), PlotError> {
         let steps = &self.steps[0];
         let traces: Vec<WheelTrace<'_>> = (0..2)
             .map(|w| WheelTrace {

@@ -55,14 +55,14 @@ impl RunPlan {
         // checked for good below; this first look only avoids creating a lock file in a
         // directory that is refused anyway.
         let mut lock = if dir.is_dir() {
-            output_dir::lock(dir, false).map_err(e)?
+            output_dir::lock(dir, false).map_err(|err| e(err.to_string()))?
         } else {
             None
         };
         let resuming = self.check_contents()?;
         if lock.is_none() {
             std::fs::create_dir_all(dir).map_err(|err| e(err.to_string()))?;
-            lock = output_dir::lock(dir, true).map_err(e)?;
+            lock = output_dir::lock(dir, true).map_err(|err| e(err.to_string()))?;
         }
         let lock = lock.expect("lock taken");
         // The authoritative check, under the lock.

@@ -155,7 +155,7 @@ impl fmt::Display for ModelFailure {
 impl WheelModel {
     /// Evaluates steps 1–5 of MODEL.md#the-physics-step-by-step and assembles the step-6 ODE.
     pub fn build(p: &Params, wheel: Wheel, variant: Variant) -> Result<Self, ModelFailure> {
-        let patch = tire::contact_patch(p).map_err(ModelFailure::Invalid)?;
+        let patch = tire::contact_patch(p).map_err(|e| ModelFailure::Invalid(e.to_string()))?;
         let tread = tire::tread_block(p, &patch);
         let slip_ratio = match wheel {
             Wheel::Follower => 0.0,

@@ -14,19 +14,29 @@ pub struct ContactPatch {
     pub width_m: f64,
 }
 
+/// No contact patch: the deflection is so large that the contact length is undefined.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error("contact patch undefined: xi*deflection = {xi_deflection_m:.4} m reaches the tire diameter 2*r_b = {diameter_m:.4} m")]
+pub struct FlatTire {
+    /// ξδ \[m\].
+    pub xi_deflection_m: f64,
+    /// 2 r_B \[m\].
+    pub diameter_m: f64,
+}
+
 /// Contact patch from load and pressure (steps 1–2). Fails when the deflection is so large that
 /// the contact length is undefined (ξδ ≥ 2 r_B): the tire would be flat.
-pub fn contact_patch(p: &Params) -> Result<ContactPatch, String> {
+pub fn contact_patch(p: &Params) -> Result<ContactPatch, FlatTire> {
     let alpha1 = 1.0 / (2.0 * std::f64::consts::PI * (p.r_b * p.r_w).sqrt());
     let t = alpha1 * p.load_n / (2.0 * p.pressure_pa());
     let deflection_m = t + (t * t + p.alpha2 * p.load_n).sqrt();
     let xd = p.xi * deflection_m;
     let chord_sq = 2.0 * p.r_b * xd - xd * xd;
     if chord_sq.is_nan() || chord_sq <= 0.0 {
-        return Err(format!(
-            "contact patch undefined: xi*deflection = {xd:.4} m reaches the tire diameter 2*r_b = {:.4} m",
-            2.0 * p.r_b
-        ));
+        return Err(FlatTire {
+            xi_deflection_m: xd,
+            diameter_m: 2.0 * p.r_b,
+        });
     }
     Ok(ContactPatch {
         deflection_m,

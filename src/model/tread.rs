@@ -262,7 +262,6 @@ mod tests {
                 }
             }
         }
-        eprintln!("worst relative difference (g, dg/dw_t): {worst:?}");
         assert!(worst.0 < 1e-13 && worst.1 < 1e-13, "{worst:?}");
     }
 

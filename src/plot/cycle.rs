@@ -5,7 +5,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use super::{draw_legend, figure, format_tick, PALETTE};
+use super::{draw_legend, figure, format_tick, PlotError, PALETTE};
 
 /// What the figure shows of one wheel: its name and, per step, whether it vibrates and its
 /// polygon order (NaN when it does not vibrate).
@@ -26,7 +26,7 @@ pub fn cycle_figure(
     time_s: &[f64],
     speed_kmh: &[f64],
     wheels: &[WheelTrace<'_>],
-) -> Result<(), String> {
+) -> Result<(), PlotError> {
     let t0 = time_s.first().copied().unwrap_or(0.0);
     let t1 = time_s.last().copied().unwrap_or(1.0).max(t0 + 1e-9);
     let v_max = speed_kmh.iter().copied().fold(1.0_f64, f64::max) * 1.08;
@@ -40,7 +40,7 @@ pub fn cycle_figure(
             .x_label_area_size(40)
             .y_label_area_size(72)
             .build_cartesian_2d(t0..t1, v_min..v_max)
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::from)?;
         chart
             .configure_mesh()
             .x_desc("time [s]")
@@ -55,13 +55,13 @@ pub fn cycle_figure(
                 }
             })
             .draw()
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::from)?;
         chart
             .draw_series(LineSeries::new(
                 time_s.iter().copied().zip(speed_kmh.iter().copied()),
                 BLACK.stroke_width(2),
             ))
-            .map_err(|e| e.to_string())?
+            .map_err(PlotError::from)?
             .label("speed")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.stroke_width(3)));
         let n = time_s.len();
@@ -88,10 +88,10 @@ pub fn cycle_figure(
             let marked = (0..n)
                 .filter(|&i| w.vibrates[i])
                 .map(|i| Circle::new((time_s[i], speed_kmh[i]), 2, color.mix(0.8).filled()));
-            chart.draw_series(marked).map_err(|e| e.to_string())?;
+            chart.draw_series(marked).map_err(PlotError::from)?;
             chart
                 .draw_series(bars)
-                .map_err(|e| e.to_string())?
+                .map_err(PlotError::from)?
                 .label(format!("{} vibrates (lane {})", w.label, k + 1))
                 .legend(move |(x, y)| {
                     Rectangle::new([(x, y - 5), (x + 18, y + 5)], color.filled())
@@ -116,7 +116,7 @@ pub fn cycle_figure(
             .x_label_area_size(40)
             .y_label_area_size(72)
             .build_cartesian_2d(t0..t1, o_lo..o_hi)
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::from)?;
         chart
             .configure_mesh()
             .x_desc("time [s]")
@@ -125,7 +125,7 @@ pub fn cycle_figure(
             .axis_desc_style(("sans-serif", 15))
             .y_label_formatter(&|v| format_tick(*v))
             .draw()
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::from)?;
         for (k, w) in wheels.iter().enumerate() {
             let color = PALETTE[k % PALETTE.len()];
             chart
@@ -134,7 +134,7 @@ pub fn cycle_figure(
                         .filter(|&i| w.polygon_order[i].is_finite())
                         .map(|i| Circle::new((time_s[i], w.polygon_order[i]), 2, color.filled())),
                 )
-                .map_err(|e| e.to_string())?
+                .map_err(PlotError::from)?
                 .label(w.label)
                 .legend(move |(x, y)| Circle::new((x + 9, y), 4, color.filled()));
         }

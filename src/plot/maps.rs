@@ -4,7 +4,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::{format_tick, PALETTE};
+use super::{format_tick, PlotError, PALETTE};
 
 /// A colour scale from a value in [0, 1].
 pub type ColorMap = fn(f64) -> RGBColor;
@@ -66,7 +66,7 @@ pub fn heatmap<DB: DrawingBackend>(
     (vmin, vmax): (f64, f64),
     cmap: ColorMap,
     overlay: &[Overlay],
-) -> Result<(), String> {
+) -> Result<(), PlotError> {
     let (x0, x1) = (x_edges[0], *x_edges.last().unwrap());
     let (y0, y1) = (y_edges[0], *y_edges.last().unwrap());
     let mut chart = ChartBuilder::on(area)
@@ -75,7 +75,7 @@ pub fn heatmap<DB: DrawingBackend>(
         .x_label_area_size(52)
         .y_label_area_size(78)
         .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(|e| e.to_string())?;
+        .map_err(PlotError::from)?;
     chart
         .configure_mesh()
         .disable_mesh()
@@ -86,7 +86,7 @@ pub fn heatmap<DB: DrawingBackend>(
         .x_label_formatter(&|v| format_tick(*v))
         .y_label_formatter(&|v| format_tick(*v))
         .draw()
-        .map_err(|e| e.to_string())?;
+        .map_err(PlotError::from)?;
     let mut rects = Vec::new();
     for (ix, col) in values.iter().enumerate() {
         for (iy, v) in col.iter().enumerate() {
@@ -104,7 +104,7 @@ pub fn heatmap<DB: DrawingBackend>(
             ));
         }
     }
-    chart.draw_series(rects).map_err(|e| e.to_string())?;
+    chart.draw_series(rects).map_err(PlotError::from)?;
     // The value in each cell, when the cells are few and large enough to hold it.
     let cells = values.len() * values.first().map_or(0, Vec::len);
     if cells > 0 && cells <= MAX_CELLS_WITH_NUMBERS {
@@ -129,14 +129,14 @@ pub fn heatmap<DB: DrawingBackend>(
                 texts.push(Text::new(text, centre, style));
             }
         }
-        chart.draw_series(texts).map_err(|e| e.to_string())?;
+        chart.draw_series(texts).map_err(PlotError::from)?;
     }
     for o in overlay {
         for (k, line) in o.lines.iter().enumerate() {
             let style = o.color.stroke_width(3);
             let drawn = chart
                 .draw_series(LineSeries::new(line.iter().copied(), style))
-                .map_err(|e| e.to_string())?;
+                .map_err(PlotError::from)?;
             if k == 0 {
                 let color = o.color;
                 drawn.label(o.label.clone()).legend(move |(x, y)| {
@@ -154,7 +154,7 @@ pub fn heatmap<DB: DrawingBackend>(
             .border_style(BLACK)
             .label_font(("sans-serif", 12))
             .draw()
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::from)?;
     }
     Ok(())
 }
@@ -193,14 +193,14 @@ pub fn colorbar<DB: DrawingBackend>(
     label: &str,
     (vmin, vmax): (f64, f64),
     cmap: ColorMap,
-) -> Result<(), String> {
+) -> Result<(), PlotError> {
     let mut chart = ChartBuilder::on(area)
         .margin_top(48)
         .margin_bottom(62)
         .margin_right(8)
         .y_label_area_size(72)
         .build_cartesian_2d(0.0..1.0, vmin..vmax)
-        .map_err(|e| e.to_string())?;
+        .map_err(PlotError::from)?;
     chart
         .configure_mesh()
         .disable_mesh()
@@ -210,7 +210,7 @@ pub fn colorbar<DB: DrawingBackend>(
         .axis_desc_style(("sans-serif", 18))
         .y_label_formatter(&|v| format_tick(*v))
         .draw()
-        .map_err(|e| e.to_string())?;
+        .map_err(PlotError::from)?;
     let n = 100;
     chart
         .draw_series((0..n).map(|i| {
@@ -221,7 +221,7 @@ pub fn colorbar<DB: DrawingBackend>(
                 cmap((i as f64 + 0.5) / n as f64).filled(),
             )
         }))
-        .map_err(|e| e.to_string())?;
+        .map_err(PlotError::from)?;
     Ok(())
 }
 
@@ -242,7 +242,7 @@ pub fn band_panel<DB: DrawingBackend>(
     x_label: &str,
     y_label: &str,
     bands: &[Band<'_>],
-) -> Result<(), String> {
+) -> Result<(), PlotError> {
     let xs = bands
         .iter()
         .flat_map(|b| b.points.iter().map(|p| p.0))
@@ -267,7 +267,7 @@ pub fn band_panel<DB: DrawingBackend>(
         .x_label_area_size(46)
         .y_label_area_size(64)
         .build_cartesian_2d(x0 - pad..x1 + pad, 0.0..1.0)
-        .map_err(|e| e.to_string())?;
+        .map_err(PlotError::from)?;
     chart
         .configure_mesh()
         .x_desc(x_label)
@@ -277,7 +277,7 @@ pub fn band_panel<DB: DrawingBackend>(
         .x_label_formatter(&|v| format_tick(*v))
         .y_label_formatter(&|v| format!("{:.0}%", 100.0 * v))
         .draw()
-        .map_err(|e| e.to_string())?;
+        .map_err(PlotError::from)?;
     for (i, b) in bands.iter().enumerate() {
         let color = PALETTE[i % PALETTE.len()];
         let pts: Vec<&(f64, f64, f64, f64)> = b.points.iter().filter(|p| p.1.is_finite()).collect();
@@ -295,13 +295,13 @@ pub fn band_panel<DB: DrawingBackend>(
                         PathElement::new(vec![(p.0, p.2), (p.0, p.3)], color.stroke_width(2))
                     }),
                 )
-                .map_err(|e| e.to_string())?;
+                .map_err(PlotError::from)?;
             chart
                 .draw_series(
                     pts.iter()
                         .map(|p| Circle::new((p.0, p.1), 5, color.filled())),
                 )
-                .map_err(|e| e.to_string())?
+                .map_err(PlotError::from)?
                 .label(b.label)
                 .legend(move |(x, y)| Circle::new((x + 8, y), 5, color.filled()));
             continue;
@@ -310,13 +310,13 @@ pub fn band_panel<DB: DrawingBackend>(
         poly.extend(pts.iter().rev().map(|p| (p.0, p.2)));
         chart
             .draw_series(std::iter::once(Polygon::new(poly, color.mix(0.2).filled())))
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::from)?;
         chart
             .draw_series(LineSeries::new(
                 pts.iter().map(|p| (p.0, p.1)),
                 color.stroke_width(2),
             ))
-            .map_err(|e| e.to_string())?
+            .map_err(PlotError::from)?
             .label(b.label)
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(3))
@@ -326,7 +326,7 @@ pub fn band_panel<DB: DrawingBackend>(
                 pts.iter()
                     .map(|p| Circle::new((p.0, p.1), 2, color.filled())),
             )
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::from)?;
     }
     chart
         .configure_series_labels()
@@ -335,6 +335,6 @@ pub fn band_panel<DB: DrawingBackend>(
         .border_style(BLACK)
         .label_font(("sans-serif", 15))
         .draw()
-        .map_err(|e| e.to_string())?;
+        .map_err(PlotError::from)?;
     Ok(())
 }

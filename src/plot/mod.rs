@@ -1,7 +1,7 @@
 //! PNG figures with plotters: what the paper shows for one point (time history, phase portrait,
 //! spectrum: its Figs. 8–10) and bifurcation diagrams (its Figs. 6, 7, 12, ...).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Once;
 
 use plotters::coord::types::RangedCoordf64;
@@ -41,8 +41,43 @@ pub const PALETTE: [RGBColor; 4] = [
     RGBColor(148, 103, 189),
 ];
 
-fn err(path: &Path, e: impl std::fmt::Display) -> String {
-    format!("{}: {e}", path.display())
+/// Why a figure was not drawn.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PlotError {
+    /// plotters refused to draw (its own message: a backend or font error).
+    #[error("{0}")]
+    Draw(String),
+    /// A figure file could not be drawn or written.
+    #[error("{}: {message}", path.display())]
+    Figure {
+        /// The figure file.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// No series to draw.
+    #[error("nothing to plot")]
+    Empty,
+}
+
+impl<E: std::error::Error + Send + Sync> From<DrawingAreaErrorKind<E>> for PlotError {
+    fn from(e: DrawingAreaErrorKind<E>) -> Self {
+        PlotError::Draw(e.to_string())
+    }
+}
+
+/// For callers whose errors are still messages.
+impl From<PlotError> for String {
+    fn from(e: PlotError) -> Self {
+        e.to_string()
+    }
+}
+
+fn err(path: &Path, e: impl std::fmt::Display) -> PlotError {
+    PlotError::Figure {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    }
 }
 
 /// Padded bounds of all series' points.
@@ -78,7 +113,7 @@ pub fn line_panel<DB: DrawingBackend>(
     y_label: &str,
     series: &[Series<'_>],
     points_only: bool,
-) -> Result<(), String> {
+) -> Result<(), PlotError> {
     line_panel_with(
         area,
         title,
@@ -103,7 +138,7 @@ pub fn line_panel_with<DB: DrawingBackend>(
     points_only: bool,
     y_range: Option<(f64, f64)>,
     zero_line: bool,
-) -> Result<(), String> {
+) -> Result<(), PlotError> {
     let ((x0, x1), (mut y0, mut y1)) = bounds(series.iter().flat_map(|s| s.points.iter()));
     if let Some(r) = y_range {
         (y0, y1) = r;
@@ -114,7 +149,7 @@ pub fn line_panel_with<DB: DrawingBackend>(
         .x_label_area_size(42)
         .y_label_area_size(72)
         .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(|e| e.to_string())?;
+        .map_err(PlotError::from)?;
     chart
         .configure_mesh()
         .x_desc(x_label)
@@ -124,7 +159,7 @@ pub fn line_panel_with<DB: DrawingBackend>(
         .y_label_formatter(&|v| format_tick(*v))
         .x_label_formatter(&|v| format_tick(*v))
         .draw()
-        .map_err(|e| e.to_string())?;
+        .map_err(PlotError::from)?;
     if zero_line && y0 < 0.0 && y1 > 0.0 {
         chart
             .draw_series(DashedLineSeries::new(
@@ -133,7 +168,7 @@ pub fn line_panel_with<DB: DrawingBackend>(
                 5,
                 BLACK.stroke_width(1),
             ))
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::from)?;
     }
     // Clipped to the panel: a fixed y range may leave points outside it.
     let inside = |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite() && p.1 >= y0 && p.1 <= y1;
@@ -147,7 +182,7 @@ pub fn line_panel_with<DB: DrawingBackend>(
                         .filter(|p| inside(p))
                         .map(|p| Circle::new(*p, 2, color.filled())),
                 )
-                .map_err(|e| e.to_string())?
+                .map_err(PlotError::from)?
         } else {
             let finite: Vec<(f64, f64)> = s
                 .points
@@ -173,7 +208,7 @@ pub fn line_panel_with<DB: DrawingBackend>(
                         .into_iter()
                         .map(|path| PathElement::new(path, color.stroke_width(2))),
                 )
-                .map_err(|e| e.to_string())?
+                .map_err(PlotError::from)?
         };
         anno.label(s.label).legend(move |(x, y)| {
             PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(3))
@@ -188,7 +223,7 @@ pub fn line_panel_with<DB: DrawingBackend>(
 /// The legend every line figure uses: upper right, on white, framed.
 pub fn draw_legend<'a, DB: DrawingBackend + 'a>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
-) -> Result<(), String> {
+) -> Result<(), PlotError> {
     chart
         .configure_series_labels()
         .position(SeriesLabelPosition::UpperRight)
@@ -196,7 +231,7 @@ pub fn draw_legend<'a, DB: DrawingBackend + 'a>(
         .border_style(BLACK)
         .label_font(("sans-serif", 14))
         .draw()
-        .map_err(|e| e.to_string())
+        .map_err(PlotError::from)
 }
 
 /// The part of the segment a–b with y in [y0, y1] (None when it lies wholly outside), so that
@@ -250,8 +285,8 @@ pub fn figure(
     path: &Path,
     size: (u32, u32),
     title: &str,
-    draw: impl FnOnce(&DrawingArea<FigureBackend<'_>, plotters::coord::Shift>) -> Result<(), String>,
-) -> Result<(), String> {
+    draw: impl FnOnce(&DrawingArea<FigureBackend<'_>, plotters::coord::Shift>) -> Result<(), PlotError>,
+) -> Result<(), PlotError> {
     ensure_font();
     let root = FigureBackend::new(path, size).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(path, e))?;
@@ -272,8 +307,8 @@ pub fn panels(
     mut draw: impl FnMut(
         usize,
         &DrawingArea<FigureBackend<'_>, plotters::coord::Shift>,
-    ) -> Result<(), String>,
-) -> Result<(), String> {
+    ) -> Result<(), PlotError>,
+) -> Result<(), PlotError> {
     figure(path, size, title, |area| {
         for (i, a) in area.split_evenly(grid).iter().enumerate() {
             draw(i, a)?;

@@ -1,5 +1,7 @@
 //! Amplitude spectrum of a uniformly sampled signal (the paper's Fig. 10), by a radix-2 FFT with a
-//! Hann window. Small enough to write here rather than pull in an FFT crate.
+//! Hann window. Small enough to write here rather than pull in an FFT crate: `rustfft` costs 9
+//! crates and 4.4 CPU-s of release build to replace 30 lines run once per plotted wheel, where
+//! drawing the figure takes far longer than the transform.
 
 use std::f64::consts::PI;
 

@@ -95,7 +95,7 @@ pub enum RenderError {
     Write(String),
     /// A figure cannot be drawn.
     #[error("{0}")]
-    Figure(String),
+    Figure(crate::plot::PlotError),
 }
 
 /// Writes the tables, figures and `report.md` of `a` into `opts.out_dir`.

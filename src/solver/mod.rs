@@ -50,6 +50,57 @@ pub fn integrate_with<const N: usize, S: OdeSystem<N>>(
     }
 }
 
+/// The step controls the classifier, the trajectories and shooting integrate with, named by what
+/// they integrate over. The tolerances themselves (`rtol`, and `atol` from the state scales,
+/// `classify::Scales::atol`) come from the caller, which chooses them by the accuracy its verdict
+/// needs; these presets fix only the step bounds, which follow from the motion.
+impl<const N: usize> SolverOptions<N> {
+    /// A run from a disturbed equilibrium through its transient, whose period is not known
+    /// beforehand (envelope tracking, brute force, trajectories): the step stays at or below
+    /// 1 ms, under the tread vibration's period (about 3.7 ms at 270 Hz, MODEL.md#step-9-attractor),
+    /// so the callback sees every section crossing and peak even where a slow transient would
+    /// let the error estimate alone take longer steps.
+    pub fn transient(rtol: f64, atol: [f64; N], max_steps: usize) -> Self {
+        SolverOptions {
+            rtol,
+            atol,
+            h_max: 1e-3,
+            h0: None,
+            max_steps,
+        }
+    }
+
+    /// A run over whole periods of a known linear period `period_s` (a settled cycle's
+    /// windows): at least eight steps per period keep the crossings and the dense output's
+    /// extremes resolved; the first step is chosen automatically.
+    pub fn per_period(rtol: f64, atol: [f64; N], period_s: f64, max_steps: usize) -> Self {
+        SolverOptions {
+            rtol,
+            atol,
+            h_max: period_s / 8.0,
+            h0: None,
+            max_steps,
+        }
+    }
+
+    /// One return to the Poincaré section y = y_eq (shooting's return map, a few periods of
+    /// `period_s`): eight steps per period at most, a first step of a fortieth of the period
+    /// (the start lies on the section, where the automatic choice sees only the slow drift), and
+    /// 200,000 steps, far more than a few returns take, as a guard against a run that never
+    /// returns.
+    pub fn section_return(rtol: f64, atol: [f64; N], period_s: f64) -> Self {
+        SolverOptions {
+            h0: Some(period_s / 40.0),
+            ..Self::per_period(rtol, atol, period_s, 200_000)
+        }
+    }
+
+    /// The same options with at most `max_steps` steps (a budget's share).
+    pub fn with_max_steps(self, max_steps: usize) -> Self {
+        SolverOptions { max_steps, ..self }
+    }
+}
+
 /// An autonomous ODE dx/dt = f(x) on N states.
 pub trait OdeSystem<const N: usize> {
     /// Components the error norm averages over (the root mean square of the scaled errors):

@@ -12,7 +12,7 @@ use super::schema::DISTS;
 pub enum StudyError {
     /// A per-wheel budget key out of its accepted range (the message names the key).
     #[error("{0}")]
-    Budget(String),
+    Budget(#[from] crate::classify::BudgetError),
     /// Syntax, unknown or missing keys, values of the wrong type.
     #[error(transparent)]
     Input(#[from] TomlError),

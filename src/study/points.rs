@@ -30,7 +30,7 @@ pub(super) fn operating_points(
         .iter()
         .any(|d| ParamId::CROSS_RULES.contains(&d.param));
     let op = OperatingPoints::load(&section.file, section.weight.as_deref(), dir, base, cross)
-        .map_err(StudyError::OperatingPoints)?;
+        .map_err(|e| StudyError::OperatingPoints(e.to_string()))?;
     for name in &op.names {
         let how = if drawn.iter().any(|d| d.param.name() == *name) {
             "drawn"

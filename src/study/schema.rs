@@ -272,7 +272,7 @@ impl StudyFile {
         if let Some(x) = self.max_wheel_seconds {
             budget.max_wheel_seconds = x;
         }
-        budget.check("").map_err(StudyError::Budget)?;
+        budget.check()?;
         Ok(Header {
             name,
             description: self.description.clone().unwrap_or_default(),
