@@ -63,18 +63,6 @@ pub enum OutputDirError {
         /// What the system said.
         source: std::io::Error,
     },
-    /// The operating-point file's hash differs from the one the run started with.
-    #[error("the operating-point file changed since this run started ({old_path} had hash {old_hash}, {new_path} now has hash {new_hash}); its rows decide every sample's draw, so the chunks would not fit together: restore the file or start a new directory")]
-    OperatingPointsChanged {
-        /// The file the run recorded.
-        old_path: String,
-        /// Its hash then.
-        old_hash: String,
-        /// The file named now.
-        new_path: String,
-        /// Its hash now.
-        new_hash: String,
-    },
 }
 
 /// Why a chunk file kept from an earlier run cannot be trusted.
@@ -315,42 +303,6 @@ pub fn verify_chunk(path: &Path, entry: Option<&ChunkEntry>, rows: u64) -> Optio
         });
     }
     None
-}
-
-/// For a resumed run: refuses when the operating-point file (`operating_points` of the manifests)
-/// is not the one the run started with: its rows, and so every sample's draw, may differ. The
-/// hash of the bytes decides; the path may differ (a resume from another folder).
-pub fn same_operating_points(
-    old: &serde_json::Value,
-    new: &serde_json::Value,
-) -> Result<(), OutputDirError> {
-    let (o, n) = (&old["operating_points"], &new["operating_points"]);
-    if o["hash"] == n["hash"] {
-        return Ok(());
-    }
-    let name = |v: &serde_json::Value| v["path"].as_str().unwrap_or("none").to_string();
-    let hash = |v: &serde_json::Value| v["hash"].as_str().unwrap_or("none").to_string();
-    Err(OutputDirError::OperatingPointsChanged {
-        old_path: name(o),
-        old_hash: hash(o),
-        new_path: name(n),
-        new_hash: hash(n),
-    })
-}
-
-/// The study text recorded in the manifest of the directory holding `file` (chunk footers carry
-/// only `study_hash`); empty when there is none.
-pub fn manifest_study(file: &Path) -> String {
-    let dir: PathBuf = if file.is_dir() {
-        file.to_path_buf()
-    } else {
-        file.parent().map(Path::to_path_buf).unwrap_or_default()
-    };
-    std::fs::read_to_string(dir.join(MANIFEST))
-        .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-        .and_then(|v| v["study"].as_str().map(str::to_string))
-        .unwrap_or_default()
 }
 
 #[cfg(test)]
