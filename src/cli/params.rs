@@ -25,7 +25,7 @@ pub fn run(markdown: bool) {
     }
 }
 
-/// The parameter table as Markdown (MODEL.md#parameter-table embeds exactly this; tests/docs.rs
+/// The parameter table as Markdown (MODEL.md#parameter-table embeds exactly this; tests/integration/docs.rs
 /// keeps them equal).
 pub fn markdown_table() -> String {
     let mut out = String::from(

@@ -4,15 +4,12 @@
 //! new chunk files, then a random few milliseconds), not by wall time, so the test does the same
 //! on a fast machine and on a loaded one.
 
-mod common;
-#[path = "common/parquet_rows.rs"]
-mod parquet_rows;
-
+use crate::common;
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use parquet_rows::rows_in_dir;
+use crate::parquet_rows::rows_in_dir;
 
 const SAMPLES: u64 = 2400;
 const CHUNK: u64 = 8;

@@ -1,15 +1,12 @@
 //! `polywear explore`: reproducibility across threads and shards, resume after kill -9, bad
 //! input (exit 2 before any work), no panic on arbitrary study files.
 
-mod common;
-#[path = "common/parquet_rows.rs"]
-mod parquet_rows;
-
+use crate::common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::polywear;
-use parquet_rows::rows_in_dir;
+use crate::common::polywear;
+use crate::parquet_rows::rows_in_dir;
 
 fn tmp(name: &str) -> PathBuf {
     let d = common::fresh_dir(&format!("explore-{name}"));
@@ -279,8 +276,8 @@ fn arbitrary_study_files_never_panic() {
     use polywear::study::{Study, DEFAULT_STUDY};
     let seeds: Vec<&str> = vec![
         DEFAULT_STUDY,
-        include_str!("../studies/grid_4axes.toml"),
-        include_str!("../studies/wide_structure.toml"),
+        include_str!("../../studies/grid_4axes.toml"),
+        include_str!("../../studies/wide_structure.toml"),
     ];
     let alphabet = b"[]{}=\",.-_0123456789eE abcdefghijklmnopqrstuvwxyz\n#";
     for case in 0..3000u64 {

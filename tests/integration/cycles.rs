@@ -4,13 +4,10 @@
 //! (exit 2, file, row and column), the same rows whatever the threads, and the distribution over
 //! tire structures.
 
-mod common;
-#[path = "common/parquet_rows.rs"]
-mod parquet_rows;
-
+use crate::{common, parquet_rows};
 use std::path::{Path, PathBuf};
 
-use common::polywear;
+use crate::common::polywear;
 use parquet::file::reader::{FileReader, SerializedFileReader};
 use parquet::record::Field;
 use polywear::cycle::DriveCycle;

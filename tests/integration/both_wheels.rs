@@ -3,9 +3,7 @@
 //! driving range inside the follower's, the default study's paired comparison, and the literal
 //! equations' reversed answer kept visible.
 
-mod common;
-
-use common::polywear;
+use crate::common::polywear;
 use polywear::bifurcation::{linspace, sweep};
 use polywear::classify::ClassifierOptions;
 use polywear::model::{Variant, Wheel, WheelModel};

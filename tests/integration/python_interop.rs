@@ -2,9 +2,7 @@
 //! pyarrow: without them each test says it is skipped, unless `POLYWEAR_REQUIRE_PYTHON=1` (set by
 //! `.ci/run`, which installs them) makes their absence a failure.
 
-mod common;
-
-use common::{explore_default, fresh_dir, polywear, python, python_has};
+use crate::common::{explore_default, fresh_dir, polywear, python, python_has};
 
 #[test]
 fn pandas_reads_simulate_parquet_with_metadata() {
@@ -75,9 +73,9 @@ fn guide_pandas_snippet_agrees_with_analyze() {
     let dir = fresh_dir("py-snippet");
     explore_default("2000", &dir);
     // The snippet is the one printed in GUIDE.md, run against this output.
-    let snippet = include_str!("data/guide_snippet.py");
+    let snippet = include_str!("../data/guide_snippet.py");
     assert!(
-        include_str!("../GUIDE.md").contains(snippet.trim()),
+        include_str!("../../GUIDE.md").contains(snippet.trim()),
         "GUIDE.md must show tests/data/guide_snippet.py"
     );
     let script = snippet.replace("data/explore_highway_fleet_seed2014", dir.to_str().unwrap())

@@ -3,14 +3,11 @@
 //! sample, every bad file refused before any work naming file, row and column, the manifest's
 //! hash refusing a resume over a changed file, and the same rows whatever the threads.
 
-mod common;
-#[path = "common/parquet_rows.rs"]
-mod parquet_rows;
-
+use crate::common;
 use std::path::{Path, PathBuf};
 
-use common::polywear;
-use parquet_rows::rows_in_dir;
+use crate::common::polywear;
+use crate::parquet_rows::rows_in_dir;
 use polywear::params::Params;
 use polywear::study::{Study, StudyError};
 

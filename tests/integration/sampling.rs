@@ -4,8 +4,7 @@
 //! truncated-normal far tails, and `--resume` refusing a directory written with
 //! another generator.
 
-mod common;
-
+use crate::common;
 use polywear::sampling::design::{Coordinates, Design};
 use polywear::sampling::distribution::{
     ln_normal_cdf, ln_normal_mass, normal_cdf, normal_quantile, normal_quantile_of_ln,

@@ -8,10 +8,9 @@
 //! values are hostile (negative, zero, NaN, infinite, huge, not numbers, empty) or small valid
 //! ones, so that most cases are refused before any work and the rest run in milliseconds.
 //! Tiny positive physical values (e.g. `--toe 1e-200`) are left out: the classifier's budget
-//! for them is tested in tests/budget.rs.
+//! for them is tested in tests/integration/budget.rs.
 
-mod common;
-
+use crate::common;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -215,8 +214,8 @@ fn names_the_site(msg: &str, site: &Site, edited: &str) -> bool {
 fn study_and_parameter_files_never_panic_and_refusals_name_the_mutated_key() {
     let seeds = [
         DEFAULT_STUDY,
-        include_str!("../studies/grid_4axes.toml"),
-        include_str!("../studies/wide_structure.toml"),
+        include_str!("../../studies/grid_4axes.toml"),
+        include_str!("../../studies/wide_structure.toml"),
         "[params]\npressure_kpa = { dist = \"levels\", levels = [200, 240, 280] }\n",
     ];
     let param_seeds = [

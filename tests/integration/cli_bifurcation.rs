@@ -2,8 +2,8 @@
 //! (MODEL.md#r0-and-the-shipped-defaults) (≈ 93–224 km/h for the follower), the Parquet table and
 //! the PNG, and bad input.
 
-mod common;
-use common::polywear;
+use crate::common;
+use crate::common::polywear;
 
 #[test]
 fn speed_sweep_finds_both_hopf_points_and_writes_files() {

@@ -2,8 +2,7 @@
 //! crossing of a fine eigenvalue grid is missed, l1 agrees with a finite-difference l1, and the
 //! command refuses bad input before work.
 
-mod common;
-
+use crate::common;
 use nalgebra::{Complex, DMatrix, DVector};
 use parquet::file::reader::{FileReader, SerializedFileReader};
 

@@ -1,12 +1,9 @@
 //! `polywear analyze`: a risk map whose answer is known, report files, and bad input.
 
-mod common;
-#[path = "common/parquet_rows.rs"]
-mod parquet_rows;
-
+use crate::{common, parquet_rows};
 use std::path::PathBuf;
 
-use common::polywear;
+use crate::common::polywear;
 use parquet::file::reader::{FileReader, SerializedFileReader};
 use parquet::record::Field;
 

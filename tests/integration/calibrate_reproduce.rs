@@ -1,9 +1,7 @@
 //! Calibration recovers known parameters from targets polywear generated itself, and
 //! `polywear reproduce` writes its report and a Table 3 that comes from the engine.
 
-mod common;
-
-use common::polywear;
+use crate::common::polywear;
 use polywear::calibrate::{calibrate, observe, parse_problem};
 use polywear::params::{ParamId, Params};
 

@@ -1,13 +1,12 @@
 //! `polywear simulate` end to end: JSON columns, bad input (exit 2 before any work), files.
 
-mod common;
-use common::polywear;
+use crate::common::polywear;
 
 #[test]
 fn json_has_exactly_the_reference_columns_first() {
     let (code, stdout, _) = polywear(&["simulate", "--json"]);
     assert_eq!(code, 0);
-    let header = include_str!("data/points.csv").lines().next().unwrap();
+    let header = include_str!("../data/points.csv").lines().next().unwrap();
     let want: Vec<&str> = header.split(',').collect();
     let lines: Vec<&str> = stdout.lines().collect();
     assert_eq!(lines.len(), 2, "one object per wheel");

@@ -3,16 +3,13 @@
 //! progress lines in batch logs, one summary), verdicts in words, "did you mean" suggestions,
 //! sweeps that say what they held fixed, readable maps and consistent refusals.
 
-mod common;
-#[path = "common/parquet_rows.rs"]
-mod parquet_rows;
-
+use crate::common;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::polywear;
-use parquet_rows::rows_in_dir;
+use crate::common::polywear;
+use crate::parquet_rows::rows_in_dir;
 
 fn tmp(name: &str) -> PathBuf {
     let d = common::fresh_dir(&format!("talk-{name}"));
@@ -20,7 +17,7 @@ fn tmp(name: &str) -> PathBuf {
     d
 }
 
-/// A small random study with small chunks (the one of tests/explore.rs).
+/// A small random study with small chunks (the one of tests/integration/explore.rs).
 fn small_study(dir: &Path, g_sigma: &str) -> PathBuf {
     let path = dir.join(format!("small_{g_sigma}.toml"));
     std::fs::write(

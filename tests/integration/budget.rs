@@ -3,13 +3,10 @@
 //! in the study file or on the command line and checked before any work; and no input makes a
 //! command hang (the eigenvalue iteration at toe-in 1e-200° is bounded too).
 
-mod common;
-#[path = "common/parquet_rows.rs"]
-mod parquet_rows;
-
+use crate::{common, parquet_rows};
 use std::time::Duration;
 
-use common::{polywear, polywear_within};
+use crate::common::{polywear, polywear_within};
 use polywear::classify::budget::Meter;
 use polywear::classify::{classify, Class, ClassifierOptions, WheelBudget};
 use polywear::model::{Variant, Wheel, WheelModel};

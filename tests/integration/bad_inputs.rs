@@ -3,16 +3,13 @@
 //! without losing or inventing a row. Each case is one that a plausible implementation gets
 //! wrong.
 
-mod common;
-#[path = "common/parquet_rows.rs"]
-mod parquet_rows;
-
+use crate::common;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+use crate::parquet_rows::rows_in_dir;
 use parquet::file::reader::{FileReader, SerializedFileReader};
-use parquet_rows::rows_in_dir;
 
 /// Runs polywear with a time limit in seconds (see [`common::polywear_within`]).
 fn run(args: &[&str], limit_s: u64) -> (i32, String, String) {

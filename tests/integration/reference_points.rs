@@ -24,8 +24,8 @@ impl Row {
 
 /// Both reference files, `paper`/`combined` rows first, then `sliding_share`.
 fn reference_rows() -> Vec<Row> {
-    let mut rows = parse(include_str!("data/points.csv"));
-    rows.extend(parse(include_str!("data/points_sliding_share.csv")));
+    let mut rows = parse(include_str!("../data/points.csv"));
+    rows.extend(parse(include_str!("../data/points_sliding_share.csv")));
     rows
 }
 

@@ -1,0 +1,30 @@
+//! The integration tests, one module per area, in one test binary: each binary links
+//! polars, so one binary instead of one per file saves CI most of its link time.
+//! Run one area with `cargo test --release --test integration <module>::`.
+
+mod common;
+#[path = "common/parquet_rows.rs"]
+mod parquet_rows;
+
+mod analyze;
+mod bad_inputs;
+mod both_wheels;
+mod budget;
+mod calibrate_reproduce;
+mod chart;
+mod classifier_vs_reference;
+mod cli_bifurcation;
+mod cli_simulate;
+mod cycles;
+mod docs;
+mod explore;
+mod fault_injection;
+mod fuzz_inputs;
+mod invariants;
+mod operating_points;
+mod python_interop;
+mod reference_points;
+mod sampling;
+mod shooting_accuracy;
+mod sobol_design;
+mod talking;
