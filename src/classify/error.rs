@@ -45,9 +45,35 @@ impl From<IntegrationError> for ClassifyError {
     }
 }
 
-/// Shooting's routes report their reasons as text; a section return's error joins them there.
-impl From<ClassifyError> for String {
-    fn from(e: ClassifyError) -> Self {
-        e.to_string()
-    }
+/// Why shooting found no periodic orbit from its guess (the caller then tries another guess
+/// or the envelope; the message may end up as a `failed` row's reason).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ShootingError {
+    /// A return to the section failed.
+    #[error("{0}")]
+    Return(#[from] ClassifyError),
+    /// The return map's derivative minus the identity is singular: no Newton step.
+    #[error("shooting: singular return-map Jacobian")]
+    SingularJacobian,
+    /// Newton's orbit shrank onto the equilibrium's noise floor.
+    #[error("shooting: Newton fell back onto the equilibrium")]
+    FellOntoEquilibrium,
+    /// Newton's steps were damped this many times in a row: no cycle near the guess.
+    #[error("shooting: {0} damped Newton steps in a row (no cycle near the guess)")]
+    DampedSteps(usize),
+    /// Newton did not converge in this many iterations.
+    #[error("shooting: Newton did not converge in {0} iterations")]
+    NoConvergence(usize),
+    /// The scalar return map along the Hopf direction gave a non-finite value.
+    #[error("shooting: the return map along the Hopf direction is not finite")]
+    MapNotFinite,
+    /// The amplitude guess grew past 50 U without bracketing a cycle.
+    #[error("shooting: amplitude grows beyond 50 U; no bounded cycle bracketed")]
+    Unbounded,
+    /// Small oscillations decayed although the equilibrium is unstable.
+    #[error("shooting: small oscillations decay although the equilibrium is unstable")]
+    DecayWhileUnstable,
+    /// No amplitude guess in this many evaluations of the return map.
+    #[error("shooting: no amplitude guess in {0} evaluations of the return map")]
+    NoGuess(usize),
 }

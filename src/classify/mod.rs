@@ -23,7 +23,7 @@ use crate::params::Params;
 use budget::Meter;
 pub use budget::{BudgetError, WheelBudget};
 use envelope::Envelope;
-pub use error::ClassifyError;
+pub use error::{ClassifyError, ShootingError};
 use hopf_start::{hopf_dz_per_v, normal_form_section_v};
 
 /// Smallest section velocity of a limit cycle, relative to the road's lateral speed U: smaller
@@ -433,8 +433,9 @@ fn classify_metered(
     if oscillatory {
         let period = 1.0 / lin.eig_freq_hz;
         let q0 = growth.exp_m1();
-        let attracting =
-            |o: Result<shooting::PeriodicOrbit, String>| o.ok().filter(|o| o.floquet_max < 1.0);
+        let attracting = |o: Result<shooting::PeriodicOrbit, ShootingError>| {
+            o.ok().filter(|o| o.floquet_max < 1.0)
+        };
         if let Some(orbit) = hint.and_then(|h| attracting(newton(h.guess(&scales, q0), period))) {
             return cycle_verdict(&orbit, &lin, rotation_hz);
         }

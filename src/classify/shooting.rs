@@ -6,7 +6,7 @@ use nalgebra::{Matrix2, Vector2};
 use super::budget::Meter;
 use super::peak::refined_peak;
 use super::section::{first_return, Return};
-use super::{Scales, MIN_CYCLE_V_REL};
+use super::{Scales, ShootingError, MIN_CYCLE_V_REL};
 use crate::model::{State, TreadOde};
 use crate::solver::{Method, OdeSystem, SectionVariational, SolverOptions, Step};
 
@@ -158,7 +158,7 @@ fn next_return<const N: usize, S: OdeSystem<N>>(
     opts: &SolverOptions<N>,
     meter: &Meter,
     observe: impl FnMut(&Step<'_, N>, f64),
-) -> Result<Return<N>, String> {
+) -> Result<Return<N>, ShootingError> {
     first_return(
         method,
         sys,
@@ -169,7 +169,7 @@ fn next_return<const N: usize, S: OdeSystem<N>>(
         meter,
         observe,
     )
-    .map_err(String::from)
+    .map_err(ShootingError::from)
 }
 
 /// Tolerances at or below which DOP853 integrates instead of DOPRI5: there its 8th order
@@ -292,18 +292,12 @@ pub fn newton_orbit(
     tols: &Tolerances,
     newton_tol: f64,
     meter: &Meter,
-) -> Result<PeriodicOrbit, String> {
+) -> Result<PeriodicOrbit, ShootingError> {
     let y_sec = scales.y_eq;
     let options = |rtol: f64| {
         let mut atol = [f64::INFINITY; 9];
         atol[..3].copy_from_slice(&scales.atol(rtol));
-        SolverOptions {
-            rtol,
-            atol,
-            h_max: linear_period_s / 8.0,
-            h0: Some(linear_period_s / 40.0),
-            max_steps: 200_000,
-        }
+        SolverOptions::section_return(rtol, atol, linear_period_s)
     };
     let (fine, coarse) = (options(tols.fine), options(tols.coarse.max(tols.fine)));
     let first = options(tols.first.max(tols.fine));
@@ -350,7 +344,7 @@ pub fn newton_orbit(
         let step = jac
             .lu()
             .solve(&(-g))
-            .ok_or_else(|| "shooting: singular return-map Jacobian".to_string())?;
+            .ok_or(ShootingError::SingularJacobian)?;
         let (mut dz, mut dv) = (step[0], step[1]);
         let step_rel = (dz / scales.z).abs().max((dv / v).abs());
         let rho = spectral_radius(&reduced);
@@ -363,7 +357,7 @@ pub fn newton_orbit(
         last = Some((rho, step_rel));
         if tight && (converged || (step_rel < FINE_ACCEPT_REL && rho_settled)) {
             if v + dv <= MIN_CYCLE_V_REL * scales.v {
-                return Err("shooting: Newton fell back onto the equilibrium".into());
+                return Err(ShootingError::FellOntoEquilibrium);
             }
             // The orbit through the corrected start returns later by dT = −(M d)_y / f_y.
             let d = [dz, 0.0, dv];
@@ -383,10 +377,7 @@ pub fn newton_orbit(
             dv *= k;
             damped_in_a_row += 1;
             if damped_in_a_row >= MAX_DAMPED_STEPS {
-                return Err(format!(
-                    "shooting: {MAX_DAMPED_STEPS} damped Newton steps in a row (no cycle near \
-                     the guess)"
-                ));
+                return Err(ShootingError::DampedSteps(MAX_DAMPED_STEPS));
             }
         } else {
             damped_in_a_row = 0;
@@ -397,12 +388,10 @@ pub fn newton_orbit(
         z += dz;
         v += dv;
         if v.is_nan() || v <= MIN_CYCLE_V_REL * scales.v || !z.is_finite() {
-            return Err("shooting: Newton fell back onto the equilibrium".into());
+            return Err(ShootingError::FellOntoEquilibrium);
         }
     }
-    Err(format!(
-        "shooting: Newton did not converge in {MAX_NEWTON} iterations"
-    ))
+    Err(ShootingError::NoConvergence(MAX_NEWTON))
 }
 
 /// Largest modulus of a 2×2 matrix's eigenvalues.
@@ -465,21 +454,15 @@ pub fn amplitude_guess(
     rtol: f64,
     handoff: (f64, f64),
     meter: &Meter,
-) -> Result<(f64, f64), String> {
+) -> Result<(f64, f64), ShootingError> {
     let y_sec = scales.y_eq;
-    let opts = SolverOptions {
-        rtol,
-        atol: scales.atol(rtol),
-        h_max: linear_period_s / 8.0,
-        h0: Some(linear_period_s / 40.0),
-        max_steps: 200_000,
-    };
+    let opts = SolverOptions::section_return(rtol, scales.atol(rtol), linear_period_s);
     // The first return lets the fast bristle mode (multiplier ~0.02 per period) die out; the
     // growth is read over the next one, which starts near the slow manifold. Near onset the
     // growth itself is that small (q0 = 2e-6 put a cycle at half its amplitude): one more.
     let method = method_for(rtol);
     let settling_returns = if q0 < SETTLE_TWICE_BELOW_Q0 { 2 } else { 1 };
-    let state_after_return = |x: [f64; 3]| -> Result<[f64; 3], String> {
+    let state_after_return = |x: [f64; 3]| -> Result<[f64; 3], ShootingError> {
         let r = next_return(
             method,
             ode,
@@ -492,14 +475,14 @@ pub fn amplitude_guess(
         )?;
         Ok(r.state)
     };
-    let map = |a: f64| -> Result<MapPoint, String> {
+    let map = |a: f64| -> Result<MapPoint, ShootingError> {
         let mut x1 = [scales.z_eq + a * dz_per_v, y_sec, a];
         for _ in 0..settling_returns {
             x1 = state_after_return(x1)?;
         }
         let x2 = state_after_return(x1)?;
         if !(x1[2] > 0.0 && x2[2].is_finite()) {
-            return Err("shooting: the return map along the Hopf direction is not finite".into());
+            return Err(ShootingError::MapNotFinite);
         }
         Ok(MapPoint {
             s: x1[2] * x1[2],
@@ -539,17 +522,13 @@ pub fn amplitude_guess(
         }
         a = s_next.sqrt();
         if a > 50.0 * scales.v {
-            return Err("shooting: amplitude grows beyond 50 U; no bounded cycle bracketed".into());
+            return Err(ShootingError::Unbounded);
         }
         if a < 1e-7 * scales.v {
-            return Err(
-                "shooting: small oscillations decay although the equilibrium is unstable".into(),
-            );
+            return Err(ShootingError::DecayWhileUnstable);
         }
     }
-    Err(format!(
-        "shooting: no amplitude guess in {MAX_GUESS_EVALS} evaluations of the return map"
-    ))
+    Err(ShootingError::NoGuess(MAX_GUESS_EVALS))
 }
 
 #[cfg(test)]
