@@ -6,6 +6,7 @@
 
 #![warn(missing_docs)]
 
+#[macro_use]
 pub mod text_enum;
 
 pub mod analysis;

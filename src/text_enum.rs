@@ -1,4 +1,5 @@
-//! Enums written as names in files and on screen (wheel, variant, class, method, design). Their
+//! Enums written as names in files and on screen (wheel, variant, class, method, design), each
+//! declared through `named_enum!`. Their
 //! names come from one derive (strum: `EnumString`, `Display`, `IntoStaticStr`, `VariantNames`
 //! with `serialize_all = "snake_case"`), so the name written, the name parsed and the list of
 //! accepted names cannot drift apart; this module adds what the derive does not give: the
@@ -66,13 +67,36 @@ macro_rules! text_enum {
     )*};
 }
 
-text_enum!(
-    crate::model::Wheel => "wheel",
-    crate::model::Variant => "variant",
-    crate::classify::Class => "class",
-    crate::classify::Method => "method",
-    crate::sampling::design::Design => "design",
-);
+/// Declares an enum written as names: the one derive that gives its names (snake_case, parsed
+/// with a typed refusal), and [`TextEnum`], `as_str` and serde by name. `$kind` names the enum
+/// in messages ("class").
+macro_rules! named_enum {
+    ($(#[$meta:meta])* $vis:vis enum $name:ident: $kind:literal { $($body:tt)* }) => {
+        $(#[$meta])*
+        #[derive(
+            Debug,
+            Clone,
+            Copy,
+            PartialEq,
+            Eq,
+            Hash,
+            PartialOrd,
+            Ord,
+            strum::EnumString,
+            strum::Display,
+            strum::IntoStaticStr,
+            strum::VariantNames,
+        )]
+        #[strum(
+            serialize_all = "snake_case",
+            parse_err_fn = crate::text_enum::unknown::<Self>,
+            parse_err_ty = crate::text_enum::UnknownName
+        )]
+        $vis enum $name { $($body)* }
+
+        text_enum!($name => $kind);
+    };
+}
 
 #[cfg(test)]
 mod tests {

@@ -31,38 +31,21 @@ use hopf_start::{hopf_dz_per_v, normal_form_section_v};
 /// return map whose fixed point at v → 0 passes for a cycle with multiplier e^(Re λ·T) < 1).
 pub const MIN_CYCLE_V_REL: f64 = 1e-5;
 
-/// The verdict's class (the `class` column; written and read back by its name, see `as_str`).
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Hash,
-    PartialOrd,
-    Ord,
-    strum::EnumString,
-    strum::Display,
-    strum::IntoStaticStr,
-    strum::VariantNames,
-)]
-#[strum(
-    serialize_all = "snake_case",
-    parse_err_fn = crate::text_enum::unknown::<Self>,
-    parse_err_ty = crate::text_enum::UnknownName
-)]
-pub enum Class {
-    /// The equilibrium attracts: no self-excited vibration.
-    Stable,
-    /// The tread settles on a limit cycle: self-excited vibration, polygonal wear likely.
-    LimitCycle,
-    /// A stable limit cycle coexists with a stable equilibrium (found by the hard-excitation check).
-    Bistable,
-    /// The driving wheel cannot transmit the drive force
-    /// (MODEL.md#step-4-brush-model-and-slip-ratio).
-    NoTraction,
-    /// The model or the numerics failed; `reason` says why.
-    Failed,
+named_enum! {
+    /// The verdict's class (the `class` column; written and read back by its name, see `as_str`).
+    pub enum Class: "class" {
+        /// The equilibrium attracts: no self-excited vibration.
+        Stable,
+        /// The tread settles on a limit cycle: self-excited vibration, polygonal wear likely.
+        LimitCycle,
+        /// A stable limit cycle coexists with a stable equilibrium (found by the hard-excitation check).
+        Bistable,
+        /// The driving wheel cannot transmit the drive force
+        /// (MODEL.md#step-4-brush-model-and-slip-ratio).
+        NoTraction,
+        /// The model or the numerics failed; `reason` says why.
+        Failed,
+    }
 }
 
 impl Class {
@@ -81,35 +64,18 @@ impl Class {
     }
 }
 
-/// How the verdict was reached (the `method` column).
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Hash,
-    PartialOrd,
-    Ord,
-    strum::EnumString,
-    strum::Display,
-    strum::IntoStaticStr,
-    strum::VariantNames,
-)]
-#[strum(
-    serialize_all = "snake_case",
-    parse_err_fn = crate::text_enum::unknown::<Self>,
-    parse_err_ty = crate::text_enum::UnknownName
-)]
-pub enum Method {
-    /// Eigenvalues alone (stable equilibrium, or no model).
-    Linear,
-    /// Periodic orbit by Newton shooting.
-    Shooting,
-    /// Long integration with envelope tracking.
-    Envelope,
-    /// Brute-force fixed-horizon integration (the test reference).
-    Reference,
+named_enum! {
+    /// How the verdict was reached (the `method` column).
+    pub enum Method: "method" {
+        /// Eigenvalues alone (stable equilibrium, or no model).
+        Linear,
+        /// Periodic orbit by Newton shooting.
+        Shooting,
+        /// Long integration with envelope tracking.
+        Envelope,
+        /// Brute-force fixed-horizon integration (the test reference).
+        Reference,
+    }
 }
 
 impl Method {

@@ -13,31 +13,14 @@ pub use brush::{FrictionLevels, NoTraction};
 pub use tire::{ContactPatch, TreadBlock};
 pub use tread::{LinearStability, State, TreadOde};
 
-/// Driving wheels transmit the drive force through a slip ratio; followers roll freely (S = 0).
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Hash,
-    PartialOrd,
-    Ord,
-    strum::EnumString,
-    strum::Display,
-    strum::IntoStaticStr,
-    strum::VariantNames,
-)]
-#[strum(
-    serialize_all = "snake_case",
-    parse_err_fn = crate::text_enum::unknown::<Self>,
-    parse_err_ty = crate::text_enum::UnknownName
-)]
-pub enum Wheel {
-    /// Rolls freely: slip ratio S = 0.
-    Follower,
-    /// Transmits the drive force through a slip ratio S > 0.
-    Driving,
+named_enum! {
+    /// Driving wheels transmit the drive force through a slip ratio; followers roll freely (S = 0).
+    pub enum Wheel: "wheel" {
+        /// Rolls freely: slip ratio S = 0.
+        Follower,
+        /// Transmits the drive force through a slip ratio S > 0.
+        Driving,
+    }
 }
 
 impl Wheel {
@@ -45,37 +28,20 @@ impl Wheel {
     pub const BOTH: [Wheel; 2] = [Wheel::Follower, Wheel::Driving];
 }
 
-/// How the Stribeck curve sees sliding (MODEL.md#step-6-tread-ode).
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Hash,
-    PartialOrd,
-    Ord,
-    strum::EnumString,
-    strum::Display,
-    strum::IntoStaticStr,
-    strum::VariantNames,
-)]
-#[strum(
-    serialize_all = "snake_case",
-    parse_err_fn = crate::text_enum::unknown::<Self>,
-    parse_err_ty = crate::text_enum::UnknownName
-)]
-pub enum Variant {
-    /// The paper's Eq. 21: only the lateral sliding speed, w_t = |w|.
-    Paper,
-    /// 2-D LuGre extension: w_t = sqrt(w² + V_sx²) with the driving wheel's full longitudinal
-    /// sliding speed V_sx = V cos α S/(1+S).
-    Combined,
-    /// 2-D LuGre over the patch (MODEL.md#step-6-tread-ode, the shipped default): as `Combined`,
-    /// but with the patch-mean longitudinal sliding speed q·V cos α S/(1+S), since only the sliding
-    /// share q of the contact length slides lengthwise. The one reading that reproduces the paper's
-    /// driving-wheel results (MODEL.md#the-default-sliding-share).
-    SlidingShare,
+named_enum! {
+    /// How the Stribeck curve sees sliding (MODEL.md#step-6-tread-ode).
+    pub enum Variant: "variant" {
+        /// The paper's Eq. 21: only the lateral sliding speed, w_t = |w|.
+        Paper,
+        /// 2-D LuGre extension: w_t = sqrt(w² + V_sx²) with the driving wheel's full longitudinal
+        /// sliding speed V_sx = V cos α S/(1+S).
+        Combined,
+        /// 2-D LuGre over the patch (MODEL.md#step-6-tread-ode, the shipped default): as `Combined`,
+        /// but with the patch-mean longitudinal sliding speed q·V cos α S/(1+S), since only the sliding
+        /// share q of the contact length slides lengthwise. The one reading that reproduces the paper's
+        /// driving-wheel results (MODEL.md#the-default-sliding-share).
+        SlidingShare,
+    }
 }
 
 impl Variant {

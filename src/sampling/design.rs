@@ -7,37 +7,22 @@ use super::distribution::Distribution;
 use super::rng::{Streams, LHS_STREAMS, SOBOL_SCRAMBLE_STREAM};
 use super::sobol::{direction_numbers, owen_scramble, sobol_u32, MAX_DIMENSIONS, MAX_POINTS};
 
-/// How sample points fill the unit cube.
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Hash,
-    strum::EnumString,
-    strum::Display,
-    strum::IntoStaticStr,
-    strum::VariantNames,
-)]
-#[strum(
-    serialize_all = "snake_case",
-    parse_err_fn = crate::text_enum::unknown::<Self>,
-    parse_err_ty = crate::text_enum::UnknownName
-)]
-pub enum Design {
-    /// Independent uniform draws.
-    Random,
-    /// Latin hypercube: each axis split into `samples` strata, one point per stratum.
-    #[strum(to_string = "lhs", serialize = "latin_hypercube")]
-    LatinHypercube,
-    /// Scrambled Sobol quasi-random points.
-    Sobol,
-    /// Full factorial grid of each axis's levels.
-    Grid,
-    /// Saltelli's design for Sobol indices: per base point j, the rows A_j, B_j and A_j with
-    /// axis m taken from B_j (m = 0..k), at sample indices j·(k+2) + 0, 1, 2 + m.
-    Saltelli,
+named_enum! {
+    /// How sample points fill the unit cube.
+    pub enum Design: "design" {
+        /// Independent uniform draws.
+        Random,
+        /// Latin hypercube: each axis split into `samples` strata, one point per stratum.
+        #[strum(to_string = "lhs", serialize = "latin_hypercube")]
+        LatinHypercube,
+        /// Scrambled Sobol quasi-random points.
+        Sobol,
+        /// Full factorial grid of each axis's levels.
+        Grid,
+        /// Saltelli's design for Sobol indices: per base point j, the rows A_j, B_j and A_j with
+        /// axis m taken from B_j (m = 0..k), at sample indices j·(k+2) + 0, 1, 2 + m.
+        Saltelli,
+    }
 }
 
 impl Design {
