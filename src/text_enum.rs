@@ -1,9 +1,9 @@
 //! Enums written as names in files and on screen (wheel, variant, class, method, design), each
-//! declared through `named_enum!`. Their
-//! names come from one derive (strum: `EnumString`, `Display`, `IntoStaticStr`, `VariantNames`
-//! with `serialize_all = "snake_case"`), so the name written, the name parsed and the list of
-//! accepted names cannot drift apart; this module adds what the derive does not give: the
-//! refusal of an unknown name with the accepted ones, and serde by name.
+//! declared through `named_enum!`. Their names come from one derive (strum: `EnumString`,
+//! `Display`, `IntoStaticStr`, `VariantNames` with `serialize_all = "snake_case"`), so the name
+//! written, the name parsed and the list of accepted names cannot drift apart; this module adds
+//! what the derive does not give: the refusal of an unknown name with the accepted ones, and
+//! serde by name.
 
 /// A name that names no case of an enum written as text.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
