@@ -10,18 +10,18 @@ use crate::analysis::paired::{PairTally, Paired};
 use crate::bifurcation::{linspace, sweep, Sweep};
 use crate::classify::{classify_point, ClassifierOptions};
 use crate::model::{brush, tire, Variant, Wheel};
-use crate::params::Params;
+use crate::params::{ParamId, Params};
 use crate::parquet_out::{write_csv, write_table, Column};
 use crate::plot::{self, Series};
 use crate::records::{record_columns, WheelRecord};
 use crate::trajectory::{plot_point, time_series};
 
 /// The four axes of the paper's bifurcation diagrams and Table 3, with their sweep ranges.
-pub const AXES: [(&str, f64, f64); 4] = [
-    ("speed_kmh", 40.0, 260.0),
-    ("toe_deg", 0.05, 1.0),
-    ("load_n", 2000.0, 7000.0),
-    ("pressure_kpa", 150.0, 450.0),
+pub const AXES: [(ParamId, f64, f64); 4] = [
+    (ParamId::SpeedKmh, 40.0, 260.0),
+    (ParamId::ToeDeg, 0.05, 1.0),
+    (ParamId::LoadN, 2000.0, 7000.0),
+    (ParamId::PressureKpa, 150.0, 450.0),
 ];
 
 /// What was reproduced, for the report and the command's summary.
@@ -57,7 +57,7 @@ fn fmt_ranges(r: &[(f64, f64)], unit: &str, (from, to): (f64, f64)) -> String {
         .join(", ")
 }
 
-fn bounds(axis: &str) -> (f64, f64) {
+fn bounds(axis: ParamId) -> (f64, f64) {
     AXES.iter()
         .find(|a| a.0 == axis)
         .map_or((f64::NAN, f64::NAN), |a| (a.1, a.2))
@@ -200,8 +200,7 @@ pub fn reproduce_as(
     let mut sweeps = Vec::new();
     for variant in Variant::ALL {
         for (axis, from, to) in AXES {
-            let param: crate::params::ParamId = axis.parse().expect("AXES are parameters");
-            let sw = sweep(base, param, &linspace(from, to, steps), variant, &opts);
+            let sw = sweep(base, axis, &linspace(from, to, steps), variant, &opts);
             let png = dir.join(format!("bifurcation_{axis}_{variant}.{ext}"));
             sw.draw(&png).map_err(ReproduceError::Figure)?;
             files.push(png);
@@ -247,20 +246,25 @@ pub fn reproduce_as(
     // 19), both wheels in each figure, under the default variant; the driving wheel at 100 km/h
     // also under the two other variants.
     let d = Variant::DEFAULT;
-    let points: [(&str, &str, f64, Variant); 8] = [
-        ("fig8_speed70", "speed_kmh", 70.0, d),
-        ("fig9_10_speed100", "speed_kmh", 100.0, d),
-        ("fig13_toe0.35", "toe_deg", 0.35, d),
-        ("fig15_load5000", "load_n", 5000.0, d),
-        ("fig17_pressure200", "pressure_kpa", 200.0, d),
-        ("fig19_speed150", "speed_kmh", 150.0, d),
-        ("speed100_paper", "speed_kmh", 100.0, Variant::Paper),
-        ("speed100_combined", "speed_kmh", 100.0, Variant::Combined),
+    let points: [(&str, ParamId, f64, Variant); 8] = [
+        ("fig8_speed70", ParamId::SpeedKmh, 70.0, d),
+        ("fig9_10_speed100", ParamId::SpeedKmh, 100.0, d),
+        ("fig13_toe0.35", ParamId::ToeDeg, 0.35, d),
+        ("fig15_load5000", ParamId::LoadN, 5000.0, d),
+        ("fig17_pressure200", ParamId::PressureKpa, 200.0, d),
+        ("fig19_speed150", ParamId::SpeedKmh, 150.0, d),
+        ("speed100_paper", ParamId::SpeedKmh, 100.0, Variant::Paper),
+        (
+            "speed100_combined",
+            ParamId::SpeedKmh,
+            100.0,
+            Variant::Combined,
+        ),
     ];
     let mut point_records = Vec::new();
     for (name, param, value, variant) in points {
         let mut p = *base;
-        *p.get_mut(param).expect("known") = value;
+        p[param] = value;
         let mut records = Vec::new();
         let mut series = Vec::new();
         for wheel in Wheel::BOTH {
@@ -278,12 +282,8 @@ pub fn reproduce_as(
     }
 
     // Stability charts of the four axes two at a time, both wheels (default variant).
-    let axes: Vec<(crate::params::ParamId, f64, f64)> = AXES
-        .iter()
-        .map(|&(name, from, to)| (name.parse().expect("AXES are parameters"), from, to))
-        .collect();
     let (chart_files, charts_md) =
-        crate::chart::pairs::operating_pairs(base, Variant::DEFAULT, &axes, dir)
+        crate::chart::pairs::operating_pairs(base, Variant::DEFAULT, &AXES, dir)
             .map_err(ReproduceError::Chart)?;
     files.extend(chart_files);
 
@@ -319,7 +319,7 @@ fn amplitude_vs_speed(
         (Variant::Combined, Wheel::Driving),
         (Variant::SlidingShare, Wheel::Driving),
     ] {
-        let sw = find(sweeps, "speed_kmh", variant);
+        let sw = find(sweeps, ParamId::SpeedKmh, variant);
         labels.push(match wheel {
             Wheel::Follower => "follower (every variant)".to_string(),
             Wheel::Driving => format!("driving, {variant}"),
@@ -400,10 +400,10 @@ pub fn paired_comparison(base: &Params, samples: u64) -> Result<Vec<Paired>, Rep
     Ok(tally.paired())
 }
 
-fn find<'a>(sweeps: &'a [Sweep], param: &str, variant: Variant) -> &'a Sweep {
+fn find(sweeps: &[Sweep], param: ParamId, variant: Variant) -> &Sweep {
     sweeps
         .iter()
-        .find(|s| s.param.name() == param && s.variant == variant)
+        .find(|s| s.param == param && s.variant == variant)
         .expect("swept")
 }
 
@@ -459,8 +459,8 @@ fn report(
             .and_then(|(_, r)| r.iter().find(|r| r.wheel == wheel))
     };
     let f = Wheel::Follower;
-    let sp = find(sweeps, "speed_kmh", d);
-    let fr = |r: &[(f64, f64)], axis: &str| fmt_ranges(r, "", bounds(axis));
+    let sp = find(sweeps, ParamId::SpeedKmh, d);
+    let fr = |r: &[(f64, f64)], axis: ParamId| fmt_ranges(r, "", bounds(axis));
     let _ = writeln!(s, "## The paper's results beside polywear's (follower)\n");
     let _ = writeln!(
         s,
@@ -472,7 +472,7 @@ fn report(
     let _ = writeln!(
         s,
         "| eigenvalue analysis vs speed | stable at low speed, Hopf near 80 km/h (decoded), stable again at high speed | unstable on {} km/h | see (1) |",
-        fr(&sp.unstable_ranges(f), "speed_kmh")
+        fr(&sp.unstable_ranges(f), ParamId::SpeedKmh)
     );
     let _ = writeln!(
         s,
@@ -504,14 +504,10 @@ fn report(
     let _ = writeln!(s, "Intervals of each parameter (others at their defaults: {} km/h, {}°, {} N, {} kPa) where the equilibrium is unstable, bounded by Hopf points located to 1e-6 relative within the swept ranges. The follower is the same in every variant.\n", base.speed_kmh, base.toe_deg, base.load_n, base.pressure_kpa);
     let _ = writeln!(s, "| parameter | paper, follower | paper, driving | follower (every variant) | driving, `sliding_share` | driving, `paper` | driving, `combined` |");
     let _ = writeln!(s, "|---|---|---|---|---|---|---|");
-    for ((axis, from, to), (_, pf, pd)) in AXES.iter().zip(PAPER_TABLE3) {
-        let unit = crate::params::spec(axis).map_or("", |x| x.unit);
+    for (&(axis, from, to), (_, pf, pd)) in AXES.iter().zip(PAPER_TABLE3) {
+        let unit = axis.spec().unit;
         let cell = |v: Variant, w: Wheel| {
-            fmt_ranges(
-                &find(sweeps, axis, v).unstable_ranges(w),
-                unit,
-                (*from, *to),
-            )
+            fmt_ranges(&find(sweeps, axis, v).unstable_ranges(w), unit, (from, to))
         };
         let _ = writeln!(
             s,
@@ -575,7 +571,7 @@ fn report(
     }
 
     let hopf = |v: Variant, w: Wheel| {
-        find(sweeps, "speed_kmh", v)
+        find(sweeps, ParamId::SpeedKmh, v)
             .hopf
             .iter()
             .find(|h| h.wheel == w && h.destabilizing)

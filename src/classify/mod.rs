@@ -357,9 +357,10 @@ fn classify_metered(
         f64::INFINITY
     };
     let tols = shooting::Tolerances::for_growth(growth, opts.rtol);
-    let newton = |guess: (f64, f64), period: f64| {
-        shooting::newton_orbit(ode, &scales, guess, period, &tols, opts.newton_tol, meter)
+    let newton_with = |guess: (f64, f64), period: f64, tols: &shooting::Tolerances| {
+        shooting::newton_orbit(ode, &scales, guess, period, tols, opts.newton_tol, meter)
     };
+    let newton = |guess: (f64, f64), period: f64| newton_with(guess, period, &tols);
 
     if lin.eig_re_max < 0.0 {
         let verdict = WheelVerdict::without_cycle(
@@ -415,15 +416,7 @@ fn classify_metered(
             hopf_start::GUESS_START_V_REL
         } * scales.v;
         if from_normal_form {
-            let orbit = shooting::newton_orbit(
-                ode,
-                &scales,
-                (scales.z_eq + a * dz, a),
-                period,
-                &tols.looser_first(),
-                opts.newton_tol,
-                meter,
-            );
+            let orbit = newton_with((scales.z_eq + a * dz, a), period, &tols.looser_first());
             if let Some(orbit) = attracting(orbit) {
                 return cycle_verdict(&orbit, &lin, rotation_hz);
             }
