@@ -25,7 +25,6 @@ pub mod output_dir;
 pub mod params;
 pub mod parquet_out;
 pub mod plot;
-pub mod recorded_run;
 pub mod records;
 pub mod render;
 pub mod reproduce;

@@ -9,8 +9,10 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::batch::{signal_name, Interrupt, ProgressLog};
 use super::common::{BudgetArgs, CliError, CliResult, FigureFormat};
+use polywear::explore::recorded_run::{
+    changed_lines, param_changes, shell_word, DirState, RecordedRun,
+};
 use polywear::explore::{ExploreError, RunPlan, Shard};
-use polywear::recorded_run::{changed_lines, param_changes, shell_word, DirState, RecordedRun};
 use polywear::study::{Study, DEFAULT_STUDY, SEED_MAX};
 use polywear::wording::plain;
 

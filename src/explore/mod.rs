@@ -20,6 +20,7 @@ use crate::study::Study;
 pub mod manifest;
 mod output;
 mod pipeline;
+pub mod recorded_run;
 
 pub use manifest::{OperatingPointsRecord, RunManifest};
 pub use output::PreparedOutput;
@@ -99,7 +100,7 @@ pub enum ExploreError {
         /// The output directory.
         dir: PathBuf,
         /// What the directory holds.
-        state: crate::recorded_run::DirState,
+        state: recorded_run::DirState,
     },
     /// A resume into a directory without a readable manifest.
     #[error("{}: nothing to resume here ({manifest}: {message}); accepted: a directory written by `polywear explore`, or an empty or absent one", dir.display())]
@@ -132,7 +133,7 @@ pub enum ExploreError {
     OtherStudy {
         /// The output directory.
         dir: PathBuf,
-        /// The differing lines ([`crate::recorded_run::changed_lines`]).
+        /// The differing lines ([`recorded_run::changed_lines`]).
         lines: Vec<String>,
     },
     /// The operating-point file changed since the run started.
@@ -423,7 +424,7 @@ mod tests {
             },
             ExploreError::Occupied {
                 dir: dir.clone(),
-                state: crate::recorded_run::DirState::Foreign,
+                state: recorded_run::DirState::Foreign,
             },
             ExploreError::NothingToResume {
                 dir: dir.clone(),

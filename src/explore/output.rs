@@ -4,10 +4,10 @@
 use std::collections::HashSet;
 
 use super::manifest::{OperatingPointsRecord, RunManifest};
+use super::recorded_run::{changed_lines, directory_state, param_changes};
 use super::{ExploreError, RunPlan};
 use crate::output_dir::{self, DirLock};
 use crate::parquet_out::write_durably;
-use crate::recorded_run::{changed_lines, directory_state, param_changes};
 
 /// The output directory, checked and locked for this run; the lock lasts as long as this value.
 #[derive(Debug)]

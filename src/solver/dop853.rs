@@ -6,8 +6,8 @@
 //! interpolate inside every step.
 
 use super::dop853_tableau::{A, B, D, E3, E5};
-use super::dopri5::Dense;
 use super::driver::{drive, EmbeddedPair};
+use super::types::Dense;
 use super::{Control, IntegrationError, OdeSystem, Outcome, SolverOptions, Step};
 
 /// x + h Σ_j a_j k_j over the stages whose coefficient is not zero.

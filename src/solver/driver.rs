@@ -4,7 +4,7 @@
 //! outcome. What differs between the two pairs (stages, error estimate, step-size factor, dense
 //! output) is an [`EmbeddedPair`].
 
-use super::dopri5::{initial_step, Dense};
+use super::types::{initial_step, Dense};
 use super::{Control, IntegrationError, OdeSystem, Outcome, SolverOptions, Step};
 
 /// One embedded Runge–Kutta pair as the step loop sees it.

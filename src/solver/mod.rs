@@ -10,9 +10,11 @@ mod dop853;
 mod dop853_tableau;
 mod dopri5;
 mod driver;
+mod types;
 
 pub use dop853::integrate as integrate_dop853;
-pub use dopri5::{integrate, Control, IntegrationError, Outcome, SolverOptions, Step};
+pub use dopri5::integrate;
+pub use types::{Control, IntegrationError, Outcome, SolverOptions, Step};
 
 /// Which Runge–Kutta pair integrates: both give the same [`Step`]s to the callback.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::explore::{RunManifest, Shard};
+use super::{RunManifest, Shard};
 use crate::output_dir::{self, MANIFEST};
 use crate::params::Params;
 
