@@ -4,9 +4,9 @@
 
 use std::path::Path;
 
-use rayon::prelude::*;
-
-use crate::classify::{classify_point, ClassifierOptions};
+use crate::classify::ClassifierOptions;
+use crate::ensemble::{self, Control};
+use crate::evaluate;
 use crate::model::{Variant, Wheel, WheelModel};
 use crate::numeric::sign_change_roots;
 use crate::params::{ParamId, Params};
@@ -46,15 +46,13 @@ pub fn sweep(
         .iter()
         .flat_map(|&x| Wheel::BOTH.map(|w| (x, w)))
         .collect();
-    let records: Vec<WheelRecord> = jobs
-        .par_iter()
-        .map(|&(x, wheel)| {
-            let mut p = *base;
-            p[param] = x;
-            let (model, verdict) = classify_point(&p, wheel, variant, opts);
-            WheelRecord::new(&p, wheel, variant, &model, &verdict)
-        })
-        .collect();
+    let record = |i: usize| {
+        let (x, wheel) = jobs[i];
+        let mut p = *base;
+        p[param] = x;
+        evaluate::solve_wheel(p, variant, wheel, opts).record
+    };
+    let records: Vec<WheelRecord> = ensemble::solve(jobs.len(), record, &Control::QUIET).all();
     let hopf = locate_hopf(base, param, &jobs, &records, variant);
     Sweep {
         base: *base,

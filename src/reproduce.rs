@@ -8,7 +8,8 @@ use std::path::{Path, PathBuf};
 
 use crate::analysis::paired::{PairTally, Paired};
 use crate::bifurcation::{linspace, sweep, Sweep};
-use crate::classify::{classify_point, ClassifierOptions};
+use crate::classify::ClassifierOptions;
+use crate::ensemble::Control;
 use crate::model::{brush, tire, Variant, Wheel};
 use crate::params::{ParamId, Params};
 use crate::parquet_out::{write_csv, write_table, Column};
@@ -268,9 +269,9 @@ pub fn reproduce_as(
         let mut records = Vec::new();
         let mut series = Vec::new();
         for wheel in Wheel::BOTH {
-            let (model, verdict) = classify_point(&p, wheel, variant, &opts);
-            records.push(WheelRecord::new(&p, wheel, variant, &model, &verdict));
-            if let Ok(m) = &model {
+            let w = crate::evaluate::solve_wheel(p, variant, wheel, &opts);
+            records.push(w.record);
+            if let Ok(m) = &w.model {
                 let ts = time_series(m, 3.0, 20_000.0, opts.disturbance_m);
                 series.push((wheel, ts.samples));
             }
@@ -373,16 +374,13 @@ fn amplitude_vs_speed(
 /// `base`), classifies both wheels under every variant, and pairs them as the analysis does
 /// ([`PairTally`]): driving against follower on the same samples, per variant.
 pub fn paired_comparison(base: &Params, samples: u64) -> Result<Vec<Paired>, ReproduceError> {
-    use rayon::prelude::*;
     let mut study = crate::study::Study::parse_with_base(crate::study::DEFAULT_STUDY, *base)
         .map_err(|e| ReproduceError::Study(e.to_string()))?;
     study.variants = Variant::ALL.to_vec();
     let sampler = study.sampler(study.seed, samples);
     let opts = ClassifierOptions::default();
-    let rows: Vec<crate::explore::SampleRows> = (0..samples)
-        .into_par_iter()
-        .map(|i| crate::explore::evaluate_sample(&study, &sampler, i, &opts))
-        .collect();
+    let sample = |i: usize| crate::explore::evaluate_sample(&study, &sampler, i as u64, &opts);
+    let rows = crate::ensemble::solve(samples as usize, sample, &Control::QUIET).all();
     let mut tally = PairTally::default();
     for s in &rows {
         for &variant in &Variant::ALL {

@@ -10,7 +10,7 @@ use crate::classify::Class;
 
 /// Rows per class.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct ClassCounts(pub [u64; 5]);
+pub struct ClassCounts(pub [u64; Class::ALL.len()]);
 
 impl ClassCounts {
     /// Counts `n` more rows of `class`.

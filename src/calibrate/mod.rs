@@ -16,7 +16,8 @@ pub use lm::levenberg_marquardt;
 pub use targets::{parse_problem, TargetsError};
 
 use crate::bifurcation::eig_re;
-use crate::classify::{classify_point, ClassifierOptions};
+use crate::classify::ClassifierOptions;
+use crate::ensemble::Control;
 use crate::model::{Variant, Wheel, WheelModel};
 use crate::numeric::sign_change_roots;
 use crate::params::{ParamError, ParamId, Params, Provenance};
@@ -146,7 +147,7 @@ pub fn observe(t: &Target, p: &Params) -> f64 {
             let q = at_point(p, at);
             let opts = ClassifierOptions::default();
             let amp = |wheel| {
-                let (_, v) = classify_point(&q, wheel, t.variant, &opts);
+                let v = crate::evaluate::solve_wheel(q, t.variant, wheel, &opts).verdict;
                 match v.class {
                     crate::classify::Class::Stable => 0.0,
                     c if c.vibrates() => v.amp_y_m,
@@ -287,25 +288,27 @@ fn combinations(choices: &[(ParamId, Vec<f64>)]) -> Vec<Vec<(ParamId, f64)>> {
 /// Fits the problem by Levenberg–Marquardt in log-parameters, once per combination of
 /// `choices` (in parallel), and keeps the combination with the lowest cost.
 pub fn calibrate(problem: &Problem) -> Fit {
-    use rayon::prelude::*;
     let combos = combinations(&problem.choices);
-    let runs: Vec<_> = combos
-        .par_iter()
-        .filter_map(|combo| {
-            let mut start = problem.start;
-            for (n, v) in combo {
-                start[*n] = *v;
-            }
-            start.validate().ok()?;
-            let sub = Problem {
-                start,
-                ..problem.clone()
-            };
-            let x0: Vec<f64> = sub.fit.iter().map(|&n| sub.start[n].ln()).collect();
-            residuals(&sub, &x0, &x0)?;
-            let (x, cost, evals) = levenberg_marquardt(|x| residuals(&sub, x, &x0), &x0, 200);
-            Some((combo.clone(), start, x0, x, cost, evals))
-        })
+    let fit_one = |k: usize| {
+        let combo = &combos[k];
+        let mut start = problem.start;
+        for (n, v) in combo {
+            start[*n] = *v;
+        }
+        start.validate().ok()?;
+        let sub = Problem {
+            start,
+            ..problem.clone()
+        };
+        let x0: Vec<f64> = sub.fit.iter().map(|&n| sub.start[n].ln()).collect();
+        residuals(&sub, &x0, &x0)?;
+        let (x, cost, evals) = levenberg_marquardt(|x| residuals(&sub, x, &x0), &x0, 200);
+        Some((combo.clone(), start, x0, x, cost, evals))
+    };
+    let runs: Vec<_> = crate::ensemble::solve(combos.len(), fit_one, &Control::QUIET)
+        .all()
+        .into_iter()
+        .flatten()
         .collect();
     let evaluations = runs.iter().map(|r| r.5).sum();
     let (chosen, start, x0, x, cost, _) = runs

@@ -4,9 +4,8 @@
 //! structures for which the wheel is unstable. Cells with a share between 5% and 95% form the
 //! band in which 90% of the structures put the boundary.
 
-use rayon::prelude::*;
-
 use super::ChartRequest;
+use crate::ensemble::{self, Control};
 use crate::model::Wheel;
 use crate::params::{Group, ParamId, Params};
 use crate::study::Study;
@@ -64,16 +63,15 @@ pub fn structure_band(
         .wheels
         .iter()
         .map(|&wheel| {
-            let grids: Vec<Vec<Option<bool>>> = structures
-                .par_iter()
-                .map(|p| {
-                    let r = ChartRequest {
-                        base: *p,
-                        ..req.clone()
-                    };
-                    r.stability_grid(wheel, cells, cells)
-                })
-                .collect();
+            let grid = |k: usize| {
+                let r = ChartRequest {
+                    base: structures[k],
+                    ..req.clone()
+                };
+                r.stability_grid(wheel, cells, cells)
+            };
+            let grids: Vec<Vec<Option<bool>>> =
+                ensemble::solve(structures.len(), grid, &Control::QUIET).all();
             let share = (0..cells * cells)
                 .map(|c| {
                     let known: Vec<bool> = grids.iter().filter_map(|g| g[c]).collect();

@@ -13,8 +13,8 @@ pub mod derivatives;
 pub mod draw;
 pub mod pairs;
 
+use crate::ensemble::{self, Control};
 use nalgebra::DVector;
-use rayon::prelude::*;
 
 use crate::continuation::trace::{trace_all, HopfCurves, SpecialKind, TraceOptions};
 use crate::continuation::{ParamBox, TwoParameterFamily};
@@ -109,30 +109,32 @@ impl ChartRequest {
 
     /// Traces the curves of every wheel (the wheels in parallel).
     pub fn trace(&self, opts: &TraceOptions) -> Vec<WheelCurves> {
-        self.wheels
-            .par_iter()
-            .map(|&wheel| WheelCurves {
-                wheel,
-                curves: trace_all(&self.family(wheel), self.bounds, opts),
-            })
-            .collect()
+        let curves = |k: usize| WheelCurves {
+            wheel: self.wheels[k],
+            curves: trace_all(&self.family(self.wheels[k]), self.bounds, opts),
+        };
+        ensemble::solve(self.wheels.len(), curves, &Control::QUIET).all()
     }
 
     /// Stability on a grid of cell centres (row-major in y, then x): Some(true) where the
     /// equilibrium is unstable (max Re λ > 0), None where the model has no equilibrium.
     pub fn stability_grid(&self, wheel: Wheel, nx: usize, ny: usize) -> Vec<Option<bool>> {
         let fam = self.family(wheel);
-        (0..ny)
-            .into_par_iter()
-            .flat_map_iter(|j| {
-                (0..nx).map(move |i| {
+        let row = |j: usize| -> Vec<Option<bool>> {
+            (0..nx)
+                .map(|i| {
                     let s = [(i as f64 + 0.5) / nx as f64, (j as f64 + 0.5) / ny as f64];
                     let p = self.bounds.to_param(s);
                     WheelModel::build(&fam.params(p), wheel, self.variant)
                         .ok()
                         .map(|m| m.ode.linear_stability().eig_re_max > 0.0)
                 })
-            })
+                .collect()
+        };
+        ensemble::solve(ny, row, &Control::QUIET)
+            .all()
+            .into_iter()
+            .flatten()
             .collect()
     }
 }

@@ -16,7 +16,6 @@ mod hopf_start;
 mod peak;
 pub mod section;
 pub mod shooting;
-pub mod validation;
 
 use crate::model::{ModelFailure, TreadOde, Variant, Wheel, WheelModel};
 use crate::params::Params;
@@ -45,17 +44,21 @@ named_enum! {
         NoTraction,
         /// The model or the numerics failed; `reason` says why.
         Failed,
+        /// The vehicle stands still (speed 0, a drive cycle's stop): no sliding, no tread
+        /// dynamics, not vibrating.
+        Standstill,
     }
 }
 
 impl Class {
     /// Every class, in the order of the declaration.
-    pub const ALL: [Class; 5] = [
+    pub const ALL: [Class; 6] = [
         Class::Stable,
         Class::LimitCycle,
         Class::Bistable,
         Class::NoTraction,
         Class::Failed,
+        Class::Standstill,
     ];
 
     /// Whether the tread vibrates (or can, after a hard enough disturbance).

@@ -5,10 +5,11 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use rayon::prelude::*;
 
 use super::common::{check_extension, check_out_file, BudgetArgs, CliError, CliResult, VariantArg};
-use polywear::classify::{classify_point, ClassifierOptions};
+use polywear::classify::ClassifierOptions;
+use polywear::ensemble::{self, Control};
+use polywear::evaluate;
 use polywear::model::{Variant, Wheel};
 use polywear::params::{ParamError, ParamId, Params};
 use polywear::parquet_out::{write_csv, write_table, Column};
@@ -112,14 +113,12 @@ pub fn run(args: &ClassifyArgs) -> CliResult {
     let jobs: Vec<(usize, Wheel)> = (0..points.len())
         .flat_map(|i| Wheel::BOTH.map(|w| (i, w)))
         .collect();
-    let records: Vec<WheelRecord> = pool.install(|| {
-        jobs.par_iter()
-            .map(|&(i, wheel)| {
-                let (model, verdict) = classify_point(&points[i], wheel, variant, &opts);
-                WheelRecord::new(&points[i], wheel, variant, &model, &verdict)
-            })
-            .collect()
-    });
+    let record = |k: usize| {
+        let (i, wheel) = jobs[k];
+        evaluate::solve_wheel(points[i], variant, wheel, &opts).record
+    };
+    let records: Vec<WheelRecord> =
+        pool.install(|| ensemble::solve(jobs.len(), record, &Control::QUIET).all());
     let secs = start.elapsed().as_secs_f64();
     let mut cols = vec![Column::i64(
         "point",

@@ -8,7 +8,8 @@ use super::common::{
     base_metadata, check_extension, check_out_file, BudgetArgs, CliError, CliResult, PointArgs,
     WheelArg,
 };
-use polywear::classify::{classify_point, Class, ClassifierOptions};
+use polywear::classify::{Class, ClassifierOptions};
+use polywear::evaluate;
 use polywear::model::{Variant, Wheel};
 use polywear::parquet_out::{write_csv, write_table, Column};
 use polywear::records::WheelRecord;
@@ -100,10 +101,13 @@ pub fn run(args: &SimulateArgs) -> CliResult {
 
     let mut records = Vec::new();
     let mut series = Vec::new();
-    for &wheel in &wheels {
-        let (model, verdict) = classify_point(&p, wheel, variant, &opts);
-        records.push(WheelRecord::new(&p, wheel, variant, &model, &verdict));
-        if let Ok(m) = &model {
+    for wheel in &wheels {
+        // Each wheel on its own (no shooting hint from the other): the verdict of one wheel
+        // does not depend on which others were asked for.
+        let wheel = *wheel;
+        let w = evaluate::solve_wheel(p, variant, wheel, &opts);
+        records.push(w.record);
+        if let Ok(m) = &w.model {
             if args.out.is_some() || args.plot.is_some() {
                 let ts = time_series(m, args.duration, args.sample_rate, opts.disturbance_m);
                 if let Some(w) = &ts.ended_early {
@@ -155,6 +159,7 @@ pub fn verdict_line(r: &WheelRecord) -> String {
         Class::Stable => format!("stable (decays at {} 1/s)", plain(-r.eig_re_max, 3)),
         Class::NoTraction => format!("no traction ({})", r.reason),
         Class::Failed => format!("no verdict ({})", r.reason),
+        Class::Standstill => format!("standing still ({})", r.reason),
     };
     format!("{}: {verdict}", r.wheel)
 }

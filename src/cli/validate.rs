@@ -5,10 +5,10 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::common::{check_extension, BudgetArgs, CliError, CliResult};
-use polywear::classify::validation::{compare_with, median, Comparison, HOPF_BAND};
 use polywear::classify::ClassifierOptions;
 use polywear::params::OPERATING_AXES;
 use polywear::parquet_out::{write_csv, Column};
+use polywear::validation::{compare_with, median, Comparison, HOPF_BAND};
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(

@@ -4,7 +4,6 @@
 //! by Brent's method along the curve.
 
 use nalgebra::DVector;
-use rayon::prelude::*;
 
 use super::hopf::{analyse, equilibrium, HopfData, HopfSystem, NotHopf, Solution};
 use super::{OdeWithJacobian, ParamBox, TwoParameterFamily};
@@ -178,41 +177,40 @@ fn find_seeds<F: TwoParameterFamily>(sys: &HopfSystem<'_, F>, opts: &TraceOption
     }
     let m = opts.scan_samples.max(2);
     let at = |axis: usize, c: f64, t: f64| if axis == 0 { [c, t] } else { [t, c] };
-    let found: Vec<Vec<Traced>> = lines
-        .par_iter()
-        .map(|&(axis, c)| {
-            let mut seeds = Vec::new();
-            let samples = (0..m).map(|i| {
-                let t = i as f64 / (m - 1) as f64;
-                (t, sys.scan_value(at(axis, c, t)))
-            });
-            let crossings = sign_change_roots(
-                samples,
-                |t| sys.scan_value(at(axis, c, t)),
-                |_, _| 1e-13,
-                200,
-            );
-            for crossing in crossings {
-                let Some(t) = crossing.root else {
-                    continue;
-                };
-                let s = at(axis, c, t);
-                let Some(x) = sys.system(s).and_then(|f| equilibrium(&f, &sys.scale)) else {
-                    continue;
-                };
-                let mut cons = [0.0; 2];
-                cons[axis] = 1.0;
-                if let Some(traced) = sys
-                    .correct(x, s, cons, c)
-                    .and_then(|sol| complete(sys, sol))
-                    .and_then(Result::ok)
-                {
-                    seeds.push(traced);
-                }
+    let line = |k: usize| {
+        let (axis, c) = lines[k];
+        let mut seeds = Vec::new();
+        let samples = (0..m).map(|i| {
+            let t = i as f64 / (m - 1) as f64;
+            (t, sys.scan_value(at(axis, c, t)))
+        });
+        let crossings = sign_change_roots(
+            samples,
+            |t| sys.scan_value(at(axis, c, t)),
+            |_, _| 1e-13,
+            200,
+        );
+        for crossing in crossings {
+            let Some(t) = crossing.root else {
+                continue;
+            };
+            let s = at(axis, c, t);
+            let Some(x) = sys.system(s).and_then(|f| equilibrium(&f, &sys.scale)) else {
+                continue;
+            };
+            let mut cons = [0.0; 2];
+            cons[axis] = 1.0;
+            if let Some(traced) = sys
+                .correct(x, s, cons, c)
+                .and_then(|sol| complete(sys, sol))
+                .and_then(Result::ok)
+            {
+                seeds.push(traced);
             }
-            seeds
-        })
-        .collect();
+        }
+        seeds
+    };
+    let found = crate::ensemble::solve(lines.len(), line, &crate::ensemble::Control::QUIET).all();
     found.into_iter().flatten().collect()
 }
 

@@ -19,10 +19,10 @@ pub mod summary;
 
 use std::path::{Path, PathBuf};
 
-use rayon::prelude::*;
-
-use crate::classify::{classify_point_hinted, Class, ClassifierOptions, Method, WheelVerdict};
-use crate::model::{ModelFailure, Variant, Wheel};
+use crate::classify::{Class, ClassifierOptions};
+use crate::ensemble::{self, Control};
+use crate::evaluate::{self, PointProblem};
+use crate::model::Variant;
 use crate::params::{ParamError, ParamId, Params};
 use crate::parquet_out::WriteError;
 use crate::plot::PlotError;
@@ -117,9 +117,6 @@ fn did_you_mean(name: &str) -> String {
 /// previous step's cycle (the neighbouring step's cycle is close: the speed changes little in
 /// one step). Blocks are fixed, so the rows do not depend on the number of threads.
 pub const BLOCK_STEPS: usize = 32;
-
-/// The `class` a standstill step is written with.
-pub const STANDSTILL: &str = "standstill";
 
 /// A checked drive cycle.
 #[derive(Debug, Clone)]
@@ -284,8 +281,6 @@ impl DriveCycle {
 pub struct StepWheel {
     /// The wheel's record, with the explorer's columns.
     pub record: WheelRecord,
-    /// The vehicle stands still at this step (speed 0): not vibrating, not classified.
-    pub standstill: bool,
     /// τ = 1/|Re λ| \[s\] (NaN without a tread ODE).
     pub tread_time_constant_s: f64,
     /// T = |Re λ| / |d(Re λ)/dt| \[s\] (infinite where Re λ does not change; NaN without an ODE).
@@ -295,29 +290,16 @@ pub struct StepWheel {
 }
 
 impl StepWheel {
+    /// The vehicle stands still at this step (speed 0, class `standstill`): not vibrating, not
+    /// classified.
+    pub fn standstill(&self) -> bool {
+        self.record.class == Class::Standstill
+    }
+
     /// In self-excited vibration at this step (a limit cycle or bistable, never at standstill).
     pub fn vibrates(&self) -> bool {
-        !self.standstill && self.record.class.vibrates()
+        self.record.class.vibrates()
     }
-
-    /// The `class` as written: the class, or `standstill`.
-    pub fn class_name(&self) -> &'static str {
-        if self.standstill {
-            STANDSTILL
-        } else {
-            self.record.class.as_str()
-        }
-    }
-}
-
-/// A standstill step's record: the step's parameters at speed 0, no model, not vibrating.
-fn standstill_record(p: &Params, wheel: Wheel, variant: Variant) -> WheelRecord {
-    let mut p = *p;
-    p.speed_kmh = 0.0;
-    let mut v = WheelVerdict::without_cycle(Class::Stable, f64::NAN, f64::NAN, Method::Linear);
-    v.reason = "standstill (speed 0): no sliding, no tread dynamics".into();
-    let none = Err(ModelFailure::Invalid(v.reason.clone()));
-    WheelRecord::new(&p, wheel, variant, &none, &v)
 }
 
 /// Classifies both wheels at every step of `cycle` on top of `base` (follower then driving per
@@ -348,20 +330,23 @@ pub fn classify_cycles(
     let jobs: Vec<(usize, usize)> = (0..bases.len())
         .flat_map(|k| (0..per_base).map(move |b| (k, b)))
         .collect();
-    let mut records: Vec<[WheelRecord; 2]> = jobs
-        .par_iter()
-        .flat_map_iter(|&(k, b)| classify_block(cycle, &bases[k], variant, opts, b))
+    let block = |j: usize| {
+        let (k, b) = jobs[j];
+        classify_block(cycle, &bases[k], variant, opts, b)
+    };
+    let mut records: Vec<[WheelRecord; 2]> = ensemble::solve(jobs.len(), block, &Control::QUIET)
+        .all()
+        .into_iter()
+        .flatten()
         .collect();
     let mut out = Vec::with_capacity(bases.len());
     for _ in bases {
         let rest = records.split_off(n);
         let mut steps: Vec<[StepWheel; 2]> = records
             .into_iter()
-            .enumerate()
-            .map(|(i, pair)| {
+            .map(|pair| {
                 pair.map(|record| StepWheel {
                     record,
-                    standstill: cycle.standstill(i),
                     tread_time_constant_s: f64::NAN,
                     stability_change_time_s: f64::NAN,
                     quasi_static: true,
@@ -377,7 +362,9 @@ pub fn classify_cycles(
     out
 }
 
-/// The records of block `b`, in step order.
+/// The records of block `b`, in step order. Each step is one point of the one road
+/// ([`crate::evaluate::solve`]); each wheel starts its shooting from its own cycle at the
+/// previous step (the driving wheel without one from the follower's at this step).
 fn classify_block(
     cycle: &DriveCycle,
     base: &Params,
@@ -388,45 +375,30 @@ fn classify_block(
     let lo = b * BLOCK_STEPS;
     let hi = (lo + BLOCK_STEPS).min(cycle.len());
     let mut out: Vec<[WheelRecord; 2]> = Vec::with_capacity(hi - lo);
-    let mut hints = [None, None];
+    let mut hints = vec![None, None];
     let mut previous: Option<Params> = None;
     for i in lo..hi {
-        let p = cycle.step_params(base, i);
+        let mut p = cycle.step_params(base, i);
         if cycle.standstill(i) {
-            out.push(Wheel::BOTH.map(|w| standstill_record(&p, w, variant)));
+            p.speed_kmh = 0.0;
             previous = None;
-            continue;
-        }
-        if previous == Some(p) {
+        } else if previous == Some(p) {
             let same = out.last().expect("a previous step").clone();
             out.push(same);
             continue;
+        } else {
+            previous = Some(p);
         }
-        let invalid = p.validate().err();
-        let mut pair = Vec::with_capacity(2);
-        for (k, wheel) in Wheel::BOTH.into_iter().enumerate() {
-            let (model, verdict) = match &invalid {
-                None => {
-                    // The driving wheel without a cycle of its own at the previous step starts
-                    // from the follower's at this step.
-                    let hint = hints[k].or(if k == 1 { hints[0] } else { None });
-                    let (model, verdict, next) =
-                        classify_point_hinted(&p, wheel, variant, opts, hint);
-                    hints[k] = next;
-                    (model, verdict)
-                }
-                Some(e) => {
-                    let f = ModelFailure::Invalid(format!("invalid parameter set: {e}"));
-                    let v = WheelVerdict::from_model_failure(&f);
-                    (Err(f), v)
-                }
-            };
-            pair.push(WheelRecord::new(&p, wheel, variant, &model, &verdict));
+        let problem = PointProblem {
+            previous: &hints,
+            ..PointProblem::new(p, std::slice::from_ref(&variant), opts)
+        };
+        let solution = evaluate::solve(&problem);
+        if !cycle.standstill(i) {
+            hints = solution.hints();
         }
-        let d = pair.pop().expect("two wheels");
-        let f = pair.pop().expect("two wheels");
+        let [f, d]: [WheelRecord; 2] = solution.into_records().try_into().expect("two wheels");
         out.push([f, d]);
-        previous = Some(p);
     }
     out
 }
@@ -437,7 +409,7 @@ fn assess_quasi_static(time_s: &[f64], steps: &mut [[StepWheel; 2]], w: usize) {
         .iter()
         .map(|s| {
             let x = s[w].record.eig_re_max;
-            (!s[w].standstill && x.is_finite()).then_some(x)
+            (!s[w].standstill() && x.is_finite()).then_some(x)
         })
         .collect();
     let n = re.len();
@@ -480,6 +452,14 @@ mod tests {
         DriveCycle::read(&p).map_err(|e| e.to_string())
     }
 
+    /// A standstill row of the default point, the frame the tests below fill in.
+    fn standstill_record(p: &Params) -> WheelRecord {
+        let opts = ClassifierOptions::default();
+        let mut p = *p;
+        p.speed_kmh = 0.0;
+        evaluate::solve_wheel(p, Variant::Paper, crate::model::Wheel::Follower, &opts).record
+    }
+
     #[test]
     fn durations_hold_until_the_next_step() {
         let c = cycle("time_s,speed_kmh\n0,0\n1,50\n3,100\n").unwrap();
@@ -497,11 +477,11 @@ mod tests {
         let mut steps: Vec<[StepWheel; 2]> = re
             .iter()
             .map(|&r| {
-                let mut record = standstill_record(&p, Wheel::Follower, Variant::Paper);
+                let mut record = standstill_record(&p);
+                record.class = Class::Stable;
                 record.eig_re_max = r;
                 let w = StepWheel {
                     record,
-                    standstill: false,
                     tread_time_constant_s: f64::NAN,
                     stability_change_time_s: f64::NAN,
                     quasi_static: true,
@@ -531,8 +511,10 @@ mod tests {
         let order = [0.0, 18.4, 18.4, 0.0, 19.6, 0.0];
         let steps: Vec<[StepWheel; 2]> = (0..6)
             .map(|i| {
-                let mut record = standstill_record(&p, Wheel::Follower, Variant::Paper);
-                record.class = if vib[i] {
+                let mut record = standstill_record(&p);
+                record.class = if i == 0 {
+                    Class::Standstill
+                } else if vib[i] {
                     Class::LimitCycle
                 } else {
                     Class::Stable
@@ -540,7 +522,6 @@ mod tests {
                 record.polygon_order = order[i];
                 let w = StepWheel {
                     record,
-                    standstill: i == 0,
                     tread_time_constant_s: f64::NAN,
                     stability_change_time_s: f64::NAN,
                     quasi_static: i != 3,

@@ -9,7 +9,7 @@ use super::summary::{summarise, summary_columns, WheelSummary};
 use super::{CycleError, DriveCycle, StepWheel};
 use crate::model::Variant;
 use crate::params::{ParamId, OPERATING_AXES};
-use crate::parquet_out::{write_csv, write_table, Column, ColumnData};
+use crate::parquet_out::{write_csv, write_table, Column};
 use crate::plot::cycle::{cycle_figure, WheelTrace};
 use crate::plot::PlotError;
 use crate::records::record_columns;
@@ -71,13 +71,7 @@ impl CycleRun<'_> {
             }
         }
         let records: Vec<_> = rows.iter().map(|s| s.record.clone()).collect();
-        let mut record_cols = record_columns(&records);
-        for col in &mut record_cols {
-            if col.name == "class" {
-                col.data = ColumnData::Str(rows.iter().map(|s| s.class_name().into()).collect());
-            }
-        }
-        cols.extend(record_cols);
+        cols.extend(record_columns(&records));
         cols.push(Column::f64(
             "tread_time_constant_s",
             "s",

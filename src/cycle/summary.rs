@@ -46,7 +46,7 @@ pub fn summarise(cycle: &DriveCycle, steps: &[[StepWheel; 2]], w: usize) -> Whee
     let mut orders: BTreeMap<i64, f64> = BTreeMap::new();
     for (i, s) in steps.iter().enumerate() {
         let s = &s[w];
-        if s.standstill {
+        if s.standstill() {
             still_s += dt[i];
         }
         if !s.quasi_static {

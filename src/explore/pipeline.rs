@@ -1,14 +1,13 @@
 //! The pipelined evaluation of a run's chunks: samples classified in parallel on the worker
 //! pool, each finished chunk written crash-safely and recorded in the journal.
 
-use std::collections::BTreeMap;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::Mutex;
 
 use super::output::PreparedOutput;
 use super::{ExploreError, RunPlan, RunSummary};
-use crate::classify::{classify_point_hinted, Class, ClassifierOptions, WheelVerdict};
-use crate::model::{ModelFailure, Variant, Wheel};
+use crate::classify::ClassifierOptions;
+use crate::ensemble::{self, Control};
+use crate::evaluate::{self, PointProblem};
 use crate::output_dir;
 use crate::parquet_out::{write_table_digest, Column};
 use crate::records::{record_columns, WheelRecord};
@@ -45,29 +44,30 @@ impl RunPlan {
             budget: self.study.budget,
             ..ClassifierOptions::default()
         };
-        let summary = RunSummary {
+        let summary = Mutex::new(RunSummary {
             samples_skipped: out.kept_samples(self),
             ..RunSummary::default()
-        };
-        let pipe = Pipeline {
-            plan: self,
-            sampler: &sampler,
-            opts: &opts,
-            progress,
-            stop,
-            pending: Mutex::new(Box::new(out.pending(self))),
-            summary: Mutex::new(summary),
-            failure: Mutex::new(None),
-        };
-        rayon::scope_fifo(|s| {
-            for _ in 0..CHUNKS_IN_FLIGHT {
-                pipe.launch_next(s);
-            }
         });
-        if let Some(e) = pipe.failure.into_inner().expect("no panic holds the lock") {
+        let size = self.study.chunk_size;
+        let chunks = out
+            .pending(self)
+            .map(|chunk| (chunk, chunk * size..(chunk * size + size).min(self.samples)));
+        let finish = |chunk: u64, rows: Vec<SampleRows>| {
+            self.write_chunk(chunk, &rows)?;
+            summary.lock().expect("lock").count(&rows);
+            Ok(())
+        };
+        let run = ensemble::solve_chunked(
+            chunks,
+            CHUNKS_IN_FLIGHT,
+            |i| evaluate_sample(&self.study, &sampler, i, &opts),
+            finish,
+            &Control { progress, stop },
+        );
+        if let Some((_, e)) = run.errors.into_iter().next() {
             return Err(e);
         }
-        Ok(pipe.summary.into_inner().expect("no panic holds the lock"))
+        Ok(summary.into_inner().expect("no panic holds the lock"))
     }
 
     fn write_chunk(&self, chunk: u64, rows: &[SampleRows]) -> Result<(), ExploreError> {
@@ -108,100 +108,19 @@ impl RunPlan {
 /// Chunks whose samples are queued on the workers at once (see [`RunPlan::run`]).
 pub const CHUNKS_IN_FLIGHT: usize = 2;
 
-/// The shared state of one pipelined run.
-struct Pipeline<'a> {
-    plan: &'a RunPlan,
-    sampler: &'a Sampler<'a>,
-    opts: &'a ClassifierOptions,
-    progress: &'a (dyn Fn(u64) + Sync),
-    stop: &'a (dyn Fn() -> bool + Sync),
-    /// The chunks still to launch, in order (lazily: a huge run starts at once).
-    pending: Mutex<Box<dyn Iterator<Item = u64> + Send + 'a>>,
-    summary: Mutex<RunSummary>,
-    failure: Mutex<Option<ExploreError>>,
-}
-
-/// One chunk in flight: a slot per sample and how many are still running.
-struct ChunkWork {
-    chunk: u64,
-    lo: u64,
-    rows: Mutex<Vec<Option<SampleRows>>>,
-    remaining: AtomicU64,
-    /// A sample was skipped because the run is stopping: the chunk is not written.
-    dropped: AtomicBool,
-}
-
-impl<'a> Pipeline<'a> {
-    /// Queues every sample of the next pending chunk, unless none is left or a write failed.
-    /// FIFO spawns: a worker runs its own queued samples oldest first, so the oldest chunk in
-    /// flight always finishes first (LIFO spawns starved chunk 0 on one thread, forever).
-    fn launch_next<'s>(&'s self, s: &rayon::ScopeFifo<'s>)
-    where
-        'a: 's,
-    {
-        if self.failure.lock().expect("lock").is_some() || (self.stop)() {
-            return;
-        }
-        let Some(chunk) = self.pending.lock().expect("lock").next() else {
-            return;
-        };
-        let plan = self.plan;
-        let lo = chunk * plan.study.chunk_size;
-        let hi = (lo + plan.study.chunk_size).min(plan.samples);
-        let work = Arc::new(ChunkWork {
-            chunk,
-            lo,
-            rows: Mutex::new((lo..hi).map(|_| None).collect()),
-            remaining: AtomicU64::new(hi - lo),
-            dropped: AtomicBool::new(false),
-        });
-        for i in lo..hi {
-            let work = Arc::clone(&work);
-            s.spawn_fifo(move |s| {
-                if (self.stop)() {
-                    work.dropped.store(true, Ordering::Release);
-                } else {
-                    let r = evaluate_sample(&plan.study, self.sampler, i, self.opts);
-                    (self.progress)(1);
-                    work.rows.lock().expect("lock")[(i - work.lo) as usize] = Some(r);
-                }
-                if work.remaining.fetch_sub(1, Ordering::AcqRel) == 1 {
-                    if !work.dropped.load(Ordering::Acquire) {
-                        self.finish(&work);
-                    }
-                    self.launch_next(s);
-                }
-            });
-        }
-    }
-
-    /// Writes a complete chunk and counts its classes.
-    fn finish(&self, work: &ChunkWork) {
-        let rows: Vec<SampleRows> = std::mem::take(&mut *work.rows.lock().expect("lock"))
-            .into_iter()
-            .map(|r| r.expect("all samples done"))
-            .collect();
-        let mut counts: BTreeMap<(Variant, Wheel), BTreeMap<Class, u64>> = BTreeMap::new();
+impl RunSummary {
+    /// Counts a written chunk's samples and rows by variant, wheel and class.
+    fn count(&mut self, rows: &[SampleRows]) {
         for r in rows.iter().flat_map(|s| &s.records) {
-            *counts
+            *self
+                .classes
                 .entry((r.variant, r.wheel))
                 .or_default()
                 .entry(r.class)
                 .or_default() += 1;
         }
-        if let Err(e) = self.plan.write_chunk(work.chunk, &rows) {
-            self.failure.lock().expect("lock").get_or_insert(e);
-            return;
-        }
-        let mut summary = self.summary.lock().expect("lock");
-        for (key, classes) in counts {
-            let entry = summary.classes.entry(key).or_default();
-            for (class, n) in classes {
-                *entry.entry(class).or_default() += n;
-            }
-        }
-        summary.samples_evaluated += rows.len() as u64;
-        summary.chunks_written += 1;
+        self.samples_evaluated += rows.len() as u64;
+        self.chunks_written += 1;
     }
 }
 
@@ -217,10 +136,8 @@ pub struct SampleRows {
     pub records: Vec<WheelRecord>,
 }
 
-/// Draws sample `index` and classifies it for every variant and both wheels. A parameter set
-/// that breaks a cross-parameter rule (e.g. mu_s > mu_m) becomes `failed` rows with the reason.
-/// Each wheel's shooting starts from the last cycle found in the same sample (the follower's
-/// for the driving wheel, the first variant's for the second), which saves Newton iterations.
+/// Draws sample `index` and evaluates it for every variant and both wheels (the one road,
+/// [`crate::evaluate::solve`]).
 pub fn evaluate_sample(
     study: &Study,
     sampler: &Sampler<'_>,
@@ -228,27 +145,7 @@ pub fn evaluate_sample(
     opts: &ClassifierOptions,
 ) -> SampleRows {
     let (p, drawn, operating_point_row) = sampler.sample_with_row(index);
-    let invalid = p.validate().err();
-    let mut records = Vec::with_capacity(2 * study.variants.len());
-    let mut hint = None;
-    for &variant in &study.variants {
-        for wheel in Wheel::BOTH {
-            let (model, verdict) = match &invalid {
-                None => {
-                    let (model, verdict, next) =
-                        classify_point_hinted(&p, wheel, variant, opts, hint);
-                    hint = next.or(hint);
-                    (model, verdict)
-                }
-                Some(e) => {
-                    let f = ModelFailure::Invalid(format!("invalid parameter set: {e}"));
-                    let v = WheelVerdict::from_model_failure(&f);
-                    (Err(f), v)
-                }
-            };
-            records.push(WheelRecord::new(&p, wheel, variant, &model, &verdict));
-        }
-    }
+    let records = evaluate::solve(&PointProblem::new(p, &study.variants, opts)).into_records();
     SampleRows {
         sample_id: index,
         drawn,

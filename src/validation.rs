@@ -3,10 +3,10 @@
 
 use std::time::Instant;
 
-use rayon::prelude::*;
-
-use super::envelope::reference_verdict;
-use super::{classify, Class, ClassifierOptions, WheelVerdict};
+use crate::classify::envelope::reference_verdict;
+use crate::classify::{Class, ClassifierOptions, WheelVerdict};
+use crate::ensemble::{self, Control};
+use crate::evaluate;
 use crate::model::{Variant, Wheel, WheelModel};
 use crate::params::Params;
 use crate::sampling::uniform;
@@ -99,27 +99,27 @@ pub fn compare_with(seed: u64, n_points: u64, opts: &ClassifierOptions) -> Vec<C
         .iter()
         .map(|(_, p, m)| {
             let t = Instant::now();
-            let v = classify(&m.ode, WheelModel::rotation_hz(p), opts);
+            let v = evaluate::solve_wheel(*p, m.variant, m.wheel, opts).verdict;
             (v, t.elapsed().as_secs_f64() * 1e6)
         })
         .collect();
-    jobs.par_iter()
-        .zip(fast.into_par_iter())
-        .map(|((index, p, m), (fast, fast_us))| {
-            let t = Instant::now();
-            let reference = reference_verdict(&m.ode, WheelModel::rotation_hz(p));
-            Comparison {
-                index: *index,
-                params: *p,
-                wheel: m.wheel,
-                variant: m.variant,
-                fast,
-                fast_us,
-                reference,
-                reference_us: t.elapsed().as_secs_f64() * 1e6,
-            }
-        })
-        .collect()
+    let compare = |k: usize| {
+        let (index, p, m) = &jobs[k];
+        let (fast, fast_us) = fast[k].clone();
+        let t = Instant::now();
+        let reference = reference_verdict(&m.ode, WheelModel::rotation_hz(p));
+        Comparison {
+            index: *index,
+            params: *p,
+            wheel: m.wheel,
+            variant: m.variant,
+            fast,
+            fast_us,
+            reference,
+            reference_us: t.elapsed().as_secs_f64() * 1e6,
+        }
+    };
+    ensemble::solve(jobs.len(), compare, &Control::QUIET).all()
 }
 
 /// Median of a list (NaN when empty).
