@@ -1,76 +1,181 @@
 //! One output row per wheel and operating point: the inputs, the static model (steps 1–7), the
-//! linear stability (step 8) and the verdict (step 9). The first 24 fields carry exactly the
+//! linear stability (step 8) and the verdict (step 9). The first 24 columns carry exactly the
 //! column names of `tests/data/points.csv`; the rest extend it.
+//!
+//! Every column is declared once, in [`define_record!`]'s table: name, unit, type and meaning.
+//! The row type [`WheelRecord`], the typed column ids [`RecordColumn`], the column table
+//! [`RECORD_COLUMNS`] (the Parquet and CSV writers, the `units` metadata, the analysis's column
+//! names, the table in GUIDE.md#output-files) and [`record_columns`] all come from it.
 
 use serde::Serialize;
 
 use crate::classify::{Class, Method, WheelVerdict};
 use crate::model::{ModelFailure, Variant, Wheel, WheelModel};
 use crate::params::Params;
+use crate::parquet_out::Column;
 
-/// One row. Wheel, variant, class and method are the enums themselves; they become their names
-/// only when written (Parquet, CSV, JSON).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct WheelRecord {
-    /// The wheel.
-    pub wheel: Wheel,
-    /// The friction variant.
-    pub variant: Variant,
-    /// Vehicle speed V [km/h].
-    pub speed_kmh: f64,
-    /// Toe-in angle α \[deg\].
-    pub toe_deg: f64,
-    /// Vertical load F_Z \[N\].
-    pub load_n: f64,
-    /// Inflation pressure P \[kPa\].
-    pub pressure_kpa: f64,
-    /// Maximum deflection δ \[m\] (step 1).
-    pub deflection_m: f64,
-    /// Contact length a \[m\] (step 2).
-    pub contact_length_m: f64,
-    /// Contact width b \[m\] (step 2).
-    pub contact_width_m: f64,
-    /// Tread lateral stiffness K_s = σ0 [N/m].
-    pub k_s: f64,
-    /// Tread mass m \[kg\] (step 3).
-    pub tread_mass_kg: f64,
-    /// Slip ratio S (step 4; 0 for the follower).
-    pub slip_ratio: f64,
-    /// Sliding share of the contact length.
-    pub q: f64,
-    /// Maximum static friction level F_m \[N\] (step 5).
-    pub f_m: f64,
-    /// Sliding friction level F_s \[N\] (step 5).
-    pub f_s: f64,
-    /// Bristle deflection z0 at the equilibrium \[m\] (step 7).
-    pub z0_m: f64,
-    /// Tread displacement y0 at the equilibrium \[m\] (step 7).
-    pub y0_m: f64,
-    /// Largest real part of the Jacobian's eigenvalues [1/s] (step 8).
-    pub eig_re_max: f64,
-    /// Linear frequency of that eigenvalue \[Hz\] (step 8).
-    pub eig_freq_hz: f64,
-    /// The verdict (step 9).
-    pub class: Class,
-    /// Half peak-to-peak of y over the cycle \[m\]; 0 without a cycle, NaN when failed.
-    pub amp_y_m: f64,
-    /// Half peak-to-peak of v over the cycle [m/s]; 0 without a cycle, NaN when failed.
-    pub amp_v_mps: f64,
-    /// The cycle's frequency 1/T \[Hz\].
-    pub freq_hz: f64,
-    /// Wear facets n = f / f_rot.
-    pub polygon_order: f64,
-    /// Energy friction feeds into the tread per cycle \[J\].
-    pub energy_per_cycle_j: f64,
-    /// Modulus of the largest non-trivial Floquet multiplier (NaN if none).
-    pub floquet_max: f64,
-    /// Right-hand-side evaluations spent on the verdict.
-    pub rhs_evals: u64,
-    /// How the verdict was reached.
-    pub method: Method,
-    /// Why the class is `failed` or `no_traction`; empty otherwise.
-    pub reason: String,
+/// How a column is stored.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ColumnKind {
+    /// A name (Parquet UTF-8 string).
+    Str,
+    /// A 64-bit float.
+    F64,
+    /// A 64-bit integer.
+    I64,
 }
+
+impl ColumnKind {
+    /// The type as written in the docs' column table.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ColumnKind::Str => "string",
+            ColumnKind::F64 => "float64",
+            ColumnKind::I64 => "int64",
+        }
+    }
+}
+
+/// One output column: its name, unit, type and meaning.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ColumnSpec {
+    /// The column's name.
+    pub name: &'static str,
+    /// Its unit (`-` for a dimensionless number, empty for a name or a count).
+    pub unit: &'static str,
+    /// How it is stored.
+    pub kind: ColumnKind,
+    /// What it holds, in one line.
+    pub meaning: &'static str,
+}
+
+/// A field written as a float column (a field of another type in a `F64` row fails to compile).
+trait F64Cell {
+    fn cell(&self) -> f64;
+}
+impl F64Cell for f64 {
+    fn cell(&self) -> f64 {
+        *self
+    }
+}
+/// A field written as an integer column.
+trait I64Cell {
+    fn cell(&self) -> i64;
+}
+impl I64Cell for u64 {
+    fn cell(&self) -> i64 {
+        *self as i64
+    }
+}
+/// A field written as a name column.
+trait StrCell {
+    fn cell(&self) -> String;
+}
+macro_rules! str_cell {
+    ($($t:ty),*) => { $( impl StrCell for $t { fn cell(&self) -> String { self.to_string() } } )* };
+}
+str_cell!(Wheel, Variant, Class, Method, String);
+
+/// Declares [`WheelRecord`], [`RecordColumn`], [`RECORD_COLUMNS`] and [`record_columns`] from one
+/// table, so that a field, its column, its unit and its meaning cannot drift apart.
+macro_rules! define_record {
+    ($( $id:ident $field:ident : $ty:ty, $kind:ident, $unit:literal, $meaning:literal; )*) => {
+        /// One row. Wheel, variant, class and method are the enums themselves; they become their
+        /// names only when written (Parquet, CSV, JSON).
+        #[derive(Debug, Clone, PartialEq, Serialize)]
+        pub struct WheelRecord { $( #[doc = $meaning] pub $field: $ty, )* }
+
+        /// A column of [`WheelRecord`], typed: the analysis names columns by these.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub enum RecordColumn { $( #[doc = $meaning] $id, )* }
+
+        /// Every record column, in field (and file) order.
+        pub const RECORD_COLUMNS: &[ColumnSpec] = &[ $( ColumnSpec {
+            name: stringify!($field), unit: $unit, kind: ColumnKind::$kind, meaning: $meaning,
+        }, )* ];
+
+        /// The rows as typed columns with units, in field order.
+        pub fn record_columns(rows: &[WheelRecord]) -> Vec<Column> {
+            vec![ $( define_record!(@col $kind, rows, $field, $unit), )* ]
+        }
+    };
+    (@col F64, $rows:expr, $field:ident, $unit:literal) => {
+        Column::f64(stringify!($field), $unit, $rows.iter().map(|r| F64Cell::cell(&r.$field)).collect())
+    };
+    (@col I64, $rows:expr, $field:ident, $unit:literal) => {
+        Column::i64(stringify!($field), $unit, $rows.iter().map(|r| I64Cell::cell(&r.$field)).collect())
+    };
+    (@col Str, $rows:expr, $field:ident, $unit:literal) => {
+        Column::str(stringify!($field), $rows.iter().map(|r| StrCell::cell(&r.$field)).collect())
+    };
+}
+
+define_record! {
+    Wheel wheel: Wheel, Str, "", "The wheel: follower (free rolling) or driving.";
+    Variant variant: Variant, Str, "", "The friction variant (MODEL.md#variants).";
+    SpeedKmh speed_kmh: f64, F64, "km/h", "Vehicle speed V.";
+    ToeDeg toe_deg: f64, F64, "deg", "Toe-in angle alpha.";
+    LoadN load_n: f64, F64, "N", "Vertical load F_Z.";
+    PressureKpa pressure_kpa: f64, F64, "kPa", "Inflation pressure P.";
+    DeflectionM deflection_m: f64, F64, "m", "Maximum deflection delta (step 1).";
+    ContactLengthM contact_length_m: f64, F64, "m", "Contact length a (step 2).";
+    ContactWidthM contact_width_m: f64, F64, "m", "Contact width b (step 2).";
+    KS k_s: f64, F64, "N/m", "Tread lateral stiffness K_s = sigma0 (step 3).";
+    TreadMassKg tread_mass_kg: f64, F64, "kg", "Tread mass m (step 3).";
+    SlipRatio slip_ratio: f64, F64, "-", "Slip ratio S (step 4; 0 for the follower).";
+    Q q: f64, F64, "-", "Sliding share q of the contact length (step 4).";
+    FM f_m: f64, F64, "N", "Maximum static friction level F_m (step 5).";
+    FS f_s: f64, F64, "N", "Sliding friction level F_s (step 5).";
+    Z0M z0_m: f64, F64, "m", "Bristle deflection z0 at the equilibrium (step 7).";
+    Y0M y0_m: f64, F64, "m", "Tread displacement y0 at the equilibrium (step 7).";
+    EigReMax eig_re_max: f64, F64, "1/s", "Largest real part of the Jacobian's eigenvalues (step 8).";
+    EigFreqHz eig_freq_hz: f64, F64, "Hz", "Linear frequency of that eigenvalue (step 8).";
+    Class class: Class, Str, "", "The verdict (step 9): stable, limit_cycle, bistable, no_traction, failed, standstill.";
+    AmpYM amp_y_m: f64, F64, "m", "Half peak-to-peak of y over the cycle; 0 without a cycle, NaN when failed.";
+    AmpVMps amp_v_mps: f64, F64, "m/s", "Half peak-to-peak of v over the cycle; 0 without a cycle, NaN when failed.";
+    FreqHz freq_hz: f64, F64, "Hz", "The cycle's frequency 1/T.";
+    PolygonOrder polygon_order: f64, F64, "-", "Wear facets n = f / f_rot (MODEL.md#step-9-attractor).";
+    EnergyPerCycleJ energy_per_cycle_j: f64, F64, "J", "Energy friction feeds into the tread per cycle.";
+    FloquetMax floquet_max: f64, F64, "-", "Modulus of the largest non-trivial Floquet multiplier (NaN if none).";
+    RhsEvals rhs_evals: u64, I64, "", "Right-hand-side evaluations spent on the verdict.";
+    Method method: Method, Str, "", "How the verdict was reached: linear, shooting, envelope or reference.";
+    Reason reason: String, Str, "", "Why the class is failed, no_traction or standstill; empty otherwise.";
+}
+
+impl RecordColumn {
+    /// The column's row of [`RECORD_COLUMNS`].
+    pub const fn spec(self) -> &'static ColumnSpec {
+        &RECORD_COLUMNS[self as usize]
+    }
+
+    /// The column's name in the files.
+    pub const fn name(self) -> &'static str {
+        self.spec().name
+    }
+
+    /// The column's unit.
+    pub const fn unit(self) -> &'static str {
+        self.spec().unit
+    }
+}
+
+/// The sample's index in a batch run, the first column of explore's chunks.
+pub const SAMPLE_ID: ColumnSpec = ColumnSpec {
+    name: "sample_id",
+    unit: "",
+    kind: ColumnKind::I64,
+    meaning:
+        "The sample's index in the run, from 0; every wheel and variant of a sample shares it.",
+};
+
+/// The row of a study's `[operating_points]` file a sample drew (explore's chunks, when the
+/// study has one).
+pub const OPERATING_POINT_ROW: ColumnSpec = ColumnSpec {
+    name: "operating_point_row",
+    unit: "",
+    kind: ColumnKind::I64,
+    meaning: "The operating-point file's row the sample drew, counted from 1 after the header.",
+};
 
 impl WheelRecord {
     /// Assembles the row; static fields are NaN where the model does not define them.
@@ -139,35 +244,22 @@ impl WheelRecord {
     }
 }
 
-/// Builds typed columns from a slice of rows: one list says each field's name, unit and type.
-macro_rules! columns_of {
-    ($rows:expr; $( $kind:ident $field:ident $unit:literal ),* $(,)?) => {
-        vec![ $( columns_of!(@col $kind, $rows, $field, $unit), )* ]
-    };
-    (@col f64, $rows:expr, $field:ident, $unit:literal) => {
-        Column::f64(stringify!($field), $unit, $rows.iter().map(|r| r.$field).collect())
-    };
-    (@col i64, $rows:expr, $field:ident, $unit:literal) => {
-        Column::i64(stringify!($field), $unit, $rows.iter().map(|r| r.$field as i64).collect())
-    };
-    (@col str, $rows:expr, $field:ident, $unit:literal) => {
-        Column::str(stringify!($field), $rows.iter().map(|r| r.$field.to_string()).collect())
-    };
-}
-
-use crate::parquet_out::Column;
-
-/// The rows as typed columns with units, in field order.
-pub fn record_columns(rows: &[WheelRecord]) -> Vec<Column> {
-    columns_of![rows;
-        str wheel "", str variant "",
-        f64 speed_kmh "km/h", f64 toe_deg "deg", f64 load_n "N", f64 pressure_kpa "kPa",
-        f64 deflection_m "m", f64 contact_length_m "m", f64 contact_width_m "m",
-        f64 k_s "N/m", f64 tread_mass_kg "kg", f64 slip_ratio "-", f64 q "-",
-        f64 f_m "N", f64 f_s "N", f64 z0_m "m", f64 y0_m "m",
-        f64 eig_re_max "1/s", f64 eig_freq_hz "Hz", str class "",
-        f64 amp_y_m "m", f64 amp_v_mps "m/s", f64 freq_hz "Hz", f64 polygon_order "-",
-        f64 energy_per_cycle_j "J", f64 floquet_max "-", i64 rhs_evals "",
-        str method "", str reason "",
-    ]
+/// The columns of an explore chunk as a Markdown table (GUIDE.md#output-files carries it, and a
+/// test keeps the two equal): the sample columns, then every record column.
+pub fn columns_markdown() -> String {
+    let mut out = String::from("| column | unit | type | meaning |\n|---|---|---|---|\n");
+    for c in [SAMPLE_ID, OPERATING_POINT_ROW]
+        .iter()
+        .chain(RECORD_COLUMNS)
+    {
+        let unit = if c.unit.is_empty() { "" } else { c.unit };
+        out.push_str(&format!(
+            "| `{}` | {} | {} | {} |\n",
+            c.name,
+            unit,
+            c.kind.as_str(),
+            c.meaning
+        ));
+    }
+    out
 }

@@ -169,7 +169,8 @@ fn read_footer(path: &Path) -> Result<FileFooter, AnalysisError> {
         })
         .unwrap_or_default();
     let schema = md.file_metadata().schema_descr();
-    let id_col = (0..schema.num_columns()).find(|&i| schema.column(i).name() == "sample_id");
+    let id_col = (0..schema.num_columns())
+        .find(|&i| schema.column(i).name() == crate::records::SAMPLE_ID.name);
     let mut id_range: Option<(i64, i64)> = None;
     let mut rows = 0u64;
     let mut stats_complete = true;

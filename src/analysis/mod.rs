@@ -297,7 +297,7 @@ pub fn run_with_progress(
     progress(Step::Occurrence);
     let paired = paired::paired(&info.files, PAIRED_BATCH_ROWS)?;
     progress(Step::Paired);
-    let quantities: Vec<&str> = SEVERITY_QUANTITIES.iter().map(|q| q.0).collect();
+    let quantities: Vec<&str> = SEVERITY_QUANTITIES.iter().map(|q| q.name()).collect();
     let axes: Vec<&str> = info.drawn_names.iter().map(|p| p.name()).collect();
     let ranges = rows.ranges(&axes, &quantities)?;
     progress(Step::Ranges);

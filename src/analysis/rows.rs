@@ -19,7 +19,15 @@ use super::counts::{outcome_code, ClassCounts};
 use super::AnalysisError;
 use crate::classify::Class;
 use crate::model::{Variant, Wheel};
+use crate::records::{RecordColumn, SAMPLE_ID};
 use crate::text_enum::UnknownName;
+
+/// The columns the queries name, from the one column table ([`crate::records`]).
+const VARIANT: &str = RecordColumn::Variant.name();
+const WHEEL: &str = RecordColumn::Wheel.name();
+const CLASS: &str = RecordColumn::Class.name();
+const AMP_V: &str = RecordColumn::AmpVMps.name();
+const SAMPLE: &str = SAMPLE_ID.name;
 
 fn pl_err(e: PolarsError) -> AnalysisError {
     AnalysisError::Query(e.to_string())
@@ -120,7 +128,7 @@ impl Rows {
     /// groups by five, and polars' streaming group-by keeps rows of groups beyond its hot table
     /// in memory until the end). Rows of a class this version does not know are refused.
     pub fn class_counts(&self, keys: &[GroupKey<'_>]) -> Result<Vec<Group>, AnalysisError> {
-        let mut exprs = vec![col("variant"), col("wheel")];
+        let mut exprs = vec![col(VARIANT), col(WHEEL)];
         for (k, key) in keys.iter().enumerate() {
             let name = format!("key{k}");
             exprs.push(match *key {
@@ -134,7 +142,7 @@ impl Rows {
         let known = Class::ALL;
         let mut aggs = vec![len().cast(DataType::Int64).alias("n")];
         aggs.extend(known.iter().map(|c| {
-            col("class")
+            col(CLASS)
                 .eq(lit(c.as_str()))
                 .cast(DataType::Int64)
                 .sum()
@@ -231,8 +239,8 @@ impl Rows {
                 .clone()
                 .filter(vib_expr().and(col(quantity).is_finite()))
                 .group_by([
-                    col("variant"),
-                    col("wheel"),
+                    col(VARIANT),
+                    col(WHEEL),
                     bin_expr(bins, col(quantity)).alias("bin"),
                 ])
                 .agg([
@@ -260,23 +268,16 @@ impl Rows {
             self.lf
                 .clone()
                 .select([
-                    col("variant"),
-                    col("wheel"),
-                    col("sample_id"),
-                    col("class"),
-                    col("amp_v_mps"),
+                    col(VARIANT),
+                    col(WHEEL),
+                    col(SAMPLE),
+                    col(CLASS),
+                    col(AMP_V),
                 ])
-                .sort(
-                    ["variant", "wheel", "sample_id"],
-                    SortMultipleOptions::default(),
-                ),
+                .sort([VARIANT, WHEEL, SAMPLE], SortMultipleOptions::default()),
         )?;
         let groups = variant_wheel(&df)?;
-        let (sid, class, amp) = (
-            ints(&df, "sample_id")?,
-            strs(&df, "class")?,
-            floats(&df, "amp_v_mps")?,
-        );
+        let (sid, class, amp) = (ints(&df, SAMPLE)?, strs(&df, CLASS)?, floats(&df, AMP_V)?);
         groups
             .into_iter()
             .enumerate()
@@ -308,32 +309,27 @@ pub fn pairs_in_row_order(files: &[PathBuf]) -> Result<Option<PairCounts>, Analy
     let next = |c: &str| col(c).shift(lit(-1i64));
     let df = collect(
         lf.select([
-            col("variant"),
-            col("wheel"),
-            col("sample_id"),
+            col(VARIANT),
+            col(WHEEL),
+            col(SAMPLE),
             outcome_expr().alias("code"),
         ])
         .select([
-            col("variant"),
+            col(VARIANT),
             col("code"),
             next("code").alias("next_code"),
-            col("wheel")
+            col(WHEEL)
                 .eq(lit(Wheel::Follower.as_str()))
                 .alias("is_follower"),
-            next("sample_id")
-                .eq(col("sample_id"))
-                .and(next("variant").eq(col("variant")))
-                .and(next("wheel").eq(lit(Wheel::Driving.as_str())))
+            next(SAMPLE)
+                .eq(col(SAMPLE))
+                .and(next(VARIANT).eq(col(VARIANT)))
+                .and(next(WHEEL).eq(lit(Wheel::Driving.as_str())))
                 .fill_null(lit(false))
                 .alias("pair_ok"),
         ])
         .filter(col("is_follower"))
-        .group_by([
-            col("variant"),
-            col("pair_ok"),
-            col("code"),
-            col("next_code"),
-        ])
+        .group_by([col(VARIANT), col("pair_ok"), col("code"), col("next_code")])
         .agg([len().cast(DataType::Int64).alias("n")]),
     )?;
     let ok: Vec<bool> = df
@@ -348,7 +344,7 @@ pub fn pairs_in_row_order(files: &[PathBuf]) -> Result<Option<PairCounts>, Analy
         return Ok(None);
     }
     let (v, f, d, n) = (
-        strs(&df, "variant")?,
+        strs(&df, VARIANT)?,
         ints(&df, "code")?,
         ints(&df, "next_code")?,
         ints(&df, "n")?,
@@ -368,7 +364,7 @@ pub fn pairs_in_row_order(files: &[PathBuf]) -> Result<Option<PairCounts>, Analy
 /// about `batch_rows` rows: the group-by never holds more than one batch's samples.
 pub fn pairs_by_sample(files: &[PathBuf], batch_rows: u64) -> Result<PairCounts, AnalysisError> {
     // Per sample: follower + 3 × driving.
-    let weight = when(col("wheel").eq(lit(Wheel::Follower.as_str())))
+    let weight = when(col(WHEEL).eq(lit(Wheel::Follower.as_str())))
         .then(lit(1i64))
         .otherwise(lit(3i64));
     let mut combos = PairCounts::new();
@@ -383,16 +379,16 @@ pub fn pairs_by_sample(files: &[PathBuf], batch_rows: u64) -> Result<PairCounts,
         let lf = Rows::scan(&files[start..end])?.lf;
         let df = collect(
             lf.select([
-                col("variant"),
-                col("sample_id"),
+                col(VARIANT),
+                col(SAMPLE),
                 (outcome_expr() * weight.clone()).alias("code"),
             ])
-            .group_by([col("variant"), col("sample_id")])
+            .group_by([col(VARIANT), col(SAMPLE)])
             .agg([col("code").sum().alias("combo")])
-            .group_by([col("variant"), col("combo")])
+            .group_by([col(VARIANT), col("combo")])
             .agg([len().cast(DataType::Int64).alias("n")]),
         )?;
-        let v = strs(&df, "variant")?;
+        let v = strs(&df, VARIANT)?;
         let c = ints(&df, "combo")?;
         let n = ints(&df, "n")?;
         for i in 0..df.height() {
@@ -459,15 +455,15 @@ fn collect(lf: LazyFrame) -> Result<DataFrame, AnalysisError> {
 }
 
 fn vib_expr() -> Expr {
-    col("class")
+    col(CLASS)
         .eq(lit(Class::LimitCycle.as_str()))
-        .or(col("class").eq(lit(Class::Bistable.as_str())))
+        .or(col(CLASS).eq(lit(Class::Bistable.as_str())))
 }
 
 /// [`outcome_code`] of the row's class; a class this version does not know is unclassified.
 fn outcome_expr() -> Expr {
     Class::ALL.iter().rev().fold(lit(2i64), |otherwise, c| {
-        when(col("class").eq(lit(c.as_str())))
+        when(col(CLASS).eq(lit(c.as_str())))
             .then(lit(outcome_code(*c)))
             .otherwise(otherwise)
     })
@@ -512,8 +508,8 @@ fn floats(df: &DataFrame, name: &str) -> Result<Vec<f64>, AnalysisError> {
 
 /// Variant and wheel of each row of a grouped table.
 fn variant_wheel(df: &DataFrame) -> Result<Vec<(Variant, Wheel)>, AnalysisError> {
-    let v = strs(df, "variant")?;
-    let w = strs(df, "wheel")?;
+    let v = strs(df, VARIANT)?;
+    let w = strs(df, WHEEL)?;
     v.iter()
         .zip(&w)
         .map(|(v, w)| {

@@ -10,6 +10,7 @@ use super::AnalysisError;
 use crate::classify::Class;
 use crate::model::{Variant, Wheel};
 use crate::params::ParamId;
+use crate::records::RecordColumn;
 use crate::sampling::design::Design;
 
 /// First-order and total Sobol indices of one output with respect to one parameter.
@@ -77,7 +78,7 @@ pub fn sensitivity(
             continue;
         }
         // The limit-cycle indicator (0/1) and the velocity amplitude (0 without a cycle).
-        for (pick, output) in [Class::LimitCycle.as_str(), "amp_v_mps"]
+        for (pick, output) in [Class::LimitCycle.as_str(), RecordColumn::AmpVMps.name()]
             .into_iter()
             .enumerate()
         {

@@ -8,13 +8,14 @@ use super::bins::Bins;
 use super::rows::{Rows, FIXED_POINT_SCALE};
 use super::AnalysisError;
 use crate::model::{Variant, Wheel};
+use crate::records::RecordColumn;
 
-/// The severity quantities: (column, unit).
-pub const SEVERITY_QUANTITIES: [(&str, &str); 4] = [
-    ("amp_y_m", "m"),
-    ("amp_v_mps", "m/s"),
-    ("energy_per_cycle_j", "J"),
-    ("polygon_order", "-"),
+/// The severity quantities: cycle columns of the record table (name and unit from there).
+pub const SEVERITY_QUANTITIES: [RecordColumn; 4] = [
+    RecordColumn::AmpYM,
+    RecordColumn::AmpVMps,
+    RecordColumn::EnergyPerCycleJ,
+    RecordColumn::PolygonOrder,
 ];
 
 /// Fine histogram bins behind the severity quantiles.
@@ -51,7 +52,8 @@ pub fn severity(
     ranges: &BTreeMap<String, (f64, f64)>,
 ) -> Result<Vec<Severity>, AnalysisError> {
     let mut out = Vec::new();
-    for (quantity, unit) in SEVERITY_QUANTITIES {
+    for column in SEVERITY_QUANTITIES {
+        let (quantity, unit) = (column.name(), column.unit());
         let (lo, hi) = ranges
             .get(quantity)
             .copied()

@@ -12,7 +12,7 @@ use crate::params::{ParamId, OPERATING_AXES};
 use crate::parquet_out::{write_csv, write_table, Column};
 use crate::plot::cycle::{cycle_figure, WheelTrace};
 use crate::plot::PlotError;
-use crate::records::record_columns;
+use crate::records::{record_columns, SAMPLE_ID};
 
 /// A classified cycle, for one or several tire structures.
 pub struct CycleRun<'a> {
@@ -50,7 +50,11 @@ impl CycleRun<'_> {
             .collect();
         let rows: Vec<&StepWheel> = idx.iter().map(|&(k, i, w)| &self.steps[k][i][w]).collect();
         let mut cols = vec![
-            Column::i64("sample_id", "", idx.iter().map(|r| r.0 as i64).collect()),
+            Column::i64(
+                SAMPLE_ID.name,
+                SAMPLE_ID.unit,
+                idx.iter().map(|r| r.0 as i64).collect(),
+            ),
             Column::i64("step", "", idx.iter().map(|r| r.1 as i64).collect()),
             Column::f64("time_s", "s", idx.iter().map(|r| c.time_s[r.1]).collect()),
             Column::f64(

@@ -10,7 +10,7 @@ use crate::ensemble::{self, Control};
 use crate::evaluate::{self, PointProblem};
 use crate::output_dir;
 use crate::parquet_out::{write_table_digest, Column};
-use crate::records::{record_columns, WheelRecord};
+use crate::records::{record_columns, WheelRecord, OPERATING_POINT_ROW, SAMPLE_ID};
 use crate::study::{Sampler, Study};
 
 impl RunPlan {
@@ -163,14 +163,18 @@ pub fn chunk_columns(study: &Study, rows: &[SampleRows]) -> Vec<Column> {
         .flat_map(|s| s.records.iter().map(move |r| (s, r)))
         .collect();
     let mut cols = vec![Column::i64(
-        "sample_id",
-        "",
+        SAMPLE_ID.name,
+        SAMPLE_ID.unit,
         flat.iter().map(|(s, _)| s.sample_id as i64).collect(),
     )];
     if study.operating_points.is_some() {
         let row = |s: &SampleRows| s.operating_point_row.map_or(0, |r| r as i64 + 1);
         let rows = flat.iter().map(|(s, _)| row(s)).collect();
-        cols.push(Column::i64("operating_point_row", "", rows));
+        cols.push(Column::i64(
+            OPERATING_POINT_ROW.name,
+            OPERATING_POINT_ROW.unit,
+            rows,
+        ));
     }
     // The operating axes are record columns already.
     for (k, id) in super::value_params(study).into_iter().enumerate() {

@@ -185,7 +185,7 @@ pub const SEVERITY_FIGURE_BINS: usize = 40;
 
 /// Severity histograms of one variant: each quantity's share of limit cycles per bin, per wheel.
 pub fn severity(path: &Path, variant: Variant, severity: &[Severity]) -> Result<(), RenderError> {
-    let quantities = SEVERITY_QUANTITIES.map(|q| q.0);
+    let quantities = SEVERITY_QUANTITIES.map(|q| q.name());
     plot::panels(
         path,
         (1400, 900),

@@ -243,6 +243,16 @@ fn model_md_parameter_table_is_current() {
 }
 
 #[test]
+fn guide_output_column_table_is_the_column_table() {
+    let table = polywear::records::columns_markdown();
+    let guide = std::fs::read_to_string(root().join("GUIDE.md")).unwrap();
+    assert!(
+        guide.contains(&table),
+        "GUIDE.md's output-column table differs from polywear::records::columns_markdown():\n{table}"
+    );
+}
+
+#[test]
 fn every_command_is_in_the_readme_table_and_the_guide() {
     let (code, help, _) = common::polywear(&["--help"]);
     assert_eq!(code, 0);
