@@ -25,16 +25,69 @@ pub enum ChartError {
     Write(#[from] WriteError),
 }
 
-/// Draws the six charts of `axes` (name, from, to) into `dir` as `chart_<x>_<y>.png` and
-/// `.parquet`; returns the files and the report's Markdown section.
-pub fn operating_pairs(
+/// One chart of two operating axes: the request, both wheels' curves and stability grids.
+pub struct PairChart {
+    /// The chart's parameters, axes and box.
+    pub request: ChartRequest,
+    /// Every Hopf curve of each wheel.
+    pub curves: Vec<WheelCurves>,
+    /// Each wheel's stability on a `SHADE_CELLS`² grid (the shading).
+    pub grids: Vec<Vec<Option<bool>>>,
+}
+
+impl PairChart {
+    /// The file stem, `chart_<x>_<y>`.
+    pub fn stem(&self) -> String {
+        format!("chart_{}_{}", self.request.x, self.request.y)
+    }
+}
+
+/// Traces the six charts of `axes` (name, from, to) taken two at a time, both wheels.
+pub fn solve_pairs(
     base: &Params,
     variant: Variant,
     axes: &[(ParamId, f64, f64)],
-    dir: &Path,
-) -> Result<(Vec<PathBuf>, String), ChartError> {
+) -> Vec<PairChart> {
+    let opts = TraceOptions::default();
+    let mut out = Vec::new();
+    for i in 0..axes.len() {
+        for j in i + 1..axes.len() {
+            let (x, y) = (axes[i], axes[j]);
+            let request = ChartRequest {
+                base: *base,
+                variant,
+                wheels: Wheel::BOTH.to_vec(),
+                x: x.0,
+                y: y.0,
+                bounds: ParamBox {
+                    lo: [x.1, y.1],
+                    hi: [x.2, y.2],
+                },
+            };
+            let curves = request.trace(&opts);
+            let grids = request
+                .wheels
+                .iter()
+                .map(|&w| request.stability_grid(w, SHADE_CELLS, SHADE_CELLS))
+                .collect();
+            out.push(PairChart {
+                request,
+                curves,
+                grids,
+            });
+        }
+    }
+    out
+}
+
+/// Draws the charts into `dir` as `chart_<x>_<y>.png` and `.parquet`; returns the files and
+/// the report's Markdown section.
+pub fn write_pairs(charts: &[PairChart], dir: &Path) -> Result<(Vec<PathBuf>, String), ChartError> {
     let mut files = Vec::new();
     let mut md = String::new();
+    let variant = charts
+        .first()
+        .map_or(Variant::DEFAULT, |c| c.request.variant);
     let _ = writeln!(
         md,
         "## Stability charts: the boundary in two operating parameters at a time\n\n\
@@ -46,50 +99,32 @@ pub fn operating_pairs(
          | chart | follower: curves | driving: curves | driving region inside the follower's | onset |\n\
          |---|---|---|---|---|"
     );
-    let opts = TraceOptions::default();
-    for i in 0..axes.len() {
-        for j in i + 1..axes.len() {
-            let (x, y) = (axes[i], axes[j]);
-            let req = ChartRequest {
-                base: *base,
-                variant,
-                wheels: Wheel::BOTH.to_vec(),
-                x: x.0,
-                y: y.0,
-                bounds: ParamBox {
-                    lo: [x.1, y.1],
-                    hi: [x.2, y.2],
-                },
-            };
-            let charts = req.trace(&opts);
-            let grids: Vec<Vec<Option<bool>>> = req
-                .wheels
-                .iter()
-                .map(|&w| req.stability_grid(w, SHADE_CELLS, SHADE_CELLS))
-                .collect();
-            let stem = format!("chart_{}_{}", x.0, y.0);
-            let png = dir.join(format!("{stem}.png"));
-            draw(&png, &req, &charts, &grids, None)?;
-            let pq = dir.join(format!("{stem}.parquet"));
-            let meta = vec![
-                ("polywear_version".into(), env!("CARGO_PKG_VERSION").into()),
-                ("variant".into(), variant.as_str().into()),
-                ("params".into(), serde_json::to_string(base).expect("json")),
-                ("chart_x".into(), x.0.name().into()),
-                ("chart_y".into(), y.0.name().into()),
-            ];
-            write_table(&pq, &curve_columns(&req, &charts), &meta)?;
-            let _ = writeln!(
-                md,
-                "| [{stem}]({stem}.png) | {} | {} | {} | {} |",
-                describe(&charts, Wheel::Follower),
-                describe(&charts, Wheel::Driving),
-                inside(&grids),
-                onset(&charts, &req)
-            );
-            files.push(png);
-            files.push(pq);
-        }
+    for chart in charts {
+        let (req, stem) = (&chart.request, chart.stem());
+        let png = dir.join(format!("{stem}.png"));
+        draw(&png, req, &chart.curves, &chart.grids, None)?;
+        let pq = dir.join(format!("{stem}.parquet"));
+        let meta = vec![
+            ("polywear_version".into(), env!("CARGO_PKG_VERSION").into()),
+            ("variant".into(), req.variant.as_str().into()),
+            (
+                "params".into(),
+                serde_json::to_string(&req.base).expect("json"),
+            ),
+            ("chart_x".into(), req.x.name().into()),
+            ("chart_y".into(), req.y.name().into()),
+        ];
+        write_table(&pq, &curve_columns(req, &chart.curves), &meta)?;
+        let _ = writeln!(
+            md,
+            "| [{stem}]({stem}.png) | {} | {} | {} | {} |",
+            describe(&chart.curves, Wheel::Follower),
+            describe(&chart.curves, Wheel::Driving),
+            inside(&chart.grids),
+            onset(&chart.curves, req)
+        );
+        files.push(png);
+        files.push(pq);
     }
     let _ = writeln!(
         md,

@@ -55,21 +55,18 @@ pub fn run(args: &ReproduceArgs) -> CliResult {
     let base = super::common::base_params(args.params.as_deref())?;
     let pool = super::common::thread_pool(args.threads)?;
     let start = Instant::now();
-    let r = pool
-        .install(|| {
-            polywear::reproduce::reproduce_as(
-                &base,
-                &args.out,
-                args.steps,
-                args.paired_samples,
-                args.format.ext(),
-            )
-        })
+    let request = polywear::reproduce::Request {
+        base,
+        steps: args.steps,
+        paired_samples: args.paired_samples,
+    };
+    let (_, files) = pool
+        .install(|| polywear::reproduce::reproduce(&request, &args.out, args.format.ext()))
         .map_err(|e| CliError(e.to_string()))?;
     println!(
         "reproduced the paper's analyses in {:.1} s: {} files in {}; read {}",
         start.elapsed().as_secs_f64(),
-        r.files.len(),
+        files.len(),
         args.out.display(),
         args.out.join("report.md").display()
     );
