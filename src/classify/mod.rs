@@ -334,162 +334,245 @@ fn classify_metered(
     meter: &Meter,
 ) -> WheelVerdict {
     let lin = ode.linear_stability();
-    let scales = Scales::new(ode);
-    let oscillatory = lin.eig_freq_hz > 0.0;
-    let fail = |reason: String| {
-        let mut v = WheelVerdict::without_cycle(
-            Class::Failed,
-            lin.eig_re_max,
-            lin.eig_freq_hz,
-            Method::Envelope,
-        );
-        v.reason = reason;
-        v
+    let route = Route {
+        ode,
+        rotation_hz,
+        opts,
+        meter,
+        lin,
+        scales: Scales::new(ode),
+        // Growth per linear period, Re λ·T; a real unstable eigenvalue has no period to shoot
+        // over.
+        growth: if lin.eig_freq_hz > 0.0 {
+            lin.eig_re_max / lin.eig_freq_hz
+        } else {
+            f64::INFINITY
+        },
     };
     if !lin.eig_re_max.is_finite() {
-        return fail(
+        return route.fail(
             "eigenvalues at the equilibrium are not finite (degenerate Jacobian, e.g. a toe-in \
              too small for double precision)"
                 .into(),
         );
     }
-    // Growth per linear period, Re λ·T; a real unstable eigenvalue has no period to shoot over.
-    let growth = if oscillatory {
-        lin.eig_re_max / lin.eig_freq_hz
-    } else {
-        f64::INFINITY
-    };
-    let tols = shooting::Tolerances::for_growth(growth, opts.rtol);
-    let newton_with = |guess: (f64, f64), period: f64, tols: &shooting::Tolerances| {
-        shooting::newton_orbit(ode, &scales, guess, period, tols, opts.newton_tol, meter)
-    };
-    let newton = |guess: (f64, f64), period: f64| newton_with(guess, period, &tols);
-
     if lin.eig_re_max < 0.0 {
+        return route.stable();
+    }
+    if let Some(v) = route.shoot(hint) {
+        return v;
+    }
+    if meter.exceeded().is_some() {
+        return route.fail(String::new());
+    }
+    route.follow()
+}
+
+/// One wheel's way to its verdict (MODEL.md#classes-and-verdicts): what every branch shares.
+struct Route<'a> {
+    ode: &'a TreadOde,
+    rotation_hz: f64,
+    opts: &'a ClassifierOptions,
+    meter: &'a Meter,
+    lin: crate::model::LinearStability,
+    scales: Scales,
+    /// Growth of small oscillations per linear period, Re λ·T (infinite without a period).
+    growth: f64,
+}
+
+impl Route<'_> {
+    fn oscillatory(&self) -> bool {
+        self.lin.eig_freq_hz > 0.0
+    }
+
+    fn fail(&self, reason: String) -> WheelVerdict {
+        let mut v = WheelVerdict::without_cycle(
+            Class::Failed,
+            self.lin.eig_re_max,
+            self.lin.eig_freq_hz,
+            Method::Envelope,
+        );
+        v.reason = reason;
+        v
+    }
+
+    fn tols(&self) -> shooting::Tolerances {
+        shooting::Tolerances::for_growth(self.growth, self.opts.rtol)
+    }
+
+    fn newton_with(
+        &self,
+        guess: (f64, f64),
+        period: f64,
+        tols: &shooting::Tolerances,
+    ) -> Result<shooting::PeriodicOrbit, ShootingError> {
+        let (ode, scales, meter) = (self.ode, &self.scales, self.meter);
+        shooting::newton_orbit(
+            ode,
+            scales,
+            guess,
+            period,
+            tols,
+            self.opts.newton_tol,
+            meter,
+        )
+    }
+
+    fn newton(
+        &self,
+        guess: (f64, f64),
+        period: f64,
+    ) -> Result<shooting::PeriodicOrbit, ShootingError> {
+        self.newton_with(guess, period, &self.tols())
+    }
+
+    fn cycle(&self, orbit: &shooting::PeriodicOrbit) -> WheelVerdict {
+        cycle_verdict(orbit, &self.lin, self.rotation_hz)
+    }
+
+    /// A stable equilibrium; with the hard-excitation check, is a cycle coexisting with it?
+    fn stable(&self) -> WheelVerdict {
+        let (lin, scales) = (&self.lin, &self.scales);
         let verdict = WheelVerdict::without_cycle(
             Class::Stable,
             lin.eig_re_max,
             lin.eig_freq_hz,
             Method::Linear,
         );
-        if let (Some(kick), true) = (opts.kick_mps, oscillatory) {
-            // Hard excitation: does a cycle coexist with the stable equilibrium?
-            let period = 1.0 / lin.eig_freq_hz;
-            let dz = hopf_dz_per_v(ode, lin.leading);
-            let start = [scales.z_eq + kick * dz, scales.y_eq, kick];
-            match envelope::track(ode, &scales, start, opts.fallback_max_s, opts.rtol, meter) {
-                Ok(Envelope::Settles { z, v }) => {
-                    if let Ok(orbit) = newton((z, v), period) {
-                        if orbit.floquet_max < 1.0 {
-                            let mut v = cycle_verdict(&orbit, &lin, rotation_hz);
-                            v.class = Class::Bistable;
-                            return v;
-                        }
+        let (Some(kick), true) = (self.opts.kick_mps, self.oscillatory()) else {
+            return verdict;
+        };
+        let period = 1.0 / lin.eig_freq_hz;
+        let dz = hopf_dz_per_v(self.ode, lin.leading);
+        let start = [scales.z_eq + kick * dz, scales.y_eq, kick];
+        let max_s = self.opts.fallback_max_s;
+        match envelope::track(self.ode, scales, start, max_s, self.opts.rtol, self.meter) {
+            Ok(Envelope::Settles { z, v }) => {
+                if let Ok(orbit) = self.newton((z, v), period) {
+                    if orbit.floquet_max < 1.0 {
+                        let mut v = self.cycle(&orbit);
+                        v.class = Class::Bistable;
+                        return v;
                     }
                 }
-                Ok(_) => {}
-                Err(reason) => return fail(format!("hard-excitation check: {reason}")),
             }
-            if meter.exceeded().is_some() {
-                return fail(String::new());
-            }
+            Ok(_) => {}
+            Err(reason) => return self.fail(format!("hard-excitation check: {reason}")),
         }
-        return verdict;
+        if self.meter.exceeded().is_some() {
+            return self.fail(String::new());
+        }
+        verdict
     }
 
-    // Unstable equilibrium: find the limit cycle by shooting, from the neighbouring wheel's
-    // cycle when there is one, else from where the Hopf normal form puts it; failing that, from
-    // the amplitude the return map along the Hopf direction predicts, retried once closer.
-    if oscillatory {
-        let period = 1.0 / lin.eig_freq_hz;
-        let q0 = growth.exp_m1();
+    /// Unstable equilibrium: the limit cycle by shooting, from the neighbouring wheel's cycle
+    /// when there is one, else from where the Hopf normal form puts it; failing that, from the
+    /// amplitude the return map along the Hopf direction predicts, retried once closer. None
+    /// when shooting finds no attracting cycle.
+    fn shoot(&self, hint: Option<CycleHint>) -> Option<WheelVerdict> {
+        if !self.oscillatory() {
+            return None;
+        }
+        let (scales, tols) = (&self.scales, self.tols());
+        let period = 1.0 / self.lin.eig_freq_hz;
+        let q0 = self.growth.exp_m1();
         let attracting = |o: Result<shooting::PeriodicOrbit, ShootingError>| {
             o.ok().filter(|o| o.floquet_max < 1.0)
         };
-        if let Some(orbit) = hint.and_then(|h| attracting(newton(h.guess(&scales, q0), period))) {
-            return cycle_verdict(&orbit, &lin, rotation_hz);
+        if let Some(orbit) = hint.and_then(|h| attracting(self.newton(h.guess(scales, q0), period)))
+        {
+            return Some(self.cycle(&orbit));
         }
-        let dz = hopf_dz_per_v(ode, lin.leading);
+        let dz = hopf_dz_per_v(self.ode, self.lin.leading);
         // Newton's residual test passes an orbit whose amplitude is off by about newton_tol /
         // (2·growth): only well above the Hopf point can it start from a guess 20% off.
-        let from_normal_form = hopf_start::normal_form_applies(growth, opts.newton_tol);
+        let from_normal_form = hopf_start::normal_form_applies(self.growth, self.opts.newton_tol);
         let a = if from_normal_form {
-            normal_form_section_v(growth)
+            normal_form_section_v(self.growth)
         } else {
             hopf_start::GUESS_START_V_REL
         } * scales.v;
         if from_normal_form {
-            let orbit = newton_with((scales.z_eq + a * dz, a), period, &tols.looser_first());
+            let orbit = self.newton_with((scales.z_eq + a * dz, a), period, &tols.looser_first());
             if let Some(orbit) = attracting(orbit) {
-                return cycle_verdict(&orbit, &lin, rotation_hz);
+                return Some(self.cycle(&orbit));
             }
         }
         for handoff in [shooting::HANDOFF, shooting::HANDOFF_CLOSE] {
-            if meter.exceeded().is_some() {
+            if self.meter.exceeded().is_some() {
                 break;
             }
             let guess = shooting::amplitude_guess(
-                ode, &scales, dz, q0, a, period, tols.guess, handoff, meter,
+                self.ode, scales, dz, q0, a, period, tols.guess, handoff, self.meter,
             );
             let Ok(guess) = guess else {
                 break;
             };
-            if let Some(orbit) = attracting(newton(guess, period)) {
-                return cycle_verdict(&orbit, &lin, rotation_hz);
+            if let Some(orbit) = attracting(self.newton(guess, period)) {
+                return Some(self.cycle(&orbit));
             }
         }
-    }
-    if meter.exceeded().is_some() {
-        return fail(String::new());
+        None
     }
 
-    // Fallback: follow the trajectory from the disturbed equilibrium.
-    let start = [scales.z_eq, scales.y_eq + opts.disturbance_m, 0.0];
-    match envelope::track(ode, &scales, start, opts.fallback_max_s, opts.rtol, meter) {
-        // Small oscillations cannot die out around an unstable equilibrium: the envelope has
-        // mistaken the fast mode's decay, or a growth too slow to see, for the verdict.
-        Ok(Envelope::Decays) if lin.eig_re_max > 0.0 => fail(format!(
-            "the envelope decayed although the equilibrium is unstable (Re λ = {:.3e} 1/s)",
-            lin.eig_re_max
-        )),
-        Ok(Envelope::Decays) => WheelVerdict::without_cycle(
-            Class::Stable,
-            lin.eig_re_max,
-            lin.eig_freq_hz,
-            Method::Envelope,
-        ),
-        Ok(Envelope::Settles { z, v }) => {
-            let period = if oscillatory {
-                1.0 / lin.eig_freq_hz
-            } else {
-                4e-3
-            };
-            match newton((z, v), period) {
-                Ok(orbit) => {
-                    let mut v = cycle_verdict(&orbit, &lin, rotation_hz);
-                    v.method = Method::Envelope;
-                    v
-                }
-                // So close to the Hopf point (Re λ·T ~ 1e-7) the return map is the identity to
-                // within the integration error and Newton has nothing to hold on to; the
-                // envelope has settled, so the cycle is measured on the settled trajectory.
-                Err(reason) => settled_cycle(
-                    ode,
-                    &scales,
-                    &lin,
-                    rotation_hz,
-                    [z, scales.y_eq, v],
-                    opts.rtol,
-                    meter,
-                )
-                .unwrap_or_else(|e| fail(format!("envelope settled but {reason}; {e}"))),
+    /// The fallback: the trajectory from the disturbed equilibrium, followed by its envelope.
+    fn follow(&self) -> WheelVerdict {
+        let (ode, scales, lin, opts) = (self.ode, &self.scales, &self.lin, self.opts);
+        let start = [scales.z_eq, scales.y_eq + opts.disturbance_m, 0.0];
+        match envelope::track(
+            ode,
+            scales,
+            start,
+            opts.fallback_max_s,
+            opts.rtol,
+            self.meter,
+        ) {
+            // Small oscillations cannot die out around an unstable equilibrium: the envelope has
+            // mistaken the fast mode's decay, or a growth too slow to see, for the verdict.
+            Ok(Envelope::Decays) if lin.eig_re_max > 0.0 => self.fail(format!(
+                "the envelope decayed although the equilibrium is unstable (Re λ = {:.3e} 1/s)",
+                lin.eig_re_max
+            )),
+            Ok(Envelope::Decays) => WheelVerdict::without_cycle(
+                Class::Stable,
+                lin.eig_re_max,
+                lin.eig_freq_hz,
+                Method::Envelope,
+            ),
+            Ok(Envelope::Settles { z, v }) => self.settled(z, v),
+            Ok(Envelope::Undecided { last_v }) => self.fail(format!(
+                "not settled within {} s (last section velocity {last_v:.3e} m/s)",
+                opts.fallback_max_s
+            )),
+            Err(reason) => self.fail(reason.to_string()),
+        }
+    }
+
+    /// The envelope settled at section state (z, v): the cycle by Newton from there, or read
+    /// off the settled trajectory where Newton has nothing to hold on to.
+    fn settled(&self, z: f64, v: f64) -> WheelVerdict {
+        let period = if self.oscillatory() {
+            1.0 / self.lin.eig_freq_hz
+        } else {
+            4e-3
+        };
+        match self.newton((z, v), period) {
+            Ok(orbit) => {
+                let mut v = self.cycle(&orbit);
+                v.method = Method::Envelope;
+                v
+            }
+            // So close to the Hopf point (Re λ·T ~ 1e-7) the return map is the identity to
+            // within the integration error and Newton has nothing to hold on to; the envelope
+            // has settled, so the cycle is measured on the settled trajectory.
+            Err(reason) => {
+                let start = [z, self.scales.y_eq, v];
+                let (ode, scales, lin) = (self.ode, &self.scales, &self.lin);
+                let rtol = self.opts.rtol;
+                settled_cycle(ode, scales, lin, self.rotation_hz, start, rtol, self.meter)
+                    .unwrap_or_else(|e| self.fail(format!("envelope settled but {reason}; {e}")))
             }
         }
-        Ok(Envelope::Undecided { last_v }) => fail(format!(
-            "not settled within {} s (last section velocity {last_v:.3e} m/s)",
-            opts.fallback_max_s
-        )),
-        Err(reason) => fail(reason.to_string()),
     }
 }
 

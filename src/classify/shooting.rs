@@ -329,25 +329,16 @@ pub fn newton_orbit(
                 }
             },
         )?;
-        let s = ret.state;
-        let x_t = [s[0], s[1], s[2]];
-        // The monodromy matrix's z and v columns.
-        let (m_z, m_v) = ([s[3], s[4], s[5]], [s[6], s[7], s[8]]);
-        let f_t = ode.rhs(&x_t);
-        // Derivative of the return map: project the flow's derivative along the vector field
-        // onto the section (saltation-free: the section is crossed transversally, f_y = v > 0).
-        let dp = |m: &[f64; 3], row: usize| m[row] - f_t[row] * m[1] / f_t[1];
-        let reduced = Matrix2::new(dp(&m_z, 0), dp(&m_v, 0), dp(&m_z, 2), dp(&m_v, 2));
-        let g = Vector2::new(x_t[0] - z, x_t[2] - v);
-        let converged = (g[0] / scales.z).abs() < newton_tol && (g[1] / v).abs() < newton_tol;
-        let jac = reduced - Matrix2::identity();
-        let step = jac
-            .lu()
-            .solve(&(-g))
-            .ok_or(ShootingError::SingularJacobian)?;
-        let (mut dz, mut dv) = (step[0], step[1]);
-        let step_rel = (dz / scales.z).abs().max((dv / v).abs());
-        let rho = spectral_radius(&reduced);
+        let NewtonStep {
+            m_z,
+            m_v,
+            f_t,
+            converged,
+            mut dz,
+            mut dv,
+            step_rel,
+            rho,
+        } = newton_step(ode, scales, (z, v), &ret.state, newton_tol)?;
         // The multiplier still to move over the last step, extrapolated from how it moved over
         // the previous one.
         let rho_drift = last.map_or(0.0, |(rho_p, step_p): (f64, f64)| {
@@ -373,8 +364,7 @@ pub fn newton_orbit(
         let limit = 0.5 * v;
         if dv.abs() > limit {
             let k = limit / dv.abs();
-            dz *= k;
-            dv *= k;
+            (dz, dv) = (dz * k, dv * k);
             damped_in_a_row += 1;
             if damped_in_a_row >= MAX_DAMPED_STEPS {
                 return Err(ShootingError::DampedSteps(MAX_DAMPED_STEPS));
@@ -392,6 +382,54 @@ pub fn newton_orbit(
         }
     }
     Err(ShootingError::NoConvergence(MAX_NEWTON))
+}
+
+/// One Newton step of the return map from the section start (z, v), read off the variational
+/// state `s` at the return: the monodromy matrix's z and v columns, the vector field there, the
+/// convergence test, the step and the Floquet multiplier of the reduced map.
+struct NewtonStep {
+    m_z: [f64; 3],
+    m_v: [f64; 3],
+    f_t: [f64; 3],
+    converged: bool,
+    dz: f64,
+    dv: f64,
+    step_rel: f64,
+    rho: f64,
+}
+
+fn newton_step(
+    ode: &TreadOde,
+    scales: &Scales,
+    (z, v): (f64, f64),
+    s: &[f64; 9],
+    newton_tol: f64,
+) -> Result<NewtonStep, ShootingError> {
+    let x_t = [s[0], s[1], s[2]];
+    let (m_z, m_v) = ([s[3], s[4], s[5]], [s[6], s[7], s[8]]);
+    let f_t = ode.rhs(&x_t);
+    // Derivative of the return map: project the flow's derivative along the vector field onto
+    // the section (saltation-free: the section is crossed transversally, f_y = v > 0).
+    let dp = |m: &[f64; 3], row: usize| m[row] - f_t[row] * m[1] / f_t[1];
+    let reduced = Matrix2::new(dp(&m_z, 0), dp(&m_v, 0), dp(&m_z, 2), dp(&m_v, 2));
+    let g = Vector2::new(x_t[0] - z, x_t[2] - v);
+    let converged = (g[0] / scales.z).abs() < newton_tol && (g[1] / v).abs() < newton_tol;
+    let jac = reduced - Matrix2::identity();
+    let step = jac
+        .lu()
+        .solve(&(-g))
+        .ok_or(ShootingError::SingularJacobian)?;
+    let (dz, dv) = (step[0], step[1]);
+    Ok(NewtonStep {
+        m_z,
+        m_v,
+        f_t,
+        converged,
+        dz,
+        dv,
+        step_rel: (dz / scales.z).abs().max((dv / v).abs()),
+        rho: spectral_radius(&reduced),
+    })
 }
 
 /// Largest modulus of a 2×2 matrix's eigenvalues.
