@@ -2,6 +2,8 @@
 
 mod cli;
 
+use std::process::ExitCode;
+
 use clap::{Parser, Subcommand};
 
 /// Polygonal tire wear risk from tread lateral self-excited vibration (Zuo, Duan, Li 2014).
@@ -76,7 +78,7 @@ enum Command {
     },
 }
 
-fn main() {
+fn main() -> ExitCode {
     // Rust ignores SIGPIPE, which turns `polywear ... | head` into a panic on the next print;
     // the default action ends the process quietly, as command-line tools do.
     #[cfg(unix)]
@@ -86,26 +88,28 @@ fn main() {
     }
     let cli = Cli::parse();
     size_polars_group_tables(&cli.command);
+    let done = |r: cli::common::CliResult| r.map(|()| ExitCode::SUCCESS);
     let result = match &cli.command {
         Command::Explore(a) => cli::explore::run(a),
-        Command::Analyze(a) => cli::analyze::run(a),
-        Command::Classify(a) => cli::classify::run(a),
-        Command::Cycle(a) => cli::cycle::run(a),
-        Command::Simulate(a) => cli::simulate::run(a),
-        Command::Bifurcation(a) => cli::bifurcation::run(a),
-        Command::Chart(a) => cli::chart::run(a),
-        Command::Reproduce(a) => cli::reproduce::run(a),
-        Command::Calibrate(a) => cli::calibrate::run(a),
-        Command::Validate(a) => cli::validate::run(a),
+        Command::Analyze(a) => done(cli::analyze::run(a)),
+        Command::Classify(a) => done(cli::classify::run(a)),
+        Command::Cycle(a) => done(cli::cycle::run(a)),
+        Command::Simulate(a) => done(cli::simulate::run(a)),
+        Command::Bifurcation(a) => done(cli::bifurcation::run(a)),
+        Command::Chart(a) => done(cli::chart::run(a)),
+        Command::Reproduce(a) => done(cli::reproduce::run(a)),
+        Command::Calibrate(a) => done(cli::calibrate::run(a)),
+        Command::Validate(a) => done(cli::validate::run(a)),
         Command::Params { markdown } => {
             cli::params::run(*markdown);
-            Ok(())
+            Ok(ExitCode::SUCCESS)
         }
     };
-    if let Err(e) = result {
+    // Every refusal and failure: its message, exit code 2.
+    result.unwrap_or_else(|e| {
         eprintln!("error: {e}");
-        std::process::exit(2);
-    }
+        ExitCode::from(2)
+    })
 }
 
 /// Sizes polars' streaming group-by tables for the analysis a command runs (`analyze`, and

@@ -9,7 +9,7 @@ use super::common::{base_metadata, BudgetArgs, CliError, CliResult, FigureFormat
 use polywear::bifurcation::{linspace, sweep};
 use polywear::classify::ClassifierOptions;
 use polywear::model::{Variant, Wheel};
-use polywear::params::{ParamError, ParamId};
+use polywear::params::{ParamError, ParamId, Params};
 use polywear::parquet_out::{write_table, Column};
 use polywear::records::{record_columns, WheelRecord};
 use polywear::wording::plain;
@@ -54,6 +54,25 @@ pub struct BifurcationArgs {
 }
 
 pub fn run(args: &BifurcationArgs) -> CliResult {
+    let req = resolve(args)?;
+    let values = linspace(args.from, args.to, args.steps);
+    let pool = super::common::thread_pool(args.threads)?;
+    let sw = pool.install(|| sweep(&req.base, req.param, &values, req.variant, &req.opts));
+    print_summary(args, &sw);
+    write(args, &req, &sw)
+}
+
+/// The sweep the flags ask for, checked before any work.
+struct SweepRequest {
+    base: Params,
+    param: ParamId,
+    variant: Variant,
+    opts: ClassifierOptions,
+    /// The output files' path without extension (its folder created).
+    prefix: PathBuf,
+}
+
+fn resolve(args: &BifurcationArgs) -> CliResult<SweepRequest> {
     let base = args.point.params()?;
     let param: ParamId = args
         .param
@@ -102,11 +121,20 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
         budget: args.budget.apply(Default::default())?,
         ..ClassifierOptions::default()
     };
-    let values = linspace(args.from, args.to, args.steps);
-    let pool = super::common::thread_pool(args.threads)?;
-    let sw = pool.install(|| sweep(&base, param, &values, variant, &opts));
-    let (jobs, records, hopf) = (&sw.jobs, &sw.records, &sw.hopf);
+    Ok(SweepRequest {
+        base,
+        param,
+        variant,
+        opts,
+        prefix,
+    })
+}
 
+/// The windows of vibration in words, and each wheel's Hopf points.
+fn print_summary(args: &BifurcationArgs, sw: &polywear::bifurcation::Sweep) {
+    let s = sw.param.spec();
+    let variant = sw.variant;
+    let (records, hopf) = (&sw.records, &sw.hopf);
     println!(
         "sweep of {} from {} to {} {} ({} values, variant {variant}) at {}",
         s.name,
@@ -141,7 +169,16 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
             );
         }
     }
+}
 
+/// The sweep's table (Parquet, with the Hopf points in its metadata) and picture.
+fn write(
+    args: &BifurcationArgs,
+    req: &SweepRequest,
+    sw: &polywear::bifurcation::Sweep,
+) -> CliResult {
+    let (s, jobs, records, hopf) = (req.param.spec(), &sw.jobs, &sw.records, &sw.hopf);
+    let (base, variant, prefix) = (&req.base, req.variant, &req.prefix);
     // The swept value gets its own column (the parameter may also be a record column).
     let mut cols = vec![Column::f64(
         "sweep_value",
@@ -149,7 +186,7 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
         jobs.iter().map(|j| j.0).collect(),
     )];
     cols.extend(record_columns(records));
-    let mut meta = base_metadata(&base, variant);
+    let mut meta = base_metadata(base, variant);
     meta.push(("sweep_param".into(), s.name.into()));
     let hopf_json: Vec<serde_json::Value> = hopf
         .iter()

@@ -158,6 +158,75 @@ pub fn request(args: &ChartArgs) -> CliResult<ChartRequest> {
     })
 }
 
+/// The chart's metadata: the base parameters, axes, box, wheels and the conventions of l1.
+fn chart_metadata(
+    args: &ChartArgs,
+    req: &ChartRequest,
+    opts: &TraceOptions,
+) -> Vec<(String, String)> {
+    let mut meta = base_metadata(&req.base, req.variant);
+    meta.push(("chart_x".into(), req.x.name().into()));
+    meta.push(("chart_y".into(), req.y.name().into()));
+    meta.push((
+        "chart_box".into(),
+        serde_json::json!({
+            req.x.name(): [args.x_from, args.x_to],
+            req.y.name(): [args.y_from, args.y_to],
+        })
+        .to_string(),
+    ));
+    let wheels: Vec<&str> = req.wheels.iter().map(|w| w.as_str()).collect();
+    meta.push(("wheels".into(), wheels.join(",")));
+    meta.push((
+        "l1_convention".into(),
+        "Kuznetsov eq. 3.20; A q = i w q, A^T p = -i w p, <q,q> = 1, <p,q> = 1; state (z [m], y [m], v [m/s])".into(),
+    ));
+    meta.push((
+        "re_lambda_bound".into(),
+        format!("|re_lambda_per_s| <= {RE_LAMBDA_BOUND:e} * 2 pi freq_hz at every point"),
+    ));
+    meta.push(("trace_options".into(), format!("{opts:?}")));
+    meta
+}
+
+/// The structure band's table, with the study it was drawn from.
+fn write_band(
+    args: &ChartArgs,
+    req: &ChartRequest,
+    meta: &[(String, String)],
+    b: &StructureBand,
+    study: &Study,
+    k: u64,
+) -> CliResult {
+    println!(
+        "uncertainty band: {k} structures from study `{}` (seed {}), drawn: {}",
+        study.name,
+        study.seed,
+        b.drawn
+            .iter()
+            .map(|d| d.name())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let mut band_meta = meta.to_vec();
+    band_meta.push(("study".into(), study.name.clone()));
+    band_meta.push(("study_source".into(), study.source.clone()));
+    band_meta.push(("seed".into(), study.seed.to_string()));
+    band_meta.push(("structure_samples".into(), k.to_string()));
+    band_meta.push((
+        "structure_params".into(),
+        b.drawn
+            .iter()
+            .map(|d| d.name())
+            .collect::<Vec<_>>()
+            .join(","),
+    ));
+    let cols = band_columns(req, b);
+    write_table(&sibling(&args.out, "_band", "parquet"), &cols, &band_meta)?;
+    write_csv(&sibling(&args.out, "_band", "csv"), &cols)?;
+    Ok(())
+}
+
 fn sibling(out: &Path, suffix: &str, ext: &str) -> PathBuf {
     let stem = out.file_stem().and_then(|s| s.to_str()).unwrap_or("chart");
     out.with_file_name(format!("{stem}{suffix}.{ext}"))
@@ -198,28 +267,7 @@ pub fn run(args: &ChartArgs) -> CliResult {
     for line in summary(&req, &charts) {
         println!("{line}");
     }
-    let mut meta = base_metadata(&req.base, req.variant);
-    meta.push(("chart_x".into(), req.x.name().into()));
-    meta.push(("chart_y".into(), req.y.name().into()));
-    meta.push((
-        "chart_box".into(),
-        serde_json::json!({
-            req.x.name(): [args.x_from, args.x_to],
-            req.y.name(): [args.y_from, args.y_to],
-        })
-        .to_string(),
-    ));
-    let wheels: Vec<&str> = req.wheels.iter().map(|w| w.as_str()).collect();
-    meta.push(("wheels".into(), wheels.join(",")));
-    meta.push((
-        "l1_convention".into(),
-        "Kuznetsov eq. 3.20; A q = i w q, A^T p = -i w p, <q,q> = 1, <p,q> = 1; state (z [m], y [m], v [m/s])".into(),
-    ));
-    meta.push((
-        "re_lambda_bound".into(),
-        format!("|re_lambda_per_s| <= {RE_LAMBDA_BOUND:e} * 2 pi freq_hz at every point"),
-    ));
-    meta.push(("trace_options".into(), format!("{opts:?}")));
+    let meta = chart_metadata(args, &req, &opts);
     let cols = curve_columns(&req, &charts);
     write_table(&args.out, &cols, &meta)?;
     let csv = args.out.with_extension("csv");
@@ -230,32 +278,7 @@ pub fn run(args: &ChartArgs) -> CliResult {
     write_table(&sp_pq, &special, &meta)?;
     write_csv(&sp_csv, &special)?;
     if let (Some(b), Some((study, k))) = (&band, &band_plan) {
-        println!(
-            "uncertainty band: {k} structures from study `{}` (seed {}), drawn: {}",
-            study.name,
-            study.seed,
-            b.drawn
-                .iter()
-                .map(|d| d.name())
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
-        let mut band_meta = meta.clone();
-        band_meta.push(("study".into(), study.name.clone()));
-        band_meta.push(("study_source".into(), study.source.clone()));
-        band_meta.push(("seed".into(), study.seed.to_string()));
-        band_meta.push(("structure_samples".into(), k.to_string()));
-        band_meta.push((
-            "structure_params".into(),
-            b.drawn
-                .iter()
-                .map(|d| d.name())
-                .collect::<Vec<_>>()
-                .join(","),
-        ));
-        let cols = band_columns(&req, b);
-        write_table(&sibling(&args.out, "_band", "parquet"), &cols, &band_meta)?;
-        write_csv(&sibling(&args.out, "_band", "csv"), &cols)?;
+        write_band(args, &req, &meta, b, study, *k)?;
     }
     let png = args.out.with_extension("png");
     draw(&png, &req, &charts, &grids, band.as_ref()).map_err(|e| CliError(e.to_string()))?;

@@ -2,6 +2,7 @@
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use clap::Args;
@@ -12,7 +13,7 @@ use super::common::{BudgetArgs, CliError, CliResult, FigureFormat};
 use polywear::explore::recorded_run::{
     changed_lines, param_changes, shell_word, DirState, RecordedRun,
 };
-use polywear::explore::{ExploreError, RunPlan, Shard};
+use polywear::explore::{ExploreError, PreparedOutput, RunPlan, RunSummary, Shard};
 use polywear::study::{Study, DEFAULT_STUDY, SEED_MAX};
 use polywear::wording::plain;
 
@@ -79,7 +80,56 @@ pub struct ExploreArgs {
     pub budget: BudgetArgs,
 }
 
-pub fn run(args: &ExploreArgs) -> CliResult {
+pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
+    let plan = resolve(args)?;
+    let pool = super::common::thread_pool(args.threads)?;
+    // Checks and locks --out; the lock is held until this function returns.
+    let prepared = plan.prepare_output().map_err(explore_error)?;
+    for line in &prepared.redone {
+        eprintln!("resume: {line}");
+    }
+    let todo = prepared.pending_samples(&plan);
+    let (bar, log) = progress(args, todo);
+    if !args.quiet {
+        announce(&plan, &prepared, &pool, todo);
+    }
+    let stop = Interrupt::install()?;
+    let start = Instant::now();
+    let result = pool.install(|| {
+        plan.run_until(
+            &prepared,
+            &|n| {
+                bar.inc(n);
+                if let Some(log) = &log {
+                    log.add(n);
+                }
+            },
+            &|| stop.signal().is_some(),
+        )
+    });
+    bar.finish_and_clear();
+    // From here on a signal ends the program at once: the rows are saved.
+    stop.disarm();
+    let summary = result.map_err(explore_error)?;
+    let secs = start.elapsed().as_secs_f64();
+    if let Some(signal) = stop.signal() {
+        drop(prepared);
+        let saved = summary.samples_skipped + summary.samples_evaluated;
+        eprintln!(
+            "\nstopped by {}: {saved} of {} samples are saved in {}; the chunks in flight were dropped and are redone on resume",
+            signal_name(signal),
+            plan.owned_samples(),
+            plan.out_dir.display()
+        );
+        eprintln!("resume with: {}", resume_command(args, &plan));
+        return Ok(ExitCode::from((128 + signal) as u8));
+    }
+    finish(args, &plan, &summary, secs).map(|()| ExitCode::SUCCESS)
+}
+
+/// The run the flags ask for: the study (the file, the one recorded in `--resume --out DIR`, or
+/// the built-in one), its base parameters, samples, seed, shard and output directory.
+fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
     // `--resume --out DIR` continues the run recorded there: its study, parameters, samples,
     // seed and shard are the defaults, and a flag that contradicts them is refused.
     // A manifest this build cannot read back (damaged, or from a version that recorded less) is
@@ -142,7 +192,7 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         .clone()
         .unwrap_or_else(|| default_out_dir(&study, seed));
     let recorded_shard = recorded.as_ref().map(|(_, run)| run.shard);
-    let plan = RunPlan {
+    Ok(RunPlan {
         study,
         seed,
         samples,
@@ -150,14 +200,11 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         out_dir,
         resume: args.resume,
         command: std::env::args().collect::<Vec<_>>().join(" "),
-    };
-    let pool = super::common::thread_pool(args.threads)?;
-    // Checks and locks --out; the lock is held until this function returns.
-    let prepared = plan.prepare_output().map_err(explore_error)?;
-    for line in &prepared.redone {
-        eprintln!("resume: {line}");
-    }
-    let todo = prepared.pending_samples(&plan);
+    })
+}
+
+/// The progress bar on a terminal, or progress lines every `--log-every` seconds in a log.
+fn progress(args: &ExploreArgs, todo: u64) -> (ProgressBar, Option<ProgressLog>) {
     let log = (!args.quiet && !std::io::stderr().is_terminal())
         .then(|| ProgressLog::new(todo, Duration::from_secs_f64(args.log_every)));
     let bar = if args.quiet || log.is_some() {
@@ -177,61 +224,38 @@ pub fn run(args: &ExploreArgs) -> CliResult {
             },
         ),
     );
-    if !args.quiet {
+    (bar, log)
+}
+
+/// The run's first lines: what is evaluated where, and what a resume keeps.
+fn announce(plan: &RunPlan, prepared: &PreparedOutput, pool: &rayon::ThreadPool, todo: u64) {
+    eprintln!(
+        "{}: {} samples ({} design, seed {}, variants {}), shard {}, {} threads -> {}",
+        plan.study.name,
+        plan.samples,
+        plan.study.design.as_str(),
+        plan.seed,
+        plan.study
+            .variants
+            .iter()
+            .map(|v| v.as_str())
+            .collect::<Vec<_>>()
+            .join("+"),
+        plan.shard,
+        pool.current_num_threads(),
+        plan.out_dir.display()
+    );
+    let kept = prepared.kept_samples(&plan);
+    if kept > 0 {
         eprintln!(
-            "{}: {} samples ({} design, seed {seed}, variants {}), shard {}, {} threads -> {}",
-            plan.study.name,
-            plan.samples,
-            plan.study.design.as_str(),
-            plan.study
-                .variants
-                .iter()
-                .map(|v| v.as_str())
-                .collect::<Vec<_>>()
-                .join("+"),
-            plan.shard,
-            pool.current_num_threads(),
-            plan.out_dir.display()
+            "resume: {kept} of {} samples already saved; {todo} to do",
+            plan.owned_samples()
         );
-        let kept = prepared.kept_samples(&plan);
-        if kept > 0 {
-            eprintln!(
-                "resume: {kept} of {} samples already saved; {todo} to do",
-                plan.owned_samples()
-            );
-        }
     }
-    let stop = Interrupt::install()?;
-    let start = Instant::now();
-    let result = pool.install(|| {
-        plan.run_until(
-            &prepared,
-            &|n| {
-                bar.inc(n);
-                if let Some(log) = &log {
-                    log.add(n);
-                }
-            },
-            &|| stop.signal().is_some(),
-        )
-    });
-    bar.finish_and_clear();
-    // From here on a signal ends the program at once: the rows are saved.
-    stop.disarm();
-    let summary = result.map_err(explore_error)?;
-    let secs = start.elapsed().as_secs_f64();
-    let saved = summary.samples_skipped + summary.samples_evaluated;
-    if let Some(signal) = stop.signal() {
-        drop(prepared);
-        eprintln!(
-            "\nstopped by {}: {saved} of {} samples are saved in {}; the chunks in flight were dropped and are redone on resume",
-            signal_name(signal),
-            plan.owned_samples(),
-            plan.out_dir.display()
-        );
-        eprintln!("resume with: {}", resume_command(args, &plan));
-        std::process::exit(128 + signal);
-    }
+}
+
+/// The summary of a finished run and the analysis of its output directory.
+fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -> CliResult {
     if !args.quiet {
         println!(
             "{} samples evaluated in {} s ({} samples/s); {} already saved; {} chunk files written to {}",
