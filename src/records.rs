@@ -2,7 +2,7 @@
 //! linear stability (step 8) and the verdict (step 9). The first 24 columns carry exactly the
 //! column names of `tests/data/points.csv`; the rest extend it.
 //!
-//! Every column is declared once, in [`define_record!`]'s table: name, unit, type and meaning.
+//! Every column is declared once, in `define_record!`'s table: name, unit, type and meaning.
 //! The row type [`WheelRecord`], the typed column ids [`RecordColumn`], the column table
 //! [`RECORD_COLUMNS`] (the Parquet and CSV writers, the `units` metadata, the analysis's column
 //! names, the table in GUIDE.md#output-files) and [`record_columns`] all come from it.

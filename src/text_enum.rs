@@ -115,7 +115,7 @@ mod tests {
         );
         assert_eq!(
             names(&Class::ALL.map(Class::as_str)),
-            "stable,limit_cycle,bistable,no_traction,failed"
+            "stable,limit_cycle,bistable,no_traction,failed,standstill"
         );
         assert_eq!(
             names(&Method::ALL.map(Method::as_str)),
@@ -171,7 +171,7 @@ mod tests {
         let e = "oscillating".parse::<Class>().unwrap_err().to_string();
         assert_eq!(
             e,
-            "unknown class `oscillating`; accepted: stable, limit_cycle, bistable, no_traction, failed"
+            "unknown class `oscillating`; accepted: stable, limit_cycle, bistable, no_traction, failed, standstill"
         );
         assert!("Stable".parse::<Class>().is_err(), "names are exact");
         let json = serde_json::to_string(&(Class::LimitCycle, Wheel::Driving)).unwrap();

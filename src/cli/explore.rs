@@ -245,7 +245,7 @@ fn announce(plan: &RunPlan, prepared: &PreparedOutput, pool: &rayon::ThreadPool,
         pool.current_num_threads(),
         plan.out_dir.display()
     );
-    let kept = prepared.kept_samples(&plan);
+    let kept = prepared.kept_samples(plan);
     if kept > 0 {
         eprintln!(
             "resume: {kept} of {} samples already saved; {todo} to do",
@@ -270,7 +270,7 @@ fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -
     // A shard that owns no chunk (fewer chunks than shards) did all it had to: say so, exit 0.
     if plan.owned_chunks().next().is_none() {
         if !args.no_report {
-            empty_shard_report(&plan, args.quiet).map_err(CliError)?;
+            empty_shard_report(plan, args.quiet).map_err(CliError)?;
         }
         return Ok(());
     }

@@ -4,7 +4,7 @@
 //! default study and why the literal equations cannot carry the paper's conclusion.
 //!
 //! Problem → result → render, as the analysis is: a [`Request`] says what to regenerate,
-//! [`solve`] computes it into a [`Reproduction`] (no file is written), and [`write`] draws the
+//! [`solve`] computes it into a [`Reproduction`] (no file is written), and [`write()`] draws the
 //! figures, writes the tables and composes `report.md` from the result.
 
 mod figures;
@@ -227,7 +227,7 @@ pub fn solve(request: &Request) -> Result<Reproduction, ReproduceError> {
 }
 
 /// Regenerates the paper's analyses into `dir`, figures as `ext` (`png` or `svg`): [`solve`],
-/// then [`write`]. Returns the result and every file written.
+/// then [`write()`]. Returns the result and every file written.
 pub fn reproduce(
     request: &Request,
     dir: &Path,
