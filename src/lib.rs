@@ -29,6 +29,8 @@ pub mod recorded_run;
 pub mod records;
 pub mod render;
 pub mod reproduce;
+pub mod safe_read;
+pub mod safe_write;
 pub mod sampling;
 pub mod solver;
 pub mod study;

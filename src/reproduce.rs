@@ -191,7 +191,7 @@ pub fn reproduce_as(
     paired_samples: u64,
     ext: &str,
 ) -> Result<Reproduction, ReproduceError> {
-    std::fs::create_dir_all(dir).map_err(|e| ReproduceError::io(dir, e))?;
+    crate::safe_write::create_dir(dir).map_err(|e| ReproduceError::io(dir, e))?;
     let mut files = Vec::new();
     let opts = ClassifierOptions::default();
     adhesion_ellipse(base, dir, ext, &mut files)?;
@@ -294,7 +294,8 @@ pub fn reproduce_as(
         1,
     );
     let md = dir.join("report.md");
-    std::fs::write(&md, &report).map_err(|e| ReproduceError::io(&md, e))?;
+    crate::safe_write::write_file(&md, report.as_bytes())
+        .map_err(|e| ReproduceError::io(&md, e))?;
     files.push(md);
     Ok(Reproduction {
         sweeps,

@@ -35,8 +35,7 @@ pub struct CalibrateArgs {
 }
 
 pub fn run(args: &CalibrateArgs) -> CliResult {
-    let text = std::fs::read_to_string(&args.targets)
-        .map_err(|e| CliError(format!("{}: {e}", args.targets.display())))?;
+    let text = super::common::read_input(&args.targets, "", polywear::safe_read::Limit::Text)?;
     let mut problem =
         parse_problem(&text).map_err(|e| CliError(format!("{}: {e}", args.targets.display())))?;
     if !args.fit.is_empty() {
@@ -59,7 +58,7 @@ pub fn run(args: &CalibrateArgs) -> CliResult {
         problem.fit = fit;
     }
     if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
+        polywear::safe_write::create_dir(dir)
             .map_err(|e| CliError(format!("--out {}: {e}", dir.display())))?;
     }
     let start = Instant::now();

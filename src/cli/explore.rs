@@ -91,8 +91,7 @@ pub fn run(args: &ExploreArgs) -> CliResult {
     };
     let (source, origin) = match (&args.study, &recorded) {
         (Some(path), _) => (
-            std::fs::read_to_string(path)
-                .map_err(|e| CliError(format!("study {}: {e}", path.display())))?,
+            super::common::read_input(path, "study ", polywear::safe_read::Limit::Text)?,
             path.display().to_string(),
         ),
         (None, Some((dir, run))) => (
@@ -409,7 +408,7 @@ fn resume_command(args: &ExploreArgs, plan: &RunPlan) -> String {
 /// The closing report of a shard that owns no chunk: `_report/report.md` says it holds no rows.
 fn empty_shard_report(plan: &RunPlan, quiet: bool) -> Result<(), String> {
     let dir = plan.out_dir.join("_report");
-    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    polywear::safe_write::create_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let text = format!(
         "# Shard {k}/{n} of study `{name}`: no rows\n\nThis shard holds no rows: the run has {chunks} \
          chunk(s) of {size} samples ({samples} samples), fewer than the {n} shards, and shard k \
@@ -423,7 +422,8 @@ fn empty_shard_report(plan: &RunPlan, quiet: bool) -> Result<(), String> {
         samples = plan.samples,
     );
     let path = dir.join("report.md");
-    std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    polywear::safe_write::write_file(&path, text.as_bytes())
+        .map_err(|e| format!("{}: {e}", path.display()))?;
     if quiet {
         return Ok(());
     }
