@@ -26,7 +26,13 @@ impl From<ParamError> for CliError {
 
 impl From<polywear::parquet_out::WriteError> for CliError {
     fn from(e: polywear::parquet_out::WriteError) -> Self {
-        CliError(format!("cannot write output: {e}"))
+        let text = e.to_string();
+        let hint = if text.contains("read-only") || text.contains("full disk") {
+            "; choose another folder with the command's --out"
+        } else {
+            ""
+        };
+        CliError(format!("cannot write output: {text}{hint}"))
     }
 }
 
