@@ -300,8 +300,14 @@ fn write_failure(args: &ExploreArgs, plan: &RunPlan, e: &ExploreError) -> CliErr
         ),
         None => format!("nothing is saved in {}", plan.out_dir.display()),
     };
+    let text = e.to_string();
+    let cause = if text.contains("No space left") || text.contains("full disk") {
+        "the disk is full: "
+    } else {
+        ""
+    };
     CliError(format!(
-        "{e}\n{saved}; free space or fix the folder, then resume with: {}",
+        "{cause}{text}\n{saved}; free space or fix the folder, then resume with: {}",
         resume_command(args, plan)
     ))
 }

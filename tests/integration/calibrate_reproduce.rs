@@ -44,11 +44,12 @@ fn calibration_recovers_known_parameters() {
         ..Params::default()
     };
     // Generate the targets with polywear itself at the truth.
+    // Placeholders inside each target's searched range (a value outside it is refused).
     let template = parse_problem(
         &TARGETS
-            .replace("ONSET", "1")
-            .replace("TOE", "1")
-            .replace("PRESSURE", "1")
+            .replace("ONSET", "80")
+            .replace("TOE", "0.5")
+            .replace("PRESSURE", "300")
             .replace("FREQ", "1"),
     )
     .unwrap();
