@@ -457,3 +457,68 @@ fn a_read_only_folder_is_named_with_the_flag_that_chooses_another() {
         "{stderr}"
     );
 }
+
+#[test]
+fn what_cannot_be_sampled_or_integrated_is_refused_up_front() {
+    use polywear::study::Study;
+    let refused = |text: &str, needle: &str| {
+        let e = Study::parse(text).unwrap_err().to_string();
+        assert!(e.contains(needle), "`{needle}` not in `{e}` for\n{text}");
+    };
+    // A drawn mu_s above a fixed mu_m, or two draws that can cross, by their bounds.
+    refused(
+        "[params]\nmu_s = { dist = \"uniform\", min = 0.5, max = 0.9 }\n",
+        "`params.mu_s` is drawn up to 0.9 and `mu_m` is fixed at 0.76",
+    );
+    refused(
+        "[params]\nmu_s = { dist = \"uniform\", min = 0.5, max = 0.7 }\nmu_m = { dist = \"levels\", levels = [0.65, 0.8] }\n",
+        "`params.mu_m` is drawn down to 0.65",
+    );
+    refused(
+        "[params]\nn_driven = { dist = \"levels\", levels = [2, 6] }\n",
+        "`params.n_driven` is drawn up to 6 and `n_wheels` is fixed at 4",
+    );
+    assert!(
+        Study::parse("[params]\nmu_s = { dist = \"uniform\", min = 0.5, max = 0.7 }\n").is_ok()
+    );
+    refused(
+        "[operating_points]\nfile = \"\"\n",
+        "`operating_points.file` is empty",
+    );
+    // A drive cycle whose duration overflows.
+    let dir = fresh_dir("sums");
+    std::fs::create_dir_all(&dir).unwrap();
+    let cycle = dir.join("c.csv");
+    std::fs::write(&cycle, "time_s,speed_kmh\n0,10\n1e308,20\n").unwrap();
+    let e = polywear::cycle::DriveCycle::read(&cycle)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("total time is not finite"), "{e}");
+    std::fs::write(&cycle, "time_s,speed_kmh\n-1e308,10\n1e308,20\n").unwrap();
+    let e = polywear::cycle::DriveCycle::read(&cycle)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("step duration is not finite"), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_small_chunk_size_is_warned_about_with_its_measured_cost() {
+    let dir = fresh_dir("chunk-warning");
+    std::fs::create_dir_all(&dir).unwrap();
+    let study = dir.join("s.toml");
+    std::fs::write(&study, STUDY.replace("chunk_size = 20", "chunk_size = 30")).unwrap();
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        &s(&study),
+        "--out",
+        &s(&dir.join("run")),
+        "--no-report",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stderr.contains("warning: chunk_size = 30 is below 64") && stderr.contains("30x"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
