@@ -128,6 +128,11 @@ pub fn parquet_files(inputs: &[PathBuf]) -> Result<(Vec<PathBuf>, Vec<PathBuf>),
 /// the files and the key.
 pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
     let (files, manifests) = parquet_files(inputs)?;
+    // The journal first: a damaged chunk is named as damaged, with the way back, even when its
+    // footer no longer reads.
+    for input in inputs.iter().filter(|i| i.is_dir()) {
+        footer::verify_chunks(input, &files)?;
+    }
     let footers: Vec<FileFooter> = files
         .iter()
         .map(|p| FileFooter::read(p))
@@ -147,9 +152,6 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
     let quantities = SEVERITY_QUANTITIES.map(|q| q.0);
     for f in &footers {
         f.check_columns(&drawn_names, &quantities)?;
-    }
-    for input in inputs.iter().filter(|i| i.is_dir()) {
-        footer::verify_chunks(input, &files)?;
     }
     let units = match first.value("units") {
         None => BTreeMap::new(),
