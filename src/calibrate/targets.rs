@@ -337,6 +337,9 @@ fn parse_choices(
             .collect::<Result<Vec<f64>, _>>()?;
         out.push((s, vals));
     }
+    // In the order of their names, as the file's table lists them: the order of the
+    // combinations and of the written file.
+    out.sort_by_key(|(s, _)| s.name());
     let combos: usize = out.iter().map(|(_, v)| v.len()).product();
     if combos > 4096 {
         return Err(TargetsError::TooManyCombinations(combos));

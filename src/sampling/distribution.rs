@@ -311,12 +311,12 @@ pub fn truncated_normal_value(mean: f64, sd: f64, min: f64, max: f64, u: f64) ->
 pub fn near_uniform_quantile(c: f64, d: f64, u: f64) -> f64 {
     const TERMS: usize = 6;
     // Coefficients of exp(−g(s)) in powers of s, g(s) = c·s + d·s².
-    let mut density = vec![0.0; 2 * TERMS + 1];
-    let mut term = vec![0.0; 2 * TERMS + 1];
+    let mut density = [0.0; 2 * TERMS + 1];
+    let mut term = [0.0; 2 * TERMS + 1];
     density[0] = 1.0;
     term[0] = 1.0;
     for k in 1..=TERMS {
-        let mut next = vec![0.0; 2 * TERMS + 1];
+        let mut next = [0.0; 2 * TERMS + 1];
         for (j, &t) in term.iter().enumerate().take(2 * k - 1) {
             next[j + 1] -= t * c / k as f64;
             next[j + 2] -= t * d / k as f64;

@@ -430,7 +430,7 @@ fn a_full_disk_says_what_is_saved_and_the_exact_resume_command() {
     assert!(
         stderr.contains("the disk is full")
             && stderr.contains("samples are saved in")
-            && stderr.contains(&format!("resume with: "))
+            && stderr.contains("resume with: ")
             && stderr.contains(&format!("explore --resume --out {}", out.display())),
         "{stderr}"
     );
