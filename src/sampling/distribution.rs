@@ -261,7 +261,7 @@ pub fn truncated_normal_quantile(a: f64, b: f64, u: f64) -> f64 {
 /// Below this change of the log-density across the interval, a truncated normal is sampled
 /// through the series of [`near_uniform_quantile`] (exact to about 1e-18 there), not through
 /// Φ: the interval is then so narrow against sd that Φ(a) and Φ(b) agree to most of their digits.
-const NEAR_UNIFORM: f64 = 1e-2;
+pub const NEAR_UNIFORM: f64 = 1e-2;
 
 /// The value at `u` in [0, 1] of Normal(mean, sd) truncated to [min, max], for any finite sd:
 /// as sd grows the distribution tends to the uniform on [min, max], and so do the values.
