@@ -2,7 +2,9 @@
 //! pandas/pyarrow show each key as written, so a text field is written as its text and every
 //! other field (numbers, lists, objects) as compact JSON; a field that is `None` is left out.
 //! Reading back asks the target type what it expects: a text field takes the value as it is, any
-//! other field parses it as JSON. One struct thus describes a footer, in both directions.
+//! other field parses it as JSON. One struct thus describes a footer, in both directions. A key
+//! the struct does not name (`ARROW:schema`, which pyarrow and polars add when they rewrite a
+//! file, or `pandas`) is skipped unread; an error names the key whose value is wrong.
 
 use serde::de::{self, IntoDeserializer, Visitor};
 use serde::ser::{self, Impossible, Serialize};
@@ -29,16 +31,53 @@ pub fn to_key_values<T: Serialize>(value: &T) -> Result<Vec<(String, String)>, K
     value.serialize(StructSerializer)
 }
 
-/// A struct read from (key, text) pairs; keys the struct does not name are ignored.
+/// A struct read from (key, text) pairs; keys the struct does not name are ignored, and an error
+/// names the key (`` `seed`: invalid type ... ``).
 pub fn from_key_values<T: de::DeserializeOwned>(
     pairs: &[(String, String)],
 ) -> Result<T, KeyValueError> {
-    let map = de::value::MapDeserializer::new(
-        pairs
-            .iter()
-            .map(|(k, v)| (k.as_str(), FieldText(v.as_str()))),
-    );
-    T::deserialize(map)
+    T::deserialize(de::value::MapAccessDeserializer::new(Pairs {
+        pairs: pairs.iter(),
+        current: None,
+    }))
+}
+
+/// The pairs as a map, remembering the key whose value is read, for its errors.
+struct Pairs<'a> {
+    pairs: std::slice::Iter<'a, (String, String)>,
+    current: Option<&'a (String, String)>,
+}
+
+impl<'de, 'a> de::MapAccess<'de> for Pairs<'a> {
+    type Error = KeyValueError;
+
+    fn next_key_seed<K: de::DeserializeSeed<'de>>(
+        &mut self,
+        seed: K,
+    ) -> Result<Option<K::Value>, KeyValueError> {
+        let Some(pair) = self.pairs.next() else {
+            return Ok(None);
+        };
+        self.current = Some(pair);
+        seed.deserialize(pair.0.as_str().into_deserializer())
+            .map(Some)
+    }
+
+    fn next_value_seed<V: de::DeserializeSeed<'de>>(
+        &mut self,
+        seed: V,
+    ) -> Result<V::Value, KeyValueError> {
+        let (key, value) = self.current.take().expect("a value follows its key");
+        let named = format!("`{key}`");
+        seed.deserialize(FieldText(value)).map_err(|e| {
+            // A field's own deserializer may already name its key.
+            if e.0.starts_with(&named) {
+                e
+            } else {
+                KeyValueError(format!("{named}: {e}"))
+            }
+        })
+    }
 }
 
 /// The text of one field: raw for a string, compact JSON for anything else; None for a null.
@@ -183,7 +222,12 @@ struct FieldText<'a>(&'a str);
 
 impl<'a> FieldText<'a> {
     fn json(self) -> Result<serde_json::Value, KeyValueError> {
-        serde_json::from_str(self.0).map_err(|e| KeyValueError(format!("`{}`: {e}", self.0)))
+        serde_json::from_str(self.0).map_err(|e| {
+            KeyValueError(format!(
+                "not JSON ({e}): {}",
+                crate::wording::snippet(self.0)
+            ))
+        })
     }
 }
 
@@ -223,8 +267,16 @@ impl<'de, 'a> de::Deserializer<'de> for FieldText<'a> {
         deserialize_seq,
         deserialize_map,
         deserialize_unit,
-        deserialize_ignored_any,
     );
+
+    /// A key the struct does not name is skipped without reading its value (it need not be
+    /// JSON: `ARROW:schema` is base64).
+    fn deserialize_ignored_any<V: Visitor<'de>>(
+        self,
+        visitor: V,
+    ) -> Result<V::Value, KeyValueError> {
+        visitor.visit_unit()
+    }
 
     fn deserialize_str<V: Visitor<'de>>(self, visitor: V) -> Result<V::Value, KeyValueError> {
         visitor.visit_str(self.0)
@@ -335,6 +387,14 @@ mod tests {
         );
         let mut with_extra = kv.clone();
         with_extra.push(("units".into(), "{}".into()));
+        // What pyarrow adds when it rewrites a file: not JSON, and never read.
+        with_extra.push(("ARROW:schema".into(), "/////7gAAAAQAAAA".into()));
         assert_eq!(from_key_values::<Footer>(&with_extra).unwrap(), f);
+        // A damaged value is named by its key, and quoted only in part.
+        let mut damaged = kv.clone();
+        damaged[1].1 = format!("x{}", "9".repeat(500));
+        let e = from_key_values::<Footer>(&damaged).unwrap_err().to_string();
+        assert!(e.starts_with("`seed`: not JSON"), "{e}");
+        assert!(e.len() < 200, "{e}");
     }
 }

@@ -30,6 +30,8 @@ pub mod plot;
 pub mod records;
 pub mod render;
 pub mod reproduce;
+pub mod safe_read;
+pub mod safe_write;
 pub mod sampling;
 pub mod solver;
 pub mod study;

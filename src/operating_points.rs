@@ -60,7 +60,7 @@ pub enum OperatingPointsError {
         source: ParamError,
     },
     /// A negative weight.
-    #[error("{at}: weight {weight} is negative; weights must be >= 0")]
+    #[error("{at}: weight {} is negative; weights must be >= 0", crate::wording::plain(*weight, 12))]
     NegativeWeight {
         /// File, row and column.
         at: String,

@@ -15,11 +15,13 @@
 //! Names starting with `_` are skipped by pyarrow/pandas when the directory is read as a dataset.
 
 use std::collections::HashMap;
-use std::fs::{File, OpenOptions};
+use std::fs::File;
 use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
-use crate::parquet_out::{write_durably, FileDigest};
+use crate::parquet_out::FileDigest;
+use crate::safe_read::{self, Limit};
+use crate::safe_write::{self, write_durably};
 
 /// The run's manifest in an output directory.
 pub const MANIFEST: &str = "_manifest.json";
@@ -82,6 +84,9 @@ pub enum ChunkMismatch {
     /// The file cannot be read.
     #[error("unreadable: {0}")]
     Unreadable(std::io::Error),
+    /// A link, a directory or another kind of file than the regular file polywear wrote.
+    #[error("{0}, not a file polywear wrote")]
+    NotAFile(&'static str),
     /// Its size differs from the journal's.
     #[error("{found} bytes, the manifest records {recorded} (truncated or replaced)")]
     Bytes {
@@ -132,16 +137,11 @@ fn try_flock(_f: &File) -> std::io::Result<bool> {
 
 /// Takes the exclusive lock of `dir` (which must exist), creating the lock file when
 /// `create`; `Ok(None)` when `create` is false and there is no lock file. Refused with the
-/// holder's PID when another process holds it.
+/// holder's PID when another process holds it, and when the lock file is a link or not a
+/// regular file (it is never written through, see [`crate::safe_write::open_lock`]).
 pub fn lock(dir: &Path, create: bool) -> Result<Option<DirLock>, OutputDirError> {
     let path = dir.join(LOCK);
-    let mut f = match OpenOptions::new()
-        .read(true)
-        .write(true)
-        .create(create)
-        .truncate(false)
-        .open(&path)
-    {
+    let mut f = match safe_write::open_lock(&path, create) {
         Ok(f) => f,
         Err(e) if !create && e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
         Err(source) => return Err(OutputDirError::CreateLock { path, source }),
@@ -152,7 +152,7 @@ pub fn lock(dir: &Path, create: bool) -> Result<Option<DirLock>, OutputDirError>
     };
     if !got {
         let mut holder = String::new();
-        f.read_to_string(&mut holder).ok();
+        let _ = (&mut f).take(64).read_to_string(&mut holder);
         let holder = holder.trim();
         let holder = if holder.is_empty() { "unknown" } else { holder };
         return Err(OutputDirError::InUse {
@@ -247,10 +247,10 @@ impl ChunkEntry {
 /// Reads the journal of `dir`: the last entry of each chunk. Lines that do not parse (a torn
 /// last line after a kill) are skipped; their chunks count as not finished.
 pub fn read_journal(dir: &Path) -> std::io::Result<HashMap<u64, ChunkEntry>> {
-    let text = match std::fs::read(dir.join(JOURNAL)) {
+    let text = match safe_read::read_bytes(&dir.join(JOURNAL), Limit::Table) {
         Ok(b) => String::from_utf8_lossy(&b).into_owned(),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => String::new(),
-        Err(e) => return Err(e),
+        Err(e) if e.is_not_found() => String::new(),
+        Err(e) => return Err(std::io::Error::other(e.to_string())),
     };
     let mut out = HashMap::new();
     for e in text.lines().filter_map(ChunkEntry::from_line) {
@@ -267,16 +267,23 @@ pub fn rewrite_journal(dir: &Path, entries: &[ChunkEntry]) -> std::io::Result<()
 
 /// Appends one finished chunk to the journal and fsyncs it.
 pub fn append_journal(dir: &Path, entry: ChunkEntry) -> std::io::Result<()> {
-    let mut f = OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(dir.join(JOURNAL))?;
+    let mut f = safe_write::open_append(&dir.join(JOURNAL))?;
     f.write_all(entry.to_line().as_bytes())?;
     f.sync_data()
 }
 
 /// Why a chunk file kept from an earlier run cannot be trusted (`None`: it matches its entry).
+/// A link in a chunk's place is never followed: it is not a file polywear wrote.
 pub fn verify_chunk(path: &Path, entry: Option<&ChunkEntry>, rows: u64) -> Option<ChunkMismatch> {
+    match std::fs::symlink_metadata(path) {
+        Ok(m) if !m.is_file() => {
+            return Some(ChunkMismatch::NotAFile(safe_read::kind_name(
+                &m.file_type(),
+            )))
+        }
+        Ok(_) => {}
+        Err(e) => return Some(ChunkMismatch::Unreadable(e)),
+    }
     let Some(entry) = entry else {
         return Some(ChunkMismatch::NotRecorded);
     };

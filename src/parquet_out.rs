@@ -2,11 +2,12 @@
 //! chunk so memory stays bounded, and key–value metadata (study, seed, variant, parameters,
 //! program version, units) in the file footer. Files open in polars, pandas/pyarrow and DuckDB.
 //!
-//! Every file is written crash-safely: under a hidden temporary name, fsynced, renamed, and the
-//! directory fsynced, so after a crash or `kill -9` a file is either whole or absent. The CRC-32
-//! of the bytes is computed while writing, for the explore manifest.
+//! Every file is created through [`crate::safe_write`] (never through a planted link). A Parquet
+//! file is written crash-safely: under a hidden temporary name, fsynced, renamed, and the
+//! directory fsynced, so after a crash or `kill -9` a file is either whole or absent; a CSV file
+//! goes through the same temporary name and rename, without the fsyncs. The CRC-32 of the
+//! bytes is computed while writing, for the explore manifest.
 
-use std::fs::File;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -17,6 +18,9 @@ use parquet::file::metadata::KeyValue;
 use parquet::file::properties::WriterProperties;
 use parquet::file::writer::SerializedFileWriter;
 use parquet::schema::parser::parse_message_type;
+
+use crate::safe_write::NewFile;
+pub use crate::safe_write::{partial_path, sync_dir, write_durably};
 
 /// The values of one column in one row group.
 #[derive(Debug, Clone, PartialEq)]
@@ -113,10 +117,12 @@ pub struct FileDigest {
 }
 
 impl FileDigest {
-    /// Reads `path` and computes its digest (for verifying a file against a manifest).
+    /// Reads `path` and computes its digest (for verifying a file against a manifest); only a
+    /// regular file within [`crate::safe_read::Limit::Chunk`] is read.
     pub fn of_file(path: &Path) -> std::io::Result<FileDigest> {
         use std::io::Read;
-        let mut f = File::open(path)?;
+        let (mut f, _) = crate::safe_read::open(path, crate::safe_read::Limit::Chunk)
+            .map_err(std::io::Error::other)?;
         let mut h = crc32fast::Hasher::new();
         let mut buf = vec![0u8; 1 << 16];
         let mut bytes = 0u64;
@@ -137,7 +143,7 @@ impl FileDigest {
 
 /// A file that digests what is written through it.
 struct DigestingFile {
-    file: File,
+    file: NewFile,
     hasher: crc32fast::Hasher,
     bytes: u64,
 }
@@ -155,50 +161,12 @@ impl Write for DigestingFile {
     }
 }
 
-/// Fsyncs a directory, so that a rename or a new file in it survives a crash.
-pub fn sync_dir(dir: &Path) -> std::io::Result<()> {
-    let dir = if dir.as_os_str().is_empty() {
-        Path::new(".")
-    } else {
-        dir
-    };
-    File::open(dir)?.sync_all()
-}
-
-/// Moves a complete, fsynced temporary file to its final name and fsyncs the directory.
-pub fn publish(tmp_path: &Path, path: &Path) -> std::io::Result<()> {
-    std::fs::rename(tmp_path, path)?;
-    sync_dir(path.parent().unwrap_or(Path::new(".")))
-}
-
-/// The hidden temporary name of `path` while it is written: `_NAME.partial` beside it. The
-/// leading underscore hides it from pyarrow/pandas directory reads.
-pub fn partial_path(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    path.with_file_name(format!("_{name}.partial"))
-}
-
-/// Writes `bytes` to `path` crash-safely: temporary name, fsync, rename, directory fsync. A
-/// reader (or a resumed run) sees the old file or the new one, never a torn one.
-pub fn write_durably(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let tmp = partial_path(path);
-    let mut f = File::create(&tmp)?;
-    f.write_all(bytes)?;
-    f.sync_all()?;
-    drop(f);
-    publish(&tmp, path)
-}
-
 /// Streams row groups into one Parquet file. The file is written under a temporary name and
 /// renamed on [`TableWriter::finish`] after an fsync, so a half-written file is never taken for
 /// a result.
 pub struct TableWriter {
     writer: SerializedFileWriter<DigestingFile>,
     path: PathBuf,
-    tmp_path: PathBuf,
 }
 
 impl TableWriter {
@@ -244,9 +212,8 @@ impl TableWriter {
             .set_key_value_metadata(Some(kv))
             .set_created_by(format!("polywear {}", env!("CARGO_PKG_VERSION")))
             .build();
-        let tmp_path = partial_path(path);
         let file = DigestingFile {
-            file: File::create(&tmp_path).map_err(|e| err(&e))?,
+            file: NewFile::create(path).map_err(|e| err(&e))?,
             hasher: crc32fast::Hasher::new(),
             bytes: 0,
         };
@@ -255,7 +222,6 @@ impl TableWriter {
         Ok(TableWriter {
             writer,
             path: path.to_path_buf(),
-            tmp_path,
         })
     }
 
@@ -291,13 +257,11 @@ impl TableWriter {
         let err = |e: &dyn std::fmt::Display| WriteError(format!("{path}: {e}"));
         let mut inner = self.writer.into_inner().map_err(|e| err(&e))?;
         inner.flush().map_err(|e| err(&e))?;
-        inner.file.sync_all().map_err(|e| err(&e))?;
         let digest = FileDigest {
             bytes: inner.bytes,
             crc32: inner.hasher.finalize(),
         };
-        drop(inner.file);
-        publish(&self.tmp_path, &self.path).map_err(|e| err(&e))?;
+        inner.file.commit_durably().map_err(|e| err(&e))?;
         Ok(digest)
     }
 }
@@ -327,7 +291,7 @@ pub fn write_table_digest(
 /// numbers are written in full precision as Rust prints them (`NaN` for a missing value).
 pub fn write_csv(path: &Path, columns: &[Column]) -> Result<(), WriteError> {
     let err = |e: &dyn std::fmt::Display| WriteError(format!("{}: {e}", path.display()));
-    let file = File::create(path).map_err(|e| err(&e))?;
+    let file = NewFile::create(path).map_err(|e| err(&e))?;
     let mut w = csv::WriterBuilder::new()
         .terminator(csv::Terminator::Any(b'\n'))
         .from_writer(std::io::BufWriter::new(file));
@@ -342,7 +306,12 @@ pub fn write_csv(path: &Path, columns: &[Column]) -> Result<(), WriteError> {
         });
         w.write_record(cells).map_err(|e| err(&e))?;
     }
-    w.flush().map_err(|e| err(&e))
+    let file = w
+        .into_inner()
+        .map_err(|e| err(&e.to_string()))?
+        .into_inner()
+        .map_err(|e| err(&e.error().to_string()))?;
+    file.commit().map_err(|e| err(&e))
 }
 
 #[cfg(test)]

@@ -5,6 +5,9 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::safe_read::{self, Limit, ReadError};
+use crate::wording::snippet;
+
 /// A table of finite numbers with named columns.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NumericTable {
@@ -26,14 +29,9 @@ pub struct NumericTable {
 /// (line L), column `NAME`", as [`NumericTable::at`] words it).
 #[derive(Debug, thiserror::Error)]
 pub enum TableError {
-    /// The file cannot be read.
-    #[error("{}: cannot read: {source}", path.display())]
-    Read {
-        /// The file.
-        path: PathBuf,
-        /// What the system said.
-        source: std::io::Error,
-    },
+    /// The file cannot be read: absent, not a regular file, or larger than a table may be.
+    #[error(transparent)]
+    Read(#[from] ReadError),
     /// A CSV file that is not UTF-8 text.
     #[error("{}: not UTF-8 text: {source}", path.display())]
     NotUtf8 {
@@ -61,6 +59,24 @@ pub enum TableError {
     NoRows {
         /// The file.
         path: PathBuf,
+    },
+    /// A quoted field that is never closed.
+    #[error("{}, line {line}: a quoted field starts here and is never closed (unterminated `\"`)", path.display())]
+    UnterminatedQuote {
+        /// The file.
+        path: PathBuf,
+        /// The line of the opening quote, counted from 1.
+        line: usize,
+    },
+    /// A header cell that cannot be a column name: the file is likely not a table at all.
+    #[error("{}: header, column {number}: {} is not a column name (at most 40 characters, no control characters); is this a CSV file with a header line?", path.display(), snippet(name))]
+    NotAName {
+        /// The file.
+        path: PathBuf,
+        /// The column, counted from 1.
+        number: usize,
+        /// The cell (quoted in part only).
+        name: String,
     },
     /// A column without a name.
     #[error("{}: header, column {number}: empty column name", path.display())]
@@ -99,7 +115,7 @@ pub enum TableError {
         at: String,
     },
     /// A cell that is not a number.
-    #[error("{at}: `{text}` is not a number")]
+    #[error("{at}: {} is not a number", snippet(text))]
     NotANumber {
         /// File, row and column.
         at: String,
@@ -129,7 +145,10 @@ pub enum TableError {
         at: String,
     },
     /// A Parquet column of another type than numbers.
-    #[error("{at}: `{value}` is not a number (the column must be numeric)")]
+    #[error(
+        "{at}: {} is not a number (the column must be numeric)",
+        snippet(value)
+    )]
     NotNumeric {
         /// File, row and column.
         at: String,
@@ -145,12 +164,10 @@ pub enum TableError {
 }
 
 impl NumericTable {
-    /// Reads `path`: Parquet when it ends in `.parquet`, CSV otherwise.
+    /// Reads `path`: Parquet when it ends in `.parquet`, CSV otherwise; only a regular file
+    /// within [`Limit::Table`] is read.
     pub fn read(path: &Path) -> Result<NumericTable, TableError> {
-        let bytes = std::fs::read(path).map_err(|source| TableError::Read {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let bytes = safe_read::read_bytes(path, Limit::Table)?;
         let hash = bytes_hash(&bytes);
         let n = bytes.len() as u64;
         let is_parquet = path
@@ -209,9 +226,24 @@ fn cell(s: &str) -> &str {
         .map_or(s, str::trim)
 }
 
-/// Checks the header: no empty and no repeated name.
+/// Whether a header cell can be a column name: a parameter's name, or a weight column's as
+/// people write it (`hours`, `Stunden (h)`), at most 40 characters without control characters.
+/// The first line of a file that is no table (a password file's entry, a binary) is not, and is
+/// then never quoted in full.
+fn is_column_name(name: &str) -> bool {
+    name.chars().count() <= 40 && !name.chars().any(char::is_control)
+}
+
+/// Checks the header: no empty, no repeated name, and each a name.
 fn check_header(path: &Path, columns: &[String]) -> Result<(), TableError> {
     for (j, name) in columns.iter().enumerate() {
+        if !name.is_empty() && !is_column_name(name) {
+            return Err(TableError::NotAName {
+                path: path.to_path_buf(),
+                number: j + 1,
+                name: name.clone(),
+            });
+        }
         if name.is_empty() {
             return Err(TableError::EmptyColumnName {
                 path: path.to_path_buf(),
@@ -235,6 +267,12 @@ fn check_header(path: &Path, columns: &[String]) -> Result<(), TableError> {
 /// breaks), each then trimmed and stripped of surrounding quotes.
 pub fn csv_records(path: &Path, text: &str) -> Result<Vec<(usize, Vec<String>)>, TableError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    if let Some(line) = unterminated_quote(text) {
+        return Err(TableError::UnterminatedQuote {
+            path: path.to_path_buf(),
+            line,
+        });
+    }
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
@@ -268,6 +306,35 @@ pub fn csv_records(path: &Path, text: &str) -> Result<Vec<(usize, Vec<String>)>,
         out.push((line, record.iter().map(|c| cell(c).to_string()).collect()));
     }
     Ok(out)
+}
+
+/// The line of a quote that opens a field and is never closed, read as RFC 4180 and the `csv`
+/// crate read it: a quote opens a field only at its start, `""` inside is a quote, and a quote
+/// elsewhere in an unquoted field is text. The reader itself takes such a field to the end of
+/// the file, which would be reported as a row with too few cells.
+fn unterminated_quote(text: &str) -> Option<usize> {
+    let (mut line, mut opened_on) = (1usize, 0usize);
+    let (mut at_field_start, mut quoted) = (true, false);
+    let mut bytes = text.bytes().peekable();
+    while let Some(b) = bytes.next() {
+        if quoted {
+            if b == b'"' {
+                if bytes.peek() == Some(&b'"') {
+                    bytes.next();
+                } else {
+                    quoted = false;
+                }
+            }
+        } else if b == b'"' && at_field_start {
+            quoted = true;
+            opened_on = line;
+        }
+        at_field_start = !quoted && matches!(b, b',' | b'\n' | b'\r');
+        if b == b'\n' {
+            line += 1;
+        }
+    }
+    quoted.then_some(opened_on)
 }
 
 fn read_csv(path: &Path, bytes: &[u8]) -> Result<NumericTable, TableError> {
@@ -337,7 +404,7 @@ fn read_parquet(path: &Path) -> Result<NumericTable, TableError> {
         path: path.to_path_buf(),
         message: m.to_string(),
     };
-    let f = std::fs::File::open(path).map_err(|err| e(&err))?;
+    let (f, _) = safe_read::open(path, Limit::Table)?;
     let reader = SerializedFileReader::new(f).map_err(|err| e(&err))?;
     let schema = reader.metadata().file_metadata().schema_descr();
     let columns: Vec<String> = schema.columns().iter().map(|c| c.path().string()).collect();
@@ -434,5 +501,21 @@ mod tests {
         assert!(err("e5.csv", "a,a\n1,2\n").contains("`a` appears twice"));
         assert!(err("e6.csv", "a,b\n1\n").contains("1 cells"));
         assert!(err("e7.csv", "a,b\n1,x\n").contains("`x` is not a number"));
+        let m = err("e8.csv", "a,b\n1,\"2\n3,4\n");
+        assert!(m.contains("line 2") && m.contains("never closed"), "{m}");
+        // A quote inside an unquoted field is text; doubled quotes inside a quoted one too.
+        let m = err("e9.csv", "a,b\n1,2\"x\n\"3\"\"\",4\n");
+        assert!(
+            m.contains("is not a number") && !m.contains("closed"),
+            "{m}"
+        );
+        let m = err(
+            "e10.csv",
+            "root:$6$saltsaltsaltsalt$hashhashhashhashhashhashhashhash:19000:0:99999:7:::\nbin:x:1\n",
+        );
+        assert!(
+            m.contains("not a column name") && !m.contains("hash"),
+            "{m}"
+        );
     }
 }

@@ -31,6 +31,18 @@ fn trim_zeros(s: &str) -> String {
     }
 }
 
+/// What a message may quote of a file's or a value's content: at most 16 characters, escaped
+/// (line breaks, control characters and quotes written as `\n`, `\u{1}`, `\"`), in backticks,
+/// with `…` when cut. A file refused for what it holds (a password file given as a CSV) is then
+/// named, never shown.
+pub fn snippet(s: &str) -> String {
+    const MAX_CHARS: usize = 16;
+    let cut = s.chars().count() > MAX_CHARS;
+    let head: String = s.chars().take(MAX_CHARS).collect();
+    let escaped: String = head.escape_debug().collect();
+    format!("`{escaped}{}`", if cut { "…" } else { "" })
+}
+
 /// The candidate closest to `typed` by edit distance (Levenshtein), if it is close enough to be
 /// a likely misspelling: at most a third of the name's letters changed (one in a name of three
 /// or four letters, two or more in a longer one, none in a shorter one), or
@@ -67,6 +79,16 @@ pub fn did_you_mean<'a>(typed: &str, candidates: impl IntoIterator<Item = &'a st
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn snippets_are_short_and_escaped() {
+        assert_eq!(snippet("speed_kmh"), "`speed_kmh`");
+        assert_eq!(
+            snippet("root:$6$saltsalt$hashhashhash:19000:0:99999:7:::\nbin:x"),
+            "`root:$6$saltsalt…`"
+        );
+        assert_eq!(snippet("a\nb\"c"), "`a\\nb\\\"c`");
+    }
 
     #[test]
     fn plain_numbers() {

@@ -1,10 +1,12 @@
 //! The inputs of an analysis: which Parquet files, what their footers say about the run, and
 //! whether they belong together. Everything here reads only footers and manifests, so inputs
-//! that do not belong together are refused before any row is read.
+//! that do not belong together, or were damaged, are refused before any row is read.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use super::footer::{self, FileFooter};
+use super::severity::SEVERITY_QUANTITIES;
 use super::AnalysisError;
 use crate::explore::RunManifest;
 use crate::model::Variant;
@@ -67,40 +69,6 @@ impl RunInfo {
     }
 }
 
-/// One chunk file's footer, as far as the checks need it.
-#[derive(Debug, Clone)]
-struct FileFooter {
-    path: PathBuf,
-    meta: Vec<(String, String)>,
-    /// The run as the footer records it (None when the metadata is not a run's).
-    run: Option<RunManifest>,
-    rows: u64,
-    /// (min, max) of `sample_id` from the column statistics.
-    id_range: Option<(i64, i64)>,
-}
-
-impl FileFooter {
-    /// Whether the footer is an explore chunk's: it names the drawn values.
-    fn is_explore(&self) -> bool {
-        self.meta
-            .iter()
-            .any(|(k, _)| k == "drawn_names" || k == "drawn")
-    }
-
-    /// The run the footer records.
-    fn run(&self) -> Result<&RunManifest, AnalysisError> {
-        self.run.as_ref().ok_or_else(|| {
-            let message = RunManifest::from_key_values(&self.meta)
-                .err()
-                .map_or_else(String::new, |e| e.to_string());
-            AnalysisError::Metadata {
-                path: self.path.clone(),
-                message,
-            }
-        })
-    }
-}
-
 /// The study's identity: `study_hash`, or the hash of the `study` text for older files.
 fn study_hash(run: &RunManifest) -> String {
     run.study_hash
@@ -153,63 +121,21 @@ pub fn parquet_files(inputs: &[PathBuf]) -> Result<(Vec<PathBuf>, Vec<PathBuf>),
     Ok((files, manifests))
 }
 
-fn read_footer(path: &Path) -> Result<FileFooter, AnalysisError> {
-    use parquet::file::reader::{FileReader, SerializedFileReader};
-    use parquet::file::statistics::Statistics;
-    let f = std::fs::File::open(path).map_err(|e| AnalysisError::io(path, e))?;
-    let r = SerializedFileReader::new(f).map_err(|e| AnalysisError::io(path, e))?;
-    let md = r.metadata();
-    let meta: Vec<(String, String)> = md
-        .file_metadata()
-        .key_value_metadata()
-        .map(|kv| {
-            kv.iter()
-                .map(|k| (k.key.clone(), k.value.clone().unwrap_or_default()))
-                .collect()
-        })
-        .unwrap_or_default();
-    let schema = md.file_metadata().schema_descr();
-    let id_col = (0..schema.num_columns())
-        .find(|&i| schema.column(i).name() == crate::records::SAMPLE_ID.name);
-    let mut id_range: Option<(i64, i64)> = None;
-    let mut rows = 0u64;
-    let mut stats_complete = true;
-    for rg in md.row_groups() {
-        rows += rg.num_rows() as u64;
-        let Some(c) = id_col else {
-            stats_complete = false;
-            continue;
-        };
-        match rg.column(c).statistics() {
-            Some(Statistics::Int64(s)) => match (s.min_opt(), s.max_opt()) {
-                (Some(lo), Some(hi)) => {
-                    id_range = Some(match id_range {
-                        None => (*lo, *hi),
-                        Some((a, b)) => (a.min(*lo), b.max(*hi)),
-                    })
-                }
-                _ => stats_complete = rg.num_rows() == 0 && stats_complete,
-            },
-            _ => stats_complete = false,
-        }
-    }
-    Ok(FileFooter {
-        path: path.to_path_buf(),
-        run: RunManifest::from_key_values(&meta).ok(),
-        meta,
-        rows,
-        id_range: if stats_complete { id_range } else { None },
-    })
-}
-
 /// Reads every footer and manifest and checks that the inputs belong together: the same study
-/// text (`study_hash`), seed, variant set and sample count, and no sample's rows twice.
-/// Returns what the metadata says about the run. Errors name both files and the key.
+/// text (`study_hash`), seed, variant set and sample count, no sample's rows twice, sample ids
+/// within the run, the columns of the types explore writes, and every chunk of a directory as
+/// its journal records it (CRC-32). Returns what the metadata says about the run. Errors name
+/// the files and the key.
 pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
     let (files, manifests) = parquet_files(inputs)?;
+    // The journal first: a damaged chunk is named as damaged, with the way back, even when its
+    // footer no longer reads.
+    for input in inputs.iter().filter(|i| i.is_dir()) {
+        footer::verify_chunks(input, &files)?;
+    }
     let footers: Vec<FileFooter> = files
         .iter()
-        .map(|p| read_footer(p))
+        .map(|p| FileFooter::read(p))
         .collect::<Result<_, _>>()?;
     let first = &footers[0];
     if !first.is_explore() {
@@ -218,69 +144,151 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
         });
     }
     let run = first.run()?;
-    let mismatch = |other: &Path, key: &'static str, ours: String, theirs: String| {
-        if ours == theirs {
-            return Ok(());
-        }
-        Err(AnalysisError::Mismatch {
-            first: first.path.clone(),
-            other: other.to_path_buf(),
-            key,
-            ours: short(&ours),
-            theirs: short(&theirs),
-        })
-    };
-    // The same run: compare every file with the first.
-    for f in &footers[1..] {
-        let theirs = f.run()?;
-        // The specific keys first: two studies that differ only in their variants name `variant`.
-        mismatch(
-            &f.path,
-            "seed",
-            run.seed.to_string(),
-            theirs.seed.to_string(),
-        )?;
-        mismatch(
-            &f.path,
-            "variant",
-            run.variant_text(),
-            theirs.variant_text(),
-        )?;
-        mismatch(
-            &f.path,
-            "samples",
-            run.samples.to_string(),
-            theirs.samples.to_string(),
-        )?;
-        mismatch(&f.path, "study_hash", study_hash(run), study_hash(theirs))?;
+    check_same_run(first, &footers[1..])?;
+    let manifest_study = check_manifests(first, &manifests)?;
+    let variants = run.variants.clone().unwrap_or_else(|| vec![Variant::Paper]);
+    let (present, rows) = sample_blocks(&footers, 2 * variants.len().max(1) as u64, run.samples)?;
+    let drawn_names = drawn_names(first)?;
+    let quantities = SEVERITY_QUANTITIES.map(|q| q.name());
+    for f in &footers {
+        f.check_columns(&drawn_names, &quantities)?;
     }
-    // Manifests (empty shards have only these) must describe the same run.
+    let units = match first.value("units") {
+        None => BTreeMap::new(),
+        Some(text) => serde_json::from_str(text).map_err(|e| AnalysisError::Metadata {
+            path: first.path.clone(),
+            message: format!("`units`: {e}"),
+        })?,
+    };
+    let study_text = run.study.clone().or(manifest_study).unwrap_or_default();
+    let dir = run
+        .operating_points
+        .as_ref()
+        .and_then(|o| o.dir())
+        .unwrap_or_default();
+    // The text is the one every footer's `study_hash` names (checked above), so a study that
+    // does not parse is one this version cannot read, or whose operating-point file moved: only
+    // the nominal curves of the risk maps need it, and they are then left out.
+    let study = Study::parse_at(&study_text, run.params, &dir).ok();
+    Ok(RunInfo {
+        study_name: run.study_name.clone(),
+        study_text,
+        study,
+        study_hash: study_hash(run),
+        seed: run.seed,
+        samples: run.samples,
+        design: run.design.ok_or_else(|| AnalysisError::Metadata {
+            path: first.path.clone(),
+            message: "no `design` recorded".into(),
+        })?,
+        variants,
+        version: run.polywear_version.clone(),
+        drawn_names,
+        units,
+        files,
+        samples_present: present,
+        rows,
+        params: run.params,
+    })
+}
+
+/// Refuses a footer whose run differs from the first's: the specific keys first, so that two
+/// studies that differ only in their variants name `variant`.
+fn check_same_run(first: &FileFooter, others: &[FileFooter]) -> Result<(), AnalysisError> {
+    let run = first.run()?;
+    for f in others {
+        let theirs = f.run()?;
+        let pairs = [
+            ("seed", run.seed.to_string(), theirs.seed.to_string()),
+            ("variant", run.variant_text(), theirs.variant_text()),
+            (
+                "samples",
+                run.samples.to_string(),
+                theirs.samples.to_string(),
+            ),
+            ("study_hash", study_hash(run), study_hash(theirs)),
+        ];
+        for (key, ours, theirs) in pairs {
+            mismatch(first, &f.path, key, ours, theirs)?;
+        }
+    }
+    Ok(())
+}
+
+/// Checks that the manifests (empty shards have only these) describe the first footer's run;
+/// returns the first manifest's study text.
+fn check_manifests(
+    first: &FileFooter,
+    manifests: &[PathBuf],
+) -> Result<Option<String>, AnalysisError> {
+    let run = first.run()?;
     let mut manifest_study: Option<String> = None;
-    for m in &manifests {
-        let text = std::fs::read_to_string(m).map_err(|e| AnalysisError::io(m, e))?;
+    for m in manifests {
+        let text = crate::safe_read::read_text(m, crate::safe_read::Limit::Text).map_err(|e| {
+            AnalysisError::Io {
+                path: m.clone(),
+                message: e.reason(),
+            }
+        })?;
         let recorded = RunManifest::from_json_text(&text).map_err(|e| AnalysisError::Metadata {
             path: m.clone(),
             message: e.to_string(),
         })?;
-        let recorded_study = recorded.study.clone().unwrap_or_default();
-        mismatch(m, "seed", run.seed.to_string(), recorded.seed.to_string())?;
+        let recorded_study = recorded
+            .study
+            .clone()
+            .ok_or_else(|| AnalysisError::Metadata {
+                path: m.clone(),
+                message: "no `study` recorded".into(),
+            })?;
         mismatch(
+            first,
             m,
-            "samples",
-            run.samples.to_string(),
-            recorded.samples.to_string(),
+            "seed",
+            run.seed.to_string(),
+            recorded.seed.to_string(),
         )?;
-        mismatch(m, "study_hash", study_hash(run), text_hash(&recorded_study))?;
+        let samples = (run.samples.to_string(), recorded.samples.to_string());
+        mismatch(first, m, "samples", samples.0, samples.1)?;
+        let hashes = (study_hash(run), text_hash(&recorded_study));
+        mismatch(first, m, "study_hash", hashes.0, hashes.1)?;
         manifest_study.get_or_insert(recorded_study);
     }
-    let variants = run.variants.clone().unwrap_or_else(|| vec![Variant::Paper]);
-    let rows_per_sample = 2 * variants.len().max(1) as u64;
-    // Each explore file holds a contiguous block of sample ids, every variant and wheel once:
-    // rows = ids × rows per sample. Blocks of different files must not overlap.
+    Ok(manifest_study)
+}
+
+/// A refusal of `other` when its `key` differs from the first file's.
+fn mismatch(
+    first: &FileFooter,
+    other: &Path,
+    key: &'static str,
+    ours: String,
+    theirs: String,
+) -> Result<(), AnalysisError> {
+    if ours == theirs {
+        return Ok(());
+    }
+    Err(AnalysisError::Mismatch {
+        first: first.path.clone(),
+        other: other.to_path_buf(),
+        key,
+        ours: short(&ours),
+        theirs: short(&theirs),
+    })
+}
+
+/// Each explore file holds a contiguous block of sample ids within `[0, samples)`, every
+/// variant and wheel once: rows = ids × rows per sample. Blocks of different files must not
+/// overlap. Returns the samples present and the rows.
+fn sample_blocks(
+    footers: &[FileFooter],
+    rows_per_sample: u64,
+    samples: u64,
+) -> Result<(u64, u64), AnalysisError> {
     let mut blocks: Vec<(i64, i64, &FileFooter)> = Vec::new();
     let mut present = 0u64;
     let mut rows = 0u64;
-    for f in &footers {
+    for f in footers {
         rows += f.rows;
         let Some((lo, hi)) = f.id_range else {
             if f.rows == 0 {
@@ -290,6 +298,13 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
                 path: f.path.clone(),
             });
         };
+        if lo < 0 || hi < lo || hi as u64 >= samples {
+            return Err(AnalysisError::SampleIds {
+                path: f.path.clone(),
+                ids: (lo, hi),
+                samples,
+            });
+        }
         let ids = (hi - lo + 1) as u64;
         if f.rows != ids * rows_per_sample {
             return Err(AnalysisError::RowCount {
@@ -313,48 +328,30 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
             });
         }
     }
-    let drawn_names = match &run.drawn_names {
-        Some(names) => names.clone(),
-        // Files without `drawn_names` lead each `drawn` entry with its name (`name:...`).
-        None => serde_json::from_value::<Vec<String>>(run.drawn.clone().unwrap_or_default())
-            .unwrap_or_default()
-            .iter()
-            .filter_map(|d| d.split(':').next()?.parse().ok())
-            .collect(),
+    Ok((present, rows))
+}
+
+/// The drawn parameters of the first footer: `drawn_names`, or for files without it the name
+/// that leads each `drawn` entry (`name:...`). A list that cannot be read is refused by key.
+fn drawn_names(first: &FileFooter) -> Result<Vec<ParamId>, AnalysisError> {
+    let run = first.run()?;
+    if let Some(names) = &run.drawn_names {
+        return Ok(names.clone());
+    }
+    let bad = |message: String| AnalysisError::Metadata {
+        path: first.path.clone(),
+        message,
     };
-    let units = first
-        .meta
+    let entries: Vec<String> = serde_json::from_value(run.drawn.clone().unwrap_or_default())
+        .map_err(|e| bad(format!("`drawn`: {e}")))?;
+    entries
         .iter()
-        .find(|(k, _)| k == "units")
-        .and_then(|(_, v)| serde_json::from_str(v).ok())
-        .unwrap_or_default();
-    let study_text = run.study.clone().or(manifest_study).unwrap_or_default();
-    let dir = run
-        .operating_points
-        .as_ref()
-        .and_then(|o| o.dir())
-        .unwrap_or_default();
-    let study = Study::parse_at(&study_text, run.params, &dir).ok();
-    Ok(RunInfo {
-        study_name: run.study_name.clone(),
-        study_text,
-        study,
-        study_hash: study_hash(run),
-        seed: run.seed,
-        samples: run.samples,
-        design: run.design.ok_or_else(|| AnalysisError::Metadata {
-            path: first.path.clone(),
-            message: "no `design` recorded".into(),
-        })?,
-        variants,
-        version: run.polywear_version.clone(),
-        drawn_names,
-        units,
-        files,
-        samples_present: present,
-        rows,
-        params: run.params,
-    })
+        .map(|d| {
+            let name = d.split(':').next().unwrap_or_default();
+            name.parse()
+                .map_err(|e: crate::params::ParamError| bad(format!("`drawn`: {e}")))
+        })
+        .collect()
 }
 
 fn short(s: &str) -> String {

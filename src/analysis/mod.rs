@@ -14,6 +14,7 @@
 pub mod bins;
 pub mod conditional;
 pub mod counts;
+mod footer;
 pub mod inputs;
 pub mod occurrence;
 pub mod paired;
@@ -231,6 +232,56 @@ pub enum AnalysisError {
         /// The shared sample ids, first and last.
         ids: (i64, i64),
     },
+    /// A column the analysis reads that is missing or of another type than explore writes.
+    #[error("{}: column `{column}` is {found}, expected {expected}; analyze reads the columns `polywear explore` writes (a rewritten file must keep their types)", path.display())]
+    ColumnType {
+        /// The file.
+        path: PathBuf,
+        /// The column.
+        column: String,
+        /// Its type in the file, or `missing`.
+        found: String,
+        /// The type explore writes.
+        expected: String,
+    },
+    /// A chunk file that does not match the run's journal.
+    #[error("{}: {why}; `polywear explore --resume --out {}` verifies every chunk and re-evaluates this one", path.display(), crate::explore::recorded_run::shell_word(&dir.display().to_string()))]
+    Damaged {
+        /// The chunk file.
+        path: PathBuf,
+        /// How it differs from its journal entry.
+        why: String,
+        /// The run's directory.
+        dir: PathBuf,
+    },
+    /// Sample ids outside the run's `[0, samples)`.
+    #[error("{}: sample_id {}..={} lies outside the run's [0, {samples}) (`samples` = {samples} in its metadata)", path.display(), ids.0, ids.1)]
+    SampleIds {
+        /// The file.
+        path: PathBuf,
+        /// Its sample ids, first and last.
+        ids: (i64, i64),
+        /// The run's sample count.
+        samples: u64,
+    },
+    /// Rows whose variant or wheel the footers do not describe.
+    #[error("{}: {what}; every row's variant must be one of the footer's `variant` ({variants}), with one follower and one driving row per sample", path.display())]
+    RowsDisagree {
+        /// The file.
+        path: PathBuf,
+        /// What the rows hold.
+        what: String,
+        /// The footer's variants.
+        variants: String,
+    },
+    /// A drawn value that is NaN or infinite (explore writes only finite ones).
+    #[error("column `{column}` holds {rows} NaN or infinite values; explore writes only finite drawn values, so the files were changed after the run")]
+    NotFinite {
+        /// The column.
+        column: String,
+        /// Rows with such a value.
+        rows: u64,
+    },
     /// Rows of a class this version does not know.
     #[error("{rows} rows have a `class` this version does not know; accepted: {}", Class::ALL.map(|c| c.as_str()).join(", "))]
     UnknownClass {
@@ -294,6 +345,7 @@ pub fn run_with_progress(
     let mut notes = Vec::new();
     let rows = Rows::scan(&info.files)?;
     let occurrence = occurrence::occurrence(&rows)?;
+    check_rows_agree(&info, &occurrence)?;
     progress(Step::Occurrence);
     let paired = paired::paired(&info.files, PAIRED_BATCH_ROWS)?;
     progress(Step::Paired);
@@ -359,6 +411,48 @@ pub fn run_with_progress(
         robustness,
         robustness_summary,
         notes,
+    })
+}
+
+/// Refuses rows whose variant or wheel the footers do not describe: each variant of the footers
+/// and each wheel hold exactly one row per sample present, and no other pair has rows. The file
+/// at fault is found by a query of each file, on this error's path only.
+fn check_rows_agree(info: &RunInfo, occurrence: &[Occurrence]) -> Result<(), AnalysisError> {
+    let agree = |occ: &[Occurrence], samples: Option<u64>| {
+        let counts: Vec<u64> = occ.iter().map(|o| o.counts.total()).collect();
+        occ.len() == 2 * info.variants.len()
+            && occ.iter().all(|o| info.variants.contains(&o.variant))
+            && counts.windows(2).all(|w| w[0] == w[1])
+            && samples.is_none_or(|n| counts.first() == Some(&n))
+    };
+    if agree(occurrence, Some(info.samples_present)) {
+        return Ok(());
+    }
+    let what = |occ: &[Occurrence]| {
+        occ.iter()
+            .map(|o| format!("{} {} rows of {}", o.counts.total(), o.wheel, o.variant))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let culprit = info
+        .files
+        .iter()
+        .map(|f| {
+            Ok((
+                f,
+                occurrence::occurrence(&Rows::scan(std::slice::from_ref(f))?)?,
+            ))
+        })
+        .find(|r: &Result<_, AnalysisError>| r.as_ref().map_or(true, |(_, o)| !agree(o, None)))
+        .transpose()?;
+    let (path, occ) = match &culprit {
+        Some((f, occ)) => ((*f).clone(), occ.as_slice()),
+        None => (info.files[0].clone(), occurrence),
+    };
+    Err(AnalysisError::RowsDisagree {
+        path,
+        what: format!("holds {}", what(occ)),
+        variants: info.variant_text(),
     })
 }
 

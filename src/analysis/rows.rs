@@ -199,6 +199,14 @@ impl Rows {
         for a in axes {
             exprs.push(col(*a).min().alias(format!("{a}\u{1}min")));
             exprs.push(col(*a).max().alias(format!("{a}\u{1}max")));
+            exprs.push(
+                col(*a)
+                    .is_finite()
+                    .not()
+                    .cast(DataType::Int64)
+                    .sum()
+                    .alias(format!("{a}\u{1}bad")),
+            );
         }
         for q in quantities {
             let keep = vib_expr().and(col(*q).is_finite());
@@ -211,6 +219,16 @@ impl Rows {
             exprs.push(col(*q).filter(keep).max().alias(format!("{q}\u{1}max")));
         }
         let df = collect(self.lf.clone().select(exprs))?;
+        // A drawn value that is NaN or infinite has no bin and no place on a figure.
+        for a in axes {
+            let bad = ints(&df, &format!("{a}\u{1}bad"))?;
+            if let Some(&rows) = bad.first().filter(|n| **n > 0) {
+                return Err(AnalysisError::NotFinite {
+                    column: a.to_string(),
+                    rows: rows as u64,
+                });
+            }
+        }
         let mut out = BTreeMap::new();
         for name in axes.iter().chain(quantities) {
             let lo = floats(&df, &format!("{name}\u{1}min"))?;

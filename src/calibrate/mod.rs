@@ -13,7 +13,7 @@ mod lm;
 mod targets;
 
 pub use lm::levenberg_marquardt;
-pub use targets::{parse_problem, TargetsError};
+pub use targets::{check_fit, parse_problem, TargetsError};
 
 use crate::bifurcation::eig_re;
 use crate::classify::ClassifierOptions;
@@ -64,7 +64,8 @@ pub struct Target {
     pub value: f64,
     /// Weight of its relative error in the cost.
     pub weight: f64,
-    /// Relative error up to which the target counts as met (reported, not enforced).
+    /// Relative error up to which the target counts as met; a fit with a target not met writes
+    /// no parameter file (unless asked to).
     pub tolerance: f64,
 }
 
@@ -113,6 +114,14 @@ pub enum ParamFileError {
     /// The cost became NaN or infinite.
     #[error("the fit diverged (non-finite cost) and no parameter file is written")]
     NonFiniteCost,
+    /// Targets the fit does not meet within their tolerance.
+    #[error("{} of {total} targets not met, so no parameter file is written: {}", shortfalls.len(), shortfalls.join("; "))]
+    NotMet {
+        /// Why each unmet target is not met.
+        shortfalls: Vec<String>,
+        /// Targets of the fit.
+        total: usize,
+    },
 }
 
 /// `p` with a target's `at` values set (the point where it is observed).
@@ -368,8 +377,24 @@ pub fn calibrate(problem: &Problem) -> Fit {
     }
 }
 
+impl Fit {
+    /// Refuses a fit with a target not met within its tolerance: its parameter file would not
+    /// stand for the targets it claims to fit.
+    pub fn check_met(&self) -> Result<(), ParamFileError> {
+        let shortfalls: Vec<String> = self.targets.iter().filter_map(|t| t.shortfall()).collect();
+        if shortfalls.is_empty() {
+            return Ok(());
+        }
+        Err(ParamFileError::NotMet {
+            shortfalls,
+            total: self.targets.len(),
+        })
+    }
+}
+
 /// The fitted values as a parameter file (`--params FILE`). Refused when a value is not finite
-/// or out of range (a diverged fit), so that no unusable file is ever written.
+/// or out of range (a diverged fit), so that no unusable file is ever written; whether every
+/// target is met is [`Fit::check_met`]'s to say.
 pub fn parameter_file(fit: &Fit, source: &str) -> Result<String, ParamFileError> {
     fit.params.validate().map_err(ParamFileError::Diverged)?;
     if !fit.cost.is_finite() {

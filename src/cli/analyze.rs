@@ -110,7 +110,13 @@ pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
         out_dir,
         figure_format: args.format.ext(),
     };
-    report(&args.inputs, &opts, &render, verbose)
+    report(
+        &args.inputs,
+        &opts,
+        &render,
+        verbose,
+        "choose another folder with --out",
+    )
 }
 
 /// An analysis error in the words of the command line.
@@ -126,12 +132,13 @@ pub fn analysis_error(e: AnalysisError) -> CliError {
 /// The analysis API for the command line: checks the inputs (footers and manifests only, so
 /// inputs that do not belong together stop here, before any work), runs the analysis, writes
 /// the report, and prints the summary when `verbose`. `explore` calls it for its closing
-/// report.
+/// report. A report that cannot be written ends with `elsewhere`, how to write it elsewhere.
 pub fn report(
     inputs: &[PathBuf],
     opts: &AnalysisOptions,
     render: &RenderOptions,
     verbose: bool,
+    elsewhere: &str,
 ) -> CliResult {
     let start = Instant::now();
     let info = check_inputs(inputs).map_err(analysis_error)?;
@@ -140,7 +147,8 @@ pub fn report(
     }
     let a = polywear::analysis::run_with_progress(info, opts, &mut |_| release_freed_memory())
         .map_err(analysis_error)?;
-    let written = polywear::render::write(&a, render).map_err(|e| CliError(e.to_string()))?;
+    let written = polywear::render::write(&a, render)
+        .map_err(|e| CliError(format!("cannot write the report: {e}; {elsewhere}")))?;
     let report = written.report;
     if a.nothing_classified() {
         let t = a.totals();

@@ -112,7 +112,7 @@ fn resolve(args: &BifurcationArgs) -> CliResult<SweepRequest> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("data/bifurcation_{}", s.name)));
     if let Some(dir) = prefix.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
+        polywear::safe_write::create_dir(dir)
             .map_err(|e| CliError(format!("--out {}: {e}", dir.display())))?;
     }
     let variant: Variant = args.point.variant.into();

@@ -6,7 +6,7 @@ use std::time::Instant;
 use clap::Args;
 
 use super::common::{CliError, CliResult};
-use polywear::calibrate::{calibrate, parameter_file, parse_problem};
+use polywear::calibrate::{calibrate, check_fit, parameter_file, parse_problem, Fit, Problem};
 use polywear::params::{ParamError, ParamId};
 
 #[derive(Debug, Args)]
@@ -32,34 +32,16 @@ pub struct CalibrateArgs {
         default_value = "data/calibrated_params.toml"
     )]
     pub out: PathBuf,
+    /// Write the parameter file even when a target is not met within its tolerance (by default
+    /// such a fit writes no file and exits 1)
+    #[arg(long)]
+    pub write_anyway: bool,
 }
 
 pub fn run(args: &CalibrateArgs) -> CliResult {
-    let text = std::fs::read_to_string(&args.targets)
-        .map_err(|e| CliError(format!("{}: {e}", args.targets.display())))?;
-    let mut problem =
-        parse_problem(&text).map_err(|e| CliError(format!("{}: {e}", args.targets.display())))?;
-    if !args.fit.is_empty() {
-        let mut fit: Vec<ParamId> = Vec::new();
-        for n in &args.fit {
-            let name: ParamId = n
-                .trim()
-                .parse()
-                .map_err(|e: ParamError| CliError(format!("--fit: {e}")))?;
-            if fit.contains(&name) {
-                return Err(CliError(format!("--fit: `{name}` is named twice")));
-            }
-            if problem.choices.iter().any(|(c, _)| *c == name) {
-                return Err(CliError(format!(
-                    "--fit: `{name}` is restricted by the file's `choices`; it cannot also be fitted"
-                )));
-            }
-            fit.push(name);
-        }
-        problem.fit = fit;
-    }
+    let problem = read_problem(args)?;
     if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
+        polywear::safe_write::create_dir(dir)
             .map_err(|e| CliError(format!("--out {}: {e}", dir.display())))?;
     }
     let start = Instant::now();
@@ -72,6 +54,56 @@ pub fn run(args: &CalibrateArgs) -> CliResult {
         fit.evaluations,
         fit.cost
     );
+    print_targets(&fit);
+    print_parameters(&fit);
+    let file = parameter_file(&fit, &args.targets.display().to_string())
+        .map_err(|e| CliError(e.to_string()))?;
+    if let Err(e) = fit.check_met() {
+        if !args.write_anyway {
+            // The fit ran on good input but does not stand: exit 1, not the 2 of bad input.
+            eprintln!("error: {e}; --write-anyway writes it nonetheless");
+            std::process::exit(1);
+        }
+        eprintln!("warning: {e}; written nonetheless (--write-anyway)");
+    }
+    polywear::safe_write::write_file(&args.out, file.as_bytes())
+        .map_err(|e| CliError(format!("--out {}: {e}", args.out.display())))?;
+    println!("\nwrote {} (use it with --params)", args.out.display());
+    Ok(())
+}
+
+/// The targets file as a problem, with `--fit` in place of the file's `fit` (checked alike).
+fn read_problem(args: &CalibrateArgs) -> CliResult<Problem> {
+    let text = super::common::read_input(&args.targets, "", polywear::safe_read::Limit::Text)?;
+    let at = |e: &dyn std::fmt::Display| CliError(format!("{}: {e}", args.targets.display()));
+    let mut problem = parse_problem(&text).map_err(|e| at(&e))?;
+    if args.fit.is_empty() {
+        return Ok(problem);
+    }
+    let mut fit: Vec<ParamId> = Vec::new();
+    for n in &args.fit {
+        let name: ParamId = n
+            .trim()
+            .parse()
+            .map_err(|e: ParamError| CliError(format!("--fit: {e}")))?;
+        if fit.contains(&name) {
+            return Err(CliError(format!("--fit: `{name}` is named twice")));
+        }
+        if problem.choices.iter().any(|(c, _)| *c == name) {
+            return Err(CliError(format!(
+                "--fit: `{name}` is restricted by the file's `choices`; it cannot also be fitted"
+            )));
+        }
+        fit.push(name);
+    }
+    problem.fit = fit;
+    check_fit(&problem).map_err(|e| CliError(format!("--fit: {e}")))?;
+    Ok(problem)
+}
+
+/// The fit table: each target's value, the model's at the start and at the fit, and whether it
+/// is met; then why each unmet target is not.
+fn print_targets(fit: &Fit) {
     println!(
         "\n{:<38} {:<9} {:<14} {:>11} {:>13} {:>13} {:>8}  met",
         "target", "wheel", "variant", "value", "model start", "model fit", "error"
@@ -98,6 +130,10 @@ pub fn run(args: &CalibrateArgs) -> CliResult {
             println!("warning: {s}");
         }
     }
+}
+
+/// The chosen readings, the fitted parameters and the sensitivities at the fit.
+fn print_parameters(fit: &Fit) {
     if !fit.chosen.is_empty() {
         println!(
             "\nchosen among {} combinations of `choices`: {}",
@@ -133,10 +169,4 @@ pub fn run(args: &CalibrateArgs) -> CliResult {
         }
         println!();
     }
-    let file = parameter_file(&fit, &args.targets.display().to_string())
-        .map_err(|e| CliError(e.to_string()))?;
-    std::fs::write(&args.out, file)
-        .map_err(|e| CliError(format!("--out {}: {e}", args.out.display())))?;
-    println!("\nwrote {} (use it with --params)", args.out.display());
-    Ok(())
 }

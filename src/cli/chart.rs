@@ -27,8 +27,7 @@ fn band_study(args: &ChartArgs, req: &ChartRequest) -> CliResult<Option<(Study, 
     let (Some(path), Some(k)) = (&args.study, args.structure_samples) else {
         return Ok(None);
     };
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| CliError(format!("--study {}: {e}", path.display())))?;
+    let text = super::common::read_input(path, "--study ", polywear::safe_read::Limit::Text)?;
     let study = Study::parse_with_base(&text, req.base)
         .map_err(|e| CliError(format!("--study {}: {e}", path.display())))?;
     study

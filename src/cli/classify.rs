@@ -46,9 +46,8 @@ pub struct ClassifyArgs {
 }
 
 /// Reads the points: each row applied on top of `base` and validated, before any work.
-fn read_points(path: &PathBuf, base: &Params) -> CliResult<Vec<Params>> {
-    let text =
-        std::fs::read_to_string(path).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
+fn read_points(path: &std::path::Path, base: &Params) -> CliResult<Vec<Params>> {
+    let text = super::common::read_input(path, "", polywear::safe_read::Limit::Table)?;
     let records = csv_records(path, &text).map_err(|e| CliError(e.to_string()))?;
     let mut lines = records.into_iter().map(|(_, cells)| cells);
     let header: Vec<ParamId> = lines

@@ -26,11 +26,27 @@ impl From<ParamError> for CliError {
 
 impl From<polywear::parquet_out::WriteError> for CliError {
     fn from(e: polywear::parquet_out::WriteError) -> Self {
-        CliError(format!("cannot write output: {e}"))
+        let text = e.to_string();
+        let hint = if text.contains("read-only") || text.contains("full disk") {
+            "; choose another folder with the command's --out"
+        } else {
+            ""
+        };
+        CliError(format!("cannot write output: {text}{hint}"))
     }
 }
 
 pub type CliResult<T = ()> = Result<T, CliError>;
+
+/// The text of an input file (a regular file within `limit`, see `polywear::safe_read`), refused
+/// as `{prefix}FILE: why` (`prefix` names the flag, e.g. `"--params "`, or is empty).
+pub fn read_input(
+    path: &Path,
+    prefix: &str,
+    limit: polywear::safe_read::Limit,
+) -> CliResult<String> {
+    polywear::safe_read::read_text(path, limit).map_err(|e| CliError(format!("{prefix}{e}")))
+}
 
 /// The operating point and any other model parameter.
 #[derive(Debug, Args, Clone)]
@@ -168,8 +184,7 @@ pub fn base_params(path: Option<&Path>) -> CliResult<Params> {
     let Some(path) = path else {
         return Ok(Params::default());
     };
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| CliError(format!("--params {}: {e}", path.display())))?;
+    let text = read_input(path, "--params ", polywear::safe_read::Limit::Text)?;
     polywear::study::apply_param_file(&Params::default(), &text)
         .map_err(|e| CliError(format!("--params {}: {e}", path.display())))
 }
@@ -212,7 +227,7 @@ pub fn check_out_file(path: &Path, flag: &str) -> CliResult {
     }
     let parent = path.parent().filter(|d| !d.as_os_str().is_empty());
     if let Some(dir) = parent {
-        std::fs::create_dir_all(dir).map_err(|e| {
+        polywear::safe_write::create_dir(dir).map_err(|e| {
             CliError(format!(
                 "{flag} {}: cannot create the folder {}: {e}",
                 path.display(),

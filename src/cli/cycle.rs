@@ -79,7 +79,7 @@ fn structures(
     fixed_elsewhere: &[(ParamId, &str)],
 ) -> CliResult<(Structures, Study)> {
     let origin = format!("--study {}", path.display());
-    let source = std::fs::read_to_string(path).map_err(|e| CliError(format!("{origin}: {e}")))?;
+    let source = super::common::read_input(path, "--study ", polywear::safe_read::Limit::Text)?;
     let dir = path.parent().unwrap_or(Path::new(""));
     let study =
         Study::parse_at(&source, base, dir).map_err(|e| CliError(format!("{origin}: {e}")))?;

@@ -91,6 +91,9 @@ pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
     let todo = prepared.pending_samples(&plan);
     let (bar, log) = progress(args, todo);
     if !args.quiet {
+        if let Some(w) = chunk_size_warning(plan.study.chunk_size) {
+            eprintln!("{w}");
+        }
         announce(&plan, &prepared, &pool, todo);
     }
     let stop = Interrupt::install()?;
@@ -110,7 +113,10 @@ pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
     bar.finish_and_clear();
     // From here on a signal ends the program at once: the rows are saved.
     stop.disarm();
-    let summary = result.map_err(explore_error)?;
+    let summary = result.map_err(|e| match e {
+        ExploreError::Write(_) => write_failure(args, &plan, &e),
+        e => explore_error(e),
+    })?;
     let secs = start.elapsed().as_secs_f64();
     if let Some(signal) = stop.signal() {
         drop(prepared);
@@ -143,8 +149,7 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
     };
     let (source, origin) = match (&args.study, &recorded) {
         (Some(path), _) => (
-            std::fs::read_to_string(path)
-                .map_err(|e| CliError(format!("study {}: {e}", path.display())))?,
+            super::common::read_input(path, "study ", polywear::safe_read::Limit::Text)?,
             path.display().to_string(),
         ),
         (None, Some((dir, run))) => (
@@ -289,13 +294,68 @@ fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -
         out_dir: plan.out_dir.join("_report"),
         figure_format: args.format.ext(),
     };
+    let elsewhere = format!(
+        "the rows are saved: write the report elsewhere with `polywear analyze {} --out FOLDER`",
+        shell_word(&plan.out_dir.display().to_string())
+    );
     super::analyze::report(
         std::slice::from_ref(&plan.out_dir),
         &polywear::analysis::AnalysisOptions::default(),
         &render,
         !args.quiet,
+        &elsewhere,
     )
 }
+
+/// A chunk or the journal that cannot be written (a full disk, a folder made read-only): what
+/// is saved, as the journal records it, and the exact command that continues the run once the
+/// cause is fixed.
+fn write_failure(args: &ExploreArgs, plan: &RunPlan, e: &ExploreError) -> CliError {
+    let saved = RecordedRun::read(&plan.out_dir)
+        .ok()
+        .flatten()
+        .map(|run| run.saved(&plan.out_dir));
+    let saved = match saved {
+        Some(s) => format!(
+            "{} of {} samples are saved in {} ({} of {} chunks)",
+            s.samples,
+            s.samples_owned,
+            plan.out_dir.display(),
+            s.chunks,
+            s.chunks_owned
+        ),
+        None => format!("nothing is saved in {}", plan.out_dir.display()),
+    };
+    let text = e.to_string();
+    let cause = if text.contains("No space left") || text.contains("full disk") {
+        "the disk is full: "
+    } else {
+        ""
+    };
+    CliError(format!(
+        "{cause}{text}\n{saved}; free space or fix the folder, then resume with: {}",
+        resume_command(args, plan)
+    ))
+}
+
+/// Below this `chunk_size` explore warns: each chunk costs a file and three fsyncs.
+const CHUNK_SIZE_WARN: u64 = 64;
+
+/// The warning for a small `chunk_size`, with its measured cost (BENCHMARKS.md#fsync).
+fn chunk_size_warning(chunk_size: u64) -> Option<String> {
+    (chunk_size < CHUNK_SIZE_WARN).then(|| {
+        format!(
+            "warning: chunk_size = {chunk_size} is below {CHUNK_SIZE_WARN}: every chunk is a file with three fsyncs, and analyze opens each; on 2,000 samples of the default study (2 cores) chunk_size 1 made explore {} and analyze {} slower than the default 4096; keep it in the thousands",
+            CHUNK_1_EXPLORE_SLOWER, CHUNK_1_ANALYZE_SLOWER
+        )
+    })
+}
+
+/// Measured side by side (GUIDE.md#what-is-guaranteed): explore and analyze of 2,000 samples of
+/// the default study at chunk_size 1 against 4096.
+const CHUNK_1_EXPLORE_SLOWER: &str = "about 30x";
+/// See [`CHUNK_1_EXPLORE_SLOWER`].
+const CHUNK_1_ANALYZE_SLOWER: &str = "about 9x";
 
 /// Refuses a flag of `--resume --out DIR` that contradicts the run recorded in DIR, showing
 /// both values; repeating the recorded value is accepted.
@@ -398,6 +458,9 @@ fn explore_error(e: ExploreError) -> CliError {
         ExploreError::DifferentRun { .. } => format!(
             "--resume: {what}; continue it with `--resume --out {d}` alone, or choose another --out"
         ),
+        ExploreError::OutputDir { .. } if what.contains("read-only") => {
+            format!("{what}; choose another directory with --out")
+        }
         _ => what.to_string(),
     };
     CliError(format!("--out {}: {message}", dir.display()))
@@ -435,7 +498,7 @@ fn resume_command(args: &ExploreArgs, plan: &RunPlan) -> String {
 /// The closing report of a shard that owns no chunk: `_report/report.md` says it holds no rows.
 fn empty_shard_report(plan: &RunPlan, quiet: bool) -> Result<(), String> {
     let dir = plan.out_dir.join("_report");
-    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    polywear::safe_write::create_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let text = format!(
         "# Shard {k}/{n} of study `{name}`: no rows\n\nThis shard holds no rows: the run has {chunks} \
          chunk(s) of {size} samples ({samples} samples), fewer than the {n} shards, and shard k \
@@ -449,7 +512,8 @@ fn empty_shard_report(plan: &RunPlan, quiet: bool) -> Result<(), String> {
         samples = plan.samples,
     );
     let path = dir.join("report.md");
-    std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    polywear::safe_write::write_file(&path, text.as_bytes())
+        .map_err(|e| format!("{}: {e}", path.display()))?;
     if quiet {
         return Ok(());
     }
@@ -525,5 +589,13 @@ mod tests {
         assert!(parse_shard("4/4").is_err());
         assert!(parse_shard("1").is_err());
         assert!(parse_shard("0/0").is_err());
+    }
+
+    #[test]
+    fn a_small_chunk_size_is_warned_about_with_its_cost() {
+        assert!(chunk_size_warning(4096).is_none());
+        assert!(chunk_size_warning(64).is_none());
+        let w = chunk_size_warning(1).unwrap();
+        assert!(w.contains("chunk_size = 1") && w.contains("30x"), "{w}");
     }
 }

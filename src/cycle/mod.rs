@@ -28,6 +28,7 @@ use crate::parquet_out::WriteError;
 use crate::plot::PlotError;
 use crate::records::WheelRecord;
 use crate::table_input::{NumericTable, TableError};
+use crate::wording::plain;
 
 /// Why a drive cycle is refused (before any work, naming the file, row and column) or its
 /// outputs are not written.
@@ -63,7 +64,7 @@ pub enum CycleError {
         path: PathBuf,
     },
     /// A time not after the previous row's.
-    #[error("{at}: time_s = {time_s} does not follow the previous row's {previous_s} (times must increase)")]
+    #[error("{at}: time_s = {} does not follow the previous row's {} (times must increase)", plain(*time_s, 12), plain(*previous_s, 12))]
     TimeNotIncreasing {
         /// File, row and column.
         at: String,
@@ -73,7 +74,7 @@ pub enum CycleError {
         previous_s: f64,
     },
     /// A negative speed.
-    #[error("{at}: speed_kmh = {speed_kmh} is negative; accepted 0 (standstill) or {range}")]
+    #[error("{at}: speed_kmh = {} is negative; accepted 0 (standstill) or {range}", plain(*speed_kmh, 12))]
     NegativeSpeed {
         /// File, row and column.
         at: String,
@@ -81,6 +82,17 @@ pub enum CycleError {
         speed_kmh: f64,
         /// The speed's accepted range.
         range: String,
+    },
+    /// Times so far apart that a step's duration, the cycle's length or its distance is not a
+    /// finite number.
+    #[error("{}: the cycle's {what} is not finite (times and their differences must stay below about 1e300 s; {})", path.display(), plain(*value, 6))]
+    NotFiniteSum {
+        /// The cycle file.
+        path: PathBuf,
+        /// Which sum: a step's duration, the total time or the distance.
+        what: &'static str,
+        /// Its value (inf).
+        value: f64,
     },
     /// A value outside its parameter's range, or a step whose parameters do not fit together.
     #[error("{at}: {source}")]
@@ -205,7 +217,7 @@ impl DriveCycle {
             }
             values.push(step);
         }
-        Ok(DriveCycle {
+        let cycle = DriveCycle {
             path: path.to_path_buf(),
             hash: t.hash.clone(),
             time_s: t.rows.iter().map(|r| r[tc]).collect(),
@@ -213,7 +225,36 @@ impl DriveCycle {
             names,
             values,
             table: t,
-        })
+        };
+        cycle.check_sums()?;
+        Ok(cycle)
+    }
+
+    /// Refuses a cycle whose step durations, total time or distance overflow: every sum a
+    /// summary forms must be finite, or its shares would be NaN.
+    fn check_sums(&self) -> Result<(), CycleError> {
+        let durations = self.step_durations_s();
+        let bad = |what, value: f64| CycleError::NotFiniteSum {
+            path: self.path.clone(),
+            what,
+            value,
+        };
+        if let Some(d) = durations.iter().find(|d| !d.is_finite()) {
+            return Err(bad("step duration", *d));
+        }
+        let total: f64 = durations.iter().sum();
+        if !total.is_finite() {
+            return Err(bad("total time", total));
+        }
+        let distance: f64 = durations
+            .iter()
+            .zip(&self.speed_kmh)
+            .map(|(d, v)| d * v / 3.6)
+            .sum();
+        if !distance.is_finite() {
+            return Err(bad("distance", distance));
+        }
+        Ok(())
     }
 
     /// Number of time steps.

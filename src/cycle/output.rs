@@ -97,7 +97,7 @@ impl CycleRun<'_> {
     /// Writes `cycle.parquet`, `cycle_summary.csv` (+ `.parquet`) and `cycle.png` into `dir`;
     /// returns the paths written.
     pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>, CycleError> {
-        std::fs::create_dir_all(dir).map_err(|source| CycleError::CreateDir {
+        crate::safe_write::create_dir(dir).map_err(|source| CycleError::CreateDir {
             dir: dir.to_path_buf(),
             source,
         })?;

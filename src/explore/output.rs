@@ -61,7 +61,7 @@ impl RunPlan {
         };
         let resuming = self.check_contents()?;
         if lock.is_none() {
-            std::fs::create_dir_all(dir).map_err(|err| e(err.to_string()))?;
+            crate::safe_write::create_dir(dir).map_err(|err| e(err.to_string()))?;
             lock = output_dir::lock(dir, true).map_err(|err| e(err.to_string()))?;
         }
         let lock = lock.expect("lock taken");
@@ -119,13 +119,12 @@ impl RunPlan {
             });
         }
         let manifest_path = dir.join(output_dir::MANIFEST);
-        let text = std::fs::read_to_string(&manifest_path).map_err(|err| {
-            ExploreError::NothingToResume {
+        let text = crate::safe_read::read_text(&manifest_path, crate::safe_read::Limit::Text)
+            .map_err(|err| ExploreError::NothingToResume {
                 dir: dir.clone(),
                 manifest: manifest_path.display().to_string(),
-                message: err.to_string(),
-            }
-        })?;
+                message: err.reason(),
+            })?;
         let old =
             RunManifest::from_json_text(&text).map_err(|err| ExploreError::UnreadableManifest {
                 dir: dir.clone(),

@@ -72,9 +72,9 @@ impl RecordedRun {
             path: path.clone(),
             message,
         };
-        let text = match std::fs::read_to_string(&path) {
+        let text = match crate::safe_read::read_text(&path, crate::safe_read::Limit::Text) {
             Ok(t) => t,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+            Err(e) if e.is_not_found() => return Ok(None),
             Err(e) => return Err(bad(e.to_string())),
         };
         let m = RunManifest::from_json_text(&text).map_err(|e| bad(e.to_string()))?;

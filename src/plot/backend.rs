@@ -1,7 +1,8 @@
 //! One drawing backend for every figure, picked by the output file's extension: `.png` through
 //! plotters' bitmap backend, `.svg` through its SVG backend (vector text and shapes, for
 //! reports and slides). Each drawing call is handed to the backend it wraps, so a figure's code
-//! is written once for both formats.
+//! is written once for both formats. Both draw into memory ([`FigureBuffer`]); the file is
+//! written by [`crate::safe_write`], so a figure never follows a link planted at its name.
 
 use std::path::Path;
 
@@ -21,23 +22,59 @@ pub enum FigureBackend<'a> {
     Svg(SVGBackend<'a>),
 }
 
-impl<'a> FigureBackend<'a> {
-    /// The backend for `path`: SVG when it ends in `.svg`, PNG otherwise.
-    pub fn new(path: &'a Path, size: (u32, u32)) -> FigureBackend<'a> {
+/// A figure's pixels or SVG text, drawn in memory before its file is written.
+pub enum FigureBuffer {
+    /// RGB pixels of a PNG figure, and its size.
+    Png(Vec<u8>, (u32, u32)),
+    /// The SVG document.
+    Svg(String, (u32, u32)),
+}
+
+impl FigureBuffer {
+    /// An empty figure for `path`: SVG when it ends in `.svg`, PNG otherwise.
+    pub fn new(path: &Path, size: (u32, u32)) -> FigureBuffer {
         if path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
         {
-            FigureBackend::Svg(SVGBackend::new(path, size))
+            FigureBuffer::Svg(String::new(), size)
         } else {
-            FigureBackend::Png(BitMapBackend::new(path, size))
+            FigureBuffer::Png(vec![0; 3 * size.0 as usize * size.1 as usize], size)
+        }
+    }
+
+    /// The backend that draws into this buffer.
+    pub fn backend(&mut self) -> FigureBackend<'_> {
+        match self {
+            FigureBuffer::Png(pixels, size) => {
+                FigureBackend::Png(BitMapBackend::with_buffer(pixels, *size))
+            }
+            FigureBuffer::Svg(text, size) => {
+                FigureBackend::Svg(SVGBackend::with_string(text, *size))
+            }
+        }
+    }
+
+    /// The file's bytes: the pixels encoded as plotters' file backend encodes them (the `image`
+    /// crate's PNG encoder at its defaults), or the SVG text.
+    pub fn into_bytes(self) -> Result<Vec<u8>, FigureError> {
+        match self {
+            FigureBuffer::Png(pixels, (w, h)) => {
+                use image::ImageEncoder;
+                let mut out = Vec::new();
+                image::codecs::png::PngEncoder::new(&mut out)
+                    .write_image(&pixels, w, h, image::ColorType::Rgb8)
+                    .map_err(|e| FigureError(e.to_string()))?;
+                Ok(out)
+            }
+            FigureBuffer::Svg(text, _) => Ok(text.into_bytes()),
         }
     }
 }
 
 /// The error of either backend, as text.
 #[derive(Debug)]
-pub struct FigureError(String);
+pub struct FigureError(pub String);
 
 impl std::fmt::Display for FigureError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {

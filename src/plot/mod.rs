@@ -7,7 +7,7 @@ use std::sync::Once;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use backend::FigureBackend;
+use backend::{FigureBackend, FigureBuffer};
 
 pub mod backend;
 pub mod cycle;
@@ -288,14 +288,18 @@ pub fn figure(
     draw: impl FnOnce(&DrawingArea<FigureBackend<'_>, plotters::coord::Shift>) -> Result<(), PlotError>,
 ) -> Result<(), PlotError> {
     ensure_font();
-    let root = FigureBackend::new(path, size).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(path, e))?;
-    let area = root
-        .titled(title, ("sans-serif", 22))
-        .map_err(|e| err(path, e))?;
-    draw(&area).map_err(|e| err(path, e))?;
-    root.present().map_err(|e| err(path, e))?;
-    Ok(())
+    let mut buffer = FigureBuffer::new(path, size);
+    {
+        let root = buffer.backend().into_drawing_area();
+        root.fill(&WHITE).map_err(|e| err(path, e))?;
+        let area = root
+            .titled(title, ("sans-serif", 22))
+            .map_err(|e| err(path, e))?;
+        draw(&area).map_err(|e| err(path, e))?;
+        root.present().map_err(|e| err(path, e))?;
+    }
+    let bytes = buffer.into_bytes().map_err(|e| err(path, e))?;
+    crate::safe_write::write_file(path, &bytes).map_err(|e| err(path, e))
 }
 
 /// A figure of several panels laid out in a grid, each drawn by `draw`.

@@ -101,7 +101,7 @@ pub enum RenderError {
 /// Writes the tables, figures and `report.md` of `a` into `opts.out_dir`.
 pub fn write(a: &Analysis, opts: &RenderOptions) -> Result<Rendered, RenderError> {
     let dir = &opts.out_dir;
-    std::fs::create_dir_all(dir).map_err(|e| RenderError::Io {
+    crate::safe_write::create_dir(dir).map_err(|e| RenderError::Io {
         path: dir.clone(),
         message: e.to_string(),
     })?;
@@ -109,7 +109,7 @@ pub fn write(a: &Analysis, opts: &RenderOptions) -> Result<Rendered, RenderError
     let figures = write_figures(a, opts)?;
     let page = markdown::page(a, &figures);
     let report = dir.join("report.md");
-    std::fs::write(&report, page).map_err(|e| RenderError::Io {
+    crate::safe_write::write_file(&report, page.as_bytes()).map_err(|e| RenderError::Io {
         path: report.clone(),
         message: e.to_string(),
     })?;

@@ -16,7 +16,7 @@ use crate::trajectory::plot_point;
 /// Writes every figure and table of `r` into `dir` (created if missing), figures as `ext` files
 /// (`png` or `svg`), then `report.md`; returns the files in that order.
 pub fn write(r: &Reproduction, dir: &Path, ext: &str) -> Result<Vec<PathBuf>, ReproduceError> {
-    std::fs::create_dir_all(dir).map_err(|e| ReproduceError::io(dir, e))?;
+    crate::safe_write::create_dir(dir).map_err(|e| ReproduceError::io(dir, e))?;
     let mut files = Vec::new();
     adhesion_ellipse(r, dir, ext, &mut files)?;
     for sw in &r.sweeps {
@@ -38,7 +38,7 @@ pub fn write(r: &Reproduction, dir: &Path, ext: &str) -> Result<Vec<PathBuf>, Re
     files.extend(chart_files);
     let text = report(r, &charts_md, &files);
     let md = dir.join("report.md");
-    std::fs::write(&md, &text).map_err(|e| ReproduceError::io(&md, e))?;
+    crate::safe_write::write_file(&md, text.as_bytes()).map_err(|e| ReproduceError::io(&md, e))?;
     files.push(md);
     Ok(files)
 }

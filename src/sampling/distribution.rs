@@ -258,6 +258,95 @@ pub fn truncated_normal_quantile(a: f64, b: f64, u: f64) -> f64 {
     x.clamp(a, b)
 }
 
+/// Below this change of the log-density across the interval, a truncated normal is sampled
+/// through the series of [`near_uniform_quantile`] (exact to about 1e-18 there), not through
+/// Φ: the interval is then so narrow against sd that Φ(a) and Φ(b) agree to most of their digits.
+pub const NEAR_UNIFORM: f64 = 1e-2;
+
+/// The value at `u` in [0, 1] of Normal(mean, sd) truncated to [min, max], for any finite sd:
+/// as sd grows the distribution tends to the uniform on [min, max], and so do the values.
+/// Where the interval is wide against sd, [`truncated_normal_quantile`] on the standardised
+/// bounds; where the density is nearly flat over it (a change of its logarithm below
+/// [`NEAR_UNIFORM`]), [`near_uniform_quantile`] in the interval's own coordinate, so that no
+/// digit is lost to the standardisation. Bounds infinitely far on one side of the mean (an
+/// overflow of (min − mean)/sd) put the mass at the nearer bound.
+pub fn truncated_normal_value(mean: f64, sd: f64, min: f64, max: f64, u: f64) -> f64 {
+    let (mut a, mut b) = ((min - mean) / sd, (max - mean) / sd);
+    if !(a.is_finite() && b.is_finite()) {
+        // A difference that overflows: the same bounds, each divided first.
+        (a, b) = (min / sd - mean / sd, max / sd - mean / sd);
+    }
+    if b == f64::NEG_INFINITY {
+        return max;
+    }
+    if a == f64::INFINITY {
+        return min;
+    }
+    // The interval in units of sd, without the cancellation of b − a.
+    let w = match (max - min) / sd {
+        w if w.is_finite() => w,
+        _ => max / sd - min / sd,
+    };
+    // Over the interval, ln φ changes by at most w·max(|a|, |b|) + w²/2.
+    let variation = w * a.abs().max(b.abs()) + 0.5 * w * w;
+    if variation <= NEAR_UNIFORM {
+        let t = near_uniform_quantile(a * w, 0.5 * w * w, u);
+        let span = max - min;
+        let x = if span.is_finite() {
+            min + t * span
+        } else {
+            min * (1.0 - t) + max * t
+        };
+        return x.clamp(min, max);
+    }
+    let z = truncated_normal_quantile(a, b, u);
+    (mean + sd * z).clamp(min, max)
+}
+
+/// The t in [0, 1] where the density ∝ exp(−(c·s + d·s²)) on [0, 1] reaches probability `u`:
+/// a truncated normal in the coordinate s of its interval (x = a + w·s, c = a·w, d = w²/2).
+/// For |c| + d ≤ [`NEAR_UNIFORM`] the exponential is its Taylor series to the 6th power (the
+/// remainder below 1e-17), integrated exactly, and the CDF inverted by Newton's method from
+/// t = u; c = d = 0 gives t = u, the uniform.
+pub fn near_uniform_quantile(c: f64, d: f64, u: f64) -> f64 {
+    const TERMS: usize = 6;
+    // Coefficients of exp(−g(s)) in powers of s, g(s) = c·s + d·s².
+    let mut density = [0.0; 2 * TERMS + 1];
+    let mut term = [0.0; 2 * TERMS + 1];
+    density[0] = 1.0;
+    term[0] = 1.0;
+    for k in 1..=TERMS {
+        let mut next = [0.0; 2 * TERMS + 1];
+        for (j, &t) in term.iter().enumerate().take(2 * k - 1) {
+            next[j + 1] -= t * c / k as f64;
+            next[j + 2] -= t * d / k as f64;
+        }
+        term = next;
+        for (p, t) in density.iter_mut().zip(&term) {
+            *p += t;
+        }
+    }
+    let pdf = |t: f64| density.iter().rev().fold(0.0, |acc, p| acc * t + p);
+    let cdf = |t: f64| {
+        density
+            .iter()
+            .enumerate()
+            .rev()
+            .fold(0.0, |acc, (j, p)| acc * t + p / (j + 1) as f64)
+            * t
+    };
+    let target = u.clamp(0.0, 1.0) * cdf(1.0);
+    let mut t = u.clamp(0.0, 1.0);
+    for _ in 0..8 {
+        let step = (cdf(t) - target) / pdf(t);
+        t = (t - step).clamp(0.0, 1.0);
+        if step.abs() <= 1e-17 {
+            break;
+        }
+    }
+    t
+}
+
 impl Distribution {
     /// The value at uniform coordinate `u` in [0, 1): the inverse CDF, used by the stratified
     /// designs (LHS, Sobol, Saltelli) so that they keep their stratification.
@@ -268,8 +357,7 @@ impl Distribution {
             Distribution::Uniform { min, max, .. } => min + u * (max - min),
             Distribution::Normal { mean, sd } => mean + sd * normal_quantile(u_open),
             Distribution::TruncatedNormal { mean, sd, min, max } => {
-                let z = truncated_normal_quantile((min - mean) / sd, (max - mean) / sd, u);
-                (mean + sd * z).clamp(*min, *max)
+                truncated_normal_value(*mean, *sd, *min, *max, u)
             }
             Distribution::LogNormal { median, sigma } => {
                 median * (sigma * normal_quantile(u_open)).exp()
@@ -447,5 +535,60 @@ mod tests {
                 "{d:?} left its support"
             );
         }
+    }
+
+    /// The CDF of Normal(mean, sd) truncated to [min, max] in closed form, on erf where both
+    /// bounds are near the mean (no cancellation: erf keeps its relative accuracy at 0) and on
+    /// erfc in the upper tail.
+    fn truncated_cdf(mean: f64, sd: f64, min: f64, max: f64, x: f64) -> f64 {
+        let z = |v: f64| (v - mean) / (sd * SQRT_2);
+        if min >= mean {
+            let (ea, ex, eb) = (libm::erfc(z(min)), libm::erfc(z(x)), libm::erfc(z(max)));
+            (ea - ex) / (ea - eb)
+        } else {
+            let (ea, ex, eb) = (libm::erf(z(min)), libm::erf(z(x)), libm::erf(z(max)));
+            (ex - ea) / (eb - ea)
+        }
+    }
+
+    #[test]
+    fn a_truncated_normal_tends_to_the_uniform_as_sd_grows() {
+        // sd = 1e20 over [0, 1]: the closed-form CDF is (x − min)/(max − min) to 1e-20.
+        for (mean, sd) in [(0.5, 1e20), (0.5, 1e15), (1e300, 1e300), (-3.0, 1e300)] {
+            let d = Distribution::TruncatedNormal {
+                mean,
+                sd,
+                min: 0.0,
+                max: 1.0,
+            };
+            let xs: Vec<f64> = (0..2000)
+                .map(|i| d.quantile((i as f64 + 0.5) / 2000.0))
+                .collect();
+            for (i, x) in xs.iter().enumerate() {
+                let u = (i as f64 + 0.5) / 2000.0;
+                assert!((x - u).abs() < 1e-12, "mean {mean} sd {sd}: F⁻¹({u}) = {x}");
+            }
+        }
+        // Narrow intervals against sd, where the series replaces Φ: at the mean, and 5 sd out.
+        for (mean, sd, min, max) in [(0.0, 10.0, -0.05, 0.05), (0.0, 1.0, 5.0, 5.001)] {
+            let d = Distribution::TruncatedNormal { mean, sd, min, max };
+            for i in 0..=100 {
+                let u = i as f64 / 100.0;
+                let f = truncated_cdf(mean, sd, min, max, d.quantile(u));
+                assert!(
+                    (f - u).abs() < 1e-9,
+                    "[{min}, {max}] sd {sd}: F(F⁻¹({u})) = {f}"
+                );
+            }
+        }
+        // Wide against sd, Φ as before: the values are those of the standardised quantile.
+        let z = truncated_normal_quantile(-1.0, 2.0, 0.3);
+        let d = Distribution::TruncatedNormal {
+            mean: 1.0,
+            sd: 0.5,
+            min: 0.5,
+            max: 2.0,
+        };
+        assert_eq!(d.quantile(0.3), (1.0 + 0.5 * z).clamp(0.5, 2.0));
     }
 }

@@ -79,7 +79,7 @@ pub enum StudyError {
         field: String,
     },
     /// A spread (sd, sigma) that is not positive.
-    #[error("`{key}` = {value} must be positive")]
+    #[error("`{key}` = {} must be positive", crate::wording::plain(*value, 12))]
     NotPositive {
         /// The key, in full.
         key: String,
@@ -87,7 +87,7 @@ pub enum StudyError {
         value: f64,
     },
     /// Bounds with min not below max.
-    #[error("`{key}`: min = {min} must be below max = {max}")]
+    #[error("`{key}`: min = {} must be below max = {}", crate::wording::plain(*min, 12), crate::wording::plain(*max, 12))]
     Unordered {
         /// The parameter's key.
         key: String,
@@ -107,6 +107,17 @@ pub enum StudyError {
         source: ParamError,
         /// How to fix it (e.g. use a truncated normal), or empty.
         hint: &'static str,
+    },
+    /// Draws that can break a cross-parameter rule (μ_s ≤ μ_m, n_d ≤ n_w).
+    #[error("{0}")]
+    DrawnRule(String),
+    /// A distribution whose values cannot be computed in floating point.
+    #[error("`{key}`: {dist} gives no finite values; choose a mean and spread of the parameter's own magnitude")]
+    CannotSample {
+        /// The parameter's key.
+        key: String,
+        /// The distribution, as given.
+        dist: String,
     },
     /// A grid design with a parameter that has no grid values.
     #[error("`{0}`: a grid design needs `levels` or a uniform `count` on every drawn parameter")]

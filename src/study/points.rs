@@ -26,11 +26,19 @@ pub(super) fn operating_points(
             "`design` = \"{design}\" cannot draw measured operating points: rows are drawn at random in proportion to their weights, which the stratified axes of a `{design}` design cannot express; use design = \"random\""
         )));
     }
+    if section.file.trim().is_empty() {
+        return Err(StudyError::OperatingPoints(
+            "`operating_points.file` is empty; accepted: a CSV or Parquet file, relative to the study's folder".into(),
+        ));
+    }
     let cross = drawn
         .iter()
         .any(|d| ParamId::CROSS_RULES.contains(&d.param));
     let op = OperatingPoints::load(&section.file, section.weight.as_deref(), dir, base, cross)
         .map_err(|e| StudyError::OperatingPoints(e.to_string()))?;
+    if cross {
+        check_rows_against_draws(&op, base, drawn)?;
+    }
     for name in &op.names {
         let how = if drawn.iter().any(|d| d.param.name() == *name) {
             "drawn"
@@ -45,6 +53,40 @@ pub(super) fn operating_points(
         )));
     }
     Ok(op)
+}
+
+/// Refuses a row of the file that a draw can push across an ordering rule (μ_s ≤ μ_m,
+/// n_d ≤ n_w): each row with the drawn parameters at their worst bounds must hold.
+fn check_rows_against_draws(
+    op: &OperatingPoints,
+    base: &Params,
+    drawn: &[DrawnParam],
+) -> Result<(), StudyError> {
+    use super::schema::{value_range, ORDERED_PAIRS};
+    use crate::wording::plain;
+    for (i, row) in op.values.iter().enumerate() {
+        let mut p = *base;
+        for (name, v) in op.names.iter().zip(row) {
+            let id: ParamId = name
+                .parse()
+                .expect("an operating-point column is a parameter");
+            p[id] = *v;
+        }
+        for (small, large, why) in ORDERED_PAIRS {
+            let ((_, small_max), small_drawn) = value_range(&p, drawn, small);
+            let ((large_min, _), large_drawn) = value_range(&p, drawn, large);
+            if (small_drawn || large_drawn) && small_max > large_min {
+                return Err(StudyError::OperatingPoints(format!(
+                    "{}, row {}: with the draws of [params], {small} reaches {} and {large} falls to {}: samples drawing this row would fail ({why})",
+                    op.path.display(),
+                    i + 1,
+                    plain(small_max, 6),
+                    plain(large_min, 6)
+                )));
+            }
+        }
+    }
+    Ok(())
 }
 
 impl Study {

@@ -318,8 +318,60 @@ impl StudyFile {
         }
         drawn.sort_by_key(|d| d.param);
         base.validate().map_err(StudyError::FixedParams)?;
+        check_drawn_rules(&base, &drawn)?;
         Ok((base, drawn, fixed))
     }
+}
+
+/// The cross-parameter rules of [`Params::validate`] that order two parameters, as (the one
+/// that must not exceed, the other, why): μ_s ≤ μ_m and n_d ≤ n_w.
+pub(super) const ORDERED_PAIRS: [(ParamId, ParamId, &str); 2] = [
+    (
+        ParamId::MuS,
+        ParamId::MuM,
+        "sliding friction is at most the static maximum",
+    ),
+    (
+        ParamId::NDriven,
+        ParamId::NWheels,
+        "a vehicle drives at most all its wheels",
+    ),
+];
+
+/// The smallest and largest value parameter `p` takes in a study: its draws' extremes (the
+/// values the study's range check covers) or its fixed value; and whether it is drawn.
+pub(super) fn value_range(base: &Params, drawn: &[DrawnParam], p: ParamId) -> ((f64, f64), bool) {
+    match drawn.iter().find(|d| d.param == p) {
+        Some(d) => (d.dist.draw_range(), true),
+        None => ((base[p], base[p]), false),
+    }
+}
+
+/// Refuses a study whose draws can break an ordering rule: the largest value the first
+/// parameter can take must not exceed the smallest of the second, whichever of them is drawn.
+/// Checked on the bounds, before any work, rather than found as failed rows afterwards.
+fn check_drawn_rules(base: &Params, drawn: &[DrawnParam]) -> Result<(), StudyError> {
+    use crate::wording::plain;
+    for (small, large, why) in ORDERED_PAIRS {
+        let ((_, small_max), small_drawn) = value_range(base, drawn, small);
+        let ((large_min, _), large_drawn) = value_range(base, drawn, large);
+        if !(small_drawn || large_drawn) || small_max <= large_min {
+            continue;
+        }
+        let side = |p: ParamId, drawn: bool, bound: &str, x: f64| {
+            if drawn {
+                format!("`params.{p}` is drawn {bound} {}", plain(x, 6))
+            } else {
+                format!("`{p}` is fixed at {}", plain(x, 6))
+            }
+        };
+        return Err(StudyError::DrawnRule(format!(
+            "{} and {}: samples with {small} above {large} would fail ({why}); draw them so that {small} stays at most {large}",
+            side(small, small_drawn, "up to", small_max),
+            side(large, large_drawn, "down to", large_min),
+        )));
+    }
+    Ok(())
 }
 
 /// A distribution table's values checked: finite, spreads positive, bounds ordered, levels
@@ -407,6 +459,12 @@ fn check_support(s: &ParamSpec, d: &Distribution) -> Result<(), StudyError> {
         return Ok(());
     }
     let (lo, hi) = (d.quantile(0.0), d.quantile(1.0 - f64::EPSILON));
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Err(StudyError::CannotSample {
+            key,
+            dist: format!("{d:?}"),
+        });
+    }
     for (which, x) in [("smallest", lo), ("largest", hi)] {
         if let Err(source) = s.check(x) {
             let hint = match d {

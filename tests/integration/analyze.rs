@@ -294,11 +294,11 @@ fn missing_chunks_are_reported_and_the_rest_analysed() {
 #[test]
 fn failed_rows_are_counted_apart_and_an_all_failed_study_says_so() {
     let dir = tmp("failed");
-    // mu_s above mu_m breaks a cross-parameter rule: those samples' rows are `failed`.
+    // A pressure of 2.3 kPa leaves no contact patch: those samples' rows are `failed`.
     let half = explore_study(
         &dir,
         "half",
-        &format!("{SMALL}mu_s = {{ dist = \"levels\", levels = [0.63, 0.9] }}\n"),
+        &format!("{SMALL}pressure_kpa = {{ dist = \"levels\", levels = [240, 2.3] }}\n"),
         &[],
     );
     let (code, _, stderr) = polywear(&["analyze", half.to_str().unwrap()]);
@@ -334,7 +334,7 @@ fn failed_rows_are_counted_apart_and_an_all_failed_study_says_so() {
     let all = explore_study(
         &dir,
         "all",
-        &format!("{SMALL}mu_s = {{ dist = \"levels\", levels = [0.9, 0.95] }}\n"),
+        &format!("{SMALL}pressure_kpa = {{ dist = \"levels\", levels = [2.2, 2.3] }}\n"),
         &[],
     );
     let (code, _, stderr) = polywear(&["analyze", all.to_str().unwrap()]);
@@ -513,7 +513,7 @@ fn pairing_by_row_order_equals_pairing_by_sample_id() {
     let run = explore_study(
         &dir,
         "run",
-        &format!("{SMALL}mu_s = {{ dist = \"levels\", levels = [0.63, 0.63, 0.9] }}\n"),
+        &format!("{SMALL}pressure_kpa = {{ dist = \"levels\", levels = [240, 240, 2.3] }}\n"),
         &[],
     );
     let (files, _) = polywear::analysis::inputs::parquet_files(&[run]).unwrap();

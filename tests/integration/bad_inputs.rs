@@ -313,11 +313,11 @@ fn duplicate_csv_header_columns_are_refused() {
 #[test]
 fn failed_rows_carry_nan_not_zero_and_metadata_is_json() {
     let dir = tmp("failed");
-    // mu_s = 0.9 exceeds mu_m = 0.76 (the default): those samples are failed rows.
+    // A pressure of 2.3 kPa leaves no contact patch: those samples are failed rows.
     let s = study(
         &dir,
         "fails",
-        "mu_s = { dist = \"levels\", levels = [0.5, 0.9] }",
+        "pressure_kpa = { dist = \"levels\", levels = [240, 2.3] }",
     );
     let out = dir.join("out");
     explore_ok(&[s.to_str().unwrap(), "--out", out.to_str().unwrap()]);

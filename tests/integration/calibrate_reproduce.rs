@@ -44,11 +44,12 @@ fn calibration_recovers_known_parameters() {
         ..Params::default()
     };
     // Generate the targets with polywear itself at the truth.
+    // Placeholders inside each target's searched range (a value outside it is refused).
     let template = parse_problem(
         &TARGETS
-            .replace("ONSET", "1")
-            .replace("TOE", "1")
-            .replace("PRESSURE", "1")
+            .replace("ONSET", "80")
+            .replace("TOE", "0.5")
+            .replace("PRESSURE", "300")
             .replace("FREQ", "1"),
     )
     .unwrap();
@@ -318,6 +319,8 @@ fn amplitude_ratio_observes_the_driving_wheels_smaller_cycle() {
 #[test]
 fn bad_targets_files_are_refused_with_the_key() {
     let base = "[[target]]\nkind = \"frequency\"\nvalue = 270\n";
+    let hopf =
+        "[[target]]\nkind = \"hopf\"\nparam = \"speed_kmh\"\nfrom = 40\nto = 150\nvalue = VALUE\n";
     for (text, needle) in [
         (format!("fit = [\"g_mod\", \"g_mod\"]\n{base}"), "names `g_mod` twice"),
         (format!("{base}colour = 3\n"), "unknown key `target[0].colour`"),
@@ -330,6 +333,13 @@ fn bad_targets_files_are_refused_with_the_key() {
             "[[target]]\nkind = \"amplitude_ratio\"\nwheel = \"driving\"\nrelative_to = \"driving\"\nvalue = 1\n".to_string(),
             "relative_to",
         ),
+        // Targets that can never be met, and fits that cannot move what they name.
+        (hopf.replace("VALUE", "-80"), "`target[0].value`: parameter `speed_kmh` = -80"),
+        (hopf.replace("VALUE", "200"), "outside the searched range [from, to] = [40, 150]"),
+        (format!("{base}weight = 0\n"), "`target[0].weight` = 0 is outside"),
+        (format!("fit = [\"speed_kmh\"]\n{}", hopf.replace("VALUE", "80")), "`speed_kmh` is set by `target[0]`"),
+        (format!("fit = [\"n_wheels\"]\n{base}"), "`n_wheels` is a whole number"),
+        (base.replace("270", "-270"), "a frequency is positive"),
     ] {
         let e = parse_problem(&text).unwrap_err().to_string();
         assert!(e.contains(needle), "`{needle}` not in `{e}` for\n{text}");
@@ -353,4 +363,46 @@ fn a_diverged_fit_writes_no_parameter_file() {
     fit.params = Params::default();
     fit.cost = f64::NAN;
     assert!(polywear::calibrate::parameter_file(&fit, "x").is_err());
+}
+
+#[test]
+fn a_fit_with_a_target_not_met_writes_no_file_unless_asked() {
+    let dir = crate::common::fresh_dir("cal-unmet");
+    std::fs::create_dir_all(&dir).unwrap();
+    let targets = dir.join("t.toml");
+    // No Hopf point of the follower's speed in 40-50 km/h.
+    std::fs::write(
+        &targets,
+        "fit = [\"g_mod\"]\n[[target]]\nname = \"impossible\"\nkind = \"hopf\"\nparam = \"speed_kmh\"\nfrom = 40\nto = 50\nvalue = 45\n",
+    )
+    .unwrap();
+    let out = dir.join("fit.toml");
+    let args = [
+        "calibrate",
+        targets.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let (code, _, stderr) = polywear(&args);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(
+        stderr.contains("impossible")
+            && stderr.contains("no parameter file is written")
+            && stderr.contains("--write-anyway"),
+        "{stderr}"
+    );
+    assert!(
+        !out.exists(),
+        "a fit that does not stand wrote {}",
+        out.display()
+    );
+    let mut anyway = args.to_vec();
+    anyway.push("--write-anyway");
+    let (code, _, stderr) = polywear(&anyway);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        out.exists() && stderr.contains("written nonetheless"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
 }

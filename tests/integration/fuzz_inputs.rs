@@ -600,3 +600,168 @@ fn command_lines_never_panic_or_hang_and_refusals_name_what_they_refuse() {
     assert!(refused > 100 && ok > 10, "{ok} accepted, {refused} refused");
     std::fs::remove_dir_all(Path::new(&fx.dir)).ok();
 }
+
+/// The values every numeric field of an input file is set to, one at a time.
+const HOSTILE_NUMBERS: [&str; 10] = [
+    "nan", "-nan", "inf", "-inf", "1e308", "-1e308", "0", "-5", "4.9e-324", "\"x\"",
+];
+
+#[test]
+fn every_numeric_field_of_a_targets_file_or_a_table_takes_hostile_values_without_panic() {
+    use polywear::calibrate::parse_problem;
+    // Each numeric field of a targets file, with the key a refusal must name.
+    let targets = "prior_sigma = 0.5\nfit = [\"g_mod\"]\n[params]\ng_mod = 0.9e6\n[choices]\nphi = [0.9, 0.94]\n[[target]]\nkind = \"hopf\"\nparam = \"speed_kmh\"\nfrom = 40\nto = 150\nvalue = 80\nweight = 1\ntolerance = 0.2\n[[target]]\nkind = \"frequency\"\nat = { speed_kmh = 100 }\nvalue = 270\n";
+    let fields = [
+        ("prior_sigma = 0.5", "prior_sigma = {}", "prior_sigma"),
+        ("g_mod = 0.9e6", "g_mod = {}", "params.g_mod"),
+        ("phi = [0.9, 0.94]", "phi = [0.9, {}]", "choices.phi[1]"),
+        ("from = 40", "from = {}", "target[0]"),
+        ("to = 150", "to = {}", "target[0]"),
+        ("value = 80", "value = {}", "target[0]"),
+        ("weight = 1", "weight = {}", "target[0].weight"),
+        ("tolerance = 0.2", "tolerance = {}", "target[0].tolerance"),
+        (
+            "speed_kmh = 100",
+            "speed_kmh = {}",
+            "target[1].at.speed_kmh",
+        ),
+        ("value = 270", "value = {}", "target[1]"),
+    ];
+    let mut refused = 0;
+    for (from, to, key) in fields {
+        for x in HOSTILE_NUMBERS {
+            let text = targets.replacen(from, &to.replace("{}", x), 1);
+            let r = std::panic::catch_unwind(|| parse_problem(&text).map_err(|e| e.to_string()));
+            match r {
+                Err(_) => panic!("panic on {key} = {x}"),
+                Ok(Err(msg)) => {
+                    refused += 1;
+                    assert!(msg.contains(key), "{key} = {x}: `{msg}` does not name it");
+                }
+                Ok(Ok(_)) => {}
+            }
+        }
+    }
+    assert!(refused > 60, "{refused} refused");
+    // Each cell of a drive cycle and of an operating-point table.
+    let dir = common::fresh_dir("fuzz-tables");
+    std::fs::create_dir_all(&dir).unwrap();
+    let cycle = "time_s,speed_kmh,load_n\n0,0,4000\n1,60,4000\n2,120,4200\n";
+    for (row, line) in cycle.lines().enumerate().skip(1) {
+        for col in 0..3 {
+            for x in HOSTILE_NUMBERS {
+                let mut cells: Vec<&str> = line.split(',').collect();
+                cells[col] = x;
+                let text = cycle.replacen(line, &cells.join(","), 1);
+                let p = dir.join("c.csv");
+                std::fs::write(&p, &text).unwrap();
+                let r = std::panic::catch_unwind(|| {
+                    polywear::cycle::DriveCycle::read(&p).map_err(|e| e.to_string())
+                });
+                match r {
+                    Err(_) => panic!("panic on row {row} column {col} = {x}"),
+                    Ok(Err(msg)) => assert!(
+                        msg.contains("c.csv"),
+                        "row {row} column {col} = {x}: `{msg}` does not name the file"
+                    ),
+                    Ok(Ok(_)) => {}
+                }
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn links_devices_and_damaged_chunks_never_panic_or_hang() {
+    let fx = fixtures();
+    let dir = &fx.dir;
+    let fifo = dir.join("fifo");
+    let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    // SAFETY: mkfifo on a valid NUL-terminated path.
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+    let link = dir.join("zero-link");
+    std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+    let hostile: Vec<String> = vec![
+        "/dev/zero".into(),
+        "/dev/null".into(),
+        fifo.to_string_lossy().into_owned(),
+        link.to_string_lossy().into_owned(),
+        dir.to_string_lossy().into_owned(),
+    ];
+    let out = dir.join("o.csv").to_string_lossy().into_owned();
+    let out_dir = dir.join("o").to_string_lossy().into_owned();
+    for h in &hostile {
+        for args in [
+            vec![
+                "explore".to_string(),
+                h.clone(),
+                "--out".into(),
+                out_dir.clone(),
+            ],
+            vec!["cycle".into(), h.clone(), "--out".into(), out_dir.clone()],
+            vec!["classify".into(), h.clone(), "--out".into(), out.clone()],
+            vec!["calibrate".into(), h.clone(), "--out".into(), out.clone()],
+            vec!["simulate".into(), "--params".into(), h.clone()],
+        ] {
+            let (code, stderr) = run_bounded(&args, Duration::from_secs(20));
+            assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+            assert_eq!(code, 2, "{args:?}: {stderr}");
+            assert!(stderr.contains(h.as_str()), "{args:?}: {stderr}");
+        }
+    }
+    // Damaged chunks: bit flips and truncations, in the run's directory (refused by the journal)
+    // and copied out of it (read as they are): exit 0 or 2, never a panic.
+    let mut rng = Rng(33);
+    let run = Path::new(&fx.explore_out);
+    let chunks: Vec<PathBuf> = std::fs::read_dir(run)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "parquet"))
+        .collect();
+    for case in 0..16 {
+        let in_run = case % 2 == 0;
+        let target = if in_run {
+            let copy = dir.join(format!("run{case}"));
+            std::fs::create_dir_all(&copy).unwrap();
+            for e in std::fs::read_dir(run).unwrap() {
+                let p = e.unwrap().path();
+                if p.is_file() {
+                    std::fs::copy(&p, copy.join(p.file_name().unwrap())).unwrap();
+                }
+            }
+            copy
+        } else {
+            let bare = dir.join(format!("bare{case}"));
+            std::fs::create_dir_all(&bare).unwrap();
+            for c in &chunks {
+                std::fs::copy(c, bare.join(c.file_name().unwrap())).unwrap();
+            }
+            bare
+        };
+        let victim = target.join(chunks[rng.below(chunks.len())].file_name().unwrap());
+        let mut bytes = std::fs::read(&victim).unwrap();
+        if rng.below(3) == 0 {
+            bytes.truncate(rng.below(bytes.len()));
+        } else {
+            for _ in 0..1 + rng.below(3) {
+                let at = rng.below(bytes.len());
+                bytes[at] ^= 1 << rng.below(8);
+            }
+        }
+        std::fs::write(&victim, &bytes).unwrap();
+        let args = vec!["analyze".to_string(), target.to_string_lossy().into_owned()];
+        let (code, stderr) = run_bounded(&args, Duration::from_secs(60));
+        assert!(!stderr.contains("panicked"), "case {case}: {stderr}");
+        if in_run {
+            assert_eq!(
+                code, 2,
+                "case {case}: a damaged chunk in its run is refused: {stderr}"
+            );
+            assert!(stderr.contains("explore --resume"), "case {case}: {stderr}");
+        } else {
+            assert!(code == 0 || code == 2, "case {case}: exit {code}: {stderr}");
+        }
+    }
+    std::fs::remove_dir_all(dir).ok();
+}

@@ -95,3 +95,98 @@ print("agree")
     assert!(python(&script, &[dir.to_str().unwrap()]).contains("agree"));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Rewrites every chunk of `run` into `out` with pyarrow, changed by `edit` (Python on the
+/// table `t` and its metadata `md`, a dict of bytes), the metadata kept (pyarrow adds its own
+/// `ARROW:schema`).
+fn rewrite(run: &std::path::Path, out: &std::path::Path, edit: &str) {
+    let script = format!(
+        r#"
+import sys, glob, os, pyarrow as pa, pyarrow.parquet as pq, pyarrow.compute as pc
+run, out = sys.argv[1], sys.argv[2]
+os.makedirs(out, exist_ok=True)
+for f in sorted(glob.glob(run + "/chunk-*.parquet")):
+    t = pq.read_table(f)
+    md = dict(t.schema.metadata)
+{}
+    t = t.replace_schema_metadata(md)
+    pq.write_table(t, os.path.join(out, os.path.basename(f)))
+print("ok")
+"#,
+        edit.lines()
+            .map(|l| format!("    {l}"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+    python(&script, &[run.to_str().unwrap(), out.to_str().unwrap()]);
+}
+
+#[test]
+fn a_chunk_rewritten_by_pyarrow_is_accepted_and_a_changed_one_refused_by_name() {
+    if !python_has(&["pandas", "pyarrow"]) {
+        return;
+    }
+    let dir = fresh_dir("py-rewritten");
+    explore_default("300", &dir);
+    let summary = |out: &str| {
+        out.lines()
+            .find(|l| l.contains("follower:"))
+            .map(str::to_string)
+    };
+    let (code, original, stderr) = polywear(&[
+        "analyze",
+        dir.to_str().unwrap(),
+        "--out",
+        dir.join("r0").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    // The same data and metadata, written by pyarrow: the same answer (its `ARROW:schema` key
+    // is ignored, not parsed).
+    let same = dir.join("same");
+    rewrite(&dir, &same, "pass");
+    let (code, again, stderr) = polywear(&["analyze", same.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    assert_eq!(summary(&again), summary(&original));
+    assert!(summary(&original).is_some(), "{original}");
+    // Changed rewrites are refused, naming the file and what is wrong.
+    for (name, edit, needle) in [
+        (
+            "typed",
+            "t = t.set_column(t.schema.get_field_index('speed_kmh'), 'speed_kmh', pc.cast(t['speed_kmh'], pa.string()))",
+            "column `speed_kmh` is string (UTF-8), expected double (f64)",
+        ),
+        (
+            "missing",
+            "t = t.drop(['class'])",
+            "column `class` is missing",
+        ),
+        (
+            "ids",
+            "t = t.set_column(t.schema.get_field_index('sample_id'), 'sample_id', pc.add(t['sample_id'], 4096))",
+            "lies outside the run's [0, 300)",
+        ),
+        (
+            "variant",
+            "t = t.set_column(t.schema.get_field_index('variant'), 'variant', pa.array(['paper'] * len(t)))",
+            "every row's variant must be one of the footer's",
+        ),
+        (
+            "seed",
+            "md[b'seed'] = b'x' * 300",
+            "`seed`: not JSON",
+        ),
+        (
+            "nan",
+            "t = t.set_column(t.schema.get_field_index('speed_kmh'), 'speed_kmh', pa.array([float('nan')] * len(t)))",
+            "column `speed_kmh` holds",
+        ),
+    ] {
+        let out = dir.join(name);
+        rewrite(&dir, &out, edit);
+        let (code, _, stderr) = polywear(&["analyze", out.to_str().unwrap()]);
+        assert_eq!(code, 2, "{name}: {stderr}");
+        assert!(stderr.contains(needle), "{name}: `{needle}` not in {stderr}");
+        assert!(!stderr.contains("panicked") && stderr.len() < 600, "{name}: {stderr}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
