@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use super::AnalysisError;
+use crate::explore::manifest::OperatingPointsRecord;
 use crate::explore::RunManifest;
 use crate::model::Variant;
 use crate::params::{ParamId, Params};
@@ -49,6 +50,9 @@ pub struct RunInfo {
     /// The values every parameter had before the draws (`params` metadata: the defaults, a
     /// parameter file and the study's fixed values).
     pub params: Params,
+    /// The study's operating-point file as the run recorded it (file, columns, weight), when
+    /// the study has `[operating_points]`.
+    pub operating_points: Option<OperatingPointsRecord>,
 }
 
 impl RunInfo {
@@ -353,6 +357,7 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
         samples_present: present,
         rows,
         params: run.params,
+        operating_points: run.operating_points.clone(),
     })
 }
 

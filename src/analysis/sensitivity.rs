@@ -12,6 +12,10 @@ use crate::model::{Variant, Wheel};
 use crate::params::ParamId;
 use crate::sampling::design::Design;
 
+/// The output name of the vibration indicator: 1 when the wheel vibrates (limit cycle or
+/// bistable), 0 when stable.
+pub const VIBRATION: &str = "vibration";
+
 /// First-order and total Sobol indices of one output with respect to one parameter.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sensitivity {
@@ -19,7 +23,8 @@ pub struct Sensitivity {
     pub variant: Variant,
     /// The wheel.
     pub wheel: Wheel,
-    /// `limit_cycle` (the 0/1 indicator) or `amp_v_mps` (0 without a cycle).
+    /// [`VIBRATION`] (the 0/1 indicator: limit cycle or bistable) or `amp_v_mps` (0 without a
+    /// cycle).
     pub output: &'static str,
     /// The drawn parameter the indices belong to.
     pub param: ParamId,
@@ -76,11 +81,8 @@ pub fn sensitivity(
         if complete.len() < 2 {
             continue;
         }
-        // The limit-cycle indicator (0/1) and the velocity amplitude (0 without a cycle).
-        for (pick, output) in [Class::LimitCycle.as_str(), "amp_v_mps"]
-            .into_iter()
-            .enumerate()
-        {
+        // The vibration indicator (0/1) and the velocity amplitude (0 without a cycle).
+        for (pick, output) in [VIBRATION, "amp_v_mps"].into_iter().enumerate() {
             let raw = |r: &Vec<(f64, f64)>, b: usize| if pick == 0 { r[b].0 } else { r[b].1 };
             // Outputs centred on the mean of every evaluated row (A, B and all AB blocks), as
             // SALib's `sobol.analyze` does: the first-order estimator mean(f_B (f_ABi − f_A))

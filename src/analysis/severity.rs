@@ -9,13 +9,68 @@ use super::rows::{Rows, FIXED_POINT_SCALE};
 use super::AnalysisError;
 use crate::model::{Variant, Wheel};
 
-/// The severity quantities: (column, unit).
-pub const SEVERITY_QUANTITIES: [(&str, &str); 4] = [
-    ("amp_y_m", "m"),
-    ("amp_v_mps", "m/s"),
-    ("energy_per_cycle_j", "J"),
-    ("polygon_order", "-"),
+/// A severity quantity: its column (in SI units, as the rows hold it) and how people read it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Quantity {
+    /// The column.
+    pub column: &'static str,
+    /// Its SI unit, as in the rows.
+    pub unit: &'static str,
+    /// What it is, in words, for titles and tables.
+    pub title: &'static str,
+    /// The engineering unit it is shown in ("" for a pure number).
+    pub shown_unit: &'static str,
+    /// Shown value = SI value × `scale`.
+    pub scale: f64,
+}
+
+impl Quantity {
+    /// "Lateral displacement amplitude \[µm\]", or the title alone for a pure number.
+    pub fn label(&self) -> String {
+        if self.shown_unit.is_empty() {
+            self.title.to_string()
+        } else {
+            format!("{} [{}]", self.title, self.shown_unit)
+        }
+    }
+}
+
+/// The severity quantities, as `simulate` prints them (µm, mm/s, µJ).
+pub const SEVERITY_QUANTITIES: [Quantity; 4] = [
+    Quantity {
+        column: "amp_y_m",
+        unit: "m",
+        title: "Lateral displacement amplitude",
+        shown_unit: "µm",
+        scale: 1e6,
+    },
+    Quantity {
+        column: "amp_v_mps",
+        unit: "m/s",
+        title: "Lateral velocity amplitude",
+        shown_unit: "mm/s",
+        scale: 1e3,
+    },
+    Quantity {
+        column: "energy_per_cycle_j",
+        unit: "J",
+        title: "Vibration energy per cycle",
+        shown_unit: "µJ",
+        scale: 1e6,
+    },
+    Quantity {
+        column: "polygon_order",
+        unit: "-",
+        title: "Polygon order (wear facets)",
+        shown_unit: "",
+        scale: 1.0,
+    },
 ];
+
+/// The quantity of column `column`.
+pub fn quantity(column: &str) -> Option<&'static Quantity> {
+    SEVERITY_QUANTITIES.iter().find(|q| q.column == column)
+}
 
 /// Fine histogram bins behind the severity quantiles.
 pub const SEVERITY_FINE_BINS: usize = 4000;
@@ -51,7 +106,12 @@ pub fn severity(
     ranges: &BTreeMap<String, (f64, f64)>,
 ) -> Result<Vec<Severity>, AnalysisError> {
     let mut out = Vec::new();
-    for (quantity, unit) in SEVERITY_QUANTITIES {
+    for Quantity {
+        column: quantity,
+        unit,
+        ..
+    } in SEVERITY_QUANTITIES
+    {
         let (lo, hi) = ranges
             .get(quantity)
             .copied()

@@ -4,7 +4,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::{format_tick, PlotError, PALETTE};
+use super::{format_tick, tick_labels_for, PlotError, PALETTE};
 
 /// A colour scale from a value in [0, 1].
 pub type ColorMap = fn(f64) -> RGBColor;
@@ -79,6 +79,7 @@ pub fn heatmap<DB: DrawingBackend>(
     chart
         .configure_mesh()
         .disable_mesh()
+        .x_labels(tick_labels_for(area, 78, 10, (x0, x1), 16))
         .x_desc(x_label)
         .y_desc(y_label)
         .label_style(("sans-serif", 16))
@@ -187,7 +188,8 @@ pub struct Overlay {
     pub lines: Vec<Vec<(f64, f64)>>,
 }
 
-/// A vertical colour bar for [vmin, vmax].
+/// A vertical colour bar for [vmin, vmax], its ticks and label on its right (as the bar reads
+/// with the map to its left, never with the panel after it).
 pub fn colorbar<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     label: &str,
@@ -197,14 +199,14 @@ pub fn colorbar<DB: DrawingBackend>(
     let mut chart = ChartBuilder::on(area)
         .margin_top(48)
         .margin_bottom(62)
-        .margin_right(8)
-        .y_label_area_size(72)
+        .margin_left(4)
+        .margin_right(4)
+        .right_y_label_area_size(COLORBAR_LABEL_AREA)
         .build_cartesian_2d(0.0..1.0, vmin..vmax)
-        .map_err(PlotError::from)?;
+        .map_err(PlotError::from)?
+        .set_secondary_coord(0.0..1.0, vmin..vmax);
     chart
-        .configure_mesh()
-        .disable_mesh()
-        .disable_x_axis()
+        .configure_secondary_axes()
         .y_desc(label)
         .label_style(("sans-serif", 16))
         .axis_desc_style(("sans-serif", 18))
@@ -224,6 +226,9 @@ pub fn colorbar<DB: DrawingBackend>(
         .map_err(PlotError::from)?;
     Ok(())
 }
+
+/// Width of the label area right of a colour bar (ticks and label) \[px\].
+pub const COLORBAR_LABEL_AREA: u32 = 76;
 
 /// One probability curve with its interval band.
 pub struct Band<'a> {
@@ -270,6 +275,7 @@ pub fn band_panel<DB: DrawingBackend>(
         .map_err(PlotError::from)?;
     chart
         .configure_mesh()
+        .x_labels(tick_labels_for(area, 64, 8, (x0 - pad, x1 + pad), 15))
         .x_desc(x_label)
         .y_desc(y_label)
         .label_style(("sans-serif", 15))
