@@ -134,7 +134,7 @@ pub fn fleet(rows: &Rows, info: &RunInfo) -> Result<Option<Fleet>, AnalysisError
     let mut per_row: BTreeMap<(Variant, u64), [ClassCounts; 2]> = BTreeMap::new();
     for g in rows.class_counts(&[GroupKey::Value(ROW_COLUMN)])? {
         let row = g.values[0];
-        if !(row >= 1.0) {
+        if row.is_nan() || row < 1.0 {
             continue;
         }
         let wheel = match g.wheel {

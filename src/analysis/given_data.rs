@@ -13,7 +13,8 @@
 //! parameter without influence still shows about (M − 1) / N (the estimator's bias), given
 //! as `noise`.
 //!
-//! Y is 1 for a vibrating row and 0 for a stable one, over the classified rows. Where the
+//! Y is 1 for a vibrating row and 0 for a stable one, over the classified rows; of a Saltelli
+//! design, over the rows of its two independent base matrices. Where the
 //! drawn parameters are correlated (the columns of an operating-point file), each index also
 //! carries the effect of the parameters that move with it.
 
@@ -28,6 +29,7 @@ use super::stats::Z95;
 use super::AnalysisError;
 use crate::model::{Variant, Wheel};
 use crate::params::ParamId;
+use crate::sampling::design::Design;
 
 /// Fine bins along each axis behind the equal-frequency classes.
 pub const FINE_BINS: usize = 4000;
@@ -159,6 +161,15 @@ pub fn first_order_indices(
     ranges: &BTreeMap<String, (f64, f64)>,
     resamples: usize,
 ) -> Result<Vec<FirstOrder>, AnalysisError> {
+    // A Saltelli design's rows share values between blocks (AB_i takes every column but the
+    // i-th from A): only its base matrices A and B are independent draws.
+    let base;
+    let rows = if info.design == Design::Saltelli {
+        base = rows.sample_blocks_below(info.drawn_names.len() as i64 + 2, 2);
+        &base
+    } else {
+        rows
+    };
     let mut out = Vec::new();
     for (m, &param) in info.drawn_names.iter().enumerate() {
         let bins = axis_bins(info, ranges, param, FINE_BINS);

@@ -115,6 +115,18 @@ impl Rows {
         Ok(Rows { lf })
     }
 
+    /// The rows whose `sample_id` modulo `stride` is below `blocks` (of a Saltelli design,
+    /// `stride` = k + 2 blocks per base point: blocks 0 and 1 are its independent base
+    /// matrices A and B).
+    pub fn sample_blocks_below(&self, stride: i64, blocks: i64) -> Rows {
+        Rows {
+            lf: self
+                .lf
+                .clone()
+                .filter((col("sample_id") % lit(stride)).lt(lit(blocks))),
+        }
+    }
+
     /// Rows per class for each variant, wheel and combination of `keys`: one group per key
     /// combination with a count column per class (grouping by class as well would multiply the
     /// groups by five, and polars' streaming group-by keeps rows of groups beyond its hot table

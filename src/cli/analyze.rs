@@ -263,28 +263,24 @@ fn print_failures(a: &Analysis) {
     }
 }
 
-/// For a fleet run: the riskiest operating points, and where the full table is.
+/// For a fleet run: how many operating points carry half of the fleet's risk, and which.
 fn print_fleet(a: &Analysis) {
-    const SHOWN: usize = 3;
     let Some(fleet) = &a.fleet else {
         return;
     };
     for variant in a.variants() {
         let rows: Vec<_> = fleet.rows.iter().filter(|r| r.variant == variant).collect();
-        let top: Vec<String> = rows
-            .iter()
-            .take(SHOWN)
-            .filter(|r| r.risk_share_both.is_finite())
-            .map(|r| format!("row {} ({:.1}%)", r.row, 100.0 * r.risk_share_both))
-            .collect();
-        if top.is_empty() {
+        let Some((k, weight)) = polywear::render::fleet::half_the_risk(&rows) else {
             continue;
-        }
+        };
+        let names: Vec<String> = rows[..k].iter().map(|r| r.row.to_string()).collect();
         println!(
-            "  {:>8} operating points: the riskiest of {} are {} of the fleet's risk; every row in _report/fleet_rows.csv",
+            "  {:>8} operating points: {k} of {} carry half of the fleet's risk (rows {}; {:.1}% of the {}); every row in fleet_rows.csv",
             variant,
             rows.len(),
-            top.join(", ")
+            names.join(", "),
+            100.0 * weight,
+            fleet.weight.short()
         );
     }
 }

@@ -272,7 +272,7 @@ pub fn fitting_tick_labels(range: (f64, f64), width_px: u32, font_px: u32) -> us
     use plotters::coord::ranged1d::Ranged;
     ensure_font();
     let (lo, hi) = range;
-    if !(hi > lo) || width_px == 0 {
+    if hi.is_nan() || lo.is_nan() || hi <= lo || width_px == 0 {
         return MAX_TICK_LABELS;
     }
     let font = ("sans-serif", font_px).into_font();
