@@ -47,8 +47,8 @@ impl WeightKind {
         }
     }
 
-    /// How the headline is weighted, in words: "weighted by hours driven at each operating
-    /// point (column `hours`)".
+    /// How the headline is weighted, in words, to follow "P(vibration) is": "weighted by hours
+    /// driven at each operating point (column `hours`)".
     pub fn words(&self) -> String {
         match self {
             WeightKind::Hours(c) => {
@@ -59,7 +59,7 @@ impl WeightKind {
             }
             WeightKind::Column(c) => format!("weighted by column `{c}` of the operating points"),
             WeightKind::EqualRows => {
-                "every operating point equally likely (no weight column)".to_string()
+                "weighted equally over the operating points (no weight column)".to_string()
             }
         }
     }

@@ -112,10 +112,10 @@ fn header(s: &mut String, a: &Analysis) {
         Some(fleet) => {
             let _ = writeln!(
                 s,
-                " Samples draw the operating points of `{}` in proportion to their weight, so \
-                 P(vibration) is {}.\n",
-                fleet.file,
-                fleet.weight.words()
+                " Here P(vibration) is {}: samples draw the operating points of `{}` in \
+                 proportion to their weight.\n",
+                fleet.weight.words(),
+                fleet.file
             );
         }
         None => {
