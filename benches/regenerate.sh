@@ -25,11 +25,11 @@ while [ $# -gt 0 ]; do
   shift
 done
 if [ "$quick" = 1 ]; then
-  EXPLORE_N=2000; SCALING_N=1000; FSYNC_N=400; VALIDATE_N=4; THROUGHPUT_N=500
+  EXPLORE_N=2000; OUTPUT_N=2000; SCALING_N=1000; FSYNC_N=400; VALIDATE_N=4; THROUGHPUT_N=500
   ANALYZE_SIZES="2e4 4e4"; ANALYZE_RUNS=1; REPRODUCE="--steps 11 --paired-samples 200"
   DECODING_N=2560; PEERS_N=20; PEERS_SCIPY=2; CRITERION="--test"; CYCLE_REPEATS=1
 else
-  EXPLORE_N=1e6; SCALING_N=20000; FSYNC_N=4000; VALIDATE_N=340; THROUGHPUT_N=20000
+  EXPLORE_N=1e6; OUTPUT_N=1e6; SCALING_N=20000; FSYNC_N=4000; VALIDATE_N=340; THROUGHPUT_N=20000
   ANALYZE_SIZES="1e6 4e6"; ANALYZE_RUNS=3; REPRODUCE=""
   DECODING_N=51200; PEERS_N=1000; PEERS_SCIPY=50; CRITERION="--warm-up-time 1 --measurement-time 3"; CYCLE_REPEATS=9
 fi
@@ -68,7 +68,14 @@ if want explore; then
   say ""
   timed "$bin" explore --samples "$EXPLORE_N" --out "$work/explore" > "$work/explore.out" 2> "$work/explore.err"
   { grep -E "samples evaluated|analysed" "$work/explore.out" || true; echo "wall and peak RSS of the whole command: $(tail -1 "$work/explore.err")"; } | block
-  { grep -A3 "^P(limit cycle)" "$work/explore.out" || true; } | block
+  { grep -A3 "^P(vibration)" "$work/explore.out" || true; } | block
+fi
+
+if want output-size; then
+  section "output-size"
+  say "Command: \`benches/output_size.sh $OUTPUT_N\` (the built-in study's chunk files: size, explore time, polars read time)."
+  say ""
+  ROUNDS=1 benches/output_size.sh "$OUTPUT_N" "$bin" | block
 fi
 
 if want explore-threads; then

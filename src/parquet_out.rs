@@ -18,6 +18,7 @@ use parquet::file::metadata::KeyValue;
 use parquet::file::properties::WriterProperties;
 use parquet::file::writer::SerializedFileWriter;
 use parquet::schema::parser::parse_message_type;
+use parquet::schema::types::ColumnPath;
 
 use crate::safe_write::NewFile;
 pub use crate::safe_write::{partial_path, sync_dir, write_durably};
@@ -161,6 +162,20 @@ impl Write for DigestingFile {
     }
 }
 
+/// The zstd level of every file. Higher levels shrink the explore chunks by well under 1% (level
+/// 9: 0.3%) for several times the compression time (BENCHMARKS.md#output-size).
+pub const ZSTD_LEVEL: i32 = 3;
+
+/// Whether a column is dictionary-encoded: names (wheel, variant, class, method, reason) and
+/// integers (few distinct values per file) are; floating-point values are written plain. Most
+/// floats of a row are distinct to the last bit, so a dictionary holds each value once more
+/// beside its index; where a value repeats (a sample's inputs on both wheels' rows), zstd finds
+/// the repeat in the plain bytes as well (BENCHMARKS.md#output-size). Byte-stream-split
+/// encoding measured larger still: it cuts the repeated 8-byte values apart.
+fn dictionary_encoded(data: &ColumnData) -> bool {
+    !matches!(data, ColumnData::F64(_))
+}
+
 /// Streams row groups into one Parquet file. The file is written under a temporary name and
 /// renamed on [`TableWriter::finish`] after an fsync, so a half-written file is never taken for
 /// a result.
@@ -205,13 +220,17 @@ impl TableWriter {
             "units".to_string(),
             serde_json::Value::Object(units).to_string(),
         ));
-        let props = WriterProperties::builder()
+        let mut props = WriterProperties::builder()
             .set_compression(Compression::ZSTD(
-                ZstdLevel::try_new(3).expect("valid level"),
+                ZstdLevel::try_new(ZSTD_LEVEL).expect("valid level"),
             ))
+            .set_dictionary_enabled(false)
             .set_key_value_metadata(Some(kv))
-            .set_created_by(format!("polywear {}", env!("CARGO_PKG_VERSION")))
-            .build();
+            .set_created_by(format!("polywear {}", env!("CARGO_PKG_VERSION")));
+        for c in template.iter().filter(|c| dictionary_encoded(&c.data)) {
+            props = props.set_column_dictionary_enabled(ColumnPath::from(c.name.as_str()), true);
+        }
+        let props = props.build();
         let file = DigestingFile {
             file: NewFile::create(path).map_err(|e| err(&e))?,
             hasher: crc32fast::Hasher::new(),

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use super::footer::{self, FileFooter};
 use super::severity::SEVERITY_QUANTITIES;
 use super::AnalysisError;
+use crate::explore::manifest::OperatingPointsRecord;
 use crate::explore::RunManifest;
 use crate::model::Variant;
 use crate::params::{ParamId, Params};
@@ -51,6 +52,9 @@ pub struct RunInfo {
     /// The values every parameter had before the draws (`params` metadata: the defaults, a
     /// parameter file and the study's fixed values).
     pub params: Params,
+    /// The study's operating-point file as the run recorded it (file, columns, weight), when
+    /// the study has `[operating_points]`.
+    pub operating_points: Option<OperatingPointsRecord>,
 }
 
 impl RunInfo {
@@ -189,6 +193,7 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
         samples_present: present,
         rows,
         params: run.params,
+        operating_points: run.operating_points.clone(),
     })
 }
 

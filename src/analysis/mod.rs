@@ -7,14 +7,23 @@
 //! not belong together are refused before any row is read) into a [`RunInfo`]; [`run`] answers
 //! every question for [`AnalysisOptions`] and returns an [`Analysis`], plain data.
 //! [`crate::render`] writes its tables, figures and page. One module per question:
-//! [`occurrence`], [`paired`], [`conditional`] (per axis, on [`bins`]), [`risk_map`],
-//! [`severity`], [`sensitivity`], [`robustness`]; [`rows`] alone speaks to polars, and
+//! [`occurrence`], [`failures`] (why rows have no verdict), [`paired`], [`fleet`] (per row of
+//! an operating-point file), [`conditional`] (per axis, on [`bins`]), [`risk_map`],
+//! [`severity`], [`given_data`] (first-order indices from any design), [`sensitivity`] (Sobol
+//! indices of a Saltelli design), [`robustness`]; [`rows`] alone speaks to polars, and
 //! [`stats`] holds the intervals and tests.
+//!
+//! P(vibration), the probability every table gives, is the share of classified rows (stable,
+//! limit cycle, bistable) whose wheel vibrates: settles on a limit cycle, or is bistable (can be
+//! kicked onto one). Rows that failed or have no traction are counted apart ([`counts`]).
 
 pub mod bins;
 pub mod conditional;
 pub mod counts;
+pub mod failures;
+pub mod fleet;
 mod footer;
+pub mod given_data;
 pub mod inputs;
 pub mod occurrence;
 pub mod paired;
@@ -29,6 +38,9 @@ use std::path::{Path, PathBuf};
 
 use conditional::BinStat;
 use counts::ClassCounts;
+use failures::Failures;
+use fleet::Fleet;
+use given_data::FirstOrder;
 pub use inputs::RunInfo;
 use occurrence::Occurrence;
 use paired::Paired;
@@ -104,19 +116,27 @@ pub struct Analysis {
     pub info: RunInfo,
     /// The options it was computed with.
     pub options: AnalysisOptions,
-    /// P(limit cycle) per variant and wheel.
+    /// P(vibration) per variant and wheel.
     pub occurrence: Vec<Occurrence>,
+    /// The rows without a verdict, grouped by reason.
+    pub failures: Failures,
     /// Driving against follower on the same samples, per variant.
     pub paired: Vec<Paired>,
-    /// P(limit cycle) per bin of every drawn parameter.
+    /// P(vibration) per row of the operating-point file (only for a study with one).
+    pub fleet: Option<Fleet>,
+    /// P(vibration) per bin of every drawn parameter.
     pub conditional: Vec<BinStat>,
-    /// Risk maps over pairs of axes.
+    /// Risk maps over pairs of axes (their tables are written whether or not they are drawn).
     pub maps: Vec<RiskMap>,
+    /// The maps of `maps` not drawn because too few of their cells hold enough samples.
+    pub sparse_maps: Vec<SparseMap>,
     /// Cycle quantities among the vibrating rows.
     pub severity: Vec<Severity>,
+    /// First-order indices of the vibration indicator from the rows (every design).
+    pub first_order: Vec<FirstOrder>,
     /// Sobol indices (only for a Saltelli design).
     pub sensitivity: Option<Vec<Sensitivity>>,
-    /// P(limit cycle) per lost-digit decoding (only when the study draws decodings).
+    /// P(vibration) per lost-digit decoding (only when the study draws decodings).
     pub robustness: Option<Robustness>,
     /// How often the driving wheel is less exposed, per variant.
     pub robustness_summary: Vec<RobustnessSummary>,
@@ -125,6 +145,14 @@ pub struct Analysis {
 }
 
 impl Analysis {
+    /// Whether the map is drawn: not one of [`Analysis::sparse_maps`].
+    pub fn is_drawn(&self, map: &RiskMap) -> bool {
+        !self
+            .sparse_maps
+            .iter()
+            .any(|s| (s.variant, s.x, s.y) == (map.variant, map.x, map.y))
+    }
+
     /// Class counts over every variant and wheel.
     pub fn totals(&self) -> ClassCounts {
         let mut t = ClassCounts::default();
@@ -147,6 +175,27 @@ impl Analysis {
         v
     }
 }
+
+/// A risk map left out: its axes, and how many of its cells hold at least `min_count`
+/// classified samples on some wheel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SparseMap {
+    /// The friction variant.
+    pub variant: Variant,
+    /// The horizontal axis.
+    pub x: ParamId,
+    /// The vertical axis.
+    pub y: ParamId,
+    /// Cells with enough samples.
+    pub filled: usize,
+    /// All cells.
+    pub cells: usize,
+}
+
+/// A risk map is drawn only when at least this share of its cells holds enough samples: the
+/// few rows of an operating-point file fill a handful of cells of a speed × toe-in grid, and a
+/// map that is mostly grey says less than the per-row table.
+pub const MIN_MAP_COVERAGE: f64 = 0.25;
 
 /// Why an analysis cannot be done: inputs that do not belong together (named by file and key),
 /// rows this version cannot read, or a failed query.
@@ -315,6 +364,10 @@ pub enum Step {
     Occurrence,
     /// The paired comparison.
     Paired,
+    /// The reasons of the rows without a verdict.
+    Failures,
+    /// The per-row table of an operating-point file.
+    Fleet,
     /// The observed ranges of the axes and cycle quantities.
     Ranges,
     /// The conditional probabilities along one axis.
@@ -323,6 +376,8 @@ pub enum Step {
     RiskMap,
     /// The severity histograms.
     Severity,
+    /// The first-order indices from the rows.
+    FirstOrder,
     /// The Sobol indices.
     Sensitivity,
     /// The lost-digit decodings.
@@ -347,8 +402,15 @@ pub fn run_with_progress(
     let occurrence = occurrence::occurrence(&rows)?;
     check_rows_agree(&info, &occurrence)?;
     progress(Step::Occurrence);
+    let mut totals = ClassCounts::default();
+    occurrence.iter().for_each(|o| totals.merge(&o.counts));
+    let unclassified = totals.total() - totals.classified();
+    let failures = failures::failures(&info.files, totals.total(), unclassified)?;
+    progress(Step::Failures);
     let paired = paired::paired(&info.files, PAIRED_BATCH_ROWS)?;
     progress(Step::Paired);
+    let fleet = fleet::fleet(&rows, &info)?;
+    progress(Step::Fleet);
     let quantities: Vec<&str> = SEVERITY_QUANTITIES.iter().map(|q| q.name()).collect();
     let axes: Vec<&str> = info.drawn_names.iter().map(|p| p.name()).collect();
     let ranges = rows.ranges(&axes, &quantities)?;
@@ -359,22 +421,11 @@ pub fn run_with_progress(
         conditional.extend(conditional::conditional(&rows, axis, &b)?);
         progress(Step::Conditional);
     }
-    let mut maps = Vec::new();
-    for &(x, y) in &opts.pairs {
-        if !info.drawn_names.contains(&x) || !info.drawn_names.contains(&y) {
-            notes.push(format!(
-                "risk map {x} × {y} skipped: the run does not draw both (it draws {})",
-                axes.join(", ")
-            ));
-            continue;
-        }
-        let xb = bins::axis_bins(&info, &ranges, x, opts.map_bins);
-        let yb = bins::axis_bins(&info, &ranges, y, opts.map_bins);
-        maps.extend(risk_map::risk_maps(&rows, (x, &xb), (y, &yb))?);
-        progress(Step::RiskMap);
-    }
+    let (maps, sparse_maps) = risk_maps(&rows, &info, &ranges, opts, &mut notes, progress)?;
     let severity = severity::severity(&rows, &ranges)?;
     progress(Step::Severity);
+    let first_order = given_data::first_order_indices(&rows, &info, &ranges, opts.bootstrap)?;
+    progress(Step::FirstOrder);
     let sensitivity = sensitivity::sensitivity(&rows, &info, opts.bootstrap)?;
     progress(Step::Sensitivity);
     let robustness = robustness::robustness(&rows, &info)?;
@@ -383,12 +434,71 @@ pub fn run_with_progress(
         .as_ref()
         .map(|r| r.summary(opts.min_count))
         .unwrap_or_default();
-    if sensitivity.is_none() {
-        notes.push("Sobol indices need a Saltelli design (`design = \"saltelli\"` in the study); this run used another.".into());
+    Ok(Analysis {
+        info,
+        options: opts.clone(),
+        occurrence,
+        failures,
+        paired,
+        fleet,
+        conditional,
+        maps,
+        sparse_maps,
+        severity,
+        first_order,
+        sensitivity,
+        robustness,
+        robustness_summary,
+        notes,
+    })
+}
+
+/// The risk maps of every pair of drawn axes, with the nominal tire's Hopf curves over each;
+/// a pair the run does not draw is a note, a map with too few filled cells
+/// ([`MIN_MAP_COVERAGE`]) a [`SparseMap`].
+fn risk_maps(
+    rows: &Rows,
+    info: &RunInfo,
+    ranges: &std::collections::BTreeMap<String, (f64, f64)>,
+    opts: &AnalysisOptions,
+    notes: &mut Vec<String>,
+    progress: &mut dyn FnMut(Step),
+) -> Result<(Vec<RiskMap>, Vec<SparseMap>), AnalysisError> {
+    let (mut maps, mut sparse) = (Vec::new(), Vec::new());
+    for &(x, y) in &opts.pairs {
+        if !info.drawn_names.contains(&x) || !info.drawn_names.contains(&y) {
+            let axes: Vec<&str> = info.drawn_names.iter().map(|p| p.name()).collect();
+            notes.push(format!(
+                "risk map {x} × {y} skipped: the run does not draw both (it draws {})",
+                axes.join(", ")
+            ));
+            continue;
+        }
+        let xb = bins::axis_bins(info, ranges, x, opts.map_bins);
+        let yb = bins::axis_bins(info, ranges, y, opts.map_bins);
+        for map in risk_map::risk_maps(rows, (x, &xb), (y, &yb))? {
+            let (filled, cells) = map.coverage(opts.min_count);
+            if (filled as f64) < MIN_MAP_COVERAGE * cells as f64 {
+                sparse.push(SparseMap {
+                    variant: map.variant,
+                    x,
+                    y,
+                    filled,
+                    cells,
+                });
+            }
+            maps.push(map);
+        }
+        progress(Step::RiskMap);
     }
-    // The nominal tire's Hopf curves over each map's box.
+    // The nominal tire's Hopf curves over the box of each map that is drawn.
     if let Some(study) = &info.study {
-        for map in &mut maps {
+        let drawn = |m: &RiskMap| {
+            !sparse
+                .iter()
+                .any(|s| (s.variant, s.x, s.y) == (m.variant, m.x, m.y))
+        };
+        for map in maps.iter_mut().filter(|m| drawn(m)) {
             map.nominal = crate::chart::nominal_curves(
                 study,
                 map.variant,
@@ -399,19 +509,7 @@ pub fn run_with_progress(
             );
         }
     }
-    Ok(Analysis {
-        info,
-        options: opts.clone(),
-        occurrence,
-        paired,
-        conditional,
-        maps,
-        severity,
-        sensitivity,
-        robustness,
-        robustness_summary,
-        notes,
-    })
+    Ok((maps, sparse))
 }
 
 /// Refuses rows whose variant or wheel the footers do not describe: each variant of the footers

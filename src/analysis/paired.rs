@@ -12,8 +12,9 @@ use crate::classify::Class;
 use crate::model::Variant;
 
 /// The paired comparison on the same samples (McNemar), over samples whose two wheels are
-/// both classified.
-#[derive(Debug, Clone, PartialEq)]
+/// both classified. Two are equal when every count and the test are (a test without data, NaN,
+/// equal to another without data).
+#[derive(Debug, Clone)]
 pub struct Paired {
     /// The friction variant.
     pub variant: Variant,
@@ -36,6 +37,22 @@ pub struct Paired {
     /// Which McNemar test gave `p_value`: `exact` (binomial, up to 10,000 discordant pairs) or
     /// `chi2`.
     pub method: &'static str,
+}
+
+impl PartialEq for Paired {
+    fn eq(&self, o: &Self) -> bool {
+        let same = |a: f64, b: f64| a == b || (a.is_nan() && b.is_nan());
+        (
+            self.variant,
+            self.pairs,
+            self.only_follower,
+            self.only_driving,
+        ) == (o.variant, o.pairs, o.only_follower, o.only_driving)
+            && (self.both, self.neither, self.unclassified, self.method)
+                == (o.both, o.neither, o.unclassified, o.method)
+            && same(self.chi2, o.chi2)
+            && same(self.p_value, o.p_value)
+    }
 }
 
 impl Paired {

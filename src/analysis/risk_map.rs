@@ -34,6 +34,16 @@ pub struct RiskMap {
 }
 
 impl RiskMap {
+    /// (cells where some wheel has at least `min_count` classified samples, all cells).
+    pub fn coverage(&self, min_count: u64) -> (usize, usize) {
+        let cells = self.x_bins.count() * self.y_bins.count();
+        let filled = (0..self.x_bins.count())
+            .flat_map(|ix| (0..self.y_bins.count()).map(move |iy| (ix, iy)))
+            .filter(|&(ix, iy)| self.cells.iter().any(|(_, g)| g[ix][iy].enough(min_count)))
+            .count();
+        (filled, cells)
+    }
+
     /// Probability per cell, NaN where fewer than `min_count` classified samples fell.
     pub fn probability(&self, wheel: Wheel, min_count: u64) -> Vec<Vec<f64>> {
         let Some((_, grid)) = self.cells.iter().find(|(w, _)| *w == wheel) else {

@@ -123,6 +123,18 @@ impl Rows {
         Ok(Rows { lf })
     }
 
+    /// The rows whose `sample_id` modulo `stride` is below `blocks` (of a Saltelli design,
+    /// `stride` = k + 2 blocks per base point: blocks 0 and 1 are its independent base
+    /// matrices A and B).
+    pub fn sample_blocks_below(&self, stride: i64, blocks: i64) -> Rows {
+        Rows {
+            lf: self
+                .lf
+                .clone()
+                .filter((col("sample_id") % lit(stride)).lt(lit(blocks))),
+        }
+    }
+
     /// Rows per class for each variant, wheel and combination of `keys`: one group per key
     /// combination with a count column per class (grouping by class as well would multiply the
     /// groups by five, and polars' streaming group-by keeps rows of groups beyond its hot table
@@ -418,6 +430,36 @@ pub fn pairs_by_sample(files: &[PathBuf], batch_rows: u64) -> Result<PairCounts,
         start = end;
     }
     Ok(combos)
+}
+
+/// Rows per (class, reason) among the rows of `classes`, one file at a time (a file's distinct
+/// reasons at most in memory: reasons carry numbers, so a run can have as many as rows), each
+/// group handed to `each`.
+pub fn reason_counts(
+    files: &[PathBuf],
+    classes: &[Class],
+    each: &mut dyn FnMut(Class, &str, u64),
+) -> Result<(), AnalysisError> {
+    let wanted = classes.iter().fold(lit(false), |acc, c| {
+        acc.or(col("class").eq(lit(c.as_str())))
+    });
+    for file in files {
+        let df = collect(
+            Rows::scan(std::slice::from_ref(file))?
+                .lf
+                .filter(wanted.clone())
+                .group_by([col("class"), col("reason")])
+                .agg([len().cast(DataType::Int64).alias("n")]),
+        )?;
+        let (class, reason, n) = (strs(&df, "class")?, strs(&df, "reason")?, ints(&df, "n")?);
+        for i in 0..df.height() {
+            let c = class[i]
+                .parse()
+                .map_err(|e: UnknownName| AnalysisError::Row(e.to_string()))?;
+            each(c, &reason[i], n[i] as u64);
+        }
+    }
+    Ok(())
 }
 
 /// Rows of a Parquet file, from its footer (0 when it cannot be read: the scan then says why).

@@ -13,6 +13,10 @@ use crate::params::ParamId;
 use crate::records::RecordColumn;
 use crate::sampling::design::Design;
 
+/// The output name of the vibration indicator: 1 when the wheel vibrates (limit cycle or
+/// bistable), 0 when stable.
+pub const VIBRATION: &str = "vibration";
+
 /// First-order and total Sobol indices of one output with respect to one parameter.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sensitivity {
@@ -20,7 +24,8 @@ pub struct Sensitivity {
     pub variant: Variant,
     /// The wheel.
     pub wheel: Wheel,
-    /// `limit_cycle` (the 0/1 indicator) or `amp_v_mps` (0 without a cycle).
+    /// [`VIBRATION`] (the 0/1 indicator: limit cycle or bistable) or `amp_v_mps` (0 without a
+    /// cycle).
     pub output: &'static str,
     /// The drawn parameter the indices belong to.
     pub param: ParamId,
@@ -77,8 +82,8 @@ pub fn sensitivity(
         if complete.len() < 2 {
             continue;
         }
-        // The limit-cycle indicator (0/1) and the velocity amplitude (0 without a cycle).
-        for (pick, output) in [Class::LimitCycle.as_str(), RecordColumn::AmpVMps.name()]
+        // The vibration indicator (0/1) and the velocity amplitude (0 without a cycle).
+        for (pick, output) in [VIBRATION, RecordColumn::AmpVMps.name()]
             .into_iter()
             .enumerate()
         {

@@ -1,14 +1,20 @@
 //! Statistics of the analysis: Wilson score intervals, McNemar's test for paired outcomes, and
 //! Sobol sensitivity indices (Saltelli/Jansen estimators) with bootstrap intervals.
 
-/// A p-value for people: below 1e-300 it reads "< 1e-300" rather than an underflowed 0.
+/// A p-value for people: below 1e-300 it reads "< 1e-300" rather than an underflowed 0, and
+/// "n/a" where the test had no data (NaN).
 pub fn format_p(p: f64) -> String {
-    if p < 1e-300 {
+    if p.is_nan() {
+        "n/a".into()
+    } else if p < 1e-300 {
         "< 1e-300".into()
     } else {
         format!("{p:.3e}")
     }
 }
+
+/// The method of a test that had no data to test.
+pub const NO_TEST: &str = "none";
 
 /// z for a two-sided 95% interval.
 pub const Z95: f64 = 1.959_963_984_540_054;
@@ -29,11 +35,12 @@ pub fn wilson(k: u64, n: u64) -> (f64, f64) {
 
 /// McNemar's test on the discordant pairs `b` (only the first vibrates) and `c` (only the
 /// second): the exact two-sided binomial p-value up to 10,000 discordant pairs, the
-/// continuity-corrected chi-square beyond. Returns (statistic, p-value, method).
+/// continuity-corrected chi-square beyond. Returns (statistic, p-value, method). Without a
+/// discordant pair there is nothing to test: NaN for both, method [`NO_TEST`].
 pub fn mcnemar(b: u64, c: u64) -> (f64, f64, &'static str) {
     let n = b + c;
     if n == 0 {
-        return (0.0, 1.0, "exact");
+        return (f64::NAN, f64::NAN, NO_TEST);
     }
     let chi2 = ((b as f64 - c as f64).abs() - 1.0).max(0.0).powi(2) / n as f64;
     if n <= 10_000 {
@@ -147,6 +154,11 @@ mod tests {
         assert!((p - 2.0 * 0.5f64.powi(10)).abs() < 1e-12);
         let (_, p, _) = mcnemar(5, 5);
         assert_eq!(p, 1.0);
+        // No discordant pair: no test, and it says so.
+        let (chi2, p, m) = mcnemar(0, 0);
+        assert!(chi2.is_nan() && p.is_nan() && m == NO_TEST);
+        assert_eq!(format_p(p), "n/a");
+        assert_eq!(format_p(0.0), "< 1e-300");
         // Large samples: chi-square with continuity correction.
         let (chi2, p, m) = mcnemar(6000, 5500);
         assert_eq!(m, "chi2");

@@ -186,6 +186,7 @@ fn release_freed_memory() {
 
 fn print_summary(a: &Analysis) {
     let i = &a.info;
+    print_failures(a);
     println!(
         "{} of {} samples present ({} rows in {} files)",
         i.samples_present,
@@ -199,7 +200,11 @@ fn print_summary(a: &Analysis) {
             i.samples - i.samples_present
         );
     }
-    println!("P(limit cycle) over classified rows, with 95% Wilson interval:");
+    let weighted = a
+        .fleet
+        .as_ref()
+        .map_or(String::new(), |f| format!(", {}", f.weight.words()));
+    println!("P(vibration) over classified rows{weighted}, with 95% Wilson interval:");
     for o in &a.occurrence {
         let (lo, hi) = o.counts.wilson();
         println!(
@@ -223,9 +228,14 @@ fn print_summary(a: &Analysis) {
             p.only_driving,
             p.both,
             p.neither,
-            polywear::analysis::stats::format_p(p.p_value)
+            if p.p_value.is_nan() {
+                "n/a (no discordant pairs)".to_string()
+            } else {
+                polywear::analysis::stats::format_p(p.p_value)
+            }
         );
     }
+    print_fleet(a);
     for r in &a.robustness_summary {
         println!(
             "  {:>8} lost digits: driving less exposed in {} of {} decodings ({:.1}%, 95% [{:.1}%, {:.1}%]); {} with too few samples",
@@ -240,5 +250,45 @@ fn print_summary(a: &Analysis) {
     }
     for n in &a.notes {
         println!("  note: {n}");
+    }
+}
+
+/// When more than 1% of the rows have no verdict, the first thing printed: how many, and why.
+fn print_failures(a: &Analysis) {
+    let f = &a.failures;
+    if !f.loud() {
+        return;
+    }
+    println!(
+        "WARNING: {} of {} rows ({:.1}%) have no verdict; every probability below is over the other {} only. Why:",
+        f.unclassified,
+        f.rows,
+        100.0 * f.share(),
+        f.rows - f.unclassified
+    );
+    for g in &f.groups {
+        println!("  {:>9} {}: {}", g.rows, g.class, g.pattern);
+    }
+}
+
+/// For a fleet run: how many operating points carry half of the fleet's risk, and which.
+fn print_fleet(a: &Analysis) {
+    let Some(fleet) = &a.fleet else {
+        return;
+    };
+    for variant in a.variants() {
+        let rows: Vec<_> = fleet.rows.iter().filter(|r| r.variant == variant).collect();
+        let Some((k, weight)) = polywear::render::fleet::half_the_risk(&rows) else {
+            continue;
+        };
+        let names: Vec<String> = rows[..k].iter().map(|r| r.row.to_string()).collect();
+        println!(
+            "  {:>8} operating points: {k} of {} carry half of the fleet's risk (rows {}; {:.1}% of the {}); every row in fleet_rows.csv",
+            variant,
+            rows.len(),
+            names.join(", "),
+            100.0 * weight,
+            fleet.weight.short()
+        );
     }
 }

@@ -1,10 +1,11 @@
 //! Heatmaps with colour bars (risk maps) and probability curves with interval bands.
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::{format_tick, PlotError, PALETTE};
+use super::{format_tick, tick_labels_for, PlotError, PALETTE};
 
 /// A colour scale from a value in [0, 1].
 pub type ColorMap = fn(f64) -> RGBColor;
@@ -79,6 +80,7 @@ pub fn heatmap<DB: DrawingBackend>(
     chart
         .configure_mesh()
         .disable_mesh()
+        .x_labels(tick_labels_for(area, 78, 10, (x0, x1), 16))
         .x_desc(x_label)
         .y_desc(y_label)
         .label_style(("sans-serif", 16))
@@ -108,29 +110,50 @@ pub fn heatmap<DB: DrawingBackend>(
     // The value in each cell, when the cells are few and large enough to hold it.
     let cells = values.len() * values.first().map_or(0, Vec::len);
     if cells > 0 && cells <= MAX_CELLS_WITH_NUMBERS {
-        let mut texts = Vec::new();
-        for (ix, col) in values.iter().enumerate() {
-            for (iy, v) in col.iter().enumerate() {
-                let centre = (
-                    0.5 * (x_edges[ix] + x_edges[ix + 1]),
-                    0.5 * (y_edges[iy] + y_edges[iy + 1]),
-                );
-                let (text, dark) = if v.is_finite() {
-                    let t = (v - vmin) / (vmax - vmin);
-                    (cell_text(*v), luminance(cmap(t)) < 0.5)
-                } else {
-                    ("?".to_string(), false)
-                };
-                let color = if dark { WHITE } else { BLACK };
-                let style = ("sans-serif", 16)
-                    .into_font()
-                    .color(&color)
-                    .pos(Pos::new(HPos::Center, VPos::Center));
-                texts.push(Text::new(text, centre, style));
-            }
-        }
+        let texts = cell_texts(x_edges, y_edges, values, (vmin, vmax), cmap);
         chart.draw_series(texts).map_err(PlotError::from)?;
     }
+    draw_overlays(&mut chart, overlay)
+}
+
+/// Each cell's value written in its centre, white on dark colours, "?" where unknown.
+fn cell_texts(
+    x_edges: &[f64],
+    y_edges: &[f64],
+    values: &[Vec<f64>],
+    (vmin, vmax): (f64, f64),
+    cmap: ColorMap,
+) -> Vec<Text<'static, (f64, f64), String>> {
+    let mut texts = Vec::new();
+    for (ix, col) in values.iter().enumerate() {
+        for (iy, v) in col.iter().enumerate() {
+            let centre = (
+                0.5 * (x_edges[ix] + x_edges[ix + 1]),
+                0.5 * (y_edges[iy] + y_edges[iy + 1]),
+            );
+            let (text, dark) = if v.is_finite() {
+                let t = (v - vmin) / (vmax - vmin);
+                (cell_text(*v), luminance(cmap(t)) < 0.5)
+            } else {
+                ("?".to_string(), false)
+            };
+            let color = if dark { WHITE } else { BLACK };
+            let style = ("sans-serif", 16)
+                .into_font()
+                .color(&color)
+                .pos(Pos::new(HPos::Center, VPos::Center));
+            texts.push(Text::new(text, centre, style));
+        }
+    }
+    texts
+}
+
+/// Lines over a heatmap, each overlay once in a legend on mid grey (where white and black
+/// lines both show).
+fn draw_overlays<'a, DB: DrawingBackend + 'a>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    overlay: &[Overlay],
+) -> Result<(), PlotError> {
     for o in overlay {
         for (k, line) in o.lines.iter().enumerate() {
             let style = o.color.stroke_width(3);
@@ -187,7 +210,8 @@ pub struct Overlay {
     pub lines: Vec<Vec<(f64, f64)>>,
 }
 
-/// A vertical colour bar for [vmin, vmax].
+/// A vertical colour bar for [vmin, vmax], its ticks and label on its right (as the bar reads
+/// with the map to its left, never with the panel after it).
 pub fn colorbar<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     label: &str,
@@ -197,14 +221,14 @@ pub fn colorbar<DB: DrawingBackend>(
     let mut chart = ChartBuilder::on(area)
         .margin_top(48)
         .margin_bottom(62)
-        .margin_right(8)
-        .y_label_area_size(72)
+        .margin_left(4)
+        .margin_right(4)
+        .right_y_label_area_size(COLORBAR_LABEL_AREA)
         .build_cartesian_2d(0.0..1.0, vmin..vmax)
-        .map_err(PlotError::from)?;
+        .map_err(PlotError::from)?
+        .set_secondary_coord(0.0..1.0, vmin..vmax);
     chart
-        .configure_mesh()
-        .disable_mesh()
-        .disable_x_axis()
+        .configure_secondary_axes()
         .y_desc(label)
         .label_style(("sans-serif", 16))
         .axis_desc_style(("sans-serif", 18))
@@ -224,6 +248,9 @@ pub fn colorbar<DB: DrawingBackend>(
         .map_err(PlotError::from)?;
     Ok(())
 }
+
+/// Width of the label area right of a colour bar (ticks and label) \[px\].
+pub const COLORBAR_LABEL_AREA: u32 = 76;
 
 /// One probability curve with its interval band.
 pub struct Band<'a> {
@@ -270,6 +297,7 @@ pub fn band_panel<DB: DrawingBackend>(
         .map_err(PlotError::from)?;
     chart
         .configure_mesh()
+        .x_labels(tick_labels_for(area, 64, 8, (x0 - pad, x1 + pad), 15))
         .x_desc(x_label)
         .y_desc(y_label)
         .label_style(("sans-serif", 15))
@@ -280,53 +308,22 @@ pub fn band_panel<DB: DrawingBackend>(
         .map_err(PlotError::from)?;
     for (i, b) in bands.iter().enumerate() {
         let color = PALETTE[i % PALETTE.len()];
-        let pts: Vec<&(f64, f64, f64, f64)> = b.points.iter().filter(|p| p.1.is_finite()).collect();
+        let pts: Vec<(f64, f64, f64, f64)> = b
+            .points
+            .iter()
+            .copied()
+            .filter(|p| p.1.is_finite())
+            .collect();
         if pts.is_empty() {
             continue;
         }
         if b.discrete {
             // Side by side around each level, so that the wheels' points do not hide each other.
             let shift = (i as f64 - 0.5 * (bands.len() as f64 - 1.0)) * 0.012 * (x1 - x0);
-            let pts: Vec<(f64, f64, f64, f64)> =
-                pts.iter().map(|p| (p.0 + shift, p.1, p.2, p.3)).collect();
-            chart
-                .draw_series(
-                    pts.iter().map(|p| {
-                        PathElement::new(vec![(p.0, p.2), (p.0, p.3)], color.stroke_width(2))
-                    }),
-                )
-                .map_err(PlotError::from)?;
-            chart
-                .draw_series(
-                    pts.iter()
-                        .map(|p| Circle::new((p.0, p.1), 5, color.filled())),
-                )
-                .map_err(PlotError::from)?
-                .label(b.label)
-                .legend(move |(x, y)| Circle::new((x + 8, y), 5, color.filled()));
-            continue;
+            draw_level_points(&mut chart, b.label, &pts, shift, color)?;
+        } else {
+            draw_band(&mut chart, b.label, &pts, color)?;
         }
-        let mut poly: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.3)).collect();
-        poly.extend(pts.iter().rev().map(|p| (p.0, p.2)));
-        chart
-            .draw_series(std::iter::once(Polygon::new(poly, color.mix(0.2).filled())))
-            .map_err(PlotError::from)?;
-        chart
-            .draw_series(LineSeries::new(
-                pts.iter().map(|p| (p.0, p.1)),
-                color.stroke_width(2),
-            ))
-            .map_err(PlotError::from)?
-            .label(b.label)
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(3))
-            });
-        chart
-            .draw_series(
-                pts.iter()
-                    .map(|p| Circle::new((p.0, p.1), 2, color.filled())),
-            )
-            .map_err(PlotError::from)?;
     }
     chart
         .configure_series_labels()
@@ -335,6 +332,63 @@ pub fn band_panel<DB: DrawingBackend>(
         .border_style(BLACK)
         .label_font(("sans-serif", 15))
         .draw()
+        .map_err(PlotError::from)?;
+    Ok(())
+}
+
+type Chart2d<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// Points with interval bars at discrete levels, moved by `shift` along x.
+fn draw_level_points<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Chart2d<'a, DB>,
+    label: &str,
+    pts: &[(f64, f64, f64, f64)],
+    shift: f64,
+    color: RGBColor,
+) -> Result<(), PlotError> {
+    let pts: Vec<(f64, f64, f64, f64)> = pts.iter().map(|p| (p.0 + shift, p.1, p.2, p.3)).collect();
+    chart
+        .draw_series(
+            pts.iter()
+                .map(|p| PathElement::new(vec![(p.0, p.2), (p.0, p.3)], color.stroke_width(2))),
+        )
+        .map_err(PlotError::from)?;
+    chart
+        .draw_series(
+            pts.iter()
+                .map(|p| Circle::new((p.0, p.1), 5, color.filled())),
+        )
+        .map_err(PlotError::from)?
+        .label(label)
+        .legend(move |(x, y)| Circle::new((x + 8, y), 5, color.filled()));
+    Ok(())
+}
+
+/// A curve through the points with its interval shaded.
+fn draw_band<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Chart2d<'a, DB>,
+    label: &str,
+    pts: &[(f64, f64, f64, f64)],
+    color: RGBColor,
+) -> Result<(), PlotError> {
+    let mut poly: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.3)).collect();
+    poly.extend(pts.iter().rev().map(|p| (p.0, p.2)));
+    chart
+        .draw_series(std::iter::once(Polygon::new(poly, color.mix(0.2).filled())))
+        .map_err(PlotError::from)?;
+    chart
+        .draw_series(LineSeries::new(
+            pts.iter().map(|p| (p.0, p.1)),
+            color.stroke_width(2),
+        ))
+        .map_err(PlotError::from)?
+        .label(label)
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(3)));
+    chart
+        .draw_series(
+            pts.iter()
+                .map(|p| Circle::new((p.0, p.1), 2, color.filled())),
+        )
         .map_err(PlotError::from)?;
     Ok(())
 }

@@ -152,6 +152,7 @@ pub fn line_panel_with<DB: DrawingBackend>(
         .map_err(PlotError::from)?;
     chart
         .configure_mesh()
+        .x_labels(tick_labels_for(area, 72, 12, (x0, x1), 14))
         .x_desc(x_label)
         .y_desc(y_label)
         .label_style(("sans-serif", 14))
@@ -258,6 +259,50 @@ fn clip_segment(
         return None;
     }
     Some((clip(a), clip(b)))
+}
+
+/// plotters' default number of tick labels per axis, the most any axis asks for.
+pub const MAX_TICK_LABELS: usize = 10;
+
+/// The most tick labels (up to [`MAX_TICK_LABELS`]) along a horizontal axis over `range`,
+/// `width_px` long, whose texts ([`format_tick`] in the embedded font at `font_px`) stand apart
+/// by at least half a character height: scientific labels of a narrow panel (`3.10e7`) would
+/// otherwise run together. plotters picks at most this many round values.
+pub fn fitting_tick_labels(range: (f64, f64), width_px: u32, font_px: u32) -> usize {
+    use plotters::coord::ranged1d::Ranged;
+    ensure_font();
+    let (lo, hi) = range;
+    if hi.is_nan() || lo.is_nan() || hi <= lo || width_px == 0 {
+        return MAX_TICK_LABELS;
+    }
+    let font = ("sans-serif", font_px).into_font();
+    let width_of = |v: f64| font.box_size(&format_tick(v)).map_or(0.0, |b| b.0 as f64);
+    let gap = 0.5 * font_px as f64;
+    (2..=MAX_TICK_LABELS)
+        .rev()
+        .find(|&n| {
+            let keys = RangedCoordf64::from(lo..hi).key_points(n);
+            let at = |v: f64| (v - lo) / (hi - lo) * width_px as f64;
+            keys.windows(2)
+                .all(|w| at(w[1]) - at(w[0]) >= 0.5 * (width_of(w[0]) + width_of(w[1])) + gap)
+        })
+        .unwrap_or(2)
+}
+
+/// [`fitting_tick_labels`] for a chart built on `area` with a y label area of
+/// `y_label_area_px` and `margin_px` on each side.
+pub fn tick_labels_for<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    y_label_area_px: u32,
+    margin_px: u32,
+    range: (f64, f64),
+    font_px: u32,
+) -> usize {
+    let width = area
+        .dim_in_pixel()
+        .0
+        .saturating_sub(y_label_area_px + 2 * margin_px);
+    fitting_tick_labels(range, width, font_px)
 }
 
 /// Tick label: plain for ordinary magnitudes, scientific for very small or large ones.

@@ -12,7 +12,7 @@ use crate::model::{Variant, Wheel};
 use crate::params::ParamId;
 use crate::plot::{self, maps, Series};
 
-/// P(limit cycle | parameter) along every axis of one variant, both wheels, 95% Wilson bands;
+/// P(vibration | parameter) along every axis of one variant, both wheels, 95% Wilson bands;
 /// bins with fewer than `min_count` classified rows are left out. `label` gives axis titles.
 pub fn conditional(
     path: &Path,
@@ -70,49 +70,25 @@ pub fn conditional(
     .map_err(RenderError::Figure)
 }
 
-/// One risk map: the risk of vibration of the follower and the driving wheel in percent, side
-/// by side, and the difference in percentage points (blue where the driving wheel is less
-/// exposed); grey cells hold fewer than `min_count` classified rows. Small grids carry their
-/// numbers in the cells.
-pub fn risk_map(
-    path: &Path,
-    map: &RiskMap,
-    label: &dyn Fn(ParamId) -> String,
-    min_count: u64,
-) -> Result<(), RenderError> {
-    let nominal = map.nominal.as_deref();
-    let (x, y) = (map.x, map.y);
-    // The nominal tire's Hopf curves: each wheel's on its own panel, both on the difference.
-    let curves = |wheel: Wheel, color: plotters::style::RGBColor| -> Vec<maps::Overlay> {
-        nominal
-            .into_iter()
-            .flatten()
-            .filter(|c| c.wheel == wheel)
-            .map(|c| maps::Overlay {
-                label: format!(
-                    "{wheel} Hopf curve of the nominal tire (others at the study's median)"
-                ),
-                color,
-                lines: c
-                    .curves
-                    .curves
-                    .iter()
-                    .map(|k| k.points.iter().map(|d| (d.p[0], d.p[1])).collect())
-                    .collect(),
-            })
-            .collect()
-    };
-    let white = plotters::style::WHITE;
-    let black = plotters::style::BLACK;
-    let overlays = [
-        curves(Wheel::Follower, white),
-        curves(Wheel::Driving, black),
-        curves(Wheel::Follower, white)
-            .into_iter()
-            .chain(curves(Wheel::Driving, black))
-            .collect(),
-    ];
-    let (xe, ye) = (draw_edges(&map.x_bins), draw_edges(&map.y_bins));
+/// Width of a risk map panel's colour bar with its ticks and label \[px\].
+pub const RISK_MAP_BAR_PX: i32 = 130;
+
+/// Blank space between a colour bar's label and the next panel's y-axis label \[px\].
+pub const RISK_MAP_GAP_PX: i32 = 50;
+
+/// One panel of a risk map: title, values in percent (`[ix][iy]`), range, colours and the
+/// colour bar's label.
+struct MapPanel {
+    title: &'static str,
+    values: Vec<Vec<f64>>,
+    range: (f64, f64),
+    cmap: maps::ColorMap,
+    bar_label: &'static str,
+}
+
+/// The three panels of a risk map: each wheel's risk in percent, and the difference in
+/// percentage points on a symmetric range.
+fn map_panels(map: &RiskMap, min_count: u64) -> [MapPanel; 3] {
     let percent = |w| -> Vec<Vec<f64>> {
         map.probability(w, min_count)
             .iter()
@@ -131,6 +107,74 @@ pub fn risk_map(
         .filter(|v| v.is_finite())
         .fold(0.0f64, |m, v| m.max(v.abs()))
         .max(0.1);
+    let risk = |title, values| MapPanel {
+        title,
+        values,
+        range: (0.0, 100.0),
+        cmap: maps::viridis,
+        bar_label: "Risk of vibration [%]",
+    };
+    [
+        risk("Risk of tread vibration, follower wheel", pf),
+        risk("Risk of tread vibration, driving wheel", pd),
+        MapPanel {
+            title: "Driving minus follower (blue: driving wheel less exposed)",
+            values: diff,
+            range: (-max_abs, max_abs),
+            cmap: maps::diverging,
+            bar_label: "Difference [percentage points]",
+        },
+    ]
+}
+
+/// The nominal tire's Hopf curves over each panel: each wheel's on its own panel, both on the
+/// difference.
+fn map_overlays(map: &RiskMap) -> [Vec<maps::Overlay>; 3] {
+    let curves = |wheel: Wheel, color: plotters::style::RGBColor| -> Vec<maps::Overlay> {
+        map.nominal
+            .iter()
+            .flatten()
+            .filter(|c| c.wheel == wheel)
+            .map(|c| maps::Overlay {
+                label: format!(
+                    "{wheel} Hopf curve of the nominal tire (others at the study's median)"
+                ),
+                color,
+                lines: c
+                    .curves
+                    .curves
+                    .iter()
+                    .map(|k| k.points.iter().map(|d| (d.p[0], d.p[1])).collect())
+                    .collect(),
+            })
+            .collect()
+    };
+    let (white, black) = (plotters::style::WHITE, plotters::style::BLACK);
+    [
+        curves(Wheel::Follower, white),
+        curves(Wheel::Driving, black),
+        curves(Wheel::Follower, white)
+            .into_iter()
+            .chain(curves(Wheel::Driving, black))
+            .collect(),
+    ]
+}
+
+/// One risk map: the risk of vibration of the follower and the driving wheel in percent, side
+/// by side, and the difference in percentage points (blue where the driving wheel is less
+/// exposed); grey cells hold fewer than `min_count` classified rows. Small grids carry their
+/// numbers in the cells. Each panel is [heatmap | colour bar, ticks and label on its right |
+/// gap], so a bar's label never stands against the next panel's y-axis label.
+pub fn risk_map(
+    path: &Path,
+    map: &RiskMap,
+    label: &dyn Fn(ParamId) -> String,
+    min_count: u64,
+) -> Result<(), RenderError> {
+    let (x, y) = (map.x, map.y);
+    let overlays = map_overlays(map);
+    let panels = map_panels(map, min_count);
+    let (xe, ye) = (draw_edges(&map.x_bins), draw_edges(&map.y_bins));
     let title = format!(
         "Risk of tread vibration (polygonal wear) over {} and {} ({} variant; grey: fewer than {min_count} samples)",
         x.label().to_lowercase(),
@@ -139,41 +183,23 @@ pub fn risk_map(
     );
     plot::figure(path, (2100, 760), &title, |area| {
         let parts = area.split_evenly((1, 3));
-        for (k, (part, (name, values))) in parts
-            .iter()
-            .zip([
-                ("Risk of tread vibration, follower wheel", &pf),
-                ("Risk of tread vibration, driving wheel", &pd),
-                (
-                    "Driving minus follower (blue: driving wheel less exposed)",
-                    &diff,
-                ),
-            ])
-            .enumerate()
-        {
-            let (main, bar) = part.split_horizontally(part.dim_in_pixel().0 as i32 - 120);
-            let (range, cmap, bar_label): ((f64, f64), maps::ColorMap, &str) = if k < 2 {
-                ((0.0, 100.0), maps::viridis, "Risk of vibration [%]")
-            } else {
-                (
-                    (-max_abs, max_abs),
-                    maps::diverging,
-                    "Difference [percentage points]",
-                )
-            };
+        for ((part, panel), overlay) in parts.iter().zip(&panels).zip(&overlays) {
+            let width = part.dim_in_pixel().0 as i32;
+            let (main, rest) = part.split_horizontally(width - RISK_MAP_BAR_PX - RISK_MAP_GAP_PX);
+            let (bar, _gap) = rest.split_horizontally(RISK_MAP_BAR_PX);
             maps::heatmap(
                 &main,
-                name,
+                panel.title,
                 &label(x),
                 &label(y),
                 &xe,
                 &ye,
-                values,
-                range,
-                cmap,
-                &overlays[k],
+                &panel.values,
+                panel.range,
+                panel.cmap,
+                overlay,
             )?;
-            maps::colorbar(&bar, bar_label, range, cmap)?;
+            maps::colorbar(&bar, panel.bar_label, panel.range, panel.cmap)?;
         }
         Ok(())
     })
@@ -183,65 +209,68 @@ pub fn risk_map(
 /// Bars of the severity figure: the fine histogram summed into this many.
 pub const SEVERITY_FIGURE_BINS: usize = 40;
 
-/// Severity histograms of one variant: each quantity's share of limit cycles per bin, per wheel.
+/// Severity histograms of one variant: each quantity's share of vibrating rows per bin, per
+/// wheel, in engineering units (µm, mm/s, µJ) with titles in words.
 pub fn severity(path: &Path, variant: Variant, severity: &[Severity]) -> Result<(), RenderError> {
-    let quantities = SEVERITY_QUANTITIES.map(|q| q.name());
     plot::panels(
         path,
         (1400, 900),
         (2, 2),
-        &format!("Severity among limit cycles ({variant} variant): share of cycles per bin"),
+        &format!(
+            "How severe the vibration is ({variant} variant): share of vibrating rows per bin"
+        ),
         |i, area| {
-            let quantity = quantities[i];
+            let q = &SEVERITY_QUANTITIES[i];
             let sets: Vec<&Severity> = severity
                 .iter()
-                .filter(|s| s.variant == variant && s.quantity == quantity && s.n > 0)
+                .filter(|s| s.variant == variant && s.quantity == q.name() && s.n > 0)
                 .collect();
             if sets.is_empty() {
                 return plot::line_panel(
                     area,
-                    &format!("{quantity}: no limit cycles"),
-                    quantity,
-                    "share",
+                    &format!("{}: no vibrating rows", q.title),
+                    &q.label(),
+                    "share of vibrating rows",
                     &[],
                     false,
                 );
             }
             let series: Vec<Series<'_>> = sets
                 .iter()
-                .map(|s| {
-                    let per = s.counts.len().div_ceil(SEVERITY_FIGURE_BINS);
-                    let n = s.n.max(1) as f64;
-                    let points = s
-                        .counts
-                        .chunks(per)
-                        .enumerate()
-                        .flat_map(|(b, c)| {
-                            let lo = s.hist.range(b * per).0;
-                            let hi = s
-                                .hist
-                                .range((b * per + c.len() - 1).min(s.counts.len() - 1))
-                                .1;
-                            let share = c.iter().sum::<u64>() as f64 / n;
-                            [(lo, share), (hi, share)]
-                        })
-                        .collect();
-                    Series {
-                        label: s.wheel.as_str(),
-                        points,
-                    }
+                .map(|s| Series {
+                    label: s.wheel.as_str(),
+                    points: histogram_steps(s, q.scale),
                 })
                 .collect();
-            let unit = sets.first().map_or("", |s| s.unit);
             plot::line_panel(
                 area,
-                quantity,
-                &format!("{quantity} [{unit}]"),
-                "share of limit cycles",
+                q.title,
+                &q.label(),
+                "share of vibrating rows",
                 &series,
                 false,
             )
         },
     )
     .map_err(RenderError::Figure)
+}
+
+/// The fine histogram summed into [`SEVERITY_FIGURE_BINS`] bars, as a step line of
+/// (value × `scale`, share of rows).
+fn histogram_steps(s: &Severity, scale: f64) -> Vec<(f64, f64)> {
+    let per = s.counts.len().div_ceil(SEVERITY_FIGURE_BINS);
+    let n = s.n.max(1) as f64;
+    s.counts
+        .chunks(per)
+        .enumerate()
+        .flat_map(|(b, c)| {
+            let lo = s.hist.range(b * per).0;
+            let hi = s
+                .hist
+                .range((b * per + c.len() - 1).min(s.counts.len() - 1))
+                .1;
+            let share = c.iter().sum::<u64>() as f64 / n;
+            [(lo * scale, share), (hi * scale, share)]
+        })
+        .collect()
 }

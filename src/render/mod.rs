@@ -2,7 +2,9 @@
 //! figures ([`figures`]) and `report.md` ([`markdown`]), which ties them together in words. It
 //! computes nothing; everything it shows is in the `Analysis`.
 
+pub mod drivers;
 pub mod figures;
+pub mod fleet;
 pub mod markdown;
 pub mod tables;
 
@@ -37,7 +39,7 @@ pub struct RiskMapFigure {
 /// The figures written, by kind.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Figures {
-    /// P(limit cycle) per bin of every drawn parameter, one figure per variant.
+    /// P(vibration) per bin of every parameter drawn per sample, one figure per variant.
     pub conditional: Vec<(Variant, PathBuf)>,
     /// One figure per risk map (pair of axes and variant), in the analysis' map order.
     pub risk_maps: Vec<RiskMapFigure>,
@@ -126,19 +128,23 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
     let info = &a.info;
     let label = |p: ParamId| crate::params::axis_label(p.name(), info.unit(p.name()));
     let mut out = Figures::default();
-    for variant in a.variants() {
+    // The columns of an operating-point file move together: the per-row table shows them.
+    let fleet_columns: Vec<&str> = a
+        .fleet
+        .as_ref()
+        .map_or(vec![], |f| f.columns.iter().map(String::as_str).collect());
+    let axes: Vec<ParamId> = info
+        .drawn_names
+        .iter()
+        .copied()
+        .filter(|p| !fleet_columns.contains(&p.name()))
+        .collect();
+    for variant in a.variants().into_iter().filter(|_| !axes.is_empty()) {
         let p = dir.join(format!("conditional_{variant}.{ext}"));
-        figures::conditional(
-            &p,
-            variant,
-            &info.drawn_names,
-            &label,
-            &a.conditional,
-            min_count,
-        )?;
+        figures::conditional(&p, variant, &axes, &label, &a.conditional, min_count)?;
         out.conditional.push((variant, p));
     }
-    for map in &a.maps {
+    for map in a.maps.iter().filter(|m| a.is_drawn(m)) {
         let p = dir.join(format!("riskmap_{}_{}_{}.{ext}", map.x, map.y, map.variant));
         figures::risk_map(&p, map, &label, min_count)?;
         out.risk_maps.push(RiskMapFigure {

@@ -1,17 +1,21 @@
 //! The analysis' tables, each as CSV (RFC 4180) and Parquet with the run's metadata in its
-//! footer: one row per variant and wheel (occurrence), variant (paired), bin (conditional),
-//! cell (risk maps), quantity (severity), parameter (sensitivity) or decoding (robustness).
+//! footer: one row per variant and wheel (occurrence), reason (failures), variant (paired),
+//! operating point (fleet rows), bin (conditional), cell (risk maps), quantity (severity),
+//! parameter (first-order and Sobol indices) or decoding (robustness).
 
 use std::path::{Path, PathBuf};
 
 use super::RenderError;
 use crate::analysis::conditional::BinStat;
 use crate::analysis::counts::ClassCounts;
+use crate::analysis::failures::Failures;
+use crate::analysis::fleet::Fleet;
+use crate::analysis::given_data::FirstOrder;
 use crate::analysis::occurrence::Occurrence;
 use crate::analysis::paired::Paired;
 use crate::analysis::risk_map::RiskMap;
 use crate::analysis::robustness::Robustness;
-use crate::analysis::sensitivity::Sensitivity;
+use crate::analysis::sensitivity::{Sensitivity, VIBRATION};
 use crate::analysis::severity::Severity;
 use crate::analysis::Analysis;
 use crate::classify::Class;
@@ -30,7 +34,15 @@ pub fn write_all(dir: &Path, a: &Analysis) -> Result<Vec<PathBuf>, RenderError> 
         &meta,
         &mut files,
     )?;
+    if a.failures.unclassified > 0 {
+        let cols = failure_columns(&a.failures);
+        write_tables(dir, "failures", &cols, &meta, &mut files)?;
+    }
     write_tables(dir, "paired", &paired_columns(&a.paired), &meta, &mut files)?;
+    if let Some(fleet) = &a.fleet {
+        let cols = fleet_columns(fleet);
+        write_tables(dir, "fleet_rows", &cols, &meta, &mut files)?;
+    }
     write_tables(
         dir,
         "conditional",
@@ -57,6 +69,8 @@ pub fn write_all(dir: &Path, a: &Analysis) -> Result<Vec<PathBuf>, RenderError> 
         &meta,
         &mut files,
     )?;
+    let cols = first_order_columns(&a.first_order);
+    write_tables(dir, "first_order", &cols, &meta, &mut files)?;
     if let Some(sens) = &a.sensitivity {
         write_tables(
             dir,
@@ -231,6 +245,72 @@ fn severity_columns(s: &[Severity]) -> Vec<Column> {
         f64_col("median", s, |x| x.quantiles[2]),
         f64_col("q75", s, |x| x.quantiles[3]),
         f64_col("q95", s, |x| x.quantiles[4]),
+    ]
+}
+
+fn failure_columns(f: &Failures) -> Vec<Column> {
+    let g = &f.groups;
+    vec![
+        str_col("class", g, |x| x.class.to_string()),
+        count_col("rows", g, |x| x.rows),
+        f64_col("share_of_rows", g, |x| x.rows as f64 / f.rows.max(1) as f64),
+        str_col("reason_pattern", g, |x| x.pattern.clone()),
+        str_col("example", g, |x| x.example.clone()),
+    ]
+}
+
+/// One row per operating point and variant, in the report's order (largest share of the
+/// fleet's risk first): its values, share of the weight, and per wheel the class counts,
+/// P(vibration) with its Wilson interval and share of the risk.
+fn fleet_columns(fleet: &Fleet) -> Vec<Column> {
+    let r = &fleet.rows;
+    let mut cols = vec![
+        str_col("variant", r, |x| x.variant.to_string()),
+        count_col(crate::analysis::fleet::ROW_COLUMN, r, |x| x.row),
+    ];
+    for (j, c) in fleet.columns.iter().enumerate() {
+        let unit = crate::params::spec(c).map_or("", |s| s.unit);
+        cols.push(Column::f64(
+            c.clone(),
+            unit,
+            r.iter()
+                .map(|x| x.values.get(j).copied().unwrap_or(f64::NAN))
+                .collect(),
+        ));
+    }
+    cols.push(f64_col("weight_share", r, |x| x.weight_share));
+    for wheel in Wheel::BOTH {
+        let c = |x: &crate::analysis::fleet::FleetRow| *x.counts(wheel);
+        cols.extend([
+            count_col(&format!("{wheel}_samples"), r, |x| c(x).classified()),
+            count_col(&format!("{wheel}_vibrating"), r, |x| c(x).vibrating()),
+            count_col(&format!("{wheel}_unclassified"), r, |x| {
+                c(x).total() - c(x).classified()
+            }),
+            f64_col(&format!("{wheel}_p"), r, |x| c(x).p()),
+            f64_col(&format!("{wheel}_wilson95_lo"), r, |x| c(x).wilson().0),
+            f64_col(&format!("{wheel}_wilson95_hi"), r, |x| c(x).wilson().1),
+        ]);
+    }
+    cols.extend([
+        f64_col("follower_risk_share", r, |x| x.risk_share[0]),
+        f64_col("driving_risk_share", r, |x| x.risk_share[1]),
+        f64_col("risk_share", r, |x| x.risk_share_both),
+    ]);
+    cols
+}
+
+fn first_order_columns(f: &[FirstOrder]) -> Vec<Column> {
+    vec![
+        str_col("variant", f, |x| x.variant.to_string()),
+        str_col("wheel", f, |x| x.wheel.to_string()),
+        str_col("output", f, |_| VIBRATION.to_string()),
+        str_col("param", f, |x| x.param.to_string()),
+        count_col("rows", f, |x| x.rows),
+        count_col("classes", f, |x| x.classes as u64),
+        f64_col("first_order", f, |x| x.s1),
+        f64_col("first_order_conf", f, |x| x.conf),
+        f64_col("noise", f, |x| x.noise),
     ]
 }
 

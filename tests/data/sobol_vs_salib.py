@@ -2,7 +2,8 @@
 
 Usage: python3 sobol_vs_salib.py RUN_DIR
 RUN_DIR is a finished `polywear explore` run of a `saltelli` study (its `_report/` written).
-For every variant, wheel and output (the limit-cycle indicator and amp_v_mps), the explore rows
+For every variant, wheel and output (the vibration indicator: limit cycle or bistable; and
+amp_v_mps), the explore rows
 are put into SALib's Saltelli order (per base point: A, AB_1 .. AB_D, B), base points with an
 unclassified block left out as polywear leaves them out, and `SALib.analyze.sobol.analyze(...,
 calc_second_order=False)` gives S1 and ST; they must equal polywear's `first_order` and `total`
@@ -27,7 +28,8 @@ rows = pd.concat(
 ours = pd.read_parquet(f"{run}/_report/sensitivity.parquet")
 d = len(names)
 stride = d + 2
-classified = {"stable", "limit_cycle"}
+vibrating = {"limit_cycle", "bistable"}
+classified = vibrating | {"stable"}
 worst = 0.0
 checked = 0
 for (variant, wheel), g in rows.groupby(["variant", "wheel"]):
@@ -38,8 +40,8 @@ for (variant, wheel), g in rows.groupby(["variant", "wheel"]):
     complete = pd.Series(ok).groupby(base).agg(["all", "size"])
     keep = complete.index[(complete["all"]) & (complete["size"] == stride)]
     sel = np.isin(base, keep)
-    for output in ["limit_cycle", "amp_v_mps"]:
-        y = (g["class"] == "limit_cycle").to_numpy(float) if output == "limit_cycle" else g["amp_v_mps"].to_numpy(float)
+    for output in ["vibration", "amp_v_mps"]:
+        y = g["class"].isin(vibrating).to_numpy(float) if output == "vibration" else g["amp_v_mps"].to_numpy(float)
         # polywear's blocks: 0 = A, 1 = B, 2 + m = AB_m; SALib's: 0 = A, 1 + m = AB_m, d + 1 = B.
         table = np.full((len(keep), stride), np.nan)
         index = {b: i for i, b in enumerate(keep)}

@@ -129,13 +129,34 @@ rho = { dist = "uniform", min = 1240, max = 1260 }
     let total = |wheel: &str, param: &str| -> f64 {
         let line = csv
             .lines()
-            .find(|l| l.starts_with(&format!("sliding_share,{wheel},limit_cycle,{param},")))
+            .find(|l| l.starts_with(&format!("sliding_share,{wheel},vibration,{param},")))
             .unwrap_or_else(|| panic!("no row for {param} in\n{csv}"));
         line.split(',').nth(8).unwrap().parse().unwrap()
     };
     // Speed decides the Hopf window; a 1% spread of the tread density barely matters.
     assert!(total("follower", "speed_kmh") > 0.3, "{csv}");
     assert!(total("follower", "rho") < 0.05, "{csv}");
+    // The first-order indices from the same rows rank them alike, and rho's is noise.
+    let (head, rows) = csv_table(&out.join("_report/first_order.csv"));
+    let col = |name: &str| head.iter().position(|h| h == name).unwrap();
+    let first = |param: &str| -> (f64, f64, f64) {
+        let r = rows
+            .iter()
+            .find(|r| r[1] == "follower" && r[col("param")] == param)
+            .unwrap();
+        let v = |c: &str| r[col(c)].parse::<f64>().unwrap();
+        (v("first_order"), v("first_order_conf"), v("noise"))
+    };
+    let (speed, speed_conf, _) = first("speed_kmh");
+    let (rho, rho_conf, noise) = first("rho");
+    assert!(
+        speed - speed_conf > noise,
+        "{speed} ± {speed_conf} vs noise {noise}"
+    );
+    assert!(
+        rho - rho_conf < noise,
+        "{rho} ± {rho_conf} vs noise {noise}"
+    );
     assert!(std::fs::read_to_string(out.join("_report/report.md"))
         .unwrap()
         .contains("Sobol indices"));
@@ -610,5 +631,143 @@ fn the_analysis_reads_the_runs_parameter_values_back_for_its_nominal_tire() {
         (r0.g_mod, r0.c_brush, r0.alpha2)
     );
     assert_ne!(base.g_mod, polywear::params::Params::default().g_mod);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The CSV table `file` as its header and rows of fields.
+fn csv_table(file: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(file).unwrap();
+    let mut lines = text.lines();
+    let head = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    (head, rows)
+}
+
+#[test]
+fn rows_without_a_verdict_lead_the_summary_and_the_report_with_their_reasons() {
+    let dir = tmp("failures");
+    let out = dir.join("run");
+    // A work budget too small for most limit cycles: those wheels are `failed`.
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        "--samples",
+        "300",
+        "--max-rhs-evals",
+        "300",
+        "--quiet",
+        "--no-report",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let (code, stdout, stderr) = polywear(&["analyze", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.starts_with("WARNING: "), "{stdout}");
+    let warning = stdout.lines().next().unwrap();
+    assert!(warning.contains(" of 600 rows ("), "{warning}");
+    assert!(
+        stdout.contains(" failed: budget exceeded (max_rhs_evals = …; … RHS evaluations spent)"),
+        "{stdout}"
+    );
+    // No discordant pair is left to test: the p-value says so.
+    assert!(
+        stdout.contains("McNemar p = n/a (no discordant pairs)"),
+        "{stdout}"
+    );
+    let report = out.join("_report");
+    let md = std::fs::read_to_string(report.join("report.md")).unwrap();
+    let no_verdict = md.find("have no verdict").expect("the warning");
+    assert!(no_verdict < md.find("P(vibration)").unwrap(), "{md}");
+    assert!(md.contains("| n/a (no discordant pairs) |"), "{md}");
+    // The reasons' table counts every failed row once.
+    let (head, rows) = csv_table(&report.join("failures.csv"));
+    assert_eq!(head[..2], ["class", "rows"]);
+    let counted: u64 = rows.iter().map(|r| r[1].parse::<u64>().unwrap()).sum();
+    let (_, occurrence) = csv_table(&report.join("occurrence.csv"));
+    let failed: u64 = occurrence
+        .iter()
+        .map(|r| r[11].parse::<u64>().unwrap())
+        .sum();
+    assert!(failed > 6, "more than 1% of 600 rows: {failed}");
+    assert_eq!(counted, failed);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_fleet_report_answers_per_operating_point() {
+    let dir = tmp("fleet");
+    let out = dir.join("run");
+    let study = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/fleet_telematics.toml");
+    let (code, stdout, stderr) = polywear(&[
+        "explore",
+        study,
+        "--samples",
+        "4000",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(!stdout.contains("WARNING"), "{stdout}");
+    assert!(
+        stdout.contains(
+            "P(vibration) over classified rows, weighted by hours driven at each operating point (column `hours`)"
+        ),
+        "{stdout}"
+    );
+    let report = out.join("_report");
+    let (head, rows) = csv_table(&report.join("fleet_rows.csv"));
+    let col = |name: &str| head.iter().position(|h| h == name).unwrap();
+    let num = |r: &Vec<String>, name: &str| r[col(name)].parse::<f64>().unwrap();
+    assert!(rows.len() >= 20, "{} rows", rows.len());
+    // Sorted by the share of the fleet's risk; the shares of each wheel add up to 1.
+    let shares: Vec<f64> = rows.iter().map(|r| num(r, "risk_share")).collect();
+    assert!(shares.windows(2).all(|w| w[0] >= w[1]), "{shares:?}");
+    for share in ["risk_share", "follower_risk_share", "driving_risk_share"] {
+        let sum: f64 = rows.iter().map(|r| num(r, share)).sum();
+        assert!((sum - 1.0).abs() < 1e-9, "{share}: {sum}");
+    }
+    // The rows' P, weighted by the samples that drew them, is the headline P; weighted by the
+    // hours, the same within the sampling noise.
+    let (_, occurrence) = csv_table(&report.join("occurrence.csv"));
+    let headline = |wheel: &str| -> f64 {
+        let r = occurrence.iter().find(|r| r[1] == wheel).unwrap();
+        r[4].parse().unwrap()
+    };
+    for wheel in ["follower", "driving"] {
+        let n: f64 = rows
+            .iter()
+            .map(|r| num(r, &format!("{wheel}_samples")))
+            .sum();
+        let by_samples: f64 = rows
+            .iter()
+            .map(|r| num(r, &format!("{wheel}_samples")) / n * num(r, &format!("{wheel}_p")))
+            .sum();
+        assert!((by_samples - headline(wheel)).abs() < 1e-12, "{wheel}");
+        let by_hours: f64 = rows
+            .iter()
+            .map(|r| num(r, "weight_share") * num(r, &format!("{wheel}_p")))
+            .sum();
+        assert!(
+            (by_hours - headline(wheel)).abs() < 0.03,
+            "{wheel}: {by_hours}"
+        );
+    }
+    // The per-row table comes before the maps, and the mostly empty maps are not drawn.
+    let md = std::fs::read_to_string(report.join("report.md")).unwrap();
+    let table = md
+        .find("## Which operating points carry the risk?")
+        .unwrap();
+    assert!(table < md.find("## Where does the risk live?").unwrap());
+    assert!(md.contains("carry half of the fleet's risk"), "{md}");
+    assert!(
+        md.contains("Risk map speed × toe-in (sliding_share) not drawn"),
+        "{md}"
+    );
+    assert!(!report
+        .join("riskmap_speed_kmh_toe_deg_sliding_share.png")
+        .exists());
+    assert!(report.join("riskmap_speed_kmh_toe_deg.csv").exists());
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -19,6 +19,7 @@ mod cycles;
 mod docs;
 mod explore;
 mod fault_injection;
+mod figures;
 mod fuzz_inputs;
 mod integrity;
 mod invariants;

@@ -66,6 +66,34 @@ print("ok")
 }
 
 #[test]
+fn pandas_polars_and_duckdb_read_the_same_frame_in_one_line_each() {
+    if !python_has(&["pandas", "pyarrow", "polars", "duckdb"]) {
+        return;
+    }
+    let dir = fresh_dir("py-readers");
+    explore_default("300", &dir);
+    // The lines are the ones GUIDE.md shows, run against this output.
+    let snippet = include_str!("../data/read_run_snippet.py");
+    assert!(
+        include_str!("../../GUIDE.md").contains(snippet.trim()),
+        "GUIDE.md must show tests/data/read_run_snippet.py"
+    );
+    let script = snippet.replace("data/explore_highway_fleet_seed2014", dir.to_str().unwrap())
+        + r#"
+key = ["sample_id", "variant", "wheel"]
+a = rows.sort_values(key).reset_index(drop=True)
+b = rows_pl.to_pandas().sort_values(key).reset_index(drop=True)
+c = rows_db.sort_values(key).reset_index(drop=True)
+assert len(a) == 600 and list(a.columns) == list(b.columns) == list(c.columns), (a.columns, b.columns, c.columns)
+pd.testing.assert_frame_equal(a, b, check_dtype=False)
+pd.testing.assert_frame_equal(a, c, check_dtype=False)
+print("same frame")
+"#;
+    assert!(python(&script, &[]).contains("same frame"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
 fn guide_pandas_snippet_agrees_with_analyze() {
     if !python_has(&["pandas", "pyarrow"]) {
         return;

@@ -209,7 +209,7 @@ fn a_stopped_run_is_resumed_with_its_own_settings_and_equals_an_uninterrupted_on
         "{stderr}"
     );
     // One summary, for the whole run, follower before driving.
-    assert_eq!(stdout.matches("P(limit cycle)").count(), 1, "{stdout}");
+    assert_eq!(stdout.matches("P(vibration)").count(), 1, "{stdout}");
     assert!(stdout.contains("6000 of 6000 samples present"), "{stdout}");
     let f = stdout.find("paper follower:").expect("follower line");
     let d = stdout.find("paper  driving:").expect("driving line");
@@ -571,15 +571,27 @@ pressure_kpa = { dist = "levels", levels = [200, 280] }
     assert!(!report
         .join("riskmap_speed_kmh_toe_deg_sliding_share.png")
         .exists());
-    // The severity table in plain numbers, no exponents.
+    // The severity table in engineering units and plain numbers, no exponents: amplitudes of
+    // some tens of µm, energies of some µJ.
     let severity: Vec<&str> = md
         .lines()
-        .filter(|l| l.starts_with("| sliding_share |") && l.contains("polygon_order"))
+        .filter(|l| l.starts_with("| sliding_share |") && l.contains(" [µ"))
         .collect();
-    assert!(!severity.is_empty(), "{md}");
+    assert_eq!(severity.len(), 4, "{md}");
     for l in severity {
         assert!(!l.contains("e1") && !l.contains("e-"), "{l}");
+        let mean: f64 = l.split('|').nth(5).unwrap().trim().parse().unwrap();
+        assert!((0.1..1e4).contains(&mean), "{l}");
     }
+    assert!(md.contains("| Polygon order (wear facets) |"), "{md}");
+    let figure = std::fs::read_to_string(report.join("severity_sliding_share.svg")).unwrap();
+    for words in [
+        "Lateral displacement amplitude [µm]",
+        "Vibration energy per cycle [µJ]",
+    ] {
+        assert!(figure.contains(words), "{words}");
+    }
+    assert!(!figure.contains("amp_y_m") && !figure.contains("energy_per_cycle_j"));
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -117,3 +117,4 @@ pub fn polywear_within(limit: std::time::Duration, args: &[&str]) -> (i32, Strin
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
 }
+pub mod svg;
