@@ -16,6 +16,9 @@ pub struct NumericTable {
     pub rows: Vec<Vec<f64>>,
     /// For a CSV file, the line number of each data row (messages say it beside the row).
     lines: Vec<usize>,
+    /// The columns read as text ([`NumericTable::read_with_text`]): `(column, cells)`, each
+    /// cell as written (`rows[i][column]` holds its number where it is one, NaN otherwise).
+    pub text: Vec<(usize, Vec<String>)>,
     /// FNV-1a 64 of the file's bytes, as 16 hex digits, and their count.
     pub hash: String,
     /// The file's size in bytes.
@@ -147,6 +150,12 @@ pub enum TableError {
 impl NumericTable {
     /// Reads `path`: Parquet when it ends in `.parquet`, CSV otherwise.
     pub fn read(path: &Path) -> Result<NumericTable, TableError> {
+        Self::read_with_text(path, &[])
+    }
+
+    /// [`NumericTable::read`], with the columns named in `text` kept as text (identifiers,
+    /// labels): their cells need not be numbers, and are kept as written.
+    pub fn read_with_text(path: &Path, text: &[&str]) -> Result<NumericTable, TableError> {
         let bytes = std::fs::read(path).map_err(|source| TableError::Read {
             path: path.to_path_buf(),
             source,
@@ -157,9 +166,9 @@ impl NumericTable {
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("parquet"));
         let mut t = if is_parquet {
-            read_parquet(path)?
+            read_parquet(path, text)?
         } else {
-            read_csv(path, &bytes)?
+            read_csv(path, &bytes, text)?
         };
         t.hash = hash;
         t.bytes = n;
@@ -188,6 +197,32 @@ impl NumericTable {
     pub fn column(&self, name: &str) -> Option<usize> {
         self.columns.iter().position(|c| c == name)
     }
+
+    /// The cells of column `j` as text, when it was read as text.
+    pub fn text_of(&self, j: usize) -> Option<&[String]> {
+        self.text
+            .iter()
+            .find(|(k, _)| *k == j)
+            .map(|(_, cells)| cells.as_slice())
+    }
+}
+
+/// The text columns' indices among `columns`, each with an empty cell list.
+fn text_columns(columns: &[String], text: &[&str]) -> Vec<(usize, Vec<String>)> {
+    columns
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| text.contains(&c.as_str()))
+        .map(|(j, _)| (j, Vec::new()))
+        .collect()
+}
+
+/// A text cell's number, where it is a finite one (NaN otherwise).
+fn number_in(cell: &str) -> f64 {
+    cell.parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite())
+        .unwrap_or(f64::NAN)
 }
 
 /// 64-bit FNV-1a of bytes, as 16 hex digits: a fingerprint that tells a changed file, not a
@@ -270,7 +305,7 @@ pub fn csv_records(path: &Path, text: &str) -> Result<Vec<(usize, Vec<String>)>,
     Ok(out)
 }
 
-fn read_csv(path: &Path, bytes: &[u8]) -> Result<NumericTable, TableError> {
+fn read_csv(path: &Path, bytes: &[u8], text_names: &[&str]) -> Result<NumericTable, TableError> {
     let text = std::str::from_utf8(bytes).map_err(|source| TableError::NotUtf8 {
         path: path.to_path_buf(),
         source,
@@ -284,6 +319,7 @@ fn read_csv(path: &Path, bytes: &[u8]) -> Result<NumericTable, TableError> {
     check_header(path, &columns)?;
     let mut t = NumericTable {
         path: path.to_path_buf(),
+        text: text_columns(&columns, text_names),
         columns,
         rows: Vec::new(),
         lines: Vec::new(),
@@ -302,6 +338,11 @@ fn read_csv(path: &Path, bytes: &[u8]) -> Result<NumericTable, TableError> {
         }
         let mut values = Vec::with_capacity(cells.len());
         for (j, c) in cells.iter().enumerate() {
+            if let Some((_, kept)) = t.text.iter_mut().find(|(k, _)| *k == j) {
+                kept.push(c.clone());
+                values.push(number_in(c));
+                continue;
+            }
             let x: f64 = c.parse().map_err(|_| {
                 if c.is_empty() {
                     TableError::EmptyCell { at: t.at(row, j) }
@@ -330,7 +371,7 @@ fn read_csv(path: &Path, bytes: &[u8]) -> Result<NumericTable, TableError> {
     Ok(t)
 }
 
-fn read_parquet(path: &Path) -> Result<NumericTable, TableError> {
+fn read_parquet(path: &Path, text_names: &[&str]) -> Result<NumericTable, TableError> {
     use parquet::file::reader::{FileReader, SerializedFileReader};
     use parquet::record::Field;
     let e = |m: &dyn std::fmt::Display| TableError::Parquet {
@@ -347,6 +388,7 @@ fn read_parquet(path: &Path) -> Result<NumericTable, TableError> {
     check_header(path, &columns)?;
     let mut t = NumericTable {
         path: path.to_path_buf(),
+        text: text_columns(&columns, text_names),
         columns,
         rows: Vec::new(),
         lines: Vec::new(),
@@ -358,6 +400,16 @@ fn read_parquet(path: &Path) -> Result<NumericTable, TableError> {
         let i = t.rows.len();
         let mut values = Vec::with_capacity(t.columns.len());
         for (j, (_, field)) in row.get_column_iter().enumerate() {
+            if let Some((_, kept)) = t.text.iter_mut().find(|(k, _)| *k == j) {
+                let cell = match field {
+                    Field::Str(s) => s.clone(),
+                    Field::Null => String::new(),
+                    other => other.to_string(),
+                };
+                values.push(number_in(&cell));
+                kept.push(cell);
+                continue;
+            }
             let x = match field {
                 Field::Double(x) => *x,
                 Field::Float(x) => f64::from(*x),

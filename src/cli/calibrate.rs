@@ -32,6 +32,9 @@ pub struct CalibrateArgs {
         default_value = "data/calibrated_params.toml"
     )]
     pub out: PathBuf,
+    /// Start from [params] values outside their plausible ranges (`polywear params`) anyway
+    #[arg(long)]
+    pub accept_implausible: bool,
 }
 
 pub fn run(args: &CalibrateArgs) -> CliResult {
@@ -39,6 +42,16 @@ pub fn run(args: &CalibrateArgs) -> CliResult {
         .map_err(|e| CliError(format!("{}: {e}", args.targets.display())))?;
     let mut problem =
         parse_problem(&text).map_err(|e| CliError(format!("{}: {e}", args.targets.display())))?;
+    if !args.accept_implausible {
+        // The defaults are plausible: only the file's [params] can fail here.
+        problem.start.check_plausible().map_err(|e| {
+            let key = match &e {
+                ParamError::Implausible { name, .. } => format!("`params.{name}`: "),
+                _ => String::new(),
+            };
+            CliError(format!("{}: {key}{e}", args.targets.display()))
+        })?;
+    }
     if !args.fit.is_empty() {
         let mut fit: Vec<ParamId> = Vec::new();
         for n in &args.fit {

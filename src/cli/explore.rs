@@ -56,10 +56,15 @@ pub struct ExploreArgs {
     /// shards' files together are the single-machine output
     #[arg(long, value_name = "k/N", allow_hyphen_values = true, value_parser = parse_shard)]
     pub shard: Option<Shard>,
-    /// Parameter file (TOML `[params]`, e.g. from `polywear calibrate`): values for every
-    /// parameter the study does not name
+    /// Parameter file (TOML `[params]`, e.g. from `polywear calibrate`): values for parameters
+    /// the study does not name (one the study or its operating-point file sets too is refused)
     #[arg(long, value_name = "FILE")]
     pub params: Option<PathBuf>,
+    /// Run values outside their plausible ranges (`polywear params`) anyway: a study value,
+    /// distribution bound or operating-point cell such as pressure_kpa = 2.4 (bar, not kPa) is
+    /// refused before any work without it (a study can say `accept_implausible = true`)
+    #[arg(long)]
+    pub accept_implausible: bool,
     /// No progress bar, progress lines or summary
     #[arg(long, short)]
     pub quiet: bool,
@@ -104,10 +109,12 @@ pub fn run(args: &ExploreArgs) -> CliResult {
             "built-in default study".to_string(),
         ),
     };
-    let base = match (&args.params, &recorded) {
+    // A resumed run's values were judged when it started.
+    let accept = args.accept_implausible || recorded.is_some();
+    let (base, named) = match (&args.params, &recorded) {
         // The recorded values already hold the study's fixed ones, which parsing sets again.
-        (None, Some((_, run))) => run.params,
-        _ => super::common::base_params(args.params.as_deref())?,
+        (None, Some((_, run))) => (run.params, Vec::new()),
+        _ => super::common::param_file(args.params.as_deref(), accept)?,
     };
     // A relative `[operating_points]` file is found beside the study file (for a recorded
     // study, where the run found it).
@@ -118,8 +125,29 @@ pub fn run(args: &ExploreArgs) -> CliResult {
     };
     let mut study = Study::parse_at(&source, base, &study_dir)
         .map_err(|e| CliError(format!("{origin}: {e}")))?;
+    if !accept {
+        study
+            .check_plausible()
+            .map_err(|e| CliError(format!("{origin}: {e}")))?;
+    }
     if let Some((dir, run)) = &recorded {
         check_against_recorded(args, &study, dir, run)?;
+    } else {
+        super::common::refuse_file_overlap(&named, args.params.as_deref(), &study, &origin)?;
+    }
+    if let Some(op) = &study.operating_points {
+        super::common::refuse_reserved_names(
+            op.pass_through.iter().map(|c| c.name.as_str()),
+            &op.path,
+            "`operating_points.pass_through`",
+            &["sample_id", "operating_point_row"],
+        )?;
+        if let (Some(how), false) = (&op.weight_computed, args.quiet) {
+            eprintln!(
+                "{}",
+                polywear::operating_points::computed_weight_note(&op.path, how)
+            );
+        }
     }
     study.budget = args.budget.apply(study.budget)?;
     let recorded_samples = recorded

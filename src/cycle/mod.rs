@@ -264,6 +264,28 @@ impl DriveCycle {
         p
     }
 
+    /// Refuses, before any work, the first step whose value of a parameter column lies outside
+    /// its plausible range (a likely unit mix-up, MODEL.md#parameter-table), naming its row
+    /// and column.
+    pub fn check_plausible(&self) -> Result<(), CycleError> {
+        let cols: Vec<usize> = self
+            .names
+            .iter()
+            .map(|id| self.table.column(id.name()).expect("a column of the file"))
+            .collect();
+        for (i, step) in self.values.iter().enumerate() {
+            for ((&id, &x), &j) in self.names.iter().zip(step).zip(&cols) {
+                id.spec()
+                    .check_plausible(x)
+                    .map_err(|source| CycleError::Param {
+                        at: self.table.at(i, j),
+                        source,
+                    })?;
+            }
+        }
+        Ok(())
+    }
+
     /// Refuses, before any work, a step whose parameters break a rule tying several together
     /// (e.g. mu_s ≤ mu_m) on top of `base`, naming its row.
     pub fn check_steps(&self, base: &Params) -> Result<(), CycleError> {

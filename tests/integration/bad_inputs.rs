@@ -304,7 +304,7 @@ fn duplicate_csv_header_columns_are_refused() {
             "--out",
             out.to_str().unwrap(),
         ],
-        &["speed_kmh", "more than once"],
+        &["`speed_kmh` appears twice"],
     );
     assert!(!out.exists());
     std::fs::remove_dir_all(&dir).ok();
