@@ -282,8 +282,9 @@ impl FleetColumns {
         pass_through: &[String],
         keys: FleetKeys,
     ) -> Result<(FleetColumns, NumericTable), OperatingPointsError> {
-        let text: Vec<&str> = pass_through.iter().map(String::as_str).collect();
-        let t = NumericTable::read_with_text(path, &text)?;
+        // Every column that is no parameter is read as text, so that it is judged by its name
+        // (weight, passed through, or refused as unknown) before its cells.
+        let t = NumericTable::read_with_text(path, &|c| c.parse::<ParamId>().is_err())?;
         let f = FleetColumns::of(&t, weight, pass_through, keys)?;
         Ok((f, t))
     }
@@ -452,9 +453,11 @@ fn weights(
         let x = row[j];
         if !x.is_finite() {
             let text = t.text_of(j).map_or(String::new(), |c| c[i].clone());
-            return Err(TableError::NotANumber {
-                at: t.at(i, j),
-                text,
+            let at = t.at(i, j);
+            return Err(match text.parse::<f64>() {
+                _ if text.is_empty() => TableError::EmptyCell { at },
+                Ok(value) => TableError::NotFinite { at, value },
+                Err(_) => TableError::NotANumber { at, text },
             }
             .into());
         }

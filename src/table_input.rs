@@ -150,12 +150,16 @@ pub enum TableError {
 impl NumericTable {
     /// Reads `path`: Parquet when it ends in `.parquet`, CSV otherwise.
     pub fn read(path: &Path) -> Result<NumericTable, TableError> {
-        Self::read_with_text(path, &[])
+        Self::read_with_text(path, &|_| false)
     }
 
-    /// [`NumericTable::read`], with the columns named in `text` kept as text (identifiers,
-    /// labels): their cells need not be numbers, and are kept as written.
-    pub fn read_with_text(path: &Path, text: &[&str]) -> Result<NumericTable, TableError> {
+    /// [`NumericTable::read`], with the columns whose name `text` accepts kept as text
+    /// (identifiers, labels, or columns the caller judges by name first): their cells need not
+    /// be numbers, and are kept as written.
+    pub fn read_with_text(
+        path: &Path,
+        text: &dyn Fn(&str) -> bool,
+    ) -> Result<NumericTable, TableError> {
         let bytes = std::fs::read(path).map_err(|source| TableError::Read {
             path: path.to_path_buf(),
             source,
@@ -208,11 +212,11 @@ impl NumericTable {
 }
 
 /// The text columns' indices among `columns`, each with an empty cell list.
-fn text_columns(columns: &[String], text: &[&str]) -> Vec<(usize, Vec<String>)> {
+fn text_columns(columns: &[String], text: &dyn Fn(&str) -> bool) -> Vec<(usize, Vec<String>)> {
     columns
         .iter()
         .enumerate()
-        .filter(|(_, c)| text.contains(&c.as_str()))
+        .filter(|(_, c)| text(c))
         .map(|(j, _)| (j, Vec::new()))
         .collect()
 }
@@ -305,7 +309,11 @@ pub fn csv_records(path: &Path, text: &str) -> Result<Vec<(usize, Vec<String>)>,
     Ok(out)
 }
 
-fn read_csv(path: &Path, bytes: &[u8], text_names: &[&str]) -> Result<NumericTable, TableError> {
+fn read_csv(
+    path: &Path,
+    bytes: &[u8],
+    text_names: &dyn Fn(&str) -> bool,
+) -> Result<NumericTable, TableError> {
     let text = std::str::from_utf8(bytes).map_err(|source| TableError::NotUtf8 {
         path: path.to_path_buf(),
         source,
@@ -371,7 +379,10 @@ fn read_csv(path: &Path, bytes: &[u8], text_names: &[&str]) -> Result<NumericTab
     Ok(t)
 }
 
-fn read_parquet(path: &Path, text_names: &[&str]) -> Result<NumericTable, TableError> {
+fn read_parquet(
+    path: &Path,
+    text_names: &dyn Fn(&str) -> bool,
+) -> Result<NumericTable, TableError> {
     use parquet::file::reader::{FileReader, SerializedFileReader};
     use parquet::record::Field;
     let e = |m: &dyn std::fmt::Display| TableError::Parquet {

@@ -125,30 +125,10 @@ pub fn run(args: &ExploreArgs) -> CliResult {
     };
     let mut study = Study::parse_at(&source, base, &study_dir)
         .map_err(|e| CliError(format!("{origin}: {e}")))?;
-    if !accept {
-        study
-            .check_plausible()
-            .map_err(|e| CliError(format!("{origin}: {e}")))?;
-    }
     if let Some((dir, run)) = &recorded {
         check_against_recorded(args, &study, dir, run)?;
-    } else {
-        super::common::refuse_file_overlap(&named, args.params.as_deref(), &study, &origin)?;
     }
-    if let Some(op) = &study.operating_points {
-        super::common::refuse_reserved_names(
-            op.pass_through.iter().map(|c| c.name.as_str()),
-            &op.path,
-            "`operating_points.pass_through`",
-            &["sample_id", "operating_point_row"],
-        )?;
-        if let (Some(how), false) = (&op.weight_computed, args.quiet) {
-            eprintln!(
-                "{}",
-                polywear::operating_points::computed_weight_note(&op.path, how)
-            );
-        }
-    }
+    check_new_inputs(args, &study, &named, &origin, accept)?;
     study.budget = args.budget.apply(study.budget)?;
     let recorded_samples = recorded
         .as_ref()
@@ -297,6 +277,40 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         &render,
         !args.quiet,
     )
+}
+
+/// The study's values against their plausible ranges (unless `accept`), a `--params` file that
+/// sets what the study sets too, passed-through columns named as output columns; and, before
+/// any work, how a computed weight is made.
+fn check_new_inputs(
+    args: &ExploreArgs,
+    study: &Study,
+    named: &[polywear::params::ParamId],
+    origin: &str,
+    accept: bool,
+) -> CliResult {
+    if !accept {
+        study
+            .check_plausible()
+            .map_err(|e| CliError(format!("{origin}: {e}")))?;
+    }
+    super::common::refuse_file_overlap(named, args.params.as_deref(), study, origin)?;
+    let Some(op) = &study.operating_points else {
+        return Ok(());
+    };
+    super::common::refuse_reserved_names(
+        op.pass_through.iter().map(|c| c.name.as_str()),
+        &op.path,
+        "`operating_points.pass_through`",
+        &["sample_id", "operating_point_row"],
+    )?;
+    if let (Some(how), false) = (&op.weight_computed, args.quiet) {
+        eprintln!(
+            "{}",
+            polywear::operating_points::computed_weight_note(&op.path, how)
+        );
+    }
+    Ok(())
 }
 
 /// Refuses a flag of `--resume --out DIR` that contradicts the run recorded in DIR, showing

@@ -144,7 +144,11 @@ impl DriveCycle {
     /// in [0, 400], every other column a parameter of `polywear params` within its range, at
     /// least two steps. Refusals name the file, row and column.
     pub fn read(path: &Path) -> Result<DriveCycle, CycleError> {
-        let t = NumericTable::read(path)?;
+        // A column that is neither `time_s` nor a parameter is refused by its name, before its
+        // cells are read as numbers.
+        let t = NumericTable::read_with_text(path, &|c| {
+            c != "time_s" && c.parse::<ParamId>().is_err()
+        })?;
         let need = |name: &'static str| {
             t.column(name).ok_or_else(|| CycleError::MissingColumn {
                 path: path.to_path_buf(),

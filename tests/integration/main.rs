@@ -20,6 +20,7 @@ mod docs;
 mod explore;
 mod fault_injection;
 mod fuzz_inputs;
+mod inputs;
 mod invariants;
 mod operating_points;
 mod python_interop;
