@@ -56,7 +56,7 @@ pub enum OperatingPointsError {
         /// Its position, counted from 1.
         number: usize,
         /// Nor the weight column, did you mean, and how to name a weight or a column carried
-        /// through ([`unknown_column_hint`]).
+        /// through.
         hint: String,
     },
     /// A column to pass through that the file does not have, or names twice.

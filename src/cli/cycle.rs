@@ -245,7 +245,7 @@ fn structures(
         values: Vec::new(),
         bases: Vec::new(),
         fleet_rows: fleet.map(|_| Vec::new()),
-        said: said_about_study(&study, &origin, k, cycle, line),
+        said: said_about_study(&study, (&origin, dir), k, cycle, line),
     };
     for i in 0..k {
         let (p, _, row) = sampler.sample_with_row(i);
@@ -312,7 +312,7 @@ fn refuse_study_overlaps(
 /// takes (a fleet's rows) and which it does not (the speed, drawn operating axes).
 fn said_about_study(
     study: &Study,
-    origin: &str,
+    (origin, dir): (&str, &Path),
     k: u64,
     cycle: &DriveCycle,
     line: &CommandLine,
@@ -338,7 +338,7 @@ fn said_about_study(
         };
         said.push(format!(
             "fleet: each of the {k} structure samples drives the cycle with one row of {} drawn {by} ({} from the row{speed})",
-            op.path.display(),
+            dir.join(&op.file).display(),
             if taken.is_empty() { "no column".to_string() } else { taken.join(", ") }
         ));
     }

@@ -128,7 +128,7 @@ pub fn run(args: &ExploreArgs) -> CliResult {
     if let Some((dir, run)) = &recorded {
         check_against_recorded(args, &study, dir, run)?;
     }
-    check_new_inputs(args, &study, &named, &origin, accept)?;
+    check_new_inputs(args, &study, &named, (&origin, &study_dir), accept)?;
     study.budget = args.budget.apply(study.budget)?;
     let recorded_samples = recorded
         .as_ref()
@@ -286,7 +286,7 @@ fn check_new_inputs(
     args: &ExploreArgs,
     study: &Study,
     named: &[polywear::params::ParamId],
-    origin: &str,
+    (origin, study_dir): (&str, &Path),
     accept: bool,
 ) -> CliResult {
     if !accept {
@@ -307,7 +307,7 @@ fn check_new_inputs(
     if let (Some(how), false) = (&op.weight_computed, args.quiet) {
         eprintln!(
             "{}",
-            polywear::operating_points::computed_weight_note(&op.path, how)
+            polywear::operating_points::computed_weight_note(&study_dir.join(&op.file), how)
         );
     }
     Ok(())
