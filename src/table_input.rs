@@ -221,6 +221,24 @@ fn text_columns(columns: &[String], text: &dyn Fn(&str) -> bool) -> Vec<(usize, 
         .collect()
 }
 
+/// A Parquet cell's number, where it is one.
+fn number_of(field: &parquet::record::Field) -> Option<f64> {
+    use parquet::record::Field;
+    Some(match field {
+        Field::Double(x) => *x,
+        Field::Float(x) => f64::from(*x),
+        Field::Byte(x) => f64::from(*x),
+        Field::Short(x) => f64::from(*x),
+        Field::Int(x) => f64::from(*x),
+        Field::Long(x) => *x as f64,
+        Field::UByte(x) => f64::from(*x),
+        Field::UShort(x) => f64::from(*x),
+        Field::UInt(x) => f64::from(*x),
+        Field::ULong(x) => *x as f64,
+        _ => return None,
+    })
+}
+
 /// A text cell's number, where it is a finite one (NaN otherwise).
 fn number_in(cell: &str) -> f64 {
     cell.parse::<f64>()
@@ -417,23 +435,16 @@ fn read_parquet(
                     Field::Null => String::new(),
                     other => other.to_string(),
                 };
-                values.push(number_in(&cell));
+                // A number keeps its exact value, not its text's.
+                let x = number_of(field).filter(|x| x.is_finite());
+                values.push(x.unwrap_or_else(|| number_in(&cell)));
                 kept.push(cell);
                 continue;
             }
-            let x = match field {
-                Field::Double(x) => *x,
-                Field::Float(x) => f64::from(*x),
-                Field::Byte(x) => f64::from(*x),
-                Field::Short(x) => f64::from(*x),
-                Field::Int(x) => f64::from(*x),
-                Field::Long(x) => *x as f64,
-                Field::UByte(x) => f64::from(*x),
-                Field::UShort(x) => f64::from(*x),
-                Field::UInt(x) => f64::from(*x),
-                Field::ULong(x) => *x as f64,
-                Field::Null => return Err(TableError::MissingValue { at: t.at(i, j) }),
-                other => {
+            let x = match (number_of(field), field) {
+                (Some(x), _) => x,
+                (None, Field::Null) => return Err(TableError::MissingValue { at: t.at(i, j) }),
+                (None, other) => {
                     return Err(TableError::NotNumeric {
                         at: t.at(i, j),
                         value: other.to_string(),
@@ -497,5 +508,25 @@ mod tests {
         assert!(err("e5.csv", "a,a\n1,2\n").contains("`a` appears twice"));
         assert!(err("e6.csv", "a,b\n1\n").contains("1 cells"));
         assert!(err("e7.csv", "a,b\n1,x\n").contains("`x` is not a number"));
+    }
+
+    #[test]
+    fn text_columns_keep_their_cells_and_their_numbers() {
+        let dir = std::env::temp_dir().join(format!("polywear-text-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("t.csv");
+        std::fs::write(&p, "id,a,h\nVAN-1,1,2.5\n\"CAR, 3\",2,\n").unwrap();
+        let t = NumericTable::read_with_text(&p, &|c| c != "a").unwrap();
+        assert_eq!(t.text_of(0).unwrap(), ["VAN-1", "CAR, 3"]);
+        assert_eq!(t.text_of(2).unwrap(), ["2.5", ""]);
+        assert!(t.text_of(1).is_none());
+        assert_eq!((t.rows[0][1], t.rows[0][2]), (1.0, 2.5));
+        assert!(t.rows[1][0].is_nan() && t.rows[1][2].is_nan());
+        // Read as numbers, the same file is refused at its first text cell.
+        let e = NumericTable::read(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("row 1 (line 2), column `id`: `VAN-1` is not a number"),
+            "{e}"
+        );
     }
 }
