@@ -6,6 +6,12 @@ use std::fmt;
 
 use crate::wording::plain;
 
+mod plausible;
+pub use plausible::{Plausible, UnitMistake};
+use plausible::{
+    CROWN_WIDTH, DENSITY, LOAD, PRESSURE, SHEAR_MODULUS, TIRE_RADIUS, TOE, TREAD_HEIGHT,
+};
+
 /// Where a default value comes from (MODEL.md#sources-and-the-lost-digits).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Provenance {
@@ -69,6 +75,9 @@ pub struct ParamSpec {
     pub max: f64,
     /// Counts (wheels) must be whole numbers.
     pub integer: bool,
+    /// The values plausible for a road tire, where a range makes sense (a value outside it is
+    /// refused as a likely unit mix-up unless accepted: [`ParamSpec::check_plausible`]).
+    pub plausible: Option<Plausible>,
     /// What the parameter is, in a sentence.
     pub description: &'static str,
 }
@@ -113,8 +122,9 @@ pub enum ParamError {
         /// The name given.
         name: String,
     },
-    /// A value outside its parameter's accepted range.
-    #[error("parameter `{name}` = {} is outside its accepted range {range} {unit}", plain(*value, 12))]
+    /// A value outside its parameter's accepted range (with the likely unit mix-up, where a
+    /// conversion lands in the plausible range: `; 8 mm = 0.008 m?`).
+    #[error("parameter `{name}` = {} is outside its accepted range {range} {unit}{}", plain(*value, 12), mistake_hint(name, *value))]
     OutOfRange {
         /// The parameter.
         name: &'static str,
@@ -125,12 +135,33 @@ pub enum ParamError {
         /// The parameter's unit.
         unit: &'static str,
     },
+    /// A value in its accepted range but outside its plausible one (MODEL.md#parameter-table):
+    /// most likely a unit mix-up, which the message names (`; 2.4 bar = 240 kPa?`).
+    #[error("parameter `{name}` = {} {unit} is implausible for a road tire (plausible {} {unit}){} (if it is meant, --accept-implausible runs it anyway)", plain(*value, 12), plausible_text(name), mistake_hint(name, *value))]
+    Implausible {
+        /// The parameter.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// The parameter's unit.
+        unit: &'static str,
+    },
     /// Values that do not fit together (e.g. μ_s above μ_m).
     #[error("{message}")]
     Inconsistent {
         /// What does not fit, with the names and values.
         message: String,
     },
+}
+
+/// The likely unit mix-up of parameter `name`'s `value` (`; 2.4 bar = 240 kPa?`), or "".
+fn mistake_hint(name: &str, value: f64) -> String {
+    spec(name).map_or(String::new(), |s| s.mistake_hint(value))
+}
+
+/// Parameter `name`'s plausible range, as people read it.
+fn plausible_text(name: &str) -> String {
+    spec(name).map_or(String::new(), ParamSpec::plausible_text)
 }
 
 /// " did you mean `speed_kmh`?" for a misspelt name, or nothing.
@@ -144,7 +175,7 @@ fn unknown_hint(name: &str) -> String {
 /// from one list, so that a field, its name, its identifier and its range can never drift apart.
 macro_rules! define_params {
     ($( $id:ident $field:ident : $symbol:literal, $unit:literal, $default:expr, $prov:ident, $group:ident,
-        $min:expr, $minx:literal, $max:expr, $int:literal, $desc:literal; )*) => {
+        $min:expr, $minx:literal, $max:expr, $int:literal, $plaus:expr, $desc:literal; )*) => {
         /// All model inputs in the units of their names (km/h, deg, N, kPa; SI otherwise).
         #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
         pub struct Params { $( #[doc = $desc] pub $field: f64, )* }
@@ -168,7 +199,7 @@ macro_rules! define_params {
         pub const SPECS: &[ParamSpec] = &[ $( ParamSpec {
             name: stringify!($field), symbol: $symbol, unit: $unit, default: $default,
             provenance: Provenance::$prov, group: Group::$group, min: $min,
-            min_exclusive: $minx, max: $max, integer: $int, description: $desc,
+            min_exclusive: $minx, max: $max, integer: $int, plausible: $plaus, description: $desc,
         }, )* ];
 
         impl std::ops::Index<ParamId> for Params {
@@ -188,57 +219,57 @@ macro_rules! define_params {
 
 define_params! {
     SpeedKmh speed_kmh: "V", "km/h", 100.0, Decoded, OperatingPoint, 0.0, true, 400.0, false,
-        "Vehicle speed.";
+        None, "Vehicle speed.";
     ToeDeg toe_deg: "alpha", "deg", 0.3, Decoded, OperatingPoint, 0.0, true, 10.0, false,
-        "Toe-in (slip) angle between wheel plane and vehicle velocity.";
+        Some(TOE), "Toe-in (slip) angle between wheel plane and vehicle velocity.";
     LoadN load_n: "F_Z", "N", 4000.0, Decoded, OperatingPoint, 0.0, true, 50000.0, false,
-        "Vertical load on the tire.";
+        Some(LOAD), "Vertical load on the tire.";
     PressureKpa pressure_kpa: "P", "kPa", 240.0, Decoded, OperatingPoint, 0.0, true, 2000.0, false,
-        "Tire inflation pressure.";
+        Some(PRESSURE), "Tire inflation pressure.";
     RB r_b: "r_B", "m", 0.317, Paper, TireStructure, 0.0, true, 2.0, false,
-        "Tire radius.";
+        Some(TIRE_RADIUS), "Tire radius.";
     RW r_w: "r_w", "m", 0.155, Paper, TireStructure, 0.0, true, 10.0, false,
-        "Tread lateral curvature radius.";
+        None, "Tread lateral curvature radius.";
     B0 b0: "b0", "m", 0.166, Paper, TireStructure, 0.0, true, 1.0, false,
-        "Crown width.";
+        Some(CROWN_WIDTH), "Crown width.";
     Xi xi: "xi", "-", 0.67, Decoded, TireStructure, 0.0, true, 10.0, false,
-        "Structure constant of the contact length.";
+        None, "Structure constant of the contact length.";
     Psi psi: "psi", "1/m", 115.0, Decoded, TireStructure, 0.0, true, 1.0e4, false,
-        "Structure constant of the contact width.";
+        None, "Structure constant of the contact width.";
     TreadHeight tread_height: "h", "m", 0.015, Decoded, TireStructure, 0.0, true, 0.2, false,
-        "Tread height.";
+        Some(TREAD_HEIGHT), "Tread height.";
     Rho rho: "rho", "kg/m^3", 1250.0, Decoded, TireStructure, 0.0, true, 2.0e4, false,
-        "Tread mass density.";
+        Some(DENSITY), "Tread mass density.";
     GMod g_mod: "G", "Pa", 0.8557e6, Fitted, TireStructure, 0.0, true, 1.0e10, false,
-        "Shear modulus of the tread rubber (reconstructed; R0 0.8645e6).";
+        Some(SHEAR_MODULUS), "Shear modulus of the tread rubber (reconstructed; R0 0.8645e6).";
     CBrush c_brush: "C", "N/m^3", 3.537e7, Fitted, TireStructure, 0.0, true, 1.0e13, false,
-        "Tangential elastic constant of rubber (brush stiffness per area; reconstructed; R0 3.6e7).";
+        None, "Tangential elastic constant of rubber (brush stiffness per area; reconstructed; R0 3.6e7).";
     Alpha2 alpha2: "alpha2", "m^2/N", 8.68e-9, Fitted, TireStructure, 0.0, false, 1.0e-3, false,
-        "Carcass deflection constant (digits all lost in the paper; R0 4.0e-8).";
+        None, "Carcass deflection constant (digits all lost in the paper; R0 4.0e-8).";
     MuM mu_m: "mu_m", "-", 0.76, Decoded, Friction, 0.0, true, 5.0, false,
-        "Maximum static friction coefficient.";
+        None, "Maximum static friction coefficient.";
     MuS mu_s: "mu_s", "-", 0.63, Decoded, Friction, 0.0, true, 5.0, false,
-        "Sliding friction coefficient (at most mu_m).";
+        None, "Sliding friction coefficient (at most mu_m).";
     VS v_s: "V_s", "m/s", 0.106, Fitted, Friction, 0.0, true, 100.0, false,
-        "Stribeck speed (lost-digit reading \"0.1?6\" chosen by the fit; R0 0.126).";
+        None, "Stribeck speed (lost-digit reading \"0.1?6\" chosen by the fit; R0 0.126).";
     Phi phi: "phi", "-", 0.9, Fitted, Friction, 0.0, true, 10.0, false,
-        "Stribeck index, normally 0.5..2 (lost-digit reading \"0.9?\" chosen by the fit; R0 0.94).";
+        None, "Stribeck index, normally 0.5..2 (lost-digit reading \"0.9?\" chosen by the fit; R0 0.94).";
     Sigma1 sigma1: "sigma1", "N s/m", 10.0, Decoded, Friction, 0.0, false, 1.0e6, false,
-        "LuGre bristle damping.";
+        None, "LuGre bristle damping.";
     CS c_s: "C_s", "N s/m", 14.0, Fitted, Friction, 0.0, false, 1.0e6, false,
-        "Tread lateral damping (lost-digit reading \"1?\" chosen by the fit; R0 18).";
+        None, "Tread lateral damping (lost-digit reading \"1?\" chosen by the fit; R0 18).";
     CD c_d: "C_D", "-", 0.315, Paper, Vehicle, 0.0, false, 5.0, false,
-        "Air-resistance coefficient (driving wheel only).";
+        None, "Air-resistance coefficient (driving wheel only).";
     Area area: "A", "m^2", 2.2, Decoded, Vehicle, 0.0, false, 50.0, false,
-        "Windward (frontal) area (driving wheel only).";
+        None, "Windward (frontal) area (driving wheel only).";
     F0 f0: "f0", "-", 0.0076, Reconstructed, Vehicle, 0.0, false, 1.0, false,
-        "Rolling resistance, constant term (textbook radial-tire formula).";
+        None, "Rolling resistance, constant term (textbook radial-tire formula).";
     F1 f1: "f1", "h/km", 0.000056, Reconstructed, Vehicle, 0.0, false, 0.1, false,
-        "Rolling resistance, speed term: f = f0 + f1 * V[km/h].";
+        None, "Rolling resistance, speed term: f = f0 + f1 * V[km/h].";
     NWheels n_wheels: "n_w", "-", 4.0, Reconstructed, Vehicle, 1.0, false, 64.0, true,
-        "Wheels sharing the rolling resistance.";
+        None, "Wheels sharing the rolling resistance.";
     NDriven n_driven: "n_d", "-", 2.0, Reconstructed, Vehicle, 1.0, false, 64.0, true,
-        "Driven wheels sharing the drive force.";
+        None, "Driven wheels sharing the drive force.";
 }
 
 /// The reference constants R0 (MODEL.md#r0-and-the-shipped-defaults) where the shipped defaults
@@ -334,13 +365,6 @@ impl<'de> serde::Deserialize<'de> for ParamId {
         name.parse().map_err(serde::de::Error::custom)
     }
 }
-
-/// Below this tire pressure \[kPa\] a value is more likely in bar (2.3 bar = 230 kPa).
-pub const PLAUSIBLE_PRESSURE_KPA: f64 = 50.0;
-/// Below this wheel load \[N\] a value is more likely in kg (400 kg carry 3923 N).
-pub const PLAUSIBLE_LOAD_N: f64 = 500.0;
-/// Standard gravity [m/s^2], for the kg-to-N hint.
-const STANDARD_GRAVITY: f64 = 9.80665;
 
 /// The parameter name closest to a misspelt `typed` one ("sped_kmh" → "speed_kmh", "speed" →
 /// "speed_kmh"), for "did you mean" in every place a name is typed: study keys, `--set`,
@@ -449,28 +473,13 @@ impl Params {
         Ok(())
     }
 
-    /// Values that are accepted but implausible for a road tire, each with the unit mix-up that
-    /// most likely produced it (a pressure in bar, a load in kg). Printed as warnings: the
-    /// model still evaluates them, and a contact patch it cannot form is reported per wheel.
-    pub fn unit_warnings(&self) -> Vec<String> {
-        let mut out = Vec::new();
-        if self.pressure_kpa < PLAUSIBLE_PRESSURE_KPA {
-            out.push(format!(
-                "pressure_kpa = {} kPa is implausibly low for a tire (below {PLAUSIBLE_PRESSURE_KPA} kPa); was it in bar? {} bar = {} kPa",
-                plain(self.pressure_kpa, 6),
-                plain(self.pressure_kpa, 6),
-                plain(self.pressure_kpa * 100.0, 6)
-            ));
+    /// Checks every value against its plausible range (MODEL.md#parameter-table): the first
+    /// implausible one is refused with the unit mix-up that most likely produced it.
+    pub fn check_plausible(&self) -> Result<(), ParamError> {
+        for &id in ParamId::ALL {
+            id.spec().check_plausible(self[id])?;
         }
-        if self.load_n < PLAUSIBLE_LOAD_N {
-            out.push(format!(
-                "load_n = {} N is implausibly low for a wheel load (below {PLAUSIBLE_LOAD_N} N); was it in kg? {} kg carry {} N",
-                plain(self.load_n, 6),
-                plain(self.load_n, 6),
-                plain(self.load_n * STANDARD_GRAVITY, 4)
-            ));
-        }
-        out
+        Ok(())
     }
 
     /// Vehicle speed in m/s (MODEL.md#operating-point-and-wheels: SI units inside).

@@ -15,6 +15,7 @@ use crate::sampling::distribution::Distribution;
 use crate::toml_input::{self, TomlError};
 
 mod error;
+mod plausible;
 mod points;
 mod sampler;
 mod schema;
@@ -57,6 +58,8 @@ pub struct Study {
     pub chunk_size: u64,
     /// Defaults with the study's fixed values applied.
     pub base: Params,
+    /// The parameters the study fixes in `[params]`, in column order.
+    pub fixed: Vec<ParamId>,
     /// The drawn parameters, in column order.
     pub drawn: Vec<DrawnParam>,
     /// The file's text, stored in every output's metadata.
@@ -65,11 +68,20 @@ pub struct Study {
     pub budget: WheelBudget,
     /// Measured operating points (`[operating_points]`): each sample draws one row.
     pub operating_points: Option<OperatingPoints>,
+    /// `accept_implausible = true`: values outside their plausible ranges are meant
+    /// ([`Study::check_plausible`] passes).
+    pub accept_implausible: bool,
 }
 
 /// Reads a parameter file (`--params FILE`, as `polywear calibrate` writes): a `[params]` table
 /// of numbers, applied on top of `base` and checked.
 pub fn apply_param_file(base: &Params, text: &str) -> Result<Params, StudyError> {
+    read_param_file(base, text).map(|(p, _)| p)
+}
+
+/// [`apply_param_file`], with the parameters the file names (in column order), so that a
+/// command can refuse a parameter the file and another source both set.
+pub fn read_param_file(base: &Params, text: &str) -> Result<(Params, Vec<ParamId>), StudyError> {
     let file: ParamFile = toml_input::from_str(text).map_err(|e| match e {
         TomlError::UnknownKey { key, .. } if !key.contains('.') => TomlError::UnknownKey {
             key,
@@ -78,14 +90,16 @@ pub fn apply_param_file(base: &Params, text: &str) -> Result<Params, StudyError>
         e => e,
     })?;
     let mut p = *base;
+    let mut named = Vec::new();
     for (&id, &x) in file.params.iter().flatten() {
         p.try_set(id, x).map_err(|source| StudyError::Param {
             key: format!("params.{id}"),
             source,
         })?;
+        named.push(id);
     }
     p.validate().map_err(StudyError::Inconsistent)?;
-    Ok(p)
+    Ok((p, named))
 }
 
 /// The default sample count: `samples`, or the grid's size (which `samples` must then equal).
@@ -148,6 +162,25 @@ impl DrawnParam {
 }
 
 impl Study {
+    /// How the study sets parameter `id`, for messages: "fixes it (`params.toe_deg`)", "draws
+    /// it (`params.toe_deg`)" or "gives it per row (column `toe_deg` of its operating-point file
+    /// fleet.csv)"; None where it does not.
+    pub fn sets(&self, id: ParamId) -> Option<String> {
+        if self.fixed.contains(&id) {
+            return Some(format!("fixes it (`params.{id}`)"));
+        }
+        if self.drawn.iter().any(|d| d.param == id) {
+            return Some(format!("draws it (`params.{id}`)"));
+        }
+        let op = self.operating_points.as_ref()?;
+        op.names.contains(&id.name()).then(|| {
+            format!(
+                "gives it per row (column `{id}` of its operating-point file {})",
+                op.file
+            )
+        })
+    }
+
     /// The drawn parameters as a JSON array (the `drawn` metadata of every chunk).
     pub fn drawn_json(&self) -> serde_json::Value {
         serde_json::Value::Array(self.drawn.iter().map(DrawnParam::to_json).collect())
@@ -213,10 +246,12 @@ impl Study {
             variants: header.variants,
             chunk_size: header.chunk_size,
             base,
+            fixed,
             drawn,
             source: source.to_string(),
             budget: header.budget,
             operating_points,
+            accept_implausible: header.accept_implausible,
         })
     }
 

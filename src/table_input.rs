@@ -19,6 +19,9 @@ pub struct NumericTable {
     pub rows: Vec<Vec<f64>>,
     /// For a CSV file, the line number of each data row (messages say it beside the row).
     lines: Vec<usize>,
+    /// The columns read as text ([`NumericTable::read_with_text`]): `(column, cells)`, each
+    /// cell as written (`rows[i][column]` holds its number where it is one, NaN otherwise).
+    pub text: Vec<(usize, Vec<String>)>,
     /// FNV-1a 64 of the file's bytes, as 16 hex digits, and their count.
     pub hash: String,
     /// The file's size in bytes.
@@ -167,6 +170,16 @@ impl NumericTable {
     /// Reads `path`: Parquet when it ends in `.parquet`, CSV otherwise; only a regular file
     /// within [`Limit::Table`] is read.
     pub fn read(path: &Path) -> Result<NumericTable, TableError> {
+        Self::read_with_text(path, &|_| false)
+    }
+
+    /// [`NumericTable::read`], with the columns whose name `text` accepts kept as text
+    /// (identifiers, labels, or columns the caller judges by name first): their cells need not
+    /// be numbers, and are kept as written.
+    pub fn read_with_text(
+        path: &Path,
+        text: &dyn Fn(&str) -> bool,
+    ) -> Result<NumericTable, TableError> {
         let bytes = safe_read::read_bytes(path, Limit::Table)?;
         let hash = bytes_hash(&bytes);
         let n = bytes.len() as u64;
@@ -174,9 +187,9 @@ impl NumericTable {
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("parquet"));
         let mut t = if is_parquet {
-            read_parquet(path)?
+            read_parquet(path, text)?
         } else {
-            read_csv(path, &bytes)?
+            read_csv(path, &bytes, text)?
         };
         t.hash = hash;
         t.bytes = n;
@@ -205,6 +218,50 @@ impl NumericTable {
     pub fn column(&self, name: &str) -> Option<usize> {
         self.columns.iter().position(|c| c == name)
     }
+
+    /// The cells of column `j` as text, when it was read as text.
+    pub fn text_of(&self, j: usize) -> Option<&[String]> {
+        self.text
+            .iter()
+            .find(|(k, _)| *k == j)
+            .map(|(_, cells)| cells.as_slice())
+    }
+}
+
+/// The text columns' indices among `columns`, each with an empty cell list.
+fn text_columns(columns: &[String], text: &dyn Fn(&str) -> bool) -> Vec<(usize, Vec<String>)> {
+    columns
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| text(c))
+        .map(|(j, _)| (j, Vec::new()))
+        .collect()
+}
+
+/// A Parquet cell's number, where it is one.
+fn number_of(field: &parquet::record::Field) -> Option<f64> {
+    use parquet::record::Field;
+    Some(match field {
+        Field::Double(x) => *x,
+        Field::Float(x) => f64::from(*x),
+        Field::Byte(x) => f64::from(*x),
+        Field::Short(x) => f64::from(*x),
+        Field::Int(x) => f64::from(*x),
+        Field::Long(x) => *x as f64,
+        Field::UByte(x) => f64::from(*x),
+        Field::UShort(x) => f64::from(*x),
+        Field::UInt(x) => f64::from(*x),
+        Field::ULong(x) => *x as f64,
+        _ => return None,
+    })
+}
+
+/// A text cell's number, where it is a finite one (NaN otherwise).
+fn number_in(cell: &str) -> f64 {
+    cell.parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite())
+        .unwrap_or(f64::NAN)
 }
 
 /// 64-bit FNV-1a of bytes, as 16 hex digits: a fingerprint that tells a changed file, not a
@@ -337,7 +394,11 @@ fn unterminated_quote(text: &str) -> Option<usize> {
     quoted.then_some(opened_on)
 }
 
-fn read_csv(path: &Path, bytes: &[u8]) -> Result<NumericTable, TableError> {
+fn read_csv(
+    path: &Path,
+    bytes: &[u8],
+    text_names: &dyn Fn(&str) -> bool,
+) -> Result<NumericTable, TableError> {
     let text = std::str::from_utf8(bytes).map_err(|source| TableError::NotUtf8 {
         path: path.to_path_buf(),
         source,
@@ -351,6 +412,7 @@ fn read_csv(path: &Path, bytes: &[u8]) -> Result<NumericTable, TableError> {
     check_header(path, &columns)?;
     let mut t = NumericTable {
         path: path.to_path_buf(),
+        text: text_columns(&columns, text_names),
         columns,
         rows: Vec::new(),
         lines: Vec::new(),
@@ -369,6 +431,11 @@ fn read_csv(path: &Path, bytes: &[u8]) -> Result<NumericTable, TableError> {
         }
         let mut values = Vec::with_capacity(cells.len());
         for (j, c) in cells.iter().enumerate() {
+            if let Some((_, kept)) = t.text.iter_mut().find(|(k, _)| *k == j) {
+                kept.push(c.clone());
+                values.push(number_in(c));
+                continue;
+            }
             let x: f64 = c.parse().map_err(|_| {
                 if c.is_empty() {
                     TableError::EmptyCell { at: t.at(row, j) }
@@ -397,7 +464,10 @@ fn read_csv(path: &Path, bytes: &[u8]) -> Result<NumericTable, TableError> {
     Ok(t)
 }
 
-fn read_parquet(path: &Path) -> Result<NumericTable, TableError> {
+fn read_parquet(
+    path: &Path,
+    text_names: &dyn Fn(&str) -> bool,
+) -> Result<NumericTable, TableError> {
     use parquet::file::reader::{FileReader, SerializedFileReader};
     use parquet::record::Field;
     let e = |m: &dyn std::fmt::Display| TableError::Parquet {
@@ -414,6 +484,7 @@ fn read_parquet(path: &Path) -> Result<NumericTable, TableError> {
     check_header(path, &columns)?;
     let mut t = NumericTable {
         path: path.to_path_buf(),
+        text: text_columns(&columns, text_names),
         columns,
         rows: Vec::new(),
         lines: Vec::new(),
@@ -425,19 +496,22 @@ fn read_parquet(path: &Path) -> Result<NumericTable, TableError> {
         let i = t.rows.len();
         let mut values = Vec::with_capacity(t.columns.len());
         for (j, (_, field)) in row.get_column_iter().enumerate() {
-            let x = match field {
-                Field::Double(x) => *x,
-                Field::Float(x) => f64::from(*x),
-                Field::Byte(x) => f64::from(*x),
-                Field::Short(x) => f64::from(*x),
-                Field::Int(x) => f64::from(*x),
-                Field::Long(x) => *x as f64,
-                Field::UByte(x) => f64::from(*x),
-                Field::UShort(x) => f64::from(*x),
-                Field::UInt(x) => f64::from(*x),
-                Field::ULong(x) => *x as f64,
-                Field::Null => return Err(TableError::MissingValue { at: t.at(i, j) }),
-                other => {
+            if let Some((_, kept)) = t.text.iter_mut().find(|(k, _)| *k == j) {
+                let cell = match field {
+                    Field::Str(s) => s.clone(),
+                    Field::Null => String::new(),
+                    other => other.to_string(),
+                };
+                // A number keeps its exact value, not its text's.
+                let x = number_of(field).filter(|x| x.is_finite());
+                values.push(x.unwrap_or_else(|| number_in(&cell)));
+                kept.push(cell);
+                continue;
+            }
+            let x = match (number_of(field), field) {
+                (Some(x), _) => x,
+                (None, Field::Null) => return Err(TableError::MissingValue { at: t.at(i, j) }),
+                (None, other) => {
                     return Err(TableError::NotNumeric {
                         at: t.at(i, j),
                         value: other.to_string(),
@@ -516,6 +590,26 @@ mod tests {
         assert!(
             m.contains("not a column name") && !m.contains("hash"),
             "{m}"
+        );
+    }
+
+    #[test]
+    fn text_columns_keep_their_cells_and_their_numbers() {
+        let dir = std::env::temp_dir().join(format!("polywear-text-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("t.csv");
+        std::fs::write(&p, "id,a,h\nVAN-1,1,2.5\n\"CAR, 3\",2,\n").unwrap();
+        let t = NumericTable::read_with_text(&p, &|c| c != "a").unwrap();
+        assert_eq!(t.text_of(0).unwrap(), ["VAN-1", "CAR, 3"]);
+        assert_eq!(t.text_of(2).unwrap(), ["2.5", ""]);
+        assert!(t.text_of(1).is_none());
+        assert_eq!((t.rows[0][1], t.rows[0][2]), (1.0, 2.5));
+        assert!(t.rows[1][0].is_nan() && t.rows[1][2].is_nan());
+        // Read as numbers, the same file is refused at its first text cell.
+        let e = NumericTable::read(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("row 1 (line 2), column `id`: `VAN-1` is not a number"),
+            "{e}"
         );
     }
 }

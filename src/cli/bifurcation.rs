@@ -73,11 +73,13 @@ struct SweepRequest {
 }
 
 fn resolve(args: &BifurcationArgs) -> CliResult<SweepRequest> {
-    let base = args.point.params()?;
+    let resolved = args.point.resolve()?;
+    let base = resolved.params;
     let param: ParamId = args
         .param
         .parse()
         .map_err(|e: ParamError| CliError(format!("--param: {e}")))?;
+    super::common::sweep_owns(param, &format!("--param {param}"), &resolved)?;
     let s = param.spec();
     if !(2..=100_000).contains(&args.steps) {
         return Err(CliError(format!(
@@ -87,6 +89,10 @@ fn resolve(args: &BifurcationArgs) -> CliResult<SweepRequest> {
     }
     for (flag, v) in [("--from", args.from), ("--to", args.to)] {
         s.check(v).map_err(|e| CliError(format!("{flag}: {e}")))?;
+        if !args.point.accept_implausible {
+            s.check_plausible(v)
+                .map_err(|e| CliError(format!("{flag}: {e}")))?;
+        }
         let mut p = base;
         p.try_set(param, v)?;
         p.validate().map_err(|e| CliError(format!("{flag}: {e}")))?;

@@ -36,6 +36,9 @@ pub struct CalibrateArgs {
     /// such a fit writes no file and exits 1)
     #[arg(long)]
     pub write_anyway: bool,
+    /// Start from [params] values outside their plausible ranges (`polywear params`) anyway
+    #[arg(long)]
+    pub accept_implausible: bool,
 }
 
 pub fn run(args: &CalibrateArgs) -> CliResult {
@@ -77,6 +80,16 @@ fn read_problem(args: &CalibrateArgs) -> CliResult<Problem> {
     let text = super::common::read_input(&args.targets, "", polywear::safe_read::Limit::Text)?;
     let at = |e: &dyn std::fmt::Display| CliError(format!("{}: {e}", args.targets.display()));
     let mut problem = parse_problem(&text).map_err(|e| at(&e))?;
+    if !args.accept_implausible {
+        // The defaults are plausible: only the file's [params] can fail here.
+        problem.start.check_plausible().map_err(|e| {
+            let key = match &e {
+                ParamError::Implausible { name, .. } => format!("`params.{name}`: "),
+                _ => String::new(),
+            };
+            at(&format!("{key}{e}"))
+        })?;
+    }
     if args.fit.is_empty() {
         return Ok(problem);
     }

@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::common::{
-    base_metadata, check_extension, check_out_file, CliError, CliResult, PointArgs, WheelArg,
+    base_metadata, check_extension, check_out_file, CliError, CliResult, PointArgs, Resolved,
+    WheelArg,
 };
 use polywear::chart::band::{structure_band, structure_params, StructureBand};
 use polywear::chart::{
@@ -22,8 +23,13 @@ use polywear::study::Study;
 /// Cells per axis of the uncertainty band's grid.
 const BAND_CELLS: usize = 100;
 
-/// The study of `--study`, checked against the chart before work.
-fn band_study(args: &ChartArgs, req: &ChartRequest) -> CliResult<Option<(Study, u64)>> {
+/// The study of `--study`, checked against the chart before work: a parameter it draws for the
+/// band and the command line or `--params` sets too is refused (the band would replace it).
+fn band_study(
+    args: &ChartArgs,
+    req: &ChartRequest,
+    resolved: &Resolved,
+) -> CliResult<Option<(Study, u64)>> {
     let (Some(path), Some(k)) = (&args.study, args.structure_samples) else {
         return Ok(None);
     };
@@ -33,12 +39,26 @@ fn band_study(args: &ChartArgs, req: &ChartRequest) -> CliResult<Option<(Study, 
     study
         .check_samples(k)
         .map_err(|e| CliError(format!("--structure-samples {k}: {e}")))?;
-    if structure_params(req, &study).is_empty() {
+    let drawn = structure_params(req, &study);
+    if drawn.is_empty() {
         return Err(CliError(format!(
             "--study {}: draws no parameter besides the operating point and the chart's axes; \
              the band needs distributions of tire-structure, friction or vehicle parameters",
             path.display()
         )));
+    }
+    for d in study.drawn.iter().filter(|d| drawn.contains(&d.param)) {
+        if let Some(by) = resolved.given_by(d.param) {
+            return Err(CliError(format!(
+                "{by} sets `{}`, which --study {} draws per structure for the band; a parameter is drawn or set, not both",
+                d.param,
+                path.display()
+            )));
+        }
+        if !(args.point.accept_implausible || study.accept_implausible) {
+            d.check_plausible()
+                .map_err(|e| CliError(format!("--study {}: {e}", path.display())))?;
+        }
     }
     Ok(Some((study, k)))
 }
@@ -101,8 +121,9 @@ pub struct ChartArgs {
     pub threads: Option<usize>,
 }
 
-/// An axis: its parameter, checked by name and range, with the flags named in errors.
-fn axis(name: &str, from: f64, to: f64, flag: &str) -> CliResult<ParamId> {
+/// An axis: its parameter, checked by name, range and plausibility (unless `accept`), with the
+/// flags named in errors.
+fn axis(name: &str, from: f64, to: f64, flag: &str, accept: bool) -> CliResult<ParamId> {
     let id: ParamId = name
         .parse()
         .map_err(|e: ParamError| CliError(format!("--{flag}: {e}")))?;
@@ -110,6 +131,10 @@ fn axis(name: &str, from: f64, to: f64, flag: &str) -> CliResult<ParamId> {
     for (which, v) in [("from", from), ("to", to)] {
         s.check(v)
             .map_err(|e| CliError(format!("--{flag}-{which}: {e}")))?;
+        if !accept {
+            s.check_plausible(v)
+                .map_err(|e| CliError(format!("--{flag}-{which}: {e}")))?;
+        }
     }
     if from >= to {
         return Err(CliError(format!(
@@ -123,15 +148,19 @@ fn axis(name: &str, from: f64, to: f64, flag: &str) -> CliResult<ParamId> {
 }
 
 /// Checks the request and builds it, before any work.
-pub fn request(args: &ChartArgs) -> CliResult<ChartRequest> {
-    let x = axis(&args.x, args.x_from, args.x_to, "x")?;
-    let y = axis(&args.y, args.y_from, args.y_to, "y")?;
+pub fn request(args: &ChartArgs) -> CliResult<(ChartRequest, Resolved)> {
+    let accept = args.point.accept_implausible;
+    let x = axis(&args.x, args.x_from, args.x_to, "x", accept)?;
+    let y = axis(&args.y, args.y_from, args.y_to, "y", accept)?;
     if x == y {
         return Err(CliError(format!(
             "--x and --y are both `{x}`; a chart needs two different parameters"
         )));
     }
-    let base = args.point.params()?;
+    let resolved = args.point.resolve()?;
+    super::common::sweep_owns(x, &format!("--x {x}"), &resolved)?;
+    super::common::sweep_owns(y, &format!("--y {y}"), &resolved)?;
+    let base = resolved.params;
     // Every corner must be a valid parameter set (e.g. mu_s on an axis may not exceed mu_m).
     for (xf, xv) in [("--x-from", args.x_from), ("--x-to", args.x_to)] {
         for (yf, yv) in [("--y-from", args.y_from), ("--y-to", args.y_to)] {
@@ -144,7 +173,7 @@ pub fn request(args: &ChartArgs) -> CliResult<ChartRequest> {
     }
     check_extension(&args.out, &["parquet"], "--out")?;
     check_out_file(&args.out, "--out")?;
-    Ok(ChartRequest {
+    let req = ChartRequest {
         base,
         variant: args.point.variant.into(),
         wheels: args.wheel.wheels(),
@@ -154,7 +183,8 @@ pub fn request(args: &ChartArgs) -> CliResult<ChartRequest> {
             lo: [args.x_from, args.y_from],
             hi: [args.x_to, args.y_to],
         },
-    })
+    };
+    Ok((req, resolved))
 }
 
 /// The chart's metadata: the base parameters, axes, box, wheels and the conventions of l1.
@@ -232,8 +262,8 @@ fn sibling(out: &Path, suffix: &str, ext: &str) -> PathBuf {
 }
 
 pub fn run(args: &ChartArgs) -> CliResult {
-    let req = request(args)?;
-    let band_plan = band_study(args, &req)?;
+    let (req, resolved) = request(args)?;
+    let band_plan = band_study(args, &req, &resolved)?;
     let pool = super::common::thread_pool(args.threads)?;
     let opts = TraceOptions::default();
     let started = std::time::Instant::now();

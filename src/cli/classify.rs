@@ -11,21 +11,24 @@ use polywear::classify::ClassifierOptions;
 use polywear::ensemble::{self, Control};
 use polywear::evaluate;
 use polywear::model::{Variant, Wheel};
-use polywear::params::{ParamError, ParamId, Params};
+use polywear::operating_points::{FleetColumns, FleetKeys};
+use polywear::params::Params;
 use polywear::parquet_out::{write_csv, write_table, Column};
 use polywear::records::{record_columns, WheelRecord};
-use polywear::table_input::csv_records;
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
     "Examples:\n",
     "  printf 'speed_kmh,toe_deg\\n100,0.3\\n150,0.2\\n' > points.csv\n",
     "  polywear classify points.csv --out data/points_classified.csv\n",
+    "  # a fleet's telematics file, as a study's [operating_points] reads it\n",
+    "  polywear classify studies/fleet_telematics.csv --weight hours --out data/fleet_points.csv\n",
     "\nGuide: GUIDE.md#classify"
 ))]
 pub struct ClassifyArgs {
-    /// CSV with a header of parameter names (e.g. speed_kmh,toe_deg,load_n,pressure_kpa) and
-    /// one operating point per row; other columns are refused, missing parameters keep defaults
+    /// CSV or Parquet with a header of parameter names (e.g. speed_kmh,toe_deg,load_n,pressure_kpa)
+    /// and one operating point per row; other columns need --weight or --pass-through, missing
+    /// parameters keep their defaults
     #[arg(value_name = "POINTS.csv")]
     pub points: PathBuf,
     /// Output: FILE.csv or FILE.parquet, one row per point and wheel (column `point` = row index);
@@ -35,9 +38,21 @@ pub struct ClassifyArgs {
     /// Friction variant: sliding_share (default), paper or combined (see `simulate --help`)
     #[arg(long, value_enum, default_value_t = VariantArg::SlidingShare)]
     pub variant: VariantArg,
-    /// Parameter file for the parameters the CSV does not give
+    /// Parameter file for the parameters the file does not give (one it gives is refused)
     #[arg(long, value_name = "FILE")]
     pub params: Option<PathBuf>,
+    /// The file's weight column (hours or km driven at each point; `km` without a km column is
+    /// computed as hours * speed_kmh), carried into the output beside each point
+    #[arg(long, value_name = "COLUMN")]
+    pub weight: Option<String>,
+    /// Columns that are no parameters (vehicle ids, a second weight), carried into the output
+    /// unchanged, comma-separated
+    #[arg(long, value_name = "A,B,...", value_delimiter = ',')]
+    pub pass_through: Vec<String>,
+    /// Run values outside their plausible ranges (`polywear params`) anyway: a cell such as
+    /// pressure_kpa = 2.4 (bar, not kPa) is refused before any work without it
+    #[arg(long)]
+    pub accept_implausible: bool,
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
     pub threads: Option<usize>,
@@ -45,56 +60,86 @@ pub struct ClassifyArgs {
     pub budget: BudgetArgs,
 }
 
-/// Reads the points: each row applied on top of `base` and validated, before any work.
-fn read_points(path: &std::path::Path, base: &Params) -> CliResult<Vec<Params>> {
-    let text = super::common::read_input(path, "", polywear::safe_read::Limit::Table)?;
-    let records = csv_records(path, &text).map_err(|e| CliError(e.to_string()))?;
-    let mut lines = records.into_iter().map(|(_, cells)| cells);
-    let header: Vec<ParamId> = lines
-        .next()
-        .ok_or_else(|| CliError(format!("{}: empty file", path.display())))?
-        .iter()
-        .map(|h| {
-            h.parse()
-                .map_err(|e: ParamError| CliError(format!("{}: column `{h}`: {e}", path.display())))
-        })
-        .collect::<CliResult<_>>()?;
-    for (i, name) in header.iter().enumerate() {
-        if header[..i].contains(name) {
-            return Err(CliError(format!(
-                "{}: column `{name}` appears more than once in the header",
-                path.display()
-            )));
-        }
+/// The keys of the weight and passed-through columns, as classify's flags.
+const KEYS: FleetKeys = FleetKeys {
+    weight: "--weight",
+    pass_through: "--pass-through",
+};
+
+/// Reads the points, each row applied on top of the defaults (or `--params`) and validated,
+/// before any work; a parameter both in `--params` and the file is refused.
+fn read_points(args: &ClassifyArgs) -> CliResult<(Vec<Params>, FleetColumns, Params)> {
+    let accept = args.accept_implausible;
+    let (base, named) = super::common::param_file(args.params.as_deref(), accept)?;
+    let path = &args.points;
+    let (f, t) = FleetColumns::read(path, args.weight.as_deref(), &args.pass_through, KEYS)
+        .map_err(|e| CliError(e.to_string()))?;
+    if f.ids.is_empty() {
+        return Err(CliError(format!(
+            "{}: no parameter column (columns: {}); name parameters of `polywear params`, e.g. speed_kmh,toe_deg",
+            path.display(),
+            t.columns.join(", ")
+        )));
     }
-    let mut out = Vec::new();
-    for (i, cells) in lines.enumerate() {
-        if cells.len() != header.len() {
-            return Err(CliError(format!(
-                "{}: row {} has {} cells, the header {}",
-                path.display(),
-                i + 1,
-                cells.len(),
-                header.len()
-            )));
-        }
-        let mut p = *base;
-        for (&name, cell) in header.iter().zip(&cells) {
-            let v: f64 = cell.parse().map_err(|_| {
-                CliError(format!(
-                    "{}: row {}, `{name}` = `{cell}` is not a number; accepted: a number in the parameter's unit",
-                    path.display(),
-                    i + 1
-                ))
-            })?;
-            p.try_set(name, v)
-                .map_err(|e| CliError(format!("{}: row {}: {e}", path.display(), i + 1)))?;
+    if !accept {
+        f.check_plausible().map_err(|e| CliError(e.to_string()))?;
+    }
+    if let (Some(file), Some(id)) = (&args.params, named.iter().find(|id| f.ids.contains(id))) {
+        return Err(CliError(format!(
+            "--params {} sets `{id}`, which {} gives per point (column `{id}`); a parameter comes from one file: remove it from one of them",
+            file.display(),
+            path.display()
+        )));
+    }
+    let carried = f
+        .weight
+        .iter()
+        .map(String::as_str)
+        .chain(f.pass_through.iter().map(|c| c.name.as_str()));
+    super::common::refuse_reserved_names(carried, path, "--weight or --pass-through", &["point"])?;
+    let mut points = Vec::with_capacity(f.values.len());
+    for (i, row) in f.values.iter().enumerate() {
+        let mut p = base;
+        for (&id, &x) in f.ids.iter().zip(row) {
+            p[id] = x;
         }
         p.validate()
-            .map_err(|e| CliError(format!("{}: row {}: {e}", path.display(), i + 1)))?;
-        out.push(p);
+            .map_err(|e| CliError(format!("{}, {}: {e}", path.display(), t.row_name(i))))?;
+        points.push(p);
     }
-    Ok(out)
+    if let Some(how) = &f.weight_computed {
+        eprintln!(
+            "{}",
+            polywear::operating_points::computed_weight_note(path, how)
+        );
+    }
+    Ok((points, f, base))
+}
+
+/// The output's columns: `point`, the weight and the passed-through columns, the records.
+fn output_columns(
+    jobs: &[(usize, Wheel)],
+    f: &FleetColumns,
+    records: &[WheelRecord],
+) -> Vec<Column> {
+    let rows: Vec<usize> = jobs.iter().map(|j| j.0).collect();
+    let mut cols = vec![Column::i64(
+        "point",
+        "",
+        rows.iter().map(|&r| r as i64).collect(),
+    )];
+    if let Some(w) = &f.weight {
+        if !f.pass_through.iter().any(|c| &c.name == w) {
+            cols.push(Column::f64(
+                w.as_str(),
+                "",
+                rows.iter().map(|&r| f.weights[r]).collect(),
+            ));
+        }
+    }
+    cols.extend(f.pass_through.iter().map(|c| c.column(&rows)));
+    cols.extend(record_columns(records));
+    cols
 }
 
 pub fn run(args: &ClassifyArgs) -> CliResult {
@@ -104,8 +149,7 @@ pub fn run(args: &ClassifyArgs) -> CliResult {
         budget: args.budget.apply(Default::default())?,
         ..ClassifierOptions::default()
     };
-    let base = super::common::base_params(args.params.as_deref())?;
-    let points = read_points(&args.points, &base)?;
+    let (points, fleet, base) = read_points(args)?;
     let variant: Variant = args.variant.into();
     let pool = super::common::thread_pool(args.threads)?;
     let start = Instant::now();
@@ -119,20 +163,20 @@ pub fn run(args: &ClassifyArgs) -> CliResult {
     let records: Vec<WheelRecord> =
         pool.install(|| ensemble::solve(jobs.len(), record, &Control::QUIET).all());
     let secs = start.elapsed().as_secs_f64();
-    let mut cols = vec![Column::i64(
-        "point",
-        "",
-        jobs.iter().map(|j| j.0 as i64).collect(),
-    )];
-    cols.extend(record_columns(&records));
+    let cols = output_columns(&jobs, &fleet, &records);
     if args.out.extension().is_some_and(|e| e == "csv") {
         write_csv(&args.out, &cols)?;
     } else {
-        write_table(
-            &args.out,
-            &cols,
-            &super::common::base_metadata(&base, variant),
-        )?;
+        let mut meta = super::common::base_metadata(&base, variant);
+        if fleet.weight.is_some() || !fleet.pass_through.is_empty() {
+            meta.push(("points".into(), args.points.display().to_string()));
+            meta.push(("weight".into(), fleet.weight.clone().unwrap_or_default()));
+            meta.push(("weight_kind".into(), fleet.weight_kind.as_str().into()));
+            if let Some(how) = &fleet.weight_computed {
+                meta.push(("weight_computed".into(), how.clone()));
+            }
+        }
+        write_table(&args.out, &cols, &meta)?;
     }
     eprintln!(
         "classified {} points x 2 wheels in {secs:.3} s ({:.0} points/s, {} threads) -> {}",

@@ -63,10 +63,14 @@ pub struct PointArgs {
     /// lists names, units, defaults and ranges)
     #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_assignment)]
     pub set: Vec<(String, f64)>,
-    /// Parameter file (TOML `[params]` table, e.g. from `polywear calibrate`), applied before
-    /// --set and the operating-point flags
+    /// Parameter file (TOML `[params]` table, e.g. from `polywear calibrate`); --set and the
+    /// operating-point flags replace its values, each replacement said in a note
     #[arg(long, value_name = "FILE")]
     pub params: Option<std::path::PathBuf>,
+    /// Run values outside their plausible ranges (`polywear params`) anyway; without it a
+    /// likely unit mix-up (pressure 2.4: bar, not kPa) is refused before any work
+    #[arg(long)]
+    pub accept_implausible: bool,
     /// Friction variant (differs for the driving wheel only): `sliding_share` (default; 2-D LuGre
     /// with the patch-mean longitudinal sliding speed, reproduces the paper's driving-wheel
     /// results), `paper` (the paper's literal Eq. 21, w_t = |w|) or `combined` (2-D LuGre with
@@ -152,13 +156,52 @@ pub fn parse_assignment(s: &str) -> Result<(String, f64), String> {
     Ok((name.to_string(), value))
 }
 
+/// The parameters of a command, and where the explicitly given ones came from: a command that
+/// also sets a parameter itself (a sweep, a chart's axes, a study) refuses or notes the overlap.
+#[derive(Debug, Clone)]
+pub struct Resolved {
+    /// Defaults, then the `--params` file, then `--set` and the named flags; validated.
+    pub params: Params,
+    /// The `--params` file and the parameters it names.
+    pub file: Option<(std::path::PathBuf, Vec<ParamId>)>,
+    /// The parameters typed on the command line, each with its words (`--toe 0.15`).
+    pub typed: Vec<(ParamId, String)>,
+}
+
+impl Resolved {
+    /// Where parameter `id` was given explicitly (`--toe 0.15`, `--params FILE`), if it was.
+    pub fn given_by(&self, id: ParamId) -> Option<String> {
+        if let Some((_, by)) = self.typed.iter().find(|(t, _)| *t == id) {
+            return Some(by.clone());
+        }
+        let (path, names) = self.file.as_ref()?;
+        names
+            .contains(&id)
+            .then(|| format!("--params {}", path.display()))
+    }
+}
+
 impl PointArgs {
-    /// Defaults, then `--set`, then the four named flags; everything validated before work starts.
+    /// Defaults, then `--params`, then `--set` and the four named flags; everything validated
+    /// before work starts (see [`PointArgs::resolve`]).
     pub fn params(&self) -> CliResult<Params> {
-        let mut p = base_params(self.params.as_deref())?;
+        self.resolve().map(|r| r.params)
+    }
+
+    /// The parameters with their sources. A parameter typed twice on the command line
+    /// (`--set speed_kmh=80 --speed 100`) is refused as ambiguous; a typed value replaces the
+    /// `--params` file's and a note says so; implausible values are refused unless
+    /// `--accept-implausible`.
+    pub fn resolve(&self) -> CliResult<Resolved> {
+        let (mut p, named) = param_file(self.params.as_deref(), self.accept_implausible)?;
+        let file_values = p;
+        let mut typed: Vec<(ParamId, String, f64)> = Vec::new();
         for (name, value) in &self.set {
-            p.set(name, *value)
-                .map_err(|e| CliError(format!("--set {name}={value}: {e}")))?;
+            let by = format!("--set {name}={}", polywear::wording::plain(*value, 12));
+            let id: ParamId = name
+                .parse()
+                .map_err(|e: ParamError| CliError(format!("--set {name}={value}: {e}")))?;
+            typed.push((id, by, *value));
         }
         for (flag, id, value) in [
             ("--speed", ParamId::SpeedKmh, self.speed),
@@ -167,26 +210,128 @@ impl PointArgs {
             ("--pressure", ParamId::PressureKpa, self.pressure),
         ] {
             if let Some(v) = value {
-                p.try_set(id, v)
-                    .map_err(|e| CliError(format!("{flag} {v}: {e}")))?;
+                typed.push((id, format!("{flag} {}", polywear::wording::plain(v, 12)), v));
+            }
+        }
+        for (k, (id, by, value)) in typed.iter().enumerate() {
+            if let Some((_, first, _)) = typed[..k].iter().find(|(t, _, _)| t == id) {
+                return Err(CliError(format!(
+                    "`{id}` is given twice on the command line ({first} and {by}); give it once"
+                )));
+            }
+            p.try_set(*id, *value)
+                .map_err(|e| CliError(format!("{by}: {e}")))?;
+            if !self.accept_implausible {
+                id.spec()
+                    .check_plausible(*value)
+                    .map_err(|e| CliError(format!("{by}: {e}")))?;
+            }
+        }
+        let file = self.params.clone().map(|path| (path, named));
+        if let Some((path, names)) = &file {
+            for (id, by, value) in &typed {
+                if names.contains(id) && file_values[*id] != *value {
+                    eprintln!(
+                        "note: {by} replaces {id} = {} of --params {}",
+                        polywear::wording::plain(file_values[*id], 12),
+                        path.display()
+                    );
+                }
             }
         }
         p.validate()?;
-        for w in p.unit_warnings() {
-            eprintln!("warning: {w}");
-        }
-        Ok(p)
+        Ok(Resolved {
+            params: p,
+            file,
+            typed: typed.into_iter().map(|(id, by, _)| (id, by)).collect(),
+        })
     }
 }
 
-/// The defaults, with the `--params` file applied when one is given.
-pub fn base_params(path: Option<&Path>) -> CliResult<Params> {
+/// The defaults, with the `--params` file applied when one is given (see [`param_file`]).
+pub fn base_params(path: Option<&Path>, accept_implausible: bool) -> CliResult<Params> {
+    param_file(path, accept_implausible).map(|(p, _)| p)
+}
+
+/// The defaults with the `--params` file applied, and the parameters the file names; a value
+/// outside its plausible range is refused unless `accept_implausible`.
+pub fn param_file(
+    path: Option<&Path>,
+    accept_implausible: bool,
+) -> CliResult<(Params, Vec<ParamId>)> {
     let Some(path) = path else {
-        return Ok(Params::default());
+        return Ok((Params::default(), Vec::new()));
     };
     let text = read_input(path, "--params ", polywear::safe_read::Limit::Text)?;
-    polywear::study::apply_param_file(&Params::default(), &text)
-        .map_err(|e| CliError(format!("--params {}: {e}", path.display())))
+    let (p, named) = polywear::study::read_param_file(&Params::default(), &text)
+        .map_err(|e| CliError(format!("--params {}: {e}", path.display())))?;
+    if !accept_implausible {
+        for &id in &named {
+            id.spec().check_plausible(p[id]).map_err(|e| {
+                CliError(format!("--params {}: `params.{id}`: {e}", path.display()))
+            })?;
+        }
+    }
+    Ok((p, named))
+}
+
+/// Refuses a column carried into the output (passed through, or the weight) whose name an
+/// output column of polywear has (`class`, `sample_id`): the output's columns must be unique.
+pub fn refuse_reserved_names<'a>(
+    carried: impl IntoIterator<Item = &'a str>,
+    file: &Path,
+    key: &str,
+    extra: &[&str],
+) -> CliResult {
+    let records = polywear::records::record_columns(&[]);
+    for name in carried {
+        if extra.contains(&name) || records.iter().any(|r| r.name == name) {
+            return Err(CliError(format!(
+                "{}: column `{name}`, which {key} names, is also an output column of polywear; rename it in the file",
+                file.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// A parameter the command itself varies (a sweep, a chart's axis): given on the command line
+/// too it is refused as ambiguous; a `--params` file's value is replaced, and a note says so.
+pub fn sweep_owns(id: ParamId, owner: &str, resolved: &Resolved) -> CliResult {
+    if let Some((_, by)) = resolved.typed.iter().find(|(t, _)| *t == id) {
+        return Err(CliError(format!(
+            "{by} sets `{id}`, which {owner} varies; leave {by} out"
+        )));
+    }
+    if let Some(by) = resolved.given_by(id) {
+        eprintln!(
+            "note: {owner} replaces {id} = {} of {by}",
+            polywear::wording::plain(resolved.params[id], 12)
+        );
+    }
+    Ok(())
+}
+
+/// Refuses a parameter that a `--params` file sets and a study (or its operating-point file)
+/// sets too: two files for one value are ambiguous.
+pub fn refuse_file_overlap(
+    named: &[ParamId],
+    params_path: Option<&Path>,
+    study: &polywear::study::Study,
+    origin: &str,
+) -> CliResult {
+    let Some(path) = params_path else {
+        return Ok(());
+    };
+    for &id in named {
+        if let Some(there) = study.sets(id) {
+            return Err(CliError(format!(
+                "--params {} sets `{id}`, and {origin} {there}; a parameter comes from one file: remove it from one of them",
+                path.display()
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Accepted range of `--threads`, the same in every command.

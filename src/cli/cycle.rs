@@ -8,12 +8,13 @@ use clap::Args;
 
 use super::common::{base_metadata, BudgetArgs, CliError, CliResult, VariantArg};
 use polywear::classify::ClassifierOptions;
-use polywear::cycle::output::CycleRun;
+use polywear::cycle::output::{CycleRun, FleetDraw};
 use polywear::cycle::{classify_cycles, CycleError, DriveCycle};
 use polywear::model::Variant;
 use polywear::params::{Group, ParamError, ParamId, Params};
 use polywear::sampling::design::Design;
 use polywear::study::Study;
+use polywear::wording::plain;
 
 /// Most tire structures `--structure-samples` accepts.
 const STRUCTURE_SAMPLES_MAX: u64 = 100_000;
@@ -40,16 +41,24 @@ pub struct CycleArgs {
     /// Friction variant: sliding_share (default), paper or combined (see `simulate --help`)
     #[arg(long, value_enum, default_value_t = VariantArg::SlidingShare)]
     pub variant: VariantArg,
-    /// Any model parameter for the whole cycle, e.g. `--set toe_deg=0.3` (repeatable); a
-    /// column of the cycle file wins over it at its steps
+    /// Any model parameter for the whole cycle, e.g. `--set toe_deg=0.3` (repeatable); one the
+    /// cycle file gives per step is refused
     #[arg(long = "set", value_name = "NAME=VALUE", value_parser = super::common::parse_assignment)]
     pub set: Vec<(String, f64)>,
-    /// Parameter file (TOML `[params]`, e.g. from `polywear calibrate`), applied first
+    /// Parameter file (TOML `[params]`, e.g. from `polywear calibrate`), applied first; a
+    /// parameter the cycle file or --study also sets is refused
     #[arg(long, value_name = "FILE")]
     pub params: Option<PathBuf>,
+    /// Run values outside their plausible ranges (`polywear params`) anyway: a cycle column,
+    /// --set, --params or --study value such as pressure_kpa = 2.4 (bar, not kPa) is refused
+    /// before any work without it
+    #[arg(long)]
+    pub accept_implausible: bool,
     /// Study whose drawn tire-structure, friction and vehicle parameters give the tire
-    /// structures (its drawn speed, toe, load and pressure and its [operating_points] are not
-    /// used: the cycle and --set give those); needs --structure-samples
+    /// structures; with [operating_points] each structure sample also draws a row of the
+    /// fleet, whose load, pressure and toe-in hold for the whole cycle (the cycle gives the
+    /// speed). Its drawn speed, toe, load and pressure distributions are not used (said before
+    /// the results); needs --structure-samples
     #[arg(long, value_name = "STUDY.toml", requires = "structure_samples")]
     pub study: Option<PathBuf>,
     /// Tire structures drawn from --study (samples 0..K of its design and seed): every share
@@ -67,27 +76,118 @@ pub struct CycleArgs {
     pub budget: BudgetArgs,
 }
 
-/// The tire structures: `(names, values per sample, parameter base per sample)`, and the
-/// study's metadata.
-type Structures = (Vec<ParamId>, Vec<Vec<f64>>, Vec<Params>);
+/// The tire structures of `--study`: the drawn non-operating parameters (and a fleet's columns
+/// other than the operating axes) with their values per sample, each sample's parameter base,
+/// the fleet rows drawn, and the lines that say what the cycle takes from the study.
+struct Structures {
+    names: Vec<ParamId>,
+    values: Vec<Vec<f64>>,
+    bases: Vec<Params>,
+    fleet_rows: Option<Vec<usize>>,
+    said: Vec<String>,
+}
 
-/// Draws the structure samples of `--study` on top of `base`.
+/// What the command line gives: the `--params` file's values and names, and the `--set` values
+/// with their words.
+struct CommandLine {
+    file: Params,
+    named: Vec<ParamId>,
+    set: Vec<(ParamId, f64, String)>,
+}
+
+/// Reads `--params` and `--set`, refusing before any work: the speed (the cycle gives it), a
+/// parameter set twice, one the cycle file gives per step (from `--set` or `--params`), and
+/// implausible values unless accepted. A `--set` value replacing the file's is noted.
+fn command_line(args: &CycleArgs, cycle: &DriveCycle) -> CliResult<CommandLine> {
+    let accept = args.accept_implausible;
+    let (file, named) = super::common::param_file(args.params.as_deref(), accept)?;
+    let params_by = || {
+        format!(
+            "--params {}",
+            args.params.as_deref().unwrap_or(Path::new("")).display()
+        )
+    };
+    let mut set: Vec<(ParamId, f64, String)> = Vec::new();
+    for (name, value) in &args.set {
+        let by = format!("--set {name}={}", plain(*value, 12));
+        let id: ParamId = name
+            .parse()
+            .map_err(|e: ParamError| CliError(format!("--set {name}: {e}")))?;
+        if id == ParamId::SpeedKmh {
+            return Err(CliError(
+                "--set speed_kmh: the cycle gives the speed at every step (its `speed_kmh` column)"
+                    .into(),
+            ));
+        }
+        if let Some((_, _, first)) = set.iter().find(|(t, _, _)| *t == id) {
+            return Err(CliError(format!(
+                "`{id}` is given twice on the command line ({first} and {by}); give it once"
+            )));
+        }
+        id.spec()
+            .check(*value)
+            .map_err(|e| CliError(format!("--set {name}: {e}")))?;
+        if !accept {
+            id.spec()
+                .check_plausible(*value)
+                .map_err(|e| CliError(format!("{by}: {e}")))?;
+        }
+        set.push((id, *value, by));
+    }
+    let column = |id: ParamId| cycle.names.contains(&id);
+    for (id, by) in set
+        .iter()
+        .map(|(id, _, by)| (*id, by.clone()))
+        .chain(named.iter().map(|&id| (id, params_by())))
+    {
+        if column(id) {
+            return Err(CliError(format!(
+                "{by} sets `{id}`, which {} gives at every step (its column `{id}`); a parameter comes from one place: leave it out of {by} or drop the column",
+                cycle.path.display()
+            )));
+        }
+    }
+    if named.contains(&ParamId::SpeedKmh) {
+        eprintln!(
+            "note: the cycle's speed replaces speed_kmh = {} of {}",
+            plain(file.speed_kmh, 12),
+            params_by()
+        );
+    }
+    for (id, value, by) in &set {
+        if named.contains(id) && file[*id] != *value {
+            eprintln!(
+                "note: {by} replaces {id} = {} of {}",
+                plain(file[*id], 12),
+                params_by()
+            );
+        }
+    }
+    Ok(CommandLine { file, named, set })
+}
+
+/// Draws the structure samples of `--study` on top of the `--params` values, with `--set`
+/// applied after the study's fixed values (a replaced fixed value is noted). With
+/// `[operating_points]` each sample also draws a row, whose columns but the speed hold for the
+/// whole cycle.
 fn structures(
+    args: &CycleArgs,
     path: &Path,
     k: u64,
-    base: Params,
-    fixed_elsewhere: &[(ParamId, &str)],
+    line: &CommandLine,
+    cycle: &DriveCycle,
 ) -> CliResult<(Structures, Study)> {
     let origin = format!("--study {}", path.display());
     let source = super::common::read_input(path, "--study ", polywear::safe_read::Limit::Text)?;
     let dir = path.parent().unwrap_or(Path::new(""));
     let study =
-        Study::parse_at(&source, base, dir).map_err(|e| CliError(format!("{origin}: {e}")))?;
-    if study.operating_points.is_some() {
-        eprintln!(
-            "note: {origin}: its [operating_points] are not used here: the cycle gives the operating point at every step"
-        );
+        Study::parse_at(&source, line.file, dir).map_err(|e| CliError(format!("{origin}: {e}")))?;
+    if !(args.accept_implausible || study.accept_implausible) {
+        study
+            .check_plausible()
+            .map_err(|e| CliError(format!("{origin}: {e}")))?;
     }
+    super::common::refuse_file_overlap(&line.named, args.params.as_deref(), &study, &origin)?;
     if study.design == Design::Saltelli {
         return Err(CliError(format!(
             "{origin}: a saltelli design's rows are arranged for Sobol indices, not a sample of tire structures; use random, lhs or sobol"
@@ -96,39 +196,186 @@ fn structures(
     study
         .check_samples(k)
         .map_err(|e| CliError(format!("{origin}: --structure-samples: {e}")))?;
+    let fleet = study.operating_points.as_ref();
+    if let Some(op) = fleet {
+        super::common::refuse_reserved_names(
+            op.pass_through.iter().map(|c| c.name.as_str()),
+            &op.path,
+            "`operating_points.pass_through`",
+            &[
+                "sample_id",
+                "operating_point_row",
+                "step",
+                "time_s",
+                "step_duration_s",
+                "tread_time_constant_s",
+                "stability_change_time_s",
+                "quasi_static",
+            ],
+        )?;
+    }
+    // The fleet's columns that hold for the whole cycle (the cycle gives the speed).
+    let fleet_ids: Vec<ParamId> = fleet
+        .iter()
+        .flat_map(|op| op.names.iter())
+        .map(|n| n.parse::<ParamId>().expect("a parameter column"))
+        .filter(|&id| id != ParamId::SpeedKmh)
+        .collect();
     let names: Vec<ParamId> = study
         .drawn
         .iter()
         .map(|d| d.param)
         .filter(|id| id.spec().group != Group::OperatingPoint)
+        .chain(
+            fleet_ids
+                .iter()
+                .copied()
+                .filter(|id| !id.is_operating_axis()),
+        )
         .collect();
-    if names.is_empty() {
+    if names.is_empty() && fleet.is_none() {
         return Err(CliError(format!(
             "{origin}: the study draws no tire-structure, friction or vehicle parameter, so every structure sample would be the same"
         )));
     }
-    for (name, by) in fixed_elsewhere {
-        if names.contains(name) {
-            return Err(CliError(format!(
-                "{by} sets `{name}`, which {origin} draws per structure sample; a parameter is drawn or set, not both"
-            )));
-        }
-    }
+    refuse_study_overlaps(&study, &origin, line, cycle, &names, &fleet_ids)?;
     let sampler = study.sampler(study.seed, k);
-    let mut values = Vec::new();
-    let mut bases = Vec::new();
+    let mut out = Structures {
+        names,
+        values: Vec::new(),
+        bases: Vec::new(),
+        fleet_rows: fleet.map(|_| Vec::new()),
+        said: said_about_study(&study, (&origin, dir), k, cycle, line),
+    };
     for i in 0..k {
-        let (p, _) = sampler.sample(i);
+        let (p, _, row) = sampler.sample_with_row(i);
         let mut b = study.base;
-        let mut v = Vec::with_capacity(names.len());
-        for &id in &names {
+        for &id in out.names.iter().chain(&fleet_ids) {
             b[id] = p[id];
-            v.push(p[id]);
         }
-        values.push(v);
-        bases.push(b);
+        for &(id, value, _) in &line.set {
+            b.try_set(id, value)?;
+        }
+        out.values.push(out.names.iter().map(|&id| p[id]).collect());
+        out.bases.push(b);
+        if let (Some(rows), Some(r)) = (&mut out.fleet_rows, row) {
+            rows.push(r);
+        }
     }
-    Ok(((names, values, bases), study))
+    Ok((out, study))
+}
+
+/// Refuses what the study sets and another place sets too: a drawn structure parameter or a
+/// fleet column given by `--set` or the cycle file, a fixed value the cycle file gives per
+/// step. A `--set` replacing one of the study's fixed values is noted.
+fn refuse_study_overlaps(
+    study: &Study,
+    origin: &str,
+    line: &CommandLine,
+    cycle: &DriveCycle,
+    names: &[ParamId],
+    fleet_ids: &[ParamId],
+) -> CliResult {
+    let cycle_by = format!("{} (a column)", cycle.path.display());
+    let given = line
+        .set
+        .iter()
+        .map(|(id, _, by)| (*id, by.as_str()))
+        .chain(cycle.names.iter().map(|&id| (id, cycle_by.as_str())));
+    for (id, by) in given {
+        let how = if names.contains(&id) && !fleet_ids.contains(&id) {
+            "draws per structure sample"
+        } else if fleet_ids.contains(&id) {
+            "gives per vehicle (a column of its [operating_points] file)"
+        } else if study.fixed.contains(&id) && by == cycle_by {
+            "fixes (`params.{id}`)"
+        } else {
+            continue;
+        };
+        return Err(CliError(format!(
+            "{by} sets `{id}`, which {origin} {}; a parameter comes from one place, not both",
+            how.replace("{id}", id.name())
+        )));
+    }
+    for (id, value, by) in &line.set {
+        if study.fixed.contains(id) && study.base[*id] != *value {
+            eprintln!(
+                "note: {by} replaces {origin}'s `params.{id}` = {}",
+                plain(study.base[*id], 12)
+            );
+        }
+    }
+    Ok(())
+}
+
+/// The lines said before the results: which of the study's operating-point values the cycle
+/// takes (a fleet's rows) and which it does not (the speed, drawn operating axes).
+fn said_about_study(
+    study: &Study,
+    (origin, dir): (&str, &Path),
+    k: u64,
+    cycle: &DriveCycle,
+    line: &CommandLine,
+) -> Vec<String> {
+    let mut said = Vec::new();
+    let set_here = |id: ParamId| cycle.names.contains(&id) || line.set.iter().any(|s| s.0 == id);
+    if let Some(op) = &study.operating_points {
+        let taken: Vec<&str> = op
+            .names
+            .iter()
+            .copied()
+            .filter(|n| *n != "speed_kmh")
+            .collect();
+        let by = match (&op.weight, &op.weight_computed) {
+            (_, Some(how)) => format!("by km = {how}"),
+            (Some(w), None) => format!("by its `{w}`"),
+            (None, None) => "with equal weight".to_string(),
+        };
+        let speed = if op.names.contains(&"speed_kmh") {
+            "; its `speed_kmh` column is not used: the cycle gives the speed"
+        } else {
+            ""
+        };
+        said.push(format!(
+            "fleet: each of the {k} structure samples drives the cycle with one row of {} drawn {by} ({} from the row{speed})",
+            dir.join(&op.file).display(),
+            if taken.is_empty() { "no column".to_string() } else { taken.join(", ") }
+        ));
+    }
+    if study.fixed.contains(&ParamId::SpeedKmh) {
+        said.push(format!(
+            "{origin}: its `params.speed_kmh` = {} is not used: the cycle gives the speed",
+            plain(study.base.speed_kmh, 6)
+        ));
+    }
+    let unused: Vec<ParamId> = study
+        .drawn
+        .iter()
+        .map(|d| d.param)
+        .filter(|id| id.is_operating_axis())
+        .collect();
+    if !unused.is_empty() {
+        let held: Vec<String> = unused
+            .iter()
+            .filter(|&&id| id != ParamId::SpeedKmh && !set_here(id))
+            .map(|&id| format!("{id} = {}", plain(study.base[id], 6)))
+            .collect();
+        let speed = if unused.contains(&ParamId::SpeedKmh) {
+            "the cycle gives the speed"
+        } else {
+            ""
+        };
+        let held = match (speed.is_empty(), held.is_empty()) {
+            (_, true) => speed.to_string(),
+            (true, false) => format!("{} hold for the whole cycle", held.join(", ")),
+            (false, false) => format!("{speed}, and {} hold for the whole cycle", held.join(", ")),
+        };
+        said.push(format!(
+            "{origin}: its distributions of {} are not used: {held} (a study with [operating_points] gives load, pressure and toe-in per vehicle)",
+            unused.iter().map(|id| id.name()).collect::<Vec<_>>().join(", "),
+        ));
+    }
+    said
 }
 
 pub fn run(args: &CycleArgs) -> CliResult {
@@ -144,74 +391,67 @@ pub fn run(args: &CycleArgs) -> CliResult {
     };
     let variant: Variant = args.variant.into();
     let cycle = DriveCycle::read(&args.cycle).map_err(|e| CliError(e.to_string()))?;
-    let mut base = super::common::base_params(args.params.as_deref())?;
-    let mut set_by: Vec<(ParamId, &str)> = Vec::new();
-    let mut set: Vec<(ParamId, f64)> = Vec::new();
-    for (name, value) in &args.set {
-        let id: ParamId = name
-            .parse()
-            .map_err(|e: ParamError| CliError(format!("--set {name}: {e}")))?;
-        if id == ParamId::SpeedKmh {
-            return Err(CliError(
-                "--set speed_kmh: the cycle gives the speed at every step (its `speed_kmh` column)"
-                    .into(),
-            ));
-        }
-        base.try_set(id, *value)
-            .map_err(|e| CliError(format!("--set {name}: {e}")))?;
-        set_by.push((id, "--set"));
-        set.push((id, *value));
+    if !args.accept_implausible {
+        cycle
+            .check_plausible()
+            .map_err(|e| CliError(e.to_string()))?;
     }
-    let cycle_by = format!("{} (a column)", args.cycle.display());
-    for &id in &cycle.names {
-        set_by.push((id, cycle_by.as_str()));
+    let line = command_line(args, &cycle)?;
+    let mut base = line.file;
+    for &(id, value, _) in &line.set {
+        base.try_set(id, value)?;
     }
     let mut metadata = base_metadata(&base, variant);
     metadata.push(("cycle".into(), args.cycle.display().to_string()));
     metadata.push(("cycle_hash".into(), cycle.hash.clone()));
-    let (names, values, bases) = match (&args.study, args.structure_samples) {
+    let (structures, study) = match (&args.study, args.structure_samples) {
         (Some(path), Some(k)) => {
-            // --set applies after the study's fixed values, as on the command line.
-            let study_base = super::common::base_params(args.params.as_deref())?;
-            let ((names, values, mut bases), study) = structures(path, k, study_base, &set_by)?;
-            for b in &mut bases {
-                for &(id, value) in &set {
-                    b.try_set(id, value)?;
-                }
-            }
+            let (s, study) = structures(args, path, k, &line, &cycle)?;
             // The study's work limits, unless the flags say otherwise.
             opts.budget = args.budget.apply(study.budget)?;
-            metadata.push(("study_name".into(), study.name.clone()));
-            metadata.push(("study".into(), study.source.clone()));
-            metadata.push(("study_hash".into(), study.source_hash()));
-            metadata.push(("seed".into(), study.seed.to_string()));
-            metadata.push(("design".into(), study.design.as_str().into()));
-            metadata.push(("structure_samples".into(), k.to_string()));
-            metadata.push(("rng".into(), polywear::sampling::RNG_NAME.into()));
-            metadata.push((
-                "drawn_names".into(),
-                serde_json::to_string(&names).expect("json"),
-            ));
-            (names, values, bases)
+            metadata.extend(study_metadata(&study, k, &s.names));
+            (s, Some(study))
         }
-        _ => (Vec::new(), vec![Vec::new()], vec![base]),
+        _ => (
+            Structures {
+                names: Vec::new(),
+                values: vec![Vec::new()],
+                bases: vec![base],
+                fleet_rows: None,
+                said: Vec::new(),
+            },
+            None,
+        ),
     };
     // Every step's parameters fit together on the first base (rules tying several parameters:
     // mu_s <= mu_m, n_driven <= n_wheels), before any work.
     cycle
-        .check_steps(&bases[0])
+        .check_steps(&structures.bases[0])
         .map_err(|e| CliError(e.to_string()))?;
+    if !args.quiet {
+        for l in &structures.said {
+            println!("{l}");
+        }
+    }
     let pool = super::common::thread_pool(args.threads)?;
     let start = Instant::now();
-    let steps = pool.install(|| classify_cycles(&cycle, &bases, variant, &opts));
+    let steps = pool.install(|| classify_cycles(&cycle, &structures.bases, variant, &opts));
     let secs = start.elapsed().as_secs_f64();
+    let fleet = match (&study, structures.fleet_rows) {
+        (Some(s), Some(rows)) => s
+            .operating_points
+            .as_ref()
+            .map(|points| FleetDraw { points, rows }),
+        _ => None,
+    };
     let run = CycleRun {
         cycle: &cycle,
         variant,
-        structure_names: names,
-        structure_values: values,
+        structure_names: structures.names,
+        structure_values: structures.values,
         steps,
         metadata,
+        fleet,
     };
     let written = run.write(&args.out).map_err(|e| match e {
         CycleError::CreateDir { .. } => CliError(format!("--out {e}")),
@@ -224,6 +464,27 @@ pub fn run(args: &CycleArgs) -> CliResult {
         }
     }
     Ok(())
+}
+
+/// The study's keys in the outputs' metadata (and the fleet's file, when it gives the rows).
+fn study_metadata(study: &Study, k: u64, names: &[ParamId]) -> Vec<(String, String)> {
+    let mut m = vec![
+        ("study_name".into(), study.name.clone()),
+        ("study".into(), study.source.clone()),
+        ("study_hash".into(), study.source_hash()),
+        ("seed".into(), study.seed.to_string()),
+        ("design".into(), study.design.as_str().into()),
+        ("structure_samples".into(), k.to_string()),
+        ("rng".into(), polywear::sampling::RNG_NAME.into()),
+        (
+            "drawn_names".into(),
+            serde_json::to_string(names).expect("json"),
+        ),
+    ];
+    if let Some(op) = &study.operating_points {
+        m.push(("operating_points".into(), op.to_json().to_string()));
+    }
+    m
 }
 
 /// The summary on stdout: per wheel, the shares in vibration (with the 90% interval over the

@@ -59,10 +59,15 @@ pub struct ExploreArgs {
     /// shards' files together are the single-machine output
     #[arg(long, value_name = "k/N", allow_hyphen_values = true, value_parser = parse_shard)]
     pub shard: Option<Shard>,
-    /// Parameter file (TOML `[params]`, e.g. from `polywear calibrate`): values for every
-    /// parameter the study does not name
+    /// Parameter file (TOML `[params]`, e.g. from `polywear calibrate`): values for parameters
+    /// the study does not name (one the study or its operating-point file sets too is refused)
     #[arg(long, value_name = "FILE")]
     pub params: Option<PathBuf>,
+    /// Run values outside their plausible ranges (`polywear params`) anyway: a study value,
+    /// distribution bound or operating-point cell such as pressure_kpa = 2.4 (bar, not kPa) is
+    /// refused before any work without it (a study can say `accept_implausible = true`)
+    #[arg(long)]
+    pub accept_implausible: bool,
     /// No progress bar, progress lines or summary
     #[arg(long, short)]
     pub quiet: bool,
@@ -161,10 +166,12 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
             "built-in default study".to_string(),
         ),
     };
-    let base = match (&args.params, &recorded) {
+    // A resumed run's values were judged when it started.
+    let accept = args.accept_implausible || recorded.is_some();
+    let (base, named) = match (&args.params, &recorded) {
         // The recorded values already hold the study's fixed ones, which parsing sets again.
-        (None, Some((_, run))) => run.params,
-        _ => super::common::base_params(args.params.as_deref())?,
+        (None, Some((_, run))) => (run.params, Vec::new()),
+        _ => super::common::param_file(args.params.as_deref(), accept)?,
     };
     // A relative `[operating_points]` file is found beside the study file (for a recorded
     // study, where the run found it).
@@ -178,6 +185,7 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
     if let Some((dir, run)) = &recorded {
         check_against_recorded(args, &study, dir, run)?;
     }
+    check_new_inputs(args, &study, &named, (&origin, &study_dir), accept)?;
     study.budget = args.budget.apply(study.budget)?;
     let recorded_samples = recorded
         .as_ref()
@@ -356,6 +364,40 @@ fn chunk_size_warning(chunk_size: u64) -> Option<String> {
 const CHUNK_1_EXPLORE_SLOWER: &str = "about 30x";
 /// See [`CHUNK_1_EXPLORE_SLOWER`].
 const CHUNK_1_ANALYZE_SLOWER: &str = "about 9x";
+
+/// The study's values against their plausible ranges (unless `accept`), a `--params` file that
+/// sets what the study sets too, passed-through columns named as output columns; and, before
+/// any work, how a computed weight is made.
+fn check_new_inputs(
+    args: &ExploreArgs,
+    study: &Study,
+    named: &[polywear::params::ParamId],
+    (origin, study_dir): (&str, &Path),
+    accept: bool,
+) -> CliResult {
+    if !accept {
+        study
+            .check_plausible()
+            .map_err(|e| CliError(format!("{origin}: {e}")))?;
+    }
+    super::common::refuse_file_overlap(named, args.params.as_deref(), study, origin)?;
+    let Some(op) = &study.operating_points else {
+        return Ok(());
+    };
+    super::common::refuse_reserved_names(
+        op.pass_through.iter().map(|c| c.name.as_str()),
+        &op.path,
+        "`operating_points.pass_through`",
+        &["sample_id", "operating_point_row"],
+    )?;
+    if let (Some(how), false) = (&op.weight_computed, args.quiet) {
+        eprintln!(
+            "{}",
+            polywear::operating_points::computed_weight_note(&study_dir.join(&op.file), how)
+        );
+    }
+    Ok(())
+}
 
 /// Refuses a flag of `--resume --out DIR` that contradicts the run recorded in DIR, showing
 /// both values; repeating the recorded value is accepted.

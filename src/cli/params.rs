@@ -1,6 +1,7 @@
-//! `polywear params`: every model parameter with unit, default, provenance and accepted range.
+//! `polywear params`: every model parameter with unit, default, provenance, accepted range and
+//! plausible range.
 
-use polywear::params::SPECS;
+use polywear::params::{ParamSpec, SPECS};
 
 pub fn run(markdown: bool) {
     if markdown {
@@ -8,18 +9,19 @@ pub fn run(markdown: bool) {
         return;
     }
     println!(
-        "{:<14} {:<8} {:<8} {:>12}  {:<31} {:<22} description",
-        "name", "symbol", "unit", "default", "provenance", "accepted range"
+        "{:<14} {:<8} {:<8} {:>12}  {:<31} {:<22} {:<18} description",
+        "name", "symbol", "unit", "default", "provenance", "accepted range", "plausible range"
     );
     for s in SPECS {
         println!(
-            "{:<14} {:<8} {:<8} {:>12}  {:<31} {:<22} {}",
+            "{:<14} {:<8} {:<8} {:>12}  {:<31} {:<22} {:<18} {}",
             s.name,
             s.symbol,
             s.unit,
             s.default,
             s.provenance.as_str(),
             s.range_text(),
+            plausible_cell(s),
             s.description
         );
     }
@@ -29,19 +31,28 @@ pub fn run(markdown: bool) {
 /// keeps them equal).
 pub fn markdown_table() -> String {
     let mut out = String::from(
-        "| name | symbol | unit | default | provenance | accepted range | meaning |\n|---|---|---|---|---|---|---|\n",
+        "| name | symbol | unit | default | provenance | accepted range | plausible range | meaning |\n|---|---|---|---|---|---|---|---|\n",
     );
     for s in SPECS {
         out.push_str(&format!(
-            "| `{}` | {} | {} | {} | {} | {} | {} |\n",
+            "| `{}` | {} | {} | {} | {} | {} | {} | {} |\n",
             s.name,
             s.symbol,
             s.unit,
             s.default,
             s.provenance.as_str(),
             s.range_text(),
+            plausible_cell(s),
             s.description
         ));
     }
     out
+}
+
+/// The plausible range, or `-` where the parameter has none (any accepted value is plausible).
+fn plausible_cell(s: &ParamSpec) -> String {
+    match s.plausible_text() {
+        t if t.is_empty() => "-".to_string(),
+        t => t,
+    }
 }

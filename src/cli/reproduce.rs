@@ -31,6 +31,9 @@ pub struct ReproduceArgs {
     /// constants R0, MODEL.md#r0-and-the-shipped-defaults) instead of the defaults
     #[arg(long, value_name = "FILE")]
     pub params: Option<PathBuf>,
+    /// Run --params values outside their plausible ranges (`polywear params`) anyway
+    #[arg(long)]
+    pub accept_implausible: bool,
     /// File type of the figures
     #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
     pub format: FigureFormat,
@@ -52,7 +55,7 @@ pub fn run(args: &ReproduceArgs) -> CliResult {
             args.paired_samples
         )));
     }
-    let base = super::common::base_params(args.params.as_deref())?;
+    let base = super::common::base_params(args.params.as_deref(), args.accept_implausible)?;
     let pool = super::common::thread_pool(args.threads)?;
     let start = Instant::now();
     let request = polywear::reproduce::Request {

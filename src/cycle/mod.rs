@@ -153,7 +153,11 @@ impl DriveCycle {
     /// in [0, 400], every other column a parameter of `polywear params` within its range, at
     /// least two steps. Refusals name the file, row and column.
     pub fn read(path: &Path) -> Result<DriveCycle, CycleError> {
-        let t = NumericTable::read(path)?;
+        // A column that is neither `time_s` nor a parameter is refused by its name, before its
+        // cells are read as numbers.
+        let t = NumericTable::read_with_text(path, &|c| {
+            c != "time_s" && c.parse::<ParamId>().is_err()
+        })?;
         let need = |name: &'static str| {
             t.column(name).ok_or_else(|| CycleError::MissingColumn {
                 path: path.to_path_buf(),
@@ -300,6 +304,28 @@ impl DriveCycle {
             p.speed_kmh = self.speed_kmh[i];
         }
         p
+    }
+
+    /// Refuses, before any work, the first step whose value of a parameter column lies outside
+    /// its plausible range (a likely unit mix-up, MODEL.md#parameter-table), naming its row
+    /// and column.
+    pub fn check_plausible(&self) -> Result<(), CycleError> {
+        let cols: Vec<usize> = self
+            .names
+            .iter()
+            .map(|id| self.table.column(id.name()).expect("a column of the file"))
+            .collect();
+        for (i, step) in self.values.iter().enumerate() {
+            for ((&id, &x), &j) in self.names.iter().zip(step).zip(&cols) {
+                id.spec()
+                    .check_plausible(x)
+                    .map_err(|source| CycleError::Param {
+                        at: self.table.at(i, j),
+                        source,
+                    })?;
+            }
+        }
+        Ok(())
     }
 
     /// Refuses, before any work, a step whose parameters break a rule tying several together

@@ -8,11 +8,12 @@ use std::path::{Path, PathBuf};
 use super::summary::{summarise, summary_columns, WheelSummary};
 use super::{CycleError, DriveCycle, StepWheel};
 use crate::model::Variant;
+use crate::operating_points::OperatingPoints;
 use crate::params::{ParamId, OPERATING_AXES};
 use crate::parquet_out::{write_csv, write_table, Column};
 use crate::plot::cycle::{cycle_figure, WheelTrace};
 use crate::plot::PlotError;
-use crate::records::{record_columns, SAMPLE_ID};
+use crate::records::{record_columns, OPERATING_POINT_ROW, SAMPLE_ID};
 
 /// A classified cycle, for one or several tire structures.
 pub struct CycleRun<'a> {
@@ -28,6 +29,17 @@ pub struct CycleRun<'a> {
     pub steps: Vec<Vec<[StepWheel; 2]>>,
     /// Written into every file (version, command, parameters, variant, cycle, study).
     pub metadata: Vec<(String, String)>,
+    /// The study's fleet, when its `[operating_points]` gave each structure sample a row.
+    pub fleet: Option<FleetDraw<'a>>,
+}
+
+/// The operating-point rows a study's fleet gave the structure samples: each sample drives the
+/// whole cycle with one row's load, pressure and toe-in (and any other column but the speed).
+pub struct FleetDraw<'a> {
+    /// The study's operating points.
+    pub points: &'a OperatingPoints,
+    /// `rows[k]`: the row (0-based) structure sample k drew.
+    pub rows: Vec<usize>,
 }
 
 impl CycleRun<'_> {
@@ -49,12 +61,21 @@ impl CycleRun<'_> {
             .flat_map(|k| (0..n).flat_map(move |i| [(k, i, 0), (k, i, 1)]))
             .collect();
         let rows: Vec<&StepWheel> = idx.iter().map(|&(k, i, w)| &self.steps[k][i][w]).collect();
-        let mut cols = vec![
-            Column::i64(
-                SAMPLE_ID.name,
-                SAMPLE_ID.unit,
-                idx.iter().map(|r| r.0 as i64).collect(),
-            ),
+        let mut cols = vec![Column::i64(
+            SAMPLE_ID.name,
+            SAMPLE_ID.unit,
+            idx.iter().map(|r| r.0 as i64).collect(),
+        )];
+        if let Some(f) = &self.fleet {
+            let rows: Vec<usize> = idx.iter().map(|r| f.rows[r.0]).collect();
+            cols.push(Column::i64(
+                OPERATING_POINT_ROW.name,
+                OPERATING_POINT_ROW.unit,
+                rows.iter().map(|&r| r as i64 + 1).collect(),
+            ));
+            cols.extend(f.points.pass_through_columns(&rows));
+        }
+        cols.extend([
             Column::i64("step", "", idx.iter().map(|r| r.1 as i64).collect()),
             Column::f64("time_s", "s", idx.iter().map(|r| c.time_s[r.1]).collect()),
             Column::f64(
@@ -62,7 +83,7 @@ impl CycleRun<'_> {
                 "s",
                 idx.iter().map(|r| dt[r.1]).collect(),
             ),
-        ];
+        ]);
         for (j, id) in self.structure_names.iter().enumerate() {
             let v = idx.iter().map(|r| self.structure_values[r.0][j]).collect();
             cols.push(Column::f64(id.name(), id.spec().unit, v));

@@ -104,10 +104,19 @@ pub struct OperatingPointsRecord {
     pub hash_kind: String,
     /// The file as read (absolute).
     pub path: String,
+    /// The columns passed through to the output (`pass_through`; empty where the run recorded none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pass_through: Vec<String>,
     /// Rows of the file.
     pub rows: u64,
     /// The weight column, if any.
     pub weight: Option<String>,
+    /// How the weight is computed where the file has no such column (`hours * speed_kmh`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub weight_computed: Option<String>,
+    /// What the weight measures: `time`, `distance`, `equal` or `other` (None where the run did not record it).
+    #[serde(default)]
+    pub weight_kind: Option<String>,
 }
 
 impl OperatingPointsRecord {

@@ -167,7 +167,7 @@ pub fn chunk_columns(study: &Study, rows: &[SampleRows]) -> Vec<Column> {
         SAMPLE_ID.unit,
         flat.iter().map(|(s, _)| s.sample_id as i64).collect(),
     )];
-    if study.operating_points.is_some() {
+    if let Some(op) = &study.operating_points {
         let row = |s: &SampleRows| s.operating_point_row.map_or(0, |r| r as i64 + 1);
         let rows = flat.iter().map(|(s, _)| row(s)).collect();
         cols.push(Column::i64(
@@ -175,6 +175,12 @@ pub fn chunk_columns(study: &Study, rows: &[SampleRows]) -> Vec<Column> {
             OPERATING_POINT_ROW.unit,
             rows,
         ));
+        // The study's passed-through columns, at the row each sample drew.
+        let drawn: Vec<usize> = flat
+            .iter()
+            .map(|(s, _)| s.operating_point_row.unwrap_or(0))
+            .collect();
+        cols.extend(op.pass_through_columns(&drawn));
     }
     // The operating axes are record columns already.
     for (k, id) in super::value_params(study).into_iter().enumerate() {

@@ -34,8 +34,16 @@ pub(super) fn operating_points(
     let cross = drawn
         .iter()
         .any(|d| ParamId::CROSS_RULES.contains(&d.param));
-    let op = OperatingPoints::load(&section.file, section.weight.as_deref(), dir, base, cross)
-        .map_err(|e| StudyError::OperatingPoints(e.to_string()))?;
+    let pass_through = section.pass_through.clone().unwrap_or_default();
+    let op = OperatingPoints::load(
+        &section.file,
+        section.weight.as_deref(),
+        &pass_through,
+        dir,
+        base,
+        cross,
+    )
+    .map_err(|e| StudyError::OperatingPoints(e.to_string()))?;
     if cross {
         check_rows_against_draws(&op, base, drawn)?;
     }

@@ -32,6 +32,7 @@ pub(super) struct StudyFile {
     chunk_size: Option<f64>,
     max_rhs_evals: Option<f64>,
     max_wheel_seconds: Option<f64>,
+    accept_implausible: Option<bool>,
     pub(super) params: Option<BTreeMap<ParamId, ParamEntry>>,
     pub(super) operating_points: Option<OperatingPointsSection>,
 }
@@ -42,8 +43,11 @@ pub(super) struct StudyFile {
 pub(super) struct OperatingPointsSection {
     /// The CSV or Parquet file, relative to the study's folder.
     pub(super) file: String,
-    /// The column of row weights (hours, counts), if any.
+    /// The column of row weights (hours, km, counts), if any.
     pub(super) weight: Option<String>,
+    /// Columns that are not parameters, carried into the output unchanged (vehicle ids, a
+    /// second weight).
+    pub(super) pass_through: Option<Vec<String>>,
 }
 
 /// A parameter file (`--params`, as `polywear calibrate` writes): only `[params]`, numbers.
@@ -227,6 +231,7 @@ pub(super) struct Header {
     pub(super) variants: Vec<Variant>,
     pub(super) chunk_size: u64,
     pub(super) budget: WheelBudget,
+    pub(super) accept_implausible: bool,
 }
 
 impl StudyFile {
@@ -281,6 +286,7 @@ impl StudyFile {
             variants,
             chunk_size,
             budget,
+            accept_implausible: self.accept_implausible.unwrap_or(false),
         })
     }
 

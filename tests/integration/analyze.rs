@@ -319,7 +319,7 @@ fn failed_rows_are_counted_apart_and_an_all_failed_study_says_so() {
     let half = explore_study(
         &dir,
         "half",
-        &format!("{SMALL}pressure_kpa = {{ dist = \"levels\", levels = [240, 2.3] }}\n"),
+        &format!("accept_implausible = true\n{SMALL}pressure_kpa = {{ dist = \"levels\", levels = [240, 2.3] }}\n"),
         &[],
     );
     let (code, _, stderr) = polywear(&["analyze", half.to_str().unwrap()]);
@@ -355,7 +355,7 @@ fn failed_rows_are_counted_apart_and_an_all_failed_study_says_so() {
     let all = explore_study(
         &dir,
         "all",
-        &format!("{SMALL}pressure_kpa = {{ dist = \"levels\", levels = [2.2, 2.3] }}\n"),
+        &format!("accept_implausible = true\n{SMALL}pressure_kpa = {{ dist = \"levels\", levels = [2.2, 2.3] }}\n"),
         &[],
     );
     let (code, _, stderr) = polywear(&["analyze", all.to_str().unwrap()]);
@@ -534,7 +534,7 @@ fn pairing_by_row_order_equals_pairing_by_sample_id() {
     let run = explore_study(
         &dir,
         "run",
-        &format!("{SMALL}pressure_kpa = {{ dist = \"levels\", levels = [240, 240, 2.3] }}\n"),
+        &format!("accept_implausible = true\n{SMALL}pressure_kpa = {{ dist = \"levels\", levels = [240, 240, 2.3] }}\n"),
         &[],
     );
     let (files, _) = polywear::analysis::inputs::parquet_files(&[run]).unwrap();

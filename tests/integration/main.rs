@@ -21,6 +21,7 @@ mod explore;
 mod fault_injection;
 mod figures;
 mod fuzz_inputs;
+mod inputs;
 mod integrity;
 mod invariants;
 mod operating_points;

@@ -307,28 +307,6 @@ fn help_shows_the_operating_defaults_from_the_parameter_table() {
     }
 }
 
-#[test]
-fn implausible_units_are_warned_about_with_the_likely_mix_up() {
-    let (code, stdout, stderr) = polywear(&["simulate", "--pressure", "2.3", "--load", "400"]);
-    assert_eq!(code, 0, "{stderr}");
-    assert!(
-        stderr.contains("pressure_kpa = 2.3 kPa is implausibly low")
-            && stderr.contains("in bar? 2.3 bar = 230 kPa"),
-        "{stderr}"
-    );
-    assert!(
-        stderr.contains("load_n = 400 N is implausibly low") && stderr.contains("in kg?"),
-        "{stderr}"
-    );
-    let (_, _, stderr) = polywear(&["simulate", "--pressure", "2.3"]);
-    let (_, stdout2, _) = polywear(&["simulate", "--pressure", "2.3", "--json"]);
-    assert!(stderr.contains("in bar?"), "{stderr}");
-    assert!(!stdout2.is_empty(), "{stdout}");
-    let (_, stdout, stderr) = polywear(&["simulate"]);
-    assert!(!stderr.contains("warning"), "{stderr}");
-    assert!(!stdout.is_empty());
-}
-
 /// Asserts exit 2 and that stderr holds every needle.
 fn refused(args: &[&str], needles: &[&str]) {
     let (code, _, stderr) = polywear(args);
