@@ -10,7 +10,7 @@ use crate::explore::RunManifest;
 use crate::model::Variant;
 use crate::params::{ParamId, Params};
 use crate::sampling::design::Design;
-use crate::study::{text_hash, Study};
+use crate::study::{text_hash, Scenario, Study};
 
 /// What the files' metadata says about the run, read back typed.
 #[derive(Debug, Clone)]
@@ -49,6 +49,9 @@ pub struct RunInfo {
     /// The values every parameter had before the draws (`params` metadata: the defaults, a
     /// parameter file and the study's fixed values).
     pub params: Params,
+    /// The study's scenarios (`scenarios` metadata), in the order of each sample's row blocks
+    /// after the baseline's; empty for a study without scenarios.
+    pub scenarios: Vec<Scenario>,
 }
 
 impl RunInfo {
@@ -273,7 +276,17 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
         manifest_study.get_or_insert(recorded_study);
     }
     let variants = run.variants.clone().unwrap_or_else(|| vec![Variant::Paper]);
-    let rows_per_sample = 2 * variants.len().max(1) as u64;
+    let scenarios = match &run.scenarios {
+        None => Vec::new(),
+        Some(v) => v
+            .as_array()
+            .and_then(|a| a.iter().map(Scenario::from_json).collect::<Option<Vec<_>>>())
+            .ok_or_else(|| AnalysisError::Metadata {
+                path: first.path.clone(),
+                message: "`scenarios` is not a list of scenarios".into(),
+            })?,
+    };
+    let rows_per_sample = 2 * variants.len().max(1) as u64 * (1 + scenarios.len() as u64);
     // Each explore file holds a contiguous block of sample ids, every variant and wheel once:
     // rows = ids × rows per sample. Blocks of different files must not overlap.
     let mut blocks: Vec<(i64, i64, &FileFooter)> = Vec::new();
@@ -353,6 +366,7 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
         samples_present: present,
         rows,
         params: run.params,
+        scenarios,
     })
 }
 

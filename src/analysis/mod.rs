@@ -8,8 +8,10 @@
 //! every question for [`AnalysisOptions`] and returns an [`Analysis`], plain data.
 //! [`crate::render`] writes its tables, figures and page. One module per question:
 //! [`occurrence`], [`paired`], [`conditional`] (per axis, on [`bins`]), [`risk_map`],
-//! [`severity`], [`sensitivity`], [`robustness`]; [`rows`] alone speaks to polars, and
-//! [`stats`] holds the intervals and tests.
+//! [`severity`], [`sensitivity`], [`robustness`], [`scenarios`] (each scenario against the
+//! baseline on the same samples); [`rows`] alone speaks to polars, and [`stats`] holds the
+//! intervals and tests. In a run with scenarios every question but the last is answered on the
+//! baseline's rows.
 
 pub mod bins;
 pub mod conditional;
@@ -20,6 +22,7 @@ pub mod paired;
 pub mod risk_map;
 pub mod robustness;
 pub mod rows;
+pub mod scenarios;
 pub mod sensitivity;
 pub mod severity;
 pub mod stats;
@@ -34,6 +37,7 @@ use paired::Paired;
 use risk_map::RiskMap;
 use robustness::{Robustness, RobustnessSummary};
 use rows::Rows;
+use scenarios::ScenarioEffect;
 use sensitivity::Sensitivity;
 use severity::{Severity, SEVERITY_QUANTITIES};
 
@@ -54,6 +58,8 @@ pub struct AnalysisOptions {
     pub pairs: Vec<(ParamId, ParamId)>,
     /// Bootstrap resamples behind the Sobol indices' intervals.
     pub bootstrap: usize,
+    /// The scenarios are compared on the risk of a visible polygon within this distance \[km\].
+    pub scenario_within_km: f64,
 }
 
 impl AnalysisOptions {
@@ -65,6 +71,8 @@ impl AnalysisOptions {
     pub const DEFAULT_MIN_COUNT: u64 = 30;
     /// Default bootstrap resamples of the Sobol indices' intervals.
     pub const DEFAULT_BOOTSTRAP: usize = 200;
+    /// Default distance of the scenarios' wear comparison \[km\].
+    pub const DEFAULT_SCENARIO_WITHIN_KM: f64 = 40_000.0;
 
     /// The risk maps always drawn: speed × toe-in and load × pressure.
     pub fn default_pairs() -> Vec<(ParamId, ParamId)> {
@@ -91,6 +99,7 @@ impl Default for AnalysisOptions {
             min_count: Self::DEFAULT_MIN_COUNT,
             pairs: Self::default_pairs(),
             bootstrap: Self::DEFAULT_BOOTSTRAP,
+            scenario_within_km: Self::DEFAULT_SCENARIO_WITHIN_KM,
         }
     }
 }
@@ -119,6 +128,8 @@ pub struct Analysis {
     pub robustness: Option<Robustness>,
     /// How often the driving wheel is less exposed, per variant.
     pub robustness_summary: Vec<RobustnessSummary>,
+    /// Each scenario against the baseline (empty without scenarios).
+    pub scenarios: Vec<ScenarioEffect>,
     /// Remarks for the report (skipped pairs, a design without Sobol indices, ...).
     pub notes: Vec<String>,
 }
@@ -276,6 +287,8 @@ pub enum Step {
     Sensitivity,
     /// The lost-digit decodings.
     Robustness,
+    /// The scenarios against the baseline.
+    Scenarios,
 }
 
 /// Answers every question of the analysis on checked inputs. polars' group tables are sized by
@@ -292,10 +305,11 @@ pub fn run_with_progress(
     progress: &mut dyn FnMut(Step),
 ) -> Result<Analysis, AnalysisError> {
     let mut notes = Vec::new();
-    let rows = Rows::scan(&info.files)?;
+    let has_scenarios = !info.scenarios.is_empty();
+    let rows = Rows::scan_baseline(&info.files, has_scenarios)?;
     let occurrence = occurrence::occurrence(&rows)?;
     progress(Step::Occurrence);
-    let paired = paired::paired(&info.files, PAIRED_BATCH_ROWS)?;
+    let paired = paired::paired(&info.files, PAIRED_BATCH_ROWS, has_scenarios)?;
     progress(Step::Paired);
     let quantities: Vec<&str> = SEVERITY_QUANTITIES.iter().map(|q| q.0).collect();
     let axes: Vec<&str> = info.drawn_names.iter().map(|p| p.name()).collect();
@@ -331,6 +345,13 @@ pub fn run_with_progress(
         .as_ref()
         .map(|r| r.summary(opts.min_count))
         .unwrap_or_default();
+    let scenarios = scenarios::compare(
+        &info,
+        opts.scenario_within_km,
+        PAIRED_BATCH_ROWS,
+        &mut notes,
+    )?;
+    progress(Step::Scenarios);
     if sensitivity.is_none() {
         notes.push("Sobol indices need a Saltelli design (`design = \"saltelli\"` in the study); this run used another.".into());
     }
@@ -358,6 +379,7 @@ pub fn run_with_progress(
         sensitivity,
         robustness,
         robustness_summary,
+        scenarios,
         notes,
     })
 }

@@ -135,6 +135,9 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         .seed
         .or(recorded.as_ref().map(|(_, run)| run.seed))
         .unwrap_or(study.seed);
+    study
+        .check_scenarios(seed, samples)
+        .map_err(|e| CliError(format!("{origin}: {e}")))?;
     let out_dir = args
         .out
         .clone()
@@ -191,6 +194,18 @@ pub fn run(args: &ExploreArgs) -> CliResult {
             pool.current_num_threads(),
             plan.out_dir.display()
         );
+        if !plan.study.scenarios.is_empty() {
+            eprintln!(
+                "  each sample also under {} scenario(s): {}",
+                plan.study.scenarios.len(),
+                plan.study
+                    .scenarios
+                    .iter()
+                    .map(|s| format!("{} ({})", s.name, s.words()))
+                    .collect::<Vec<_>>()
+                    .join("; ")
+            );
+        }
         let kept = prepared.kept_samples(&plan);
         if kept > 0 {
             eprintln!(

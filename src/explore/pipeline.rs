@@ -12,6 +12,7 @@ use crate::model::{ModelFailure, Variant, Wheel};
 use crate::output_dir;
 use crate::parquet_out::{write_table_digest, Column};
 use crate::records::{record_columns, WheelRecord};
+use crate::params::Params;
 use crate::study::{Sampler, Study};
 
 impl RunPlan {
@@ -182,7 +183,9 @@ impl<'a> Pipeline<'a> {
             .map(|r| r.expect("all samples done"))
             .collect();
         let mut counts: BTreeMap<(Variant, Wheel), BTreeMap<Class, u64>> = BTreeMap::new();
-        for r in rows.iter().flat_map(|s| &s.records) {
+        // The baseline's rows: the first block of each sample's records.
+        let block = 2 * self.plan.study.variants.len();
+        for r in rows.iter().flat_map(|s| &s.records[..block]) {
             *counts
                 .entry((r.variant, r.wheel))
                 .or_default()
@@ -217,10 +220,9 @@ pub struct SampleRows {
     pub records: Vec<WheelRecord>,
 }
 
-/// Draws sample `index` and classifies it for every variant and both wheels. A parameter set
-/// that breaks a cross-parameter rule (e.g. mu_s > mu_m) becomes `failed` rows with the reason.
-/// Each wheel's shooting starts from the last cycle found in the same sample (the follower's
-/// for the driving wheel, the first variant's for the second), which saves Newton iterations.
+/// Draws sample `index` and classifies it for every variant and both wheels, the baseline and
+/// then each of the study's scenarios (the same draw with the scenario's changes: common random
+/// numbers), each evaluated exactly as [`evaluate_params`] evaluates a plain sample.
 pub fn evaluate_sample(
     study: &Study,
     sampler: &Sampler<'_>,
@@ -228,26 +230,9 @@ pub fn evaluate_sample(
     opts: &ClassifierOptions,
 ) -> SampleRows {
     let (p, drawn, operating_point_row) = sampler.sample_with_row(index);
-    let invalid = p.validate().err();
-    let mut records = Vec::with_capacity(2 * study.variants.len());
-    let mut hint = None;
-    for &variant in &study.variants {
-        for wheel in Wheel::BOTH {
-            let (model, verdict) = match &invalid {
-                None => {
-                    let (model, verdict, next) =
-                        classify_point_hinted(&p, wheel, variant, opts, hint);
-                    hint = next.or(hint);
-                    (model, verdict)
-                }
-                Some(e) => {
-                    let f = ModelFailure::Invalid(format!("invalid parameter set: {e}"));
-                    let v = WheelVerdict::from_model_failure(&f);
-                    (Err(f), v)
-                }
-            };
-            records.push(WheelRecord::new(&p, wheel, variant, &model, &verdict));
-        }
+    let mut records = evaluate_params(&p, &study.variants, opts);
+    for scenario in &study.scenarios {
+        records.extend(evaluate_params(&scenario.apply(&p), &study.variants, opts));
     }
     SampleRows {
         sample_id: index,
@@ -257,35 +242,88 @@ pub fn evaluate_sample(
     }
 }
 
+/// Classifies one parameter set for every variant and both wheels, one record each. A set that
+/// breaks a cross-parameter rule (e.g. mu_s > mu_m) becomes `failed` rows with the reason.
+/// Each wheel's shooting starts from the last cycle found for the same set (the follower's for
+/// the driving wheel, the first variant's for the second), which saves Newton iterations.
+pub fn evaluate_params(
+    p: &Params,
+    variants: &[Variant],
+    opts: &ClassifierOptions,
+) -> Vec<WheelRecord> {
+    let invalid = p.validate().err();
+    let mut records = Vec::with_capacity(2 * variants.len());
+    let mut hint = None;
+    for &variant in variants {
+        for wheel in Wheel::BOTH {
+            let (model, verdict) = match &invalid {
+                None => {
+                    let (model, verdict, next) =
+                        classify_point_hinted(p, wheel, variant, opts, hint);
+                    hint = next.or(hint);
+                    (model, verdict)
+                }
+                Some(e) => {
+                    let f = ModelFailure::Invalid(format!("invalid parameter set: {e}"));
+                    let v = WheelVerdict::from_model_failure(&f);
+                    (Err(f), v)
+                }
+            };
+            records.push(WheelRecord::new(p, wheel, variant, &model, &verdict));
+        }
+    }
+    records
+}
+
 /// Columns of a chunk: sample_id, the operating-point row (1-based, as error messages count
-/// the file's rows) when the study has one, the drawn values that are not record columns, then
-/// the record columns.
+/// the file's rows) when the study has one, the scenario when the study has scenarios, the
+/// drawn values that are not record columns (as the row's scenario changed them), then the
+/// record columns.
 pub fn chunk_columns(study: &Study, rows: &[SampleRows]) -> Vec<Column> {
-    let flat: Vec<(&SampleRows, &WheelRecord)> = rows
+    // A sample's records are blocks of one per variant and wheel: the baseline's, then each
+    // scenario's.
+    let block = 2 * study.variants.len();
+    let names = super::value_params(study);
+    let flat: Vec<(&SampleRows, usize, &WheelRecord)> = rows
         .iter()
-        .flat_map(|s| s.records.iter().map(move |r| (s, r)))
+        .flat_map(|s| {
+            s.records
+                .iter()
+                .enumerate()
+                .map(move |(k, r)| (s, k / block, r))
+        })
         .collect();
     let mut cols = vec![Column::i64(
         "sample_id",
         "",
-        flat.iter().map(|(s, _)| s.sample_id as i64).collect(),
+        flat.iter().map(|(s, _, _)| s.sample_id as i64).collect(),
     )];
     if study.operating_points.is_some() {
         let row = |s: &SampleRows| s.operating_point_row.map_or(0, |r| r as i64 + 1);
-        let rows = flat.iter().map(|(s, _)| row(s)).collect();
+        let rows = flat.iter().map(|(s, _, _)| row(s)).collect();
         cols.push(Column::i64("operating_point_row", "", rows));
     }
+    if !study.scenarios.is_empty() {
+        let all = study.scenario_names();
+        let names = flat.iter().map(|(_, b, _)| all[*b].to_string()).collect();
+        cols.push(Column::str("scenario", names));
+    }
+    // Each row's drawn values as its scenario changes them (block 0: the baseline's, as drawn).
+    let values = |s: &SampleRows, b: usize| -> Vec<f64> {
+        match b {
+            0 => s.drawn.clone(),
+            _ => study.scenarios[b - 1].apply_values(&names, &s.drawn),
+        }
+    };
+    let changed: Vec<Vec<f64>> = flat.iter().map(|(s, b, _)| values(s, *b)).collect();
     // The operating axes are record columns already.
-    for (k, id) in super::value_params(study).into_iter().enumerate() {
+    for (k, id) in names.iter().enumerate() {
         if !id.is_operating_axis() {
-            cols.push(Column::f64(
-                id.name(),
-                id.spec().unit,
-                flat.iter().map(|(s, _)| s.drawn[k]).collect(),
-            ));
+            let v = changed.iter().map(|row| row[k]).collect();
+            cols.push(Column::f64(id.name(), id.spec().unit, v));
         }
     }
-    let records: Vec<WheelRecord> = flat.iter().map(|(_, r)| (*r).clone()).collect();
+    let records: Vec<WheelRecord> = flat.iter().map(|(_, _, r)| (*r).clone()).collect();
     cols.extend(record_columns(&records));
     cols
 }

@@ -11,6 +11,7 @@ use backend::FigureBackend;
 
 pub mod backend;
 pub mod cycle;
+pub mod effects;
 pub mod maps;
 pub mod spectrum;
 

@@ -136,6 +136,7 @@ pub fn page(a: &Analysis, figures: &Figures) -> String {
          split evenly; a small p-value means one wheel is significantly more exposed. Samples with \
          a failed or no-traction wheel are counted apart, not compared.\n"
     );
+    s.push_str(&super::scenarios::section(a, figures.scenarios.as_deref()));
     let _ = writeln!(s, "## Where does the risk live?\n");
     let _ = writeln!(s, "Probability of a limit cycle as a function of each drawn parameter ({} bins, or the study's levels), with 95% Wilson bands; bins with fewer than {} classified samples are left out. Tables: `conditional.csv`, `conditional.parquet`.\n", opts.bins, opts.min_count);
     for (_, f) in &figures.conditional {

@@ -34,6 +34,7 @@ pub(super) struct StudyFile {
     max_wheel_seconds: Option<f64>,
     pub(super) params: Option<BTreeMap<ParamId, ParamEntry>>,
     pub(super) operating_points: Option<OperatingPointsSection>,
+    pub(super) scenarios: Option<super::scenario::ScenarioTables>,
 }
 
 /// `[operating_points]`: the file of measured rows and its weight column.
