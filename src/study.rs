@@ -19,12 +19,12 @@ mod points;
 mod sampler;
 mod scenario;
 mod schema;
-pub use error::StudyError;
+pub use error::{ChangeOutOfRange, StudyError};
+use points::operating_points;
+pub use sampler::Sampler;
 pub use scenario::{
     scenario_key, Change, ParamChange, Scenario, ValueRange, BASELINE, CHANGE_KINDS, COUNT_LIMIT,
 };
-use points::operating_points;
-pub use sampler::Sampler;
 use schema::ParamFile;
 
 /// Largest accepted seed (in study files and on the command line).

@@ -276,16 +276,7 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
         manifest_study.get_or_insert(recorded_study);
     }
     let variants = run.variants.clone().unwrap_or_else(|| vec![Variant::Paper]);
-    let scenarios = match &run.scenarios {
-        None => Vec::new(),
-        Some(v) => v
-            .as_array()
-            .and_then(|a| a.iter().map(Scenario::from_json).collect::<Option<Vec<_>>>())
-            .ok_or_else(|| AnalysisError::Metadata {
-                path: first.path.clone(),
-                message: "`scenarios` is not a list of scenarios".into(),
-            })?,
-    };
+    let scenarios = scenarios_of(run, &first.path)?;
     let rows_per_sample = 2 * variants.len().max(1) as u64 * (1 + scenarios.len() as u64);
     // Each explore file holds a contiguous block of sample ids, every variant and wheel once:
     // rows = ids × rows per sample. Blocks of different files must not overlap.
@@ -368,6 +359,23 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
         params: run.params,
         scenarios,
     })
+}
+
+/// The scenarios a chunk footer records (none without the key).
+fn scenarios_of(run: &RunManifest, path: &Path) -> Result<Vec<Scenario>, AnalysisError> {
+    let Some(v) = &run.scenarios else {
+        return Ok(Vec::new());
+    };
+    v.as_array()
+        .and_then(|a| {
+            a.iter()
+                .map(Scenario::from_json)
+                .collect::<Option<Vec<_>>>()
+        })
+        .ok_or_else(|| AnalysisError::Metadata {
+            path: path.to_path_buf(),
+            message: "`scenarios` is not a list of scenarios".into(),
+        })
 }
 
 fn short(s: &str) -> String {

@@ -148,17 +148,17 @@ pub fn compare(
 }
 
 /// The effects of one outcome from its pair counts, in scenario, variant and wheel order.
-pub fn effects(info: &RunInfo, outcome: Outcome, counts: &ScenarioPairCounts) -> Vec<ScenarioEffect> {
+pub fn effects(
+    info: &RunInfo,
+    outcome: Outcome,
+    counts: &ScenarioPairCounts,
+) -> Vec<ScenarioEffect> {
     let mut out = Vec::new();
     for (k, s) in info.scenarios.iter().enumerate() {
         for &variant in &info.variants {
             for wheel in Wheel::BOTH {
-                let get = |b: i64, c: i64| {
-                    counts
-                        .get(&(k, variant, wheel, b, c))
-                        .copied()
-                        .unwrap_or(0)
-                };
+                let get =
+                    |b: i64, c: i64| counts.get(&(k, variant, wheel, b, c)).copied().unwrap_or(0);
                 let total: u64 = counts
                     .iter()
                     .filter(|((kk, v, w, _, _), _)| *kk == k && *v == variant && *w == wheel)

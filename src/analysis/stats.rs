@@ -42,7 +42,12 @@ pub fn newcombe_paired(a: u64, b: u64, c: u64, d: u64) -> (f64, f64) {
     let nf = n as f64;
     let (p1, p2) = ((a + b) as f64 / nf, (a + c) as f64 / nf);
     let ((l1, u1), (l2, u2)) = (wilson(a + b, n), wilson(a + c, n));
-    let margins = [(a + b) as f64, (c + d) as f64, (a + c) as f64, (b + d) as f64];
+    let margins = [
+        (a + b) as f64,
+        (c + d) as f64,
+        (a + c) as f64,
+        (b + d) as f64,
+    ];
     let phi = if margins.contains(&0.0) {
         0.0
     } else {
@@ -59,8 +64,14 @@ pub fn newcombe_paired(a: u64, b: u64, c: u64, d: u64) -> (f64, f64) {
     let theta = p1 - p2;
     let (dl1, du2) = (p1 - l1, u2 - p2);
     let (dl2, du1) = (p2 - l2, u1 - p1);
-    let lo = theta - (dl1 * dl1 + du2 * du2 - 2.0 * phi * dl1 * du2).max(0.0).sqrt();
-    let hi = theta + (dl2 * dl2 + du1 * du1 - 2.0 * phi * dl2 * du1).max(0.0).sqrt();
+    let lo = theta
+        - (dl1 * dl1 + du2 * du2 - 2.0 * phi * dl1 * du2)
+            .max(0.0)
+            .sqrt();
+    let hi = theta
+        + (dl2 * dl2 + du1 * du1 - 2.0 * phi * dl2 * du1)
+            .max(0.0)
+            .sqrt();
     (lo.max(-1.0), hi.min(1.0))
 }
 
@@ -199,7 +210,10 @@ mod tests {
         // 6 only before, 16 only after, 80 neither; Newcombe's square-and-add interval
         // -0.0621 (-0.1186 to -0.0046).
         let (lo, hi) = newcombe_paired(59, 6, 16, 80);
-        assert!((lo + 0.1186).abs() < 5e-5 && (hi + 0.0046).abs() < 5e-5, "{lo} {hi}");
+        assert!(
+            (lo + 0.1186).abs() < 5e-5 && (hi + 0.0046).abs() < 5e-5,
+            "{lo} {hi}"
+        );
         // No change at all: exactly zero width is not claimed, but the interval holds 0 and is
         // symmetric about it.
         let (lo, hi) = newcombe_paired(30, 0, 0, 70);

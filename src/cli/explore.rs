@@ -194,18 +194,7 @@ pub fn run(args: &ExploreArgs) -> CliResult {
             pool.current_num_threads(),
             plan.out_dir.display()
         );
-        if !plan.study.scenarios.is_empty() {
-            eprintln!(
-                "  each sample also under {} scenario(s): {}",
-                plan.study.scenarios.len(),
-                plan.study
-                    .scenarios
-                    .iter()
-                    .map(|s| format!("{} ({})", s.name, s.words()))
-                    .collect::<Vec<_>>()
-                    .join("; ")
-            );
-        }
+        print_scenarios(&plan.study);
         let kept = prepared.kept_samples(&plan);
         if kept > 0 {
             eprintln!(
@@ -284,6 +273,23 @@ pub fn run(args: &ExploreArgs) -> CliResult {
         &render,
         !args.quiet,
     )
+}
+
+/// Says which scenarios every sample is also evaluated under, if any.
+fn print_scenarios(study: &Study) {
+    if study.scenarios.is_empty() {
+        return;
+    }
+    let each: Vec<String> = study
+        .scenarios
+        .iter()
+        .map(|s| format!("{} ({})", s.name, s.words()))
+        .collect();
+    eprintln!(
+        "  each sample also under {} scenario(s): {}",
+        study.scenarios.len(),
+        each.join("; ")
+    );
 }
 
 /// Refuses a flag of `--resume --out DIR` that contradicts the run recorded in DIR, showing

@@ -23,9 +23,7 @@ mod pipeline;
 
 pub use manifest::{OperatingPointsRecord, RunManifest};
 pub use output::PreparedOutput;
-pub use pipeline::{
-    chunk_columns, evaluate_params, evaluate_sample, SampleRows, CHUNKS_IN_FLIGHT,
-};
+pub use pipeline::{chunk_columns, evaluate_params, evaluate_sample, SampleRows, CHUNKS_IN_FLIGHT};
 
 /// The part of a run one machine evaluates: the chunks whose index ≡ `index` (mod `count`),
 /// shard k of N with k counted from 0 (as Slurm array and Kubernetes indexed-job indices).

@@ -10,9 +10,9 @@ use super::{ExploreError, RunPlan, RunSummary};
 use crate::classify::{classify_point_hinted, Class, ClassifierOptions, WheelVerdict};
 use crate::model::{ModelFailure, Variant, Wheel};
 use crate::output_dir;
+use crate::params::Params;
 use crate::parquet_out::{write_table_digest, Column};
 use crate::records::{record_columns, WheelRecord};
-use crate::params::Params;
 use crate::study::{Sampler, Study};
 
 impl RunPlan {

@@ -65,13 +65,14 @@ fn draw_panel<DB: DrawingBackend>(
         .filter(|x| x.is_finite())
         .fold((0.0f64, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
     let pad = 0.08 * (hi - lo).max(1e-9);
-    let label_width = 16 + 8 * panel
-        .effects
-        .iter()
-        .map(|e| e.label.chars().count())
-        .max()
-        .unwrap_or(0)
-        .min(40) as u32;
+    let label_width = 16
+        + 8 * panel
+            .effects
+            .iter()
+            .map(|e| e.label.chars().count())
+            .max()
+            .unwrap_or(0)
+            .min(40) as u32;
     let mut chart = ChartBuilder::on(area)
         .caption(&panel.title, ("sans-serif", 18))
         .margin(10)

@@ -23,7 +23,11 @@ fn points(x: f64, width: f64) -> String {
     let v = 100.0 * x;
     let text = format!("{v:+.digits$}");
     // "-0.0" and "+0.0" read as zero.
-    if text.trim_start_matches(['+', '-']).chars().all(|c| c == '0' || c == '.') {
+    if text
+        .trim_start_matches(['+', '-'])
+        .chars()
+        .all(|c| c == '0' || c == '.')
+    {
         format!("{:.digits$}", 0.0)
     } else {
         text.replace('-', "−")
@@ -267,7 +271,9 @@ mod tests {
             changes: "toe_deg shifted by -0.15 deg".into(),
             variant: Variant::SlidingShare,
             wheel: Wheel::Follower,
-            outcome: Outcome::Wear { within_km: 40_000.0 },
+            outcome: Outcome::Wear {
+                within_km: 40_000.0,
+            },
             pairs: 10_000,
             both: 600,
             only_baseline,

@@ -190,25 +190,30 @@ pub enum StudyError {
         given: String,
     },
     /// A scenario change that takes samples outside the parameter's accepted range.
-    #[error("`{key}` = {change} takes {param} outside its accepted range {range} for {} (its values [{}, {}] become [{}, {}]); accepted: a change that keeps every sample in range", leaving_text(*leaving, *samples), plain(from.0, 6), plain(from.1, 6), plain(to.0, 6), plain(to.1, 6))]
-    ScenarioOutOfRange {
-        /// The change's key.
-        key: String,
-        /// The change as written.
-        change: String,
-        /// The parameter.
-        param: &'static str,
-        /// Its accepted range.
-        range: String,
-        /// How many of the run's samples leave the range (None: too many samples to count).
-        leaving: Option<u64>,
-        /// The run's samples.
-        samples: u64,
-        /// The parameter's values over the samples, before the change.
-        from: (f64, f64),
-        /// After it.
-        to: (f64, f64),
-    },
+    #[error("{0}")]
+    ScenarioOutOfRange(Box<ChangeOutOfRange>),
+}
+
+/// A change that takes samples outside its parameter's accepted range, and how many.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("`{key}` = {change} takes {param} outside its accepted range {range} for {} (its values [{}, {}] become [{}, {}]); accepted: a change that keeps every sample in range", leaving_text(*leaving, *samples), plain(from.0, 6), plain(from.1, 6), plain(to.0, 6), plain(to.1, 6))]
+pub struct ChangeOutOfRange {
+    /// The change's key.
+    pub key: String,
+    /// The change as written.
+    pub change: String,
+    /// The parameter.
+    pub param: &'static str,
+    /// Its accepted range.
+    pub range: String,
+    /// How many of the run's samples leave the range (None: too many samples to count).
+    pub leaving: Option<u64>,
+    /// The run's samples.
+    pub samples: u64,
+    /// The parameter's values over the samples, before the change.
+    pub from: (f64, f64),
+    /// After it.
+    pub to: (f64, f64),
 }
 
 /// How many samples a change takes out of range, in words.

@@ -15,6 +15,7 @@ use std::collections::BTreeMap;
 use rayon::prelude::*;
 use serde::Deserialize;
 
+use super::error::ChangeOutOfRange;
 use super::{Study, StudyError};
 use crate::params::{ParamId, Params};
 use crate::sampling::design::Design;
@@ -97,7 +98,11 @@ impl ParamChange {
     /// The change in words, with the parameter's unit: `toe_deg shifted by -0.15 deg`.
     pub fn words(&self) -> String {
         let unit = self.param.spec().unit;
-        let unit = if unit == "-" { String::new() } else { format!(" {unit}") };
+        let unit = if unit == "-" {
+            String::new()
+        } else {
+            format!(" {unit}")
+        };
         let x = |v: f64| plain(v, 12);
         match self.change {
             Change::Set(v) => format!("{} set to {}{unit}", self.param, x(v)),
@@ -315,13 +320,10 @@ fn change(spec: &ChangeSpec, key: &str) -> Result<Change, StudyError> {
 /// take every sample out of it).
 fn check_value(param: ParamId, change: Change, key: &str) -> Result<(), StudyError> {
     if let Change::Set(x) | Change::Cap(x) = change {
-        param
-            .spec()
-            .check(x)
-            .map_err(|source| StudyError::Param {
-                key: format!("{key}.{}", change.kind()),
-                source,
-            })?;
+        param.spec().check(x).map_err(|source| StudyError::Param {
+            key: format!("{key}.{}", change.kind()),
+            source,
+        })?;
     }
     Ok(())
 }
@@ -404,10 +406,7 @@ impl Study {
     ) -> Result<(), StudyError> {
         let spec = change.param.spec();
         let range = self.value_range(change.param);
-        let (a, b) = (
-            change.change.apply(range.lo),
-            change.change.apply(range.hi),
-        );
+        let (a, b) = (change.change.apply(range.lo), change.change.apply(range.hi));
         let to = (a.min(b), a.max(b));
         if spec.check(to.0).is_ok() && spec.check(to.1).is_ok() {
             return Ok(());
@@ -416,7 +415,7 @@ impl Study {
         if !range.hard && leaving == Some(0) {
             return Ok(());
         }
-        Err(StudyError::ScenarioOutOfRange {
+        Err(StudyError::ScenarioOutOfRange(Box::new(ChangeOutOfRange {
             key: key.to_string(),
             change: change.change.text(),
             param: change.param.name(),
@@ -425,7 +424,7 @@ impl Study {
             samples,
             from: (range.lo, range.hi),
             to,
-        })
+        })))
     }
 
     /// How many of the run's samples the change takes outside the parameter's range.
