@@ -224,7 +224,7 @@ fn leaving_text(leaving: Option<u64>, samples: u64) -> String {
         ),
         Some(n) => format!("{n} of this run's {samples} samples"),
         None => format!(
-            "its distribution's tails (this run's {samples} samples are too many to count one by one)"
+            "the bounds of its distribution (this run's {samples} samples are too many to count one by one)"
         ),
     }
 }

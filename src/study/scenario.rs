@@ -29,10 +29,9 @@ pub const BASELINE: &str = "baseline";
 /// Longest accepted scenario name, in characters.
 pub const NAME_MAX_CHARS: usize = 64;
 
-/// Runs of more samples than this are not counted one by one for a change whose draws have no
-/// hard bounds (normal and lognormal tails): such a change is refused when its tails leave the
-/// range.
-pub const COUNT_LIMIT: u64 = 10_000_000;
+/// Runs of more samples than this are not counted one by one (a second or so on 2 cores at the
+/// limit): a change whose changed bounds leave the range is then refused without a count.
+pub const COUNT_LIMIT: u64 = 2_000_000;
 
 /// One change to one parameter, as `{ set = v }`, `{ shift = d }`, `{ scale = k }` or
 /// `{ cap = c }` writes it.
