@@ -28,10 +28,12 @@ if [ "$quick" = 1 ]; then
   EXPLORE_N=2000; OUTPUT_N=2000; SCALING_N=1000; FSYNC_N=400; VALIDATE_N=4; THROUGHPUT_N=500
   ANALYZE_SIZES="2e4 4e4"; ANALYZE_RUNS=1; REPRODUCE="--steps 11 --paired-samples 200"
   DECODING_N=2560; PEERS_N=20; PEERS_SCIPY=2; CRITERION="--test"; CYCLE_REPEATS=1
+  SCENARIOS_N=1000; OPTIMIZE_N=300
 else
   EXPLORE_N=1e6; OUTPUT_N=1e6; SCALING_N=20000; FSYNC_N=4000; VALIDATE_N=340; THROUGHPUT_N=20000
   ANALYZE_SIZES="1e6 4e6"; ANALYZE_RUNS=3; REPRODUCE=""
   DECODING_N=51200; PEERS_N=1000; PEERS_SCIPY=50; CRITERION="--warm-up-time 1 --measurement-time 3"; CYCLE_REPEATS=9
+  SCENARIOS_N=20000; OPTIMIZE_N=10000
 fi
 
 cargo build --release --quiet --bin polywear
@@ -194,6 +196,16 @@ if want decoding; then
   say ""
   timed "$bin" explore studies/decoding.toml --samples "$DECODING_N" --out "$work/decoding" > "$work/decoding.out" 2> "$work/decoding.err"
   { grep -E "samples evaluated|sliding_share (follower|paired| driving)|lost digits" "$work/decoding.out" || true; echo "wall: $(tail -1 "$work/decoding.err")"; } | block
+fi
+
+if want scenarios; then
+  section "scenarios"
+  say "Command: \`polywear explore studies/toe_and_pressure.toml --samples $SCENARIOS_N\` (three scenarios: each sample evaluated four times), then \`polywear optimize studies/toe_and_pressure.toml --vary toe_deg=0.05..0.40 --vary pressure_kpa=200..300 --objective vibration --samples $OPTIMIZE_N\`."
+  say ""
+  timed "$bin" explore studies/toe_and_pressure.toml --samples "$SCENARIOS_N" --out "$work/scenarios" > "$work/scenarios.out" 2> "$work/scenarios.err"
+  timed "$bin" optimize studies/toe_and_pressure.toml --vary toe_deg=0.05..0.40 --vary pressure_kpa=200..300 --objective vibration --samples "$OPTIMIZE_N" --out "$work/optimum" > "$work/optimize.out" 2> "$work/optimize.err"
+  { grep -E "samples evaluated|follower's risk" "$work/scenarios.out" || true; echo "wall: $(tail -1 "$work/scenarios.err")"
+    grep -E "evaluated in|optimum:" "$work/optimize.out" || true; echo "wall: $(tail -1 "$work/optimize.err")"; } | block
 fi
 
 if want calibrate; then

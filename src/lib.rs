@@ -23,6 +23,7 @@ pub mod key_value;
 pub mod model;
 pub mod numeric;
 pub mod operating_points;
+pub mod optimize;
 pub mod output_dir;
 pub mod params;
 pub mod parquet_out;

@@ -42,6 +42,13 @@ enum Command {
     /// Classify both wheels at every step of a drive cycle (time_s, speed_kmh): share of time
     /// and distance in vibration, longest stretch, polygon orders, picture.
     Cycle(cli::cycle::CycleArgs),
+    /// Find the setting in a box that minimises the risk of polygonal wear over a study
+    ///
+    /// Find the setting of one or two parameters (toe-in, pressure, ...) within a box that
+    /// minimises the risk of polygonal wear, of vibration, or a weighted sum, over a study's
+    /// samples (common random numbers): optimum with its interval, the region within it, the
+    /// objective surface with the nominal tire's stability boundaries.
+    Optimize(cli::optimize::OptimizeArgs),
     /// One operating point, both wheels: verdict table, JSON, time series, plot
     Simulate(cli::simulate::SimulateArgs),
     /// Sweep one parameter for both wheels: Re λ, limit-cycle envelope, Hopf points
@@ -94,6 +101,7 @@ fn main() -> ExitCode {
         Command::Analyze(a) => done(cli::analyze::run(a)),
         Command::Classify(a) => done(cli::classify::run(a)),
         Command::Cycle(a) => done(cli::cycle::run(a)),
+        Command::Optimize(a) => done(cli::optimize::run(a)),
         Command::Simulate(a) => done(cli::simulate::run(a)),
         Command::Bifurcation(a) => done(cli::bifurcation::run(a)),
         Command::Chart(a) => done(cli::chart::run(a)),

@@ -18,10 +18,14 @@ mod error;
 mod plausible;
 mod points;
 mod sampler;
+mod scenario;
 mod schema;
-pub use error::StudyError;
+pub use error::{ChangeOutOfRange, StudyError};
 use points::operating_points;
 pub use sampler::Sampler;
+pub use scenario::{
+    scenario_key, Change, ParamChange, Scenario, ValueRange, BASELINE, CHANGE_KINDS, COUNT_LIMIT,
+};
 use schema::ParamFile;
 
 /// Largest accepted seed (in study files and on the command line).
@@ -71,6 +75,9 @@ pub struct Study {
     /// `accept_implausible = true`: values outside their plausible ranges are meant
     /// ([`Study::check_plausible`] passes).
     pub accept_implausible: bool,
+    /// What-if scenarios (`[scenarios.NAME]`), in name order: each is evaluated on every
+    /// sample beside the baseline.
+    pub scenarios: Vec<Scenario>,
 }
 
 /// Reads a parameter file (`--params FILE`, as `polywear calibrate` writes): a `[params]` table
@@ -206,8 +213,12 @@ impl Study {
     /// [`Study::parse_with_base`] for a study file in folder `dir`: the relative path of an
     /// `[operating_points]` file is resolved against it, and the file is read and checked.
     pub fn parse_at(source: &str, base: Params, dir: &Path) -> Result<Study, StudyError> {
-        let raw = toml::Value::Table(toml_input::parse(source)?);
+        let raw = toml::Value::Table(toml_input::parse(source).map_err(repeated_scenario)?);
         let file = schema::read_study(&raw)?;
+        let scenarios = match &file.scenarios {
+            Some(tables) => scenario::scenarios(tables)?,
+            None => Vec::new(),
+        };
         let header = file.header()?;
         let (base, drawn, fixed) = file.params(base)?;
         let samples = sample_count(file.samples, header.design, &drawn)?;
@@ -252,6 +263,7 @@ impl Study {
             budget: header.budget,
             operating_points,
             accept_implausible: header.accept_implausible,
+            scenarios,
         })
     }
 
@@ -283,6 +295,31 @@ impl Study {
             Design::Saltelli => samples * (self.drawn.len() as u64 + 2),
             _ => samples,
         }
+    }
+}
+
+/// A TOML table defined twice under `[scenarios]` is a scenario name used twice: said so, with
+/// the parser's line.
+fn repeated_scenario(e: TomlError) -> StudyError {
+    let TomlError::Malformed(text) = &e else {
+        return e.into();
+    };
+    let Some(name) = text
+        .split_once("duplicate key `")
+        .filter(|_| text.contains("in table `scenarios`"))
+        .and_then(|(_, rest)| rest.split_once('`'))
+        .map(|(name, _)| name.trim_matches('"').to_string())
+    else {
+        return e.into();
+    };
+    let line = text
+        .split_once("at line ")
+        .map(|(_, r)| r.split(',').next().unwrap_or(r).to_string())
+        .map(|l| format!(" (again at line {l})"))
+        .unwrap_or_default();
+    StudyError::RepeatedScenario {
+        name,
+        why: format!("the study file defines `[scenarios.…]` with this name twice{line}"),
     }
 }
 

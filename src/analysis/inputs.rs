@@ -13,7 +13,7 @@ use crate::explore::RunManifest;
 use crate::model::Variant;
 use crate::params::{ParamId, Params};
 use crate::sampling::design::Design;
-use crate::study::{text_hash, Study};
+use crate::study::{text_hash, Scenario, Study};
 
 /// What the files' metadata says about the run, read back typed.
 #[derive(Debug, Clone)]
@@ -55,6 +55,9 @@ pub struct RunInfo {
     /// The study's operating-point file as the run recorded it (file, columns, weight), when
     /// the study has `[operating_points]`.
     pub operating_points: Option<OperatingPointsRecord>,
+    /// The study's scenarios (`scenarios` metadata), in the order of each sample's row blocks
+    /// after the baseline's; empty for a study without scenarios.
+    pub scenarios: Vec<Scenario>,
 }
 
 impl RunInfo {
@@ -151,7 +154,9 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
     check_same_run(first, &footers[1..])?;
     let manifest_study = check_manifests(first, &manifests)?;
     let variants = run.variants.clone().unwrap_or_else(|| vec![Variant::Paper]);
-    let (present, rows) = sample_blocks(&footers, 2 * variants.len().max(1) as u64, run.samples)?;
+    let scenarios = scenarios_of(run, &first.path)?;
+    let rows_per_sample = 2 * variants.len().max(1) as u64 * (1 + scenarios.len() as u64);
+    let (present, rows) = sample_blocks(&footers, rows_per_sample, run.samples)?;
     let drawn_names = drawn_names(first)?;
     let quantities = SEVERITY_QUANTITIES.map(|q| q.name());
     for f in &footers {
@@ -194,6 +199,7 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
         rows,
         params: run.params,
         operating_points: run.operating_points.clone(),
+        scenarios,
     })
 }
 
@@ -357,6 +363,23 @@ fn drawn_names(first: &FileFooter) -> Result<Vec<ParamId>, AnalysisError> {
                 .map_err(|e: crate::params::ParamError| bad(format!("`drawn`: {e}")))
         })
         .collect()
+}
+
+/// The scenarios a chunk footer records (none without the key).
+fn scenarios_of(run: &RunManifest, path: &Path) -> Result<Vec<Scenario>, AnalysisError> {
+    let Some(v) = &run.scenarios else {
+        return Ok(Vec::new());
+    };
+    v.as_array()
+        .and_then(|a| {
+            a.iter()
+                .map(Scenario::from_json)
+                .collect::<Option<Vec<_>>>()
+        })
+        .ok_or_else(|| AnalysisError::Metadata {
+            path: path.to_path_buf(),
+            message: "`scenarios` is not a list of scenarios".into(),
+        })
 }
 
 fn short(s: &str) -> String {

@@ -10,8 +10,10 @@
 //! [`occurrence`], [`failures`] (why rows have no verdict), [`paired`], [`fleet`] (per row of
 //! an operating-point file), [`conditional`] (per axis, on [`bins`]), [`risk_map`],
 //! [`severity`], [`given_data`] (first-order indices from any design), [`sensitivity`] (Sobol
-//! indices of a Saltelli design), [`robustness`]; [`rows`] alone speaks to polars, and
-//! [`stats`] holds the intervals and tests.
+//! indices of a Saltelli design), [`robustness`], [`scenarios`] (each scenario against the
+//! baseline on the same samples); [`rows`] alone speaks to polars, and [`stats`] holds the
+//! intervals and tests. In a run with scenarios every question but the last is answered on the
+//! baseline's rows.
 //!
 //! P(vibration), the probability every table gives, is the share of classified rows (stable,
 //! limit cycle, bistable) whose wheel vibrates: settles on a limit cycle, or is bistable (can be
@@ -30,6 +32,7 @@ pub mod paired;
 pub mod risk_map;
 pub mod robustness;
 pub mod rows;
+pub mod scenarios;
 pub mod sensitivity;
 pub mod severity;
 pub mod stats;
@@ -47,6 +50,7 @@ use paired::Paired;
 use risk_map::RiskMap;
 use robustness::{Robustness, RobustnessSummary};
 use rows::Rows;
+use scenarios::ScenarioEffect;
 use sensitivity::Sensitivity;
 use severity::{Severity, SEVERITY_QUANTITIES};
 
@@ -67,6 +71,8 @@ pub struct AnalysisOptions {
     pub pairs: Vec<(ParamId, ParamId)>,
     /// Bootstrap resamples behind the Sobol indices' intervals.
     pub bootstrap: usize,
+    /// The scenarios are compared on the risk of a visible polygon within this distance \[km\].
+    pub scenario_within_km: f64,
 }
 
 impl AnalysisOptions {
@@ -78,6 +84,8 @@ impl AnalysisOptions {
     pub const DEFAULT_MIN_COUNT: u64 = 30;
     /// Default bootstrap resamples of the Sobol indices' intervals.
     pub const DEFAULT_BOOTSTRAP: usize = 200;
+    /// Default distance of the scenarios' wear comparison \[km\].
+    pub const DEFAULT_SCENARIO_WITHIN_KM: f64 = 40_000.0;
 
     /// The risk maps always drawn: speed × toe-in and load × pressure.
     pub fn default_pairs() -> Vec<(ParamId, ParamId)> {
@@ -104,6 +112,7 @@ impl Default for AnalysisOptions {
             min_count: Self::DEFAULT_MIN_COUNT,
             pairs: Self::default_pairs(),
             bootstrap: Self::DEFAULT_BOOTSTRAP,
+            scenario_within_km: Self::DEFAULT_SCENARIO_WITHIN_KM,
         }
     }
 }
@@ -140,6 +149,8 @@ pub struct Analysis {
     pub robustness: Option<Robustness>,
     /// How often the driving wheel is less exposed, per variant.
     pub robustness_summary: Vec<RobustnessSummary>,
+    /// Each scenario against the baseline (empty without scenarios).
+    pub scenarios: Vec<ScenarioEffect>,
     /// Remarks for the report (skipped pairs, a design without Sobol indices, ...).
     pub notes: Vec<String>,
 }
@@ -382,6 +393,8 @@ pub enum Step {
     Sensitivity,
     /// The lost-digit decodings.
     Robustness,
+    /// The scenarios against the baseline.
+    Scenarios,
 }
 
 /// Answers every question of the analysis on checked inputs. polars' group tables are sized by
@@ -398,7 +411,8 @@ pub fn run_with_progress(
     progress: &mut dyn FnMut(Step),
 ) -> Result<Analysis, AnalysisError> {
     let mut notes = Vec::new();
-    let rows = Rows::scan(&info.files)?;
+    let has_scenarios = !info.scenarios.is_empty();
+    let rows = Rows::scan_baseline(&info.files, has_scenarios)?;
     let occurrence = occurrence::occurrence(&rows)?;
     check_rows_agree(&info, &occurrence)?;
     progress(Step::Occurrence);
@@ -407,7 +421,7 @@ pub fn run_with_progress(
     let unclassified = totals.total() - totals.classified();
     let failures = failures::failures(&info.files, totals.total(), unclassified)?;
     progress(Step::Failures);
-    let paired = paired::paired(&info.files, PAIRED_BATCH_ROWS)?;
+    let paired = paired::paired(&info.files, PAIRED_BATCH_ROWS, has_scenarios)?;
     progress(Step::Paired);
     let fleet = fleet::fleet(&rows, &info)?;
     progress(Step::Fleet);
@@ -434,6 +448,13 @@ pub fn run_with_progress(
         .as_ref()
         .map(|r| r.summary(opts.min_count))
         .unwrap_or_default();
+    let scenarios = scenarios::compare(
+        &info,
+        opts.scenario_within_km,
+        PAIRED_BATCH_ROWS,
+        &mut notes,
+    )?;
+    progress(Step::Scenarios);
     Ok(Analysis {
         info,
         options: opts.clone(),
@@ -449,6 +470,7 @@ pub fn run_with_progress(
         sensitivity,
         robustness,
         robustness_summary,
+        scenarios,
         notes,
     })
 }

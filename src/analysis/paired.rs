@@ -94,19 +94,31 @@ impl PairTally {
     }
 }
 
-/// Driving vs follower on the same samples of the chunk files, per variant: in one streaming
-/// pass when the files are in explore's row order, else grouped by sample in batches of about
-/// `batch_rows` rows.
-pub fn paired(files: &[PathBuf], batch_rows: u64) -> Result<Vec<Paired>, AnalysisError> {
-    match pairs_in_row_order(files)? {
+/// Driving vs follower on the same samples of the chunk files, per variant (the baseline's rows
+/// when the run has scenarios): in one streaming pass when the files are in explore's row
+/// order, else grouped by sample in batches of about `batch_rows` rows.
+pub fn paired(
+    files: &[PathBuf],
+    batch_rows: u64,
+    has_scenarios: bool,
+) -> Result<Vec<Paired>, AnalysisError> {
+    match pairs_in_row_order(files, has_scenarios)? {
         Some(combos) => Ok(paired_from(&combos)),
-        None => paired_by_group(files, batch_rows),
+        None => paired_by_group(files, batch_rows, has_scenarios),
     }
 }
 
 /// [`paired`] by grouping the rows by sample, whatever their order.
-pub fn paired_by_group(files: &[PathBuf], batch_rows: u64) -> Result<Vec<Paired>, AnalysisError> {
-    Ok(paired_from(&pairs_by_sample(files, batch_rows)?))
+pub fn paired_by_group(
+    files: &[PathBuf],
+    batch_rows: u64,
+    has_scenarios: bool,
+) -> Result<Vec<Paired>, AnalysisError> {
+    Ok(paired_from(&pairs_by_sample(
+        files,
+        batch_rows,
+        has_scenarios,
+    )?))
 }
 
 /// The paired table from sample counts per (variant, follower code + 3 × driving code).

@@ -20,7 +20,11 @@ use super::AnalysisError;
 use crate::classify::Class;
 use crate::model::{Variant, Wheel};
 use crate::records::{RecordColumn, SAMPLE_ID};
+use crate::study::BASELINE;
 use crate::text_enum::UnknownName;
+
+mod scenario_pairs;
+pub use scenario_pairs::{scenario_pairs, OutcomeColumn, ScenarioPairCounts};
 
 /// The columns the queries name, from the one column table ([`crate::records`]).
 const VARIANT: &str = RecordColumn::Variant.name();
@@ -131,8 +135,27 @@ impl Rows {
             lf: self
                 .lf
                 .clone()
-                .filter((col("sample_id") % lit(stride)).lt(lit(blocks))),
+                .filter((col(SAMPLE) % lit(stride)).lt(lit(blocks))),
         }
+    }
+
+    /// The baseline's rows of the chunk files: all rows for a study without scenarios (no
+    /// `scenario` column), else those of scenario `baseline`.
+    pub fn scan_baseline(files: &[PathBuf], has_scenarios: bool) -> Result<Rows, AnalysisError> {
+        let rows = Rows::scan(files)?;
+        Ok(if has_scenarios {
+            Rows {
+                lf: rows.lf.filter(col("scenario").eq(lit(BASELINE))),
+            }
+        } else {
+            rows
+        })
+    }
+
+    /// Whether the files have a column `name` (from their schema; no row is read).
+    pub fn has_column(&self, name: &str) -> Result<bool, AnalysisError> {
+        let schema = self.lf.clone().collect_schema().map_err(pl_err)?;
+        Ok(schema.contains(name))
     }
 
     /// Rows per class for each variant, wheel and combination of `keys`: one group per key
@@ -334,8 +357,11 @@ pub type PairCounts = BTreeMap<(Variant, i64), u64>;
 /// together, variant by variant, follower then driving. The query checks that (same sample_id
 /// and variant, driving wheel) for every follower row; None when the files are ordered
 /// otherwise (then [`pairs_by_sample`] pairs them).
-pub fn pairs_in_row_order(files: &[PathBuf]) -> Result<Option<PairCounts>, AnalysisError> {
-    let lf = Rows::scan(files)?.lf;
+pub fn pairs_in_row_order(
+    files: &[PathBuf],
+    has_scenarios: bool,
+) -> Result<Option<PairCounts>, AnalysisError> {
+    let lf = Rows::scan_baseline(files, has_scenarios)?.lf;
     let next = |c: &str| col(c).shift(lit(-1i64));
     let df = collect(
         lf.select([
@@ -392,7 +418,11 @@ pub fn pairs_in_row_order(files: &[PathBuf]) -> Result<Option<PairCounts>, Analy
 /// [`pairs_in_row_order`] by grouping the rows by sample, for files in any row order. The two
 /// wheels of a sample always lie in the same chunk file, so the files are grouped in batches of
 /// about `batch_rows` rows: the group-by never holds more than one batch's samples.
-pub fn pairs_by_sample(files: &[PathBuf], batch_rows: u64) -> Result<PairCounts, AnalysisError> {
+pub fn pairs_by_sample(
+    files: &[PathBuf],
+    batch_rows: u64,
+    has_scenarios: bool,
+) -> Result<PairCounts, AnalysisError> {
     // Per sample: follower + 3 × driving.
     let weight = when(col(WHEEL).eq(lit(Wheel::Follower.as_str())))
         .then(lit(1i64))
@@ -406,7 +436,7 @@ pub fn pairs_by_sample(files: &[PathBuf], batch_rows: u64) -> Result<PairCounts,
             rows += file_rows(&files[end]);
             end += 1;
         }
-        let lf = Rows::scan(&files[start..end])?.lf;
+        let lf = Rows::scan_baseline(&files[start..end], has_scenarios)?.lf;
         let df = collect(
             lf.select([
                 col(VARIANT),

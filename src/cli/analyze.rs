@@ -45,9 +45,23 @@ pub struct AnalyzeArgs {
     /// Bootstrap resamples for the Sobol indices' intervals, accepted [10, 100000]
     #[arg(long, default_value_t = AnalysisOptions::DEFAULT_BOOTSTRAP, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--bootstrap", 10, 100_000))]
     pub bootstrap: usize,
+    /// A run with scenarios compares each with the baseline on the risk of a visible polygon
+    /// within this distance [km] (and on vibration), accepted (0, 1e6]
+    #[arg(long, value_name = "KM", default_value_t = AnalysisOptions::DEFAULT_SCENARIO_WITHIN_KM, allow_negative_numbers = true, value_parser = parse_km)]
+    pub scenario_within_km: f64,
     /// File type of the figures
     #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
     pub format: FigureFormat,
+}
+
+/// Parses a distance in km within (0, 1e6].
+pub fn parse_km(s: &str) -> Result<f64, String> {
+    s.trim()
+        .replace('_', "")
+        .parse::<f64>()
+        .ok()
+        .filter(|x| *x > 0.0 && *x <= 1e6)
+        .ok_or_else(|| format!("`{s}` must be a distance in km within (0, 1e6]"))
 }
 
 fn parse_pair(s: &str) -> Result<(ParamId, ParamId), String> {
@@ -105,6 +119,7 @@ pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
         min_count: args.min_count,
         pairs,
         bootstrap: args.bootstrap,
+        scenario_within_km: args.scenario_within_km,
     };
     let render = RenderOptions {
         out_dir,
@@ -236,6 +251,18 @@ fn print_summary(a: &Analysis) {
         );
     }
     print_fleet(a);
+    if !a.scenarios.is_empty() {
+        println!("What the changes do (paired on the same samples; 95% Newcombe interval):");
+    }
+    for e in &a.scenarios {
+        println!(
+            "  {} ({}, {}): {}",
+            e.scenario,
+            e.variant,
+            e.outcome.name(),
+            polywear::render::scenarios::sentence(e)
+        );
+    }
     for r in &a.robustness_summary {
         println!(
             "  {:>8} lost digits: driving less exposed in {} of {} decodings ({:.1}%, 95% [{:.1}%, {:.1}%]); {} with too few samples",

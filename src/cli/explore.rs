@@ -200,6 +200,9 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
         .seed
         .or(recorded.as_ref().map(|(_, run)| run.seed))
         .unwrap_or(study.seed);
+    study
+        .check_scenarios(seed, samples)
+        .map_err(|e| CliError(format!("{origin}: {e}")))?;
     let out_dir = args
         .out
         .clone()
@@ -258,6 +261,7 @@ fn announce(plan: &RunPlan, prepared: &PreparedOutput, pool: &rayon::ThreadPool,
         pool.current_num_threads(),
         plan.out_dir.display()
     );
+    print_scenarios(&plan.study);
     let kept = prepared.kept_samples(plan);
     if kept > 0 {
         eprintln!(
@@ -397,6 +401,23 @@ fn check_new_inputs(
         );
     }
     Ok(())
+}
+
+/// Says which scenarios every sample is also evaluated under, if any.
+fn print_scenarios(study: &Study) {
+    if study.scenarios.is_empty() {
+        return;
+    }
+    let each: Vec<String> = study
+        .scenarios
+        .iter()
+        .map(|s| format!("{} ({})", s.name, s.words()))
+        .collect();
+    eprintln!(
+        "  each sample also under {} scenario(s): {}",
+        study.scenarios.len(),
+        each.join("; ")
+    );
 }
 
 /// Refuses a flag of `--resume --out DIR` that contradicts the run recorded in DIR, showing

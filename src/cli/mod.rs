@@ -9,6 +9,7 @@ pub mod classify;
 pub mod common;
 pub mod cycle;
 pub mod explore;
+pub mod optimize;
 pub mod params;
 pub mod reproduce;
 pub mod simulate;

@@ -84,6 +84,10 @@ pub struct RunManifest {
     /// What a row is (chunks only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub columns: Option<String>,
+    /// The study's scenarios, in the order of each sample's row blocks after the baseline's, in
+    /// the study file's terms (chunks of a study with scenarios only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scenarios: Option<serde_json::Value>,
 }
 
 /// An operating-point file as the run recorded it. Fields in alphabetical order, as the

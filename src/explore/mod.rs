@@ -24,7 +24,7 @@ pub mod recorded_run;
 
 pub use manifest::{OperatingPointsRecord, RunManifest};
 pub use output::PreparedOutput;
-pub use pipeline::{chunk_columns, evaluate_sample, SampleRows, CHUNKS_IN_FLIGHT};
+pub use pipeline::{chunk_columns, evaluate_params, evaluate_sample, SampleRows, CHUNKS_IN_FLIGHT};
 
 /// The part of a run one machine evaluates: the chunks whose index ≡ `index` (mod `count`),
 /// shard k of N with k counted from 0 (as Slurm array and Kubernetes indexed-job indices).
@@ -251,6 +251,7 @@ impl RunPlan {
             chunks: Some(output_dir::JOURNAL.to_string()),
             checksum: Some("CRC-32 (IEEE) of each whole chunk file".to_string()),
             columns: None,
+            scenarios: None,
         }
     }
 
@@ -267,16 +268,21 @@ impl RunPlan {
             drawn: Some(self.study.drawn_json()),
             chunks: None,
             checksum: None,
-            columns: Some(
-                "one row per sample, variant and wheel; sample_id identifies the sample".into(),
-            ),
+            columns: Some(if self.study.scenarios.is_empty() {
+                "one row per sample, variant and wheel; sample_id identifies the sample".into()
+            } else {
+                "one row per sample, scenario, variant and wheel; sample_id identifies the sample, scenario the changes (baseline: none)".into()
+            }),
+            scenarios: (!self.study.scenarios.is_empty()).then(|| self.study.scenarios_json()),
             ..self.manifest()
         }
     }
 
-    /// Rows of chunk `chunk`: one per sample, variant and wheel.
+    /// Rows of chunk `chunk`: one per sample, scenario (the baseline and each of the study's),
+    /// variant and wheel.
     pub fn chunk_rows(&self, chunk: u64) -> u64 {
-        self.chunk_len(chunk) * 2 * self.study.variants.len() as u64
+        let blocks = 1 + self.study.scenarios.len() as u64;
+        self.chunk_len(chunk) * blocks * 2 * self.study.variants.len() as u64
     }
 }
 

@@ -8,7 +8,9 @@ use super::{ExploreError, RunPlan, RunSummary};
 use crate::classify::ClassifierOptions;
 use crate::ensemble::{self, Control};
 use crate::evaluate::{self, PointProblem};
+use crate::model::Variant;
 use crate::output_dir;
+use crate::params::Params;
 use crate::parquet_out::{write_table_digest, Column};
 use crate::records::{record_columns, WheelRecord, OPERATING_POINT_ROW, SAMPLE_ID};
 use crate::study::{Sampler, Study};
@@ -49,12 +51,14 @@ impl RunPlan {
             ..RunSummary::default()
         });
         let size = self.study.chunk_size;
+        // The baseline's records: the first block of each sample's.
+        let block = 2 * self.study.variants.len();
         let chunks = out
             .pending(self)
             .map(|chunk| (chunk, chunk * size..(chunk * size + size).min(self.samples)));
         let finish = |chunk: u64, rows: Vec<SampleRows>| {
             self.write_chunk(chunk, &rows)?;
-            summary.lock().expect("lock").count(&rows);
+            summary.lock().expect("lock").count(&rows, block);
             Ok(())
         };
         let run = ensemble::solve_chunked(
@@ -109,9 +113,10 @@ impl RunPlan {
 pub const CHUNKS_IN_FLIGHT: usize = 2;
 
 impl RunSummary {
-    /// Counts a written chunk's samples and rows by variant, wheel and class.
-    fn count(&mut self, rows: &[SampleRows]) {
-        for r in rows.iter().flat_map(|s| &s.records) {
+    /// Counts a written chunk's samples, and the baseline's rows (the first `block` records of
+    /// each sample) by variant, wheel and class.
+    fn count(&mut self, rows: &[SampleRows], block: usize) {
+        for r in rows.iter().flat_map(|s| &s.records[..block]) {
             *self
                 .classes
                 .entry((r.variant, r.wheel))
@@ -124,7 +129,8 @@ impl RunSummary {
     }
 }
 
-/// The rows of one sample: its drawn values and one record per variant and wheel.
+/// The rows of one sample: its drawn values and one record per scenario (the baseline first),
+/// variant and wheel.
 pub struct SampleRows {
     /// The sample's index.
     pub sample_id: u64,
@@ -132,12 +138,14 @@ pub struct SampleRows {
     pub drawn: Vec<f64>,
     /// The operating-point row drawn (0-based), when the study has `[operating_points]`.
     pub operating_point_row: Option<usize>,
-    /// One record per variant and wheel.
+    /// One record per scenario, variant and wheel: blocks of one per variant and wheel, the
+    /// baseline's, then each scenario's.
     pub records: Vec<WheelRecord>,
 }
 
-/// Draws sample `index` and evaluates it for every variant and both wheels (the one road,
-/// [`crate::evaluate::solve`]).
+/// Draws sample `index` and evaluates it for every variant and both wheels, the baseline and
+/// then each of the study's scenarios (the same draw with the scenario's changes: common random
+/// numbers), each a point of its own on the one road ([`evaluate_params`]).
 pub fn evaluate_sample(
     study: &Study,
     sampler: &Sampler<'_>,
@@ -145,7 +153,10 @@ pub fn evaluate_sample(
     opts: &ClassifierOptions,
 ) -> SampleRows {
     let (p, drawn, operating_point_row) = sampler.sample_with_row(index);
-    let records = evaluate::solve(&PointProblem::new(p, &study.variants, opts)).into_records();
+    let mut records = evaluate_params(&p, &study.variants, opts);
+    for scenario in &study.scenarios {
+        records.extend(evaluate_params(&scenario.apply(&p), &study.variants, opts));
+    }
     SampleRows {
         sample_id: index,
         drawn,
@@ -154,22 +165,43 @@ pub fn evaluate_sample(
     }
 }
 
+/// One parameter set for every variant and both wheels, one record each: a point of the one
+/// road ([`crate::evaluate::solve`]), its wheels starting their shooting from the last cycle
+/// found at the same point.
+pub fn evaluate_params(
+    p: &Params,
+    variants: &[Variant],
+    opts: &ClassifierOptions,
+) -> Vec<WheelRecord> {
+    evaluate::solve(&PointProblem::new(*p, variants, opts)).into_records()
+}
+
 /// Columns of a chunk: sample_id, the operating-point row (1-based, as error messages count
-/// the file's rows) when the study has one, the drawn values that are not record columns, then
-/// the record columns.
+/// the file's rows) and the passed-through columns when the study has one, the scenario when
+/// the study has scenarios, the drawn values that are not record columns (as the row's
+/// scenario changed them), then the record columns.
 pub fn chunk_columns(study: &Study, rows: &[SampleRows]) -> Vec<Column> {
-    let flat: Vec<(&SampleRows, &WheelRecord)> = rows
+    // A sample's records are blocks of one per variant and wheel: the baseline's, then each
+    // scenario's.
+    let block = 2 * study.variants.len();
+    let names = super::value_params(study);
+    let flat: Vec<(&SampleRows, usize, &WheelRecord)> = rows
         .iter()
-        .flat_map(|s| s.records.iter().map(move |r| (s, r)))
+        .flat_map(|s| {
+            s.records
+                .iter()
+                .enumerate()
+                .map(move |(k, r)| (s, k / block, r))
+        })
         .collect();
     let mut cols = vec![Column::i64(
         SAMPLE_ID.name,
         SAMPLE_ID.unit,
-        flat.iter().map(|(s, _)| s.sample_id as i64).collect(),
+        flat.iter().map(|(s, _, _)| s.sample_id as i64).collect(),
     )];
     if let Some(op) = &study.operating_points {
         let row = |s: &SampleRows| s.operating_point_row.map_or(0, |r| r as i64 + 1);
-        let rows = flat.iter().map(|(s, _)| row(s)).collect();
+        let rows = flat.iter().map(|(s, _, _)| row(s)).collect();
         cols.push(Column::i64(
             OPERATING_POINT_ROW.name,
             OPERATING_POINT_ROW.unit,
@@ -178,21 +210,31 @@ pub fn chunk_columns(study: &Study, rows: &[SampleRows]) -> Vec<Column> {
         // The study's passed-through columns, at the row each sample drew.
         let drawn: Vec<usize> = flat
             .iter()
-            .map(|(s, _)| s.operating_point_row.unwrap_or(0))
+            .map(|(s, _, _)| s.operating_point_row.unwrap_or(0))
             .collect();
         cols.extend(op.pass_through_columns(&drawn));
     }
+    if !study.scenarios.is_empty() {
+        let all = study.scenario_names();
+        let names = flat.iter().map(|(_, b, _)| all[*b].to_string()).collect();
+        cols.push(Column::str("scenario", names));
+    }
+    // Each row's drawn values as its scenario changes them (block 0: the baseline's, as drawn).
+    let values = |s: &SampleRows, b: usize| -> Vec<f64> {
+        match b {
+            0 => s.drawn.clone(),
+            _ => study.scenarios[b - 1].apply_values(&names, &s.drawn),
+        }
+    };
+    let changed: Vec<Vec<f64>> = flat.iter().map(|(s, b, _)| values(s, *b)).collect();
     // The operating axes are record columns already.
-    for (k, id) in super::value_params(study).into_iter().enumerate() {
+    for (k, id) in names.iter().enumerate() {
         if !id.is_operating_axis() {
-            cols.push(Column::f64(
-                id.name(),
-                id.spec().unit,
-                flat.iter().map(|(s, _)| s.drawn[k]).collect(),
-            ));
+            let v = changed.iter().map(|row| row[k]).collect();
+            cols.push(Column::f64(id.name(), id.spec().unit, v));
         }
     }
-    let records: Vec<WheelRecord> = flat.iter().map(|(_, r)| (*r).clone()).collect();
+    let records: Vec<WheelRecord> = flat.iter().map(|(_, _, r)| (*r).clone()).collect();
     cols.extend(record_columns(&records));
     cols
 }

@@ -11,8 +11,10 @@ use backend::{FigureBackend, FigureBuffer};
 
 pub mod backend;
 pub mod cycle;
+pub mod effects;
 pub mod maps;
 pub mod spectrum;
+pub mod surface;
 
 /// One curve of a figure, in a colour picked by the caller.
 pub struct Series<'a> {

@@ -43,6 +43,7 @@ pub fn page(a: &Analysis, figures: &Figures) -> String {
     header(&mut s, a);
     occurrence_section(&mut s, a);
     paired_section(&mut s, a);
+    s.push_str(&super::scenarios::section(a, figures.scenarios.as_deref()));
     fleet_section(&mut s, a);
     where_section(&mut s, a, figures);
     robustness_section(&mut s, a);

@@ -6,6 +6,7 @@ pub mod drivers;
 pub mod figures;
 pub mod fleet;
 pub mod markdown;
+pub mod scenarios;
 pub mod tables;
 
 use std::path::{Path, PathBuf};
@@ -45,6 +46,8 @@ pub struct Figures {
     pub risk_maps: Vec<RiskMapFigure>,
     /// Severity histograms, one figure per variant.
     pub severity: Vec<(Variant, PathBuf)>,
+    /// Every scenario's effect with its interval (a run with scenarios only).
+    pub scenarios: Option<PathBuf>,
 }
 
 impl Figures {
@@ -55,6 +58,7 @@ impl Figures {
             .map(|(_, p)| p.as_path())
             .chain(self.risk_maps.iter().map(|f| f.path.as_path()))
             .chain(self.severity.iter().map(|(_, p)| p.as_path()))
+            .chain(self.scenarios.as_deref())
     }
 }
 
@@ -158,6 +162,11 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
         let p = dir.join(format!("severity_{variant}.{ext}"));
         figures::severity(&p, variant, &a.severity)?;
         out.severity.push((variant, p));
+    }
+    if !a.scenarios.is_empty() {
+        let p = dir.join(format!("scenarios.{ext}"));
+        scenarios::figure(&p, &a.scenarios)?;
+        out.scenarios = Some(p);
     }
     Ok(out)
 }

@@ -80,6 +80,10 @@ pub fn write_all(dir: &Path, a: &Analysis) -> Result<Vec<PathBuf>, RenderError> 
             &mut files,
         )?;
     }
+    if !a.scenarios.is_empty() {
+        let cols = super::scenarios::columns(&a.scenarios);
+        write_tables(dir, "scenarios", &cols, &meta, &mut files)?;
+    }
     if let Some(r) = &a.robustness {
         write_tables(
             dir,

@@ -3,7 +3,7 @@
 
 use crate::params::ParamError;
 use crate::toml_input::TomlError;
-use crate::wording::did_you_mean;
+use crate::wording::{did_you_mean, plain};
 
 use super::schema::DISTS;
 
@@ -170,4 +170,72 @@ pub enum StudyError {
         /// Its limit, as people read it.
         max: &'static str,
     },
+    /// A scenario name that cannot be written in the rows and the report.
+    #[error("`{key}`: the scenario's name {why}; accepted: 1 to 64 printable characters")]
+    ScenarioName {
+        /// The scenario's key.
+        key: String,
+        /// What is wrong with the name.
+        why: &'static str,
+    },
+    /// A scenario name used twice (or the baseline's).
+    #[error("scenario `{name}` is used twice: {why}; accepted: a name of its own for every [scenarios.NAME]")]
+    RepeatedScenario {
+        /// The name.
+        name: String,
+        /// Where it was used before.
+        why: String,
+    },
+    /// A scenario without changes.
+    #[error("`{key}` changes nothing; accepted: at least one parameter, e.g. toe_deg = {{ shift = -0.1 }}")]
+    EmptyScenario {
+        /// The scenario's key.
+        key: String,
+    },
+    /// A change table without exactly one kind of change.
+    #[error("`{key}` needs exactly one of set, shift, scale, cap; {}", if given.is_empty() { "it has none".to_string() } else { format!("it has {given}") })]
+    ChangeKinds {
+        /// The parameter's key in the scenario.
+        key: String,
+        /// The kinds given, comma-separated.
+        given: String,
+    },
+    /// A scenario change that takes samples outside the parameter's accepted range.
+    #[error("{0}")]
+    ScenarioOutOfRange(Box<ChangeOutOfRange>),
+}
+
+/// A change that takes samples outside its parameter's accepted range, and how many.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("`{key}` = {change} takes {param} outside its accepted range {range} for {} (its values [{}, {}] become [{}, {}]); accepted: a change that keeps every sample in range", leaving_text(*leaving, *samples), plain(from.0, 6), plain(from.1, 6), plain(to.0, 6), plain(to.1, 6))]
+pub struct ChangeOutOfRange {
+    /// The change's key.
+    pub key: String,
+    /// The change as written.
+    pub change: String,
+    /// The parameter.
+    pub param: &'static str,
+    /// Its accepted range.
+    pub range: String,
+    /// How many of the run's samples leave the range (None: too many samples to count).
+    pub leaving: Option<u64>,
+    /// The run's samples.
+    pub samples: u64,
+    /// The parameter's values over the samples, before the change.
+    pub from: (f64, f64),
+    /// After it.
+    pub to: (f64, f64),
+}
+
+/// How many samples a change takes out of range, in words.
+fn leaving_text(leaving: Option<u64>, samples: u64) -> String {
+    match leaving {
+        Some(0) => format!(
+            "none of this run's {samples} samples but for the bounds of its distribution, which a longer run reaches"
+        ),
+        Some(n) => format!("{n} of this run's {samples} samples"),
+        None => format!(
+            "the bounds of its distribution (this run's {samples} samples are too many to count one by one)"
+        ),
+    }
 }

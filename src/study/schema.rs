@@ -35,6 +35,7 @@ pub(super) struct StudyFile {
     accept_implausible: Option<bool>,
     pub(super) params: Option<BTreeMap<ParamId, ParamEntry>>,
     pub(super) operating_points: Option<OperatingPointsSection>,
+    pub(super) scenarios: Option<super::scenario::ScenarioTables>,
 }
 
 /// `[operating_points]`: the file of measured rows and its weight column.

@@ -538,8 +538,8 @@ fn pairing_by_row_order_equals_pairing_by_sample_id() {
         &[],
     );
     let (files, _) = polywear::analysis::inputs::parquet_files(&[run]).unwrap();
-    let by_order = polywear::analysis::paired::paired(&files, 1000).unwrap();
-    let by_group = polywear::analysis::paired::paired_by_group(&files, 1000).unwrap();
+    let by_order = polywear::analysis::paired::paired(&files, 1000, false).unwrap();
+    let by_group = polywear::analysis::paired::paired_by_group(&files, 1000, false).unwrap();
     assert_eq!(by_order, by_group);
     assert_eq!(by_order.len(), 2);
     for p in &by_order {

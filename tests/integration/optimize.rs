@@ -1,0 +1,267 @@
+//! `polywear optimize`: its files (the optimum is the best setting of the surface, with its
+//! interval), and every refusal before any work.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use crate::common::{self, polywear};
+use crate::parquet_rows::rows;
+
+const STUDY: &str = "studies/toe_and_pressure.toml";
+
+fn tmp(name: &str) -> PathBuf {
+    let d = common::fresh_dir(&format!("optimize-{name}"));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn csv(path: &Path) -> Vec<HashMap<String, String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    lines
+        .map(|l| {
+            header
+                .iter()
+                .cloned()
+                .zip(l.split(',').map(String::from))
+                .collect()
+        })
+        .collect()
+}
+
+fn number(f: &parquet::record::Field) -> f64 {
+    match f {
+        parquet::record::Field::Double(x) => *x,
+        parquet::record::Field::Long(x) => *x as f64,
+        other => panic!("not a number: {other:?}"),
+    }
+}
+
+#[test]
+fn the_optimum_is_the_surfaces_best_setting_with_its_interval() {
+    let dir = tmp("files");
+    let out = dir.join("out");
+    let (code, stdout, stderr) = polywear(&[
+        "optimize",
+        STUDY,
+        "--vary",
+        "toe_deg=0.05..0.40",
+        "--vary",
+        "pressure_kpa=200..300",
+        "--objective",
+        "vibration",
+        "--wheel",
+        "follower",
+        "--samples",
+        "150",
+        "--grid",
+        "3",
+        "--levels",
+        "2",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("optimum: toe_deg = "), "{stdout}");
+    assert!(stdout.contains("how flat:"), "{stdout}");
+    let optimum = csv(&out.join("optimum.csv"));
+    assert_eq!(optimum.len(), 1);
+    let o = &optimum[0];
+    let mut keys: Vec<&str> = o.keys().map(String::as_str).collect();
+    keys.sort();
+    assert_eq!(
+        keys,
+        [
+            "objective",
+            "objective_high",
+            "objective_low",
+            "pressure_kpa",
+            "toe_deg"
+        ]
+    );
+    let get = |k: &str| o[k].parse::<f64>().unwrap();
+    assert!(get("objective_low") <= get("objective") && get("objective") <= get("objective_high"));
+    // The optimum is the smallest objective of the surface, and its own paired difference is 0.
+    let surface = rows(&out.join("surface.parquet"));
+    assert!(surface.len() >= 9, "{}", surface.len());
+    let best = surface
+        .iter()
+        .min_by(|a, b| number(&a["objective"]).total_cmp(&number(&b["objective"])))
+        .unwrap();
+    assert_eq!(number(&best["objective"]), get("objective"));
+    assert_eq!(number(&best["toe_deg"]), get("toe_deg"));
+    assert_eq!(number(&best["pressure_kpa"]), get("pressure_kpa"));
+    assert_eq!(number(&best["difference_vs_best"]), 0.0);
+    assert_eq!(number(&best["within_best_interval"]), 1.0);
+    for f in ["surface.png", "report.md", "optimum.parquet"] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("What a setting means"), "{report}");
+}
+
+#[test]
+fn one_parameter_the_edge_is_said_and_a_fixed_parameter_is_set() {
+    let dir = tmp("edge");
+    let run = |name: &str, study: &str, vary: &str| {
+        let out = dir.join(name);
+        let (code, stdout, stderr) = polywear(&[
+            "optimize",
+            study,
+            "--vary",
+            vary,
+            "--objective",
+            "vibration",
+            "--samples",
+            "100",
+            "--grid",
+            "5",
+            "--levels",
+            "1",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+        (
+            stdout,
+            std::fs::read_to_string(out.join("report.md")).unwrap(),
+        )
+    };
+    // Less toe-in vibrates less over this box: the lowest end is the optimum, and it says so.
+    let (stdout, report) = run("toe", STUDY, "toe_deg=0.05..0.40");
+    assert!(stdout.contains("optimum: toe_deg = 0.05:"), "{stdout}");
+    assert!(stdout.contains("lower edge of toe_deg"), "{stdout}");
+    assert!(
+        report.contains("toe_deg: the centre of its distribution (now 0.25)"),
+        "{report}"
+    );
+    // The study fixes load: a setting is its value.
+    let study = dir.join("fixed_load.toml");
+    let text = std::fs::read_to_string(STUDY).unwrap().replace(
+        "load_n       = { dist = \"truncated_normal\", mean = 4000, sd = 600, min = 2500, max = 6500 }",
+        "load_n = 4000",
+    );
+    std::fs::write(&study, text).unwrap();
+    let (_, report) = run("load", study.to_str().unwrap(), "load_n=3000..5000");
+    assert!(
+        report.contains("load_n: the value every sample takes"),
+        "{report}"
+    );
+}
+
+#[test]
+fn bad_optimize_input_is_refused_before_any_work() {
+    let dir = tmp("refused");
+    let wear = polywear::optimize::evaluate::wear_available();
+    let mut cases: Vec<(Vec<&str>, Vec<&str>)> = vec![
+        (
+            vec!["--vary", "toe_deg=0.40..0.05"],
+            vec![
+                "--vary `toe_deg=0.40..0.05`",
+                "the box is empty",
+                "toe_deg=0.05..0.4",
+            ],
+        ),
+        (
+            vec!["--vary", "toe=0.05..0.40"],
+            vec!["unknown parameter `toe`", "did you mean `toe_deg`"],
+        ),
+        (
+            vec!["--vary", "toe_deg=0.01..0.40"],
+            vec![
+                "--vary toe_deg=0.01..0.4",
+                "(0, 10]",
+                "of this run's 100 samples",
+                "centre",
+            ],
+        ),
+        (
+            vec!["--vary", "c_s=-1..5"],
+            vec![
+                "--vary c_s=-1..5",
+                "outside the accepted range",
+                "[0, 1000000]",
+            ],
+        ),
+        (
+            vec!["--vary", "toe_deg=0.05..0.4", "--objective", "wer"],
+            vec![
+                "unknown objective `wer`",
+                "did you mean `wear`",
+                "weighted sum",
+            ],
+        ),
+        (
+            vec!["--vary", "toe_deg=0.05..0.4", "--wheel", "worse"],
+            vec!["unknown wheel `worse`", "worst"],
+        ),
+        (
+            vec!["--vary", "toe_deg=0.05..0.4", "--vary", "toe_deg=0.1..0.2"],
+            vec!["names toe_deg twice"],
+        ),
+        (
+            vec![
+                "--vary",
+                "toe_deg=0.05..0.4",
+                "--constraint",
+                "pressure_kpa>=230",
+            ],
+            vec!["--constraint `pressure_kpa>=230`", "not varied"],
+        ),
+        (
+            vec![
+                "--vary",
+                "toe_deg=0.05..0.4",
+                "--constraint",
+                "vibration<=2",
+            ],
+            vec!["--constraint `vibration<=2`", "[0, 1]"],
+        ),
+        (
+            vec![
+                "--vary",
+                "toe_deg=0.05..0.4",
+                "--constraint",
+                "toe_deg>=0.5",
+            ],
+            vec!["--constraint `toe_deg>=0.5`", "empty box"],
+        ),
+        (
+            vec!["--vary", "toe_deg=0.05..0.4", "--samples", "0"],
+            vec!["--samples `0`"],
+        ),
+    ];
+    if !wear {
+        cases.push((
+            vec!["--vary", "toe_deg=0.05..0.4"],
+            vec![
+                "--objective wear",
+                "distance_to_visible_km",
+                "--objective vibration",
+            ],
+        ));
+    }
+    for (k, (flags, words)) in cases.iter().enumerate() {
+        let out = dir.join(format!("out{k}"));
+        let mut args = vec!["optimize", STUDY];
+        if !flags.contains(&"--samples") {
+            args.extend(["--samples", "100"]);
+        }
+        args.extend(flags.iter().copied());
+        // Every case but the refusal of wear minimises vibration.
+        let wear_case = words.contains(&"distance_to_visible_km");
+        if !flags.contains(&"--objective") && !wear_case {
+            args.extend(["--objective", "vibration"]);
+        }
+        args.extend(["--quiet", "--out", out.to_str().unwrap()]);
+        let (code, _, stderr) = polywear(&args);
+        assert_eq!(code, 2, "{flags:?}: {stderr}");
+        for w in words {
+            assert!(stderr.contains(w), "{flags:?}: `{w}` not in {stderr}");
+        }
+        assert!(!out.exists(), "{flags:?}: work started");
+    }
+}

@@ -1,0 +1,445 @@
+//! What-if scenarios: the baseline's rows are those of the study without scenarios, bit for
+//! bit; a scenario is the same draw with its changes, so a change that changes nothing differs
+//! by exactly zero and a `set` equals a separate run with that value; threads, shards and resume
+//! give the same rows; pairing narrows the interval of a small change; every refusal.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use crate::common::{self, polywear};
+use crate::parquet_rows::rows;
+
+fn tmp(name: &str) -> PathBuf {
+    let d = common::fresh_dir(&format!("scenarios-{name}"));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Writes `study` as `dir/name.toml` and explores it into `dir/name`; returns the output.
+fn explore(dir: &Path, name: &str, study: &str, extra: &[&str]) -> PathBuf {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, study).unwrap();
+    let out = dir.join(name);
+    let mut args = vec![
+        "explore",
+        "--quiet",
+        "--no-report",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let (code, _, stderr) = polywear(&args);
+    assert_eq!(code, 0, "{stderr}");
+    out
+}
+
+/// Two variants, three chunks, a drawn structure parameter that is not an operating axis.
+const BASE: &str = r#"name = "base"
+seed = 11
+samples = 240
+chunk_size = 100
+variants = ["sliding_share", "paper"]
+[params]
+speed_kmh = { dist = "uniform", min = 60, max = 250 }
+toe_deg = { dist = "uniform", min = 0.1, max = 0.5 }
+g_mod = { dist = "lognormal", median = 0.8557e6, sigma = 0.05 }
+pressure_kpa = 240
+"#;
+
+const SCENARIOS: &str = r#"
+[scenarios.toe_in]
+toe_deg = { shift = -0.05 }
+g_mod = { scale = 1.1 }
+
+[scenarios."+20 kPa"]
+pressure_kpa = { set = 260 }
+
+[scenarios.nothing]
+toe_deg = { scale = 1 }
+"#;
+
+/// Every row of the chunk files in `dir`, in file and row order: (column, value as text), the
+/// text of a float exact (shortest round trip).
+fn table(dir: &Path) -> Vec<Vec<(String, String)>> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "parquet"))
+        .collect();
+    files.sort();
+    let mut out = Vec::new();
+    for f in files {
+        let reader =
+            parquet::file::reader::SerializedFileReader::new(std::fs::File::open(&f).unwrap())
+                .unwrap();
+        for row in parquet::file::reader::FileReader::get_row_iter(&reader, None).unwrap() {
+            out.push(
+                row.unwrap()
+                    .get_column_iter()
+                    .map(|(k, v)| (k.clone(), v.to_string()))
+                    .collect(),
+            );
+        }
+    }
+    out
+}
+
+fn value<'a>(row: &'a [(String, String)], column: &str) -> &'a str {
+    &row.iter().find(|(k, _)| k == column).unwrap().1
+}
+
+/// The rows of scenario `name` (quoted as the Parquet text writes it), without the column.
+fn of_scenario(rows: &[Vec<(String, String)>], name: &str) -> Vec<Vec<(String, String)>> {
+    rows.iter()
+        .filter(|r| value(r, "scenario") == format!("{name:?}"))
+        .map(|r| r.iter().filter(|(k, _)| k != "scenario").cloned().collect())
+        .collect()
+}
+
+#[test]
+fn the_baseline_is_the_plain_run_bit_for_bit_and_scenarios_change_their_draws_only() {
+    let dir = tmp("baseline");
+    let plain = explore(&dir, "plain", BASE, &[]);
+    let with = explore(&dir, "with", &format!("{BASE}{SCENARIOS}"), &[]);
+    let (plain_rows, with_rows) = (table(&plain), table(&with));
+    assert_eq!(plain_rows.len(), 240 * 4);
+    assert_eq!(with_rows.len(), 240 * 4 * 4);
+    assert!(plain_rows[0].iter().all(|(k, _)| k != "scenario"));
+    // Compared whole, but not printed whole: a mismatch would print thousands of rows.
+    assert!(of_scenario(&with_rows, "baseline") == plain_rows);
+    // A scenario that changes nothing gives the baseline's rows.
+    assert!(of_scenario(&with_rows, "nothing") == plain_rows);
+    // The same draws with the changes: toe-in and g_mod moved, speed kept.
+    let toe_in = of_scenario(&with_rows, "toe_in");
+    for (b, s) in plain_rows.iter().zip(&toe_in) {
+        let num = |r: &[(String, String)], c: &str| value(r, c).parse::<f64>().unwrap();
+        assert_eq!(value(b, "sample_id"), value(s, "sample_id"));
+        assert_eq!(num(b, "speed_kmh"), num(s, "speed_kmh"));
+        assert_eq!(num(s, "toe_deg"), num(b, "toe_deg") - 0.05);
+        assert_eq!(num(s, "g_mod"), num(b, "g_mod") * 1.1);
+    }
+    // The footers say what the scenarios are; the plain run's say nothing of them.
+    let footer = |dir: &Path| -> BTreeMap<String, String> {
+        let reader = parquet::file::reader::SerializedFileReader::new(
+            std::fs::File::open(dir.join("chunk-0000000.parquet")).unwrap(),
+        )
+        .unwrap();
+        parquet::file::reader::FileReader::metadata(&reader)
+            .file_metadata()
+            .key_value_metadata()
+            .unwrap()
+            .iter()
+            .map(|kv| (kv.key.clone(), kv.value.clone().unwrap_or_default()))
+            .collect()
+    };
+    assert!(!footer(&plain).contains_key("scenarios"));
+    let scenarios = &footer(&with)["scenarios"];
+    assert!(
+        scenarios.contains(r#""toe_deg":{"shift":-0.05}"#),
+        "{scenarios}"
+    );
+}
+
+#[test]
+fn threads_shards_and_resume_give_the_same_rows_with_scenarios() {
+    let dir = tmp("shards");
+    let study = format!("{BASE}{SCENARIOS}");
+    let whole = table(&explore(&dir, "whole", &study, &["--threads", "2"]));
+    assert!(table(&explore(&dir, "one", &study, &["--threads", "1"])) == whole);
+    let s0 = explore(&dir, "s0", &study, &["--shard", "0/2"]);
+    let s1 = explore(&dir, "s1", &study, &["--shard", "1/2"]);
+    let mut sharded = table(&s0);
+    sharded.extend(table(&s1));
+    let key = |r: &Vec<(String, String)>| value(r, "sample_id").parse::<i64>().unwrap();
+    sharded.sort_by_key(key);
+    let mut sorted = whole.clone();
+    sorted.sort_by_key(key);
+    assert!(sharded == sorted);
+    // A lost chunk is redone on resume, with the same rows.
+    let resumed = dir.join("one");
+    std::fs::remove_file(resumed.join("chunk-0000001.parquet")).unwrap();
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        "--quiet",
+        "--no-report",
+        "--resume",
+        "--out",
+        resumed.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(table(&resumed) == whole);
+}
+
+/// The scenarios table of an analysis: (scenario, wheel, outcome) → row.
+fn effects(report: &Path) -> BTreeMap<(String, String, String), BTreeMap<String, String>> {
+    let text = std::fs::read_to_string(report.join("scenarios.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    lines
+        .map(|l| {
+            let m: BTreeMap<String, String> = header
+                .iter()
+                .zip(l.split(','))
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect();
+            let key = (
+                m["scenario"].clone(),
+                m["wheel"].clone(),
+                m["outcome"].clone(),
+            );
+            (key, m)
+        })
+        .collect()
+}
+
+fn analyze(dir: &Path, extra: &[&str]) -> PathBuf {
+    let out = dir.join("_report");
+    let mut args = vec![
+        "analyze",
+        dir.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let (code, stdout, stderr) = polywear(&args);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("What the changes do"), "{stdout}");
+    out
+}
+
+#[test]
+fn a_set_equals_a_separate_run_and_nothing_differs_by_exactly_zero() {
+    let dir = tmp("separate");
+    let one_variant = BASE.replace(r#"["sliding_share", "paper"]"#, r#"["sliding_share"]"#);
+    let with = explore(&dir, "with", &format!("{one_variant}{SCENARIOS}"), &[]);
+    let at_260 = explore(
+        &dir,
+        "at260",
+        &one_variant.replace("pressure_kpa = 240", "pressure_kpa = 260"),
+        &[],
+    );
+    // The scenario's rows are the separate run's rows.
+    assert!(of_scenario(&table(&with), "+20 kPa") == table(&at_260));
+    let report = analyze(&with, &[]);
+    let e = effects(&report);
+    let separate =
+        std::fs::read_to_string(analyze_plain(&dir, &at_260).join("occurrence.csv")).unwrap();
+    let base = std::fs::read_to_string(report.join("occurrence.csv")).unwrap();
+    for wheel in ["follower", "driving"] {
+        let p = |occurrence: &str| -> f64 {
+            let header: Vec<&str> = occurrence.lines().next().unwrap().split(',').collect();
+            let col = header.iter().position(|h| *h == "p").unwrap();
+            let w = header.iter().position(|h| *h == "wheel").unwrap();
+            occurrence
+                .lines()
+                .skip(1)
+                .map(|l| l.split(',').collect::<Vec<_>>())
+                .find(|f| f[w] == wheel)
+                .unwrap()[col]
+                .parse()
+                .unwrap()
+        };
+        let row = &e[&("+20 kPa".to_string(), wheel.to_string(), "vibration".into())];
+        let num = |k: &str| row[k].parse::<f64>().unwrap();
+        assert_eq!(num("p_scenario"), p(&separate), "{wheel}");
+        assert_eq!(num("p_baseline"), p(&base), "{wheel}");
+        let difference = num("difference");
+        assert!(
+            (difference - (p(&separate) - p(&base))).abs() < 1e-15,
+            "{wheel}: {difference} vs {} - {}",
+            p(&separate),
+            p(&base)
+        );
+        let none = &e[&("nothing".to_string(), wheel.to_string(), "vibration".into())];
+        assert_eq!(none["difference"], "0", "{none:?}");
+        assert_eq!(
+            (&*none["only_baseline"], &*none["only_scenario"]),
+            ("0", "0")
+        );
+    }
+    let page = std::fs::read_to_string(report.join("report.md")).unwrap();
+    assert!(page.contains("## What the changes do"), "{page}");
+    assert!(page.contains("(no sample changes)"), "{page}");
+    assert!(report.join("scenarios.png").is_file());
+}
+
+fn analyze_plain(dir: &Path, run: &Path) -> PathBuf {
+    let out = dir.join("plain_report");
+    let (code, _, stderr) = polywear(&[
+        "analyze",
+        run.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    out
+}
+
+/// Toe-in −0.02° on the shipped study: the paired interval is at least three times narrower
+/// than two separate runs of the same size would give (pairing cancels the samples' spread).
+#[test]
+fn pairing_narrows_a_small_changes_interval_at_least_threefold() {
+    let dir = tmp("narrow");
+    let shipped = std::fs::read_to_string("studies/toe_and_pressure.toml").unwrap();
+    let study = shipped.split("\n[scenarios.").next().unwrap().to_string()
+        + "\n[scenarios.small]\ntoe_deg = { shift = -0.02 }\n";
+    let run = explore(&dir, "run", &study, &["--samples", "3000"]);
+    let e = effects(&analyze(&run, &[]));
+    let f = &e[&("small".to_string(), "follower".into(), "vibration".into())];
+    let num = |k: &str| f[k].parse::<f64>().unwrap();
+    let ratio = (num("unpaired_high") - num("unpaired_low"))
+        / (num("difference_high") - num("difference_low"));
+    assert!(
+        ratio >= 3.0,
+        "paired interval only {ratio:.2} times narrower: {f:?}"
+    );
+}
+
+/// A scenario study that must be refused: (what is changed, words the message must hold).
+const REFUSED: [(&str, &[&str]); 10] = [
+    (
+        "[scenarios.a]\ntoe = { shift = -0.1 }\n",
+        &["scenarios.a.toe", "did you mean `toe_deg`"],
+    ),
+    (
+        "[scenarios.a]\ntoe_deg = { shift = -0.2 }\n",
+        &[
+            "scenarios.a.toe_deg",
+            "(0, 10]",
+            "of this run's 50 samples",
+            "[0.1, 0.5] become [-0.1, 0.3]",
+        ],
+    ),
+    (
+        "[scenarios.a]\ntoe_deg = { shift = -0.1 }\n[scenarios.a]\nload_n = { set = 3000 }\n",
+        &["scenario `a` is used twice", "line 13"],
+    ),
+    ("[scenarios.a]\n", &["`scenarios.a` changes nothing"]),
+    (
+        "[scenarios.Baseline]\ntoe_deg = { shift = 0.1 }\n",
+        &["`Baseline` is used twice", "the study without changes"],
+    ),
+    (
+        "[scenarios.a]\ntoe_deg = { shift = 0.1, scale = 2 }\n",
+        &[
+            "scenarios.a.toe_deg",
+            "exactly one of set, shift, scale, cap",
+            "shift, scale",
+        ],
+    ),
+    (
+        "[scenarios.a]\ntoe_deg = { shfit = 0.1 }\n",
+        &["scenarios.a.toe_deg.shfit", "shift"],
+    ),
+    (
+        "[scenarios.a]\ntoe_deg = { scale = -1 }\n",
+        &["scenarios.a.toe_deg.scale", "must be positive"],
+    ),
+    (
+        "[scenarios.a]\npressure_kpa = { set = 5000 }\n",
+        &["scenarios.a.pressure_kpa.set", "(0, 2000]"],
+    ),
+    (
+        "[scenarios.a]\ng_mod = { scale = 1e5 }\n",
+        &[
+            "scenarios.a.g_mod",
+            "(0, 10000000000]",
+            "of this run's 50 samples",
+        ],
+    ),
+];
+
+#[test]
+fn bad_scenarios_are_refused_before_any_work_naming_the_key_and_range() {
+    let dir = tmp("refused");
+    let base = BASE.replace("samples = 240", "samples = 50");
+    for (k, (scenarios, words)) in REFUSED.iter().enumerate() {
+        let path = dir.join(format!("bad{k}.toml"));
+        std::fs::write(&path, format!("{base}{scenarios}")).unwrap();
+        let out = dir.join(format!("out{k}"));
+        let (code, _, stderr) = polywear(&[
+            "explore",
+            "--quiet",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{scenarios}: {stderr}");
+        for w in *words {
+            assert!(stderr.contains(w), "{scenarios}: `{w}` not in {stderr}");
+        }
+        assert!(!out.exists(), "{scenarios}: work started");
+    }
+}
+
+/// The wear comparison counts a visible polygon within the distance, from the rows' distance
+/// column: synthetic rows with known outcomes.
+#[test]
+fn the_wear_comparison_reads_the_distance_column() {
+    use polywear::analysis::rows::{scenario_pairs, OutcomeColumn};
+    use polywear::model::{Variant, Wheel};
+    use polywear::parquet_out::{write_table, Column};
+    let dir = tmp("wear");
+    let file = dir.join("chunk-0000000.parquet");
+    // Samples 0..4, follower only; (baseline distance, scenario distance, scenario class).
+    let cases = [
+        (10_000.0, 90_000.0, "stable"),           // 1 -> 0
+        (50_000.0, 20_000.0, "limit_cycle"),      // 0 -> 1
+        (f64::INFINITY, f64::INFINITY, "stable"), // 0 -> 0
+        (30_000.0, f64::NAN, "stable"),           // 1 -> unclassified (NaN)
+        (30_000.0, 30_000.0, "failed"),           // 1 -> unclassified (failed)
+    ];
+    let mut cols = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for (i, (b, s, class)) in cases.iter().enumerate() {
+        for (scenario, d, c) in [("baseline", *b, "stable"), ("s", *s, *class)] {
+            cols.0.push(i as i64);
+            cols.1.push(scenario.to_string());
+            cols.2.push(d);
+            cols.3.push(c.to_string());
+        }
+    }
+    let n = cols.0.len();
+    let columns = [
+        Column::i64("sample_id", "", cols.0),
+        Column::str("scenario", cols.1),
+        Column::str("variant", vec!["sliding_share".into(); n]),
+        Column::str("wheel", vec!["follower".into(); n]),
+        Column::str("class", cols.3),
+        Column::f64("distance_to_visible_km", "km", cols.2),
+    ];
+    write_table(&file, &columns, &[]).unwrap();
+    let outcome = OutcomeColumn::WithinKm {
+        column: "distance_to_visible_km",
+        km: 40_000.0,
+    };
+    let counts = scenario_pairs(&[file], 1000, &["s"], outcome).unwrap();
+    let key = |b, s| (0usize, Variant::SlidingShare, Wheel::Follower, b, s);
+    let expected: BTreeMap<_, u64> = [
+        (key(1, 0), 1),
+        (key(0, 1), 1),
+        (key(0, 0), 1),
+        (key(1, 2), 2),
+    ]
+    .into();
+    assert_eq!(counts, expected);
+}
+
+#[test]
+fn the_shipped_scenario_study_is_checked_against_its_own_samples() {
+    // Its toe-in is drawn within [0.21, 0.29]: toe-in -0.15° keeps every sample in range.
+    let dir = tmp("shipped");
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        "--quiet",
+        "--no-report",
+        "studies/toe_and_pressure.toml",
+        "--samples",
+        "20",
+        "--out",
+        dir.join("run").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let rows = rows(&dir.join("run/chunk-0000000.parquet"));
+    assert_eq!(rows.len(), 20 * 2 * 4);
+}
