@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use super::footer::{self, FileFooter};
-use super::severity::SEVERITY_QUANTITIES;
+use super::quantities::SEVERITY_QUANTITIES;
 use super::AnalysisError;
 use crate::explore::manifest::OperatingPointsRecord;
 use crate::explore::RunManifest;

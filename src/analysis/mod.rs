@@ -29,6 +29,7 @@ pub mod given_data;
 pub mod inputs;
 pub mod occurrence;
 pub mod paired;
+pub mod quantities;
 pub mod risk_map;
 pub mod robustness;
 pub mod rows;

@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 
-use super::markdown::{pct, rel};
+use super::words::{pct, rel};
 use super::Figures;
 use crate::analysis::given_data::FirstOrder;
 use crate::analysis::severity::{quantity, SEVERITY_FINE_BINS};

@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 
-use super::markdown::pct;
+use super::words::pct;
 use crate::analysis::fleet::{Fleet, FleetRow};
 use crate::analysis::Analysis;
 use crate::model::{Variant, Wheel};

@@ -4,10 +4,10 @@
 //! which parameters drive it. [`VIBRATION_DEFINITION`] says once what every probability is.
 
 use std::fmt::Write as _;
-use std::path::Path;
 
 use super::drivers::{drivers_section, robustness_section, severity_section};
 use super::fleet::fleet_section;
+use super::words::{pct, rel};
 use super::Figures;
 use crate::analysis::stats::format_p;
 use crate::analysis::Analysis;
@@ -19,21 +19,6 @@ pub const VIBRATION_DEFINITION: &str = "**P(vibration)** is the share of classif
     (stable, limit cycle or bistable) in which the wheel vibrates: its tread settles on a limit \
     cycle (self-excited vibration, the cause of polygonal wear) or is bistable (a kick puts it \
     on one). Rows that failed or have no traction are counted apart and left out.";
-
-/// A probability in percent with two decimals; "n/a" where there is no data.
-pub(crate) fn pct(p: f64) -> String {
-    if p.is_finite() {
-        format!("{:.2}%", 100.0 * p)
-    } else {
-        "n/a".into()
-    }
-}
-
-pub(crate) fn rel(path: &Path) -> String {
-    path.file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default()
-}
 
 /// The report page, showing `figures`.
 pub fn page(a: &Analysis, figures: &Figures) -> String {

@@ -8,6 +8,7 @@ pub mod fleet;
 pub mod markdown;
 pub mod scenarios;
 pub mod tables;
+mod words;
 
 use std::path::{Path, PathBuf};
 

@@ -10,12 +10,10 @@
 //! a change that takes any of the run's samples outside its parameter's accepted range, and says
 //! for how many.
 
-use std::collections::BTreeMap;
-
 use rayon::prelude::*;
-use serde::Deserialize;
 
 use super::error::ChangeOutOfRange;
+use super::schema::{ChangeSpec, ScenarioTables};
 use super::{Study, StudyError};
 use crate::params::{ParamId, Params};
 use crate::sampling::design::Design;
@@ -222,19 +220,6 @@ pub fn scenario_key(name: &str) -> String {
         format!("scenarios.{name:?}")
     }
 }
-
-/// One change as written: exactly one of the four keys.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct ChangeSpec {
-    set: Option<f64>,
-    shift: Option<f64>,
-    scale: Option<f64>,
-    cap: Option<f64>,
-}
-
-/// `[scenarios]` as written: scenario name → parameter → change.
-pub(super) type ScenarioTables = BTreeMap<String, BTreeMap<ParamId, ChangeSpec>>;
 
 /// The scenarios of a study file, checked (in name order, as TOML tables keep their keys).
 pub(super) fn scenarios(tables: &ScenarioTables) -> Result<Vec<Scenario>, StudyError> {

@@ -35,7 +35,7 @@ pub(super) struct StudyFile {
     accept_implausible: Option<bool>,
     pub(super) params: Option<BTreeMap<ParamId, ParamEntry>>,
     pub(super) operating_points: Option<OperatingPointsSection>,
-    pub(super) scenarios: Option<super::scenario::ScenarioTables>,
+    pub(super) scenarios: Option<ScenarioTables>,
 }
 
 /// `[operating_points]`: the file of measured rows and its weight column.
@@ -517,3 +517,17 @@ mod tests {
         }
     }
 }
+
+/// One change of a scenario as written (`[scenarios.NAME]`): exactly one of the four keys.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ChangeSpec {
+    pub(super) set: Option<f64>,
+    pub(super) shift: Option<f64>,
+    pub(super) scale: Option<f64>,
+    pub(super) cap: Option<f64>,
+}
+
+/// `[scenarios]` as written: scenario name → parameter → change.
+pub(super) type ScenarioTables =
+    std::collections::BTreeMap<String, std::collections::BTreeMap<ParamId, ChangeSpec>>;
