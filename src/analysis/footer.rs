@@ -220,7 +220,6 @@ fn id_statistics(
 /// re-evaluates it. A directory without a journal (a run of a polywear that kept none) is not
 /// verified.
 pub(super) fn verify_chunks(dir: &Path, files: &[PathBuf]) -> Result<(), AnalysisError> {
-    use rayon::prelude::*;
     if !dir.join(output_dir::JOURNAL).exists() {
         return Ok(());
     }
@@ -233,11 +232,17 @@ pub(super) fn verify_chunks(dir: &Path, files: &[PathBuf]) -> Result<(), Analysi
             Some((f, output_dir::chunk_index(name)?))
         })
         .collect();
-    let bad = chunks.par_iter().find_map_first(|(f, c)| {
-        let entry = journal.get(c);
+    let verify = |k: usize| {
+        let (f, c) = chunks[k];
+        let entry = journal.get(&c);
         let rows = entry.map_or(0, |e| e.rows);
-        output_dir::verify_chunk(f, entry, rows).map(|why| ((*f).clone(), why))
-    });
+        output_dir::verify_chunk(f, entry, rows).map(|why| (f.clone(), why))
+    };
+    let bad = crate::ensemble::solve(chunks.len(), verify, &crate::ensemble::Control::QUIET)
+        .all()
+        .into_iter()
+        .flatten()
+        .next();
     match bad {
         None => Ok(()),
         Some((path, why)) => Err(AnalysisError::Damaged {

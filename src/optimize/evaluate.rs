@@ -2,7 +2,7 @@
 //! same draws for every setting), both wheels classified as explore classifies a sample, and
 //! each sample's outcomes kept for the objective, the constraints and the paired differences.
 
-use rayon::prelude::*;
+use crate::ensemble::{self, Control};
 
 use super::objective::{Outcomes, Term, UNKNOWN};
 use super::search::{search, Value};
@@ -35,10 +35,8 @@ pub struct Progress<'a> {
 pub fn solve(problem: &Problem, progress: &Progress<'_>) -> Solution {
     let n = problem.samples as usize;
     let sampler = problem.study.sampler(problem.seed, problem.samples);
-    let base: Vec<Params> = (0..problem.samples)
-        .into_par_iter()
-        .map(|i| sampler.sample_with_row(i).0)
-        .collect();
+    let draw = |i: usize| sampler.sample_with_row(i as u64).0;
+    let base: Vec<Params> = ensemble::solve(n, draw, &Control::QUIET).all();
     let wear =
         problem.objective.uses_wear() || problem.constraints.iter().any(|c| c.term == Term::Wear);
     let mut settings: Vec<Setting> = Vec::new();
@@ -66,18 +64,19 @@ pub fn solve(problem: &Problem, progress: &Progress<'_>) -> Solution {
                     .collect()
             })
             .collect();
-        let outcomes: Vec<Outcomes> = (0..units.len() * n)
-            .into_par_iter()
-            .map(|j| {
-                let mut p = base[j % n];
-                for c in &changes[j / n] {
-                    p[c.param] = c.change.apply(p[c.param]);
-                }
-                let records = evaluate_params(&p, &[problem.variant], &problem.classifier);
-                (progress.done)(1);
-                outcomes_of(&records, wear.then_some(problem.within_km))
-            })
-            .collect();
+        let outcome = |j: usize| {
+            let mut p = base[j % n];
+            for c in &changes[j / n] {
+                p[c.param] = c.change.apply(p[c.param]);
+            }
+            let records = evaluate_params(&p, &[problem.variant], &problem.classifier);
+            outcomes_of(&records, wear.then_some(problem.within_km))
+        };
+        let control = Control {
+            progress: progress.done,
+            stop: &|| false,
+        };
+        let outcomes: Vec<Outcomes> = ensemble::solve(units.len() * n, outcome, &control).all();
         let mut out = Vec::with_capacity(units.len());
         for ((unit, values), o) in units.iter().zip(values).zip(outcomes.chunks(n)) {
             let objective = problem.objective.estimate(o);

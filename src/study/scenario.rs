@@ -10,8 +10,6 @@
 //! a change that takes any of the run's samples outside its parameter's accepted range, and says
 //! for how many.
 
-use rayon::prelude::*;
-
 use super::error::ChangeOutOfRange;
 use super::schema::{ChangeSpec, ScenarioTables};
 use super::{Study, StudyError};
@@ -415,12 +413,15 @@ impl Study {
     fn count_leaving(&self, change: ParamChange, seed: u64, samples: u64) -> u64 {
         let sampler = self.sampler(seed, samples);
         let spec = change.param.spec();
-        (0..samples)
-            .into_par_iter()
-            .filter(|&i| {
-                let x = sampler.sample_with_row(i).0[change.param];
-                spec.check(change.change.apply(x)).is_err()
-            })
+        let leaves = |i: usize| {
+            let x = sampler.sample_with_row(i as u64).0[change.param];
+            spec.check(change.change.apply(x)).is_err()
+        };
+        let control = crate::ensemble::Control::QUIET;
+        crate::ensemble::solve(samples as usize, leaves, &control)
+            .all()
+            .into_iter()
+            .filter(|&leaves| leaves)
             .count() as u64
     }
 
