@@ -35,4 +35,5 @@ pub mod study;
 pub mod table_input;
 pub mod toml_input;
 pub mod trajectory;
+pub mod wear;
 pub mod wording;

@@ -28,3 +28,4 @@ mod sampling;
 mod shooting_accuracy;
 mod sobol_design;
 mod talking;
+mod wear;
