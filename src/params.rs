@@ -256,19 +256,19 @@ define_params! {
         "Driven wheels sharing the drive force.";
     WearRateRef wear_rate_ref_mm_per_1000km: "w'_0", "mm/1000 km", 0.12, Published, Wear, 0.0, true, 10.0, false,
         "Even-wear rate of a tire at the reference point (tread-life figures, range 0.08..0.21).";
-    WearShareStraight wear_share_straight: "phi_s", "-", 1.0, FieldFitted, Wear, 0.0, true, 1.0, false,
+    WearShareStraight wear_share_straight: "phi_s", "-", 0.12, FieldFitted, Wear, 0.0, true, 1.0, false,
         "Share of the even wear that straight running with toe causes, the share the vibration couples to (1 = worst case).";
     FoundationFactor foundation_stiffness_factor: "E_c/G", "-", 3.0, Judgement, Wear, 0.0, false, 1000.0, false,
         "Tread foundation stiffness k_t = factor * G / h (3 = incompressible rubber; 0 switches the local pressure feedback off).";
     RadialStiffnessFactor radial_stiffness_factor: "k_r/k_r0", "-", 1.0, Judgement, Wear, 0.0, false, 100.0, false,
-        "Radial stiffness as a factor on the model's own tangent stiffness (dF_Z/d delta of step 1; 0 switches the load feedback off).";
+        "Radial stiffness as a factor on the model's own tangent stiffness dF_Z/d delta of step 1 (324.8 kN/m at the default point; 0 switches the load feedback off).";
     SeedRunoutUm seed_runout_um: "R^0", "um", 2.0, Judgement, Wear, 0.0, false, 1000.0, false,
         "Radius run-out of a new tire in every order, the seed a polygon grows from.";
     VisibleDepthMm visible_depth_mm: "d_visible", "mm", 0.5, Judgement, Wear, 0.0, true, 100.0, false,
         "Peak-to-valley depth at which a polygon counts as visible (heard).";
     LimitDepthMm limit_depth_mm: "d_limit", "mm", 1.5, Published, Wear, 0.0, true, 100.0, false,
         "Peak-to-valley depth of the service limit on radial run-out (at least visible_depth_mm).";
-    SpeedSpreadKmh speed_spread_kmh: "sigma_V", "km/h", 0.0, FieldFitted, Wear, 0.0, false, 100.0, false,
+    SpeedSpreadKmh speed_spread_kmh: "sigma_V", "km/h", 5.0, FieldFitted, Wear, 0.0, false, 100.0, false,
         "Standard deviation of the cruising speed around the operating point's speed (a normal spread).";
 }
 

@@ -3,7 +3,12 @@
 //! friction levels. One file per job: [`law`] (friction power, even wear, laying one revolution
 //! of wear onto the circumference), [`zone`] (where on the patch the wear goes, its kernels and
 //! transfers), [`feedback`] (the profile's action on the friction levels), [`calibration`] (the
-//! abradability γ, once per run), [`cycle`] (one sampled period of a limit cycle).
+//! abradability γ, once per run), [`cycle`] (one sampled period of a limit cycle). The
+//! per-sample estimator (MODEL.md#the-per-sample-estimator) builds on them: [`transfer`] (the
+//! response to ε at a state and at the equilibrium, as poles), [`periodic`] (the cycle's
+//! response, Floquet modes and harmonic balance), [`spread`] (exact means of poles over a normal
+//! speed spread), [`estimator`] (the growth of each order, the dominant one, the distance to a
+//! visible polygon).
 //!
 //! Conventions, everywhere in this module:
 //!
@@ -29,12 +34,17 @@
 pub mod calibration;
 pub mod cycle;
 mod error;
+pub mod estimator;
 pub mod feedback;
 pub mod law;
+pub mod periodic;
+pub mod spread;
+pub mod transfer;
 pub mod zone;
 
 pub use calibration::Calibration;
 pub use error::WearError;
+pub use estimator::{estimate, WearEstimate, WearInputs, WearSettings, WheelGrowth};
 pub use feedback::Feedback;
 pub use zone::{WearZone, ZoneGeometry};
 
