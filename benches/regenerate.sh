@@ -136,6 +136,13 @@ if want classifier-throughput; then
   cargo bench --quiet --bench classifier_throughput -- "$THROUGHPUT_N" 2>/dev/null | block
 fi
 
+if want wear-estimator; then
+  section "wear-estimator"
+  say "Command: \`cargo bench --bench wear -- $THROUGHPUT_N\` (both wheels of the default study classified without and with the per-sample wear estimator, interleaved, best of 2; the estimator's RHS evaluations per wheel by class)."
+  say ""
+  cargo bench --quiet --bench wear -- "$THROUGHPUT_N" 2>/dev/null | block
+fi
+
 if want chart; then
   section "chart"
   say "Command: \`cargo bench --bench chart -- $CRITERION\` (one speed × toe-in chart of both wheels beside a 200×200 eigenvalue grid of the same box; criterion: low, mean and high estimate)."

@@ -40,4 +40,5 @@ pub mod table_input;
 pub mod toml_input;
 pub mod trajectory;
 pub mod validation;
+pub mod wear;
 pub mod wording;

@@ -25,6 +25,15 @@ pub enum Provenance {
     /// variant (`studies/paper_targets.toml`): a reconstructed constant fitted continuously, or a
     /// decoded one whose lost-digit reading the fit chose, so every legible digit is kept.
     Fitted,
+    /// Taken from published data outside the paper (tread-life figures, service limits;
+    /// MODEL.md#wear-constants).
+    Published,
+    /// A modelling judgement with no measurement behind it, said so
+    /// (MODEL.md#wear-constants).
+    Judgement,
+    /// Fitted so that the wear stage reproduces field observations of polygonal wear
+    /// (MODEL.md#calibration-to-the-field).
+    FieldFitted,
 }
 
 impl Provenance {
@@ -35,6 +44,9 @@ impl Provenance {
             Provenance::Decoded => "decoded",
             Provenance::Reconstructed => "reconstructed",
             Provenance::Fitted => "fitted to both wheels' Table 3",
+            Provenance::Published => "published data",
+            Provenance::Judgement => "judgement",
+            Provenance::FieldFitted => "fitted to field observations",
         }
     }
 }
@@ -50,6 +62,9 @@ pub enum Group {
     Friction,
     /// Drag and rolling resistance (driving wheel only).
     Vehicle,
+    /// The wear stage (MODEL.md#step-10-wear-law to #step-12-feedback): wear rate, its
+    /// calibration share, stiffnesses of the feedback, seed, thresholds, speed spread.
+    Wear,
 }
 
 /// Static description of one parameter.
@@ -270,6 +285,22 @@ define_params! {
         None, "Wheels sharing the rolling resistance.";
     NDriven n_driven: "n_d", "-", 2.0, Reconstructed, Vehicle, 1.0, false, 64.0, true,
         None, "Driven wheels sharing the drive force.";
+    WearRateRef wear_rate_ref_mm_per_1000km: "w'_0", "mm/1000 km", 0.12, Published, Wear, 0.0, true, 10.0, false,
+        None, "Even-wear rate of a tire at the reference point (tread-life figures, range 0.08..0.21).";
+    WearShareStraight wear_share_straight: "phi_s", "-", 0.12, FieldFitted, Wear, 0.0, true, 1.0, false,
+        None, "Share of the even wear that straight running with toe causes, the share the vibration couples to (1 = worst case).";
+    FoundationFactor foundation_stiffness_factor: "E_c/G", "-", 3.0, Judgement, Wear, 0.0, false, 1000.0, false,
+        None, "Tread foundation stiffness k_t = factor * G / h (3 = incompressible rubber; 0 switches the local pressure feedback off).";
+    RadialStiffnessFactor radial_stiffness_factor: "k_r/k_r0", "-", 1.0, Judgement, Wear, 0.0, false, 100.0, false,
+        None, "Radial stiffness as a factor on the model's own tangent stiffness dF_Z/d delta of step 1 (324.8 kN/m at the default point; 0 switches the load feedback off).";
+    SeedRunoutUm seed_runout_um: "R^0", "um", 2.0, Judgement, Wear, 0.0, false, 1000.0, false,
+        None, "Radius run-out of a new tire in every order, the seed a polygon grows from.";
+    VisibleDepthMm visible_depth_mm: "d_visible", "mm", 0.5, Judgement, Wear, 0.0, true, 100.0, false,
+        None, "Peak-to-valley depth at which a polygon counts as visible (heard).";
+    LimitDepthMm limit_depth_mm: "d_limit", "mm", 1.5, Published, Wear, 0.0, true, 100.0, false,
+        None, "Peak-to-valley depth of the service limit on radial run-out (at least visible_depth_mm).";
+    SpeedSpreadKmh speed_spread_kmh: "sigma_V", "km/h", 5.0, FieldFitted, Wear, 0.0, false, 100.0, false,
+        None, "Standard deviation of the cruising speed around the operating point's speed (a normal spread).";
 }
 
 /// The reference constants R0 (MODEL.md#r0-and-the-shipped-defaults) where the shipped defaults
@@ -297,12 +328,14 @@ pub const OPERATING_AXES: [ParamId; 4] = [
 
 impl ParamId {
     /// The parameters tied together by [`Params::validate`]'s cross-parameter rules (μ_s ≤ μ_m,
-    /// n_d ≤ n_w): drawing one of them can make a sample inconsistent.
-    pub const CROSS_RULES: [ParamId; 4] = [
+    /// n_d ≤ n_w, d_visible ≤ d_limit): drawing one of them can make a sample inconsistent.
+    pub const CROSS_RULES: [ParamId; 6] = [
         ParamId::MuS,
         ParamId::MuM,
         ParamId::NDriven,
         ParamId::NWheels,
+        ParamId::VisibleDepthMm,
+        ParamId::LimitDepthMm,
     ];
 
     /// The parameter's row of the table: name, unit, default, accepted range.
@@ -470,6 +503,15 @@ impl Params {
                 ),
             });
         }
+        if self.visible_depth_mm > self.limit_depth_mm {
+            return Err(ParamError::Inconsistent {
+                message: format!(
+                    "parameter `visible_depth_mm` = {} must not exceed `limit_depth_mm` = {} (a polygon is visible before it reaches the service limit)",
+                    plain(self.visible_depth_mm, 12),
+                    plain(self.limit_depth_mm, 12)
+                ),
+            });
+        }
         Ok(())
     }
 
@@ -517,7 +559,7 @@ mod tests {
         for s in SPECS {
             assert_eq!(p.get(s.name), Some(s.default), "{}", s.name);
         }
-        assert_eq!(SPECS.len(), 26);
+        assert_eq!(SPECS.len(), 34);
         assert_eq!(ParamId::ALL.len(), SPECS.len());
     }
 
@@ -537,6 +579,7 @@ mod tests {
         }
         assert_eq!(p.speed_kmh, 0.5);
         assert_eq!(p.n_driven, 25.5);
+        assert_eq!(p.speed_spread_kmh, 33.5);
         assert_eq!(p[ParamId::GMod], p.g_mod);
     }
 
@@ -561,7 +604,10 @@ mod tests {
             }
         );
         assert!(e.to_string().contains("did you mean `speed_kmh`?"));
-        assert!(e.to_string().ends_with("n_wheels, n_driven"), "{e}");
+        assert!(
+            e.to_string().ends_with("limit_depth_mm, speed_spread_kmh"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -593,5 +639,19 @@ mod tests {
             ..Params::default()
         };
         assert!(p.validate().unwrap_err().to_string().contains("n_driven"));
+        let p = Params {
+            visible_depth_mm: 2.0,
+            ..Params::default()
+        };
+        let e = p.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("visible_depth_mm") && e.contains("limit_depth_mm"),
+            "{e}"
+        );
+        let p = Params {
+            visible_depth_mm: 1.5,
+            ..Params::default()
+        };
+        p.validate().unwrap();
     }
 }

@@ -1,13 +1,14 @@
-//! Enums written as names in files and on screen (wheel, variant, class, method, design), each
-//! declared through `named_enum!`. Their names come from one derive (strum: `EnumString`,
-//! `Display`, `IntoStaticStr`, `VariantNames` with `serialize_all = "snake_case"`), so the name
-//! written, the name parsed and the list of accepted names cannot drift apart; this module adds
-//! what the derive does not give: the refusal of an unknown name with the accepted ones, and
-//! serde by name.
+//! Enums written as names in files and on screen (wheel, variant, class, method, design, wear
+//! zone), each declared through `named_enum!`. Their names come from one derive (strum:
+//! `EnumString`, `Display`, `IntoStaticStr`, `VariantNames` with `serialize_all = "snake_case"`),
+//! so the name written, the name parsed and the list of accepted names cannot drift apart; this
+//! module adds what the derive does not give: the refusal of an unknown name with the closest
+//! and the accepted ones, and serde by name.
 
-/// A name that names no case of an enum written as text.
+/// A name that names no case of an enum written as text; its message suggests the closest
+/// accepted name, if one is close.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("unknown {kind} `{name}`; accepted: {}", accepted.join(", "))]
+#[error("unknown {kind} `{name}`;{hint} accepted: {}", accepted.join(", "), hint = crate::wording::did_you_mean(name, accepted.iter().copied()))]
 pub struct UnknownName {
     /// What the enum names ("class", "variant").
     pub kind: &'static str,
@@ -103,6 +104,7 @@ mod tests {
     use crate::classify::{Class, Method};
     use crate::model::{Variant, Wheel};
     use crate::sampling::design::Design;
+    use crate::wear::WearZone;
 
     /// The names written into Parquet files: they must never change.
     #[test]
@@ -126,6 +128,10 @@ mod tests {
             "random,lhs,sobol,grid,saltelli"
         );
         assert_eq!("latin_hypercube".parse(), Ok(Design::LatinHypercube));
+        assert_eq!(
+            names(&WearZone::ALL.map(WearZone::as_str)),
+            "trailing,whole_patch,whole_patch_uniform"
+        );
     }
 
     #[test]
@@ -168,12 +174,28 @@ mod tests {
             <Design as strum::VariantNames>::VARIANTS,
             Design::ALL.map(Design::as_str)
         );
+        assert_eq!(
+            <WearZone as strum::VariantNames>::VARIANTS,
+            WearZone::ALL.map(WearZone::as_str)
+        );
+        let e = "wholepatch".parse::<WearZone>().unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "unknown wear zone `wholepatch`; did you mean `whole_patch`? accepted: trailing, whole_patch, whole_patch_uniform"
+        );
         let e = "oscillating".parse::<Class>().unwrap_err().to_string();
         assert_eq!(
             e,
             "unknown class `oscillating`; accepted: stable, limit_cycle, bistable, no_traction, failed, standstill"
         );
         assert!("Stable".parse::<Class>().is_err(), "names are exact");
+        let e = "limit_cylce".parse::<Class>().unwrap_err().to_string();
+        assert!(
+            e.starts_with(
+                "unknown class `limit_cylce`; did you mean `limit_cycle`? accepted: stable"
+            ),
+            "{e}"
+        );
         let json = serde_json::to_string(&(Class::LimitCycle, Wheel::Driving)).unwrap();
         assert_eq!(json, r#"["limit_cycle","driving"]"#);
     }

@@ -1,7 +1,27 @@
 //! `polywear params`: every model parameter with unit, default, provenance, accepted range and
-//! plausible range.
+//! plausible range, and the wear zone, the one setting that is a category.
 
 use polywear::params::{ParamSpec, SPECS};
+use polywear::wear::WearZone;
+
+/// The wear zone's row: name, default, provenance, accepted names, meaning.
+fn wear_zone_row() -> [String; 5] {
+    let names = <WearZone as strum::VariantNames>::VARIANTS;
+    [
+        "wear_zone".into(),
+        WearZone::DEFAULT.as_str().into(),
+        "judgement".into(),
+        names.join(", "),
+        format!(
+            "Where on the contact patch the friction power wears the tread, a category: {}.",
+            WearZone::ALL
+                .iter()
+                .map(|z| format!("{} = {}", z.as_str(), z.description()))
+                .collect::<Vec<_>>()
+                .join("; ")
+        ),
+    ]
+}
 
 pub fn run(markdown: bool) {
     if markdown {
@@ -9,12 +29,12 @@ pub fn run(markdown: bool) {
         return;
     }
     println!(
-        "{:<14} {:<8} {:<8} {:>12}  {:<31} {:<22} {:<18} description",
+        "{:<28} {:<10} {:<10} {:>12}  {:<31} {:<22} {:<18} description",
         "name", "symbol", "unit", "default", "provenance", "accepted range", "plausible range"
     );
     for s in SPECS {
         println!(
-            "{:<14} {:<8} {:<8} {:>12}  {:<31} {:<22} {:<18} {}",
+            "{:<28} {:<10} {:<10} {:>12}  {:<31} {:<22} {:<18} {}",
             s.name,
             s.symbol,
             s.unit,
@@ -25,6 +45,11 @@ pub fn run(markdown: bool) {
             s.description
         );
     }
+    let [name, default, provenance, accepted, meaning] = wear_zone_row();
+    println!(
+        "{name:<28} {:<10} {:<10} {default:>12}  {provenance:<31} {accepted:<22} {:<18} {meaning}",
+        "-", "category", "-"
+    );
 }
 
 /// The parameter table as Markdown (MODEL.md#parameter-table embeds exactly this; tests/integration/docs.rs
@@ -46,6 +71,10 @@ pub fn markdown_table() -> String {
             s.description
         ));
     }
+    let [name, default, provenance, accepted, meaning] = wear_zone_row();
+    out.push_str(&format!(
+        "| `{name}` | - | category | {default} | {provenance} | {accepted} | - | {meaning} |\n"
+    ));
     out
 }
 

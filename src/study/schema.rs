@@ -331,8 +331,8 @@ impl StudyFile {
 }
 
 /// The cross-parameter rules of [`Params::validate`] that order two parameters, as (the one
-/// that must not exceed, the other, why): μ_s ≤ μ_m and n_d ≤ n_w.
-pub(super) const ORDERED_PAIRS: [(ParamId, ParamId, &str); 2] = [
+/// that must not exceed, the other, why): μ_s ≤ μ_m, n_d ≤ n_w and d_visible ≤ d_limit.
+pub(super) const ORDERED_PAIRS: [(ParamId, ParamId, &str); 3] = [
     (
         ParamId::MuS,
         ParamId::MuM,
@@ -342,6 +342,11 @@ pub(super) const ORDERED_PAIRS: [(ParamId, ParamId, &str); 2] = [
         ParamId::NDriven,
         ParamId::NWheels,
         "a vehicle drives at most all its wheels",
+    ),
+    (
+        ParamId::VisibleDepthMm,
+        ParamId::LimitDepthMm,
+        "a polygon is visible before it reaches the service limit",
     ),
 ];
 

@@ -324,8 +324,9 @@ struct Fixtures {
     explore_out: String,
 }
 
-fn fixtures() -> Fixtures {
-    let dir = common::fresh_dir("fuzz-cli");
+/// The fixtures in a folder of their own (`name`): tests that run at once must not share it.
+fn fixtures(name: &str) -> Fixtures {
+    let dir = common::fresh_dir(name);
     std::fs::create_dir_all(&dir).unwrap();
     let write = |name: &str, text: &str| -> String {
         let p = dir.join(name);
@@ -568,7 +569,7 @@ fn command_line(rng: &mut Rng, fx: &Fixtures, case: usize) -> Vec<String> {
 
 #[test]
 fn command_lines_never_panic_or_hang_and_refusals_name_what_they_refuse() {
-    let fx = fixtures();
+    let fx = fixtures("fuzz-cli");
     let mut rng = Rng(2014);
     let t0 = Instant::now();
     let (mut ok, mut refused) = (0, 0);
@@ -674,7 +675,7 @@ fn every_numeric_field_of_a_targets_file_or_a_table_takes_hostile_values_without
 
 #[test]
 fn links_devices_and_damaged_chunks_never_panic_or_hang() {
-    let fx = fixtures();
+    let fx = fixtures("fuzz-links");
     let dir = &fx.dir;
     let fifo = dir.join("fifo");
     let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();

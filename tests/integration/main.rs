@@ -33,3 +33,4 @@ mod scenarios;
 mod shooting_accuracy;
 mod sobol_design;
 mod talking;
+mod wear;

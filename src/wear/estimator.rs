@@ -1,0 +1,402 @@
+//! Level B, the per-sample estimator (MODEL.md#the-per-sample-estimator): for one wheel after
+//! its verdict, the closed-loop growth rate of every profile order near the tread frequency,
+//! averaged over the speed spread; the order that grows fastest, and the distance at which it
+//! becomes visible.
+//!
+//! A profile harmonic R_n forces ε = Re\[e_n R_n e^{inΩt}\] (step 12); the tread's power
+//! answers with δP/P̄ = G(iω_n) ε at ω_n = nΩ, which the zone lays back onto order n through
+//! conj(H_w(n)); each element also wears in proportion to its own pressure. Per metre:
+//!
+//! ```text
+//! β_n = −w′ Re[κ(1 − |H_w|²) + G(iω_n) conj(H_w) e_n] − (1 − φ_s) w′₀ κ.
+//! ```
+//!
+//! G is the equilibrium's transfer for a stable wheel (no integration) and the cycle's periodic
+//! linearisation for a vibrating one (one period integrated again, about 200 RHS evaluations).
+//! Over the speed spread the wheel's linearisation at the sample's speed is kept and ω_n moves
+//! with the speed: the mean over the normal spread is then exact pole by pole.
+
+use super::calibration::{wear_rate_ref_m_per_m, Calibration};
+use super::cycle::{SampledCycle, SAMPLES_PER_PERIOD};
+use super::feedback::Feedback;
+use super::law::{even_wear_m_per_m, MM_PER_1000KM_PER_M_PER_M, PER_1000KM_PER_PER_M};
+use super::periodic::CycleResponse;
+use super::transfer::{equilibrium_expansion, Linearisation, PoleExpansion};
+use super::zone::WearZone;
+use super::{Complex64, WearError};
+use crate::classify::budget::Meter;
+use crate::classify::{Class, WheelVerdict};
+use crate::model::{ModelFailure, WheelModel};
+use crate::params::Params;
+
+/// A share of the spread inside the tongue below which the locked print is left out (its
+/// effect on β̄ is below this share of the locked growth).
+const NEGLIGIBLE_LOCKED_SHARE: f64 = 1e-6;
+
+/// Orders evaluated on either side of ν: ⌊ν⌋ − this … ⌈ν⌉ + this.
+pub const ORDERS_AROUND_NU: u32 = 2;
+
+/// The wear stage's settings that are categories, not numbers (the numbers are parameters).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct WearSettings {
+    /// Where the friction power wears the tread.
+    pub zone: WearZone,
+}
+
+impl Default for WearZone {
+    fn default() -> Self {
+        WearZone::DEFAULT
+    }
+}
+
+/// What the estimator needs about one wheel.
+#[derive(Debug, Clone, Copy)]
+pub struct WearInputs<'a> {
+    /// The sample's parameters (operating point, tire, wear constants).
+    pub params: &'a Params,
+    /// Steps 1–8 for the wheel, or why there is no model.
+    pub model: &'a Result<WheelModel, ModelFailure>,
+    /// The classifier's verdict (step 9).
+    pub verdict: &'a WheelVerdict,
+    /// The wear zone.
+    pub settings: &'a WearSettings,
+    /// The run's abradability.
+    pub calibration: &'a Calibration,
+}
+
+/// The closed-loop growth of one profile order.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct OrderGrowth {
+    /// The order n (sides of the polygon).
+    pub order: u32,
+    /// δ_n = ν − n \[revolutions⁻¹\].
+    pub detuning_rev: f64,
+    /// β̄_n, the growth rate over the speed spread \[1/1000 km\] (> 0: grows).
+    pub growth_rate_per_1000km: f64,
+    /// The part of β̄_n that passes through the tread's dynamics, −w′ Re\[Ḡ conj(H_w) e_n\]
+    /// \[1/1000 km\]: what the patch filter acts on twice.
+    pub regenerative_per_1000km: f64,
+    /// Half-width of the speed band around the order's lock where a vibrating wheel's cycle
+    /// locks to a seed-sized polygon \[km/h\] (0 for a stable wheel).
+    pub lock_halfwidth_kmh: f64,
+    /// The share of the speed spread inside that band, where the order grows by the locked
+    /// print instead of the linear loop.
+    pub locked_share: f64,
+}
+
+/// The estimator's figures for one wheel (MODEL.md#wear-columns); NaN where undefined.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct WearEstimate {
+    /// w′ at the point \[mm/1000 km\] (φ_s·w′₀ at the reference point).
+    pub wear_even_mm_per_1000km: f64,
+    /// The order with the largest β̄_n (NaN where undefined).
+    pub polygon_order_dominant: f64,
+    /// Its detuning δ = ν − n.
+    pub detuning_rev: f64,
+    /// Its β̄_n \[1/1000 km\].
+    pub growth_rate_per_1000km: f64,
+    /// Distance to a polygon of depth d_visible peak-to-valley, cruising at this point with
+    /// this speed spread \[km\]; +inf if every order levels out.
+    pub distance_to_visible_km: f64,
+    /// φ_s used.
+    pub wear_calibration_share: f64,
+    /// λ_lev = w′ κ, the levelling of straight running \[1/1000 km\].
+    pub levelling_per_1000km: f64,
+    /// λ_other = (1 − φ_s) w′₀ κ, the levelling of all other wear \[1/1000 km\].
+    pub levelling_other_per_1000km: f64,
+    /// Every order evaluated, lowest first.
+    pub orders: Vec<OrderGrowth>,
+    /// Why the figures are NaN; empty otherwise.
+    pub reason: String,
+}
+
+impl WearEstimate {
+    /// The estimate of a wheel with no figures.
+    pub fn undefined(share: f64, reason: String) -> Self {
+        let nan = f64::NAN;
+        WearEstimate {
+            wear_even_mm_per_1000km: nan,
+            polygon_order_dominant: nan,
+            detuning_rev: nan,
+            growth_rate_per_1000km: nan,
+            distance_to_visible_km: nan,
+            wear_calibration_share: share,
+            levelling_per_1000km: nan,
+            levelling_other_per_1000km: nan,
+            orders: Vec::new(),
+            reason,
+        }
+    }
+}
+
+/// How the wheel answers ε: its transfer as poles, its power, ν, and the phase coupling.
+#[derive(Debug, Clone, PartialEq)]
+struct Response {
+    transfer: PoleExpansion,
+    mean_power_w: f64,
+    nu: f64,
+    phase_coupling_s: f64,
+    power_harmonic_rel: f64,
+}
+
+fn response(inputs: &WearInputs, meter: &Meter) -> Result<Response, WearError> {
+    let (p, v) = (inputs.params, inputs.verdict);
+    let model = inputs
+        .model
+        .as_ref()
+        .map_err(|f| WearError::NoModel(f.to_string()))?;
+    let ode = &model.ode;
+    let r = match v.class {
+        Class::Stable => {
+            let lin = Linearisation::at(ode, &ode.equilibrium());
+            let transfer = equilibrium_expansion(ode, &lin).ok_or(WearError::NoEigenbasis)?;
+            Response {
+                transfer,
+                mean_power_w: lin.power_w,
+                nu: v.eig_freq_hz / WheelModel::rotation_hz(p),
+                phase_coupling_s: 0.0,
+                power_harmonic_rel: 0.0,
+            }
+        }
+        Class::LimitCycle | Class::Bistable => {
+            let cycle = SampledCycle::integrate(ode, v, SAMPLES_PER_PERIOD, meter)?;
+            let r = CycleResponse::of(ode, &cycle, meter)?;
+            Response {
+                transfer: r.transfer,
+                mean_power_w: r.mean_power_w,
+                nu: v.polygon_order,
+                phase_coupling_s: r.phase_coupling_s,
+                power_harmonic_rel: r.power_harmonic_rel,
+            }
+        }
+        Class::NoTraction | Class::Failed | Class::Standstill => {
+            return Err(WearError::NoModel(format!("{}: {}", v.class, v.reason)))
+        }
+    };
+    if r.nu.is_finite() && r.nu > 0.0 && r.mean_power_w > 0.0 {
+        Ok(r)
+    } else {
+        Err(WearError::NoModel(format!(
+            "no tread frequency or no power (ν = {}, P̄ = {} W)",
+            r.nu, r.mean_power_w
+        )))
+    }
+}
+
+/// The orders evaluated around ν: ⌊ν⌋ − 2 … ⌈ν⌉ + 2, from 1 up.
+pub fn orders_around(nu: f64) -> std::ops::RangeInclusive<u32> {
+    let lo = (nu.floor() - ORDERS_AROUND_NU as f64).max(1.0) as u32;
+    let hi = (nu.ceil() + ORDERS_AROUND_NU as f64).max(lo as f64) as u32;
+    lo..=hi
+}
+
+/// One wheel's closed loop, ready to give the growth of any order: its response to ε, its even
+/// wear and the feedback at its operating point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WheelGrowth {
+    response: Response,
+    feedback: Feedback,
+    /// w′ per unit φ_s \[m/m\] (γ ∝ φ_s).
+    even_per_share: f64,
+    /// w′₀ κ \[1/m\]: λ_other per unit (1 − φ_s).
+    other_per_share: f64,
+    speed_mps: f64,
+    r_b: f64,
+    seed_m: f64,
+    visible_m: f64,
+    share: f64,
+    spread_mps: f64,
+}
+
+impl WheelGrowth {
+    /// The loop of one wheel (see [`estimate`] for what it costs).
+    pub fn new(inputs: &WearInputs, meter: &Meter) -> Result<Self, WearError> {
+        let p = inputs.params;
+        let response = response(inputs, meter)?;
+        let model = inputs
+            .model
+            .as_ref()
+            .map_err(|f| WearError::NoModel(f.to_string()))?;
+        let feedback = Feedback::new(p, model, inputs.settings.zone);
+        let gamma_per_share = inputs.calibration.gamma_m3_per_j(&Params {
+            wear_share_straight: 1.0,
+            ..*p
+        });
+        let even_per_share = even_wear_m_per_m(
+            gamma_per_share,
+            response.mean_power_w,
+            model.patch.width_m,
+            p.speed_mps(),
+            p.r_b,
+        );
+        Ok(WheelGrowth {
+            other_per_share: wear_rate_ref_m_per_m(p) * feedback.local_per_m,
+            response,
+            feedback,
+            even_per_share,
+            speed_mps: p.speed_mps(),
+            r_b: p.r_b,
+            seed_m: p.seed_runout_um * 1e-6,
+            visible_m: p.visible_depth_mm * 1e-3,
+            share: p.wear_share_straight,
+            spread_mps: p.speed_spread_kmh / 3.6,
+        })
+    }
+
+    /// ν = f/f_rot.
+    pub fn nu(&self) -> f64 {
+        self.response.nu
+    }
+
+    /// The even wear w′ at the sample's φ_s \[m/m\].
+    pub fn even_wear_m_per_m(&self) -> f64 {
+        self.share * self.even_per_share
+    }
+
+    /// κ = k_t/p₀ \[1/m\].
+    pub fn local_per_m(&self) -> f64 {
+        self.feedback.local_per_m
+    }
+
+    /// The growth of order `order` at the sample's φ_s and speed spread.
+    pub fn order(&self, order: u32) -> OrderGrowth {
+        self.order_with(order, self.share, self.spread_mps)
+    }
+
+    /// The growth of order `order` with φ_s = `share` and a speed spread of `spread_mps`
+    /// \[m/s\]: β_n = φ_s·B_n(σ_V) − (1 − φ_s) w′₀ κ, B_n the loop at φ_s = 1, over the share
+    /// of the spread where a vibrating wheel's cycle is not locked to a seed-sized polygon of
+    /// this order; where it is, the order grows by the locked print
+    /// (MODEL.md#growth-of-a-vibrating-wheel).
+    pub fn order_with(&self, order: u32, share: f64, spread_mps: f64) -> OrderGrowth {
+        let n = order as f64;
+        let r = &self.response;
+        let fb = &self.feedback;
+        let v = self.speed_mps;
+        let h = fb.zone.transfer(n, self.r_b);
+        let e_n = fb.forcing_per_radius(n);
+        // The cycle locks to a seed-sized polygon within |δ| ≤ δ_L = ν |e_n R⁰| |ĝ₋₁|, the speed
+        // band ±V δ_L / n around V_n = V ν / n (ν ∝ 1/V at a fixed tread frequency).
+        let lock_rev = r.nu * e_n.norm() * self.seed_m * r.phase_coupling_s;
+        let lock_mps = v * lock_rev / n;
+        let lock_speed_mps = v * r.nu / n;
+        let kappa = fb.local_per_m;
+        let even = share * self.even_per_share;
+        let other = (1.0 - share) * self.other_per_share;
+        // β of the linear loop for the forcing's mean transfer g.
+        let linear = |g: Complex64| {
+            let through_tread = g * h.conj() * e_n;
+            let gain = Complex64::new(kappa * (1.0 - h.norm_sqr()), 0.0) + through_tread;
+            (-even * gain.re - other, -even * through_tread.re)
+        };
+        let (mut beta, regenerative) =
+            linear(r.transfer.mean_over_speed(n, self.r_b, v, spread_mps));
+        // Inside the tongue the order grows by the locked print instead of the linear loop:
+        // over the share of the spread there, the loop's own mean over the band (uniform, the
+        // spread's density taken as flat across it) is replaced; with no spread, the whole.
+        let locked_share = band_share(lock_speed_mps, lock_mps, v, spread_mps);
+        if locked_share > NEGLIGIBLE_LOCKED_SHARE {
+            let in_band = if spread_mps > 0.0 {
+                let band = r.transfer.mean_over_band(
+                    n,
+                    self.r_b,
+                    lock_speed_mps - lock_mps,
+                    lock_speed_mps + lock_mps,
+                );
+                linear(band).0
+            } else {
+                beta
+            };
+            let locked = self.locked_print_per_m(even, h.norm()) - other;
+            beta += locked_share * (locked - in_band);
+        }
+        OrderGrowth {
+            order,
+            detuning_rev: r.nu - n,
+            growth_rate_per_1000km: beta * PER_1000KM_PER_PER_M,
+            regenerative_per_1000km: regenerative * PER_1000KM_PER_PER_M,
+            lock_halfwidth_kmh: lock_mps * 3.6,
+            locked_share,
+        }
+    }
+
+    /// The locked print as a growth rate \[1/m\]: a cycle locked to the order prints its power
+    /// harmonic on it every revolution, D_n rising by 2 w′ |H_w| |P₁|/P̄ per metre from the seed
+    /// 2R⁰; the rate that reaches d_visible at the same distance.
+    fn locked_print_per_m(&self, even: f64, gain: f64) -> f64 {
+        let rise = 2.0 * even * gain * self.response.power_harmonic_rel;
+        let (seed, visible) = (2.0 * self.seed_m, self.visible_m);
+        if rise <= 0.0 || seed <= 0.0 {
+            return 0.0;
+        }
+        if visible <= seed {
+            return f64::INFINITY;
+        }
+        (visible / seed).ln() * rise / (visible - seed)
+    }
+}
+
+/// The share of speeds normal around `mean_mps` (deviation `spread_mps`) within ±`half_mps` of
+/// `centre_mps`; with no spread, 1 inside the band and 0 outside.
+fn band_share(centre_mps: f64, half_mps: f64, mean_mps: f64, spread_mps: f64) -> f64 {
+    if half_mps <= 0.0 {
+        return 0.0;
+    }
+    if spread_mps <= 0.0 {
+        return if (mean_mps - centre_mps).abs() <= half_mps {
+            1.0
+        } else {
+            0.0
+        };
+    }
+    let cdf = |x: f64| 0.5 * libm::erfc(-(x - mean_mps) / (std::f64::consts::SQRT_2 * spread_mps));
+    cdf(centre_mps + half_mps) - cdf(centre_mps - half_mps)
+}
+
+/// The estimator for one wheel. Adds no RHS evaluation to a stable wheel; a vibrating one
+/// spends one period of its cycle with the variational equations and one linearisation per
+/// sample, charged to `meter` (about 210 evaluations). A wheel without a model, or whose cycle
+/// cannot be integrated, gets NaN with the reason.
+pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
+    let p = inputs.params;
+    let share = p.wear_share_straight;
+    let growth = match WheelGrowth::new(inputs, meter) {
+        Ok(g) => g,
+        Err(e) => return WearEstimate::undefined(share, e.to_string()),
+    };
+    let orders: Vec<OrderGrowth> = orders_around(growth.nu())
+        .map(|n| growth.order(n))
+        .collect();
+    let Some(top) = orders.iter().copied().max_by(|a, b| {
+        a.growth_rate_per_1000km
+            .total_cmp(&b.growth_rate_per_1000km)
+    }) else {
+        return WearEstimate::undefined(share, "no order to evaluate".into());
+    };
+    let even = growth.even_wear_m_per_m();
+    WearEstimate {
+        wear_even_mm_per_1000km: even * MM_PER_1000KM_PER_M_PER_M,
+        polygon_order_dominant: top.order as f64,
+        detuning_rev: top.detuning_rev,
+        growth_rate_per_1000km: top.growth_rate_per_1000km,
+        distance_to_visible_km: distance_to_visible_km(p, top.growth_rate_per_1000km),
+        wear_calibration_share: share,
+        levelling_per_1000km: even * growth.local_per_m() * PER_1000KM_PER_PER_M,
+        levelling_other_per_1000km: (1.0 - share) * growth.other_per_share * PER_1000KM_PER_PER_M,
+        orders,
+        reason: String::new(),
+    }
+}
+
+/// s* = ln(d_visible / (2R⁰)) / β \[km\] for a growing order (0 if the seed is already
+/// visible), +inf for one that levels out or has no seed to grow from.
+pub fn distance_to_visible_km(p: &Params, growth_per_1000km: f64) -> f64 {
+    if growth_per_1000km.is_nan() {
+        return f64::NAN;
+    }
+    let seed_mm = 2.0 * p.seed_runout_um * 1e-3;
+    if growth_per_1000km <= 0.0 || seed_mm <= 0.0 {
+        return f64::INFINITY;
+    }
+    ((p.visible_depth_mm / seed_mm).ln().max(0.0) / growth_per_1000km) * 1000.0
+}
