@@ -14,7 +14,7 @@ use polywear::classify::budget::Meter;
 use polywear::classify::{classify_point_hinted, Class, ClassifierOptions};
 use polywear::model::{Variant, Wheel};
 use polywear::study::{Study, DEFAULT_STUDY};
-use polywear::wear::{estimate, Calibration, WearInputs, WearSettings};
+use polywear::wear::{estimate, WearInputs, WearSettings};
 
 fn main() {
     let samples: u64 = std::env::args()
@@ -25,7 +25,7 @@ fn main() {
     let study = Study::parse(DEFAULT_STUDY).expect("the shipped default study parses");
     let sampler = study.sampler(study.seed, samples);
     let opts = ClassifierOptions::default();
-    let cal = Calibration::at_reference(&study.base, Variant::SlidingShare, &opts)
+    let cal = polywear::evaluate::calibrate_wear(&study.base, Variant::SlidingShare, &opts)
         .expect("the reference point calibrates");
     let settings = WearSettings::default();
     // Per sample: (class, RHS evaluations of the estimator) of both wheels.

@@ -66,8 +66,12 @@ type Loop = (Params, Wheel, WheelGrowth);
 
 /// The highway followers with excessive toe-in, and the default study's wheels, with their loops.
 fn populations(base: &Params, samples: u64) -> (Vec<Loop>, Vec<Loop>) {
-    let cal = Calibration::at_reference(base, Variant::SlidingShare, &ClassifierOptions::default())
-        .expect("reference point");
+    let cal = polywear::evaluate::calibrate_wear(
+        base,
+        Variant::SlidingShare,
+        &ClassifierOptions::default(),
+    )
+    .expect("reference point");
     let highway: Vec<Loop> = [0.40, 0.45, 0.50]
         .iter()
         .flat_map(|&toe| [100.0, 110.0, 120.0].map(|v| (toe, v)))
@@ -206,9 +210,12 @@ fn spread_error() {
         wear_share_straight: 1.0,
         ..Params::default()
     };
-    let cal =
-        Calibration::at_reference(&base, Variant::SlidingShare, &ClassifierOptions::default())
-            .expect("reference point");
+    let cal = polywear::evaluate::calibrate_wear(
+        &base,
+        Variant::SlidingShare,
+        &ClassifierOptions::default(),
+    )
+    .expect("reference point");
     println!("point | sigma_V | order | estimator | per-speed mean | difference");
     for (speed, toe) in [(70.0, 0.3), (100.0, 0.3), (100.0, 0.45), (130.0, 0.3)] {
         let p0 = Params {

@@ -5,15 +5,21 @@
 //! points calls [`solve`]; a stage after the classifier is added here, and in no other place
 //! (ARCHITECTURE.md#how-to-add-a-stage-after-the-classifier).
 //!
+//! The wear stage (MODEL.md#the-per-sample-estimator) runs after the classifier when the problem
+//! carries a [`WearStage`]: the run's calibration and settings, computed once per run by
+//! [`WearStage::for_run`] from the reference follower, itself evaluated here.
+//!
 //! Two cases are the evaluator's own, not its callers': a parameter set that breaks a rule tying
 //! parameters together (μ_s ≤ μ_m, n_d ≤ n_w) is a `failed` row per wheel with the reason, and a
 //! speed of 0 is a standstill row per wheel (no sliding, no tread dynamics).
 
+use crate::classify::budget::Meter;
 use crate::classify::WheelVerdict;
 use crate::classify::{classify_point_hinted, Class, ClassifierOptions, CycleHint, Method};
 use crate::model::{ModelFailure, Variant, Wheel, WheelModel};
 use crate::params::Params;
-use crate::records::WheelRecord;
+use crate::records::{WearRecord, WheelRecord};
+use crate::wear::{self, Calibration, WearError, WearEstimate, WearInputs, WearSettings};
 
 /// One operating point to evaluate.
 #[derive(Debug, Clone, Copy)]
@@ -31,6 +37,47 @@ pub struct PointProblem<'a> {
     /// its shooting from the last cycle found at this point (the follower's for the driving
     /// wheel), which saves Newton iterations.
     pub previous: &'a [Option<CycleHint>],
+    /// The wear stage after the classifier; `None` leaves it out (no wear columns).
+    pub wear: Option<&'a WearStage>,
+}
+
+/// The wear stage of a run: its settings and the abradability calibrated once for the run's
+/// nominal tire (MODEL.md#step-10-wear-law).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct WearStage {
+    /// The wear zone.
+    #[serde(flatten)]
+    pub settings: WearSettings,
+    /// γ from the reference follower.
+    pub calibration: Calibration,
+}
+
+impl WearStage {
+    /// The stage of a run whose nominal tire is `base`: the reference follower evaluated on the
+    /// one road under `variant`, then its calibration.
+    pub fn for_run(
+        base: &Params,
+        variant: Variant,
+        settings: WearSettings,
+        options: &ClassifierOptions,
+    ) -> Result<Self, WearError> {
+        Ok(WearStage {
+            settings,
+            calibration: calibrate_wear(base, variant, options)?,
+        })
+    }
+}
+
+/// The wear calibration of a run whose nominal tire is `base`: its reference follower
+/// ([`wear::calibration::reference_params`]) evaluated on the one road, without a wear stage.
+pub fn calibrate_wear(
+    base: &Params,
+    variant: Variant,
+    options: &ClassifierOptions,
+) -> Result<Calibration, WearError> {
+    let reference = wear::calibration::reference_params(base);
+    let w = solve_wheel(reference, variant, Wheel::Follower, options);
+    Calibration::of_reference(base, &w.model, &w.verdict, options.budget)
 }
 
 impl<'a> PointProblem<'a> {
@@ -42,7 +89,13 @@ impl<'a> PointProblem<'a> {
             wheels: &Wheel::BOTH,
             options,
             previous: &[],
+            wear: None,
         }
+    }
+
+    /// The same point with the wear stage after the classifier (or without it, for `None`).
+    pub fn with_wear(self, wear: Option<&'a WearStage>) -> Self {
+        PointProblem { wear, ..self }
     }
 
     /// The point for one variant and one wheel.
@@ -58,6 +111,7 @@ impl<'a> PointProblem<'a> {
             wheels: std::slice::from_ref(wheel),
             options,
             previous: &[],
+            wear: None,
         }
     }
 
@@ -80,6 +134,8 @@ pub struct WheelSolution {
     pub record: WheelRecord,
     /// This wheel's cycle as a starting guess for a neighbouring point (none without a cycle).
     pub hint: Option<CycleHint>,
+    /// The wear stage's estimate, when the problem has the stage (also in `record.wear`).
+    pub wear: Option<WearEstimate>,
 }
 
 /// What a point came to: one [`WheelSolution`] per (variant, wheel), in
@@ -109,7 +165,9 @@ pub fn solve(problem: &PointProblem<'_>) -> PointSolution {
     if p.speed_kmh == 0.0 {
         let wheels = order
             .into_iter()
-            .map(|(variant, wheel)| standstill(p, wheel, variant))
+            .map(|(variant, wheel)| {
+                standstill(p, wheel, variant).with_wear_estimate(problem.wear, p, problem.options)
+            })
             .collect();
         return PointSolution { wheels };
     }
@@ -120,7 +178,11 @@ pub fn solve(problem: &PointProblem<'_>) -> PointSolution {
             .map(|(variant, wheel)| {
                 let verdict = WheelVerdict::from_model_failure(&failure);
                 let model = Err(failure.clone());
-                without_ode(p, wheel, variant, model, verdict)
+                without_ode(p, wheel, variant, model, verdict).with_wear_estimate(
+                    problem.wear,
+                    p,
+                    problem.options,
+                )
             })
             .collect();
         return PointSolution { wheels };
@@ -140,7 +202,9 @@ pub fn solve(problem: &PointProblem<'_>) -> PointSolution {
                 verdict,
                 record,
                 hint,
+                wear: None,
             }
+            .with_wear_estimate(problem.wear, p, problem.options)
         })
         .collect();
     PointSolution { wheels }
@@ -172,6 +236,37 @@ fn without_ode(
         verdict,
         record,
         hint: None,
+        wear: None,
+    }
+}
+
+impl WheelSolution {
+    /// Runs the wear stage on this wheel (nothing without a stage): the estimate, charged to a
+    /// meter of its own within the classifier's budget, goes into the solution and its row. A
+    /// standstill wheel runs no distance: its figures are NaN with the reason.
+    fn with_wear_estimate(
+        mut self,
+        stage: Option<&WearStage>,
+        p: &Params,
+        options: &ClassifierOptions,
+    ) -> Self {
+        let Some(stage) = stage else { return self };
+        let meter = Meter::new(options.budget);
+        let estimate = if self.verdict.class == Class::Standstill {
+            WearEstimate::undefined(p.wear_share_straight, self.verdict.reason.clone())
+        } else {
+            let inputs = WearInputs {
+                params: p,
+                model: &self.model,
+                verdict: &self.verdict,
+                settings: &stage.settings,
+                calibration: &stage.calibration,
+            };
+            wear::estimate(&inputs, &meter)
+        };
+        self.record.wear = Some(WearRecord::of(&estimate, meter.used()));
+        self.wear = Some(estimate);
+        self
     }
 }
 

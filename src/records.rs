@@ -13,6 +13,7 @@ use crate::classify::{Class, Method, WheelVerdict};
 use crate::model::{ModelFailure, Variant, Wheel, WheelModel};
 use crate::params::Params;
 use crate::parquet_out::Column;
+use crate::wear::WearEstimate;
 
 /// How a column is stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -76,27 +77,54 @@ macro_rules! str_cell {
 }
 str_cell!(Wheel, Variant, Class, Method, String);
 
-/// Declares [`WheelRecord`], [`RecordColumn`], [`RECORD_COLUMNS`] and [`record_columns`] from one
-/// table, so that a field, its column, its unit and its meaning cannot drift apart.
+/// Declares a row type, its typed column ids, its column table and its columns writer from one
+/// table, so that a field, its column, its unit and its meaning cannot drift apart. Fields after
+/// `extra` are carried by the row but are not its columns.
 macro_rules! define_record {
-    ($( $id:ident $field:ident : $ty:ty, $kind:ident, $unit:literal, $meaning:literal; )*) => {
-        /// One row. Wheel, variant, class and method are the enums themselves; they become their
-        /// names only when written (Parquet, CSV, JSON).
+    (
+        $(#[$sattr:meta])* struct $row:ident;
+        $(#[$eattr:meta])* enum $column:ident;
+        $(#[$cattr:meta])* const $table:ident;
+        $(#[$fattr:meta])* fn $writer:ident;
+        extra { $( $(#[$xattr:meta])* $xfield:ident : $xty:ty, )* }
+        $( $id:ident $field:ident : $ty:ty, $kind:ident, $unit:literal, $meaning:literal; )*
+    ) => {
+        $(#[$sattr])*
         #[derive(Debug, Clone, PartialEq, Serialize)]
-        pub struct WheelRecord { $( #[doc = $meaning] pub $field: $ty, )* }
+        pub struct $row {
+            $( #[doc = $meaning] pub $field: $ty, )*
+            $( $(#[$xattr])* pub $xfield: $xty, )*
+        }
 
-        /// A column of [`WheelRecord`], typed: the analysis names columns by these.
+        $(#[$eattr])*
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-        pub enum RecordColumn { $( #[doc = $meaning] $id, )* }
+        pub enum $column { $( #[doc = $meaning] $id, )* }
 
-        /// Every record column, in field (and file) order.
-        pub const RECORD_COLUMNS: &[ColumnSpec] = &[ $( ColumnSpec {
+        $(#[$cattr])*
+        pub const $table: &[ColumnSpec] = &[ $( ColumnSpec {
             name: stringify!($field), unit: $unit, kind: ColumnKind::$kind, meaning: $meaning,
         }, )* ];
 
-        /// The rows as typed columns with units, in field order.
-        pub fn record_columns(rows: &[WheelRecord]) -> Vec<Column> {
+        $(#[$fattr])*
+        fn $writer(rows: &[$row]) -> Vec<Column> {
             vec![ $( define_record!(@col $kind, rows, $field, $unit), )* ]
+        }
+
+        impl $column {
+            /// The column's row of its table.
+            pub const fn spec(self) -> &'static ColumnSpec {
+                &$table[self as usize]
+            }
+
+            /// The column's name in the files.
+            pub const fn name(self) -> &'static str {
+                self.spec().name
+            }
+
+            /// The column's unit.
+            pub const fn unit(self) -> &'static str {
+                self.spec().unit
+            }
         }
     };
     (@col F64, $rows:expr, $field:ident, $unit:literal) => {
@@ -111,6 +139,20 @@ macro_rules! define_record {
 }
 
 define_record! {
+    /// One row. Wheel, variant, class and method are the enums themselves; they become their
+    /// names only when written (Parquet, CSV, JSON).
+    struct WheelRecord;
+    /// A column of [`WheelRecord`], typed: the analysis names columns by these.
+    enum RecordColumn;
+    /// Every record column, in field (and file) order.
+    const RECORD_COLUMNS;
+    /// The rows' own columns, without the wear stage's.
+    fn core_columns;
+    extra {
+        /// The wear stage's figures ([`WEAR_COLUMNS`]), when the evaluation ran it.
+        #[serde(flatten)]
+        wear: Option<WearRecord>,
+    }
     Wheel wheel: Wheel, Str, "", "The wheel: follower (free rolling) or driving.";
     Variant variant: Variant, Str, "", "The friction variant (MODEL.md#variants).";
     SpeedKmh speed_kmh: f64, F64, "km/h", "Vehicle speed V.";
@@ -142,21 +184,70 @@ define_record! {
     Reason reason: String, Str, "", "Why the class is failed, no_traction or standstill; empty otherwise.";
 }
 
-impl RecordColumn {
-    /// The column's row of [`RECORD_COLUMNS`].
-    pub const fn spec(self) -> &'static ColumnSpec {
-        &RECORD_COLUMNS[self as usize]
+define_record! {
+    /// The wear stage's figures for one wheel (MODEL.md#wear-columns): the per-sample
+    /// estimator's, NaN where undefined (never 0 for unknown), with the reason.
+    struct WearRecord;
+    /// A column of [`WearRecord`], typed.
+    enum WearColumn;
+    /// The wear stage's columns, written after [`RECORD_COLUMNS`] when the stage ran.
+    const WEAR_COLUMNS;
+    /// The wear rows' columns.
+    fn wear_columns;
+    extra {}
+    WearEvenMmPer1000km wear_even_mm_per_1000km: f64, F64, "mm/1000km", "Even wear rate w' at the point (MODEL.md#step-10-wear-law).";
+    PolygonOrderDominant polygon_order_dominant: f64, F64, "-", "The profile order that grows fastest over the speed spread (NaN where undefined).";
+    DetuningRev detuning_rev: f64, F64, "-", "Its detuning nu - n from the tread frequency, in orders per revolution.";
+    GrowthRatePer1000km growth_rate_per_1000km: f64, F64, "1/1000km", "Its closed-loop growth rate beta (> 0: the polygon grows; < 0: it levels out).";
+    DistanceToVisibleKm distance_to_visible_km: f64, F64, "km", "Cruising distance at the point, with the speed spread, until the polygon is visible_depth_mm deep; inf when every order levels out.";
+    WearLockedShare wear_locked_share: f64, F64, "-", "Share of the speed spread inside the dominant order's lock-in band (0 for a stable wheel).";
+    WearCalibrationShare wear_calibration_share: f64, F64, "-", "phi_s, the share of the reference wear that straight running couples to (field-fitted).";
+    WearRhsEvals wear_rhs_evals: u64, I64, "", "Right-hand-side evaluations the wear stage spent on the wheel (0 for a stable one).";
+    WearReason wear_reason: String, Str, "", "Why the wear figures are NaN; empty otherwise.";
+}
+
+impl WearRecord {
+    /// The row of an estimate that spent `rhs_evals` evaluations.
+    pub fn of(e: &WearEstimate, rhs_evals: u64) -> Self {
+        let dominant = e
+            .orders
+            .iter()
+            .find(|o| o.order as f64 == e.polygon_order_dominant);
+        WearRecord {
+            wear_even_mm_per_1000km: e.wear_even_mm_per_1000km,
+            polygon_order_dominant: e.polygon_order_dominant,
+            detuning_rev: e.detuning_rev,
+            growth_rate_per_1000km: e.growth_rate_per_1000km,
+            distance_to_visible_km: e.distance_to_visible_km,
+            wear_locked_share: dominant.map_or(f64::NAN, |o| o.locked_share),
+            wear_calibration_share: e.wear_calibration_share,
+            wear_rhs_evals: rhs_evals,
+            wear_reason: e.reason.clone(),
+        }
     }
 
-    /// The column's name in the files.
-    pub const fn name(self) -> &'static str {
-        self.spec().name
+    /// The row of a wheel the stage did not reach (a row of a run without the stage mixed into
+    /// one with it): every figure NaN.
+    fn missing() -> Self {
+        WearRecord::of(
+            &WearEstimate::undefined(f64::NAN, "the wear stage did not run".into()),
+            0,
+        )
     }
+}
 
-    /// The column's unit.
-    pub const fn unit(self) -> &'static str {
-        self.spec().unit
+/// The rows as typed columns with units: the record columns in field order, then the wear
+/// stage's when any row carries them.
+pub fn record_columns(rows: &[WheelRecord]) -> Vec<Column> {
+    let mut cols = core_columns(rows);
+    if rows.iter().any(|r| r.wear.is_some()) {
+        let wear: Vec<WearRecord> = rows
+            .iter()
+            .map(|r| r.wear.clone().unwrap_or_else(WearRecord::missing))
+            .collect();
+        cols.extend(wear_columns(&wear));
     }
+    cols
 }
 
 /// The sample's index in a batch run, the first column of explore's chunks.
@@ -240,6 +331,7 @@ impl WheelRecord {
             rhs_evals: verdict.rhs_evals,
             method: verdict.method,
             reason: verdict.reason.clone(),
+            wear: None,
         }
     }
 }
@@ -251,6 +343,7 @@ pub fn columns_markdown() -> String {
     for c in [SAMPLE_ID, OPERATING_POINT_ROW]
         .iter()
         .chain(RECORD_COLUMNS)
+        .chain(WEAR_COLUMNS)
     {
         let unit = if c.unit.is_empty() { "" } else { c.unit };
         out.push_str(&format!(

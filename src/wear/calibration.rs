@@ -16,8 +16,8 @@ use super::cycle::{SampledCycle, SAMPLES_PER_PERIOD};
 use super::error::WearError;
 use super::law::equilibrium_power_w;
 use crate::classify::budget::Meter;
-use crate::classify::{classify, Class, ClassifierOptions};
-use crate::model::{Variant, Wheel, WheelModel};
+use crate::classify::{Class, WheelBudget, WheelVerdict};
+use crate::model::{ModelFailure, WheelModel};
 use crate::params::{ParamId, Params, OPERATING_AXES};
 
 /// The reference point's friction energy, from which γ follows for any φ_s and w′₀.
@@ -34,12 +34,15 @@ pub struct Calibration {
 }
 
 impl Calibration {
-    /// The calibration of a run whose nominal tire is `base` (its operating point is replaced
-    /// by the reference point), under `variant` (the follower is the same in every variant).
-    pub fn at_reference(
+    /// The calibration of a run whose nominal tire is `base`, from its reference follower's
+    /// model and verdict at [`reference_params`]`(base)` (the caller evaluates that point on the
+    /// one road: `evaluate::calibrate_wear`). A vibrating reference spends one period of its
+    /// cycle again, within `budget`.
+    pub fn of_reference(
         base: &Params,
-        variant: Variant,
-        opts: &ClassifierOptions,
+        model: &Result<WheelModel, ModelFailure>,
+        verdict: &WheelVerdict,
+        budget: WheelBudget,
     ) -> Result<Self, WearError> {
         let p = reference_params(base);
         let refused = |class: Class, reason: String| WearError::Reference {
@@ -50,14 +53,15 @@ impl Calibration {
             load_n: p.load_n,
             pressure_kpa: p.pressure_kpa,
         };
-        let model = WheelModel::build(&p, Wheel::Follower, variant)
-            .map_err(|f| refused(Class::Failed, f.to_string()))?;
-        let verdict = classify(&model.ode, WheelModel::rotation_hz(&p), opts);
+        let model = match model {
+            Ok(m) => m,
+            Err(f) => return Err(refused(verdict.class, f.to_string())),
+        };
         let power_w = match verdict.class {
             Class::Stable => equilibrium_power_w(&model.ode),
             Class::LimitCycle | Class::Bistable => {
-                let meter = Meter::new(opts.budget);
-                SampledCycle::integrate(&model.ode, &verdict, SAMPLES_PER_PERIOD, &meter)
+                let meter = Meter::new(budget);
+                SampledCycle::integrate(&model.ode, verdict, SAMPLES_PER_PERIOD, &meter)
                     .map_err(|e| refused(verdict.class, e.to_string()))?
                     .mean_power_w(&model.ode, &meter)
             }

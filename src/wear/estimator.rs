@@ -37,9 +37,10 @@ const NEGLIGIBLE_LOCKED_SHARE: f64 = 1e-6;
 pub const ORDERS_AROUND_NU: u32 = 2;
 
 /// The wear stage's settings that are categories, not numbers (the numbers are parameters).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
 pub struct WearSettings {
     /// Where the friction power wears the tread.
+    #[serde(rename = "wear_zone")]
     pub zone: WearZone,
 }
 

@@ -11,7 +11,7 @@ use polywear::wear::calibration::reference_params;
 use polywear::wear::cycle::SampledCycle;
 use polywear::wear::law::{deposit_revolution, friction_force_n, friction_power_w};
 use polywear::wear::zone::{parabolic_gain, pressure_transfer, sinc};
-use polywear::wear::{Calibration, WearZone, ZoneGeometry};
+use polywear::wear::{WearZone, ZoneGeometry};
 
 /// R0 with the wear constants of these tests.
 fn r0(share: f64) -> Params {
@@ -92,7 +92,7 @@ fn even_wear_reproduces_its_calibration() {
     };
     for share in [1.0, 0.37] {
         let base = r0(share);
-        let cal = Calibration::at_reference(&base, Variant::SlidingShare, &opts).unwrap();
+        let cal = polywear::evaluate::calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
         let even_at = |p: &Params| {
             let (m, v) = classified(p, Wheel::Follower);
             let w = even_wear_m_per_m(
@@ -135,9 +135,12 @@ fn even_wear_reproduces_its_calibration() {
 #[test]
 fn wear_volume_is_gamma_times_the_energy() {
     let base = r0(1.0);
-    let cal =
-        Calibration::at_reference(&base, Variant::SlidingShare, &ClassifierOptions::default())
-            .unwrap();
+    let cal = polywear::evaluate::calibrate_wear(
+        &base,
+        Variant::SlidingShare,
+        &ClassifierOptions::default(),
+    )
+    .unwrap();
     let (m, v) = classified(&base, Wheel::Follower);
     let meter = Meter::new(ClassifierOptions::default().budget);
     let cycle = SampledCycle::integrate(&m.ode, &v, 64, &meter).unwrap();
@@ -228,7 +231,7 @@ use polywear::wear::{estimate, Complex64, WearEstimate, WearInputs, WearSettings
 /// The wheel's estimate and its loop, with R0's calibration for `base`.
 fn estimated(p: &Params, wheel: Wheel, zone: WearZone) -> (WearEstimate, WheelGrowth, u64) {
     let opts = ClassifierOptions::default();
-    let cal = Calibration::at_reference(p, Variant::SlidingShare, &opts).unwrap();
+    let cal = polywear::evaluate::calibrate_wear(p, Variant::SlidingShare, &opts).unwrap();
     let (m, v) = classify_point(p, wheel, Variant::SlidingShare, &opts);
     let settings = WearSettings { zone };
     let inputs = WearInputs {
@@ -378,7 +381,7 @@ fn estimator_work_is_bounded() {
 #[test]
 fn undefined_wheels_are_nan() {
     let opts = ClassifierOptions::default();
-    let cal = Calibration::at_reference(&r0(1.0), Variant::SlidingShare, &opts).unwrap();
+    let cal = polywear::evaluate::calibrate_wear(&r0(1.0), Variant::SlidingShare, &opts).unwrap();
     let no_traction = Params {
         c_d: 5.0,
         area: 50.0,
@@ -563,7 +566,7 @@ fn driving_against_follower_growth_is_measured() {
     let samples = 300;
     let sampler = study.sampler(study.seed, samples);
     let opts = ClassifierOptions::default();
-    let cal = Calibration::at_reference(&base, Variant::SlidingShare, &opts).unwrap();
+    let cal = polywear::evaluate::calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
     let (mut pairs, mut driving_le, mut both_visible_60k) = (0, 0, [0, 0]);
     for i in 0..samples {
         let (p, _) = sampler.sample(i);
@@ -614,7 +617,7 @@ fn speed_spread_mean_against_the_loops_at_each_speed() {
         ..Params::default()
     };
     let opts = ClassifierOptions::default();
-    let cal = Calibration::at_reference(&base, Variant::SlidingShare, &opts).unwrap();
+    let cal = polywear::evaluate::calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
     let growth = |p: &Params| {
         let (m, v) = classify_point(p, Wheel::Follower, Variant::SlidingShare, &opts);
         let inputs = WearInputs {
@@ -681,7 +684,7 @@ fn field_calibration_holds() {
     use polywear::study::{Study, DEFAULT_STUDY};
     let base = Params::default();
     let opts = ClassifierOptions::default();
-    let cal = Calibration::at_reference(&base, Variant::SlidingShare, &opts).unwrap();
+    let cal = polywear::evaluate::calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
     let estimate_at = |p: &Params, wheel: Wheel| {
         let (m, v) = classify_point(p, wheel, Variant::SlidingShare, &opts);
         let inputs = WearInputs {
