@@ -12,7 +12,7 @@ use crate::continuation::ParamBox;
 use crate::model::{Variant, Wheel};
 use crate::params::{ParamId, Params};
 use crate::parquet_out::{write_table, WriteError};
-use crate::plot::PlotError;
+use crate::plot::{FigureFile, FigureFormat, PlotError};
 
 /// Why a chart of the operating pairs was not written.
 #[derive(Debug, thiserror::Error)]
@@ -101,8 +101,8 @@ pub fn write_pairs(charts: &[PairChart], dir: &Path) -> Result<(Vec<PathBuf>, St
     );
     for chart in charts {
         let (req, stem) = (&chart.request, chart.stem());
-        let png = dir.join(format!("{stem}.png"));
-        draw(&png, req, &chart.curves, &chart.grids, None)?;
+        let picture = FigureFile::named(dir, &stem, FigureFormat::Png);
+        draw(&picture, req, &chart.curves, &chart.grids, None)?;
         let pq = dir.join(format!("{stem}.parquet"));
         let meta = vec![
             ("polywear_version".into(), env!("CARGO_PKG_VERSION").into()),
@@ -123,7 +123,7 @@ pub fn write_pairs(charts: &[PairChart], dir: &Path) -> Result<(Vec<PathBuf>, St
             inside(&chart.grids),
             onset(&chart.curves, req)
         );
-        files.push(png);
+        files.push(picture.path);
         files.push(pq);
     }
     let _ = writeln!(

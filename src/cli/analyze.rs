@@ -5,8 +5,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
+use polywear::plot::FigureFormat;
 
-use super::common::{CliError, CliResult, FigureFormat};
+use super::common::{CliError, CliResult};
 use polywear::analysis::inputs::check_inputs;
 use polywear::analysis::{Analysis, AnalysisError, AnalysisOptions};
 use polywear::params::ParamId;
@@ -50,7 +51,7 @@ pub struct AnalyzeArgs {
     #[arg(long, value_name = "KM", default_value_t = AnalysisOptions::DEFAULT_SCENARIO_WITHIN_KM, allow_negative_numbers = true, value_parser = parse_km)]
     pub scenario_within_km: f64,
     /// File type of the figures
-    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
     pub format: FigureFormat,
 }
 
@@ -123,7 +124,7 @@ pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
     };
     let render = RenderOptions {
         out_dir,
-        figure_format: args.format.ext(),
+        figure_format: args.format,
     };
     report(
         &args.inputs,

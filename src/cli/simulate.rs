@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::common::{
-    base_metadata, check_extension, check_out_file, BudgetArgs, CliError, CliResult, PointArgs,
-    WheelArg,
+    base_metadata, check_extension, check_out_file, figure_file, BudgetArgs, CliError, CliResult,
+    PointArgs, WheelArg,
 };
 use polywear::classify::{Class, ClassifierOptions};
 use polywear::evaluate;
@@ -87,10 +87,14 @@ pub fn run(args: &SimulateArgs) -> CliResult {
         check_extension(out, &["parquet", "csv"], "--out")?;
         check_out_file(out, "--out")?;
     }
-    if let Some(plot) = &args.plot {
-        check_extension(plot, &polywear::plot::backend::FORMATS, "--plot")?;
-        check_out_file(plot, "--plot")?;
-    }
+    let plot = match &args.plot {
+        Some(path) => {
+            let file = figure_file(path, "--plot")?;
+            check_out_file(path, "--plot")?;
+            Some(file)
+        }
+        None => None,
+    };
     let variant: Variant = args.point.variant.into();
     let opts = ClassifierOptions {
         kick_mps: args.kick,
@@ -129,10 +133,10 @@ pub fn run(args: &SimulateArgs) -> CliResult {
         write_series(out, &series, &p, variant)?;
         eprintln!("wrote time series to {}", out.display());
     }
-    if let Some(path) = &args.plot {
-        plot_point(path, &series, &records, args.sample_rate)
+    if let Some(file) = &plot {
+        plot_point(file, &series, &records, args.sample_rate)
             .map_err(|e| CliError(e.to_string()))?;
-        eprintln!("wrote plot to {}", path.display());
+        eprintln!("wrote plot to {}", file.path.display());
     }
     Ok(())
 }

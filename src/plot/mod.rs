@@ -1,5 +1,6 @@
-//! PNG figures with plotters: what the paper shows for one point (time history, phase portrait,
-//! spectrum: its Figs. 8–10) and bifurcation diagrams (its Figs. 6, 7, 12, ...).
+//! Figures with plotters, PNG or SVG ([`FigureFormat`]): what the paper shows for one point
+//! (time history, phase portrait, spectrum: its Figs. 8–10) and bifurcation diagrams (its Figs. 6,
+//! 7, 12, ...).
 
 use std::path::{Path, PathBuf};
 use std::sync::Once;
@@ -8,10 +9,12 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use backend::{FigureBackend, FigureBuffer};
+pub use format::{FigureFile, FigureFormat};
 
 pub mod backend;
 pub mod cycle;
 pub mod effects;
+mod format;
 pub mod maps;
 pub mod spectrum;
 pub mod surface;
@@ -326,16 +329,17 @@ pub fn format_tick(v: f64) -> String {
     }
 }
 
-/// A figure with a title, PNG or SVG by the extension of `path`; `draw` lays out and draws the
-/// area under the title.
+/// A figure with a title, drawn in the file's format and written to its path; `draw` lays out
+/// and draws the area under the title.
 pub fn figure(
-    path: &Path,
+    file: &FigureFile,
     size: (u32, u32),
     title: &str,
     draw: impl FnOnce(&DrawingArea<FigureBackend<'_>, plotters::coord::Shift>) -> Result<(), PlotError>,
 ) -> Result<(), PlotError> {
     ensure_font();
-    let mut buffer = FigureBuffer::new(path, size);
+    let path = file.path.as_path();
+    let mut buffer = FigureBuffer::new(file.format, size);
     {
         let root = buffer.backend().into_drawing_area();
         root.fill(&WHITE).map_err(|e| err(path, e))?;
@@ -351,7 +355,7 @@ pub fn figure(
 
 /// A figure of several panels laid out in a grid, each drawn by `draw`.
 pub fn panels(
-    path: &Path,
+    file: &FigureFile,
     size: (u32, u32),
     grid: (usize, usize),
     title: &str,
@@ -360,7 +364,7 @@ pub fn panels(
         &DrawingArea<FigureBackend<'_>, plotters::coord::Shift>,
     ) -> Result<(), PlotError>,
 ) -> Result<(), PlotError> {
-    figure(path, size, title, |area| {
+    figure(file, size, title, |area| {
         for (i, a) in area.split_evenly(grid).iter().enumerate() {
             draw(i, a)?;
         }

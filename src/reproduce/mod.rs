@@ -226,15 +226,15 @@ pub fn solve(request: &Request) -> Result<Reproduction, ReproduceError> {
     })
 }
 
-/// Regenerates the paper's analyses into `dir`, figures as `ext` (`png` or `svg`): [`solve`],
+/// Regenerates the paper's analyses into `dir`, figures in `format`: [`solve`],
 /// then [`write()`]. Returns the result and every file written.
 pub fn reproduce(
     request: &Request,
     dir: &Path,
-    ext: &str,
+    format: crate::plot::FigureFormat,
 ) -> Result<(Reproduction, Vec<PathBuf>), ReproduceError> {
     let result = solve(request)?;
-    let files = write(&result, dir, ext)?;
+    let files = write(&result, dir, format)?;
     Ok((result, files))
 }
 
