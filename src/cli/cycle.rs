@@ -9,7 +9,7 @@ use clap::Args;
 use super::common::{base_metadata, BudgetArgs, CliError, CliResult, VariantArg};
 use polywear::classify::ClassifierOptions;
 use polywear::cycle::output::{CycleRun, FleetDraw};
-use polywear::cycle::{classify_cycles, CycleError, DriveCycle};
+use polywear::cycle::{classify_cycles, CycleError, DriveCycle, StepWheel};
 use polywear::model::Variant;
 use polywear::params::{Group, ParamError, ParamId, Params};
 use polywear::sampling::design::Design;
@@ -379,6 +379,40 @@ fn said_about_study(
 }
 
 pub fn run(args: &CycleArgs) -> CliResult {
+    let request = resolve(args)?;
+    if !args.quiet {
+        for l in &request.structures.said {
+            println!("{l}");
+        }
+    }
+    let pool = super::common::thread_pool(args.threads)?;
+    let start = Instant::now();
+    let steps = pool.install(|| {
+        classify_cycles(
+            &request.cycle,
+            &request.structures.bases,
+            request.variant,
+            &request.opts,
+        )
+    });
+    let secs = start.elapsed().as_secs_f64();
+    write(args, request, steps, secs, pool.current_num_threads())
+}
+
+/// One `cycle`, checked: the drive cycle, the variant, the classifier's options, the tire
+/// structures (one, or a study's samples) and the outputs' metadata.
+struct CycleRequest {
+    cycle: DriveCycle,
+    variant: Variant,
+    opts: ClassifierOptions,
+    structures: Structures,
+    study: Option<Study>,
+    metadata: Vec<(String, String)>,
+}
+
+/// Every input checked before any work: `--out`, the budget, the cycle file and its
+/// plausibility, `--params` and `--set`, the study's structures, and every step's parameters.
+fn resolve(args: &CycleArgs) -> CliResult<CycleRequest> {
     if args.out.is_file() {
         return Err(CliError(format!(
             "--out {}: is a file; give a directory",
@@ -428,15 +462,32 @@ pub fn run(args: &CycleArgs) -> CliResult {
     cycle
         .check_steps(&structures.bases[0])
         .map_err(|e| CliError(e.to_string()))?;
-    if !args.quiet {
-        for l in &structures.said {
-            println!("{l}");
-        }
-    }
-    let pool = super::common::thread_pool(args.threads)?;
-    let start = Instant::now();
-    let steps = pool.install(|| classify_cycles(&cycle, &structures.bases, variant, &opts));
-    let secs = start.elapsed().as_secs_f64();
+    Ok(CycleRequest {
+        cycle,
+        variant,
+        opts,
+        structures,
+        study,
+        metadata,
+    })
+}
+
+/// The cycle's files in `--out`, then the summary and the files written (unless `--quiet`).
+fn write(
+    args: &CycleArgs,
+    request: CycleRequest,
+    steps: Vec<Vec<[StepWheel; 2]>>,
+    secs: f64,
+    threads: usize,
+) -> CliResult {
+    let CycleRequest {
+        cycle,
+        variant,
+        structures,
+        study,
+        metadata,
+        ..
+    } = request;
     let fleet = match (&study, structures.fleet_rows) {
         (Some(s), Some(rows)) => s
             .operating_points
@@ -458,7 +509,7 @@ pub fn run(args: &CycleArgs) -> CliResult {
         e => CliError(e.to_string()),
     })?;
     if !args.quiet {
-        print_summary(&run, secs, pool.current_num_threads());
+        print_summary(&run, secs, threads);
         for p in written {
             println!("  wrote {}", p.display());
         }
