@@ -93,7 +93,7 @@ pub struct HopfPoint {
 }
 
 /// l1 at the Hopf point where `param` = `x` (NaN where no model or no complex pair exists).
-pub fn l1_at(p: &Params, param: ParamId, x: f64, wheel: Wheel, variant: Variant) -> f64 {
+pub(crate) fn l1_at(p: &Params, param: ParamId, x: f64, wheel: Wheel, variant: Variant) -> f64 {
     let mut q = *p;
     q[param] = x;
     let Ok(m) = WheelModel::build(&q, wheel, variant) else {
@@ -108,7 +108,7 @@ pub fn l1_at(p: &Params, param: ParamId, x: f64, wheel: Wheel, variant: Variant)
 }
 
 /// Brent on Re λ between neighbouring sweep values whose signs differ, to 1e-6 relative.
-pub fn locate_hopf(
+pub(crate) fn locate_hopf(
     base: &Params,
     param: ParamId,
     jobs: &[(f64, Wheel)],

@@ -38,7 +38,7 @@ type Chart<'a, 'b> = ChartContext<
 
 /// The operating point a chart is drawn at, in words: each operating axis that is not one of
 /// the chart's own, "speed 100 km/h, toe-in 0.2 deg".
-pub fn fixed_operating_point(req: &ChartRequest) -> String {
+pub(crate) fn fixed_operating_point(req: &ChartRequest) -> String {
     crate::params::OPERATING_AXES
         .iter()
         .filter(|&&id| id != req.x && id != req.y)
@@ -283,7 +283,7 @@ fn draw_curves<'a, 'b: 'a>(
 
 /// The nominal operating point, in words: "nominal operating point (speed 100 km/h, toe-in
 /// 0.2 deg)", and whether it lies outside the box.
-pub fn nominal_label(req: &ChartRequest, inside: bool) -> String {
+pub(crate) fn nominal_label(req: &ChartRequest, inside: bool) -> String {
     let nom = req.nominal();
     let words = |id: crate::params::ParamId, v: f64| {
         format!(

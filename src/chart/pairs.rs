@@ -43,7 +43,7 @@ impl PairChart {
 }
 
 /// Traces the six charts of `axes` (name, from, to) taken two at a time, both wheels.
-pub fn solve_pairs(
+pub(crate) fn solve_pairs(
     base: &Params,
     variant: Variant,
     axes: &[(ParamId, f64, f64)],
@@ -82,7 +82,10 @@ pub fn solve_pairs(
 
 /// Draws the charts into `dir` as `chart_<x>_<y>.png` and `.parquet`; returns the files and
 /// the report's Markdown section.
-pub fn write_pairs(charts: &[PairChart], dir: &Path) -> Result<(Vec<PathBuf>, String), ChartError> {
+pub(crate) fn write_pairs(
+    charts: &[PairChart],
+    dir: &Path,
+) -> Result<(Vec<PathBuf>, String), ChartError> {
     let mut files = Vec::new();
     let mut md = String::new();
     let variant = charts

@@ -20,7 +20,7 @@ pub struct WheelTrace<'a> {
 /// each later one's smaller, so that a later wheel's marker drawn over an earlier one's at the
 /// same step leaves it showing as a ring (the driving wheel vibrates only where the follower
 /// does, and would hide it).
-pub fn marker_radius(k: usize, wheels: usize) -> i32 {
+pub(crate) fn marker_radius(k: usize, wheels: usize) -> i32 {
     2 + 2 * (wheels.saturating_sub(k + 1)) as i32
 }
 

@@ -8,7 +8,7 @@ use super::{format_tick, FigureFile, PlotError, PALETTE};
 
 /// One effect: a labelled estimate with its interval, in a colour of [`PALETTE`].
 #[derive(Debug, Clone, PartialEq)]
-pub struct Effect {
+pub(crate) struct Effect {
     /// The row's label (e.g. the scenario's name).
     pub label: String,
     /// The index of its colour in [`PALETTE`] (e.g. the wheel).
@@ -23,7 +23,7 @@ pub struct Effect {
 
 /// One panel of effects.
 #[derive(Debug, Clone, PartialEq)]
-pub struct EffectPanel {
+pub(crate) struct EffectPanel {
     /// The panel's title.
     pub title: String,
     /// The x axis' label.
@@ -34,7 +34,7 @@ pub struct EffectPanel {
 
 /// Draws `panels` side by side into `file`; the title says what
 /// the colours are.
-pub fn effects_figure(
+pub(crate) fn effects_figure(
     file: &FigureFile,
     title: &str,
     panels: &[EffectPanel],

@@ -20,7 +20,7 @@ pub mod spectrum;
 pub mod surface;
 
 /// One curve of a figure, in a colour picked by the caller.
-pub struct Series<'a> {
+pub(crate) struct Series<'a> {
     /// The legend's label.
     pub label: &'a str,
     /// (x, y) points, in order.
@@ -39,7 +39,7 @@ fn ensure_font() {
 }
 
 /// The colours of a figure's series, in order.
-pub const PALETTE: [RGBColor; 4] = [
+pub(crate) const PALETTE: [RGBColor; 4] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
@@ -111,7 +111,7 @@ fn bounds<'a>(series: impl Iterator<Item = &'a (f64, f64)> + Clone) -> ((f64, f6
 }
 
 /// Draws line series into one panel with axis labels and a legend.
-pub fn line_panel<DB: DrawingBackend>(
+pub(crate) fn line_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     title: &str,
     x_label: &str,
@@ -134,7 +134,7 @@ pub fn line_panel<DB: DrawingBackend>(
 /// [`line_panel`] with a fixed y range (points outside it are clipped) and, when `zero_line`,
 /// a dashed line at y = 0 (where an eigenvalue's real part changes sign).
 #[allow(clippy::too_many_arguments)]
-pub fn line_panel_with<DB: DrawingBackend>(
+pub(crate) fn line_panel_with<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     title: &str,
     x_label: &str,
@@ -227,7 +227,7 @@ pub fn line_panel_with<DB: DrawingBackend>(
 }
 
 /// The legend every line figure uses: upper right, on white, framed.
-pub fn draw_legend<'a, DB: DrawingBackend + 'a>(
+pub(crate) fn draw_legend<'a, DB: DrawingBackend + 'a>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
 ) -> Result<(), PlotError> {
     chart
@@ -267,13 +267,13 @@ fn clip_segment(
 }
 
 /// plotters' default number of tick labels per axis, the most any axis asks for.
-pub const MAX_TICK_LABELS: usize = 10;
+pub(crate) const MAX_TICK_LABELS: usize = 10;
 
 /// The most tick labels (up to [`MAX_TICK_LABELS`]) along a horizontal axis over `range`,
 /// `width_px` long, whose texts ([`format_tick`] in the embedded font at `font_px`) stand apart
 /// by at least half a character height: scientific labels of a narrow panel (`3.10e7`) would
 /// otherwise run together. plotters picks at most this many round values.
-pub fn fitting_tick_labels(range: (f64, f64), width_px: u32, font_px: u32) -> usize {
+pub(crate) fn fitting_tick_labels(range: (f64, f64), width_px: u32, font_px: u32) -> usize {
     use plotters::coord::ranged1d::Ranged;
     ensure_font();
     let (lo, hi) = range;
@@ -296,7 +296,7 @@ pub fn fitting_tick_labels(range: (f64, f64), width_px: u32, font_px: u32) -> us
 
 /// [`fitting_tick_labels`] for a chart built on `area` with a y label area of
 /// `y_label_area_px` and `margin_px` on each side.
-pub fn tick_labels_for<DB: DrawingBackend>(
+pub(crate) fn tick_labels_for<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     y_label_area_px: u32,
     margin_px: u32,
@@ -311,7 +311,7 @@ pub fn tick_labels_for<DB: DrawingBackend>(
 }
 
 /// Tick label: plain for ordinary magnitudes, scientific for very small or large ones.
-pub fn format_tick(v: f64) -> String {
+pub(crate) fn format_tick(v: f64) -> String {
     let a = v.abs();
     if a < 1e-15 {
         return "0".into();

@@ -9,7 +9,7 @@ use super::{format_tick, FigureFile, PlotError, PALETTE};
 
 /// One evaluated setting of a two-parameter map.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MapPoint {
+pub(crate) struct MapPoint {
     /// x \[axis units\].
     pub x: f64,
     /// y \[axis units\].
@@ -19,12 +19,12 @@ pub struct MapPoint {
 }
 
 /// Pixels per axis of the map's raster.
-pub const RASTER: usize = 96;
+pub(crate) const RASTER: usize = 96;
 
 /// The objective over two parameters: the raster of nearest evaluated settings in
 /// [x0, x1] × [y0, y1], the overlays (lines and markers), and a colour bar labelled `label`.
 #[allow(clippy::too_many_arguments)]
-pub fn surface_map(
+pub(crate) fn surface_map(
     file: &FigureFile,
     title: &str,
     (x_label, y_label): (&str, &str),
@@ -115,7 +115,7 @@ pub fn marker(
 }
 
 /// A vertical line of a curve figure, with its legend label.
-pub struct VLine {
+pub(crate) struct VLine {
     /// Where \[axis units\].
     pub x: f64,
     /// The legend's text.
@@ -126,7 +126,7 @@ pub struct VLine {
 
 /// The objective over one parameter: (x, value, low, high) sorted by x, the best marked, and
 /// vertical lines.
-pub fn surface_curve(
+pub(crate) fn surface_curve(
     file: &FigureFile,
     title: &str,
     (x_label, y_label): (&str, &str),

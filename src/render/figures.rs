@@ -69,10 +69,10 @@ pub fn conditional(
 }
 
 /// Width of a risk map panel's colour bar with its ticks and label \[px\].
-pub const RISK_MAP_BAR_PX: i32 = 130;
+pub(crate) const RISK_MAP_BAR_PX: i32 = 130;
 
 /// Blank space between a colour bar's label and the next panel's y-axis label \[px\].
-pub const RISK_MAP_GAP_PX: i32 = 50;
+pub(crate) const RISK_MAP_GAP_PX: i32 = 50;
 
 /// One panel of a risk map: title, values in percent (`[ix][iy]`), range, colours and the
 /// colour bar's label.
@@ -205,7 +205,7 @@ pub fn risk_map(
 }
 
 /// Bars of the severity figure: the fine histogram summed into this many.
-pub const SEVERITY_FIGURE_BINS: usize = 40;
+pub(crate) const SEVERITY_FIGURE_BINS: usize = 40;
 
 /// Severity histograms of one variant: each quantity's share of vibrating rows per bin, per
 /// wheel, in engineering units (µm, mm/s, µJ) with titles in words.
