@@ -7,7 +7,7 @@
 //! | study | [`study`] | [`study::Study::parse`] (a study's TOML → `Study`), [`study::apply_param_file`] |
 //! | sampling | [`sampling`] | [`study::Study::sampler`] → [`study::Sampler::sample`] (index → `Params`) |
 //! | parameters | [`params`] | [`params::Params`] (SI fields, `Default` = the shipped tire), [`params::ParamId`] |
-//! | model (MODEL.md steps 1–8) | [`model`] | [`model::WheelModel::build`] → the [`model::TreadOde`] |
+//! | model (MODEL.md#the-physics-step-by-step, steps 1–8) | [`model`] | [`model::WheelModel::build`] → the [`model::TreadOde`] |
 //! | solver | [`solver`] | [`solver::integrate_with`] (Dormand–Prince pairs, dense output) |
 //! | classification (step 9) | [`classify`] | [`classify::classify`] → [`classify::WheelVerdict`] |
 //! | the one road | [`evaluate`] | [`evaluate::PointProblem`] → [`evaluate::solve`] → [`evaluate::PointSolution`] |
