@@ -254,6 +254,16 @@ pub fn shell_word(s: &str) -> String {
     }
 }
 
+/// The wear settings of a manifest's `wear` object (its `wear_zone`).
+fn recorded_wear(w: &serde_json::Value) -> Result<WearSettings, String> {
+    let zone = w
+        .get("wear_zone")
+        .and_then(|z| z.as_str())
+        .ok_or_else(|| "`wear.wear_zone` is missing".to_string())?;
+    let zone: WearZone = zone.parse().map_err(|e| format!("`wear.wear_zone`: {e}"))?;
+    Ok(WearSettings { zone })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -275,14 +285,4 @@ mod tests {
         assert_eq!(shell_word("my runs/a"), "'my runs/a'");
         assert_eq!(shell_word("it's"), r"'it'\''s'");
     }
-}
-
-/// The wear settings of a manifest's `wear` object (its `wear_zone`).
-fn recorded_wear(w: &serde_json::Value) -> Result<WearSettings, String> {
-    let zone = w
-        .get("wear_zone")
-        .and_then(|z| z.as_str())
-        .ok_or_else(|| "`wear.wear_zone` is missing".to_string())?;
-    let zone: WearZone = zone.parse().map_err(|e| format!("`wear.wear_zone`: {e}"))?;
-    Ok(WearSettings { zone })
 }
