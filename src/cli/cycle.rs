@@ -442,17 +442,10 @@ pub fn run(args: &CycleArgs) -> CliResult {
             println!("{l}");
         }
     }
-    let wear = if args.no_wear {
-        None
-    } else {
-        let settings = WearSettings {
-            zone: args.wear_zone.unwrap_or_default(),
-        };
-        let stage = WearStage::for_run(&base, variant, settings, &ClassifierOptions::default())
-            .map_err(|e| CliError(format!("the wear stage: {e} (leave it out with --no-wear)")))?;
-        metadata.push(("wear".into(), serde_json::to_string(&stage).expect("json")));
-        Some(stage)
-    };
+    let wear = wear_stage(args, &base, variant)?;
+    if let Some(stage) = &wear {
+        metadata.push(("wear".into(), serde_json::to_string(stage).expect("json")));
+    }
     let pool = super::common::thread_pool(args.threads)?;
     let start = Instant::now();
     let steps =
@@ -490,6 +483,19 @@ pub fn run(args: &CycleArgs) -> CliResult {
         }
     }
     Ok(())
+}
+
+/// The wear stage of the run (none with `--no-wear`), calibrated on the nominal tire `base`.
+fn wear_stage(args: &CycleArgs, base: &Params, variant: Variant) -> CliResult<Option<WearStage>> {
+    if args.no_wear {
+        return Ok(None);
+    }
+    let settings = WearSettings {
+        zone: args.wear_zone.unwrap_or_default(),
+    };
+    WearStage::for_run(base, variant, settings, &ClassifierOptions::default())
+        .map(Some)
+        .map_err(|e| CliError(format!("the wear stage: {e} (leave it out with --no-wear)")))
 }
 
 /// The study's keys in the outputs' metadata (and the fleet's file, when it gives the rows).
