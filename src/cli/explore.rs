@@ -16,6 +16,7 @@ use polywear::explore::recorded_run::{
 };
 use polywear::explore::{ExploreError, PreparedOutput, RunPlan, RunSummary, Shard};
 use polywear::study::{Study, DEFAULT_STUDY, SEED_MAX};
+use polywear::wear::{WearSettings, WearZone};
 use polywear::wording::plain;
 
 #[derive(Debug, Args)]
@@ -76,6 +77,15 @@ pub struct ExploreArgs {
     /// every S seconds instead of the bar, accepted [0.1, 86400]
     #[arg(long, value_name = "S", default_value_t = 5.0, value_parser = parse_log_every)]
     pub log_every: f64,
+    /// Leave the wear stage out: the rows then carry no wear columns (distance to a visible
+    /// polygon, growth rate, dominant order) and the run is about as fast as vibration alone.
+    /// A study can say `wear = false`
+    #[arg(long, conflicts_with = "wear_zone")]
+    pub no_wear: bool,
+    /// Where the friction power wears the tread (MODEL.md#step-11-wear-zone): trailing (the
+    /// default), whole_patch or whole_patch_uniform; a study can say `wear_zone = "..."`
+    #[arg(long, value_name = "ZONE", value_parser = parse_wear_zone)]
+    pub wear_zone: Option<WearZone>,
     /// Skip the analysis report (risk maps, probabilities) written to DIR/_report at the end
     #[arg(long)]
     pub no_report: bool,
@@ -187,6 +197,8 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
         check_against_recorded(args, &study, dir, run)?;
     }
     check_new_inputs(args, &study, &named, (&origin, &study_dir), accept)?;
+    study.wear = wear_settings(args, &study, recorded.as_ref().map(|(_, run)| run))?;
+    let wear = RunPlan::wear_stage(&study).map_err(|e| CliError(format!("{origin}: {e}")))?;
     study.budget = args.budget.apply(study.budget)?;
     let recorded_samples = recorded
         .as_ref()
@@ -217,7 +229,52 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
         out_dir,
         resume: args.resume,
         command: std::env::args().collect::<Vec<_>>().join(" "),
+        wear,
     })
+}
+
+/// The run's wear stage: `--no-wear` or `--wear-zone` over the study's `wear`/`wear_zone`; a
+/// resumed run keeps the stage it started with, and a flag that contradicts it is refused.
+fn wear_settings(
+    args: &ExploreArgs,
+    study: &Study,
+    recorded: Option<&RecordedRun>,
+) -> CliResult<Option<WearSettings>> {
+    let asked = match (args.no_wear, args.wear_zone) {
+        (true, _) => Some(None),
+        (false, Some(zone)) if study.wear.is_none() && recorded.is_none() => {
+            return Err(CliError(format!(
+                "--wear-zone {zone}: the study sets `wear = false`, which leaves the wear stage out; remove it from the study, or leave --wear-zone out"
+            )))
+        }
+        (false, Some(zone)) => Some(Some(WearSettings { zone })),
+        (false, None) => None,
+    };
+    let Some(run) = recorded else {
+        return Ok(asked.unwrap_or(study.wear));
+    };
+    match asked {
+        Some(w) if w != run.wear => {
+            let was = run
+                .wear
+                .map_or("no wear stage (--no-wear)".to_string(), |w| {
+                    format!("the wear stage with --wear-zone {}", w.zone)
+                });
+            let flag = if args.no_wear {
+                "--no-wear".to_string()
+            } else {
+                format!("--wear-zone {}", args.wear_zone.expect("asked"))
+            };
+            Err(CliError(format!(
+                "--resume: {flag} contradicts the run, which started with {was}; leave it out to continue the run as it started, or choose another --out for a new run"
+            )))
+        }
+        _ => Ok(run.wear),
+    }
+}
+
+fn parse_wear_zone(s: &str) -> Result<WearZone, String> {
+    s.parse::<WearZone>().map_err(|e| e.to_string())
 }
 
 /// The progress bar on a terminal, or progress lines every `--log-every` seconds in a log.
@@ -483,7 +540,7 @@ fn check_against_recorded(
 /// resume's refusals as `--resume`'s, each with the flags that get on.
 fn explore_error(e: ExploreError) -> CliError {
     let dir = match &e {
-        ExploreError::Write(_) => return CliError(e.to_string()),
+        ExploreError::Write(_) | ExploreError::Wear(_) => return CliError(e.to_string()),
         ExploreError::OutputDir { dir, .. }
         | ExploreError::Raced { dir }
         | ExploreError::Occupied { dir, .. }

@@ -293,7 +293,8 @@ pub fn paired_comparison(base: &Params, samples: u64) -> Result<Vec<Paired>, Rep
     study.variants = Variant::ALL.to_vec();
     let sampler = study.sampler(study.seed, samples);
     let opts = ClassifierOptions::default();
-    let sample = |i: usize| crate::explore::evaluate_sample(&study, &sampler, i as u64, &opts);
+    let sample =
+        |i: usize| crate::explore::evaluate_sample(&study, &sampler, i as u64, &opts, None);
     let rows = crate::ensemble::solve(samples as usize, sample, &Control::QUIET).all();
     let mut tally = PairTally::default();
     for s in &rows {
