@@ -415,8 +415,7 @@ pub fn run(args: &CycleArgs) -> CliResult {
     write(args, request, wear.is_some(), steps, secs, threads)
 }
 
-/// One `cycle`, checked: the drive cycle, the variant, the classifier's options, the tire
-/// structures (one, or a study's samples) and the outputs' metadata.
+/// One `cycle`, checked: the cycle, variant, options, tire structures and outputs' metadata.
 struct CycleRequest {
     cycle: DriveCycle,
     variant: Variant,
@@ -428,8 +427,7 @@ struct CycleRequest {
     metadata: Vec<(String, String)>,
 }
 
-/// Every input checked before any work: `--out`, the budget, the cycle file and its
-/// plausibility, `--params` and `--set`, the study's structures, and every step's parameters.
+/// Every input checked before any work: `--out`, the cycle, `--set`, the study, each step.
 fn resolve(args: &CycleArgs) -> CliResult<CycleRequest> {
     if args.out.is_file() {
         return Err(CliError(format!(
@@ -500,15 +498,8 @@ fn write(
     secs: f64,
     threads: usize,
 ) -> CliResult {
-    let CycleRequest {
-        cycle,
-        variant,
-        structures,
-        study,
-        metadata,
-        ..
-    } = request;
-    let fleet = match (&study, structures.fleet_rows) {
+    let (structures, study) = (request.structures, &request.study);
+    let fleet = match (study, structures.fleet_rows) {
         (Some(s), Some(rows)) => s
             .operating_points
             .as_ref()
@@ -516,12 +507,12 @@ fn write(
         _ => None,
     };
     let run = CycleRun {
-        cycle: &cycle,
-        variant,
+        cycle: &request.cycle,
+        variant: request.variant,
         structure_names: structures.names,
         structure_values: structures.values,
         steps,
-        metadata,
+        metadata: request.metadata,
         fleet,
         wear_bases: if wear { structures.bases } else { Vec::new() },
     };
