@@ -49,9 +49,30 @@ pub struct AnalyzeArgs {
     /// within this distance [km] (and on vibration), accepted (0, 1e6]
     #[arg(long, value_name = "KM", default_value_t = AnalysisOptions::DEFAULT_SCENARIO_WITHIN_KM, allow_negative_numbers = true, value_parser = parse_km)]
     pub scenario_within_km: f64,
+    /// P(visible polygonal wear within each distance) per wheel [km], comma-separated, each
+    /// within (0, 1e6]; 40000 (the headline) is always added
+    #[arg(long, value_name = "KM,...", default_value = "10000,25000,40000,60000", allow_negative_numbers = true, value_parser = parse_km_list)]
+    pub within_km: KmList,
     /// File type of the figures
     #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
     pub format: FigureFormat,
+}
+
+/// The distances of `--within-km` \[km\].
+#[derive(Debug, Clone, PartialEq)]
+pub struct KmList(pub Vec<f64>);
+
+/// Parses `--within-km`: distances in km within (0, 1e6], comma-separated.
+pub fn parse_km_list(s: &str) -> Result<KmList, String> {
+    let km: Vec<f64> = s
+        .split(',')
+        .map(|v| {
+            parse_km(v).map_err(|_| {
+                format!("--within-km `{}` must be a distance in km within (0, 1e6], e.g. --within-km 10000,25000,40000,60000", v.trim())
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(KmList(km))
 }
 
 /// Parses a distance in km within (0, 1e6].
@@ -120,6 +141,7 @@ pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
         pairs,
         bootstrap: args.bootstrap,
         scenario_within_km: args.scenario_within_km,
+        within_km: args.within_km.0.clone(),
     };
     let render = RenderOptions {
         out_dir,

@@ -8,6 +8,9 @@ pub mod fleet;
 pub mod markdown;
 pub mod scenarios;
 pub mod tables;
+pub mod wear;
+pub mod wear_figures;
+mod wear_tables;
 mod words;
 
 use std::path::{Path, PathBuf};
@@ -49,6 +52,13 @@ pub struct Figures {
     pub severity: Vec<(Variant, PathBuf)>,
     /// Every scenario's effect with its interval (a run with scenarios only).
     pub scenarios: Option<PathBuf>,
+    /// P(visible polygon within the headline distance) per bin of every parameter, one figure
+    /// per variant (a run with the wear stage only).
+    pub wear_conditional: Vec<(Variant, PathBuf)>,
+    /// One risk map of polygonal-wear likelihood per drawn vibration map.
+    pub wear_maps: Vec<RiskMapFigure>,
+    /// The dominant orders' bars, one figure per variant.
+    pub wear_orders: Vec<(Variant, PathBuf)>,
 }
 
 impl Figures {
@@ -60,6 +70,9 @@ impl Figures {
             .chain(self.risk_maps.iter().map(|f| f.path.as_path()))
             .chain(self.severity.iter().map(|(_, p)| p.as_path()))
             .chain(self.scenarios.as_deref())
+            .chain(self.wear_conditional.iter().map(|(_, p)| p.as_path()))
+            .chain(self.wear_maps.iter().map(|f| f.path.as_path()))
+            .chain(self.wear_orders.iter().map(|(_, p)| p.as_path()))
     }
 }
 
@@ -168,6 +181,35 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
         let p = dir.join(format!("scenarios.{ext}"));
         scenarios::figure(&p, &a.scenarios)?;
         out.scenarios = Some(p);
+    }
+    if let Some(w) = &a.wear {
+        for variant in a.variants().into_iter().filter(|_| !axes.is_empty()) {
+            let p = dir.join(format!("wear_conditional_{variant}.{ext}"));
+            wear_figures::conditional(&p, variant, &axes, &label, w, min_count)?;
+            out.wear_conditional.push((variant, p));
+        }
+        for map in &w.maps {
+            let p = dir.join(format!(
+                "wear_riskmap_{}_{}_{}.{ext}",
+                map.x, map.y, map.variant
+            ));
+            wear_figures::risk_map(&p, map, &label, min_count)?;
+            out.wear_maps.push(RiskMapFigure {
+                variant: map.variant,
+                x: map.x,
+                y: map.y,
+                path: p,
+            });
+        }
+        for variant in a
+            .variants()
+            .into_iter()
+            .filter(|v| w.orders.iter().any(|o| o.variant == *v))
+        {
+            let p = dir.join(format!("wear_orders_{variant}.{ext}"));
+            wear_figures::orders(&p, variant, w)?;
+            out.wear_orders.push((variant, p));
+        }
     }
     Ok(out)
 }

@@ -93,6 +93,11 @@ pub fn write_all(dir: &Path, a: &Analysis) -> Result<Vec<PathBuf>, RenderError> 
             &mut files,
         )?;
     }
+    if let Some(w) = &a.wear {
+        for (stem, cols) in super::wear_tables::tables(w, min_count) {
+            write_tables(dir, &stem, &cols, &meta, &mut files)?;
+        }
+    }
     Ok(files)
 }
 
@@ -108,6 +113,28 @@ fn table_metadata(a: &Analysis) -> Vec<(String, String)> {
         ("samples_present".into(), info.samples_present.to_string()),
         ("min_count".into(), a.options.min_count.to_string()),
         (
+            "within_km".into(),
+            a.wear.as_ref().map_or(String::new(), |w| {
+                w.within_km
+                    .iter()
+                    .map(|k| crate::wording::plain(*k, 9))
+                    .collect::<Vec<_>>()
+                    .join(",")
+            }),
+        ),
+        (
+            "wear_share_straight".into(),
+            a.wear
+                .as_ref()
+                .map_or(String::new(), |w| w.share_straight.to_string()),
+        ),
+        (
+            "speed_spread_kmh".into(),
+            a.wear
+                .as_ref()
+                .map_or(String::new(), |w| w.speed_spread_kmh.to_string()),
+        ),
+        (
             "polywear_version".into(),
             env!("CARGO_PKG_VERSION").to_string(),
         ),
@@ -115,7 +142,7 @@ fn table_metadata(a: &Analysis) -> Vec<(String, String)> {
 }
 
 /// Writes one table as `stem.csv` (RFC 4180) and `stem.parquet`.
-fn write_tables(
+pub(super) fn write_tables(
     dir: &Path,
     stem: &str,
     cols: &[Column],
@@ -131,15 +158,15 @@ fn write_tables(
     Ok(())
 }
 
-fn count_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> u64) -> Column {
+pub(super) fn count_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> u64) -> Column {
     Column::i64(name, "", rows.iter().map(|r| f(r) as i64).collect())
 }
 
-fn f64_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> f64) -> Column {
+pub(super) fn f64_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> f64) -> Column {
     Column::f64(name, "", rows.iter().map(f).collect())
 }
 
-fn str_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> String) -> Column {
+pub(super) fn str_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> String) -> Column {
     Column::str(name, rows.iter().map(f).collect())
 }
 
