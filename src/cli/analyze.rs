@@ -237,6 +237,7 @@ fn print_summary(a: &Analysis) {
             i.samples - i.samples_present
         );
     }
+    print_wear(a);
     let weighted = a
         .fleet
         .as_ref()
@@ -299,6 +300,48 @@ fn print_summary(a: &Analysis) {
     }
     for n in &a.notes {
         println!("  note: {n}");
+    }
+}
+
+/// The wear answer first: P(visible polygon within each distance) per wheel and the paired
+/// comparison at each; one line where the run has no wear stage.
+fn print_wear(a: &Analysis) {
+    use polywear::render::wear::km;
+    let Some(w) = &a.wear else {
+        println!("wear: the wear stage was left out of this run (--no-wear or `wear = false`); vibration only");
+        return;
+    };
+    println!(
+        "P(visible polygonal wear within X km), cruising at each sample's operating point (phi_s = {}, sigma_V = {} km/h, field-fitted), with 95% Wilson interval:",
+        w.share_straight, w.speed_spread_kmh
+    );
+    for o in &w.occurrence {
+        let (lo, hi) = o.counts.wilson();
+        println!(
+            "  {:>8} {:>8} within {:>10}: {:>7.3}%  [{:.3}%, {:.3}%]  ({} of {} with a distance; {} unknown)",
+            o.variant,
+            o.wheel,
+            km(o.within_km),
+            100.0 * o.counts.p(),
+            100.0 * lo,
+            100.0 * hi,
+            o.counts.within,
+            o.counts.known,
+            o.counts.unknown
+        );
+    }
+    for wp in &w.paired {
+        let p = &wp.paired;
+        println!(
+            "  {:>8} paired within {:>10}: only follower {}, only driving {}, both {}, neither {}; McNemar p = {}",
+            p.variant,
+            km(wp.within_km),
+            p.only_follower,
+            p.only_driving,
+            p.both,
+            p.neither,
+            polywear::render::markdown::mcnemar_text(p)
+        );
     }
 }
 

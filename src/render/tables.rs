@@ -21,6 +21,7 @@ use crate::analysis::Analysis;
 use crate::classify::Class;
 use crate::model::{Variant, Wheel};
 use crate::parquet_out::{write_csv, write_table, Column};
+use crate::wording::plain;
 
 /// Writes every table of `a` into `dir`; returns the files written, in order.
 pub fn write_all(dir: &Path, a: &Analysis) -> Result<Vec<PathBuf>, RenderError> {
@@ -104,7 +105,7 @@ pub fn write_all(dir: &Path, a: &Analysis) -> Result<Vec<PathBuf>, RenderError> 
 /// Footer metadata of the Parquet tables: which run and settings they come from.
 fn table_metadata(a: &Analysis) -> Vec<(String, String)> {
     let info = &a.info;
-    vec![
+    let mut meta: Vec<(String, String)> = vec![
         ("study_name".into(), info.study_name.clone()),
         ("study_hash".into(), info.study_hash.clone()),
         ("seed".into(), info.seed.to_string()),
@@ -113,32 +114,18 @@ fn table_metadata(a: &Analysis) -> Vec<(String, String)> {
         ("samples_present".into(), info.samples_present.to_string()),
         ("min_count".into(), a.options.min_count.to_string()),
         (
-            "within_km".into(),
-            a.wear.as_ref().map_or(String::new(), |w| {
-                w.within_km
-                    .iter()
-                    .map(|k| crate::wording::plain(*k, 9))
-                    .collect::<Vec<_>>()
-                    .join(",")
-            }),
-        ),
-        (
-            "wear_share_straight".into(),
-            a.wear
-                .as_ref()
-                .map_or(String::new(), |w| w.share_straight.to_string()),
-        ),
-        (
-            "speed_spread_kmh".into(),
-            a.wear
-                .as_ref()
-                .map_or(String::new(), |w| w.speed_spread_kmh.to_string()),
-        ),
-        (
             "polywear_version".into(),
             env!("CARGO_PKG_VERSION").to_string(),
         ),
-    ]
+    ];
+    if let Some(w) = &a.wear {
+        let within: Vec<String> = w.within_km.iter().map(|k| plain(*k, 9)).collect();
+        meta.push(("within_km".into(), within.join(",")));
+        meta.push(("wear_share_straight".into(), w.share_straight.to_string()));
+        meta.push(("speed_spread_kmh".into(), w.speed_spread_kmh.to_string()));
+        meta.push(("visible_depth_mm".into(), w.visible_depth_mm.to_string()));
+    }
+    meta
 }
 
 /// Writes one table as `stem.csv` (RFC 4180) and `stem.parquet`.
