@@ -143,3 +143,43 @@ impl WithinCounts {
         self.known >= min_count.max(1)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn equal_weights_give_the_plain_share_and_interval_and_unequal_ones_widen_it() {
+        let plain = WithinCounts {
+            within: 30,
+            known: 200,
+            unknown: 7,
+            w_within: 30,
+            w_known: 200,
+            w2_known: 200,
+        };
+        assert!(plain.unweighted());
+        assert_eq!(plain.wilson(), wilson(30, 200));
+        // Every weight 1000 (100 km/h): the same share, and Kish's count is the count.
+        let tenfold = WithinCounts {
+            w_within: 30_000,
+            w_known: 200_000,
+            w2_known: 200 * 1_000_000,
+            ..plain
+        };
+        assert!(!tenfold.unweighted());
+        assert_eq!(tenfold.p(), plain.p());
+        let (a, b) = (tenfold.wilson(), plain.wilson());
+        assert!((a.0 - b.0).abs() < 1e-14 && (a.1 - b.1).abs() < 1e-14);
+        // Half the wheels at 3× the weight: fewer effective samples, a wider interval.
+        let mixed = WithinCounts {
+            w_within: 30 * 2000,
+            w_known: 100 * 1000 + 100 * 3000,
+            w2_known: 100 * 1_000_000 + 100 * 9_000_000,
+            ..plain
+        };
+        let (lo, hi) = mixed.wilson();
+        assert!((mixed.p() - 0.15).abs() < 1e-12);
+        assert!(hi - lo > b.1 - b.0, "{lo} {hi}");
+    }
+}

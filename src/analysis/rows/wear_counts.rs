@@ -315,3 +315,31 @@ impl Rows {
         Ok(out)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_decade_bin_expression_agrees_with_the_decade_bins() {
+        let span = decades(3.0, 2.5e6);
+        assert_eq!(span, (0, 6));
+        let bins = decade_bins(span);
+        assert_eq!(bins.count(), 7 * BINS_PER_DECADE);
+        let values: Vec<f64> = (0..=700).map(|i| 10f64.powf(i as f64 / 100.0)).collect();
+        let df = df!("x" => values.clone()).unwrap();
+        let out = df
+            .lazy()
+            .select([decade_bin_expr(col("x"), span).alias("b")])
+            .collect()
+            .unwrap();
+        for (v, b) in values.iter().zip(ints(&out, "b").unwrap()) {
+            let (lo, hi, _) = bins.range(b as usize);
+            // Each value in its own bin (the top edge in the last), to rounding at the edges.
+            assert!(
+                *v >= lo * (1.0 - 1e-12) && (*v <= hi * (1.0 + 1e-12)),
+                "{v} in bin {b} = [{lo}, {hi}]"
+            );
+        }
+    }
+}
