@@ -76,6 +76,19 @@ pub fn did_you_mean<'a>(typed: &str, candidates: impl IntoIterator<Item = &'a st
         .unwrap_or_default()
 }
 
+/// A whole number with thousands separators, rounded: 40,000. Negative numbers keep their sign.
+pub fn thousands(x: f64) -> String {
+    let digits = format!("{}", x.round().abs() as u64);
+    let mut out = String::from(if x.round() < 0.0 { "-" } else { "" });
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -6,10 +6,11 @@
 use std::path::{Path, PathBuf};
 
 use super::summary::{summarise, summary_columns, WheelSummary};
+use super::wear::cycle_wear;
 use super::{CycleError, DriveCycle, StepWheel};
 use crate::model::Variant;
 use crate::operating_points::OperatingPoints;
-use crate::params::{ParamId, OPERATING_AXES};
+use crate::params::{ParamId, Params, OPERATING_AXES};
 use crate::parquet_out::{write_csv, write_table, Column};
 use crate::plot::cycle::{cycle_figure, WheelTrace};
 use crate::plot::PlotError;
@@ -31,6 +32,9 @@ pub struct CycleRun<'a> {
     pub metadata: Vec<(String, String)>,
     /// The study's fleet, when its `[operating_points]` gave each structure sample a row.
     pub fleet: Option<FleetDraw<'a>>,
+    /// `bases[k]`: structure sample k's parameters, when the steps ran the wear stage (the
+    /// seed and the visible depth of its distance to a visible polygon); empty otherwise.
+    pub wear_bases: Vec<Params>,
 }
 
 /// The operating-point rows a study's fleet gave the structure samples: each sample drives the
@@ -47,7 +51,16 @@ impl CycleRun<'_> {
     pub fn summaries(&self) -> Vec<[WheelSummary; 2]> {
         self.steps
             .iter()
-            .map(|s| [summarise(self.cycle, s, 0), summarise(self.cycle, s, 1)])
+            .enumerate()
+            .map(|(k, s)| {
+                [0, 1].map(|w| WheelSummary {
+                    wear: self
+                        .wear_bases
+                        .get(k)
+                        .map(|base| cycle_wear(self.cycle, s, w, base)),
+                    ..summarise(self.cycle, s, w)
+                })
+            })
             .collect()
     }
 

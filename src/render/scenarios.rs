@@ -40,22 +40,9 @@ fn risk(outcome: Outcome) -> String {
         Outcome::Vibration => "risk of vibration".into(),
         Outcome::Wear { within_km } => format!(
             "risk of a visible polygon within {} km",
-            thousands(within_km)
+            crate::wording::thousands(within_km)
         ),
     }
-}
-
-/// A distance with thousands separators: 40,000.
-fn thousands(km: f64) -> String {
-    let s = format!("{}", km.round() as u64);
-    let mut out = String::new();
-    for (i, c) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i) % 3 == 0 {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
 }
 
 /// One effect in words: "the follower's risk of vibration falls from 84.1% to 45.2% (−38.9

@@ -154,3 +154,153 @@ fn the_study_sets_the_wear_stage_and_a_resume_keeps_it() {
         polywear(&["explore", "--resume", "--out", o, "--quiet", "--no-report"]);
     assert_eq!(code, 0, "{stderr}");
 }
+
+mod along_a_cycle {
+    use crate::common::{fresh_dir, polywear};
+    use polywear::classify::ClassifierOptions;
+    use polywear::cycle::wear::{cycle_wear, step_growth};
+    use polywear::cycle::{classify_cycle, DriveCycle};
+    use polywear::evaluate::{self, PointProblem, WearStage};
+    use polywear::model::Variant;
+    use polywear::params::Params;
+    use polywear::wear::WearSettings;
+
+    fn cycle(name: &str, text: &str) -> DriveCycle {
+        let dir = fresh_dir(name);
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("c.csv");
+        std::fs::write(&path, text).unwrap();
+        DriveCycle::read(&path).unwrap()
+    }
+
+    /// The worst case (φ_s = 1, no spread) at the paper's constants, where the follower grows.
+    fn worst() -> Params {
+        Params {
+            wear_share_straight: 1.0,
+            speed_spread_kmh: 0.0,
+            ..Params::r0()
+        }
+    }
+
+    #[test]
+    fn a_cycle_held_at_one_speed_is_the_per_sample_estimate_without_spread() {
+        let opts = ClassifierOptions::default();
+        let p = worst();
+        let stage =
+            WearStage::for_run(&p, Variant::SlidingShare, WearSettings::default(), &opts).unwrap();
+        let c = cycle(
+            "wear-cycle-held",
+            "time_s,speed_kmh\n0,100\n600,100\n1200,100\n",
+        );
+        let steps = classify_cycle(&c, &p, Variant::SlidingShare, &opts, Some(&stage));
+        let point = evaluate::solve(
+            &PointProblem::new(p, &[Variant::SlidingShare], &opts).with_wear(Some(&stage)),
+        );
+        for w in 0..2 {
+            let lifetime = cycle_wear(&c, &steps, w, &p);
+            let e = point.wheels[w].wear.as_ref().unwrap();
+            assert_eq!(
+                lifetime.dominant_order, e.polygon_order_dominant,
+                "wheel {w}"
+            );
+            let (a, b) = (lifetime.growth_rate_per_1000km, e.growth_rate_per_1000km);
+            assert!(
+                (a - b).abs() <= 1e-9 * b.abs().max(1.0),
+                "wheel {w}: {a} vs {b}"
+            );
+            assert_eq!(lifetime.distance_to_visible_km, e.distance_to_visible_km);
+            assert!(
+                lifetime.distance_to_visible_km.is_finite(),
+                "the worst case grows"
+            );
+            assert_eq!(lifetime.unknown_distance_share, 0.0);
+        }
+    }
+
+    #[test]
+    fn a_lifetime_weighs_each_speed_by_the_distance_driven_at_it() {
+        let opts = ClassifierOptions::default();
+        let p = worst();
+        let stage =
+            WearStage::for_run(&p, Variant::SlidingShare, WearSettings::default(), &opts).unwrap();
+        // 2 s at 50 km/h and 1 s at 100 km/h cover the same distance; the standstill covers none.
+        let c = cycle(
+            "wear-cycle-two",
+            "time_s,speed_kmh\n0,50\n2,100\n3,0\n4,0\n",
+        );
+        let steps = classify_cycle(&c, &p, Variant::SlidingShare, &opts, Some(&stage));
+        let at = |v: f64| {
+            let q = Params { speed_kmh: v, ..p };
+            let s = evaluate::solve(&PointProblem::new(q, &[Variant::SlidingShare], &opts));
+            [0, 1].map(|w| step_growth(&q, &s.wheels[w], &stage, &opts))
+        };
+        let (slow, fast) = (at(50.0), at(100.0));
+        for w in 0..2 {
+            let mean: Vec<f64> = slow[w]
+                .iter()
+                .zip(&fast[w])
+                .map(|(a, b)| 0.5 * (a + b))
+                .collect();
+            let (k, best) = mean
+                .iter()
+                .enumerate()
+                .max_by(|a, b| a.1.total_cmp(b.1))
+                .unwrap();
+            let lifetime = cycle_wear(&c, &steps, w, &p);
+            assert_eq!(lifetime.dominant_order, k as f64 + 1.0, "wheel {w}");
+            assert!(
+                (lifetime.growth_rate_per_1000km - best).abs() < 1e-12,
+                "wheel {w}"
+            );
+        }
+    }
+
+    #[test]
+    fn cycle_says_the_lifetime_distance_and_no_wear_leaves_it_out() {
+        let dir = fresh_dir("wear-cycle-cli");
+        let out = dir.join("with");
+        let (code, stdout, stderr) = polywear(&[
+            "cycle",
+            "data/cycles/hwfet.csv",
+            "--set",
+            "wear_share_straight=1",
+            "--set",
+            "speed_spread_kmh=0",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+        assert_eq!(
+            stdout
+                .matches("driving this cycle all its life: a ")
+                .count(),
+            2,
+            "{stdout}"
+        );
+        assert!(
+            stdout.contains("-sided polygon becomes visible after"),
+            "{stdout}"
+        );
+        let summary = std::fs::read_to_string(out.join("cycle_summary.csv")).unwrap();
+        assert!(
+            summary
+                .lines()
+                .next()
+                .unwrap()
+                .contains("distance_to_visible_km"),
+            "{summary}"
+        );
+        let out = dir.join("without");
+        let (code, stdout, _) = polywear(&[
+            "cycle",
+            "data/cycles/hwfet.csv",
+            "--no-wear",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0);
+        assert!(!stdout.contains("all its life"), "{stdout}");
+        let summary = std::fs::read_to_string(out.join("cycle_summary.csv")).unwrap();
+        assert!(!summary.contains("distance_to_visible_km"), "{summary}");
+    }
+}
