@@ -19,19 +19,10 @@ use crate::wording::plain;
 
 /// A distance in km with thousands separators: "40,000 km".
 pub fn km(x: f64) -> String {
-    let whole = x.round() as u64;
-    if (x - whole as f64).abs() > 1e-9 {
+    if (x - x.round()).abs() > 1e-9 {
         return format!("{} km", plain(x, 9));
     }
-    let digits = whole.to_string();
-    let mut out = String::new();
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i) % 3 == 0 {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    format!("{out} km")
+    format!("{} km", crate::wording::thousands(x))
 }
 
 /// The line a report without the wear stage carries instead of the wear answer.
