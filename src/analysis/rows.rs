@@ -29,6 +29,7 @@ use scenario_pairs::code_expr;
 pub use scenario_pairs::{scenario_pairs, OutcomeColumn, ScenarioPairCounts};
 pub use wear_counts::{
     decade_bins, decades, OrderCount, SampleWeight, WearGroup, WearSpread, BINS_PER_DECADE,
+    WEIGHT_UNITS_PER_KMH,
 };
 
 /// The columns the queries name, from the one column table ([`crate::records`]).

@@ -162,9 +162,14 @@ fn meaning(s: &mut String, a: &Analysis, w: &WearAnalysis) {
     if unknown > 0 {
         let _ = writeln!(
             s,
-            "> {unknown} wheels have no distance (NaN: failed, no traction or standstill; \
-             `wear_reason` says why). They are counted on their own and left out of every wear \
-             probability.\n"
+            "> {unknown} {} no distance (NaN: failed, no traction, standstill, or a cycle the \
+             estimator cannot close; `wear_reason` says why). They are counted on their own and \
+             left out of every wear probability.\n",
+            if unknown == 1 {
+                "wheel has"
+            } else {
+                "wheels have"
+            }
         );
     }
 }

@@ -110,22 +110,7 @@ pub fn tables(w: &WearAnalysis, min_count: u64) -> Vec<(String, Vec<Column>)> {
         ],
     ));
     if !w.fleet.is_empty() {
-        let rows: Vec<(usize, Wheel)> = (0..w.fleet.len())
-            .flat_map(|i| Wheel::BOTH.map(|wh| (i, wh)))
-            .collect();
-        let f = &w.fleet;
-        let k = |wh: Wheel| usize::from(wh == Wheel::Driving);
-        let mut cols = vec![
-            str_col("variant", &rows, |(i, _)| f[*i].variant.to_string()),
-            count_col("row", &rows, |(i, _)| f[*i].row),
-            str_col("wheel", &rows, |(_, wh)| wh.to_string()),
-        ];
-        cols.extend(within_columns(
-            &rows,
-            |(i, wh)| f[*i].counts[k(*wh)],
-            min_count,
-        ));
-        out.push(("wear_fleet_rows".to_string(), cols));
+        out.push(("wear_fleet_rows".to_string(), fleet_columns(w, min_count)));
     }
     out
 }
@@ -150,5 +135,25 @@ fn map_columns(maps: &[&WearMap], min_count: u64) -> Vec<Column> {
         f64_col("within_km", &rows, |r| r.0.within_km),
     ];
     cols.extend(within_columns(&rows, |r| r.4, min_count));
+    cols
+}
+
+/// One row per operating point of the file and wheel.
+fn fleet_columns(w: &WearAnalysis, min_count: u64) -> Vec<Column> {
+    let rows: Vec<(usize, Wheel)> = (0..w.fleet.len())
+        .flat_map(|i| Wheel::BOTH.map(|wh| (i, wh)))
+        .collect();
+    let f = &w.fleet;
+    let k = |wh: Wheel| usize::from(wh == Wheel::Driving);
+    let mut cols = vec![
+        str_col("variant", &rows, |(i, _)| f[*i].variant.to_string()),
+        count_col("row", &rows, |(i, _)| f[*i].row),
+        str_col("wheel", &rows, |(_, wh)| wh.to_string()),
+    ];
+    cols.extend(within_columns(
+        &rows,
+        |(i, wh)| f[*i].counts[k(*wh)],
+        min_count,
+    ));
     cols
 }
