@@ -370,14 +370,14 @@ fn key_values(df: &DataFrame, keys: &[GroupKey<'_>]) -> Result<KeyColumns, Analy
 }
 
 /// Samples per (variant, follower code + 3 × driving code) ([`outcome_code`]).
-pub type PairCounts = BTreeMap<(Variant, i64), u64>;
+pub(crate) type PairCounts = BTreeMap<(Variant, i64), u64>;
 
 /// Samples per (variant, follower code + 3 × driving code) (the codes of [`outcome_code`] for
 /// `outcome`: 0 no, 1 yes, 2 unclassified or unknown) in one streaming pass, pairing each follower row with the row after it: explore writes each sample's rows
 /// together, variant by variant, follower then driving. The query checks that (same sample_id
 /// and variant, driving wheel) for every follower row; None when the files are ordered
 /// otherwise (then [`pairs_by_sample`] pairs them).
-pub fn pairs_in_row_order(
+pub(crate) fn pairs_in_row_order(
     files: &[PathBuf],
     has_scenarios: bool,
     outcome: OutcomeColumn<'_>,
@@ -439,7 +439,7 @@ pub fn pairs_in_row_order(
 /// [`pairs_in_row_order`] by grouping the rows by sample, for files in any row order. The two
 /// wheels of a sample always lie in the same chunk file, so the files are grouped in batches of
 /// about `batch_rows` rows: the group-by never holds more than one batch's samples.
-pub fn pairs_by_sample(
+pub(crate) fn pairs_by_sample(
     files: &[PathBuf],
     batch_rows: u64,
     has_scenarios: bool,
@@ -487,7 +487,7 @@ pub fn pairs_by_sample(
 /// Rows per (class, reason) among the rows of `classes`, one file at a time (a file's distinct
 /// reasons at most in memory: reasons carry numbers, so a run can have as many as rows), each
 /// group handed to `each`.
-pub fn reason_counts(
+pub(crate) fn reason_counts(
     files: &[PathBuf],
     classes: &[Class],
     each: &mut dyn FnMut(Class, &str, u64),

@@ -5,8 +5,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
+use polywear::plot::FigureFormat;
 
-use super::common::{CliError, CliResult, FigureFormat};
+use super::common::{CliError, CliResult};
 use polywear::analysis::inputs::check_inputs;
 use polywear::analysis::{Analysis, AnalysisError, AnalysisOptions};
 use polywear::params::ParamId;
@@ -54,7 +55,7 @@ pub struct AnalyzeArgs {
     #[arg(long, value_name = "KM,...", default_value = "10000,25000,40000,60000", allow_negative_numbers = true, value_parser = parse_km_list)]
     pub within_km: KmList,
     /// File type of the figures
-    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
     pub format: FigureFormat,
 }
 
@@ -145,7 +146,7 @@ pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
     };
     let render = RenderOptions {
         out_dir,
-        figure_format: args.format.ext(),
+        figure_format: args.format,
     };
     report(
         &args.inputs,
@@ -340,7 +341,15 @@ fn print_wear(a: &Analysis) {
             p.only_driving,
             p.both,
             p.neither,
-            polywear::render::markdown::mcnemar_text(p)
+            if p.p_value.is_nan() {
+                "n/a (no discordant pairs)".to_string()
+            } else {
+                format!(
+                    "{} ({})",
+                    polywear::analysis::stats::format_p(p.p_value),
+                    p.method
+                )
+            }
         );
     }
 }

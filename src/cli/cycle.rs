@@ -9,7 +9,7 @@ use clap::Args;
 use super::common::{base_metadata, BudgetArgs, CliError, CliResult, VariantArg};
 use polywear::classify::ClassifierOptions;
 use polywear::cycle::output::{CycleRun, FleetDraw};
-use polywear::cycle::{classify_cycles, CycleError, DriveCycle};
+use polywear::cycle::{classify_cycles, CycleError, DriveCycle, StepWheel};
 use polywear::evaluate::WearStage;
 use polywear::model::Variant;
 use polywear::params::{Group, ParamError, ParamId, Params};
@@ -388,6 +388,47 @@ fn said_about_study(
 }
 
 pub fn run(args: &CycleArgs) -> CliResult {
+    let mut request = resolve(args)?;
+    if !args.quiet {
+        for l in &request.structures.said {
+            println!("{l}");
+        }
+    }
+    let wear = wear_stage(args, &request.base, request.variant)?;
+    if let Some(stage) = &wear {
+        let stage = serde_json::to_string(stage).expect("json");
+        request.metadata.push(("wear".into(), stage));
+    }
+    let pool = super::common::thread_pool(args.threads)?;
+    let start = Instant::now();
+    let steps = pool.install(|| {
+        classify_cycles(
+            &request.cycle,
+            &request.structures.bases,
+            request.variant,
+            &request.opts,
+            wear.as_ref(),
+        )
+    });
+    let secs = start.elapsed().as_secs_f64();
+    let threads = pool.current_num_threads();
+    write(args, request, wear.is_some(), steps, secs, threads)
+}
+
+/// One `cycle`, checked: the cycle, variant, options, tire structures and outputs' metadata.
+struct CycleRequest {
+    cycle: DriveCycle,
+    variant: Variant,
+    opts: ClassifierOptions,
+    /// The nominal tire (`--params` and `--set`), on which the wear stage is calibrated.
+    base: Params,
+    structures: Structures,
+    study: Option<Study>,
+    metadata: Vec<(String, String)>,
+}
+
+/// Every input checked before any work: `--out`, the cycle, `--set`, the study, each step.
+fn resolve(args: &CycleArgs) -> CliResult<CycleRequest> {
     if args.out.is_file() {
         return Err(CliError(format!(
             "--out {}: is a file; give a directory",
@@ -437,21 +478,28 @@ pub fn run(args: &CycleArgs) -> CliResult {
     cycle
         .check_steps(&structures.bases[0])
         .map_err(|e| CliError(e.to_string()))?;
-    if !args.quiet {
-        for l in &structures.said {
-            println!("{l}");
-        }
-    }
-    let wear = wear_stage(args, &base, variant)?;
-    if let Some(stage) = &wear {
-        metadata.push(("wear".into(), serde_json::to_string(stage).expect("json")));
-    }
-    let pool = super::common::thread_pool(args.threads)?;
-    let start = Instant::now();
-    let steps =
-        pool.install(|| classify_cycles(&cycle, &structures.bases, variant, &opts, wear.as_ref()));
-    let secs = start.elapsed().as_secs_f64();
-    let fleet = match (&study, structures.fleet_rows) {
+    Ok(CycleRequest {
+        cycle,
+        variant,
+        opts,
+        base,
+        structures,
+        study,
+        metadata,
+    })
+}
+
+/// The cycle's files in `--out`, then the summary and the files written (unless `--quiet`).
+fn write(
+    args: &CycleArgs,
+    request: CycleRequest,
+    wear: bool,
+    steps: Vec<Vec<[StepWheel; 2]>>,
+    secs: f64,
+    threads: usize,
+) -> CliResult {
+    let (structures, study) = (request.structures, &request.study);
+    let fleet = match (study, structures.fleet_rows) {
         (Some(s), Some(rows)) => s
             .operating_points
             .as_ref()
@@ -459,25 +507,21 @@ pub fn run(args: &CycleArgs) -> CliResult {
         _ => None,
     };
     let run = CycleRun {
-        cycle: &cycle,
-        variant,
+        cycle: &request.cycle,
+        variant: request.variant,
         structure_names: structures.names,
         structure_values: structures.values,
         steps,
-        metadata,
+        metadata: request.metadata,
         fleet,
-        wear_bases: if wear.is_some() {
-            structures.bases.clone()
-        } else {
-            Vec::new()
-        },
+        wear_bases: if wear { structures.bases } else { Vec::new() },
     };
     let written = run.write(&args.out).map_err(|e| match e {
         CycleError::CreateDir { .. } => CliError(format!("--out {e}")),
         e => CliError(e.to_string()),
     })?;
     if !args.quiet {
-        print_summary(&run, secs, pool.current_num_threads());
+        print_summary(&run, secs, threads);
         for p in written {
             println!("  wrote {}", p.display());
         }

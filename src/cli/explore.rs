@@ -7,9 +7,10 @@ use std::time::{Duration, Instant};
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use polywear::plot::FigureFormat;
 
 use super::batch::{signal_name, Interrupt, ProgressLog};
-use super::common::{BudgetArgs, CliError, CliResult, FigureFormat};
+use super::common::{BudgetArgs, CliError, CliResult};
 use polywear::explore::recorded_run::{
     changed_lines, param_changes, shell_word, DirState, RecordedRun,
 };
@@ -89,7 +90,7 @@ pub struct ExploreArgs {
     #[arg(long)]
     pub no_report: bool,
     /// File type of the report's figures
-    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
     pub format: FigureFormat,
     #[command(flatten)]
     pub budget: BudgetArgs,
@@ -361,7 +362,7 @@ fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -
     }
     let render = polywear::render::RenderOptions {
         out_dir: plan.out_dir.join("_report"),
-        figure_format: args.format.ext(),
+        figure_format: args.format,
     };
     let elsewhere = format!(
         "the rows are saved: write the report elsewhere with `polywear analyze {} --out FOLDER`",

@@ -7,8 +7,9 @@ use std::time::Instant;
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use polywear::plot::FigureFormat;
 
-use super::common::{base_metadata, BudgetArgs, CliError, CliResult, FigureFormat};
+use super::common::{base_metadata, BudgetArgs, CliError, CliResult};
 use polywear::classify::ClassifierOptions;
 use polywear::evaluate::WearStage;
 use polywear::optimize::evaluate::{solve, wear_available, Progress};
@@ -92,7 +93,7 @@ pub struct OptimizeArgs {
     #[arg(long, short)]
     pub quiet: bool,
     /// File type of the picture
-    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
     pub format: FigureFormat,
     #[command(flatten)]
     pub budget: BudgetArgs,
@@ -271,7 +272,7 @@ pub fn run(args: &OptimizeArgs) -> CliResult {
         &solution,
         &out_dir,
         &metadata(args, &problem),
-        args.format.ext(),
+        args.format,
     )
     .map_err(|e| CliError(format!("cannot write output: {e}")))?;
     if !args.quiet {

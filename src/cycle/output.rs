@@ -13,7 +13,7 @@ use crate::operating_points::OperatingPoints;
 use crate::params::{ParamId, Params, OPERATING_AXES};
 use crate::parquet_out::{write_csv, write_table, Column};
 use crate::plot::cycle::{cycle_figure, WheelTrace};
-use crate::plot::PlotError;
+use crate::plot::{FigureFile, FigureFormat, PlotError};
 use crate::records::{record_columns, OPERATING_POINT_ROW, SAMPLE_ID};
 
 /// A classified cycle, for one or several tire structures.
@@ -151,14 +151,14 @@ impl CycleRun<'_> {
         let sidecar = dir.join("cycle_summary.parquet");
         write_table(&sidecar, &summary, &self.metadata)?;
         written.push(sidecar);
-        let png = dir.join("cycle.png");
-        self.figure(&png)?;
-        written.push(png);
+        let picture = FigureFile::named(dir, "cycle", FigureFormat::Png);
+        self.figure(&picture)?;
+        written.push(picture.path);
         Ok(written)
     }
 
     /// The picture of structure sample 0.
-    fn figure(&self, path: &Path) -> Result<(), PlotError> {
+    fn figure(&self, file: &FigureFile) -> Result<(), PlotError> {
         let steps = &self.steps[0];
         let traces: Vec<WheelTrace<'_>> = (0..2)
             .map(|w| WheelTrace {
@@ -192,7 +192,7 @@ impl CycleRun<'_> {
             self.variant.as_str()
         );
         cycle_figure(
-            path,
+            file,
             &title,
             &self.cycle.time_s,
             &self.cycle.speed_kmh,

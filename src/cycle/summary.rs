@@ -39,7 +39,7 @@ pub struct WheelSummary {
 }
 
 /// Summarises wheel `w` (0 follower, 1 driving) of a classified cycle.
-pub fn summarise(cycle: &DriveCycle, steps: &[[StepWheel; 2]], w: usize) -> WheelSummary {
+pub(crate) fn summarise(cycle: &DriveCycle, steps: &[[StepWheel; 2]], w: usize) -> WheelSummary {
     let dt = cycle.step_durations_s();
     let km = |i: usize| cycle.speed_kmh[i] * dt[i] / 3600.0;
     let total_s: f64 = dt.iter().sum();
@@ -155,7 +155,7 @@ pub fn quantile(xs: &[f64], q: f64) -> f64 {
 /// The summary table: one row per wheel with `statistic` = `value` for one tire structure; with
 /// several (`per_sample[k][wheel]`), three rows per wheel: `mean`, `p05` and `p95` (the 90%
 /// interval over the structures).
-pub fn summary_columns(per_sample: &[[WheelSummary; 2]]) -> Vec<Column> {
+pub(crate) fn summary_columns(per_sample: &[[WheelSummary; 2]]) -> Vec<Column> {
     let mut orders: Vec<i64> = per_sample
         .iter()
         .flat_map(|s| s.iter().flat_map(|w| w.order_shares.keys().copied()))

@@ -175,7 +175,7 @@ impl std::fmt::Display for DirState {
 
 /// What the non-empty directory `dir` holds: a finished or unfinished run (with its progress),
 /// something else, or an unreadable manifest.
-pub fn directory_state(dir: &Path) -> DirState {
+pub(crate) fn directory_state(dir: &Path) -> DirState {
     match RecordedRun::read(dir) {
         Ok(Some(run)) => {
             let saved = run.saved(dir);

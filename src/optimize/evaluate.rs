@@ -118,7 +118,7 @@ pub fn solve(problem: &Problem, progress: &Progress<'_>) -> Solution {
 /// (MODEL.md#classes: a limit cycle or bistable; failed and no traction unknown), and,
 /// with `within_km`, a visible polygon within it from the rows' distance (unknown where the
 /// wheel has no verdict or the distance is undefined).
-pub fn outcomes_of(records: &[WheelRecord], within_km: Option<f64>) -> Outcomes {
+pub(crate) fn outcomes_of(records: &[WheelRecord], within_km: Option<f64>) -> Outcomes {
     let distances: Option<Vec<f64>> = within_km.and_then(|_| {
         record_columns(records)
             .into_iter()

@@ -2,20 +2,18 @@
 //! probabilities with Wilson bands, risk maps per wheel with their difference, and severity
 //! histograms.
 
-use std::path::Path;
-
 use super::RenderError;
 use crate::analysis::conditional::BinStat;
 use crate::analysis::risk_map::{draw_edges, RiskMap};
 use crate::analysis::severity::{Severity, SEVERITY_QUANTITIES};
 use crate::model::{Variant, Wheel};
 use crate::params::ParamId;
-use crate::plot::{self, maps, Series};
+use crate::plot::{self, maps, FigureFile, Series};
 
 /// P(vibration | parameter) along every axis of one variant, both wheels, 95% Wilson bands;
 /// bins with fewer than `min_count` classified rows are left out. `label` gives axis titles.
 pub fn conditional(
-    path: &Path,
+    file: &FigureFile,
     variant: Variant,
     axes: &[ParamId],
     label: &dyn Fn(ParamId) -> String,
@@ -25,7 +23,7 @@ pub fn conditional(
     let cols = if axes.len() <= 4 { 2 } else { 3 };
     let rows = axes.len().div_ceil(cols).max(1);
     plot::panels(
-        path,
+        file,
         (520 * cols as u32, 360 * rows as u32 + 40),
         (rows, cols),
         &format!("Risk of tread vibration by parameter ({variant} variant; shaded or bars: 95% interval)"),
@@ -71,10 +69,10 @@ pub fn conditional(
 }
 
 /// Width of a risk map panel's colour bar with its ticks and label \[px\].
-pub const RISK_MAP_BAR_PX: i32 = 130;
+pub(crate) const RISK_MAP_BAR_PX: i32 = 130;
 
 /// Blank space between a colour bar's label and the next panel's y-axis label \[px\].
-pub const RISK_MAP_GAP_PX: i32 = 50;
+pub(crate) const RISK_MAP_GAP_PX: i32 = 50;
 
 /// One panel of a risk map: title, values in percent (`[ix][iy]`), range, colours and the
 /// colour bar's label.
@@ -187,7 +185,7 @@ fn map_overlays(nominal: Option<&[crate::chart::WheelCurves]>) -> [Vec<maps::Ove
 /// numbers in the cells. Each panel is [heatmap | colour bar, ticks and label on its right |
 /// gap], so a bar's label never stands against the next panel's y-axis label.
 pub fn risk_map(
-    path: &Path,
+    file: &FigureFile,
     map: &RiskMap,
     label: &dyn Fn(ParamId) -> String,
     min_count: u64,
@@ -210,12 +208,12 @@ pub fn risk_map(
             map.variant
         ),
     };
-    map_figure(path, &fig, label)
+    map_figure(file, &fig, label)
 }
 
 /// Draws a risk map's three panels ([`risk_map`]) from what it shows.
 pub fn map_figure(
-    path: &Path,
+    file: &FigureFile,
     fig: &MapFigure<'_>,
     label: &dyn Fn(ParamId) -> String,
 ) -> Result<(), RenderError> {
@@ -223,7 +221,7 @@ pub fn map_figure(
     let overlays = map_overlays(fig.nominal);
     let panels = map_panels(fig);
     let (xe, ye) = (draw_edges(xb), draw_edges(yb));
-    plot::figure(path, (2100, 760), &fig.title, |area| {
+    plot::figure(file, (2100, 760), &fig.title, |area| {
         let parts = area.split_evenly((1, 3));
         for ((part, panel), overlay) in parts.iter().zip(&panels).zip(&overlays) {
             let width = part.dim_in_pixel().0 as i32;
@@ -249,13 +247,17 @@ pub fn map_figure(
 }
 
 /// Bars of the severity figure: the fine histogram summed into this many.
-pub const SEVERITY_FIGURE_BINS: usize = 40;
+pub(crate) const SEVERITY_FIGURE_BINS: usize = 40;
 
 /// Severity histograms of one variant: each quantity's share of vibrating rows per bin, per
 /// wheel, in engineering units (µm, mm/s, µJ) with titles in words.
-pub fn severity(path: &Path, variant: Variant, severity: &[Severity]) -> Result<(), RenderError> {
+pub fn severity(
+    file: &FigureFile,
+    variant: Variant,
+    severity: &[Severity],
+) -> Result<(), RenderError> {
     plot::panels(
-        path,
+        file,
         (1400, 900),
         (2, 2),
         &format!(

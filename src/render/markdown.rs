@@ -180,7 +180,7 @@ fn occurrence_section(s: &mut String, a: &Analysis) {
 }
 
 /// McNemar's p-value in words: "n/a (no discordant pairs)" when there is nothing to test.
-pub fn mcnemar_text(p: &crate::analysis::paired::Paired) -> String {
+pub(crate) fn mcnemar_text(p: &crate::analysis::paired::Paired) -> String {
     if p.p_value.is_nan() {
         "n/a (no discordant pairs)".into()
     } else {

@@ -11,6 +11,7 @@ use crate::analysis::Analysis;
 use crate::model::Wheel;
 use crate::parquet_out::Column;
 use crate::plot::effects::{effects_figure, Effect, EffectPanel};
+use crate::plot::FigureFile;
 
 /// Percent with one decimal.
 fn pct(p: f64) -> String {
@@ -211,7 +212,7 @@ pub fn columns(effects: &[ScenarioEffect]) -> Vec<Column> {
 
 /// The picture: every scenario's effect on each wheel with its interval, in percentage points,
 /// one panel per outcome (and variant).
-pub fn figure(path: &Path, effects: &[ScenarioEffect]) -> Result<(), RenderError> {
+pub fn figure(file: &FigureFile, effects: &[ScenarioEffect]) -> Result<(), RenderError> {
     let mut keys: Vec<(Outcome, crate::model::Variant)> = Vec::new();
     for e in effects {
         if !keys.contains(&(e.outcome, e.variant)) {
@@ -240,7 +241,7 @@ pub fn figure(path: &Path, effects: &[ScenarioEffect]) -> Result<(), RenderError
         })
         .collect();
     effects_figure(
-        path,
+        file,
         "What the changes do: scenario minus baseline, 95% interval (blue: follower, red: driving wheel)",
         &panels,
     )

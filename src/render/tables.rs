@@ -24,7 +24,7 @@ use crate::parquet_out::{write_csv, write_table, Column};
 use crate::wording::plain;
 
 /// Writes every table of `a` into `dir`; returns the files written, in order.
-pub fn write_all(dir: &Path, a: &Analysis) -> Result<Vec<PathBuf>, RenderError> {
+pub(crate) fn write_all(dir: &Path, a: &Analysis) -> Result<Vec<PathBuf>, RenderError> {
     let mut files = Vec::new();
     let min_count = a.options.min_count;
     let meta = table_metadata(a);

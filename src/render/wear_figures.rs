@@ -2,21 +2,19 @@
 //! bands), the risk maps of polygonal-wear likelihood beside the vibration maps (same cells,
 //! same stability boundaries, [`super::figures::map_figure`]), and the dominant orders' bars.
 
-use std::path::Path;
-
 use super::figures::{map_figure, MapFigure};
 use super::wear::km;
 use super::RenderError;
 use crate::analysis::wear_risk::{WearAnalysis, WearMap, ORDERS_WITHIN_KM};
 use crate::model::{Variant, Wheel};
 use crate::params::ParamId;
-use crate::plot::{self, maps, Series};
+use crate::plot::{self, maps, FigureFile, Series};
 
 /// P(visible polygon within the headline distance | parameter) along every axis of one
 /// variant, both wheels, 95% Wilson bands; bins with fewer than `min_count` wheels with a
 /// distance are left out.
 pub fn conditional(
-    path: &Path,
+    file: &FigureFile,
     variant: Variant,
     axes: &[ParamId],
     label: &dyn Fn(ParamId) -> String,
@@ -29,7 +27,7 @@ pub fn conditional(
         km(crate::analysis::wear_risk::HEADLINE_WITHIN_KM)
     });
     plot::panels(
-        path,
+        file,
         (520 * cols as u32, 360 * rows as u32 + 40),
         (rows, cols),
         &format!("Risk of a visible polygon within {within} by parameter ({variant} variant; shaded or bars: 95% interval)"),
@@ -64,7 +62,7 @@ pub fn conditional(
 /// A risk map of polygonal-wear likelihood: each wheel's P(visible polygon within the map's
 /// distance) per cell and the difference, with the nominal tire's Hopf curves.
 pub fn risk_map(
-    path: &Path,
+    file: &FigureFile,
     map: &WearMap,
     label: &dyn Fn(ParamId) -> String,
     min_count: u64,
@@ -88,12 +86,12 @@ pub fn risk_map(
             map.variant
         ),
     };
-    map_figure(path, &fig, label)
+    map_figure(file, &fig, label)
 }
 
 /// The dominant orders' shares per wheel among the wheels with a visible polygon within
 /// [`ORDERS_WITHIN_KM`], as bars (a step line per wheel).
-pub fn orders(path: &Path, variant: Variant, w: &WearAnalysis) -> Result<(), RenderError> {
+pub fn orders(file: &FigureFile, variant: Variant, w: &WearAnalysis) -> Result<(), RenderError> {
     let series: Vec<(Wheel, Vec<(f64, f64)>)> = Wheel::BOTH
         .iter()
         .map(|wh| {
@@ -121,7 +119,7 @@ pub fn orders(path: &Path, variant: Variant, w: &WearAnalysis) -> Result<(), Ren
         })
         .collect();
     plot::figure(
-        path,
+        file,
         (900, 560),
         &format!(
             "Sides of the polygons visible within {} ({variant} variant)",
