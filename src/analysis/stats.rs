@@ -25,8 +25,15 @@ pub fn wilson(k: u64, n: u64) -> (f64, f64) {
     if n == 0 {
         return (f64::NAN, f64::NAN);
     }
-    let (k, n) = (k as f64, n as f64);
-    let p = k / n;
+    wilson_share(k as f64 / n as f64, n as f64)
+}
+
+/// Wilson score interval (95%) of a share `p` observed on `n` trials, `n` a count or an
+/// effective count of weighted trials (Kish); (NaN, NaN) when n ≤ 0.
+pub fn wilson_share(p: f64, n: f64) -> (f64, f64) {
+    if n.is_nan() || n <= 0.0 {
+        return (f64::NAN, f64::NAN);
+    }
     let z2 = Z95 * Z95;
     let denom = 1.0 + z2 / n;
     let center = (p + z2 / (2.0 * n)) / denom;

@@ -26,6 +26,7 @@ pub fn page(a: &Analysis, figures: &Figures) -> String {
     let _ = writeln!(s, "# Polygonal-wear risk: study `{}`\n", a.info.study_name);
     failures_block(&mut s, a);
     header(&mut s, a);
+    super::wear::section(&mut s, a, figures);
     occurrence_section(&mut s, a);
     paired_section(&mut s, a);
     s.push_str(&super::scenarios::section(a, figures.scenarios.as_deref()));

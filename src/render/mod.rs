@@ -8,6 +8,9 @@ pub mod fleet;
 pub mod markdown;
 pub mod scenarios;
 pub mod tables;
+pub mod wear;
+pub mod wear_figures;
+mod wear_tables;
 mod words;
 
 use std::path::{Path, PathBuf};
@@ -50,6 +53,13 @@ pub struct Figures {
     pub severity: Vec<(Variant, PathBuf)>,
     /// Every scenario's effect with its interval (a run with scenarios only).
     pub scenarios: Option<PathBuf>,
+    /// P(visible polygon within the headline distance) per bin of every parameter, one figure
+    /// per variant (a run with the wear stage only).
+    pub wear_conditional: Vec<(Variant, PathBuf)>,
+    /// One risk map of polygonal-wear likelihood per drawn vibration map.
+    pub wear_maps: Vec<RiskMapFigure>,
+    /// The dominant orders' bars, one figure per variant.
+    pub wear_orders: Vec<(Variant, PathBuf)>,
 }
 
 impl Figures {
@@ -61,6 +71,9 @@ impl Figures {
             .chain(self.risk_maps.iter().map(|f| f.path.as_path()))
             .chain(self.severity.iter().map(|(_, p)| p.as_path()))
             .chain(self.scenarios.as_deref())
+            .chain(self.wear_conditional.iter().map(|(_, p)| p.as_path()))
+            .chain(self.wear_maps.iter().map(|f| f.path.as_path()))
+            .chain(self.wear_orders.iter().map(|(_, p)| p.as_path()))
     }
 }
 
@@ -170,6 +183,30 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
         let f = FigureFile::named(dir, "scenarios", format);
         scenarios::figure(&f, &a.scenarios)?;
         out.scenarios = Some(f.path);
+    }
+    if let Some(w) = &a.wear {
+        for variant in a.variants().into_iter().filter(|_| !axes.is_empty()) {
+            let f = FigureFile::named(dir, &format!("wear_conditional_{variant}"), format);
+            wear_figures::conditional(&f, variant, &axes, &label, w, min_count)?;
+            out.wear_conditional.push((variant, f.path));
+        }
+        for map in &w.maps {
+            let stem = format!("wear_riskmap_{}_{}_{}", map.x, map.y, map.variant);
+            let f = FigureFile::named(dir, &stem, format);
+            wear_figures::risk_map(&f, map, &label, min_count)?;
+            out.wear_maps.push(RiskMapFigure {
+                variant: map.variant,
+                x: map.x,
+                y: map.y,
+                path: f.path,
+            });
+        }
+        let with_orders = |v: &Variant| w.orders.iter().any(|o| o.variant == *v);
+        for variant in a.variants().into_iter().filter(with_orders) {
+            let f = FigureFile::named(dir, &format!("wear_orders_{variant}"), format);
+            wear_figures::orders(&f, variant, w)?;
+            out.wear_orders.push((variant, f.path));
+        }
     }
     Ok(out)
 }

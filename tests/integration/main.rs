@@ -34,4 +34,5 @@ mod shooting_accuracy;
 mod sobol_design;
 mod talking;
 mod wear;
+mod wear_analysis;
 mod wear_explore;
