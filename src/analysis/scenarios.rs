@@ -112,9 +112,9 @@ impl ScenarioEffect {
     }
 }
 
-/// The effect of every scenario of the run, per variant, wheel and outcome: vibration always,
-/// and a visible polygon within `within_km` when the rows have [`DISTANCE_COLUMN`] (else a note
-/// says why not). Empty for a run without scenarios.
+/// The effect of every scenario of the run, per variant, wheel and outcome: a visible polygon
+/// within `within_km` first when the rows have [`DISTANCE_COLUMN`] (else a note says why not),
+/// then vibration. Empty for a run without scenarios.
 pub fn compare(
     info: &RunInfo,
     within_km: f64,
@@ -125,7 +125,7 @@ pub fn compare(
         return Ok(Vec::new());
     }
     let names: Vec<&str> = info.scenarios.iter().map(|s| s.name.as_str()).collect();
-    let mut outcomes = vec![(Outcome::Vibration, OutcomeColumn::Vibration)];
+    let mut outcomes = Vec::new();
     if Rows::scan(&info.files)?.has_column(DISTANCE_COLUMN)? {
         outcomes.push((
             Outcome::Wear { within_km },
@@ -139,6 +139,7 @@ pub fn compare(
             "the scenarios are compared on vibration only: the rows have no `{DISTANCE_COLUMN}` column (the wear stage's), so there is no risk of a visible polygon to compare"
         ));
     }
+    outcomes.push((Outcome::Vibration, OutcomeColumn::Vibration));
     let mut out = Vec::new();
     for (outcome, column) in outcomes {
         let counts = scenario_pairs(&info.files, batch_rows, &names, column)?;
