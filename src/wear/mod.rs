@@ -33,13 +33,18 @@
 
 pub mod calibration;
 pub mod cycle;
+pub mod deposit;
 mod error;
 pub mod estimator;
 pub mod feedback;
 pub mod law;
+pub mod lock;
+pub mod long_term;
 pub mod periodic;
+pub mod profile;
 pub mod spread;
 pub mod transfer;
+pub mod window;
 pub mod zone;
 
 pub use calibration::Calibration;
