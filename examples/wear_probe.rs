@@ -62,6 +62,14 @@ fn main() {
         r.even_wear_m_per_m * 1e9,
         r.dominant_order()
     );
+    if std::env::var("PW_STEPS").is_ok() {
+        let d: Vec<String> = r
+            .history
+            .windows(2)
+            .map(|w| format!("{:.0}", w[1].distance_km - w[0].distance_km))
+            .collect();
+        println!("steps km: {}", d.join(" "));
+    }
     let n = r.dominant_order() as usize - 1;
     for h in r.history.iter().step_by((r.history.len() / 15).max(1)) {
         println!(

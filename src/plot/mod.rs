@@ -15,6 +15,7 @@ pub mod effects;
 pub mod maps;
 pub mod spectrum;
 pub mod surface;
+pub mod wear;
 
 /// One curve of a figure, in a colour picked by the caller.
 pub struct Series<'a> {

@@ -41,7 +41,7 @@ pub const CELLS: usize = 1024;
 /// band is 1..=64; the zone filters what lies beyond).
 pub const FEEDBACK_ORDERS: usize = 128;
 /// Equal-share speeds a normal spread or a drive cycle is visited at.
-pub const SPEED_NODES: usize = 10;
+pub const SPEED_NODES: usize = 5;
 /// Revolutions integrated before the first measured window (onto the cycle from the start).
 const FIRST_SKIP_REVS: usize = 10;
 /// A window cycles (has a rotation number) when |v| reaches this share of U = V sin α.
@@ -59,6 +59,10 @@ const MAX_STEPS: usize = 20_000;
 pub struct LoopSettings {
     /// Profile cells M.
     pub cells: usize,
+    /// Energy samples per revolution (each laid at its interval's centre angle, so the
+    /// interval acts as one more box filter of its length: 1/4 of a cell's 1.95 mm... see
+    /// MODEL.md#the-long-term-loop).
+    pub samples_per_rev: usize,
     /// Distance to run \[km\].
     pub distance_km: f64,
     /// Largest step Δs_max \[km\].
@@ -83,12 +87,13 @@ impl Default for LoopSettings {
     fn default() -> Self {
         LoopSettings {
             cells: CELLS,
+            samples_per_rev: CELLS / 4,
             distance_km: 60_000.0,
             max_step_km: 500.0,
             min_step_km: 20.0,
             skip_revs: 2,
             update_tread_height: true,
-            rtol: 1e-8,
+            rtol: 1e-7,
             seed: 1,
             zone: WearZone::DEFAULT,
             stop_at_visible: true,
@@ -331,7 +336,7 @@ impl<'a> Run<'a> {
                 settings.skip_revs
             },
             revs,
-            samples_per_rev: radius.len(),
+            samples_per_rev: settings.samples_per_rev,
             rtol: settings.rtol,
             period_s,
             max_steps: 50_000_000,
@@ -345,14 +350,22 @@ impl<'a> Run<'a> {
             f64::NAN
         };
         let weights = revolution_weights(window.energy_j.len(), rho);
-        let samples = radius.len();
+        let samples = settings.samples_per_rev;
         let mut mean_j = vec![0.0; samples];
         for (w, rev) in weights.iter().zip(&window.energy_j) {
             for (m, e) in mean_j.iter_mut().zip(rev) {
                 *m += w * e;
             }
         }
-        let plan = DepositPlan::new(&fb.zone, p.r_b, width_m, &radius, fb.local_per_m, samples, 0.5);
+        let plan = DepositPlan::new(
+            &fb.zone,
+            p.r_b,
+            width_m,
+            &radius,
+            fb.local_per_m,
+            samples,
+            0.5,
+        );
         let per_rev_m = plan.lay(gamma, &mean_j);
         let rev_m = std::f64::consts::TAU * p.r_b;
         let other_rate = (1.0 - p.wear_share_straight) * wear_rate_ref_m_per_m(&p);
@@ -363,14 +376,14 @@ impl<'a> Run<'a> {
             .map(|(d, o)| d / rev_m + o)
             .collect();
         let revs_driven = chunk_m / rev_m;
-        let cell_area = width_m * rev_m / samples as f64;
+        let cell_area = width_m * rev_m / radius.len() as f64;
         self.state.energy_j += mean_j.iter().sum::<f64>() * revs_driven;
         self.state.straight_volume_m3 += per_rev_m.iter().sum::<f64>() * cell_area * revs_driven;
         for (d, r) in self.state.profile.depth_m.iter_mut().zip(&rate) {
             *d += r * chunk_m;
         }
         if settings.update_tread_height {
-            self.state.height_m -= rate.iter().sum::<f64>() / samples as f64 * chunk_m;
+            self.state.height_m -= rate.iter().sum::<f64>() / rate.len() as f64 * chunk_m;
         }
         self.state.x = window.end;
         self.state.rho[i] = rho;
@@ -402,11 +415,12 @@ impl<'a> Run<'a> {
 }
 
 /// The lock signature that a step must not change without being redone: per leg, the lock
-/// flag and the nearest order of ρ.
+/// flag and, where locked, the order it is locked to. (An unlocked ρ drifts on with the tread
+/// height and the growing profile; its nearest order changing is not an event to resolve.)
 fn signature(rho: &[f64], locked: &[bool]) -> Vec<(bool, i64)> {
     rho.iter()
         .zip(locked)
-        .map(|(r, l)| (*l, if r.is_nan() { -1 } else { r.round() as i64 }))
+        .map(|(r, l)| (*l, if *l { r.round() as i64 } else { -1 }))
         .collect()
 }
 
@@ -428,17 +442,30 @@ fn harmonic_rates(
         let a = rn.norm();
         let along = (drn * rn.conj()).re;
         depth.push(2.0 * a);
-        d_rate.push(if a > 0.0 { 2.0 * along / a } else { 2.0 * drn.norm() });
+        d_rate.push(if a > 0.0 {
+            2.0 * along / a
+        } else {
+            2.0 * drn.norm()
+        });
         beta.push(if a > 0.0 { along / (a * a) } else { 0.0 });
     }
     (depth, d_rate, beta)
 }
 
-/// The next step \[m\]: Δs_max, 0.1 |R|max/|dR/ds|max, 0.2/|β|max and 1 µm of profile change,
-/// never below Δs_min.
+/// Orders shallower than this share of the deepest take no part in the step rule: their β is
+/// the ratio of two roundings.
+const STEP_RULE_DEPTH_SHARE: f64 = 0.01;
+
+/// The next step \[m\]: Δs_max, 0.1 |R|max/|dR/ds|max, 0.2/|β|max (over the orders at least
+/// [`STEP_RULE_DEPTH_SHARE`] of the deepest) and 1 µm of profile change, never below Δs_min.
 fn next_step_m(settings: &LoopSettings, point: &HistoryPoint, rate_spread_m_per_m: f64) -> f64 {
-    let max_abs = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let depth = max_abs(&point.depths_m);
+    let depth = point.depths_m.iter().fold(0.0f64, |m, d| m.max(*d));
+    let significant = |i: &usize| point.depths_m[*i] >= STEP_RULE_DEPTH_SHARE * depth;
+    let max_abs = |v: &[f64]| {
+        (0..v.len())
+            .filter(significant)
+            .fold(0.0f64, |m, i| m.max(v[i].abs()))
+    };
     let d_rate = max_abs(&point.depth_rate_m_per_m);
     let beta = max_abs(&point.growth_per_m);
     let mut step = settings.max_step_km * 1e3;
@@ -545,7 +572,10 @@ pub fn run_wheel(
         }
         history.push(point);
         run.state.history_len = history.len();
-        profiles.push((run.state.distance_m / 1e3, run.state.profile.depth_m.clone()));
+        profiles.push((
+            run.state.distance_m / 1e3,
+            run.state.profile.depth_m.clone(),
+        ));
         progress(this_m / 1e3);
         last = Some((before, this_m, sig));
         if visible.is_some() && settings.stop_at_visible {
@@ -640,7 +670,8 @@ impl WheelWear {
     pub fn levels_out(&self) -> bool {
         let e = self.end();
         let seed = 2.0 * self.seed_m;
-        e.depths_m.iter().all(|d| *d <= seed * (1.0 + 1e-9)) && e.growth_per_m.iter().all(|b| *b <= 0.0)
+        e.depths_m.iter().all(|d| *d <= seed * (1.0 + 1e-9))
+            && e.growth_per_m.iter().all(|b| *b <= 0.0)
     }
 
     /// The distance to a visible polygon \[km\]: where one became visible; else, if the
@@ -694,7 +725,11 @@ pub fn measured_growth_per_m(wear: &WheelWear, order: u32, from_km: f64, to_km: 
     let near = |km: f64| {
         wear.history
             .iter()
-            .min_by(|a, b| (a.distance_km - km).abs().total_cmp(&(b.distance_km - km).abs()))
+            .min_by(|a, b| {
+                (a.distance_km - km)
+                    .abs()
+                    .total_cmp(&(b.distance_km - km).abs())
+            })
             .expect("the start")
     };
     let (a, b) = (near(from_km), near(to_km));
