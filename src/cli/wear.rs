@@ -591,8 +591,13 @@ fn verdict_words(o: &WheelOutcome<'_>, p: &Params, distance_km: f64) -> String {
     }
 }
 
+/// A distance in words: to the km below 1,000 km, to 100 km above, with thousands separators.
 fn thousands(km: f64) -> String {
-    let rounded = (km / 100.0).round() * 100.0;
+    let rounded = if km < 1e3 {
+        km.round()
+    } else {
+        (km / 100.0).round() * 100.0
+    };
     let s = format!("{rounded:.0}");
     let mut out = String::new();
     for (i, c) in s.chars().enumerate() {

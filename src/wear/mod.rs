@@ -31,6 +31,7 @@
 //!   wear laid back onto the tyre by the zone carries conj(H_w(n)).
 //! - **Growth**: β_n \[1/m\] is the rate of |R_n| per metre travelled: |R_n| ∝ e^{β_n s}.
 
+pub mod accelerated;
 pub mod calibration;
 pub mod cycle;
 pub mod deposit;

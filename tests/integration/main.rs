@@ -34,3 +34,4 @@ mod shooting_accuracy;
 mod sobol_design;
 mod talking;
 mod wear;
+mod wear_loop;
