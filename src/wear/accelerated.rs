@@ -15,7 +15,7 @@ use super::feedback::Feedback;
 use super::profile::{harmonics_of, Profile};
 use super::window::{integrate_window, EpsilonTable, WindowRequest};
 use super::zone::WearZone;
-use super::WearError;
+use super::{Complex64, WearError};
 use crate::model::{Variant, Wheel, WheelModel};
 use crate::params::Params;
 
@@ -61,9 +61,9 @@ impl Default for OracleSettings {
 /// What the oracle measured.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OracleRun {
-    /// D_n \[m\] of orders 1 ..= `orders` after each revolution with wear (the first row is the
-    /// seed).
-    pub depths_m: Vec<Vec<f64>>,
+    /// The harmonics R_n \[m\] of orders 1 ..= `orders` after each revolution with wear (the
+    /// first row is the seed).
+    pub harmonics: Vec<Vec<Complex64>>,
     /// The distance one revolution stands for, A·2π r_B \[m\].
     pub metres_per_rev: f64,
     /// The depth profile at the end \[m\].
@@ -75,7 +75,7 @@ impl OracleRun {
     /// ln(D_n(to)/D_n(from)) / ((to − from)·A·2π r_B).
     pub fn growth_per_m(&self, order: u32, from: usize, to: usize) -> f64 {
         let n = order as usize - 1;
-        (self.depths_m[to][n] / self.depths_m[from][n]).ln()
+        (self.harmonics[to][n].norm() / self.harmonics[from][n].norm()).ln()
             / ((to - from) as f64 * self.metres_per_rev)
     }
 }
@@ -104,7 +104,7 @@ pub fn run_oracle(
         (1.0 - p.wear_share_straight) * wear_rate_ref_m_per_m(p) * rev_m * s.acceleration;
     let mut profile = Profile::seeded(s.cells, p.seed_runout_um * 1e-6, s.seed);
     let mut x = start.unwrap_or_else(|| model.ode.equilibrium());
-    let depths = |pr: &Profile| pr.depths_m(s.orders);
+    let depths = |pr: &Profile| pr.harmonics(s.orders);
     let mut rows = vec![depths(&profile)];
     for rev in 0..s.warmup_revs + s.revs {
         let radius = profile.radius_m();
@@ -143,7 +143,7 @@ pub fn run_oracle(
         rows.push(depths(&profile));
     }
     Ok(OracleRun {
-        depths_m: rows,
+        harmonics: rows,
         metres_per_rev: rev_m * s.acceleration,
         profile,
     })

@@ -42,8 +42,8 @@ pub const CELLS: usize = 1024;
 pub const FEEDBACK_ORDERS: usize = 128;
 /// Equal-share speeds a normal spread or a drive cycle is visited at.
 pub const SPEED_NODES: usize = 5;
-/// Revolutions integrated before the first measured window (onto the cycle from the start).
-const FIRST_SKIP_REVS: usize = 10;
+/// Revolutions integrated before a leg's first measured window (onto its cycle).
+const FIRST_SKIP_REVS: usize = 30;
 /// A window cycles (has a rotation number) when |v| reaches this share of U = V sin α.
 const CYCLING_SHARE_OF_U: f64 = 0.1;
 /// The tread model is rebuilt at a speed once h has moved this much since \[m\].
@@ -245,7 +245,10 @@ struct LegModel {
 struct RunState {
     profile: Profile,
     height_m: f64,
-    x: [f64; 3],
+    /// The ODE state each leg's last window ended in (`None`: not visited yet).
+    x: Vec<Option<[f64; 3]>>,
+    /// The state the last window ended in, whichever leg it was.
+    last_x: [f64; 3],
     distance_m: f64,
     rho: Vec<f64>,
     energy_j: f64,
@@ -312,7 +315,13 @@ impl<'a> Run<'a> {
     fn chunk(&mut self, i: usize, chunk_m: f64) -> Result<Chunk, WearError> {
         let (settings, gamma) = (self.settings, self.inputs.gamma_m3_per_j);
         let prev_rho = self.state.rho[i];
-        let first = std::mem::replace(&mut self.first, false);
+        // A leg's first visit starts where the last window ended and settles onto its own
+        // cycle; later visits go on from the leg's own state, so that no window measures the
+        // slow relaxation of a cycle from another speed (which is not fixed to the tyre, and
+        // which the scaling would multiply).
+        let start_x = self.state.x[i];
+        let first = start_x.is_none();
+        self.first = false;
         let radius = self.state.profile.radius_m();
         let orders = FEEDBACK_ORDERS.min(radius.len() / 2 - 1);
         let harmonics = harmonics_of(&radius, orders);
@@ -329,7 +338,7 @@ impl<'a> Run<'a> {
             ode: &ode,
             epsilon: &table,
             rotation_hz: WheelModel::rotation_hz(&p),
-            start: self.state.x,
+            start: start_x.unwrap_or(self.state.last_x),
             skip_revs: if first {
                 FIRST_SKIP_REVS
             } else {
@@ -385,7 +394,8 @@ impl<'a> Run<'a> {
         if settings.update_tread_height {
             self.state.height_m -= rate.iter().sum::<f64>() / rate.len() as f64 * chunk_m;
         }
-        self.state.x = window.end;
+        self.state.x[i] = Some(window.end);
+        self.state.last_x = window.end;
         self.state.rho[i] = rho;
         self.rhs_evals += window.rhs_evals as u64;
         Ok(Chunk {
@@ -499,7 +509,8 @@ pub fn run_wheel(
         state: RunState {
             profile,
             height_m: p.tread_height,
-            x: [0.0; 3],
+            x: vec![None; inputs.legs.len()],
+            last_x: [0.0; 3],
             distance_m: 0.0,
             rho: vec![f64::NAN; inputs.legs.len()],
             energy_j: 0.0,
@@ -511,7 +522,7 @@ pub fn run_wheel(
     };
     let first_model = run.leg_model(0)?;
     let band_area_m2 = first_model.model.patch.width_m * std::f64::consts::TAU * p.r_b;
-    run.state.x = inputs
+    run.state.last_x = inputs
         .start
         .unwrap_or_else(|| first_model.model.ode.equilibrium());
     let (depths, _, _) = harmonic_rates(&run.state.profile, &vec![0.0; settings.cells], orders);

@@ -168,37 +168,38 @@ fn free_print_is_bounded_by_the_coherence_factor() {
         ..OracleSettings::default()
     };
     let o = run_oracle(&p, Wheel::Follower, V, gamma, start(&w), &s).unwrap();
-    // The print of one revolution, D₁, from the change of the first revolution.
-    let seed = &o.depths_m[0];
-    let d1 = (o.depths_m[1][18] - seed[18]).abs();
+    // The print of one revolution, D₁ = 2|ΔR₁₉|, from the first revolution.
+    let r = |row: usize| o.harmonics[row][18];
+    let d1 = 2.0 * (r(1) - r(0)).norm();
     let delta: f64 = w.verdict.polygon_order - 19.0;
-    let bound = d1 / (2.0 * (std::f64::consts::PI * delta).sin().abs());
-    let worst_change = o
-        .depths_m
-        .iter()
-        .map(|row| (row[18] - seed[18]).abs())
+    let bound = d1 / (std::f64::consts::PI * delta).sin().abs();
+    let worst_change = (0..o.harmonics.len())
+        .map(|k| 2.0 * (r(k) - r(0)).norm())
         .fold(0.0f64, f64::max);
     assert!(
-        d1 > 0.0 && worst_change <= 1.5 * bound + 1e-15,
+        d1 > 0.0 && worst_change <= 1.2 * bound,
         "{worst_change} vs {bound} (D1 {d1})"
     );
     // ... where the same prints laid coherently would have added up 600 times.
-    assert!(worst_change < 0.1 * 600.0 * d1);
+    assert!(worst_change < 0.01 * 600.0 * d1, "{worst_change} vs {d1}");
 }
 
 /// P6 (level A side) at a stable point: orders far from ν level out at the estimator's rate
 /// within 5%, and the order that grows fastest grows at the estimator's rate within 25%.
 #[test]
 fn stable_point_levels_far_orders_and_regenerates_near_nu() {
-    let p = worst(60.0);
+    // A seed small enough for the loop to stay linear (64 orders of 2 µm put ε near 1% rms,
+    // whose cross terms move the low orders' rates by 5–10%).
+    let p = Params {
+        seed_runout_um: 0.2,
+        ..worst(60.0)
+    };
     let (r, w) = run(&p, 200.0, LoopSettings::default());
     assert_eq!(w.verdict.class, polywear::classify::Class::Stable);
     for n in [2u32, 3, 4, 10] {
         let (a, b) = (first_growth(&r, n), estimated(&p, &w, n));
-        assert!(
-            a < 0.0 && (a / b - 1.0).abs() < 0.05,
-            "order {n}: loop {a} estimate {b}"
-        );
+        assert!((a / b - 1.0).abs() < 0.05, "order {n}: loop {a} estimate {b}");
+        assert!(n > 4 || a < 0.0, "order {n} grows: {a}");
     }
     let nu = w.model.as_ref().unwrap().ode.linear_stability().eig_freq_hz
         / polywear::model::WheelModel::rotation_hz(&p);
@@ -230,33 +231,35 @@ fn growth_does_not_depend_on_the_grid() {
     }
 }
 
-/// P3: a speed spread slows the order that grows fastest without one.
+/// P6 near ν at a vibrating point, steady speed: the loop's growth of the orders around ν is
+/// the estimator's (the periodic linearisation about the cycle) within 10%. (With a speed
+/// spread the loop's few speeds and the estimator's exact mean differ: MODEL.md#the-long-term-loop.)
 #[test]
-fn speed_spread_slows_a_fixed_order() {
-    let rates: Vec<f64> = [0.0, 2.0, 5.0]
-        .iter()
-        .map(|s| {
-            let p = Params {
-                speed_spread_kmh: *s,
-                ..worst(100.0)
-            };
-            let (r, _) = run(&p, 60.0, LoopSettings::default());
-            first_growth(&r, 19)
-        })
-        .collect();
-    assert!(rates[0] > rates[1] && rates[1] > rates[2], "{rates:?}");
-    assert!(rates[2] < 0.5 * rates[0], "{rates:?}");
+fn vibrating_point_grows_as_the_estimator_says() {
+    let p = worst(100.0);
+    let (r, w) = run(&p, 60.0, LoopSettings::default());
+    for n in [18u32, 19, 20] {
+        let (a, b) = (first_growth(&r, n), estimated(&p, &w, n));
+        assert!(
+            (a / b - 1.0).abs() < 0.1,
+            "order {n}: loop {a} estimate {b}"
+        );
+    }
 }
 
-/// The accelerated oracle (A = 1000, the profile updated every revolution) against the loop at
+/// The accelerated oracle (A = 100, the profile updated every revolution) against the loop at
 /// a stable point: the same growth per order within 10%.
 #[test]
 fn accelerated_oracle_agrees_with_the_loop() {
-    let p = worst(60.0);
+    let p = Params {
+        seed_runout_um: 0.2,
+        ..worst(60.0)
+    };
     let (r, w) = run(&p, 100.0, LoopSettings::default());
     let gamma = calibration(&p).gamma_m3_per_j(&p);
     let s = OracleSettings {
-        revs: 400,
+        acceleration: 100.0,
+        revs: 1000,
         ..OracleSettings::default()
     };
     let o = run_oracle(&p, Wheel::Follower, V, gamma, start(&w), &s).unwrap();
@@ -307,6 +310,7 @@ fn wear_refuses_bad_input() {
         assert!(err.contains(says), "{args:?}: {err}");
         assert!(!out.exists(), "{args:?}: wrote before refusing");
     }
+    std::fs::create_dir_all(&dir).unwrap();
     let bad = dir.join("bad.csv");
     std::fs::write(&bad, "time_s,speed_kmh\n0,100\n0,100\n").unwrap();
     let (code, _, err) = polywear(&[
