@@ -142,7 +142,7 @@ pub fn cycle_legs(speeds_kmh: &[f64], distances_m: &[f64]) -> Vec<Leg> {
         .collect();
     rows.sort_by(|a, b| a.0.total_cmp(&b.0));
     let total: f64 = rows.iter().map(|r| r.1).sum();
-    if !(total > 0.0) {
+    if total.is_nan() || total <= 0.0 {
         return Vec::new();
     }
     let k = SPEED_NODES;
@@ -262,6 +262,12 @@ struct Chunk {
     rho: f64,
     locked: bool,
 }
+
+/// A step's distance-weighted wear rate per cell \[m/m\] and each leg's ρ and lock flag.
+type StepRates = (Vec<f64>, Vec<f64>, Vec<bool>);
+
+/// The lock signature of a step: per leg, locked and to which order.
+type Signature = Vec<(bool, i64)>;
 
 /// One wheel's run.
 struct Run<'a> {
@@ -407,7 +413,7 @@ impl<'a> Run<'a> {
 
     /// One step of `step_m` over every leg; returns the distance-weighted wear rate per cell
     /// and each leg's (ρ, lock flag).
-    fn step(&mut self, step_m: f64) -> Result<(Vec<f64>, Vec<f64>, Vec<bool>), WearError> {
+    fn step(&mut self, step_m: f64) -> Result<StepRates, WearError> {
         let legs = self.inputs.legs;
         let mut rate = vec![0.0; self.state.profile.cells()];
         let (mut rho, mut locked) = (Vec::new(), Vec::new());
@@ -427,7 +433,7 @@ impl<'a> Run<'a> {
 /// The lock signature that a step must not change without being redone: per leg, the lock
 /// flag and, where locked, the order it is locked to. (An unlocked ρ drifts on with the tread
 /// height and the growing profile; its nearest order changing is not an event to resolve.)
-fn signature(rho: &[f64], locked: &[bool]) -> Vec<(bool, i64)> {
+fn signature(rho: &[f64], locked: &[bool]) -> Signature {
     rho.iter()
         .zip(locked)
         .map(|(r, l)| (*l, if *l { r.round() as i64 } else { -1 }))
@@ -540,7 +546,7 @@ pub fn run_wheel(
     let visible_m = p.visible_depth_mm * 1e-3;
     let mut step_m = settings.min_step_km * 1e3;
     // The state before the last accepted step, its length and the signature it was taken at.
-    let mut last: Option<(RunState, f64, Vec<(bool, i64)>)> = None;
+    let mut last: Option<(RunState, f64, Signature)> = None;
     let (mut steps, mut redone) = (0usize, 0usize);
     let mut visible = None;
     while run.state.distance_m < total_m * (1.0 - 1e-12) && steps < MAX_STEPS {

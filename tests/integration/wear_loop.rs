@@ -1,6 +1,6 @@
-//! Level A, the long-term loop, and its accelerated oracle against the predictions of
-//! MODEL.md#checkable-predictions (P3, P6, P7, P10), the even-wear calibration, energy
-//! conservation, and `polywear wear`'s refusals and outputs. Worst-case tests pass φ_s = 1 and
+//! Level A, the long-term loop (MODEL.md#the-long-term-loop), and its accelerated oracle
+//! (MODEL.md#the-accelerated-oracle): even wear and energy conservation, levelling and
+//! regeneration against the estimator, the free print's bound, grid independence, and `polywear wear`'s refusals and outputs. Worst-case tests pass φ_s = 1 and
 //! no speed spread explicitly; every run is a few hundred km, not a tyre's life.
 
 use polywear::classify::ClassifierOptions;
@@ -198,7 +198,10 @@ fn stable_point_levels_far_orders_and_regenerates_near_nu() {
     assert_eq!(w.verdict.class, polywear::classify::Class::Stable);
     for n in [2u32, 3, 4, 10] {
         let (a, b) = (first_growth(&r, n), estimated(&p, &w, n));
-        assert!((a / b - 1.0).abs() < 0.05, "order {n}: loop {a} estimate {b}");
+        assert!(
+            (a / b - 1.0).abs() < 0.05,
+            "order {n}: loop {a} estimate {b}"
+        );
         assert!(n > 4 || a < 0.0, "order {n} grows: {a}");
     }
     let nu = w.model.as_ref().unwrap().ode.linear_stability().eig_freq_hz
