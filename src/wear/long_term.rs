@@ -25,6 +25,7 @@
 use super::calibration::wear_rate_ref_m_per_m;
 use super::deposit::{other_wear_m_per_m, DepositPlan};
 use super::feedback::Feedback;
+pub use super::legs::{cruise_legs, cycle_legs, Leg, SPEED_NODES};
 use super::lock::{is_locked, revolution_weights, rotation_number, window_revs, WINDOW_REVS};
 use super::profile::{harmonics_of, Profile};
 use super::window::{integrate_window, EpsilonTable, WindowRequest};
@@ -32,7 +33,6 @@ use super::zone::WearZone;
 use super::{Complex64, WearError};
 use crate::model::{Variant, Wheel, WheelModel};
 use crate::params::Params;
-use crate::sampling::distribution::normal_quantile;
 
 /// Profile cells M of the shipped loop (1.95 mm each at r_B = 0.317 m, under a quarter of the
 /// trailing zone's length).
@@ -40,8 +40,6 @@ pub const CELLS: usize = 1024;
 /// Profile orders that act back through ε and that the history records, 1 ..= this (the seed's
 /// band is 1..=64; the zone filters what lies beyond).
 pub const FEEDBACK_ORDERS: usize = 128;
-/// Equal-share speeds a normal spread or a drive cycle is visited at.
-pub const SPEED_NODES: usize = 5;
 /// Revolutions integrated before a leg's first measured window (onto its cycle).
 const FIRST_SKIP_REVS: usize = 30;
 /// A window cycles (has a rotation number) when |v| reaches this share of U = V sin α.
@@ -99,67 +97,6 @@ impl Default for LoopSettings {
             stop_at_visible: true,
         }
     }
-}
-
-/// One speed of the usage and its share of the distance.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct Leg {
-    /// Speed \[km/h\].
-    pub speed_kmh: f64,
-    /// Share of the distance (the legs' shares add up to 1).
-    pub share: f64,
-}
-
-/// Cruising at `speed_kmh` with a normal spread of `spread_kmh`: the speed itself without a
-/// spread, else [`SPEED_NODES`] equal shares at the spread's quantiles (k + ½)/K (kept above
-/// 1 km/h).
-pub fn cruise_legs(speed_kmh: f64, spread_kmh: f64) -> Vec<Leg> {
-    if spread_kmh <= 0.0 {
-        return vec![Leg {
-            speed_kmh,
-            share: 1.0,
-        }];
-    }
-    let k = SPEED_NODES;
-    (0..k)
-        .map(|i| Leg {
-            speed_kmh: (speed_kmh + spread_kmh * normal_quantile((i as f64 + 0.5) / k as f64))
-                .max(1.0),
-            share: 1.0 / k as f64,
-        })
-        .collect()
-}
-
-/// A drive cycle's speeds `speeds_kmh[i]`, each driven `distances_m[i]`, as [`SPEED_NODES`]
-/// equal shares of distance at the distance-weighted quantiles (k + ½)/K of speed (standstill
-/// rows carry no distance and drop out). Empty when the cycle covers no distance.
-pub fn cycle_legs(speeds_kmh: &[f64], distances_m: &[f64]) -> Vec<Leg> {
-    let mut rows: Vec<(f64, f64)> = speeds_kmh
-        .iter()
-        .zip(distances_m)
-        .filter(|(v, d)| **v > 0.0 && **d > 0.0)
-        .map(|(v, d)| (*v, *d))
-        .collect();
-    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let total: f64 = rows.iter().map(|r| r.1).sum();
-    if total.is_nan() || total <= 0.0 {
-        return Vec::new();
-    }
-    let k = SPEED_NODES;
-    let mut legs = Vec::with_capacity(k);
-    let (mut acc, mut row) = (0.0, 0usize);
-    for i in 0..k {
-        let target = (i as f64 + 0.5) / k as f64 * total;
-        while row + 1 < rows.len() && acc + rows[row].1 < target {
-            acc += rows[row].1;
-            row += 1;
-        }
-        legs.push(Leg {
-            speed_kmh: rows[row].0,
-            share: 1.0 / k as f64,
-        });
-    }
-    legs
 }
 
 /// What the loop needs about one wheel.

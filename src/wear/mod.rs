@@ -8,7 +8,11 @@
 //! response to ε at a state and at the equilibrium, as poles), [`periodic`] (the cycle's
 //! response, Floquet modes and harmonic balance), [`spread`] (exact means of poles over a normal
 //! speed spread), [`estimator`] (the growth of each order, the dominant one, the distance to a
-//! visible polygon).
+//! visible polygon). The long-term loop (MODEL.md#the-long-term-loop) runs the wear by brute
+//! force: [`profile`] (the worn depth on cells, the seed), [`window`] (a few revolutions at a
+//! fixed profile), [`lock`] (the rotation number and the weights of the mean revolution),
+//! [`deposit`] (the energy laid element by element), [`legs`] (the speeds driven),
+//! [`long_term`] (the loop), and [`accelerated`] (the oracle by another road).
 //!
 //! Conventions, everywhere in this module:
 //!
@@ -39,6 +43,7 @@ mod error;
 pub mod estimator;
 pub mod feedback;
 pub mod law;
+pub mod legs;
 pub mod lock;
 pub mod long_term;
 pub mod periodic;
