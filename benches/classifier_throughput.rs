@@ -42,7 +42,7 @@ fn main() {
     let t0 = Instant::now();
     let rows: Vec<_> = (0..samples)
         .into_par_iter()
-        .map(|i| evaluate_sample(&study, &sampler, i, &opts))
+        .map(|i| evaluate_sample(&study, &sampler, i, &opts, None))
         .collect();
     let secs = t0.elapsed().as_secs_f64();
 

@@ -1,8 +1,9 @@
 //! The wear estimator's cost beside the classifier's, side by side on the same samples of the
 //! shipped default study: samples/s of classifying both wheels without and with the estimator
 //! (MODEL.md#the-per-sample-estimator), and the RHS evaluations the estimator adds per wheel by
-//! class (counted by the classifier's meter). Explore also builds and writes the rows, which
-//! this leaves out, so the share kept here is a lower bound of explore's.
+//! class (counted by the classifier's meter), both through explore's evaluation of a sample
+//! (`explore::evaluate_sample`). Explore also writes the rows, which this leaves out, so the
+//! share kept here is a lower bound of explore's.
 //!
 //! Run: `cargo bench --bench wear -- [SAMPLES=20000]`.
 
@@ -10,11 +11,10 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use polywear::classify::budget::Meter;
-use polywear::classify::{classify_point_hinted, Class, ClassifierOptions};
-use polywear::model::{Variant, Wheel};
+use polywear::classify::{Class, ClassifierOptions};
+use polywear::evaluate::WearStage;
+use polywear::explore::evaluate_sample;
 use polywear::study::{Study, DEFAULT_STUDY};
-use polywear::wear::{estimate, WearInputs, WearSettings};
 
 fn main() {
     let samples: u64 = std::env::args()
@@ -25,35 +25,24 @@ fn main() {
     let study = Study::parse(DEFAULT_STUDY).expect("the shipped default study parses");
     let sampler = study.sampler(study.seed, samples);
     let opts = ClassifierOptions::default();
-    let cal = polywear::evaluate::calibrate_wear(&study.base, Variant::SlidingShare, &opts)
-        .expect("the reference point calibrates");
-    let settings = WearSettings::default();
-    // Per sample: (class, RHS evaluations of the estimator) of both wheels.
-    let run = |wear: bool| -> Vec<[(Class, u64); 2]> {
+    let stage = WearStage::for_run(
+        &study.base,
+        study.variants[0],
+        study.wear.unwrap_or_default(),
+        &opts,
+    )
+    .expect("the reference point calibrates");
+    // Per sample and wheel: (class, RHS evaluations of the wear stage), through explore's own
+    // evaluation of a sample.
+    let run = |wear: bool| -> Vec<Vec<(Class, u64)>> {
         (0..samples)
             .into_par_iter()
             .map(|i| {
-                let (p, _) = sampler.sample(i);
-                let mut hint = None;
-                Wheel::BOTH.map(|wheel| {
-                    let (m, v, next) =
-                        classify_point_hinted(&p, wheel, Variant::SlidingShare, &opts, hint);
-                    hint = next;
-                    let mut extra = 0;
-                    if wear {
-                        let meter = Meter::new(opts.budget);
-                        let inputs = WearInputs {
-                            params: &p,
-                            model: &m,
-                            verdict: &v,
-                            settings: &settings,
-                            calibration: &cal,
-                        };
-                        std::hint::black_box(estimate(&inputs, &meter));
-                        extra = meter.used();
-                    }
-                    (v.class, extra)
-                })
+                let rows = evaluate_sample(&study, &sampler, i, &opts, wear.then_some(&stage));
+                rows.records
+                    .iter()
+                    .map(|r| (r.class, r.wear.as_ref().map_or(0, |w| w.wear_rhs_evals)))
+                    .collect()
             })
             .collect()
     };

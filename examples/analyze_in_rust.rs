@@ -17,7 +17,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     }
     let opts = polywear::render::RenderOptions {
         out_dir: out.into(),
-        figure_format: "png",
+        figure_format: polywear::plot::FigureFormat::Png,
     };
     polywear::render::write(&a, &opts)?;
     Ok(())

@@ -2,15 +2,13 @@
 //! 16, 18, 20, 22, 23): every value classified in parallel, and the Hopf points located by
 //! Brent's method on the real part of the leading eigenvalue.
 
-use std::path::Path;
-
 use crate::classify::ClassifierOptions;
 use crate::ensemble::{self, Control};
 use crate::evaluate;
 use crate::model::{Variant, Wheel, WheelModel};
 use crate::numeric::sign_change_roots;
 use crate::params::{ParamId, Params};
-use crate::plot::{self, PlotError, Series};
+use crate::plot::{self, FigureFile, PlotError, Series};
 use crate::records::WheelRecord;
 use crate::wording::plain;
 
@@ -95,7 +93,7 @@ pub struct HopfPoint {
 }
 
 /// l1 at the Hopf point where `param` = `x` (NaN where no model or no complex pair exists).
-pub fn l1_at(p: &Params, param: ParamId, x: f64, wheel: Wheel, variant: Variant) -> f64 {
+pub(crate) fn l1_at(p: &Params, param: ParamId, x: f64, wheel: Wheel, variant: Variant) -> f64 {
     let mut q = *p;
     q[param] = x;
     let Ok(m) = WheelModel::build(&q, wheel, variant) else {
@@ -110,7 +108,7 @@ pub fn l1_at(p: &Params, param: ParamId, x: f64, wheel: Wheel, variant: Variant)
 }
 
 /// Brent on Re λ between neighbouring sweep values whose signs differ, to 1e-6 relative.
-pub fn locate_hopf(
+pub(crate) fn locate_hopf(
     base: &Params,
     param: ParamId,
     jobs: &[(f64, Wheel)],
@@ -147,9 +145,9 @@ pub fn locate_hopf(
 
 impl Sweep {
     /// Draws the paper's two views: Re λ against the parameter (in full, and zoomed on zero
-    /// where the Hopf points are), and the limit-cycle envelope. PNG or SVG by the extension.
-    pub fn draw(&self, path: &Path) -> Result<(), PlotError> {
-        draw(path, self)
+    /// where the Hopf points are), and the limit-cycle envelope, into `file`.
+    pub fn draw(&self, file: &FigureFile) -> Result<(), PlotError> {
+        draw(file, self)
     }
 
     /// The operating point held fixed while the parameter is swept, and every other parameter
@@ -294,7 +292,7 @@ fn zoom_half_height(pts: &[(Wheel, Vec<(f64, f64)>)]) -> f64 {
 /// Points drawn for one sweep value and its record.
 type PointsOf = dyn Fn(f64, &WheelRecord) -> Vec<(f64, f64)>;
 
-fn draw(path: &std::path::Path, sw: &Sweep) -> Result<(), PlotError> {
+fn draw(file: &FigureFile, sw: &Sweep) -> Result<(), PlotError> {
     let (name, unit, variant) = (sw.param.name(), sw.unit, sw.variant);
     let (jobs, records) = (&sw.jobs, &sw.records);
     let per_wheel = |f: &PointsOf| -> Vec<(Wheel, Vec<(f64, f64)>)> {
@@ -325,7 +323,7 @@ fn draw(path: &std::path::Path, sw: &Sweep) -> Result<(), PlotError> {
     );
     let zoom_title = format!("Zoomed on zero: {}", windows.join("; "));
     let x_label = crate::params::axis_label(name, unit);
-    plot::panels(path, (1400, 1500), (3, 1), &title, |i, area| {
+    plot::panels(file, (1400, 1500), (3, 1), &title, |i, area| {
         let (data, title, y, points, range) = match i {
             0 => (
                 &eig,

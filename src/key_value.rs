@@ -27,13 +27,15 @@ impl de::Error for KeyValueError {
 }
 
 /// The fields of `value` (a struct) as (key, text) pairs in declaration order.
-pub fn to_key_values<T: Serialize>(value: &T) -> Result<Vec<(String, String)>, KeyValueError> {
+pub(crate) fn to_key_values<T: Serialize>(
+    value: &T,
+) -> Result<Vec<(String, String)>, KeyValueError> {
     value.serialize(StructSerializer)
 }
 
 /// A struct read from (key, text) pairs; keys the struct does not name are ignored, and an error
 /// names the key (`` `seed`: invalid type ... ``).
-pub fn from_key_values<T: de::DeserializeOwned>(
+pub(crate) fn from_key_values<T: de::DeserializeOwned>(
     pairs: &[(String, String)],
 ) -> Result<T, KeyValueError> {
     T::deserialize(de::value::MapAccessDeserializer::new(Pairs {

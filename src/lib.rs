@@ -1,8 +1,48 @@
 //! polywear: how likely a tire is to develop polygonal wear through lateral self-excited
-//! vibration of the tread (Zuo, Duan, Li 2014). The modules follow the data flow:
-//! [`params`] → [`model`] (steps 1–8 of MODEL.md#the-physics-step-by-step) → [`solver`] →
-//! [`classify`] (step 9) → [`records`] → [`parquet_out`]; [`plot`] draws what people would rather
-//! look at.
+//! vibration of the tread (Zuo, Duan, Li 2014). The library is one data flow; each stage takes
+//! plain data and gives plain data (ARCHITECTURE.md lists every module):
+//!
+//! | stage | module | entry points |
+//! |---|---|---|
+//! | study | [`study`] | [`study::Study::parse`] (a study's TOML → `Study`), [`study::apply_param_file`] |
+//! | sampling | [`sampling`] | [`study::Study::sampler`] → [`study::Sampler::sample`] (index → `Params`) |
+//! | parameters | [`params`] | [`params::Params`] (SI fields, `Default` = the shipped tire), [`params::ParamId`] |
+//! | model (MODEL.md#the-physics-step-by-step, steps 1–8) | [`model`] | [`model::WheelModel::build`] → the [`model::TreadOde`] |
+//! | solver | [`solver`] | [`solver::integrate_with`] (Dormand–Prince pairs, dense output) |
+//! | classification (step 9) | [`classify`] | [`classify::classify`] → [`classify::WheelVerdict`] |
+//! | the one road | [`evaluate`] | [`evaluate::PointProblem`] → [`evaluate::solve`] → [`evaluate::PointSolution`] |
+//! | ensembles | [`ensemble`] | [`ensemble::solve`] (an indexed family in parallel, in index order) |
+//! | batch runs | [`explore`] | [`explore::RunPlan`] (chunks, shards, resume) → [`explore::RunSummary`] |
+//! | records | [`records`] | [`records::WheelRecord`] (one row per wheel), [`records::record_columns`] |
+//! | Parquet | [`parquet_out`] | [`parquet_out::write_table`], [`parquet_out::write_csv`] |
+//! | analysis | [`analysis`], [`render`] | [`analysis::run`] → [`analysis::Analysis`] → [`render::write`] |
+//!
+//! Beside the flow: drive cycles ([`cycle`]), wear ([`wear`], after the classifier in
+//! [`evaluate`]), optimisation ([`optimize`]), stability charts ([`chart`], over
+//! [`continuation`]), sweeps ([`bifurcation`]), fits ([`calibrate`]), the paper's figures
+//! ([`reproduce`], [`plot`] with its [`plot::FigureFormat`]) and the acceptance check
+//! ([`validation`]).
+//!
+//! One operating point, both wheels, through the evaluator:
+//!
+//! ```
+//! use polywear::classify::{Class, ClassifierOptions};
+//! use polywear::evaluate::{solve, PointProblem};
+//! use polywear::model::Variant;
+//! use polywear::params::Params;
+//!
+//! let params = Params::default();
+//! let options = ClassifierOptions::default();
+//! let problem = PointProblem::new(params, &[Variant::DEFAULT], &options);
+//! let solution = solve(&problem);
+//! for wheel in &solution.wheels {
+//!     let r = &wheel.record;
+//!     assert_eq!(r.speed_kmh, params.speed_kmh);
+//!     println!("{} {}: {}", r.variant, r.wheel, r.class);
+//!     assert!(r.class != Class::Failed, "{}", r.reason);
+//! }
+//! assert_eq!(solution.wheels.len(), 2);
+//! ```
 
 #![warn(missing_docs)]
 

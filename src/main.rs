@@ -113,7 +113,7 @@ fn main() -> ExitCode {
         Command::Bifurcation(a) => done(cli::bifurcation::run(a)),
         Command::Chart(a) => done(cli::chart::run(a)),
         Command::Reproduce(a) => done(cli::reproduce::run(a)),
-        Command::Calibrate(a) => done(cli::calibrate::run(a)),
+        Command::Calibrate(a) => cli::calibrate::run(a),
         Command::Validate(a) => done(cli::validate::run(a)),
         Command::Params { markdown } => {
             cli::params::run(*markdown);

@@ -158,7 +158,7 @@ fn column_hint(typed: &str, columns: &[String]) -> String {
 }
 
 /// The weight column of time driven at a row.
-pub const HOURS: &str = "hours";
+pub(crate) const HOURS: &str = "hours";
 /// The weight column of distance driven at a row.
 pub const KM: &str = "km";
 
@@ -245,7 +245,7 @@ pub struct FleetKeys {
 }
 
 /// The keys of a study's `[operating_points]`.
-pub const STUDY_KEYS: FleetKeys = FleetKeys {
+pub(crate) const STUDY_KEYS: FleetKeys = FleetKeys {
     weight: "`operating_points.weight`",
     pass_through: "`operating_points.pass_through`",
 };

@@ -24,11 +24,11 @@ use crate::safe_read::{self, Limit};
 use crate::safe_write::{self, write_durably};
 
 /// The run's manifest in an output directory.
-pub const MANIFEST: &str = "_manifest.json";
+pub(crate) const MANIFEST: &str = "_manifest.json";
 /// The journal of finished chunks beside the manifest.
-pub const JOURNAL: &str = "_manifest.chunks.jsonl";
+pub(crate) const JOURNAL: &str = "_manifest.chunks.jsonl";
 /// The lock file.
-pub const LOCK: &str = "_lock";
+pub(crate) const LOCK: &str = "_lock";
 
 /// Why an output directory cannot be taken or continued.
 #[derive(Debug, thiserror::Error)]
@@ -69,7 +69,7 @@ pub enum OutputDirError {
 
 /// Why a chunk file kept from an earlier run cannot be trusted.
 #[derive(Debug, thiserror::Error)]
-pub enum ChunkMismatch {
+pub(crate) enum ChunkMismatch {
     /// The journal has no entry for it.
     #[error("not recorded in the manifest (the run ended before it was recorded)")]
     NotRecorded,
@@ -173,7 +173,7 @@ pub fn lock(dir: &Path, create: bool) -> Result<Option<DirLock>, OutputDirError>
 
 /// Whether a directory entry is bookkeeping that does not make a directory "in use": the lock
 /// file and temporary files of a killed run.
-pub fn is_leftover(name: &str) -> bool {
+pub(crate) fn is_leftover(name: &str) -> bool {
     name == LOCK || (name.starts_with('_') && name.ends_with(".partial"))
 }
 
@@ -193,7 +193,7 @@ pub fn entries(dir: &Path) -> std::io::Result<Option<Vec<String>>> {
 }
 
 /// The global chunk index of a chunk file name (`chunk-0000042.parquet` → 42).
-pub fn chunk_index(name: &str) -> Option<u64> {
+pub(crate) fn chunk_index(name: &str) -> Option<u64> {
     let digits = name.strip_prefix("chunk-")?.strip_suffix(".parquet")?;
     if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
         return None;
@@ -202,13 +202,13 @@ pub fn chunk_index(name: &str) -> Option<u64> {
 }
 
 /// The file name of chunk `chunk`.
-pub fn chunk_file_name(chunk: u64) -> String {
+pub(crate) fn chunk_file_name(chunk: u64) -> String {
     format!("chunk-{chunk:07}.parquet")
 }
 
 /// One finished chunk as the journal records it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ChunkEntry {
+pub(crate) struct ChunkEntry {
     /// The chunk's index.
     pub chunk: u64,
     /// Rows in its file.
@@ -246,7 +246,7 @@ impl ChunkEntry {
 
 /// Reads the journal of `dir`: the last entry of each chunk. Lines that do not parse (a torn
 /// last line after a kill) are skipped; their chunks count as not finished.
-pub fn read_journal(dir: &Path) -> std::io::Result<HashMap<u64, ChunkEntry>> {
+pub(crate) fn read_journal(dir: &Path) -> std::io::Result<HashMap<u64, ChunkEntry>> {
     let text = match safe_read::read_bytes(&dir.join(JOURNAL), Limit::Table) {
         Ok(b) => String::from_utf8_lossy(&b).into_owned(),
         Err(e) if e.is_not_found() => String::new(),
@@ -260,13 +260,13 @@ pub fn read_journal(dir: &Path) -> std::io::Result<HashMap<u64, ChunkEntry>> {
 }
 
 /// Replaces the journal with exactly `entries`, durably (used when a resume starts).
-pub fn rewrite_journal(dir: &Path, entries: &[ChunkEntry]) -> std::io::Result<()> {
+pub(crate) fn rewrite_journal(dir: &Path, entries: &[ChunkEntry]) -> std::io::Result<()> {
     let text: String = entries.iter().map(|e| e.to_line()).collect();
     write_durably(&dir.join(JOURNAL), text.as_bytes())
 }
 
 /// Appends one finished chunk to the journal and fsyncs it.
-pub fn append_journal(dir: &Path, entry: ChunkEntry) -> std::io::Result<()> {
+pub(crate) fn append_journal(dir: &Path, entry: ChunkEntry) -> std::io::Result<()> {
     let mut f = safe_write::open_append(&dir.join(JOURNAL))?;
     f.write_all(entry.to_line().as_bytes())?;
     f.sync_data()
@@ -274,7 +274,11 @@ pub fn append_journal(dir: &Path, entry: ChunkEntry) -> std::io::Result<()> {
 
 /// Why a chunk file kept from an earlier run cannot be trusted (`None`: it matches its entry).
 /// A link in a chunk's place is never followed: it is not a file polywear wrote.
-pub fn verify_chunk(path: &Path, entry: Option<&ChunkEntry>, rows: u64) -> Option<ChunkMismatch> {
+pub(crate) fn verify_chunk(
+    path: &Path,
+    entry: Option<&ChunkEntry>,
+    rows: u64,
+) -> Option<ChunkMismatch> {
     match std::fs::symlink_metadata(path) {
         Ok(m) if !m.is_file() => {
             return Some(ChunkMismatch::NotAFile(safe_read::kind_name(

@@ -106,7 +106,7 @@ impl ReadError {
 }
 
 /// What a file that is not regular is, in words.
-pub fn kind_name(t: &FileType) -> &'static str {
+pub(crate) fn kind_name(t: &FileType) -> &'static str {
     #[cfg(unix)]
     {
         use std::os::unix::fs::FileTypeExt;
@@ -181,7 +181,7 @@ pub fn check(path: &Path, limit: Limit) -> Result<u64, ReadError> {
 
 /// The bytes of `path`, a regular file within `limit` (a file that grows while it is read is
 /// cut at the limit and refused).
-pub fn read_bytes(path: &Path, limit: Limit) -> Result<Vec<u8>, ReadError> {
+pub(crate) fn read_bytes(path: &Path, limit: Limit) -> Result<Vec<u8>, ReadError> {
     let (f, len) = open(path, limit)?;
     let mut bytes = Vec::with_capacity(len as usize);
     f.take(limit.bytes() + 1)

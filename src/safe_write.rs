@@ -199,7 +199,7 @@ pub fn write_durably(path: &Path, bytes: &[u8]) -> io::Result<()> {
 
 /// Opens `path` to append to it, creating it when absent; a link or anything but a regular file
 /// in its place is refused.
-pub fn open_append(path: &Path) -> io::Result<File> {
+pub(crate) fn open_append(path: &Path) -> io::Result<File> {
     let f = no_follow(OpenOptions::new().create(true).append(true))
         .open(path)
         .map_err(|e| explain(path, e))?;

@@ -13,6 +13,7 @@ use crate::params::{ParamId, Params};
 use crate::sampling::design::{Design, SALTELLI_MAX_AXES, SOBOL_MAX_AXES, SOBOL_MAX_SAMPLES};
 use crate::sampling::distribution::Distribution;
 use crate::toml_input::{self, TomlError};
+use crate::wear::WearSettings;
 
 mod error;
 mod plausible;
@@ -78,6 +79,9 @@ pub struct Study {
     /// What-if scenarios (`[scenarios.NAME]`), in name order: each is evaluated on every
     /// sample beside the baseline.
     pub scenarios: Vec<Scenario>,
+    /// The wear stage's settings (`wear_zone`), or `None` for `wear = false`: the rows then
+    /// carry no wear columns (MODEL.md#the-per-sample-estimator).
+    pub wear: Option<WearSettings>,
 }
 
 /// Reads a parameter file (`--params FILE`, as `polywear calibrate` writes): a `[params]` table
@@ -264,6 +268,7 @@ impl Study {
             operating_points,
             accept_implausible: header.accept_implausible,
             scenarios,
+            wear: header.wear,
         })
     }
 

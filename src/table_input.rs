@@ -322,7 +322,10 @@ fn check_header(path: &Path, columns: &[String]) -> Result<(), TableError> {
 /// The records of a CSV text with the line each starts on, blank lines left out; the fields
 /// are split by the `csv` crate (RFC 4180: quoted fields may hold commas, quotes and line
 /// breaks), each then trimmed and stripped of surrounding quotes.
-pub fn csv_records(path: &Path, text: &str) -> Result<Vec<(usize, Vec<String>)>, TableError> {
+pub(crate) fn csv_records(
+    path: &Path,
+    text: &str,
+) -> Result<Vec<(usize, Vec<String>)>, TableError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if let Some(line) = unterminated_quote(text) {
         return Err(TableError::UnterminatedQuote {

@@ -137,7 +137,7 @@ pub fn from_str<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, TomlErr
 }
 
 /// A finite number at `key` (already read as a number).
-pub fn finite_at(x: f64, key: &str) -> Result<f64, TomlError> {
+pub(crate) fn finite_at(x: f64, key: &str) -> Result<f64, TomlError> {
     if x.is_finite() {
         Ok(x)
     } else {
@@ -149,7 +149,7 @@ pub fn finite_at(x: f64, key: &str) -> Result<f64, TomlError> {
 }
 
 /// A whole number in [lo, hi] at `key` (already read as a number; `1e3` is 1000).
-pub fn whole_at(x: f64, key: &str, lo: u64, hi: u64) -> Result<u64, TomlError> {
+pub(crate) fn whole_at(x: f64, key: &str, lo: u64, hi: u64) -> Result<u64, TomlError> {
     if x.fract() != 0.0 || x < lo as f64 || x > hi as f64 {
         return Err(TomlError::NotWhole {
             key: key.to_string(),

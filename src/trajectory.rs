@@ -2,11 +2,9 @@
 //! a uniform grid, and the figure the paper shows for one point: time history, phase portrait and
 //! spectrum of the lateral velocity (its Figs. 8–10).
 
-use std::path::Path;
-
 use crate::classify::Scales;
 use crate::model::{Wheel, WheelModel};
-use crate::plot::{self, PlotError, Series};
+use crate::plot::{self, FigureFile, PlotError, Series};
 use crate::records::WheelRecord;
 use crate::solver::{sample_uniform, IntegrationError, SolverOptions};
 
@@ -116,7 +114,7 @@ fn velocity_spectrum(s: &Samples, sample_rate: f64) -> Vec<(f64, f64)> {
 
 /// Time history, displacement detail, phase portrait and spectrum for the given wheels.
 pub fn plot_point(
-    path: &Path,
+    file: &FigureFile,
     series: &[(Wheel, Samples)],
     records: &[WheelRecord],
     sample_rate: f64,
@@ -141,7 +139,7 @@ pub fn plot_point(
                 .collect()
         })
         .collect();
-    plot::panels(path, (1500, 1000), (2, 2), &title, |i, area| {
+    plot::panels(file, (1500, 1000), (2, 2), &title, |i, area| {
         let (panel_title, x_label, y_label, curve) = POINT_PANELS[i];
         let curves: Vec<Series<'_>> = series
             .iter()

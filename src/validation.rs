@@ -17,7 +17,7 @@ pub const HOPF_BAND: f64 = 0.05;
 
 /// Operating point `index` of the validation set: speed 40–250 km/h, toe 0.05–1.0°,
 /// load 2000–7000 N, pressure 150–450 kPa, other parameters at their defaults.
-pub fn random_point(seed: u64, index: u64) -> Params {
+pub(crate) fn random_point(seed: u64, index: u64) -> Params {
     Params {
         speed_kmh: uniform(seed, index, 0, 40.0, 250.0),
         toe_deg: uniform(seed, index, 1, 0.05, 1.0),

@@ -47,7 +47,10 @@ pub fn snippet(s: &str) -> String {
 /// a likely misspelling: at most a third of the name's letters changed (one in a name of three
 /// or four letters, two or more in a longer one, none in a shorter one), or
 /// `typed` a prefix of it (`speed` for `speed_kmh`), or it a prefix of `typed`. Case is ignored.
-pub fn closest<'a>(typed: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+pub(crate) fn closest<'a>(
+    typed: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Option<&'a str> {
     let t = typed.trim().to_lowercase();
     if t.is_empty() {
         return None;
@@ -70,10 +73,26 @@ pub fn closest<'a>(typed: &str, candidates: impl IntoIterator<Item = &'a str>) -
 }
 
 /// " did you mean `x`?" (with a leading space) for the closest candidate, or nothing.
-pub fn did_you_mean<'a>(typed: &str, candidates: impl IntoIterator<Item = &'a str>) -> String {
+pub(crate) fn did_you_mean<'a>(
+    typed: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> String {
     closest(typed, candidates)
         .map(|c| format!(" did you mean `{c}`?"))
         .unwrap_or_default()
+}
+
+/// A whole number with thousands separators, rounded: 40,000. Negative numbers keep their sign.
+pub fn thousands(x: f64) -> String {
+    let digits = format!("{}", x.round().abs() as u64);
+    let mut out = String::from(if x.round() < 0.0 { "-" } else { "" });
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
 }
 
 #[cfg(test)]

@@ -89,7 +89,7 @@ impl Bins {
 
 /// The bins of each drawn parameter: the study's levels where it draws `levels` (or a grid's
 /// counted values), else `n_bins` equal widths over the observed range.
-pub fn axis_bins(
+pub(crate) fn axis_bins(
     info: &RunInfo,
     ranges: &BTreeMap<String, (f64, f64)>,
     param: ParamId,
@@ -104,13 +104,13 @@ pub fn axis_bins(
 
 /// At most this many distinct values of an operating-point column are used as its levels; a
 /// column with more (raw telematics rather than bins) is binned in equal widths.
-pub const MAX_OPERATING_POINT_LEVELS: usize = 40;
+pub(crate) const MAX_OPERATING_POINT_LEVELS: usize = 40;
 
 /// The levels a study draws a parameter from: `levels`, or a grid's `count` values, as the
 /// sampler itself lists them ([`Distribution::grid_values`]), so a label is always a sampled
 /// value; for a column of `[operating_points]`, its distinct values among the rows that can be
 /// drawn (positive weight), when there are few.
-pub fn study_levels(info: &RunInfo, param: ParamId) -> Option<Vec<f64>> {
+pub(crate) fn study_levels(info: &RunInfo, param: ParamId) -> Option<Vec<f64>> {
     let study = info.study.as_ref()?;
     if let Some(op) = &study.operating_points {
         if let Some(j) = op.names.iter().position(|n| *n == param.name()) {

@@ -78,3 +78,108 @@ pub fn outcome_code(class: Class) -> i64 {
         2
     }
 }
+
+/// Wheels of one group that reach a visible polygon within a distance, beside those whose
+/// distance is unknown (NaN: failed, no traction, standstill; or a row without a verdict), with
+/// the same counts weighted (see [`crate::analysis::rows::SampleWeight`]). The weights are whole
+/// numbers, so their sums are exact whatever the order the rows are added in.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct WithinCounts {
+    /// Wheels with a known distance at most the limit.
+    pub within: u64,
+    /// Wheels with a known distance (finite or +inf): the denominator.
+    pub known: u64,
+    /// Wheels whose distance is unknown: left out of numerator and denominator.
+    pub unknown: u64,
+    /// Weight of the wheels within the limit.
+    pub w_within: i64,
+    /// Weight of the wheels with a known distance.
+    pub w_known: i64,
+    /// Sum of the squared weights of the wheels with a known distance (for the effective count).
+    pub w2_known: i64,
+}
+
+impl WithinCounts {
+    /// Adds another group's counts.
+    pub fn merge(&mut self, o: &WithinCounts) {
+        self.within += o.within;
+        self.known += o.known;
+        self.unknown += o.unknown;
+        self.w_within += o.w_within;
+        self.w_known += o.w_known;
+        self.w2_known += o.w2_known;
+    }
+
+    /// Whether every weight is 1 (the probability is the plain share of wheels).
+    pub fn unweighted(&self) -> bool {
+        self.w_known == self.known as i64 && self.w2_known == self.known as i64
+    }
+
+    /// P(visible polygon within the limit) over the wheels with a known distance, weighted;
+    /// NaN without any.
+    pub fn p(&self) -> f64 {
+        if self.w_known <= 0 {
+            f64::NAN
+        } else {
+            self.w_within as f64 / self.w_known as f64
+        }
+    }
+
+    /// 95% Wilson interval of [`WithinCounts::p`]: on the counts when unweighted, else on Kish's
+    /// effective count (Σw)² / Σw² at the weighted share.
+    pub fn wilson(&self) -> (f64, f64) {
+        if self.unweighted() {
+            return wilson(self.within, self.known);
+        }
+        if self.w2_known <= 0 {
+            return (f64::NAN, f64::NAN);
+        }
+        let n_eff = (self.w_known as f64).powi(2) / self.w2_known as f64;
+        super::stats::wilson_share(self.p(), n_eff)
+    }
+
+    /// Whether at least `min_count` (and at least one) wheels have a known distance.
+    pub fn enough(&self, min_count: u64) -> bool {
+        self.known >= min_count.max(1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn equal_weights_give_the_plain_share_and_interval_and_unequal_ones_widen_it() {
+        let plain = WithinCounts {
+            within: 30,
+            known: 200,
+            unknown: 7,
+            w_within: 30,
+            w_known: 200,
+            w2_known: 200,
+        };
+        assert!(plain.unweighted());
+        assert_eq!(plain.wilson(), wilson(30, 200));
+        // Every weight 1000 (100 km/h): the same share, and Kish's count is the count.
+        let tenfold = WithinCounts {
+            w_within: 30_000,
+            w_known: 200_000,
+            w2_known: 200 * 1_000_000,
+            ..plain
+        };
+        assert!(!tenfold.unweighted());
+        assert_eq!(tenfold.p(), plain.p());
+        let (a, b) = (tenfold.wilson(), plain.wilson());
+        assert!((a.0 - b.0).abs() < 1e-14 && (a.1 - b.1).abs() < 1e-14);
+        // Half the wheels at 3× the weight: fewer effective samples, a wider interval.
+        let mixed = WithinCounts {
+            w_within: 30 * 2000,
+            w_known: 100 * 1000 + 100 * 3000,
+            w2_known: 100 * 1_000_000 + 100 * 9_000_000,
+            ..plain
+        };
+        let (lo, hi) = mixed.wilson();
+        assert!((mixed.p() - 0.15).abs() < 1e-12);
+        assert!(hi - lo > b.1 - b.0, "{lo} {hi}");
+    }
+}

@@ -18,7 +18,7 @@ use crate::model::{Variant, Wheel};
 
 /// The column of the chunk files that says which row of the operating-point file a sample
 /// drew (1-based; 0 for none).
-pub const ROW_COLUMN: &str = "operating_point_row";
+pub(crate) const ROW_COLUMN: &str = "operating_point_row";
 
 /// What the weight of an operating point measures, from the study's `weight`.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -32,10 +32,10 @@ use crate::params::ParamId;
 use crate::sampling::design::Design;
 
 /// Fine bins along each axis behind the equal-frequency classes.
-pub const FINE_BINS: usize = 4000;
+pub(crate) const FINE_BINS: usize = 4000;
 
 /// SALib's largest number of classes.
-pub const MAX_CLASSES: usize = 48;
+pub(crate) const MAX_CLASSES: usize = 48;
 
 /// The first-order index of the vibration indicator with respect to one parameter.
 #[derive(Debug, Clone, PartialEq)]
@@ -66,11 +66,11 @@ pub fn classes(n: u64) -> usize {
 }
 
 /// Rows and vibrating rows of one class (fractional where a fine bin is shared).
-pub type ClassRows = (f64, f64);
+pub(crate) type ClassRows = (f64, f64);
 
 /// The fine bins' (rows, vibrating rows), in order along the axis, regrouped into `m`
 /// classes of equal frequency; a fine bin that straddles a boundary is shared in proportion.
-pub fn equal_frequency(fine: &[ClassRows], m: usize) -> Vec<ClassRows> {
+pub(crate) fn equal_frequency(fine: &[ClassRows], m: usize) -> Vec<ClassRows> {
     let total: f64 = fine.iter().map(|b| b.0).sum();
     let mut out = vec![(0.0, 0.0); m.max(1)];
     let per = total / out.len() as f64;
@@ -115,7 +115,7 @@ pub fn first_order(classes: &[ClassRows]) -> f64 {
 
 /// 1.96 standard deviations of [`first_order`] over `resamples` bootstrap resamples of the
 /// rows (a multinomial draw of N rows over the cells class × outcome).
-pub fn bootstrap_conf(classes: &[ClassRows], resamples: usize, seed: u64) -> f64 {
+pub(crate) fn bootstrap_conf(classes: &[ClassRows], resamples: usize, seed: u64) -> f64 {
     let n: f64 = classes.iter().map(|c| c.0).sum();
     let rows = n.round() as u64;
     let cells: Vec<f64> = classes
@@ -155,7 +155,7 @@ pub fn bootstrap_conf(classes: &[ClassRows], resamples: usize, seed: u64) -> f64
 
 /// The first-order index of every drawn parameter, per variant and wheel, with `resamples`
 /// bootstrap resamples behind each interval; `ranges` holds the axes' observed ranges.
-pub fn first_order_indices(
+pub(crate) fn first_order_indices(
     rows: &Rows,
     info: &RunInfo,
     ranges: &BTreeMap<String, (f64, f64)>,

@@ -37,6 +37,7 @@ pub mod scenarios;
 pub mod sensitivity;
 pub mod severity;
 pub mod stats;
+pub mod wear_risk;
 
 use std::path::{Path, PathBuf};
 
@@ -54,6 +55,7 @@ use rows::Rows;
 use scenarios::ScenarioEffect;
 use sensitivity::Sensitivity;
 use severity::{Severity, SEVERITY_QUANTITIES};
+use wear_risk::WearAnalysis;
 
 use crate::classify::Class;
 use crate::model::Variant;
@@ -74,6 +76,9 @@ pub struct AnalysisOptions {
     pub bootstrap: usize,
     /// The scenarios are compared on the risk of a visible polygon within this distance \[km\].
     pub scenario_within_km: f64,
+    /// P(visible polygon within each of these distances) \[km\] (the wear stage's columns;
+    /// [`wear_risk::HEADLINE_WITHIN_KM`] is always among them).
+    pub within_km: Vec<f64>,
 }
 
 impl AnalysisOptions {
@@ -114,6 +119,7 @@ impl Default for AnalysisOptions {
             pairs: Self::default_pairs(),
             bootstrap: Self::DEFAULT_BOOTSTRAP,
             scenario_within_km: Self::DEFAULT_SCENARIO_WITHIN_KM,
+            within_km: wear_risk::DEFAULT_WITHIN_KM.to_vec(),
         }
     }
 }
@@ -152,6 +158,8 @@ pub struct Analysis {
     pub robustness_summary: Vec<RobustnessSummary>,
     /// Each scenario against the baseline (empty without scenarios).
     pub scenarios: Vec<ScenarioEffect>,
+    /// The wear answer (None for a run without the wear stage's columns).
+    pub wear: Option<WearAnalysis>,
     /// Remarks for the report (skipped pairs, a design without Sobol indices, ...).
     pub notes: Vec<String>,
 }
@@ -396,6 +404,8 @@ pub enum Step {
     Robustness,
     /// The scenarios against the baseline.
     Scenarios,
+    /// The wear answer.
+    Wear,
 }
 
 /// Answers every question of the analysis on checked inputs. polars' group tables are sized by
@@ -456,6 +466,30 @@ pub fn run_with_progress(
         &mut notes,
     )?;
     progress(Step::Scenarios);
+    let wear = if wear_risk::has_wear(&rows)? {
+        let axis_bins = info
+            .drawn_names
+            .iter()
+            .map(|&axis| (axis, bins::axis_bins(&info, &ranges, axis, opts.bins)))
+            .collect();
+        let drawn: Vec<&RiskMap> = maps
+            .iter()
+            .filter(|m| {
+                !sparse_maps
+                    .iter()
+                    .any(|s| (s.variant, s.x, s.y) == (m.variant, m.x, m.y))
+            })
+            .collect();
+        let inputs = wear_risk::WearInputs {
+            axis_bins,
+            maps: drawn,
+            batch_rows: PAIRED_BATCH_ROWS,
+        };
+        Some(wear_risk::wear(&rows, &info, &opts.within_km, &inputs)?)
+    } else {
+        None
+    };
+    progress(Step::Wear);
     Ok(Analysis {
         info,
         options: opts.clone(),
@@ -472,6 +506,7 @@ pub fn run_with_progress(
         robustness,
         robustness_summary,
         scenarios,
+        wear,
         notes,
     })
 }

@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use super::counts::outcome_code;
-use super::rows::{pairs_by_sample, pairs_in_row_order, PairCounts};
+use super::rows::{pairs_by_sample, pairs_in_row_order, OutcomeColumn, PairCounts};
 use super::stats::mcnemar;
 use super::AnalysisError;
 use crate::classify::Class;
@@ -102,9 +102,25 @@ pub fn paired(
     batch_rows: u64,
     has_scenarios: bool,
 ) -> Result<Vec<Paired>, AnalysisError> {
-    match pairs_in_row_order(files, has_scenarios)? {
+    paired_on(files, batch_rows, has_scenarios, OutcomeColumn::Vibration)
+}
+
+/// [`paired`] on any outcome: vibration, or a visible polygon within a distance (the wear
+/// stage's); a wheel whose outcome is unknown makes its sample unclassified.
+pub fn paired_on(
+    files: &[PathBuf],
+    batch_rows: u64,
+    has_scenarios: bool,
+    outcome: OutcomeColumn<'_>,
+) -> Result<Vec<Paired>, AnalysisError> {
+    match pairs_in_row_order(files, has_scenarios, outcome)? {
         Some(combos) => Ok(paired_from(&combos)),
-        None => paired_by_group(files, batch_rows, has_scenarios),
+        None => Ok(paired_from(&pairs_by_sample(
+            files,
+            batch_rows,
+            has_scenarios,
+            outcome,
+        )?)),
     }
 }
 
@@ -118,7 +134,14 @@ pub fn paired_by_group(
         files,
         batch_rows,
         has_scenarios,
+        OutcomeColumn::Vibration,
     )?))
+}
+
+/// The paired table from counts per (variant, follower code + 3 × driving code), as the
+/// queries return them or a test builds them.
+pub fn paired_from_counts(combos: &PairCounts) -> Vec<Paired> {
+    paired_from(combos)
 }
 
 /// The paired table from sample counts per (variant, follower code + 3 × driving code).

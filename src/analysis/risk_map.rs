@@ -11,7 +11,7 @@ use crate::model::{Variant, Wheel};
 use crate::params::ParamId;
 
 /// Class counts per cell, indexed `[ix][iy]`.
-pub type CountGrid = Vec<Vec<ClassCounts>>;
+pub(crate) type CountGrid = Vec<Vec<ClassCounts>>;
 
 /// A risk map: class counts over a 2-D grid of bins of two axes, per wheel.
 #[derive(Debug, Clone)]
@@ -60,7 +60,7 @@ impl RiskMap {
 }
 
 /// Edges for drawing: bin edges, or cells centred on grid levels.
-pub fn draw_edges(b: &Bins) -> Vec<f64> {
+pub(crate) fn draw_edges(b: &Bins) -> Vec<f64> {
     if !b.levels {
         return b.edges.clone();
     }
@@ -76,7 +76,7 @@ pub fn draw_edges(b: &Bins) -> Vec<f64> {
 }
 
 /// Risk maps of every variant over the axes `x` × `y` (without their nominal curves).
-pub fn risk_maps(
+pub(crate) fn risk_maps(
     rows: &Rows,
     (x, xb): (ParamId, &Bins),
     (y, yb): (ParamId, &Bins),

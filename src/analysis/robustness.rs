@@ -109,7 +109,7 @@ impl Robustness {
 }
 
 /// The parameters a study draws with `levels`, the operating axes aside: the decoded constants.
-pub fn decoded_params(info: &RunInfo) -> Vec<ParamId> {
+pub(crate) fn decoded_params(info: &RunInfo) -> Vec<ParamId> {
     let Some(study) = &info.study else {
         return Vec::new();
     };

@@ -24,7 +24,13 @@ use crate::study::BASELINE;
 use crate::text_enum::UnknownName;
 
 mod scenario_pairs;
+mod wear_counts;
+use scenario_pairs::code_expr;
 pub use scenario_pairs::{scenario_pairs, OutcomeColumn, ScenarioPairCounts};
+pub use wear_counts::{
+    decade_bins, decades, OrderCount, SampleWeight, WearGroup, WearSpread, BINS_PER_DECADE,
+    WEIGHT_UNITS_PER_KMH,
+};
 
 /// The columns the queries name, from the one column table ([`crate::records`]).
 const VARIANT: &str = RecordColumn::Variant.name();
@@ -163,17 +169,7 @@ impl Rows {
     /// groups by five, and polars' streaming group-by keeps rows of groups beyond its hot table
     /// in memory until the end). Rows of a class this version does not know are refused.
     pub fn class_counts(&self, keys: &[GroupKey<'_>]) -> Result<Vec<Group>, AnalysisError> {
-        let mut exprs = vec![col(VARIANT), col(WHEEL)];
-        for (k, key) in keys.iter().enumerate() {
-            let name = format!("key{k}");
-            exprs.push(match *key {
-                GroupKey::Bin(c, b) => bin_expr(b, col(c)).alias(name),
-                GroupKey::Cell(x, xb, y, yb) => (bin_expr(xb, col(x)) * lit(yb.count() as i64)
-                    + bin_expr(yb, col(y)))
-                .alias(name),
-                GroupKey::Value(c) => col(c).alias(name),
-            });
-        }
+        let exprs = key_exprs(keys);
         let known = Class::ALL;
         let mut aggs = vec![len().cast(DataType::Int64).alias("n")];
         aggs.extend(known.iter().map(|c| {
@@ -189,15 +185,7 @@ impl Rows {
             .iter()
             .map(|c| ints(&df, &format!("n_{}", c.as_str())))
             .collect::<Result<_, _>>()?;
-        let mut bins: Vec<Vec<i64>> = Vec::new();
-        let mut values: Vec<Vec<f64>> = Vec::new();
-        for (k, key) in keys.iter().enumerate() {
-            let name = format!("key{k}");
-            match key {
-                GroupKey::Value(_) => values.push(floats(&df, &name)?),
-                _ => bins.push(ints(&df, &name)?),
-            }
-        }
+        let (bins, values) = key_values(&df, keys)?;
         let groups = variant_wheel(&df)?;
         let mut out = Vec::with_capacity(df.height());
         for (i, (variant, wheel)) in groups.into_iter().enumerate() {
@@ -349,17 +337,50 @@ impl Rows {
     }
 }
 
-/// Samples per (variant, follower code + 3 × driving code) ([`outcome_code`]).
-pub type PairCounts = BTreeMap<(Variant, i64), u64>;
+/// The group-by keys of a grouped query: variant, wheel, then `key0`, `key1`, … for `keys`.
+fn key_exprs(keys: &[GroupKey<'_>]) -> Vec<Expr> {
+    let mut exprs = vec![col(VARIANT), col(WHEEL)];
+    for (k, key) in keys.iter().enumerate() {
+        let name = format!("key{k}");
+        exprs.push(match *key {
+            GroupKey::Bin(c, b) => bin_expr(b, col(c)).alias(name),
+            GroupKey::Cell(x, xb, y, yb) => {
+                (bin_expr(xb, col(x)) * lit(yb.count() as i64) + bin_expr(yb, col(y))).alias(name)
+            }
+            GroupKey::Value(c) => col(c).alias(name),
+        });
+    }
+    exprs
+}
 
-/// Samples per (variant, follower code + 3 × driving code) ([`outcome_code`]) in one streaming
-/// pass, pairing each follower row with the row after it: explore writes each sample's rows
+/// The bin indices and the values of the keys of [`key_exprs`] in a grouped table, key by key.
+type KeyColumns = (Vec<Vec<i64>>, Vec<Vec<f64>>);
+
+fn key_values(df: &DataFrame, keys: &[GroupKey<'_>]) -> Result<KeyColumns, AnalysisError> {
+    let mut bins: Vec<Vec<i64>> = Vec::new();
+    let mut values: Vec<Vec<f64>> = Vec::new();
+    for (k, key) in keys.iter().enumerate() {
+        let name = format!("key{k}");
+        match key {
+            GroupKey::Value(_) => values.push(floats(df, &name)?),
+            _ => bins.push(ints(df, &name)?),
+        }
+    }
+    Ok((bins, values))
+}
+
+/// Samples per (variant, follower code + 3 × driving code) ([`outcome_code`]).
+pub(crate) type PairCounts = BTreeMap<(Variant, i64), u64>;
+
+/// Samples per (variant, follower code + 3 × driving code) (the codes of [`outcome_code`] for
+/// `outcome`: 0 no, 1 yes, 2 unclassified or unknown) in one streaming pass, pairing each follower row with the row after it: explore writes each sample's rows
 /// together, variant by variant, follower then driving. The query checks that (same sample_id
 /// and variant, driving wheel) for every follower row; None when the files are ordered
 /// otherwise (then [`pairs_by_sample`] pairs them).
-pub fn pairs_in_row_order(
+pub(crate) fn pairs_in_row_order(
     files: &[PathBuf],
     has_scenarios: bool,
+    outcome: OutcomeColumn<'_>,
 ) -> Result<Option<PairCounts>, AnalysisError> {
     let lf = Rows::scan_baseline(files, has_scenarios)?.lf;
     let next = |c: &str| col(c).shift(lit(-1i64));
@@ -368,7 +389,7 @@ pub fn pairs_in_row_order(
             col(VARIANT),
             col(WHEEL),
             col(SAMPLE),
-            outcome_expr().alias("code"),
+            code_expr(outcome).alias("code"),
         ])
         .select([
             col(VARIANT),
@@ -418,10 +439,11 @@ pub fn pairs_in_row_order(
 /// [`pairs_in_row_order`] by grouping the rows by sample, for files in any row order. The two
 /// wheels of a sample always lie in the same chunk file, so the files are grouped in batches of
 /// about `batch_rows` rows: the group-by never holds more than one batch's samples.
-pub fn pairs_by_sample(
+pub(crate) fn pairs_by_sample(
     files: &[PathBuf],
     batch_rows: u64,
     has_scenarios: bool,
+    outcome: OutcomeColumn<'_>,
 ) -> Result<PairCounts, AnalysisError> {
     // Per sample: follower + 3 × driving.
     let weight = when(col(WHEEL).eq(lit(Wheel::Follower.as_str())))
@@ -441,7 +463,7 @@ pub fn pairs_by_sample(
             lf.select([
                 col(VARIANT),
                 col(SAMPLE),
-                (outcome_expr() * weight.clone()).alias("code"),
+                (code_expr(outcome) * weight.clone()).alias("code"),
             ])
             .group_by([col(VARIANT), col(SAMPLE)])
             .agg([col("code").sum().alias("combo")])
@@ -465,7 +487,7 @@ pub fn pairs_by_sample(
 /// Rows per (class, reason) among the rows of `classes`, one file at a time (a file's distinct
 /// reasons at most in memory: reasons carry numbers, so a run can have as many as rows), each
 /// group handed to `each`.
-pub fn reason_counts(
+pub(crate) fn reason_counts(
     files: &[PathBuf],
     classes: &[Class],
     each: &mut dyn FnMut(Class, &str, u64),

@@ -12,7 +12,7 @@ use crate::model::{Variant, Wheel};
 pub use super::quantities::{quantity, Quantity, SEVERITY_QUANTITIES};
 
 /// Fine histogram bins behind the severity quantiles.
-pub const SEVERITY_FINE_BINS: usize = 4000;
+pub(crate) const SEVERITY_FINE_BINS: usize = 4000;
 
 /// Distribution of one cycle quantity among the vibrating rows.
 #[derive(Debug, Clone, PartialEq)]
@@ -89,7 +89,7 @@ pub fn severity(
 }
 
 /// The q-quantile of a histogram, linear within the bin that holds it.
-pub fn hist_quantile(bins: &Bins, counts: &[u64], q: f64) -> f64 {
+pub(crate) fn hist_quantile(bins: &Bins, counts: &[u64], q: f64) -> f64 {
     let n: u64 = counts.iter().sum();
     if n == 0 {
         return f64::NAN;

@@ -15,18 +15,25 @@ pub fn format_p(p: f64) -> String {
 }
 
 /// The method of a test that had no data to test.
-pub const NO_TEST: &str = "none";
+pub(crate) const NO_TEST: &str = "none";
 
 /// z for a two-sided 95% interval.
-pub const Z95: f64 = 1.959_963_984_540_054;
+pub(crate) const Z95: f64 = 1.959_963_984_540_054;
 
 /// Wilson score interval for `k` successes in `n` trials (95%); (NaN, NaN) when n = 0.
 pub fn wilson(k: u64, n: u64) -> (f64, f64) {
     if n == 0 {
         return (f64::NAN, f64::NAN);
     }
-    let (k, n) = (k as f64, n as f64);
-    let p = k / n;
+    wilson_share(k as f64 / n as f64, n as f64)
+}
+
+/// Wilson score interval (95%) of a share `p` observed on `n` trials, `n` a count or an
+/// effective count of weighted trials (Kish); (NaN, NaN) when n ≤ 0.
+pub fn wilson_share(p: f64, n: f64) -> (f64, f64) {
+    if n.is_nan() || n <= 0.0 {
+        return (f64::NAN, f64::NAN);
+    }
     let z2 = Z95 * Z95;
     let denom = 1.0 + z2 / n;
     let center = (p + z2 / (2.0 * n)) / denom;
@@ -101,7 +108,7 @@ pub fn newcombe_independent(k1: u64, n1: u64, k2: u64, n2: u64) -> (f64, f64) {
 /// second): the exact two-sided binomial p-value up to 10,000 discordant pairs, the
 /// continuity-corrected chi-square beyond. Returns (statistic, p-value, method). Without a
 /// discordant pair there is nothing to test: NaN for both, method [`NO_TEST`].
-pub fn mcnemar(b: u64, c: u64) -> (f64, f64, &'static str) {
+pub(crate) fn mcnemar(b: u64, c: u64) -> (f64, f64, &'static str) {
     let n = b + c;
     if n == 0 {
         return (f64::NAN, f64::NAN, NO_TEST);
@@ -129,7 +136,7 @@ pub fn mcnemar(b: u64, c: u64) -> (f64, f64, &'static str) {
 /// mean((f_A − f_ABi)²) / 2V; V the variance of f_A and f_B together. The first-order estimator
 /// is not shift-invariant: callers centre the outputs on the mean of all evaluated rows first, as
 /// SALib does.
-pub fn sobol_indices(f_a: &[f64], f_b: &[f64], f_ab: &[f64]) -> (f64, f64) {
+pub(crate) fn sobol_indices(f_a: &[f64], f_b: &[f64], f_ab: &[f64]) -> (f64, f64) {
     let n = f_a.len() as f64;
     let all = f_a.iter().chain(f_b);
     let mean = all.clone().sum::<f64>() / (2.0 * n);
@@ -148,7 +155,7 @@ pub fn sobol_indices(f_a: &[f64], f_b: &[f64], f_ab: &[f64]) -> (f64, f64) {
 
 /// Sobol indices with percentile bootstrap 95% intervals (resampling the base rows).
 /// Returns ((S, lo, hi), (ST, lo, hi)).
-pub fn sobol_with_bootstrap(
+pub(crate) fn sobol_with_bootstrap(
     f_a: &[f64],
     f_b: &[f64],
     f_ab: &[f64],

@@ -88,7 +88,7 @@ pub struct Problem {
 /// The tire-structure and friction parameters MODEL.md#constants marks as decoded or reconstructed:
 /// the default set to fit (the operating point is what targets vary; vehicle parameters do not act
 /// on the follower).
-pub fn default_fit() -> Vec<ParamId> {
+pub(crate) fn default_fit() -> Vec<ParamId> {
     use crate::params::Group;
     ParamId::ALL
         .iter()

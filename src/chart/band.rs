@@ -11,7 +11,7 @@ use crate::params::{Group, ParamId, Params};
 use crate::study::Study;
 
 /// The shares at which the band starts and ends.
-pub const BAND: (f64, f64) = (0.05, 0.95);
+pub(crate) const BAND: (f64, f64) = (0.05, 0.95);
 
 /// The structures' draws and, per wheel, the unstable share of each grid cell.
 #[derive(Debug, Clone)]

@@ -18,7 +18,7 @@ use crate::model::{TreadOde, Variant};
 
 /// A truncated Taylor series c0 + c1 ε + c2 ε² + c3 ε³ (c_k = f⁽ᵏ⁾ / k!).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Jet(pub [f64; 4]);
+pub(crate) struct Jet(pub [f64; 4]);
 
 impl Jet {
     /// The independent variable at x.
@@ -105,7 +105,7 @@ impl Div for Jet {
 
 /// φ(w) = w_t / g(w_t) as a jet in w (step 6: w_t = |w| under `paper`, √(w² + V_sx²) otherwise;
 /// g the Stribeck curve, Eq. 20). Requires w_t > 0, which holds at every equilibrium with toe-in.
-pub fn phi_jet(ode: &TreadOde, w: f64) -> Jet {
+pub(crate) fn phi_jet(ode: &TreadOde, w: f64) -> Jet {
     let w = Jet::var(w);
     let w_t = match ode.variant {
         Variant::Paper => w.abs(),

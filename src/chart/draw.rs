@@ -3,15 +3,13 @@
 //! onset is soft (supercritical) and dashed where it is hard (subcritical); Bautin points and
 //! the nominal operating point marked.
 
-use std::path::Path;
-
 use plotters::prelude::*;
 
 use super::band::StructureBand;
 use super::{ChartRequest, WheelCurves};
 use crate::continuation::trace::SpecialKind;
 use crate::model::Wheel;
-use crate::plot::{figure, format_tick, tick_labels_for, PlotError, PALETTE};
+use crate::plot::{figure, format_tick, tick_labels_for, FigureFile, PlotError, PALETTE};
 
 /// Cells per axis of the shading (evaluated by eigenvalues at their centres).
 pub const SHADE_CELLS: usize = 120;
@@ -40,7 +38,7 @@ type Chart<'a, 'b> = ChartContext<
 
 /// The operating point a chart is drawn at, in words: each operating axis that is not one of
 /// the chart's own, "speed 100 km/h, toe-in 0.2 deg".
-pub fn fixed_operating_point(req: &ChartRequest) -> String {
+pub(crate) fn fixed_operating_point(req: &ChartRequest) -> String {
     crate::params::OPERATING_AXES
         .iter()
         .filter(|&&id| id != req.x && id != req.y)
@@ -67,11 +65,11 @@ pub fn title(req: &ChartRequest) -> String {
     )
 }
 
-/// Draws the chart to `path`; `grids` holds each wheel's stability grid of
+/// Draws the chart into `file`; `grids` holds each wheel's stability grid of
 /// [`SHADE_CELLS`]² cells (see [`ChartRequest::stability_grid`]). Returns what the picture
 /// says in words.
 pub fn draw(
-    path: &Path,
+    file: &FigureFile,
     req: &ChartRequest,
     charts: &[WheelCurves],
     grids: &[Vec<Option<bool>>],
@@ -82,7 +80,7 @@ pub fn draw(
         title: title(req),
         legend: Vec::new(),
     };
-    figure(path, (1200, 950), &layout.title.clone(), |area| {
+    figure(file, (1200, 950), &layout.title.clone(), |area| {
         let (lo, hi) = (req.bounds.lo, req.bounds.hi);
         let mut chart = ChartBuilder::on(area)
             .margin(16)
@@ -285,7 +283,7 @@ fn draw_curves<'a, 'b: 'a>(
 
 /// The nominal operating point, in words: "nominal operating point (speed 100 km/h, toe-in
 /// 0.2 deg)", and whether it lies outside the box.
-pub fn nominal_label(req: &ChartRequest, inside: bool) -> String {
+pub(crate) fn nominal_label(req: &ChartRequest, inside: bool) -> String {
     let nom = req.nominal();
     let words = |id: crate::params::ParamId, v: f64| {
         format!(

@@ -12,7 +12,7 @@ use crate::continuation::ParamBox;
 use crate::model::{Variant, Wheel};
 use crate::params::{ParamId, Params};
 use crate::parquet_out::{write_table, WriteError};
-use crate::plot::PlotError;
+use crate::plot::{FigureFile, FigureFormat, PlotError};
 
 /// Why a chart of the operating pairs was not written.
 #[derive(Debug, thiserror::Error)]
@@ -43,7 +43,7 @@ impl PairChart {
 }
 
 /// Traces the six charts of `axes` (name, from, to) taken two at a time, both wheels.
-pub fn solve_pairs(
+pub(crate) fn solve_pairs(
     base: &Params,
     variant: Variant,
     axes: &[(ParamId, f64, f64)],
@@ -82,7 +82,10 @@ pub fn solve_pairs(
 
 /// Draws the charts into `dir` as `chart_<x>_<y>.png` and `.parquet`; returns the files and
 /// the report's Markdown section.
-pub fn write_pairs(charts: &[PairChart], dir: &Path) -> Result<(Vec<PathBuf>, String), ChartError> {
+pub(crate) fn write_pairs(
+    charts: &[PairChart],
+    dir: &Path,
+) -> Result<(Vec<PathBuf>, String), ChartError> {
     let mut files = Vec::new();
     let mut md = String::new();
     let variant = charts
@@ -101,8 +104,8 @@ pub fn write_pairs(charts: &[PairChart], dir: &Path) -> Result<(Vec<PathBuf>, St
     );
     for chart in charts {
         let (req, stem) = (&chart.request, chart.stem());
-        let png = dir.join(format!("{stem}.png"));
-        draw(&png, req, &chart.curves, &chart.grids, None)?;
+        let picture = FigureFile::named(dir, &stem, FigureFormat::Png);
+        draw(&picture, req, &chart.curves, &chart.grids, None)?;
         let pq = dir.join(format!("{stem}.parquet"));
         let meta = vec![
             ("polywear_version".into(), env!("CARGO_PKG_VERSION").into()),
@@ -123,7 +126,7 @@ pub fn write_pairs(charts: &[PairChart], dir: &Path) -> Result<(Vec<PathBuf>, St
             inside(&chart.grids),
             onset(&chart.curves, req)
         );
-        files.push(png);
+        files.push(picture.path);
         files.push(pq);
     }
     let _ = writeln!(

@@ -9,7 +9,7 @@ use crate::solver::{integrate, Control, Method, SolverOptions};
 
 /// Where a trajectory was heading when envelope tracking stopped.
 #[derive(Debug, Clone, Copy)]
-pub enum Envelope {
+pub(crate) enum Envelope {
     /// Section amplitudes decay geometrically to zero.
     Decays,
     /// Section amplitudes converge to a positive value: a point near the cycle on the section.
@@ -28,7 +28,7 @@ pub enum Envelope {
 
 /// Follows the trajectory from `start`, recording the velocity at each upward section crossing,
 /// and extrapolates the sequence (Aitken Δ²) to decide early where it goes.
-pub fn track(
+pub(crate) fn track(
     ode: &TreadOde,
     scales: &Scales,
     start: State,
@@ -124,7 +124,7 @@ pub fn brute_force(
 
 /// Integrates `duration_s` from `start` and measures the last two windows of `window_s` each
 /// (see [`brute_force`]); also returns the RHS evaluations spent.
-pub fn measure_windows(
+pub(crate) fn measure_windows(
     ode: &TreadOde,
     start: State,
     duration_s: f64,
@@ -216,13 +216,13 @@ impl WindowStats {
 }
 
 /// Relative tolerance of the brute-force reference (as in `tests/data/points.csv`).
-pub const REFERENCE_RTOL: f64 = 1e-10;
+pub(crate) const REFERENCE_RTOL: f64 = 1e-10;
 
 /// The brute-force verdict used to test the fast classifier: the method of MODEL.md#reference-data
 /// (a long trajectory at rtol 1e-10 from the disturbed equilibrium, amplitudes over its last 0.5 s,
 /// `limit_cycle` where the velocity amplitude exceeds 1e-4 m/s), with the horizon stretched to
 /// 24 s + 10/|Re λ| (at most 224 s) so that transients have died by a factor e^10 at its end.
-pub fn reference_verdict(ode: &TreadOde, rotation_hz: f64) -> super::WheelVerdict {
+pub(crate) fn reference_verdict(ode: &TreadOde, rotation_hz: f64) -> super::WheelVerdict {
     use super::{Class, Method, WheelVerdict};
     let lin = ode.linear_stability();
     let scales = Scales::new(ode);

@@ -10,7 +10,10 @@ use crate::solver::{
 
 /// Locates an upward crossing of y = `y_sec` inside an accepted step, if there is one.
 #[inline]
-pub fn crossing_in_step<const N: usize>(step: &Step<'_, N>, y_sec: f64) -> Option<(f64, [f64; N])> {
+pub(crate) fn crossing_in_step<const N: usize>(
+    step: &Step<'_, N>,
+    y_sec: f64,
+) -> Option<(f64, [f64; N])> {
     if !(step.x0[1] < y_sec && step.x1[1] >= y_sec) {
         return None;
     }
@@ -40,7 +43,7 @@ pub struct Return<const N: usize> {
 /// Runs `method` under the wheel's budget: the step limit shrinks to the evaluations left,
 /// the step callback stops once the wall time is spent, and the work is charged to `meter`
 /// (also when the integration fails).
-pub fn metered<const N: usize, S: OdeSystem<N>>(
+pub(crate) fn metered<const N: usize, S: OdeSystem<N>>(
     method: Method,
     sys: &S,
     start: [f64; N],
@@ -74,7 +77,7 @@ pub fn metered<const N: usize, S: OdeSystem<N>>(
 /// `observe(step, t_hi)` sees every accepted step up to the return, `t_hi` being the end of the
 /// part of the step that belongs to the orbit (the return time in the last step).
 #[allow(clippy::too_many_arguments)]
-pub fn first_return<const N: usize, S: OdeSystem<N>>(
+pub(crate) fn first_return<const N: usize, S: OdeSystem<N>>(
     method: Method,
     sys: &S,
     start: [f64; N],

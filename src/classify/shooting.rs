@@ -13,7 +13,7 @@ use crate::solver::{Method, OdeSystem, SectionVariational, SolverOptions, Step};
 /// A converged limit cycle, represented by its point on the section y = y_eq, with what one
 /// period along it measures.
 #[derive(Debug, Clone, Copy)]
-pub struct PeriodicOrbit {
+pub(crate) struct PeriodicOrbit {
     /// The orbit's point on the section y = y_eq.
     pub start: State,
     /// The period \[s\].
@@ -26,7 +26,7 @@ pub struct PeriodicOrbit {
 
 /// Amplitudes (half peak-to-peak) and energy of one period (MODEL.md#step-9-attractor).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct CycleMeasure {
+pub(crate) struct CycleMeasure {
     /// Half peak-to-peak of y \[m\].
     pub amp_y_m: f64,
     /// Half peak-to-peak of v [m/s].
@@ -175,10 +175,10 @@ fn next_return<const N: usize, S: OdeSystem<N>>(
 /// Tolerances at or below which DOP853 integrates instead of DOPRI5: there its 8th order
 /// takes so many fewer steps that 15 evaluations per step (dense output included) cost less
 /// than DOPRI5's 6.
-pub const DOP853_AT_OR_BELOW_RTOL: f64 = 1e-8;
+pub(crate) const DOP853_AT_OR_BELOW_RTOL: f64 = 1e-8;
 
 /// The integrator that spends the fewest evaluations at tolerance `rtol`.
-pub fn method_for(rtol: f64) -> Method {
+pub(crate) fn method_for(rtol: f64) -> Method {
     if rtol <= DOP853_AT_OR_BELOW_RTOL {
         Method::Dop853
     } else {
@@ -190,11 +190,11 @@ pub fn method_for(rtol: f64) -> Method {
 const MAX_NEWTON: usize = 40;
 
 /// Relative tolerance of the coarse Newton iterations (the final ones use the fine one), at most.
-pub const COARSE_RTOL: f64 = 1e-6;
+pub(crate) const COARSE_RTOL: f64 = 1e-6;
 
 /// Relative tolerance of the amplitude guess, which only needs the growth to a few per cent,
 /// at most.
-pub const GUESS_RTOL: f64 = 1e-5;
+pub(crate) const GUESS_RTOL: f64 = 1e-5;
 
 /// The fine tolerance is at most this times growth^1.5 (growth = Re λ·T per period). The
 /// cycle's fixed point moves by the map's integration error over 1 − its multiplier (≈ 2 ×
@@ -205,14 +205,14 @@ pub const GUESS_RTOL: f64 = 1e-5;
 /// (The guess and the coarse iterations only need the cycle within reach of the next phase:
 /// their tolerances stay proportional to the growth; the same law for them was looser at
 /// typical growths and cost a fine iteration more, 856 against 813 evaluations per cycle.)
-pub const FINE_RTOL_PER_GROWTH_1_5: f64 = 2e-3;
+pub(crate) const FINE_RTOL_PER_GROWTH_1_5: f64 = 2e-3;
 
 /// The fine tolerance is not tightened below this (double precision leaves little room).
-pub const FINE_RTOL_FLOOR: f64 = 1e-12;
+pub(crate) const FINE_RTOL_FLOOR: f64 = 1e-12;
 
 /// Integration tolerances of the three phases of shooting at one equilibrium.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Tolerances {
+pub(crate) struct Tolerances {
     /// The amplitude guess ([`amplitude_guess`]).
     pub guess: f64,
     /// Newton's first iteration. From a guess that is only known to a few per cent (the Hopf
@@ -284,7 +284,7 @@ const MAX_DAMPED_STEPS: usize = 4;
 /// Hopf point every small orbit returns to within U·`newton_tol` of its start, and would pass
 /// for a cycle. The amplitudes, energy and period are measured along that final iteration's
 /// period, corrected to first order for its last Newton step.
-pub fn newton_orbit(
+pub(crate) fn newton_orbit(
     ode: &TreadOde,
     scales: &Scales,
     (guess_z, guess_v): (f64, f64),
@@ -433,7 +433,7 @@ fn newton_step(
 }
 
 /// Largest modulus of a 2×2 matrix's eigenvalues.
-pub fn spectral_radius(m: &Matrix2<f64>) -> f64 {
+pub(crate) fn spectral_radius(m: &Matrix2<f64>) -> f64 {
     let tr = m.trace();
     let det = m.determinant();
     let disc = tr * tr / 4.0 - det;
@@ -463,10 +463,10 @@ struct MapPoint {
 /// zero, never passed. Newton converges from well beyond these (one iteration costs one return,
 /// a map evaluation two or three); the shares (1.0, 0.6) cost 813 evaluations per limit-cycle
 /// wheel on 20,000 default-study samples against 827 for (0.6, 0.3), with no failures either way.
-pub const HANDOFF: (f64, f64) = (1.0, 0.6);
+pub(crate) const HANDOFF: (f64, f64) = (1.0, 0.6);
 
 /// A guess that needs Newton to start closer (the retry after a failed Newton).
-pub const HANDOFF_CLOSE: (f64, f64) = (0.05, 0.05);
+pub(crate) const HANDOFF_CLOSE: (f64, f64) = (0.05, 0.05);
 
 /// Growth per period below which the guess lets the fast mode settle over two returns.
 const SETTLE_TWICE_BELOW_Q0: f64 = 1e-4;
@@ -482,7 +482,7 @@ const MAX_GUESS_EVALS: usize = 10;
 /// the section predicted for the cycle, the last image scaled along the slow manifold to the
 /// predicted amplitude.
 #[allow(clippy::too_many_arguments)]
-pub fn amplitude_guess(
+pub(crate) fn amplitude_guess(
     ode: &TreadOde,
     scales: &Scales,
     dz_per_v: f64,

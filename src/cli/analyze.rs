@@ -5,8 +5,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
+use polywear::plot::FigureFormat;
 
-use super::common::{CliError, CliResult, FigureFormat};
+use super::common::{CliError, CliResult};
 use polywear::analysis::inputs::check_inputs;
 use polywear::analysis::{Analysis, AnalysisError, AnalysisOptions};
 use polywear::params::ParamId;
@@ -49,9 +50,30 @@ pub struct AnalyzeArgs {
     /// within this distance [km] (and on vibration), accepted (0, 1e6]
     #[arg(long, value_name = "KM", default_value_t = AnalysisOptions::DEFAULT_SCENARIO_WITHIN_KM, allow_negative_numbers = true, value_parser = parse_km)]
     pub scenario_within_km: f64,
+    /// P(visible polygonal wear within each distance) per wheel [km], comma-separated, each
+    /// within (0, 1e6]; 40000 (the headline) is always added
+    #[arg(long, value_name = "KM,...", default_value = "10000,25000,40000,60000", allow_negative_numbers = true, value_parser = parse_km_list)]
+    pub within_km: KmList,
     /// File type of the figures
-    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
     pub format: FigureFormat,
+}
+
+/// The distances of `--within-km` \[km\].
+#[derive(Debug, Clone, PartialEq)]
+pub struct KmList(pub Vec<f64>);
+
+/// Parses `--within-km`: distances in km within (0, 1e6], comma-separated.
+pub fn parse_km_list(s: &str) -> Result<KmList, String> {
+    let km: Vec<f64> = s
+        .split(',')
+        .map(|v| {
+            parse_km(v).map_err(|_| {
+                format!("--within-km `{}` must be a distance in km within (0, 1e6], e.g. --within-km 10000,25000,40000,60000", v.trim())
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(KmList(km))
 }
 
 /// Parses a distance in km within (0, 1e6].
@@ -120,10 +142,11 @@ pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
         pairs,
         bootstrap: args.bootstrap,
         scenario_within_km: args.scenario_within_km,
+        within_km: args.within_km.0.clone(),
     };
     let render = RenderOptions {
         out_dir,
-        figure_format: args.format.ext(),
+        figure_format: args.format,
     };
     report(
         &args.inputs,
@@ -215,6 +238,7 @@ fn print_summary(a: &Analysis) {
             i.samples - i.samples_present
         );
     }
+    print_wear(a);
     let weighted = a
         .fleet
         .as_ref()
@@ -277,6 +301,56 @@ fn print_summary(a: &Analysis) {
     }
     for n in &a.notes {
         println!("  note: {n}");
+    }
+}
+
+/// The wear answer first: P(visible polygon within each distance) per wheel and the paired
+/// comparison at each; one line where the run has no wear stage.
+fn print_wear(a: &Analysis) {
+    use polywear::render::wear::km;
+    let Some(w) = &a.wear else {
+        println!("wear: the wear stage was left out of this run (--no-wear or `wear = false`); vibration only");
+        return;
+    };
+    println!(
+        "P(visible polygonal wear within X km), cruising at each sample's operating point (phi_s = {}, sigma_V = {} km/h, field-fitted), with 95% Wilson interval:",
+        w.share_straight, w.speed_spread_kmh
+    );
+    for o in &w.occurrence {
+        let (lo, hi) = o.counts.wilson();
+        println!(
+            "  {:>8} {:>8} within {:>10}: {:>7.3}%  [{:.3}%, {:.3}%]  ({} of {} with a distance; {} unknown)",
+            o.variant,
+            o.wheel,
+            km(o.within_km),
+            100.0 * o.counts.p(),
+            100.0 * lo,
+            100.0 * hi,
+            o.counts.within,
+            o.counts.known,
+            o.counts.unknown
+        );
+    }
+    for wp in &w.paired {
+        let p = &wp.paired;
+        println!(
+            "  {:>8} paired within {:>10}: only follower {}, only driving {}, both {}, neither {}; McNemar p = {}",
+            p.variant,
+            km(wp.within_km),
+            p.only_follower,
+            p.only_driving,
+            p.both,
+            p.neither,
+            if p.p_value.is_nan() {
+                "n/a (no discordant pairs)".to_string()
+            } else {
+                format!(
+                    "{} ({})",
+                    polywear::analysis::stats::format_p(p.p_value),
+                    p.method
+                )
+            }
+        );
     }
 }
 

@@ -4,8 +4,9 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use polywear::plot::{FigureFile, FigureFormat};
 
-use super::common::{base_metadata, BudgetArgs, CliError, CliResult, FigureFormat, PointArgs};
+use super::common::{base_metadata, BudgetArgs, CliError, CliResult, PointArgs};
 use polywear::bifurcation::{linspace, sweep};
 use polywear::classify::ClassifierOptions;
 use polywear::model::{Variant, Wheel};
@@ -46,7 +47,7 @@ pub struct BifurcationArgs {
     #[arg(long, value_name = "PREFIX")]
     pub out: Option<PathBuf>,
     /// File type of the figure
-    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
     pub format: FigureFormat,
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
@@ -204,8 +205,8 @@ fn write(
     ));
     let pq = prefix.with_extension("parquet");
     write_table(&pq, &cols, &meta)?;
-    let figure = prefix.with_extension(args.format.ext());
+    let figure = FigureFile::beside(prefix, args.format);
     sw.draw(&figure).map_err(|e| CliError(e.to_string()))?;
-    eprintln!("wrote {} and {}", pq.display(), figure.display());
+    eprintln!("wrote {} and {}", pq.display(), figure.path.display());
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! `polywear calibrate`: fit parameters to target observations, write a parameter file.
 
 use std::path::PathBuf;
+use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Args;
@@ -41,38 +42,58 @@ pub struct CalibrateArgs {
     pub accept_implausible: bool,
 }
 
-pub fn run(args: &CalibrateArgs) -> CliResult {
+/// Reads and checks the targets and flags, fits, prints the fit, then writes the parameter file;
+/// exit code 1 (not the 2 of bad input) when the fit misses a target and `--write-anyway` is not
+/// given.
+pub fn run(args: &CalibrateArgs) -> CliResult<ExitCode> {
+    let problem = resolve(args)?;
+    let start = Instant::now();
+    let fit = calibrate(&problem);
+    print_fit(&problem, &fit, start.elapsed().as_secs_f64());
+    write(args, &fit)
+}
+
+/// The targets file as a problem, with `--fit` in place of the file's `fit`, and the folder of
+/// `--out` created: everything checked before the fit starts.
+fn resolve(args: &CalibrateArgs) -> CliResult<Problem> {
     let problem = read_problem(args)?;
     if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
         polywear::safe_write::create_dir(dir)
             .map_err(|e| CliError(format!("--out {}: {e}", dir.display())))?;
     }
-    let start = Instant::now();
-    let fit = calibrate(&problem);
+    Ok(problem)
+}
+
+/// The fit's headline, its targets and its parameters.
+fn print_fit(problem: &Problem, fit: &Fit, secs: f64) {
     println!(
         "fitted {} parameters to {} targets in {:.1} s ({} cost evaluations), cost {:.4e}",
         fit.fitted.len(),
         problem.targets.len(),
-        start.elapsed().as_secs_f64(),
+        secs,
         fit.evaluations,
         fit.cost
     );
-    print_targets(&fit);
-    print_parameters(&fit);
-    let file = parameter_file(&fit, &args.targets.display().to_string())
+    print_targets(fit);
+    print_parameters(fit);
+}
+
+/// The parameter file at `--out`, unless the fit misses a target without `--write-anyway`.
+fn write(args: &CalibrateArgs, fit: &Fit) -> CliResult<ExitCode> {
+    let file = parameter_file(fit, &args.targets.display().to_string())
         .map_err(|e| CliError(e.to_string()))?;
     if let Err(e) = fit.check_met() {
         if !args.write_anyway {
             // The fit ran on good input but does not stand: exit 1, not the 2 of bad input.
             eprintln!("error: {e}; --write-anyway writes it nonetheless");
-            std::process::exit(1);
+            return Ok(ExitCode::from(1));
         }
         eprintln!("warning: {e}; written nonetheless (--write-anyway)");
     }
     polywear::safe_write::write_file(&args.out, file.as_bytes())
         .map_err(|e| CliError(format!("--out {}: {e}", args.out.display())))?;
     println!("\nwrote {} (use it with --params)", args.out.display());
-    Ok(())
+    Ok(ExitCode::SUCCESS)
 }
 
 /// The targets file as a problem, with `--fit` in place of the file's `fit` (checked alike).

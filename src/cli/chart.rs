@@ -18,6 +18,7 @@ use polywear::continuation::trace::TraceOptions;
 use polywear::continuation::ParamBox;
 use polywear::params::{ParamError, ParamId, Params};
 use polywear::parquet_out::{write_csv, write_table};
+use polywear::plot::{FigureFile, FigureFormat};
 use polywear::study::Study;
 
 /// Cells per axis of the uncertainty band's grid.
@@ -309,15 +310,15 @@ pub fn run(args: &ChartArgs) -> CliResult {
     if let (Some(b), Some((study, k))) = (&band, &band_plan) {
         write_band(args, &req, &meta, b, study, *k)?;
     }
-    let png = args.out.with_extension("png");
-    draw(&png, &req, &charts, &grids, band.as_ref()).map_err(|e| CliError(e.to_string()))?;
+    let picture = FigureFile::beside(&args.out, FigureFormat::Png);
+    draw(&picture, &req, &charts, &grids, band.as_ref()).map_err(|e| CliError(e.to_string()))?;
     eprintln!(
         "wrote {}, {}, {}, {} and {}",
         args.out.display(),
         csv.display(),
         sp_pq.display(),
         sp_csv.display(),
-        png.display()
+        picture.path.display()
     );
     Ok(())
 }

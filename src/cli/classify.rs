@@ -143,6 +143,34 @@ fn output_columns(
 }
 
 pub fn run(args: &ClassifyArgs) -> CliResult {
+    let request = resolve(args)?;
+    let pool = super::common::thread_pool(args.threads)?;
+    let start = Instant::now();
+    let (jobs, records) = pool.install(|| classify(&request));
+    let secs = start.elapsed().as_secs_f64();
+    write(args, &request, &jobs, &records)?;
+    eprintln!(
+        "classified {} points x 2 wheels in {secs:.3} s ({:.0} points/s, {} threads) -> {}",
+        request.points.len(),
+        request.points.len() as f64 / secs.max(1e-9),
+        pool.current_num_threads(),
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// One `classify`, checked: every point's parameters, the file's columns, the base parameters,
+/// the variant and the classifier's options.
+struct ClassifyRequest {
+    points: Vec<Params>,
+    fleet: FleetColumns,
+    base: Params,
+    variant: Variant,
+    opts: ClassifierOptions,
+}
+
+/// `--out`, the budget and the points file, checked before any work.
+fn resolve(args: &ClassifyArgs) -> CliResult<ClassifyRequest> {
     check_extension(&args.out, &["csv", "parquet"], "--out")?;
     check_out_file(&args.out, "--out")?;
     let opts = ClassifierOptions {
@@ -150,24 +178,42 @@ pub fn run(args: &ClassifyArgs) -> CliResult {
         ..ClassifierOptions::default()
     };
     let (points, fleet, base) = read_points(args)?;
-    let variant: Variant = args.variant.into();
-    let pool = super::common::thread_pool(args.threads)?;
-    let start = Instant::now();
-    let jobs: Vec<(usize, Wheel)> = (0..points.len())
+    Ok(ClassifyRequest {
+        points,
+        fleet,
+        base,
+        variant: args.variant.into(),
+        opts,
+    })
+}
+
+/// Both wheels of every point through the ensemble: the (point, wheel) jobs and their records,
+/// in the points' order.
+fn classify(request: &ClassifyRequest) -> (Vec<(usize, Wheel)>, Vec<WheelRecord>) {
+    let jobs: Vec<(usize, Wheel)> = (0..request.points.len())
         .flat_map(|i| Wheel::BOTH.map(|w| (i, w)))
         .collect();
     let record = |k: usize| {
         let (i, wheel) = jobs[k];
-        evaluate::solve_wheel(points[i], variant, wheel, &opts).record
+        evaluate::solve_wheel(request.points[i], request.variant, wheel, &request.opts).record
     };
-    let records: Vec<WheelRecord> =
-        pool.install(|| ensemble::solve(jobs.len(), record, &Control::QUIET).all());
-    let secs = start.elapsed().as_secs_f64();
-    let cols = output_columns(&jobs, &fleet, &records);
+    let records = ensemble::solve(jobs.len(), record, &Control::QUIET).all();
+    (jobs, records)
+}
+
+/// The rows as CSV, or as Parquet with the run's metadata (and the points file's, for a fleet).
+fn write(
+    args: &ClassifyArgs,
+    request: &ClassifyRequest,
+    jobs: &[(usize, Wheel)],
+    records: &[WheelRecord],
+) -> CliResult {
+    let fleet = &request.fleet;
+    let cols = output_columns(jobs, fleet, records);
     if args.out.extension().is_some_and(|e| e == "csv") {
         write_csv(&args.out, &cols)?;
     } else {
-        let mut meta = super::common::base_metadata(&base, variant);
+        let mut meta = super::common::base_metadata(&request.base, request.variant);
         if fleet.weight.is_some() || !fleet.pass_through.is_empty() {
             meta.push(("points".into(), args.points.display().to_string()));
             meta.push(("weight".into(), fleet.weight.clone().unwrap_or_default()));
@@ -178,12 +224,5 @@ pub fn run(args: &ClassifyArgs) -> CliResult {
         }
         write_table(&args.out, &cols, &meta)?;
     }
-    eprintln!(
-        "classified {} points x 2 wheels in {secs:.3} s ({:.0} points/s, {} threads) -> {}",
-        points.len(),
-        points.len() as f64 / secs.max(1e-9),
-        pool.current_num_threads(),
-        args.out.display()
-    );
     Ok(())
 }

@@ -2,11 +2,14 @@
 
 use std::path::Path;
 
+use clap::builder::TypedValueParser as _;
 use clap::{Args, ValueEnum};
+use strum::VariantNames as _;
 
 use polywear::classify::WheelBudget;
 use polywear::model::{Variant, Wheel};
 use polywear::params::{ParamError, ParamId, Params};
+use polywear::plot::{FigureFile, FigureFormat};
 
 /// An error that ends the program: printed as `error: …`, exit code 2.
 #[derive(Debug)]
@@ -97,21 +100,13 @@ impl From<VariantArg> for Variant {
     }
 }
 
-/// File type of the figures a command writes.
-#[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq, Default)]
-pub enum FigureFormat {
-    #[default]
-    Png,
-    Svg,
-}
-
-impl FigureFormat {
-    pub fn ext(self) -> &'static str {
-        match self {
-            FigureFormat::Png => "png",
-            FigureFormat::Svg => "svg",
-        }
-    }
+/// `--format`'s parser: the library's figure formats by name (`png`, `svg`), listed in help
+/// and in the refusal of any other name.
+pub fn figure_formats() -> impl clap::builder::TypedValueParser<Value = FigureFormat> {
+    clap::builder::PossibleValuesParser::new(FigureFormat::VARIANTS.iter().copied()).map(|name| {
+        name.parse::<FigureFormat>()
+            .expect("a possible value is a format")
+    })
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
@@ -398,22 +393,39 @@ pub fn thread_pool(threads: Option<usize>) -> CliResult<rayon::ThreadPool> {
         .map_err(|e| CliError(format!("cannot start threads: {e}")))
 }
 
+/// A figure file named in full (`--plot FILE`): its format is its extension, refused with the
+/// accepted ones before any work starts.
+pub fn figure_file(path: &Path, flag: &str) -> CliResult<FigureFile> {
+    let format = FigureFormat::of_path(path)
+        .ok_or_else(|| extension_refusal(path, flag, FigureFormat::VARIANTS))?;
+    Ok(FigureFile {
+        path: path.to_path_buf(),
+        format,
+    })
+}
+
 /// Refuses output paths whose extension we cannot write, before any work starts.
 pub fn check_extension(path: &Path, accepted: &[&str], flag: &str) -> CliResult {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
     if accepted.contains(&ext) {
         Ok(())
     } else {
-        Err(CliError(format!(
-            "{flag} {}: unsupported file type `.{ext}`; accepted: {}",
-            path.display(),
-            accepted
-                .iter()
-                .map(|e| format!(".{e}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        )))
+        Err(extension_refusal(path, flag, accepted))
     }
+}
+
+/// The refusal of `path`'s extension, naming the flag and the accepted ones.
+fn extension_refusal(path: &Path, flag: &str, accepted: &[&str]) -> CliError {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    CliError(format!(
+        "{flag} {}: unsupported file type `.{ext}`; accepted: {}",
+        path.display(),
+        accepted
+            .iter()
+            .map(|e| format!(".{e}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    ))
 }
 
 /// Metadata written into every output file: program version, command line, parameters.

@@ -9,11 +9,13 @@ use clap::Args;
 use super::common::{base_metadata, BudgetArgs, CliError, CliResult, VariantArg};
 use polywear::classify::ClassifierOptions;
 use polywear::cycle::output::{CycleRun, FleetDraw};
-use polywear::cycle::{classify_cycles, CycleError, DriveCycle};
+use polywear::cycle::{classify_cycles, CycleError, DriveCycle, StepWheel};
+use polywear::evaluate::WearStage;
 use polywear::model::Variant;
 use polywear::params::{Group, ParamError, ParamId, Params};
 use polywear::sampling::design::Design;
 use polywear::study::Study;
+use polywear::wear::{WearSettings, WearZone};
 use polywear::wording::plain;
 
 /// Most tire structures `--structure-samples` accepts.
@@ -72,6 +74,13 @@ pub struct CycleArgs {
     /// No summary on stdout
     #[arg(long, short)]
     pub quiet: bool,
+    /// Leave the wear stage out: no distance to a visible polygon, no wear columns
+    #[arg(long, conflicts_with = "wear_zone")]
+    pub no_wear: bool,
+    /// Where the friction power wears the tread (MODEL.md#step-11-wear-zone): trailing (the
+    /// default), whole_patch or whole_patch_uniform
+    #[arg(long, value_name = "ZONE", value_parser = |s: &str| s.parse::<WearZone>().map_err(|e| e.to_string()))]
+    pub wear_zone: Option<WearZone>,
     #[command(flatten)]
     pub budget: BudgetArgs,
 }
@@ -379,6 +388,47 @@ fn said_about_study(
 }
 
 pub fn run(args: &CycleArgs) -> CliResult {
+    let mut request = resolve(args)?;
+    if !args.quiet {
+        for l in &request.structures.said {
+            println!("{l}");
+        }
+    }
+    let wear = wear_stage(args, &request.base, request.variant)?;
+    if let Some(stage) = &wear {
+        let stage = serde_json::to_string(stage).expect("json");
+        request.metadata.push(("wear".into(), stage));
+    }
+    let pool = super::common::thread_pool(args.threads)?;
+    let start = Instant::now();
+    let steps = pool.install(|| {
+        classify_cycles(
+            &request.cycle,
+            &request.structures.bases,
+            request.variant,
+            &request.opts,
+            wear.as_ref(),
+        )
+    });
+    let secs = start.elapsed().as_secs_f64();
+    let threads = pool.current_num_threads();
+    write(args, request, wear.is_some(), steps, secs, threads)
+}
+
+/// One `cycle`, checked: the cycle, variant, options, tire structures and outputs' metadata.
+struct CycleRequest {
+    cycle: DriveCycle,
+    variant: Variant,
+    opts: ClassifierOptions,
+    /// The nominal tire (`--params` and `--set`), on which the wear stage is calibrated.
+    base: Params,
+    structures: Structures,
+    study: Option<Study>,
+    metadata: Vec<(String, String)>,
+}
+
+/// Every input checked before any work: `--out`, the cycle, `--set`, the study, each step.
+fn resolve(args: &CycleArgs) -> CliResult<CycleRequest> {
     if args.out.is_file() {
         return Err(CliError(format!(
             "--out {}: is a file; give a directory",
@@ -428,16 +478,28 @@ pub fn run(args: &CycleArgs) -> CliResult {
     cycle
         .check_steps(&structures.bases[0])
         .map_err(|e| CliError(e.to_string()))?;
-    if !args.quiet {
-        for l in &structures.said {
-            println!("{l}");
-        }
-    }
-    let pool = super::common::thread_pool(args.threads)?;
-    let start = Instant::now();
-    let steps = pool.install(|| classify_cycles(&cycle, &structures.bases, variant, &opts));
-    let secs = start.elapsed().as_secs_f64();
-    let fleet = match (&study, structures.fleet_rows) {
+    Ok(CycleRequest {
+        cycle,
+        variant,
+        opts,
+        base,
+        structures,
+        study,
+        metadata,
+    })
+}
+
+/// The cycle's files in `--out`, then the summary and the files written (unless `--quiet`).
+fn write(
+    args: &CycleArgs,
+    request: CycleRequest,
+    wear: bool,
+    steps: Vec<Vec<[StepWheel; 2]>>,
+    secs: f64,
+    threads: usize,
+) -> CliResult {
+    let (structures, study) = (request.structures, &request.study);
+    let fleet = match (study, structures.fleet_rows) {
         (Some(s), Some(rows)) => s
             .operating_points
             .as_ref()
@@ -445,25 +507,39 @@ pub fn run(args: &CycleArgs) -> CliResult {
         _ => None,
     };
     let run = CycleRun {
-        cycle: &cycle,
-        variant,
+        cycle: &request.cycle,
+        variant: request.variant,
         structure_names: structures.names,
         structure_values: structures.values,
         steps,
-        metadata,
+        metadata: request.metadata,
         fleet,
+        wear_bases: if wear { structures.bases } else { Vec::new() },
     };
     let written = run.write(&args.out).map_err(|e| match e {
         CycleError::CreateDir { .. } => CliError(format!("--out {e}")),
         e => CliError(e.to_string()),
     })?;
     if !args.quiet {
-        print_summary(&run, secs, pool.current_num_threads());
+        print_summary(&run, secs, threads);
         for p in written {
             println!("  wrote {}", p.display());
         }
     }
     Ok(())
+}
+
+/// The wear stage of the run (none with `--no-wear`), calibrated on the nominal tire `base`.
+fn wear_stage(args: &CycleArgs, base: &Params, variant: Variant) -> CliResult<Option<WearStage>> {
+    if args.no_wear {
+        return Ok(None);
+    }
+    let settings = WearSettings {
+        zone: args.wear_zone.unwrap_or_default(),
+    };
+    WearStage::for_run(base, variant, settings, &ClassifierOptions::default())
+        .map(Some)
+        .map_err(|e| CliError(format!("the wear stage: {e} (leave it out with --no-wear)")))
 }
 
 /// The study's keys in the outputs' metadata (and the fleet's file, when it gives the rows).
@@ -544,5 +620,81 @@ fn print_summary(run: &CycleRun<'_>, secs: f64, threads: usize) {
             mean(&|s| s.longest_vibration_km),
             100.0 * mean(&|s| s.not_quasi_static_share),
         );
+        if let Some(line) = wear_line(&all, w) {
+            println!("            {line}");
+        }
     }
+}
+
+/// The polygon of a lifetime on the cycle, in words: the distance to a visible polygon (the
+/// median and 90% interval over the structures when there are several) and its order.
+fn wear_line(all: &[[polywear::cycle::summary::WheelSummary; 2]], w: usize) -> Option<String> {
+    let wear: Vec<polywear::cycle::wear::CycleWear> =
+        all.iter().filter_map(|s| s[w].wear).collect();
+    if wear.is_empty() {
+        return None;
+    }
+    let km = |x: f64| format!("{} km", polywear::wording::thousands(x));
+    let mut d: Vec<f64> = wear.iter().map(|c| c.distance_to_visible_km).collect();
+    d.sort_by(f64::total_cmp);
+    let q = polywear::cycle::summary::quantile;
+    let mut orders: Vec<f64> = wear
+        .iter()
+        .map(|c| c.dominant_order)
+        .filter(|n| n.is_finite())
+        .collect();
+    orders.sort_by(f64::total_cmp);
+    let unknown = wear
+        .iter()
+        .map(|c| c.unknown_distance_share)
+        .fold(0.0, f64::max);
+    let unknown = if unknown > 0.0 {
+        format!(
+            "; {}% of the distance has no wear figures (failed or no traction) and is left out",
+            polywear::wording::plain(100.0 * unknown, 2)
+        )
+    } else {
+        String::new()
+    };
+    let life = "driving this cycle all its life";
+    if d.len() == 1 {
+        let c = wear[0];
+        let what = if c.distance_to_visible_km.is_nan() {
+            "no wear figures at any step".to_string()
+        } else if c.distance_to_visible_km.is_infinite() {
+            format!(
+                "no polygon ever: every order levels out (the slowest, order {:.0}, at {} per 1000 km)",
+                c.dominant_order,
+                polywear::wording::plain(c.growth_rate_per_1000km, 3)
+            )
+        } else {
+            format!(
+                "a {:.0}-sided polygon becomes visible after {} (growth {} per 1000 km)",
+                c.dominant_order,
+                km(c.distance_to_visible_km),
+                polywear::wording::plain(c.growth_rate_per_1000km, 3)
+            )
+        };
+        return Some(format!("{life}: {what}{unknown}"));
+    }
+    let never = d.iter().filter(|x| x.is_infinite()).count() as f64 / d.len() as f64;
+    let shown = |x: f64| {
+        if x.is_infinite() {
+            "never".to_string()
+        } else if x.is_nan() {
+            "unknown".to_string()
+        } else {
+            km(x)
+        }
+    };
+    let order = orders.get(orders.len() / 2).map_or(String::new(), |n| {
+        format!("; the fastest order mostly {n:.0}")
+    });
+    Some(format!(
+        "{life}: distance to a visible polygon {} (median over the structures; 90% interval {} to {}); {}% of the structures never show one{order}{unknown}",
+        shown(q(&d, 0.5)),
+        shown(q(&d, 0.05)),
+        shown(q(&d, 0.95)),
+        polywear::wording::plain(100.0 * never, 3)
+    ))
 }

@@ -7,15 +7,18 @@ use std::time::{Duration, Instant};
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use polywear::plot::FigureFormat;
+
+mod resume;
 
 use super::batch::{signal_name, Interrupt, ProgressLog};
-use super::common::{BudgetArgs, CliError, CliResult, FigureFormat};
-use polywear::explore::recorded_run::{
-    changed_lines, param_changes, shell_word, DirState, RecordedRun,
-};
+use super::common::{BudgetArgs, CliError, CliResult};
+use polywear::explore::recorded_run::{shell_word, DirState, RecordedRun};
 use polywear::explore::{ExploreError, PreparedOutput, RunPlan, RunSummary, Shard};
 use polywear::study::{Study, DEFAULT_STUDY, SEED_MAX};
+use polywear::wear::WearZone;
 use polywear::wording::plain;
+use resume::{check_against_recorded, parse_wear_zone, resume_command, wear_settings};
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -75,11 +78,20 @@ pub struct ExploreArgs {
     /// every S seconds instead of the bar, accepted [0.1, 86400]
     #[arg(long, value_name = "S", default_value_t = 5.0, value_parser = parse_log_every)]
     pub log_every: f64,
+    /// Leave the wear stage out: the rows then carry no wear columns (distance to a visible
+    /// polygon, growth rate, dominant order) and the run is about as fast as vibration alone.
+    /// A study can say `wear = false`
+    #[arg(long, conflicts_with = "wear_zone")]
+    pub no_wear: bool,
+    /// Where the friction power wears the tread (MODEL.md#step-11-wear-zone): trailing (the
+    /// default), whole_patch or whole_patch_uniform; a study can say `wear_zone = "..."`
+    #[arg(long, value_name = "ZONE", value_parser = parse_wear_zone)]
+    pub wear_zone: Option<WearZone>,
     /// Skip the analysis report (risk maps, probabilities) written to DIR/_report at the end
     #[arg(long)]
     pub no_report: bool,
     /// File type of the report's figures
-    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
     pub format: FigureFormat,
     #[command(flatten)]
     pub budget: BudgetArgs,
@@ -186,6 +198,8 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
         check_against_recorded(args, &study, dir, run)?;
     }
     check_new_inputs(args, &study, &named, (&origin, &study_dir), accept)?;
+    study.wear = wear_settings(args, &study, recorded.as_ref().map(|(_, run)| run))?;
+    let wear = RunPlan::wear_stage(&study).map_err(|e| CliError(format!("{origin}: {e}")))?;
     study.budget = args.budget.apply(study.budget)?;
     let recorded_samples = recorded
         .as_ref()
@@ -216,6 +230,7 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
         out_dir,
         resume: args.resume,
         command: std::env::args().collect::<Vec<_>>().join(" "),
+        wear,
     })
 }
 
@@ -304,7 +319,7 @@ fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -
     }
     let render = polywear::render::RenderOptions {
         out_dir: plan.out_dir.join("_report"),
-        figure_format: args.format.ext(),
+        figure_format: args.format,
     };
     let elsewhere = format!(
         "the rows are saved: write the report elsewhere with `polywear analyze {} --out FOLDER`",
@@ -420,69 +435,11 @@ fn print_scenarios(study: &Study) {
     );
 }
 
-/// Refuses a flag of `--resume --out DIR` that contradicts the run recorded in DIR, showing
-/// both values; repeating the recorded value is accepted.
-fn check_against_recorded(
-    args: &ExploreArgs,
-    study: &Study,
-    dir: &Path,
-    run: &RecordedRun,
-) -> CliResult {
-    let d = shell_word(&dir.display().to_string());
-    let refuse = |what: String| {
-        let sep = if what.ends_with('\n') { "" } else { "; " };
-        CliError(format!(
-            "--resume --out {d}: {what}{sep}leave it out to continue the run as it started (`polywear explore --resume --out {d}`), or choose another --out for a new run"
-        ))
-    };
-    if let Some(path) = &args.study {
-        if study.source != run.study {
-            let lines = changed_lines(&run.study, &study.source);
-            return Err(refuse(format!(
-                "{} differs from the run's study in these lines (- the run's, + the file's):\n    {}\n",
-                path.display(),
-                lines.join("\n    ")
-            )));
-        }
-    }
-    if let Some(seed) = args.seed.filter(|s| *s != run.seed) {
-        return Err(refuse(format!(
-            "--seed {seed} contradicts the run's seed {}",
-            run.seed
-        )));
-    }
-    if let Some(n) = args
-        .samples
-        .filter(|n| study.evaluations(*n) != run.samples)
-    {
-        return Err(refuse(format!(
-            "--samples {n} contradicts the run's {} samples",
-            run.samples / study.evaluations(1)
-        )));
-    }
-    if let Some(s) = args.shard.filter(|s| *s != run.shard) {
-        return Err(refuse(format!(
-            "--shard {s} contradicts the run's shard {}",
-            run.shard
-        )));
-    }
-    if let Some(path) = &args.params {
-        if study.base != run.params {
-            return Err(refuse(format!(
-                "--params {} contradicts the run's values ({}, now from the file)",
-                path.display(),
-                param_changes(&run.params, &study.base)
-            )));
-        }
-    }
-    Ok(())
-}
-
 /// An explore error in the words of the command line: the output directory as `--out`, a
 /// resume's refusals as `--resume`'s, each with the flags that get on.
 fn explore_error(e: ExploreError) -> CliError {
     let dir = match &e {
-        ExploreError::Write(_) => return CliError(e.to_string()),
+        ExploreError::Write(_) | ExploreError::Wear(_) => return CliError(e.to_string()),
         ExploreError::OutputDir { dir, .. }
         | ExploreError::Raced { dir }
         | ExploreError::Occupied { dir, .. }
@@ -527,35 +484,6 @@ fn explore_error(e: ExploreError) -> CliError {
         _ => what.to_string(),
     };
     CliError(format!("--out {}: {message}", dir.display()))
-}
-
-/// The command that continues `plan`'s run: `--resume --out DIR`, and the flags the manifest
-/// does not record (work budget, threads).
-fn resume_command(args: &ExploreArgs, plan: &RunPlan) -> String {
-    let mut words = vec![
-        std::env::args().next().unwrap_or_else(|| "polywear".into()),
-        "explore".into(),
-        "--resume".into(),
-        "--out".into(),
-        plan.out_dir.display().to_string(),
-    ];
-    if let Some(n) = args.budget.max_rhs_evals {
-        words.extend(["--max-rhs-evals".into(), n.to_string()]);
-    }
-    if let Some(s) = args.budget.max_wheel_seconds {
-        words.extend(["--max-wheel-seconds".into(), s.to_string()]);
-    }
-    if let Some(t) = args.threads {
-        words.extend(["--threads".into(), t.to_string()]);
-    }
-    if args.no_report {
-        words.push("--no-report".into());
-    }
-    words
-        .iter()
-        .map(|w| shell_word(w))
-        .collect::<Vec<_>>()
-        .join(" ")
 }
 
 /// The closing report of a shard that owns no chunk: `_report/report.md` says it holds no rows.

@@ -7,9 +7,11 @@ use std::time::Instant;
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use polywear::plot::FigureFormat;
 
-use super::common::{base_metadata, BudgetArgs, CliError, CliResult, FigureFormat};
+use super::common::{base_metadata, BudgetArgs, CliError, CliResult};
 use polywear::classify::ClassifierOptions;
+use polywear::evaluate::WearStage;
 use polywear::optimize::evaluate::{solve, wear_available, Progress};
 use polywear::optimize::objective::{parse_terms, Objective, Term, WheelChoice};
 use polywear::optimize::search::SearchOptions;
@@ -91,7 +93,7 @@ pub struct OptimizeArgs {
     #[arg(long, short)]
     pub quiet: bool,
     /// File type of the picture
-    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
     pub format: FigureFormat,
     #[command(flatten)]
     pub budget: BudgetArgs,
@@ -270,7 +272,7 @@ pub fn run(args: &OptimizeArgs) -> CliResult {
         &solution,
         &out_dir,
         &metadata(args, &problem),
-        args.format.ext(),
+        args.format,
     )
     .map_err(|e| CliError(format!("cannot write output: {e}")))?;
     if !args.quiet {
@@ -366,15 +368,30 @@ fn problem(args: &OptimizeArgs) -> CliResult<Problem> {
             "--objective wear: this build's rows have no `distance_to_visible_km` (the wear stage's distance to a visible polygon), so there is no risk of wear to minimise; accepted here: --objective vibration".into(),
         ));
     }
+    let settings = match (wear, study.wear) {
+        (false, _) => None,
+        (true, Some(s)) => Some(s),
+        (true, None) => {
+            return Err(CliError(
+                "--objective wear: the study sets `wear = false`, so its rows have no distance to a visible polygon; remove it, or use --objective vibration".into(),
+            ))
+        }
+    };
     for (a, given) in axes.iter().zip(&args.vary) {
         check_axis(a, &study, seed, args.samples, given)?;
     }
+    let classifier = ClassifierOptions {
+        budget: study.budget,
+        ..ClassifierOptions::default()
+    };
+    let wear = settings
+        .map(|s| WearStage::for_run(&study.base, study.variants[0], s, &classifier))
+        .transpose()
+        .map_err(|e| CliError(format!("the wear stage: {e}")))?;
     Ok(Problem {
         variant: study.variants[0],
-        classifier: ClassifierOptions {
-            budget: study.budget,
-            ..ClassifierOptions::default()
-        },
+        classifier,
+        wear,
         study,
         seed,
         samples: args.samples,

@@ -4,8 +4,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
+use polywear::plot::FigureFormat;
 
-use super::common::{CliError, CliResult, FigureFormat};
+use super::common::{CliError, CliResult};
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -35,7 +36,7 @@ pub struct ReproduceArgs {
     #[arg(long)]
     pub accept_implausible: bool,
     /// File type of the figures
-    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
     pub format: FigureFormat,
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
@@ -64,7 +65,7 @@ pub fn run(args: &ReproduceArgs) -> CliResult {
         paired_samples: args.paired_samples,
     };
     let (_, files) = pool
-        .install(|| polywear::reproduce::reproduce(&request, &args.out, args.format.ext()))
+        .install(|| polywear::reproduce::reproduce(&request, &args.out, args.format))
         .map_err(|e| CliError(e.to_string()))?;
     println!(
         "reproduced the paper's analyses in {:.1} s: {} files in {}; read {}",

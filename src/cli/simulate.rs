@@ -5,13 +5,15 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::common::{
-    base_metadata, check_extension, check_out_file, BudgetArgs, CliError, CliResult, PointArgs,
-    WheelArg,
+    base_metadata, check_extension, check_out_file, figure_file, BudgetArgs, CliError, CliResult,
+    PointArgs, WheelArg,
 };
 use polywear::classify::{Class, ClassifierOptions};
 use polywear::evaluate;
 use polywear::model::{Variant, Wheel};
+use polywear::params::Params;
 use polywear::parquet_out::{write_csv, write_table, Column};
+use polywear::plot::FigureFile;
 use polywear::records::WheelRecord;
 use polywear::trajectory::{plot_point, time_series, Samples};
 use polywear::wording::plain;
@@ -63,7 +65,41 @@ pub struct SimulateArgs {
 }
 
 pub fn run(args: &SimulateArgs) -> CliResult {
-    let p = args.point.params()?;
+    let request = resolve(args)?;
+    let simulated = simulate(&request);
+    write(args, &request, &simulated)
+}
+
+/// One `simulate`, checked: the point, its wheels, the classifier's options, and the files to
+/// write (the time series only where one of them needs it).
+struct SimulateRequest {
+    params: Params,
+    variant: Variant,
+    wheels: Vec<Wheel>,
+    opts: ClassifierOptions,
+    duration_s: f64,
+    sample_rate_hz: f64,
+    out: Option<PathBuf>,
+    plot: Option<FigureFile>,
+}
+
+impl SimulateRequest {
+    /// Whether a file asks for the wheels' time series.
+    fn wants_series(&self) -> bool {
+        self.out.is_some() || self.plot.is_some()
+    }
+}
+
+/// What one point gives: a record per wheel, and the time series of every wheel with a model
+/// when a file asks for it.
+struct Simulated {
+    records: Vec<WheelRecord>,
+    series: Vec<(Wheel, Samples)>,
+}
+
+/// Every flag checked, in the order the refusals name them, before any work starts.
+fn resolve(args: &SimulateArgs) -> CliResult<SimulateRequest> {
+    let params = args.point.params()?;
     if !(args.duration > 0.0 && args.duration <= 600.0) {
         return Err(CliError(format!(
             "--duration = {} s is outside its accepted range (0, 600] s",
@@ -87,29 +123,47 @@ pub fn run(args: &SimulateArgs) -> CliResult {
         check_extension(out, &["parquet", "csv"], "--out")?;
         check_out_file(out, "--out")?;
     }
-    if let Some(plot) = &args.plot {
-        check_extension(plot, &polywear::plot::backend::FORMATS, "--plot")?;
-        check_out_file(plot, "--plot")?;
-    }
-    let variant: Variant = args.point.variant.into();
+    let plot = match &args.plot {
+        Some(path) => {
+            let file = figure_file(path, "--plot")?;
+            check_out_file(path, "--plot")?;
+            Some(file)
+        }
+        None => None,
+    };
     let opts = ClassifierOptions {
         kick_mps: args.kick,
         budget: args.budget.apply(Default::default())?,
         ..ClassifierOptions::default()
     };
-    let wheels = args.wheel.wheels();
+    Ok(SimulateRequest {
+        params,
+        variant: args.point.variant.into(),
+        wheels: args.wheel.wheels(),
+        opts,
+        duration_s: args.duration,
+        sample_rate_hz: args.sample_rate,
+        out: args.out.clone(),
+        plot,
+    })
+}
 
+/// Each wheel on its own (no shooting hint from the other): the verdict of one wheel does not
+/// depend on which others were asked for. A time series that ends early is warned about.
+fn simulate(request: &SimulateRequest) -> Simulated {
     let mut records = Vec::new();
     let mut series = Vec::new();
-    for wheel in &wheels {
-        // Each wheel on its own (no shooting hint from the other): the verdict of one wheel
-        // does not depend on which others were asked for.
-        let wheel = *wheel;
-        let w = evaluate::solve_wheel(p, variant, wheel, &opts);
+    for &wheel in &request.wheels {
+        let w = evaluate::solve_wheel(request.params, request.variant, wheel, &request.opts);
         records.push(w.record);
         if let Ok(m) = &w.model {
-            if args.out.is_some() || args.plot.is_some() {
-                let ts = time_series(m, args.duration, args.sample_rate, opts.disturbance_m);
+            if request.wants_series() {
+                let ts = time_series(
+                    m,
+                    request.duration_s,
+                    request.sample_rate_hz,
+                    request.opts.disturbance_m,
+                );
                 if let Some(w) = &ts.ended_early {
                     eprintln!("warning: {w}");
                 }
@@ -117,22 +171,27 @@ pub fn run(args: &SimulateArgs) -> CliResult {
             }
         }
     }
+    Simulated { records, series }
+}
 
+/// The verdicts (a table, or JSON lines with `--json`), then the time series and the plot.
+fn write(args: &SimulateArgs, request: &SimulateRequest, simulated: &Simulated) -> CliResult {
+    let Simulated { records, series } = simulated;
     if args.json {
-        for r in &records {
+        for r in records {
             println!("{}", serde_json::to_string(r).expect("record serializes"));
         }
     } else {
-        print_table(&records);
+        print_table(records);
     }
-    if let Some(out) = &args.out {
-        write_series(out, &series, &p, variant)?;
+    if let Some(out) = &request.out {
+        write_series(out, series, &request.params, request.variant)?;
         eprintln!("wrote time series to {}", out.display());
     }
-    if let Some(path) = &args.plot {
-        plot_point(path, &series, &records, args.sample_rate)
+    if let Some(file) = &request.plot {
+        plot_point(file, series, records, request.sample_rate_hz)
             .map_err(|e| CliError(e.to_string()))?;
-        eprintln!("wrote plot to {}", path.display());
+        eprintln!("wrote plot to {}", file.path.display());
     }
     Ok(())
 }
@@ -229,7 +288,7 @@ fn print_table(records: &[WheelRecord]) {
 fn write_series(
     path: &Path,
     series: &[(Wheel, Samples)],
-    p: &polywear::params::Params,
+    p: &Params,
     variant: Variant,
 ) -> CliResult {
     let all = || {

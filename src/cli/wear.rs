@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use super::common::{base_metadata, BudgetArgs, CliError, CliResult, FigureFormat, PointArgs};
+use super::common::{base_metadata, BudgetArgs, CliError, CliResult, PointArgs};
 use polywear::classify::{Class, ClassifierOptions};
 use polywear::cycle::DriveCycle;
 use polywear::ensemble::{self, Control};
@@ -17,6 +17,7 @@ use polywear::model::{Variant, Wheel, WheelModel};
 use polywear::params::{ParamId, Params};
 use polywear::parquet_out::{write_csv, write_table, Column};
 use polywear::plot::wear::{wear_figure, WearTrace};
+use polywear::plot::{FigureFile, FigureFormat};
 use polywear::wear::long_term::{
     cruise_legs, cycle_legs, run_wheel, Leg, LoopInputs, LoopSettings,
 };
@@ -70,7 +71,7 @@ pub struct WearArgs {
     #[arg(long)]
     pub estimate: bool,
     /// Format of the figure
-    #[arg(long, value_enum, default_value_t = FigureFormat::Png)]
+    #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
     pub format: FigureFormat,
     /// No progress bar
     #[arg(long)]
@@ -523,7 +524,7 @@ fn write_outputs(args: &WearArgs, plan: &Plan, wheels: &[WheelOutcome<'_>]) -> C
         })
         .collect();
     if !traces.is_empty() {
-        let figure = dir.join(format!("wear.{}", args.format.ext()));
+        let figure = FigureFile::named(dir, "wear", args.format);
         let title = format!("polywear wear: {}", plan.usage);
         wear_figure(&figure, &title, &traces).map_err(|e| err(&e))?;
     }

@@ -21,10 +21,10 @@ const X_RTOL: f64 = 1e-10;
 const MAX_NEWTON: usize = 12;
 /// A solution counts as a Hopf point when its critical pair has |Re λ| ≤ this × |λ|; converged
 /// solutions are near 1e-12.
-pub const CRITICAL_RE: f64 = 1e-9;
+pub(crate) const CRITICAL_RE: f64 = 1e-9;
 
 /// The Hopf test function g = det(2A⊙I).
-pub fn test_function(a: &DMatrix<f64>) -> f64 {
+pub(crate) fn test_function(a: &DMatrix<f64>) -> f64 {
     bialternate(a).determinant()
 }
 
@@ -60,7 +60,7 @@ pub struct Solution {
 }
 
 /// The Hopf system of one family in one box.
-pub struct HopfSystem<'a, F: TwoParameterFamily> {
+pub(crate) struct HopfSystem<'a, F: TwoParameterFamily> {
     /// The two-parameter family.
     pub family: &'a F,
     /// The box; the unknowns s are relative to it.
@@ -260,7 +260,7 @@ pub fn analyse<S: OdeWithJacobian>(
 /// l1 = Re(⟨p, C(q,q,q̄)⟩ − 2⟨p, B(q, A⁻¹B(q,q̄))⟩ + ⟨p, B(q̄, (2iωI − A)⁻¹B(q,q))⟩) / (2ω),
 /// with A q = iω q, Aᵀ p = −iω p, ⟨q, q⟩ = 1, ⟨p, q⟩ = 1. Its value depends on the state's units
 /// through the normalisation ⟨q, q⟩ = 1; its sign does not (MODEL.md#first-lyapunov-coefficient).
-pub fn first_lyapunov<S: OdeWithJacobian>(
+pub(crate) fn first_lyapunov<S: OdeWithJacobian>(
     sys: &S,
     x: &DVector<f64>,
     a: &DMatrix<f64>,

@@ -9,7 +9,7 @@ use super::CVector;
 /// whose eigenvalues are the sums λ_i + λ_j (i < j) of A's eigenvalues. Its determinant vanishes
 /// where a pair of eigenvalues sums to zero: at a Hopf point (±iω) or a neutral saddle (±κ).
 /// Rows and columns are indexed by the pairs (p, q), p > q, in lexicographic order.
-pub fn bialternate(a: &DMatrix<f64>) -> DMatrix<f64> {
+pub(crate) fn bialternate(a: &DMatrix<f64>) -> DMatrix<f64> {
     let n = a.nrows();
     let pairs: Vec<(usize, usize)> = (1..n).flat_map(|p| (0..p).map(move |q| (p, q))).collect();
     let m = pairs.len();
@@ -34,7 +34,7 @@ pub fn bialternate(a: &DMatrix<f64>) -> DMatrix<f64> {
 
 /// The adjugate adj(M) (transposed cofactors): d det(M) = tr(adj(M) dM) holds also where M is
 /// singular, which is exactly where the Hopf test function is differentiated.
-pub fn adjugate(m: &DMatrix<f64>) -> DMatrix<f64> {
+pub(crate) fn adjugate(m: &DMatrix<f64>) -> DMatrix<f64> {
     let n = m.nrows();
     if n == 1 {
         return DMatrix::from_element(1, 1, 1.0);
@@ -55,7 +55,7 @@ pub fn eigenvalues(a: &DMatrix<f64>) -> Option<Vec<Complex<f64>>> {
 
 /// A unit null vector of the (nearly) singular complex matrix m: the right singular vector of
 /// its smallest singular value.
-pub fn null_vector(m: &DMatrix<Complex<f64>>) -> Option<CVector> {
+pub(crate) fn null_vector(m: &DMatrix<Complex<f64>>) -> Option<CVector> {
     let svd = m.clone().try_svd(false, true, f64::EPSILON, 10_000)?;
     let v_t = svd.v_t?;
     let k = svd
@@ -71,13 +71,16 @@ pub fn null_vector(m: &DMatrix<Complex<f64>>) -> Option<CVector> {
 }
 
 /// ⟨p, q⟩ = p̄ᵀ q (Kuznetsov's scalar product).
-pub fn dot(p: &CVector, q: &CVector) -> Complex<f64> {
+pub(crate) fn dot(p: &CVector, q: &CVector) -> Complex<f64> {
     p.iter().zip(q.iter()).map(|(a, b)| a.conj() * b).sum()
 }
 
 /// Solves a real linear system after scaling each row to unit largest entry (the Hopf system
 /// mixes equations of very different sizes: m/s, m/s², and a determinant in 1/s³).
-pub fn solve_equilibrated(mut j: DMatrix<f64>, mut rhs: DVector<f64>) -> Option<DVector<f64>> {
+pub(crate) fn solve_equilibrated(
+    mut j: DMatrix<f64>,
+    mut rhs: DVector<f64>,
+) -> Option<DVector<f64>> {
     for i in 0..j.nrows() {
         let s = j.row(i).amax();
         if s > 0.0 && s.is_finite() {

@@ -76,7 +76,7 @@ impl ParamBox {
 }
 
 /// Real vector as a complex one.
-pub fn complexify(v: &DVector<f64>) -> CVector {
+pub(crate) fn complexify(v: &DVector<f64>) -> CVector {
     v.map(|x| Complex::new(x, 0.0))
 }
 

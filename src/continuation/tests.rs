@@ -13,7 +13,7 @@ fn cvec(v: &[(f64, f64)]) -> CVector {
 
 /// B against differences of the Jacobian, C against differences of B, the Jacobian against
 /// differences of f: the checks every [`OdeWithJacobian`] must pass.
-pub fn check_derivatives<S: OdeWithJacobian>(
+pub(crate) fn check_derivatives<S: OdeWithJacobian>(
     sys: &S,
     x: &DVector<f64>,
     h: &DVector<f64>,

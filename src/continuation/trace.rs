@@ -107,7 +107,7 @@ struct Traced {
 }
 
 /// Traces every Hopf curve of `family` in `bounds`.
-pub fn trace_all<F: TwoParameterFamily>(
+pub(crate) fn trace_all<F: TwoParameterFamily>(
     family: &F,
     bounds: ParamBox,
     opts: &TraceOptions,

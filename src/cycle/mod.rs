@@ -16,12 +16,13 @@
 
 pub mod output;
 pub mod summary;
+pub mod wear;
 
 use std::path::{Path, PathBuf};
 
 use crate::classify::{Class, ClassifierOptions};
 use crate::ensemble::{self, Control};
-use crate::evaluate::{self, PointProblem};
+use crate::evaluate::{self, PointProblem, WearStage};
 use crate::model::Variant;
 use crate::params::{ParamError, ParamId, Params};
 use crate::parquet_out::WriteError;
@@ -354,6 +355,9 @@ pub struct StepWheel {
     pub stability_change_time_s: f64,
     /// τ ≤ T (true where not assessed).
     pub quasi_static: bool,
+    /// β_n \[1/1000 km\] of orders 1..=[`wear::CYCLE_ORDERS_MAX`] at this step
+    /// ([`wear::step_growth`]); empty without the wear stage or without figures.
+    pub order_growth_per_1000km: Vec<f64>,
 }
 
 impl StepWheel {
@@ -376,8 +380,9 @@ pub fn classify_cycle(
     base: &Params,
     variant: Variant,
     opts: &ClassifierOptions,
+    wear: Option<&WearStage>,
 ) -> Vec<[StepWheel; 2]> {
-    classify_cycles(cycle, std::slice::from_ref(base), variant, opts)
+    classify_cycles(cycle, std::slice::from_ref(base), variant, opts, wear)
         .pop()
         .expect("one base")
 }
@@ -385,12 +390,14 @@ pub fn classify_cycle(
 /// [`classify_cycle`] for each of several parameter bases (tire structures), `[base][step]`.
 /// Blocks of [`BLOCK_STEPS`] steps of every base run in parallel on the current rayon pool;
 /// within a block each wheel starts from its own cycle at the previous step, and a step with
-/// the same parameters as the previous one takes its verdict.
+/// the same parameters as the previous one takes its verdict. With `wear`, every step also runs
+/// the wear stage (its columns in the records, and each order's growth for [`wear::cycle_wear`]).
 pub fn classify_cycles(
     cycle: &DriveCycle,
     bases: &[Params],
     variant: Variant,
     opts: &ClassifierOptions,
+    wear: Option<&WearStage>,
 ) -> Vec<Vec<[StepWheel; 2]>> {
     let n = cycle.len();
     let per_base = n.div_ceil(BLOCK_STEPS);
@@ -399,24 +406,26 @@ pub fn classify_cycles(
         .collect();
     let block = |j: usize| {
         let (k, b) = jobs[j];
-        classify_block(cycle, &bases[k], variant, opts, b)
+        classify_block(cycle, &bases[k], variant, opts, wear, b)
     };
-    let mut records: Vec<[WheelRecord; 2]> = ensemble::solve(jobs.len(), block, &Control::QUIET)
-        .all()
-        .into_iter()
-        .flatten()
-        .collect();
+    let mut records: Vec<[(WheelRecord, Vec<f64>); 2]> =
+        ensemble::solve(jobs.len(), block, &Control::QUIET)
+            .all()
+            .into_iter()
+            .flatten()
+            .collect();
     let mut out = Vec::with_capacity(bases.len());
     for _ in bases {
         let rest = records.split_off(n);
         let mut steps: Vec<[StepWheel; 2]> = records
             .into_iter()
             .map(|pair| {
-                pair.map(|record| StepWheel {
+                pair.map(|(record, growth)| StepWheel {
                     record,
                     tread_time_constant_s: f64::NAN,
                     stability_change_time_s: f64::NAN,
                     quasi_static: true,
+                    order_growth_per_1000km: growth,
                 })
             })
             .collect();
@@ -437,11 +446,12 @@ fn classify_block(
     base: &Params,
     variant: Variant,
     opts: &ClassifierOptions,
+    wear: Option<&WearStage>,
     b: usize,
-) -> Vec<[WheelRecord; 2]> {
+) -> Vec<[(WheelRecord, Vec<f64>); 2]> {
     let lo = b * BLOCK_STEPS;
     let hi = (lo + BLOCK_STEPS).min(cycle.len());
-    let mut out: Vec<[WheelRecord; 2]> = Vec::with_capacity(hi - lo);
+    let mut out: Vec<[(WheelRecord, Vec<f64>); 2]> = Vec::with_capacity(hi - lo);
     let mut hints = vec![None, None];
     let mut previous: Option<Params> = None;
     for i in lo..hi {
@@ -458,13 +468,26 @@ fn classify_block(
         }
         let problem = PointProblem {
             previous: &hints,
-            ..PointProblem::new(p, std::slice::from_ref(&variant), opts)
+            ..PointProblem::new(p, std::slice::from_ref(&variant), opts).with_wear(wear)
         };
         let solution = evaluate::solve(&problem);
         if !cycle.standstill(i) {
             hints = solution.hints();
         }
-        let [f, d]: [WheelRecord; 2] = solution.into_records().try_into().expect("two wheels");
+        let growth = |w: &evaluate::WheelSolution| match wear {
+            Some(stage) if !cycle.standstill(i) => wear::step_growth(&p, w, stage, opts),
+            _ => Vec::new(),
+        };
+        let [f, d]: [(WheelRecord, Vec<f64>); 2] = solution
+            .wheels
+            .into_iter()
+            .map(|w| {
+                let g = growth(&w);
+                (w.record, g)
+            })
+            .collect::<Vec<_>>()
+            .try_into()
+            .expect("two wheels");
         out.push([f, d]);
     }
     out
@@ -552,6 +575,7 @@ mod tests {
                     tread_time_constant_s: f64::NAN,
                     stability_change_time_s: f64::NAN,
                     quasi_static: true,
+                    order_growth_per_1000km: Vec::new(),
                 };
                 [w.clone(), w]
             })
@@ -592,6 +616,7 @@ mod tests {
                     tread_time_constant_s: f64::NAN,
                     stability_change_time_s: f64::NAN,
                     quasi_static: i != 3,
+                    order_growth_per_1000km: Vec::new(),
                 };
                 [w.clone(), w]
             })

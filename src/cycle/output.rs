@@ -6,13 +6,14 @@
 use std::path::{Path, PathBuf};
 
 use super::summary::{summarise, summary_columns, WheelSummary};
+use super::wear::cycle_wear;
 use super::{CycleError, DriveCycle, StepWheel};
 use crate::model::Variant;
 use crate::operating_points::OperatingPoints;
-use crate::params::{ParamId, OPERATING_AXES};
+use crate::params::{ParamId, Params, OPERATING_AXES};
 use crate::parquet_out::{write_csv, write_table, Column};
 use crate::plot::cycle::{cycle_figure, WheelTrace};
-use crate::plot::PlotError;
+use crate::plot::{FigureFile, FigureFormat, PlotError};
 use crate::records::{record_columns, OPERATING_POINT_ROW, SAMPLE_ID};
 
 /// A classified cycle, for one or several tire structures.
@@ -31,6 +32,9 @@ pub struct CycleRun<'a> {
     pub metadata: Vec<(String, String)>,
     /// The study's fleet, when its `[operating_points]` gave each structure sample a row.
     pub fleet: Option<FleetDraw<'a>>,
+    /// `bases[k]`: structure sample k's parameters, when the steps ran the wear stage (the
+    /// seed and the visible depth of its distance to a visible polygon); empty otherwise.
+    pub wear_bases: Vec<Params>,
 }
 
 /// The operating-point rows a study's fleet gave the structure samples: each sample drives the
@@ -47,7 +51,16 @@ impl CycleRun<'_> {
     pub fn summaries(&self) -> Vec<[WheelSummary; 2]> {
         self.steps
             .iter()
-            .map(|s| [summarise(self.cycle, s, 0), summarise(self.cycle, s, 1)])
+            .enumerate()
+            .map(|(k, s)| {
+                [0, 1].map(|w| WheelSummary {
+                    wear: self
+                        .wear_bases
+                        .get(k)
+                        .map(|base| cycle_wear(self.cycle, s, w, base)),
+                    ..summarise(self.cycle, s, w)
+                })
+            })
             .collect()
     }
 
@@ -138,14 +151,14 @@ impl CycleRun<'_> {
         let sidecar = dir.join("cycle_summary.parquet");
         write_table(&sidecar, &summary, &self.metadata)?;
         written.push(sidecar);
-        let png = dir.join("cycle.png");
-        self.figure(&png)?;
-        written.push(png);
+        let picture = FigureFile::named(dir, "cycle", FigureFormat::Png);
+        self.figure(&picture)?;
+        written.push(picture.path);
         Ok(written)
     }
 
     /// The picture of structure sample 0.
-    fn figure(&self, path: &Path) -> Result<(), PlotError> {
+    fn figure(&self, file: &FigureFile) -> Result<(), PlotError> {
         let steps = &self.steps[0];
         let traces: Vec<WheelTrace<'_>> = (0..2)
             .map(|w| WheelTrace {
@@ -179,7 +192,7 @@ impl CycleRun<'_> {
             self.variant.as_str()
         );
         cycle_figure(
-            path,
+            file,
             &title,
             &self.cycle.time_s,
             &self.cycle.speed_kmh,

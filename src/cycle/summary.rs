@@ -5,6 +5,7 @@
 
 use std::collections::BTreeMap;
 
+use super::wear::CycleWear;
 use super::{DriveCycle, StepWheel};
 use crate::model::Wheel;
 use crate::parquet_out::Column;
@@ -33,10 +34,12 @@ pub struct WheelSummary {
     /// Share of the vibrating time at each polygon order (rounded to the nearest whole number
     /// of facets); empty without vibration.
     pub order_shares: BTreeMap<i64, f64>,
+    /// The polygon of a lifetime on this cycle, when the wear stage ran.
+    pub wear: Option<CycleWear>,
 }
 
 /// Summarises wheel `w` (0 follower, 1 driving) of a classified cycle.
-pub fn summarise(cycle: &DriveCycle, steps: &[[StepWheel; 2]], w: usize) -> WheelSummary {
+pub(crate) fn summarise(cycle: &DriveCycle, steps: &[[StepWheel; 2]], w: usize) -> WheelSummary {
     let dt = cycle.step_durations_s();
     let km = |i: usize| cycle.speed_kmh[i] * dt[i] / 3600.0;
     let total_s: f64 = dt.iter().sum();
@@ -87,6 +90,7 @@ pub fn summarise(cycle: &DriveCycle, steps: &[[StepWheel; 2]], w: usize) -> Whee
         standstill_share: still_s / total_s,
         not_quasi_static_share: doubt_s / total_s,
         order_shares: orders,
+        wear: None,
     }
 }
 
@@ -106,11 +110,24 @@ fn named(s: &WheelSummary, orders: &[i64]) -> Vec<(String, f64)> {
         let share = s.order_shares.get(n).copied().unwrap_or(0.0);
         v.push((format!("order_{n}_share"), share));
     }
+    if let Some(w) = &s.wear {
+        v.extend([
+            ("wear_dominant_order".to_string(), w.dominant_order),
+            ("growth_rate_per_1000km".into(), w.growth_rate_per_1000km),
+            ("distance_to_visible_km".into(), w.distance_to_visible_km),
+            (
+                "wear_unknown_distance_share".into(),
+                w.unknown_distance_share,
+            ),
+        ]);
+    }
     v
 }
 
 fn unit(name: &str) -> &'static str {
-    if name.ends_with("_s") {
+    if name.ends_with("_per_1000km") {
+        "1/1000km"
+    } else if name.ends_with("_s") {
         "s"
     } else if name.ends_with("_km") {
         "km"
@@ -127,13 +144,18 @@ pub fn quantile(xs: &[f64], q: f64) -> f64 {
     }
     let h = (xs.len() - 1) as f64 * q;
     let (lo, hi) = (h.floor() as usize, h.ceil() as usize);
+    // Equal or infinite neighbours (a distance that never comes): no interpolation, which
+    // would give inf − inf = NaN.
+    if lo == hi || xs[lo] == xs[hi] || xs[hi].is_infinite() || xs[lo].is_infinite() {
+        return if h > lo as f64 { xs[hi] } else { xs[lo] };
+    }
     xs[lo] + (h - lo as f64) * (xs[hi] - xs[lo])
 }
 
 /// The summary table: one row per wheel with `statistic` = `value` for one tire structure; with
 /// several (`per_sample[k][wheel]`), three rows per wheel: `mean`, `p05` and `p95` (the 90%
 /// interval over the structures).
-pub fn summary_columns(per_sample: &[[WheelSummary; 2]]) -> Vec<Column> {
+pub(crate) fn summary_columns(per_sample: &[[WheelSummary; 2]]) -> Vec<Column> {
     let mut orders: Vec<i64> = per_sample
         .iter()
         .flat_map(|s| s.iter().flat_map(|w| w.order_shares.keys().copied()))

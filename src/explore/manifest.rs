@@ -88,6 +88,10 @@ pub struct RunManifest {
     /// the study file's terms (chunks of a study with scenarios only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scenarios: Option<serde_json::Value>,
+    /// The wear stage (its zone and calibration), when the run has one; absent for a run
+    /// without wear columns (`--no-wear`, `wear = false`, and runs of polywear before 0.6.0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wear: Option<serde_json::Value>,
 }
 
 /// An operating-point file as the run recorded it. Fields in alphabetical order, as the

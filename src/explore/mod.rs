@@ -12,7 +12,8 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use crate::classify::Class;
+use crate::classify::{Class, ClassifierOptions};
+use crate::evaluate::WearStage;
 use crate::model::{Variant, Wheel};
 use crate::output_dir;
 use crate::study::Study;
@@ -74,6 +75,9 @@ pub struct RunPlan {
     pub resume: bool,
     /// The command line, stored in the metadata.
     pub command: String,
+    /// The wear stage after the classifier ([`RunPlan::wear_stage`] of the study), or `None`
+    /// for a run without wear columns.
+    pub wear: Option<WearStage>,
 }
 
 /// Why a run cannot start or go on; all are reported with exit code 2. The messages name the
@@ -171,6 +175,9 @@ pub enum ExploreError {
         /// This run's shard.
         shard: Shard,
     },
+    /// The wear stage cannot be calibrated for the run's nominal tire.
+    #[error("the wear stage: {0} (leave it out with --no-wear or `wear = false`)")]
+    Wear(String),
     /// A chunk file or the journal cannot be written.
     #[error("cannot write output: {0}")]
     Write(String),
@@ -190,6 +197,20 @@ pub struct RunSummary {
 }
 
 impl RunPlan {
+    /// The wear stage of a run of `study`: its settings and the calibration at the reference
+    /// follower of the study's base parameters (`None` when the study leaves wear out). The
+    /// reference is one point of the run, not a sample: it is classified within the default
+    /// budget, whatever the study's per-wheel budget.
+    pub fn wear_stage(study: &Study) -> Result<Option<WearStage>, ExploreError> {
+        let Some(settings) = study.wear else {
+            return Ok(None);
+        };
+        let opts = ClassifierOptions::default();
+        WearStage::for_run(&study.base, study.variants[0], settings, &opts)
+            .map(Some)
+            .map_err(|e| ExploreError::Wear(e.to_string()))
+    }
+
     /// Chunks of the whole run.
     pub fn n_chunks(&self) -> u64 {
         self.samples.div_ceil(self.study.chunk_size)
@@ -252,6 +273,7 @@ impl RunPlan {
             checksum: Some("CRC-32 (IEEE) of each whole chunk file".to_string()),
             columns: None,
             scenarios: None,
+            wear: self.wear.as_ref().map(wear_json),
         }
     }
 
@@ -286,6 +308,11 @@ impl RunPlan {
     }
 }
 
+/// The wear stage as the manifest records it: the zone and the calibration.
+pub fn wear_json(stage: &WearStage) -> serde_json::Value {
+    serde_json::to_value(stage).expect("the wear stage serializes")
+}
+
 /// The parameters of a sample's drawn values, in [`Study::value_names`] order: the drawn
 /// parameters, then the operating-point file's columns (named by the file's header).
 pub fn value_params(study: &Study) -> Vec<crate::params::ParamId> {
@@ -318,6 +345,7 @@ mod tests {
                     out_dir: PathBuf::new(),
                     resume: false,
                     command: String::new(),
+                    wear: None,
                 };
                 let by_loop: u64 = plan.owned_chunks().map(|c| plan.chunk_len(c)).sum();
                 assert_eq!(
@@ -338,6 +366,7 @@ mod tests {
             out_dir: PathBuf::new(),
             resume: false,
             command: "polywear explore --shard 1/3".into(),
+            wear: None,
         }
     }
 

@@ -177,7 +177,8 @@ impl RunPlan {
         .or_else(|| change("seed", &old.seed, &new.seed))
         .or_else(|| change("samples", &old.samples, &new.samples))
         .or_else(|| change("chunk_size", &old.chunk_size, &new.chunk_size))
-        .or_else(|| change("shard", &old.shard.to_string(), &new.shard.to_string()));
+        .or_else(|| change("shard", &old.shard.to_string(), &new.shard.to_string()))
+        .or_else(|| change("wear stage", &old.wear, &new.wear));
         if let Some(what) = what {
             return Err(ExploreError::DifferentRun {
                 dir: dir.clone(),

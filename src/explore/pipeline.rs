@@ -7,7 +7,7 @@ use super::output::PreparedOutput;
 use super::{ExploreError, RunPlan, RunSummary};
 use crate::classify::ClassifierOptions;
 use crate::ensemble::{self, Control};
-use crate::evaluate::{self, PointProblem};
+use crate::evaluate::{self, PointProblem, WearStage};
 use crate::model::Variant;
 use crate::output_dir;
 use crate::params::Params;
@@ -64,7 +64,7 @@ impl RunPlan {
         let run = ensemble::solve_chunked(
             chunks,
             CHUNKS_IN_FLIGHT,
-            |i| evaluate_sample(&self.study, &sampler, i, &opts),
+            |i| evaluate_sample(&self.study, &sampler, i, &opts, self.wear.as_ref()),
             finish,
             &Control { progress, stop },
         );
@@ -145,17 +145,24 @@ pub struct SampleRows {
 
 /// Draws sample `index` and evaluates it for every variant and both wheels, the baseline and
 /// then each of the study's scenarios (the same draw with the scenario's changes: common random
-/// numbers), each a point of its own on the one road ([`evaluate_params`]).
+/// numbers), each a point of its own on the one road ([`evaluate_params`]), with the wear stage
+/// when `wear` is given.
 pub fn evaluate_sample(
     study: &Study,
     sampler: &Sampler<'_>,
     index: u64,
     opts: &ClassifierOptions,
+    wear: Option<&WearStage>,
 ) -> SampleRows {
     let (p, drawn, operating_point_row) = sampler.sample_with_row(index);
-    let mut records = evaluate_params(&p, &study.variants, opts);
+    let mut records = evaluate_params(&p, &study.variants, opts, wear);
     for scenario in &study.scenarios {
-        records.extend(evaluate_params(&scenario.apply(&p), &study.variants, opts));
+        records.extend(evaluate_params(
+            &scenario.apply(&p),
+            &study.variants,
+            opts,
+            wear,
+        ));
     }
     SampleRows {
         sample_id: index,
@@ -167,13 +174,14 @@ pub fn evaluate_sample(
 
 /// One parameter set for every variant and both wheels, one record each: a point of the one
 /// road ([`crate::evaluate::solve`]), its wheels starting their shooting from the last cycle
-/// found at the same point.
+/// found at the same point, then the wear stage when `wear` is given.
 pub fn evaluate_params(
     p: &Params,
     variants: &[Variant],
     opts: &ClassifierOptions,
+    wear: Option<&WearStage>,
 ) -> Vec<WheelRecord> {
-    evaluate::solve(&PointProblem::new(*p, variants, opts)).into_records()
+    evaluate::solve(&PointProblem::new(*p, variants, opts).with_wear(wear)).into_records()
 }
 
 /// Columns of a chunk: sample_id, the operating-point row (1-based, as error messages count

@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use super::{RunManifest, Shard};
 use crate::output_dir::{self, MANIFEST};
 use crate::params::Params;
+use crate::wear::{WearSettings, WearZone};
 
 /// The run recorded in an output directory's manifest.
 #[derive(Debug, Clone, PartialEq)]
@@ -31,6 +32,9 @@ pub struct RecordedRun {
     /// The folder a relative `[operating_points]` file was found in (the recorded path less
     /// the file name the study gives), so that the recorded study reads the same file again.
     pub operating_points_dir: Option<PathBuf>,
+    /// The wear stage's settings, as the manifest records them (`None`: the run has no wear
+    /// columns).
+    pub wear: Option<WearSettings>,
 }
 
 /// Why a directory's manifest cannot be read back.
@@ -90,6 +94,10 @@ impl RecordedRun {
             chunk_size: m.chunk_size.max(1),
             shard: m.shard,
             operating_points_dir: m.operating_points.as_ref().and_then(|o| o.dir()),
+            wear: match &m.wear {
+                None => None,
+                Some(w) => Some(recorded_wear(w).map_err(bad)?),
+            },
         }))
     }
 
@@ -167,7 +175,7 @@ impl std::fmt::Display for DirState {
 
 /// What the non-empty directory `dir` holds: a finished or unfinished run (with its progress),
 /// something else, or an unreadable manifest.
-pub fn directory_state(dir: &Path) -> DirState {
+pub(crate) fn directory_state(dir: &Path) -> DirState {
     match RecordedRun::read(dir) {
         Ok(Some(run)) => {
             let saved = run.saved(dir);
@@ -244,6 +252,16 @@ pub fn shell_word(s: &str) -> String {
     } else {
         format!("'{}'", s.replace('\'', r"'\''"))
     }
+}
+
+/// The wear settings of a manifest's `wear` object (its `wear_zone`).
+fn recorded_wear(w: &serde_json::Value) -> Result<WearSettings, String> {
+    let zone = w
+        .get("wear_zone")
+        .and_then(|z| z.as_str())
+        .ok_or_else(|| "`wear.wear_zone` is missing".to_string())?;
+    let zone: WearZone = zone.parse().map_err(|e| format!("`wear.wear_zone`: {e}"))?;
+    Ok(WearSettings { zone })
 }
 
 #[cfg(test)]

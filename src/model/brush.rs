@@ -8,7 +8,7 @@ use crate::numeric::brent;
 use crate::params::Params;
 
 /// Combined slip magnitude r(S) for slip ratio S and toe angle (step 4).
-pub fn combined_slip(slip_ratio: f64, tan_alpha: f64) -> f64 {
+pub(crate) fn combined_slip(slip_ratio: f64, tan_alpha: f64) -> f64 {
     ((1.0 + slip_ratio) * tan_alpha).hypot(slip_ratio)
 }
 
@@ -39,7 +39,7 @@ pub fn drive_force_n(p: &Params) -> f64 {
 }
 
 /// The largest slip ratio searched; beyond it the wheel is spinning, not rolling.
-pub const MAX_SLIP_RATIO: f64 = 1.0e3;
+pub(crate) const MAX_SLIP_RATIO: f64 = 1.0e3;
 
 /// Why a driving wheel has no slip ratio.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -52,7 +52,7 @@ pub struct NoTraction {
 
 /// Slip ratio S ≥ 0 at which the contact transmits `force_n` (step 4), solved with Brent's
 /// method on the monotone F_X(S). A force beyond the adhesion limit is a result, not an error.
-pub fn slip_ratio_for_force(
+pub(crate) fn slip_ratio_for_force(
     p: &Params,
     patch: &ContactPatch,
     force_n: f64,
@@ -87,7 +87,7 @@ pub struct FrictionLevels {
 }
 
 /// The friction levels of Eq. 19 at slip ratio `slip_ratio`.
-pub fn friction_levels(p: &Params, patch: &ContactPatch, slip_ratio: f64) -> FrictionLevels {
+pub(crate) fn friction_levels(p: &Params, patch: &ContactPatch, slip_ratio: f64) -> FrictionLevels {
     let tan_a = p.toe_rad().tan();
     let q = sliding_share(p, patch, slip_ratio);
     let lateral_share =
@@ -102,7 +102,7 @@ pub fn friction_levels(p: &Params, patch: &ContactPatch, slip_ratio: f64) -> Fri
 /// Lateral force F_Y(S) of the contact at slip ratio S: the brush model's lateral counterpart of
 /// F_X (step 4 with S replaced by (1+S) tan α in the adhesion term; the sliding term is the
 /// paper's Eq. 17). With F_X it traces the adhesion ellipse of the paper's Fig. 4.
-pub fn lateral_force_n(p: &Params, patch: &ContactPatch, slip_ratio: f64) -> f64 {
+pub(crate) fn lateral_force_n(p: &Params, patch: &ContactPatch, slip_ratio: f64) -> f64 {
     let tan_a = p.toe_rad().tan();
     let r = combined_slip(slip_ratio, tan_a);
     let q = sliding_share(p, patch, slip_ratio);

@@ -55,7 +55,7 @@ pub struct TreadBlock {
 }
 
 /// Tread block shear stiffness with the bending correction of Eq. 16 (reconstructed form).
-pub fn tread_block(p: &Params, patch: &ContactPatch) -> TreadBlock {
+pub(crate) fn tread_block(p: &Params, patch: &ContactPatch) -> TreadBlock {
     let beta = patch.length_m / p.tread_height;
     let pi2 = std::f64::consts::PI * std::f64::consts::PI;
     let stiffness_n_per_m =

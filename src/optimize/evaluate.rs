@@ -13,14 +13,12 @@ use crate::explore::evaluate_params;
 use crate::model::Wheel;
 use crate::params::Params;
 use crate::parquet_out::ColumnData;
-use crate::records::{record_columns, WheelRecord};
+use crate::records::{record_columns, WheelRecord, WEAR_COLUMNS};
 use crate::study::ParamChange;
 
 /// Whether this build's rows carry the wear stage's distance to a visible polygon.
 pub fn wear_available() -> bool {
-    record_columns(&[])
-        .iter()
-        .any(|c| c.name == DISTANCE_COLUMN)
+    WEAR_COLUMNS.iter().any(|c| c.name == DISTANCE_COLUMN)
 }
 
 /// What the search reports as it goes.
@@ -69,7 +67,12 @@ pub fn solve(problem: &Problem, progress: &Progress<'_>) -> Solution {
             for c in &changes[j / n] {
                 p[c.param] = c.change.apply(p[c.param]);
             }
-            let records = evaluate_params(&p, &[problem.variant], &problem.classifier);
+            let records = evaluate_params(
+                &p,
+                &[problem.variant],
+                &problem.classifier,
+                problem.wear.as_ref(),
+            );
             outcomes_of(&records, wear.then_some(problem.within_km))
         };
         let control = Control {
@@ -115,7 +118,7 @@ pub fn solve(problem: &Problem, progress: &Progress<'_>) -> Solution {
 /// (MODEL.md#classes: a limit cycle or bistable; failed and no traction unknown), and,
 /// with `within_km`, a visible polygon within it from the rows' distance (unknown where the
 /// wheel has no verdict or the distance is undefined).
-pub fn outcomes_of(records: &[WheelRecord], within_km: Option<f64>) -> Outcomes {
+pub(crate) fn outcomes_of(records: &[WheelRecord], within_km: Option<f64>) -> Outcomes {
     let distances: Option<Vec<f64>> = within_km.and_then(|_| {
         record_columns(records)
             .into_iter()

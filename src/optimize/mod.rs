@@ -215,6 +215,8 @@ pub struct Problem {
     pub search: SearchOptions,
     /// The classifier's options (the study's work budget).
     pub classifier: ClassifierOptions,
+    /// The wear stage, when the objective or a constraint weighs wear.
+    pub wear: Option<crate::evaluate::WearStage>,
 }
 
 /// One evaluated setting.

@@ -22,7 +22,7 @@ pub enum Term {
 }
 
 /// The risks' names, as `--objective` and `--constraint` take them.
-pub const TERMS: [&str; 2] = ["wear", "vibration"];
+pub(crate) const TERMS: [&str; 2] = ["wear", "vibration"];
 
 impl Term {
     /// The term's name.
@@ -62,7 +62,7 @@ pub enum WheelChoice {
 }
 
 /// The wheel choices' names, as `--wheel` takes them.
-pub const WHEEL_CHOICES: [&str; 4] = ["follower", "driving", "both", "worst"];
+pub(crate) const WHEEL_CHOICES: [&str; 4] = ["follower", "driving", "both", "worst"];
 
 impl WheelChoice {
     /// The choice's name.
@@ -97,7 +97,7 @@ pub const NO: u8 = 0;
 /// An outcome code: yes.
 pub const YES: u8 = 1;
 /// An outcome code: unknown.
-pub const UNKNOWN: u8 = 2;
+pub(crate) const UNKNOWN: u8 = 2;
 
 impl Outcomes {
     fn shift(term: Term, wheel: Wheel) -> u8 {

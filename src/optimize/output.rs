@@ -10,7 +10,8 @@ use crate::model::{Wheel, WheelModel};
 use crate::parquet_out::{write_csv, write_table, Column};
 use crate::plot::maps::Overlay;
 use crate::plot::surface::{marker, surface_curve, surface_map, MapPoint, VLine};
-use crate::plot::PlotError;
+use crate::plot::FigureFile;
+use crate::plot::{FigureFormat, PlotError};
 use crate::wording::plain;
 
 /// Why the files cannot be written.
@@ -124,13 +125,13 @@ pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
 }
 
 /// Writes every file into `dir`; `metadata` (version, command, parameters, variant, study,
-/// seed, objective) goes into every Parquet footer; `ext` is the picture's file type.
+/// seed, objective) goes into every Parquet footer; `format` is the picture's.
 pub fn write(
     problem: &Problem,
     solution: &Solution,
     dir: &Path,
     metadata: &[(String, String)],
-    ext: &str,
+    format: FigureFormat,
 ) -> Result<Vec<PathBuf>, OutputError> {
     crate::safe_write::create_dir(dir).map_err(|e| OutputError::Io {
         path: dir.to_path_buf(),
@@ -147,11 +148,11 @@ pub fn write(
     let surface = dir.join("surface.parquet");
     write_table(&surface, &surface_columns(problem, solution), metadata)?;
     written.push(surface);
-    let picture = dir.join(format!("surface.{ext}"));
+    let picture = FigureFile::named(dir, "surface", format);
     draw(problem, solution, &picture)?;
-    written.push(picture.clone());
+    let text = page(problem, solution, &picture.path);
+    written.push(picture.path);
     let report = dir.join("report.md");
-    let text = page(problem, solution, &picture);
     crate::safe_write::write_file(&report, text.as_bytes()).map_err(|e| OutputError::Io {
         path: report.clone(),
         message: e.to_string(),
@@ -235,7 +236,7 @@ fn surface_columns(problem: &Problem, solution: &Solution) -> Vec<Column> {
 
 /// The picture: a map over two parameters with the nominal tire's Hopf curves, or a curve over
 /// one with its Hopf points.
-fn draw(problem: &Problem, solution: &Solution, path: &Path) -> Result<(), OutputError> {
+fn draw(problem: &Problem, solution: &Solution, file: &FigureFile) -> Result<(), OutputError> {
     let axes = &problem.axes;
     let label =
         |k: usize| crate::params::axis_label(axes[k].param.name(), axes[k].param.spec().unit);
@@ -262,7 +263,7 @@ fn draw(problem: &Problem, solution: &Solution, path: &Path) -> Result<(), Outpu
         pts.sort_by(|a, b| a.0.total_cmp(&b.0));
         let lines = nominal_points(problem);
         surface_curve(
-            path,
+            file,
             &title,
             (&label(0), "objective"),
             &pts,
@@ -307,7 +308,7 @@ fn draw(problem: &Problem, solution: &Solution, path: &Path) -> Result<(), Outpu
         });
     }
     surface_map(
-        path,
+        file,
         &title,
         (&label(0), &label(1)),
         xb,

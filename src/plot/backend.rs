@@ -1,18 +1,15 @@
-//! One drawing backend for every figure, picked by the output file's extension: `.png` through
-//! plotters' bitmap backend, `.svg` through its SVG backend (vector text and shapes, for
+//! One drawing backend for every figure, picked by its [`FigureFormat`]: PNG through plotters'
+//! bitmap backend, SVG through its SVG backend (vector text and shapes, for
 //! reports and slides). Each drawing call is handed to the backend it wraps, so a figure's code
 //! is written once for both formats. Both draw into memory ([`FigureBuffer`]); the file is
 //! written by [`crate::safe_write`], so a figure never follows a link planted at its name.
-
-use std::path::Path;
 
 use plotters::prelude::{BitMapBackend, SVGBackend};
 use plotters_backend::{
     BackendColor, BackendCoord, BackendStyle, BackendTextStyle, DrawingBackend, DrawingErrorKind,
 };
 
-/// The figure formats `--format` accepts.
-pub const FORMATS: [&str; 2] = ["png", "svg"];
+use super::FigureFormat;
 
 /// A PNG or SVG backend.
 pub enum FigureBackend<'a> {
@@ -31,15 +28,13 @@ pub enum FigureBuffer {
 }
 
 impl FigureBuffer {
-    /// An empty figure for `path`: SVG when it ends in `.svg`, PNG otherwise.
-    pub fn new(path: &Path, size: (u32, u32)) -> FigureBuffer {
-        if path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
-        {
-            FigureBuffer::Svg(String::new(), size)
-        } else {
-            FigureBuffer::Png(vec![0; 3 * size.0 as usize * size.1 as usize], size)
+    /// An empty figure of `size` pixels in `format`.
+    pub fn new(format: FigureFormat, size: (u32, u32)) -> FigureBuffer {
+        match format {
+            FigureFormat::Svg => FigureBuffer::Svg(String::new(), size),
+            FigureFormat::Png => {
+                FigureBuffer::Png(vec![0; 3 * size.0 as usize * size.1 as usize], size)
+            }
         }
     }
 

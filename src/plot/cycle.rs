@@ -1,11 +1,9 @@
 //! The picture of a classified drive cycle: the speed trace with each wheel's vibrating
 //! stretches marked beneath it, and the polygon order of the vibration over time.
 
-use std::path::Path;
-
 use plotters::prelude::*;
 
-use super::{draw_legend, figure, format_tick, tick_labels_for, PlotError, PALETTE};
+use super::{draw_legend, figure, format_tick, tick_labels_for, FigureFile, PlotError, PALETTE};
 
 /// What the figure shows of one wheel: its name and, per step, whether it vibrates and its
 /// polygon order (NaN when it does not vibrate).
@@ -22,20 +20,20 @@ pub struct WheelTrace<'a> {
 /// each later one's smaller, so that a later wheel's marker drawn over an earlier one's at the
 /// same step leaves it showing as a ring (the driving wheel vibrates only where the follower
 /// does, and would hide it).
-pub fn marker_radius(k: usize, wheels: usize) -> i32 {
+pub(crate) fn marker_radius(k: usize, wheels: usize) -> i32 {
     2 + 2 * (wheels.saturating_sub(k + 1)) as i32
 }
 
 /// Draws `time_s`/`speed_kmh` with one lane of vibrating stretches per wheel under the trace,
-/// and the polygon order over time, into a PNG or SVG at `path`.
+/// and the polygon order over time, into `file`.
 pub fn cycle_figure(
-    path: &Path,
+    file: &FigureFile,
     title: &str,
     time_s: &[f64],
     speed_kmh: &[f64],
     wheels: &[WheelTrace<'_>],
 ) -> Result<(), PlotError> {
-    figure(path, (1400, 900), title, |area| {
+    figure(file, (1400, 900), title, |area| {
         let (top, bottom) = area.split_vertically(520);
         speed_panel(&top, time_s, speed_kmh, wheels)?;
         order_panel(&bottom, time_s, wheels)

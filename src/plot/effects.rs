@@ -1,16 +1,14 @@
 //! Effects with their intervals (a forest plot): one row per effect, its estimate as a dot and
 //! its 95% interval as a bar, against a line at zero; one panel per outcome.
 
-use std::path::Path;
-
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::{format_tick, PlotError, PALETTE};
+use super::{format_tick, FigureFile, PlotError, PALETTE};
 
 /// One effect: a labelled estimate with its interval, in a colour of [`PALETTE`].
 #[derive(Debug, Clone, PartialEq)]
-pub struct Effect {
+pub(crate) struct Effect {
     /// The row's label (e.g. the scenario's name).
     pub label: String,
     /// The index of its colour in [`PALETTE`] (e.g. the wheel).
@@ -25,7 +23,7 @@ pub struct Effect {
 
 /// One panel of effects.
 #[derive(Debug, Clone, PartialEq)]
-pub struct EffectPanel {
+pub(crate) struct EffectPanel {
     /// The panel's title.
     pub title: String,
     /// The x axis' label.
@@ -34,9 +32,13 @@ pub struct EffectPanel {
     pub effects: Vec<Effect>,
 }
 
-/// Draws `panels` side by side into `path` (PNG or SVG by its extension); the title says what
+/// Draws `panels` side by side into `file`; the title says what
 /// the colours are.
-pub fn effects_figure(path: &Path, title: &str, panels: &[EffectPanel]) -> Result<(), PlotError> {
+pub(crate) fn effects_figure(
+    file: &FigureFile,
+    title: &str,
+    panels: &[EffectPanel],
+) -> Result<(), PlotError> {
     let rows = panels.iter().map(|p| p.effects.len()).max().unwrap_or(0);
     if rows == 0 {
         return Err(PlotError::Empty);
@@ -45,7 +47,7 @@ pub fn effects_figure(path: &Path, title: &str, panels: &[EffectPanel]) -> Resul
         (760 * panels.len() as u32).max(1100),
         140 + 34 * rows as u32,
     );
-    super::figure(path, size, title, |area| {
+    super::figure(file, size, title, |area| {
         for (panel, part) in panels.iter().zip(area.split_evenly((1, panels.len()))) {
             draw_panel(&part, panel, rows)?;
         }

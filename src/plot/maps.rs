@@ -8,7 +8,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use super::{format_tick, tick_labels_for, PlotError, PALETTE};
 
 /// A colour scale from a value in [0, 1].
-pub type ColorMap = fn(f64) -> RGBColor;
+pub(crate) type ColorMap = fn(f64) -> RGBColor;
 
 fn lerp_anchors(anchors: &[(f64, (u8, u8, u8))], t: f64) -> RGBColor {
     let t = t.clamp(0.0, 1.0);
@@ -25,7 +25,7 @@ fn lerp_anchors(anchors: &[(f64, (u8, u8, u8))], t: f64) -> RGBColor {
 }
 
 /// Viridis (perceptually uniform, colour-blind safe), for probabilities.
-pub fn viridis(t: f64) -> RGBColor {
+pub(crate) fn viridis(t: f64) -> RGBColor {
     lerp_anchors(
         &[
             (0.0, (68, 1, 84)),
@@ -39,7 +39,7 @@ pub fn viridis(t: f64) -> RGBColor {
 }
 
 /// Blue–white–red, for differences centred on zero.
-pub fn diverging(t: f64) -> RGBColor {
+pub(crate) fn diverging(t: f64) -> RGBColor {
     lerp_anchors(
         &[
             (0.0, (33, 102, 172)),
@@ -51,12 +51,12 @@ pub fn diverging(t: f64) -> RGBColor {
 }
 
 /// Colour of cells with too few samples.
-pub const EMPTY: RGBColor = RGBColor(200, 200, 200);
+pub(crate) const EMPTY: RGBColor = RGBColor(200, 200, 200);
 
 /// One heatmap: `values[ix][iy]` over cells with edges `x_edges` × `y_edges` (NaN: too few
 /// samples, drawn grey), values mapped from [vmin, vmax] by `cmap`.
 #[allow(clippy::too_many_arguments)]
-pub fn heatmap<DB: DrawingBackend>(
+pub(crate) fn heatmap<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     title: &str,
     x_label: &str,
@@ -183,7 +183,7 @@ fn draw_overlays<'a, DB: DrawingBackend + 'a>(
 }
 
 /// Maps with at most this many cells get their values written in the cells.
-pub const MAX_CELLS_WITH_NUMBERS: usize = 100;
+pub(crate) const MAX_CELLS_WITH_NUMBERS: usize = 100;
 
 /// A cell's value as written in it: whole numbers (the maps are in percent), one decimal below
 /// 10 so small risks do not read as 0.
@@ -201,7 +201,7 @@ fn luminance(c: RGBColor) -> f64 {
 }
 
 /// Lines drawn over a heatmap (e.g. the nominal tire's Hopf curves), with their legend label.
-pub struct Overlay {
+pub(crate) struct Overlay {
     /// The legend's text for these lines.
     pub label: String,
     /// Their colour.
@@ -212,7 +212,7 @@ pub struct Overlay {
 
 /// A vertical colour bar for [vmin, vmax], its ticks and label on its right (as the bar reads
 /// with the map to its left, never with the panel after it).
-pub fn colorbar<DB: DrawingBackend>(
+pub(crate) fn colorbar<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     label: &str,
     (vmin, vmax): (f64, f64),
@@ -250,10 +250,10 @@ pub fn colorbar<DB: DrawingBackend>(
 }
 
 /// Width of the label area right of a colour bar (ticks and label) \[px\].
-pub const COLORBAR_LABEL_AREA: u32 = 76;
+pub(crate) const COLORBAR_LABEL_AREA: u32 = 76;
 
 /// One probability curve with its interval band.
-pub struct Band<'a> {
+pub(crate) struct Band<'a> {
     /// The legend's label.
     pub label: &'a str,
     /// The x values are discrete levels: drawn as points with interval bars, not joined.
@@ -263,7 +263,7 @@ pub struct Band<'a> {
 }
 
 /// Probability curves with shaded 95% intervals, y in [0, 1].
-pub fn band_panel<DB: DrawingBackend>(
+pub(crate) fn band_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     title: &str,
     x_label: &str,

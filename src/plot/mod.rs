@@ -1,5 +1,6 @@
-//! PNG figures with plotters: what the paper shows for one point (time history, phase portrait,
-//! spectrum: its Figs. 8–10) and bifurcation diagrams (its Figs. 6, 7, 12, ...).
+//! Figures with plotters, PNG or SVG ([`FigureFormat`]): what the paper shows for one point
+//! (time history, phase portrait, spectrum: its Figs. 8–10) and bifurcation diagrams (its Figs. 6,
+//! 7, 12, ...).
 
 use std::path::{Path, PathBuf};
 use std::sync::Once;
@@ -8,17 +9,19 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use backend::{FigureBackend, FigureBuffer};
+pub use format::{FigureFile, FigureFormat};
 
 pub mod backend;
 pub mod cycle;
 pub mod effects;
+mod format;
 pub mod maps;
 pub mod spectrum;
 pub mod surface;
 pub mod wear;
 
 /// One curve of a figure, in a colour picked by the caller.
-pub struct Series<'a> {
+pub(crate) struct Series<'a> {
     /// The legend's label.
     pub label: &'a str,
     /// (x, y) points, in order.
@@ -37,7 +40,7 @@ fn ensure_font() {
 }
 
 /// The colours of a figure's series, in order.
-pub const PALETTE: [RGBColor; 4] = [
+pub(crate) const PALETTE: [RGBColor; 4] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
@@ -109,7 +112,7 @@ fn bounds<'a>(series: impl Iterator<Item = &'a (f64, f64)> + Clone) -> ((f64, f6
 }
 
 /// Draws line series into one panel with axis labels and a legend.
-pub fn line_panel<DB: DrawingBackend>(
+pub(crate) fn line_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     title: &str,
     x_label: &str,
@@ -132,7 +135,7 @@ pub fn line_panel<DB: DrawingBackend>(
 /// [`line_panel`] with a fixed y range (points outside it are clipped) and, when `zero_line`,
 /// a dashed line at y = 0 (where an eigenvalue's real part changes sign).
 #[allow(clippy::too_many_arguments)]
-pub fn line_panel_with<DB: DrawingBackend>(
+pub(crate) fn line_panel_with<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     title: &str,
     x_label: &str,
@@ -225,7 +228,7 @@ pub fn line_panel_with<DB: DrawingBackend>(
 }
 
 /// The legend every line figure uses: upper right, on white, framed.
-pub fn draw_legend<'a, DB: DrawingBackend + 'a>(
+pub(crate) fn draw_legend<'a, DB: DrawingBackend + 'a>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
 ) -> Result<(), PlotError> {
     chart
@@ -265,13 +268,13 @@ fn clip_segment(
 }
 
 /// plotters' default number of tick labels per axis, the most any axis asks for.
-pub const MAX_TICK_LABELS: usize = 10;
+pub(crate) const MAX_TICK_LABELS: usize = 10;
 
 /// The most tick labels (up to [`MAX_TICK_LABELS`]) along a horizontal axis over `range`,
 /// `width_px` long, whose texts ([`format_tick`] in the embedded font at `font_px`) stand apart
 /// by at least half a character height: scientific labels of a narrow panel (`3.10e7`) would
 /// otherwise run together. plotters picks at most this many round values.
-pub fn fitting_tick_labels(range: (f64, f64), width_px: u32, font_px: u32) -> usize {
+pub(crate) fn fitting_tick_labels(range: (f64, f64), width_px: u32, font_px: u32) -> usize {
     use plotters::coord::ranged1d::Ranged;
     ensure_font();
     let (lo, hi) = range;
@@ -294,7 +297,7 @@ pub fn fitting_tick_labels(range: (f64, f64), width_px: u32, font_px: u32) -> us
 
 /// [`fitting_tick_labels`] for a chart built on `area` with a y label area of
 /// `y_label_area_px` and `margin_px` on each side.
-pub fn tick_labels_for<DB: DrawingBackend>(
+pub(crate) fn tick_labels_for<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     y_label_area_px: u32,
     margin_px: u32,
@@ -309,7 +312,7 @@ pub fn tick_labels_for<DB: DrawingBackend>(
 }
 
 /// Tick label: plain for ordinary magnitudes, scientific for very small or large ones.
-pub fn format_tick(v: f64) -> String {
+pub(crate) fn format_tick(v: f64) -> String {
     let a = v.abs();
     if a < 1e-15 {
         return "0".into();
@@ -327,16 +330,17 @@ pub fn format_tick(v: f64) -> String {
     }
 }
 
-/// A figure with a title, PNG or SVG by the extension of `path`; `draw` lays out and draws the
-/// area under the title.
+/// A figure with a title, drawn in the file's format and written to its path; `draw` lays out
+/// and draws the area under the title.
 pub fn figure(
-    path: &Path,
+    file: &FigureFile,
     size: (u32, u32),
     title: &str,
     draw: impl FnOnce(&DrawingArea<FigureBackend<'_>, plotters::coord::Shift>) -> Result<(), PlotError>,
 ) -> Result<(), PlotError> {
     ensure_font();
-    let mut buffer = FigureBuffer::new(path, size);
+    let path = file.path.as_path();
+    let mut buffer = FigureBuffer::new(file.format, size);
     {
         let root = buffer.backend().into_drawing_area();
         root.fill(&WHITE).map_err(|e| err(path, e))?;
@@ -352,7 +356,7 @@ pub fn figure(
 
 /// A figure of several panels laid out in a grid, each drawn by `draw`.
 pub fn panels(
-    path: &Path,
+    file: &FigureFile,
     size: (u32, u32),
     grid: (usize, usize),
     title: &str,
@@ -361,7 +365,7 @@ pub fn panels(
         &DrawingArea<FigureBackend<'_>, plotters::coord::Shift>,
     ) -> Result<(), PlotError>,
 ) -> Result<(), PlotError> {
-    figure(path, size, title, |area| {
+    figure(file, size, title, |area| {
         for (i, a) in area.split_evenly(grid).iter().enumerate() {
             draw(i, a)?;
         }

@@ -39,7 +39,7 @@ fn fft(data: &mut [(f64, f64)]) {
 
 /// One-sided amplitude spectrum of the last power-of-two samples of `signal` (mean removed,
 /// Hann window, amplitude-corrected). Returns (frequency \[Hz\], amplitude) pairs.
-pub fn amplitude_spectrum(signal: &[f64], sample_rate_hz: f64) -> Vec<(f64, f64)> {
+pub(crate) fn amplitude_spectrum(signal: &[f64], sample_rate_hz: f64) -> Vec<(f64, f64)> {
     if signal.len() < 4 {
         return Vec::new();
     }

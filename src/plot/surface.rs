@@ -2,16 +2,14 @@
 //! coloured by the nearest evaluated setting, so refined regions show finer), with overlay
 //! lines and markers; over one parameter as a curve with its interval band and vertical lines.
 
-use std::path::Path;
-
 use plotters::prelude::*;
 
 use super::maps::{self, Overlay};
-use super::{format_tick, PlotError, PALETTE};
+use super::{format_tick, FigureFile, PlotError, PALETTE};
 
 /// One evaluated setting of a two-parameter map.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MapPoint {
+pub(crate) struct MapPoint {
     /// x \[axis units\].
     pub x: f64,
     /// y \[axis units\].
@@ -21,13 +19,13 @@ pub struct MapPoint {
 }
 
 /// Pixels per axis of the map's raster.
-pub const RASTER: usize = 96;
+pub(crate) const RASTER: usize = 96;
 
 /// The objective over two parameters: the raster of nearest evaluated settings in
 /// [x0, x1] × [y0, y1], the overlays (lines and markers), and a colour bar labelled `label`.
 #[allow(clippy::too_many_arguments)]
-pub fn surface_map(
-    path: &Path,
+pub(crate) fn surface_map(
+    file: &FigureFile,
     title: &str,
     (x_label, y_label): (&str, &str),
     (x0, x1): (f64, f64),
@@ -76,7 +74,7 @@ pub fn surface_map(
     } else {
         (0.0, 1.0)
     };
-    super::figure(path, (1100, 860), title, |area| {
+    super::figure(file, (1100, 860), title, |area| {
         let (main, bar) = area.split_horizontally(area.dim_in_pixel().0 as i32 - 130);
         maps::heatmap(
             &main,
@@ -117,7 +115,7 @@ pub fn marker(
 }
 
 /// A vertical line of a curve figure, with its legend label.
-pub struct VLine {
+pub(crate) struct VLine {
     /// Where \[axis units\].
     pub x: f64,
     /// The legend's text.
@@ -128,8 +126,8 @@ pub struct VLine {
 
 /// The objective over one parameter: (x, value, low, high) sorted by x, the best marked, and
 /// vertical lines.
-pub fn surface_curve(
-    path: &Path,
+pub(crate) fn surface_curve(
+    file: &FigureFile,
     title: &str,
     (x_label, y_label): (&str, &str),
     points: &[(f64, f64, f64, f64)],
@@ -142,7 +140,7 @@ pub fn surface_curve(
     }
     let (x0, x1) = (pts[0].0, pts[pts.len() - 1].0);
     let y1 = pts.iter().map(|p| p.3).fold(0.0f64, f64::max) * 1.1 + 1e-9;
-    super::figure(path, (1000, 620), title, |area| {
+    super::figure(file, (1000, 620), title, |area| {
         let mut chart = ChartBuilder::on(area)
             .margin(12)
             .x_label_area_size(46)

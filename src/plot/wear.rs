@@ -2,9 +2,7 @@
 //! at a few distances, beside every harmonic's depth against distance with the visible depth
 //! marked.
 
-use std::path::Path;
-
-use super::{line_panel, panels, PlotError, Series};
+use super::{line_panel, panels, FigureFile, PlotError, Series};
 
 /// One wheel of the figure.
 pub struct WearTrace<'a> {
@@ -36,8 +34,12 @@ fn polar_points(depth_m: &[f64], scale: f64) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// Draws the figure into `path` (PNG or SVG by its extension).
-pub fn wear_figure(path: &Path, title: &str, wheels: &[WearTrace<'_>]) -> Result<(), PlotError> {
+/// Draws the figure into `path` (PNG or SVG, as it says).
+pub fn wear_figure(
+    path: &FigureFile,
+    title: &str,
+    wheels: &[WearTrace<'_>],
+) -> Result<(), PlotError> {
     let deepest = wheels
         .iter()
         .flat_map(|w| w.profiles.iter())

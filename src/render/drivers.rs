@@ -12,7 +12,7 @@ use crate::analysis::Analysis;
 use crate::wording::plain;
 
 /// "How severe is it?": the severity quantiles of every quantity, in engineering units.
-pub fn severity_section(s: &mut String, a: &Analysis, figures: &Figures) {
+pub(crate) fn severity_section(s: &mut String, a: &Analysis, figures: &Figures) {
     let _ = writeln!(s, "\n## How severe is it?\n");
     let _ = writeln!(s, "Among the vibrating rows: the amplitude of the tread's lateral displacement and velocity (half peak-to-peak), the vibration energy friction feeds in per cycle (∮ C_s v² dt) and the polygon order (cycle frequency over wheel rotation frequency: the number of wear facets). Quantiles are read from a {SEVERITY_FINE_BINS}-bin histogram of each quantity (exact to 1/{SEVERITY_FINE_BINS} of its range). `severity.csv` holds the same in SI units (m, m/s, J).\n");
     let _ = writeln!(
@@ -52,7 +52,7 @@ pub fn severity_section(s: &mut String, a: &Analysis, figures: &Figures) {
 
 /// "Which parameters drive it?": first-order indices from the rows, then Sobol indices where
 /// the design is Saltelli's.
-pub fn drivers_section(s: &mut String, a: &Analysis) {
+pub(crate) fn drivers_section(s: &mut String, a: &Analysis) {
     let _ = writeln!(s, "\n## Which parameters drive it?\n");
     first_order_section(s, a);
     match &a.sensitivity {
@@ -154,7 +154,7 @@ fn first_order_section(s: &mut String, a: &Analysis) {
 
 /// "Robustness to the lost digits": P(vibration) per wheel for each decoding of the paper's
 /// lost digits, and for what share of decodings the driving wheel is less exposed.
-pub fn robustness_section(s: &mut String, a: &Analysis) {
+pub(crate) fn robustness_section(s: &mut String, a: &Analysis) {
     let Some(r) = &a.robustness else {
         return;
     };

@@ -2,20 +2,18 @@
 //! probabilities with Wilson bands, risk maps per wheel with their difference, and severity
 //! histograms.
 
-use std::path::Path;
-
 use super::RenderError;
 use crate::analysis::conditional::BinStat;
 use crate::analysis::risk_map::{draw_edges, RiskMap};
 use crate::analysis::severity::{Severity, SEVERITY_QUANTITIES};
 use crate::model::{Variant, Wheel};
 use crate::params::ParamId;
-use crate::plot::{self, maps, Series};
+use crate::plot::{self, maps, FigureFile, Series};
 
 /// P(vibration | parameter) along every axis of one variant, both wheels, 95% Wilson bands;
 /// bins with fewer than `min_count` classified rows are left out. `label` gives axis titles.
 pub fn conditional(
-    path: &Path,
+    file: &FigureFile,
     variant: Variant,
     axes: &[ParamId],
     label: &dyn Fn(ParamId) -> String,
@@ -25,7 +23,7 @@ pub fn conditional(
     let cols = if axes.len() <= 4 { 2 } else { 3 };
     let rows = axes.len().div_ceil(cols).max(1);
     plot::panels(
-        path,
+        file,
         (520 * cols as u32, 360 * rows as u32 + 40),
         (rows, cols),
         &format!("Risk of tread vibration by parameter ({variant} variant; shaded or bars: 95% interval)"),
@@ -71,31 +69,51 @@ pub fn conditional(
 }
 
 /// Width of a risk map panel's colour bar with its ticks and label \[px\].
-pub const RISK_MAP_BAR_PX: i32 = 130;
+pub(crate) const RISK_MAP_BAR_PX: i32 = 130;
 
 /// Blank space between a colour bar's label and the next panel's y-axis label \[px\].
-pub const RISK_MAP_GAP_PX: i32 = 50;
+pub(crate) const RISK_MAP_GAP_PX: i32 = 50;
 
 /// One panel of a risk map: title, values in percent (`[ix][iy]`), range, colours and the
 /// colour bar's label.
 struct MapPanel {
-    title: &'static str,
+    title: String,
     values: Vec<Vec<f64>>,
     range: (f64, f64),
     cmap: maps::ColorMap,
-    bar_label: &'static str,
+    bar_label: String,
+}
+
+/// What a risk map shows: its axes and bins, each wheel's probability per cell (NaN: too few),
+/// the nominal tire's Hopf curves, and the outcome in words.
+pub struct MapFigure<'a> {
+    /// The friction variant.
+    pub variant: Variant,
+    /// The horizontal axis and its bins.
+    pub x: (ParamId, &'a crate::analysis::bins::Bins),
+    /// The vertical axis and its bins.
+    pub y: (ParamId, &'a crate::analysis::bins::Bins),
+    /// Follower, driving: probability per cell `[ix][iy]`.
+    pub p: [Vec<Vec<f64>>; 2],
+    /// The nominal tire's Hopf curves over the box.
+    pub nominal: Option<&'a [crate::chart::WheelCurves]>,
+    /// The outcome, to follow "Risk of": "tread vibration", "a visible polygon within 40,000 km".
+    pub what: String,
+    /// The colour bar's label: "Risk of vibration \[%\]".
+    pub bar_label: String,
+    /// The figure's title.
+    pub title: String,
 }
 
 /// The three panels of a risk map: each wheel's risk in percent, and the difference in
 /// percentage points on a symmetric range.
-fn map_panels(map: &RiskMap, min_count: u64) -> [MapPanel; 3] {
-    let percent = |w| -> Vec<Vec<f64>> {
-        map.probability(w, min_count)
-            .iter()
+fn map_panels(fig: &MapFigure<'_>) -> [MapPanel; 3] {
+    let percent = |p: &Vec<Vec<f64>>| -> Vec<Vec<f64>> {
+        p.iter()
             .map(|c| c.iter().map(|p| 100.0 * p).collect())
             .collect()
     };
-    let (pf, pd) = (percent(Wheel::Follower), percent(Wheel::Driving));
+    let (pf, pd) = (percent(&fig.p[0]), percent(&fig.p[1]));
     let diff: Vec<Vec<f64>> = pd
         .iter()
         .zip(&pf)
@@ -107,32 +125,33 @@ fn map_panels(map: &RiskMap, min_count: u64) -> [MapPanel; 3] {
         .filter(|v| v.is_finite())
         .fold(0.0f64, |m, v| m.max(v.abs()))
         .max(0.1);
-    let risk = |title, values| MapPanel {
+    let risk = |title: String, values| MapPanel {
         title,
         values,
         range: (0.0, 100.0),
         cmap: maps::viridis,
-        bar_label: "Risk of vibration [%]",
+        bar_label: fig.bar_label.clone(),
     };
     [
-        risk("Risk of tread vibration, follower wheel", pf),
-        risk("Risk of tread vibration, driving wheel", pd),
+        risk(format!("Risk of {}, follower wheel", fig.what), pf),
+        risk(format!("Risk of {}, driving wheel", fig.what), pd),
         MapPanel {
-            title: "Driving minus follower (blue: driving wheel less exposed)",
+            title: "Driving minus follower (blue: driving wheel less exposed)".into(),
             values: diff,
             range: (-max_abs, max_abs),
             cmap: maps::diverging,
-            bar_label: "Difference [percentage points]",
+            bar_label: "Difference [percentage points]".into(),
         },
     ]
 }
 
 /// The nominal tire's Hopf curves over each panel: each wheel's on its own panel, both on the
 /// difference.
-fn map_overlays(map: &RiskMap) -> [Vec<maps::Overlay>; 3] {
+fn map_overlays(nominal: Option<&[crate::chart::WheelCurves]>) -> [Vec<maps::Overlay>; 3] {
     let curves = |wheel: Wheel, color: plotters::style::RGBColor| -> Vec<maps::Overlay> {
-        map.nominal
+        nominal
             .iter()
+            .copied()
             .flatten()
             .filter(|c| c.wheel == wheel)
             .map(|c| maps::Overlay {
@@ -166,22 +185,43 @@ fn map_overlays(map: &RiskMap) -> [Vec<maps::Overlay>; 3] {
 /// numbers in the cells. Each panel is [heatmap | colour bar, ticks and label on its right |
 /// gap], so a bar's label never stands against the next panel's y-axis label.
 pub fn risk_map(
-    path: &Path,
+    file: &FigureFile,
     map: &RiskMap,
     label: &dyn Fn(ParamId) -> String,
     min_count: u64,
 ) -> Result<(), RenderError> {
-    let (x, y) = (map.x, map.y);
-    let overlays = map_overlays(map);
-    let panels = map_panels(map, min_count);
-    let (xe, ye) = (draw_edges(&map.x_bins), draw_edges(&map.y_bins));
-    let title = format!(
-        "Risk of tread vibration (polygonal wear) over {} and {} ({} variant; grey: fewer than {min_count} samples)",
-        x.label().to_lowercase(),
-        y.label().to_lowercase(),
-        map.variant
-    );
-    plot::figure(path, (2100, 760), &title, |area| {
+    let fig = MapFigure {
+        variant: map.variant,
+        x: (map.x, &map.x_bins),
+        y: (map.y, &map.y_bins),
+        p: [
+            map.probability(Wheel::Follower, min_count),
+            map.probability(Wheel::Driving, min_count),
+        ],
+        nominal: map.nominal.as_deref(),
+        what: "tread vibration".into(),
+        bar_label: "Risk of vibration [%]".into(),
+        title: format!(
+            "Risk of tread vibration (polygonal wear) over {} and {} ({} variant; grey: fewer than {min_count} samples)",
+            map.x.label().to_lowercase(),
+            map.y.label().to_lowercase(),
+            map.variant
+        ),
+    };
+    map_figure(file, &fig, label)
+}
+
+/// Draws a risk map's three panels ([`risk_map`]) from what it shows.
+pub fn map_figure(
+    file: &FigureFile,
+    fig: &MapFigure<'_>,
+    label: &dyn Fn(ParamId) -> String,
+) -> Result<(), RenderError> {
+    let ((x, xb), (y, yb)) = (fig.x, fig.y);
+    let overlays = map_overlays(fig.nominal);
+    let panels = map_panels(fig);
+    let (xe, ye) = (draw_edges(xb), draw_edges(yb));
+    plot::figure(file, (2100, 760), &fig.title, |area| {
         let parts = area.split_evenly((1, 3));
         for ((part, panel), overlay) in parts.iter().zip(&panels).zip(&overlays) {
             let width = part.dim_in_pixel().0 as i32;
@@ -189,7 +229,7 @@ pub fn risk_map(
             let (bar, _gap) = rest.split_horizontally(RISK_MAP_BAR_PX);
             maps::heatmap(
                 &main,
-                panel.title,
+                &panel.title,
                 &label(x),
                 &label(y),
                 &xe,
@@ -199,7 +239,7 @@ pub fn risk_map(
                 panel.cmap,
                 overlay,
             )?;
-            maps::colorbar(&bar, panel.bar_label, panel.range, panel.cmap)?;
+            maps::colorbar(&bar, &panel.bar_label, panel.range, panel.cmap)?;
         }
         Ok(())
     })
@@ -207,13 +247,17 @@ pub fn risk_map(
 }
 
 /// Bars of the severity figure: the fine histogram summed into this many.
-pub const SEVERITY_FIGURE_BINS: usize = 40;
+pub(crate) const SEVERITY_FIGURE_BINS: usize = 40;
 
 /// Severity histograms of one variant: each quantity's share of vibrating rows per bin, per
 /// wheel, in engineering units (µm, mm/s, µJ) with titles in words.
-pub fn severity(path: &Path, variant: Variant, severity: &[Severity]) -> Result<(), RenderError> {
+pub fn severity(
+    file: &FigureFile,
+    variant: Variant,
+    severity: &[Severity],
+) -> Result<(), RenderError> {
     plot::panels(
-        path,
+        file,
         (1400, 900),
         (2, 2),
         &format!(

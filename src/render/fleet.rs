@@ -11,7 +11,7 @@ use crate::model::{Variant, Wheel};
 use crate::wording::plain;
 
 /// Rows of the per-row table shown on the page; the CSV has them all.
-pub const SHOWN_ROWS: usize = 40;
+pub(crate) const SHOWN_ROWS: usize = 40;
 
 /// How many of the riskiest rows hold at least half of the fleet's risk (both wheels), and
 /// their share of the weight.
@@ -39,7 +39,7 @@ fn wheel_cell(r: &FleetRow, w: Wheel) -> String {
 }
 
 /// The per-row section, for a fleet run.
-pub fn fleet_section(s: &mut String, a: &Analysis) {
+pub(crate) fn fleet_section(s: &mut String, a: &Analysis) {
     let Some(fleet) = &a.fleet else {
         return;
     };

@@ -26,6 +26,7 @@ pub fn page(a: &Analysis, figures: &Figures) -> String {
     let _ = writeln!(s, "# Polygonal-wear risk: study `{}`\n", a.info.study_name);
     failures_block(&mut s, a);
     header(&mut s, a);
+    super::wear::section(&mut s, a, figures);
     occurrence_section(&mut s, a);
     paired_section(&mut s, a);
     s.push_str(&super::scenarios::section(a, figures.scenarios.as_deref()));
@@ -179,7 +180,7 @@ fn occurrence_section(s: &mut String, a: &Analysis) {
 }
 
 /// McNemar's p-value in words: "n/a (no discordant pairs)" when there is nothing to test.
-pub fn mcnemar_text(p: &crate::analysis::paired::Paired) -> String {
+pub(crate) fn mcnemar_text(p: &crate::analysis::paired::Paired) -> String {
     if p.p_value.is_nan() {
         "n/a (no discordant pairs)".into()
     } else {

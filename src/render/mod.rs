@@ -8,6 +8,9 @@ pub mod fleet;
 pub mod markdown;
 pub mod scenarios;
 pub mod tables;
+pub mod wear;
+pub mod wear_figures;
+mod wear_tables;
 mod words;
 
 use std::path::{Path, PathBuf};
@@ -15,14 +18,15 @@ use std::path::{Path, PathBuf};
 use crate::analysis::Analysis;
 use crate::model::Variant;
 use crate::params::ParamId;
+use crate::plot::{FigureFile, FigureFormat};
 
 /// Where and how the report is written.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RenderOptions {
     /// Where the tables, figures and `report.md` go (created when missing).
     pub out_dir: PathBuf,
-    /// File type of the figures: `png` or `svg` ([`crate::plot::backend::FORMATS`]).
-    pub figure_format: &'static str,
+    /// The figures' file format.
+    pub figure_format: FigureFormat,
 }
 
 /// A risk map's figure.
@@ -49,6 +53,13 @@ pub struct Figures {
     pub severity: Vec<(Variant, PathBuf)>,
     /// Every scenario's effect with its interval (a run with scenarios only).
     pub scenarios: Option<PathBuf>,
+    /// P(visible polygon within the headline distance) per bin of every parameter, one figure
+    /// per variant (a run with the wear stage only).
+    pub wear_conditional: Vec<(Variant, PathBuf)>,
+    /// One risk map of polygonal-wear likelihood per drawn vibration map.
+    pub wear_maps: Vec<RiskMapFigure>,
+    /// The dominant orders' bars, one figure per variant.
+    pub wear_orders: Vec<(Variant, PathBuf)>,
 }
 
 impl Figures {
@@ -60,6 +71,9 @@ impl Figures {
             .chain(self.risk_maps.iter().map(|f| f.path.as_path()))
             .chain(self.severity.iter().map(|(_, p)| p.as_path()))
             .chain(self.scenarios.as_deref())
+            .chain(self.wear_conditional.iter().map(|(_, p)| p.as_path()))
+            .chain(self.wear_maps.iter().map(|f| f.path.as_path()))
+            .chain(self.wear_orders.iter().map(|(_, p)| p.as_path()))
     }
 }
 
@@ -128,7 +142,7 @@ pub fn write(a: &Analysis, opts: &RenderOptions) -> Result<Rendered, RenderError
 }
 
 fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderError> {
-    let (dir, ext) = (&opts.out_dir, opts.figure_format);
+    let (dir, format) = (&opts.out_dir, opts.figure_format);
     let min_count = a.options.min_count;
     let info = &a.info;
     let label = |p: ParamId| crate::params::axis_label(p.name(), info.unit(p.name()));
@@ -145,29 +159,54 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
         .filter(|p| !fleet_columns.contains(&p.name()))
         .collect();
     for variant in a.variants().into_iter().filter(|_| !axes.is_empty()) {
-        let p = dir.join(format!("conditional_{variant}.{ext}"));
-        figures::conditional(&p, variant, &axes, &label, &a.conditional, min_count)?;
-        out.conditional.push((variant, p));
+        let f = FigureFile::named(dir, &format!("conditional_{variant}"), format);
+        figures::conditional(&f, variant, &axes, &label, &a.conditional, min_count)?;
+        out.conditional.push((variant, f.path));
     }
     for map in a.maps.iter().filter(|m| a.is_drawn(m)) {
-        let p = dir.join(format!("riskmap_{}_{}_{}.{ext}", map.x, map.y, map.variant));
-        figures::risk_map(&p, map, &label, min_count)?;
+        let stem = format!("riskmap_{}_{}_{}", map.x, map.y, map.variant);
+        let f = FigureFile::named(dir, &stem, format);
+        figures::risk_map(&f, map, &label, min_count)?;
         out.risk_maps.push(RiskMapFigure {
             variant: map.variant,
             x: map.x,
             y: map.y,
-            path: p,
+            path: f.path,
         });
     }
     for variant in a.variants() {
-        let p = dir.join(format!("severity_{variant}.{ext}"));
-        figures::severity(&p, variant, &a.severity)?;
-        out.severity.push((variant, p));
+        let f = FigureFile::named(dir, &format!("severity_{variant}"), format);
+        figures::severity(&f, variant, &a.severity)?;
+        out.severity.push((variant, f.path));
     }
     if !a.scenarios.is_empty() {
-        let p = dir.join(format!("scenarios.{ext}"));
-        scenarios::figure(&p, &a.scenarios)?;
-        out.scenarios = Some(p);
+        let f = FigureFile::named(dir, "scenarios", format);
+        scenarios::figure(&f, &a.scenarios)?;
+        out.scenarios = Some(f.path);
+    }
+    if let Some(w) = &a.wear {
+        for variant in a.variants().into_iter().filter(|_| !axes.is_empty()) {
+            let f = FigureFile::named(dir, &format!("wear_conditional_{variant}"), format);
+            wear_figures::conditional(&f, variant, &axes, &label, w, min_count)?;
+            out.wear_conditional.push((variant, f.path));
+        }
+        for map in &w.maps {
+            let stem = format!("wear_riskmap_{}_{}_{}", map.x, map.y, map.variant);
+            let f = FigureFile::named(dir, &stem, format);
+            wear_figures::risk_map(&f, map, &label, min_count)?;
+            out.wear_maps.push(RiskMapFigure {
+                variant: map.variant,
+                x: map.x,
+                y: map.y,
+                path: f.path,
+            });
+        }
+        let with_orders = |v: &Variant| w.orders.iter().any(|o| o.variant == *v);
+        for variant in a.variants().into_iter().filter(with_orders) {
+            let f = FigureFile::named(dir, &format!("wear_orders_{variant}"), format);
+            wear_figures::orders(&f, variant, w)?;
+            out.wear_orders.push((variant, f.path));
+        }
     }
     Ok(out)
 }

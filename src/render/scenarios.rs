@@ -11,6 +11,7 @@ use crate::analysis::Analysis;
 use crate::model::Wheel;
 use crate::parquet_out::Column;
 use crate::plot::effects::{effects_figure, Effect, EffectPanel};
+use crate::plot::FigureFile;
 
 /// Percent with one decimal.
 fn pct(p: f64) -> String {
@@ -40,22 +41,9 @@ fn risk(outcome: Outcome) -> String {
         Outcome::Vibration => "risk of vibration".into(),
         Outcome::Wear { within_km } => format!(
             "risk of a visible polygon within {} km",
-            thousands(within_km)
+            crate::wording::thousands(within_km)
         ),
     }
-}
-
-/// A distance with thousands separators: 40,000.
-fn thousands(km: f64) -> String {
-    let s = format!("{}", km.round() as u64);
-    let mut out = String::new();
-    for (i, c) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i) % 3 == 0 {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
 }
 
 /// One effect in words: "the follower's risk of vibration falls from 84.1% to 45.2% (−38.9
@@ -224,7 +212,7 @@ pub fn columns(effects: &[ScenarioEffect]) -> Vec<Column> {
 
 /// The picture: every scenario's effect on each wheel with its interval, in percentage points,
 /// one panel per outcome (and variant).
-pub fn figure(path: &Path, effects: &[ScenarioEffect]) -> Result<(), RenderError> {
+pub fn figure(file: &FigureFile, effects: &[ScenarioEffect]) -> Result<(), RenderError> {
     let mut keys: Vec<(Outcome, crate::model::Variant)> = Vec::new();
     for e in effects {
         if !keys.contains(&(e.outcome, e.variant)) {
@@ -253,7 +241,7 @@ pub fn figure(path: &Path, effects: &[ScenarioEffect]) -> Result<(), RenderError
         })
         .collect();
     effects_figure(
-        path,
+        file,
         "What the changes do: scenario minus baseline, 95% interval (blue: follower, red: driving wheel)",
         &panels,
     )

@@ -21,9 +21,10 @@ use crate::analysis::Analysis;
 use crate::classify::Class;
 use crate::model::{Variant, Wheel};
 use crate::parquet_out::{write_csv, write_table, Column};
+use crate::wording::plain;
 
 /// Writes every table of `a` into `dir`; returns the files written, in order.
-pub fn write_all(dir: &Path, a: &Analysis) -> Result<Vec<PathBuf>, RenderError> {
+pub(crate) fn write_all(dir: &Path, a: &Analysis) -> Result<Vec<PathBuf>, RenderError> {
     let mut files = Vec::new();
     let min_count = a.options.min_count;
     let meta = table_metadata(a);
@@ -93,13 +94,18 @@ pub fn write_all(dir: &Path, a: &Analysis) -> Result<Vec<PathBuf>, RenderError> 
             &mut files,
         )?;
     }
+    if let Some(w) = &a.wear {
+        for (stem, cols) in super::wear_tables::tables(w, min_count) {
+            write_tables(dir, &stem, &cols, &meta, &mut files)?;
+        }
+    }
     Ok(files)
 }
 
 /// Footer metadata of the Parquet tables: which run and settings they come from.
 fn table_metadata(a: &Analysis) -> Vec<(String, String)> {
     let info = &a.info;
-    vec![
+    let mut meta: Vec<(String, String)> = vec![
         ("study_name".into(), info.study_name.clone()),
         ("study_hash".into(), info.study_hash.clone()),
         ("seed".into(), info.seed.to_string()),
@@ -111,11 +117,19 @@ fn table_metadata(a: &Analysis) -> Vec<(String, String)> {
             "polywear_version".into(),
             env!("CARGO_PKG_VERSION").to_string(),
         ),
-    ]
+    ];
+    if let Some(w) = &a.wear {
+        let within: Vec<String> = w.within_km.iter().map(|k| plain(*k, 9)).collect();
+        meta.push(("within_km".into(), within.join(",")));
+        meta.push(("wear_share_straight".into(), w.share_straight.to_string()));
+        meta.push(("speed_spread_kmh".into(), w.speed_spread_kmh.to_string()));
+        meta.push(("visible_depth_mm".into(), w.visible_depth_mm.to_string()));
+    }
+    meta
 }
 
 /// Writes one table as `stem.csv` (RFC 4180) and `stem.parquet`.
-fn write_tables(
+pub(super) fn write_tables(
     dir: &Path,
     stem: &str,
     cols: &[Column],
@@ -131,15 +145,15 @@ fn write_tables(
     Ok(())
 }
 
-fn count_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> u64) -> Column {
+pub(super) fn count_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> u64) -> Column {
     Column::i64(name, "", rows.iter().map(|r| f(r) as i64).collect())
 }
 
-fn f64_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> f64) -> Column {
+pub(super) fn f64_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> f64) -> Column {
     Column::f64(name, "", rows.iter().map(f).collect())
 }
 
-fn str_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> String) -> Column {
+pub(super) fn str_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> String) -> Column {
     Column::str(name, rows.iter().map(f).collect())
 }
 

@@ -9,30 +9,36 @@ use crate::chart::pairs::write_pairs;
 use crate::model::{Variant, Wheel};
 use crate::params::ParamId;
 use crate::parquet_out::{write_csv, write_table, Column};
-use crate::plot::{self, Series};
+use crate::plot::{self, FigureFile, FigureFormat, Series};
 use crate::records::{record_columns, WheelRecord};
 use crate::trajectory::plot_point;
 
-/// Writes every figure and table of `r` into `dir` (created if missing), figures as `ext` files
-/// (`png` or `svg`), then `report.md`; returns the files in that order.
-pub fn write(r: &Reproduction, dir: &Path, ext: &str) -> Result<Vec<PathBuf>, ReproduceError> {
+/// Writes every figure and table of `r` into `dir` (created if missing), figures in `format`
+/// (the stability charts in PNG), then `report.md`; returns the files in that order.
+pub fn write(
+    r: &Reproduction,
+    dir: &Path,
+    format: FigureFormat,
+) -> Result<Vec<PathBuf>, ReproduceError> {
     crate::safe_write::create_dir(dir).map_err(|e| ReproduceError::io(dir, e))?;
     let mut files = Vec::new();
-    adhesion_ellipse(r, dir, ext, &mut files)?;
+    adhesion_ellipse(r, dir, format, &mut files)?;
     for sw in &r.sweeps {
-        let png = dir.join(format!("bifurcation_{}_{}.{ext}", sw.param, sw.variant));
-        sw.draw(&png).map_err(ReproduceError::Figure)?;
-        files.push(png);
+        let stem = format!("bifurcation_{}_{}", sw.param, sw.variant);
+        let picture = FigureFile::named(dir, &stem, format);
+        sw.draw(&picture).map_err(ReproduceError::Figure)?;
+        files.push(picture.path);
     }
     files.push(bifurcation_table(r, dir)?);
     // Fig. 18: the cycle amplitude against speed, follower beside the driving wheel of each
     // variant (the follower is the same in every variant).
-    amplitude_vs_speed(r, dir, ext, &mut files)?;
+    amplitude_vs_speed(r, dir, format, &mut files)?;
     // Figs. 8–10, 13, 15, 17, 19: both wheels in each figure.
     for run in &r.points {
-        let png = dir.join(format!("{}.{ext}", run.point.stem()));
-        plot_point(&png, &run.series, &run.records, 20_000.0).map_err(ReproduceError::Figure)?;
-        files.push(png);
+        let picture = FigureFile::named(dir, run.point.stem(), format);
+        plot_point(&picture, &run.series, &run.records, 20_000.0)
+            .map_err(ReproduceError::Figure)?;
+        files.push(picture.path);
     }
     let (chart_files, charts_md) = write_pairs(&r.charts, dir).map_err(ReproduceError::Chart)?;
     files.extend(chart_files);
@@ -79,7 +85,7 @@ fn bifurcation_table(r: &Reproduction, dir: &Path) -> Result<PathBuf, ReproduceE
 fn adhesion_ellipse(
     r: &Reproduction,
     dir: &Path,
-    ext: &str,
+    format: FigureFormat,
     files: &mut Vec<PathBuf>,
 ) -> Result<(), ReproduceError> {
     let base = &r.request.base;
@@ -100,9 +106,9 @@ fn adhesion_ellipse(
                 .collect(),
         })
         .collect();
-    let png = dir.join(format!("fig4_adhesion.{ext}"));
+    let picture = FigureFile::named(dir, "fig4_adhesion", format);
     plot::panels(
-        &png,
+        &picture,
         (1000, 760),
         (1, 1),
         "Fig. 4: lateral vs longitudinal force as the slip ratio grows (brush model)",
@@ -118,7 +124,7 @@ fn adhesion_ellipse(
         },
     )
     .map_err(ReproduceError::Figure)?;
-    files.push(png);
+    files.push(picture.path);
     let csv = dir.join("fig4_adhesion.csv");
     write_csv(
         &csv,
@@ -138,7 +144,7 @@ fn adhesion_ellipse(
 fn amplitude_vs_speed(
     r: &Reproduction,
     dir: &Path,
-    ext: &str,
+    format: FigureFormat,
     files: &mut Vec<PathBuf>,
 ) -> Result<(), ReproduceError> {
     let mut labels = Vec::new();
@@ -177,9 +183,9 @@ fn amplitude_vs_speed(
         .zip(points)
         .map(|(label, points)| Series { label, points })
         .collect();
-    let png = dir.join(format!("fig18_amplitude_vs_speed.{ext}"));
+    let picture = FigureFile::named(dir, "fig18_amplitude_vs_speed", format);
     plot::panels(
-        &png,
+        &picture,
         (1000, 700),
         (1, 1),
         "Fig. 18: self-excited vibration amplitude against speed, follower and driving wheel",
@@ -195,6 +201,6 @@ fn amplitude_vs_speed(
         },
     )
     .map_err(ReproduceError::Figure)?;
-    files.push(png);
+    files.push(picture.path);
     Ok(())
 }

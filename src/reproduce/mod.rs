@@ -25,7 +25,7 @@ use crate::trajectory::{time_series, Samples};
 pub use figures::write;
 
 /// The four axes of the paper's bifurcation diagrams and Table 3, with their sweep ranges.
-pub const AXES: [(ParamId, f64, f64); 4] = [
+pub(crate) const AXES: [(ParamId, f64, f64); 4] = [
     (ParamId::SpeedKmh, 40.0, 260.0),
     (ParamId::ToeDeg, 0.05, 1.0),
     (ParamId::LoadN, 2000.0, 7000.0),
@@ -123,7 +123,7 @@ pub struct PointRun {
 }
 
 /// Fig. 4's rows: (slip angle \[deg\], slip ratio, F_X \[N\], F_Y \[N\]).
-pub type AdhesionRow = (f64, f64, f64, f64);
+pub(crate) type AdhesionRow = (f64, f64, f64, f64);
 
 /// Everything the paper's analyses came to, before any file is written.
 pub struct Reproduction {
@@ -226,15 +226,15 @@ pub fn solve(request: &Request) -> Result<Reproduction, ReproduceError> {
     })
 }
 
-/// Regenerates the paper's analyses into `dir`, figures as `ext` (`png` or `svg`): [`solve`],
+/// Regenerates the paper's analyses into `dir`, figures in `format`: [`solve`],
 /// then [`write()`]. Returns the result and every file written.
 pub fn reproduce(
     request: &Request,
     dir: &Path,
-    ext: &str,
+    format: crate::plot::FigureFormat,
 ) -> Result<(Reproduction, Vec<PathBuf>), ReproduceError> {
     let result = solve(request)?;
-    let files = write(&result, dir, ext)?;
+    let files = write(&result, dir, format)?;
     Ok((result, files))
 }
 
@@ -293,7 +293,8 @@ pub fn paired_comparison(base: &Params, samples: u64) -> Result<Vec<Paired>, Rep
     study.variants = Variant::ALL.to_vec();
     let sampler = study.sampler(study.seed, samples);
     let opts = ClassifierOptions::default();
-    let sample = |i: usize| crate::explore::evaluate_sample(&study, &sampler, i as u64, &opts);
+    let sample =
+        |i: usize| crate::explore::evaluate_sample(&study, &sampler, i as u64, &opts, None);
     let rows = crate::ensemble::solve(samples as usize, sample, &Control::QUIET).all();
     let mut tally = PairTally::default();
     for s in &rows {

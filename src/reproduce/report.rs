@@ -253,10 +253,7 @@ fn figures(s: &mut String, files: &[PathBuf]) {
             .unwrap_or_default()
     };
     let _ = writeln!(s, "## Figures\n");
-    let is_figure = |f: &PathBuf| {
-        f.extension()
-            .is_some_and(|e| crate::plot::backend::FORMATS.iter().any(|x| e == *x))
-    };
+    let is_figure = |f: &PathBuf| crate::plot::FigureFormat::of_path(f).is_some();
     for f in files.iter().filter(|f| is_figure(f)) {
         let stem = f
             .file_stem()

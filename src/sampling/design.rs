@@ -49,7 +49,7 @@ pub const SOBOL_MAX_AXES: usize = MAX_DIMENSIONS;
 pub const SALTELLI_MAX_AXES: usize = MAX_DIMENSIONS / 2;
 
 /// Largest sample count of a Sobol design, and of base points of a Saltelli design.
-pub const SOBOL_MAX_SAMPLES: u64 = MAX_POINTS;
+pub(crate) const SOBOL_MAX_SAMPLES: u64 = MAX_POINTS;
 
 /// Unit-cube coordinates for `n_axes` axes (Random, LatinHypercube, Sobol; Grid is indexed
 /// separately by [`grid_digits`]).
@@ -138,7 +138,7 @@ impl Coordinates {
 /// A pseudo-random permutation of [0, n), evaluated pointwise: a 4-round Feistel network on the
 /// next even power of two, with cycle walking back into range. Round `k`'s function of the right
 /// half `r` is the ChaCha word pair at position 2^36·k + 2r of stream [`LHS_STREAMS`] + `axis`.
-pub fn permute(index: u64, n: u64, streams: &Streams, axis: u64) -> u64 {
+pub(crate) fn permute(index: u64, n: u64, streams: &Streams, axis: u64) -> u64 {
     if n <= 1 {
         return 0;
     }

@@ -261,7 +261,7 @@ pub fn truncated_normal_quantile(a: f64, b: f64, u: f64) -> f64 {
 /// Below this change of the log-density across the interval, a truncated normal is sampled
 /// through the series of [`near_uniform_quantile`] (exact to about 1e-18 there), not through
 /// Φ: the interval is then so narrow against sd that Φ(a) and Φ(b) agree to most of their digits.
-pub const NEAR_UNIFORM: f64 = 1e-2;
+pub(crate) const NEAR_UNIFORM: f64 = 1e-2;
 
 /// The value at `u` in [0, 1] of Normal(mean, sd) truncated to [min, max], for any finite sd:
 /// as sd grows the distribution tends to the uniform on [min, max], and so do the values.
@@ -270,7 +270,7 @@ pub const NEAR_UNIFORM: f64 = 1e-2;
 /// [`NEAR_UNIFORM`]), [`near_uniform_quantile`] in the interval's own coordinate, so that no
 /// digit is lost to the standardisation. Bounds infinitely far on one side of the mean (an
 /// overflow of (min − mean)/sd) put the mass at the nearer bound.
-pub fn truncated_normal_value(mean: f64, sd: f64, min: f64, max: f64, u: f64) -> f64 {
+pub(crate) fn truncated_normal_value(mean: f64, sd: f64, min: f64, max: f64, u: f64) -> f64 {
     let (mut a, mut b) = ((min - mean) / sd, (max - mean) / sd);
     if !(a.is_finite() && b.is_finite()) {
         // A difference that overflows: the same bounds, each divided first.
@@ -308,7 +308,7 @@ pub fn truncated_normal_value(mean: f64, sd: f64, min: f64, max: f64, u: f64) ->
 /// For |c| + d ≤ [`NEAR_UNIFORM`] the exponential is its Taylor series to the 6th power (the
 /// remainder below 1e-17), integrated exactly, and the CDF inverted by Newton's method from
 /// t = u; c = d = 0 gives t = u, the uniform.
-pub fn near_uniform_quantile(c: f64, d: f64, u: f64) -> f64 {
+pub(crate) fn near_uniform_quantile(c: f64, d: f64, u: f64) -> f64 {
     const TERMS: usize = 6;
     // Coefficients of exp(−g(s)) in powers of s, g(s) = c·s + d·s².
     let mut density = [0.0; 2 * TERMS + 1];

@@ -140,13 +140,13 @@ const POLYS: &[(u32, u32, &[u32])] = &[
 ];
 
 /// Dimensions available.
-pub const MAX_DIMENSIONS: usize = POLYS.len() + 1;
+pub(crate) const MAX_DIMENSIONS: usize = POLYS.len() + 1;
 
 /// Points per dimension before the 32-bit index would repeat the sequence.
 pub const MAX_POINTS: u64 = 1 << 32;
 
 /// 32 direction numbers v_k (as left-aligned 32-bit integers) of one dimension.
-pub fn direction_numbers(dim: usize) -> [u32; 32] {
+pub(crate) fn direction_numbers(dim: usize) -> [u32; 32] {
     let mut v = [0u32; 32];
     if dim == 0 {
         for (k, vk) in v.iter_mut().enumerate() {
@@ -177,7 +177,7 @@ pub fn direction_numbers(dim: usize) -> [u32; 32] {
 
 /// Unscrambled Sobol coordinate of point `index` (standard, non-Gray order).
 #[inline]
-pub fn sobol_u32(index: u32, directions: &[u32; 32]) -> u32 {
+pub(crate) fn sobol_u32(index: u32, directions: &[u32; 32]) -> u32 {
     let mut x = 0u32;
     let mut i = index;
     let mut k = 0;
@@ -193,7 +193,7 @@ pub fn sobol_u32(index: u32, directions: &[u32; 32]) -> u32 {
 
 /// Nested uniform scramble: each bit is flipped depending only on the bits above it.
 #[inline]
-pub fn owen_scramble(x: u32, seed: u32) -> u32 {
+pub(crate) fn owen_scramble(x: u32, seed: u32) -> u32 {
     let mut x = x.reverse_bits();
     x ^= x.wrapping_mul(0x3d20_adea);
     x = x.wrapping_add(seed);

@@ -10,6 +10,11 @@ use super::schema::DISTS;
 /// A study problem, with the key it concerns.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum StudyError {
+    /// `wear_zone` names a zone for a study whose wear stage is off.
+    #[error(
+        "`wear_zone` is set but `wear = false` leaves the wear stage out; remove one of the two"
+    )]
+    WearZoneWithoutWear,
     /// A per-wheel budget key out of its accepted range (the message names the key).
     #[error("{0}")]
     Budget(#[from] crate::classify::BudgetError),

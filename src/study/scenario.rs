@@ -23,7 +23,7 @@ use crate::wording::plain;
 pub const BASELINE: &str = "baseline";
 
 /// Longest accepted scenario name, in characters.
-pub const NAME_MAX_CHARS: usize = 64;
+pub(crate) const NAME_MAX_CHARS: usize = 64;
 
 /// Runs of more samples than this are not counted one by one (a second or so on 2 cores at the
 /// limit): a change whose changed bounds leave the range is then refused without a count.

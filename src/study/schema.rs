@@ -15,6 +15,7 @@ use crate::params::{ParamId, ParamSpec, Params};
 use crate::sampling::design::Design;
 use crate::sampling::distribution::Distribution;
 use crate::toml_input::{finite_at, whole_at, TomlError};
+use crate::wear::{WearSettings, WearZone};
 
 /// The distributions a drawn parameter may take, as the study file names them.
 pub(super) const DISTS: &str = "uniform, normal, truncated_normal, lognormal, levels";
@@ -33,6 +34,8 @@ pub(super) struct StudyFile {
     max_rhs_evals: Option<f64>,
     max_wheel_seconds: Option<f64>,
     accept_implausible: Option<bool>,
+    wear: Option<bool>,
+    wear_zone: Option<WearZone>,
     pub(super) params: Option<BTreeMap<ParamId, ParamEntry>>,
     pub(super) operating_points: Option<OperatingPointsSection>,
     pub(super) scenarios: Option<ScenarioTables>,
@@ -233,6 +236,7 @@ pub(super) struct Header {
     pub(super) chunk_size: u64,
     pub(super) budget: WheelBudget,
     pub(super) accept_implausible: bool,
+    pub(super) wear: Option<WearSettings>,
 }
 
 impl StudyFile {
@@ -288,6 +292,13 @@ impl StudyFile {
             chunk_size,
             budget,
             accept_implausible: self.accept_implausible.unwrap_or(false),
+            wear: match (self.wear, self.wear_zone) {
+                (Some(false), Some(_)) => return Err(StudyError::WearZoneWithoutWear),
+                (Some(false), None) => None,
+                (_, zone) => Some(WearSettings {
+                    zone: zone.unwrap_or_default(),
+                }),
+            },
         })
     }
 

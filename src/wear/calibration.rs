@@ -90,7 +90,7 @@ impl Calibration {
 }
 
 /// The even-wear rate at the reference point w′₀ in m/m.
-pub fn wear_rate_ref_m_per_m(p: &Params) -> f64 {
+pub(crate) fn wear_rate_ref_m_per_m(p: &Params) -> f64 {
     p.wear_rate_ref_mm_per_1000km / super::law::MM_PER_1000KM_PER_M_PER_M
 }
 

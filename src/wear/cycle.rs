@@ -15,7 +15,7 @@ use crate::solver::{Control, Method, SectionVariational, SolverOptions};
 /// Relative tolerance of the integration along the cycle: the growth rates agree with those at
 /// 1e-9 to 1e-5 (default point, both wheels, and four more vibrating points), for 170–185
 /// evaluations instead of 226–237.
-pub const CYCLE_RTOL: f64 = 1e-8;
+pub(crate) const CYCLE_RTOL: f64 = 1e-8;
 
 /// Samples of the cycle taken per period, for its mean power and its periodic linearisation. The
 /// cycle's coefficients are smooth and their harmonics fall fast, so the trapezoidal sums over

@@ -34,7 +34,7 @@ use crate::params::Params;
 const NEGLIGIBLE_LOCKED_SHARE: f64 = 1e-6;
 
 /// Orders evaluated on either side of ν: ⌊ν⌋ − this … ⌈ν⌉ + this.
-pub const ORDERS_AROUND_NU: u32 = 2;
+pub(crate) const ORDERS_AROUND_NU: u32 = 2;
 
 /// The wear stage's settings that are categories, not numbers (the numbers are parameters).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]

@@ -84,13 +84,13 @@ impl Feedback {
 
 /// The tread foundation stiffness k_t = factor·G/h \[Pa/m\] (incompressible blocks, no bulging
 /// or belt: judgement, MODEL.md#wear-constants).
-pub fn foundation_stiffness_pa_per_m(p: &Params) -> f64 {
+pub(crate) fn foundation_stiffness_pa_per_m(p: &Params) -> f64 {
     p.foundation_stiffness_factor * p.g_mod / p.tread_height
 }
 
 /// The model's own tangent radial stiffness (dδ/dF_Z)⁻¹ \[N/m\] of step 1's deflection
 /// δ = t + √(t² + α2 F_Z), t = α1 F_Z/(2P) (MODEL.md#step-1-deflection).
-pub fn model_radial_stiffness_n_per_m(p: &Params) -> f64 {
+pub(crate) fn model_radial_stiffness_n_per_m(p: &Params) -> f64 {
     let alpha1 = 1.0 / (std::f64::consts::TAU * (p.r_b * p.r_w).sqrt());
     let f = p.load_n;
     let t = alpha1 * f / (2.0 * p.pressure_pa());
@@ -102,7 +102,7 @@ pub fn model_radial_stiffness_n_per_m(p: &Params) -> f64 {
 /// ∂ln(F_Z L)/∂F_Z \[1/N\] by central differences of steps 1, 2 and 5 at slip ratio
 /// `slip_ratio` (the drive force does not follow the load at the tread frequency). F_m and F_s
 /// share the factor F_Z·L, so this one number is the relative change of both.
-pub fn load_sensitivity_per_n(p: &Params, slip_ratio: f64) -> f64 {
+pub(crate) fn load_sensitivity_per_n(p: &Params, slip_ratio: f64) -> f64 {
     let h = 1e-4 * p.load_n;
     let f_m = |load_n: f64| {
         let q = Params { load_n, ..*p };
@@ -116,7 +116,7 @@ pub fn load_sensitivity_per_n(p: &Params, slip_ratio: f64) -> f64 {
 }
 
 /// The tread ODE with both friction levels scaled by 1 + `epsilon`.
-pub fn with_friction_scale(ode: &TreadOde, epsilon: f64) -> TreadOde {
+pub(crate) fn with_friction_scale(ode: &TreadOde, epsilon: f64) -> TreadOde {
     TreadOde {
         f_m: ode.f_m * (1.0 + epsilon),
         f_s: ode.f_s * (1.0 + epsilon),

@@ -31,7 +31,7 @@ pub fn friction_power_w(ode: &TreadOde, x: &State) -> f64 {
 }
 
 /// P at the equilibrium, −U·F₀ = U² g(w_t0)/w_t0 \[W\] (MODEL.md#step-7-equilibrium).
-pub fn equilibrium_power_w(ode: &TreadOde) -> f64 {
+pub(crate) fn equilibrium_power_w(ode: &TreadOde) -> f64 {
     friction_power_w(ode, &ode.equilibrium())
 }
 

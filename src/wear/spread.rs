@@ -37,7 +37,7 @@ pub fn faddeeva(z: Complex64) -> Complex64 {
 /// for a few dozen operations instead of [`faddeeva`]'s series or fraction: what the speed means
 /// need (a spread mean good to 1e-4 is far inside the estimator's other approximations).
 /// Im z ≥ 0.
-pub fn faddeeva_fast(z: Complex64) -> Complex64 {
+pub(crate) fn faddeeva_fast(z: Complex64) -> Complex64 {
     let (x, y) = (z.re, z.im.max(0.0));
     let t = Complex64::new(y, -x);
     let s = x.abs() + y;
@@ -102,7 +102,7 @@ const FAR_POLE_ZETA: f64 = 8.0;
 /// E\[1/(V − z)\] for V normal with mean `mean` and standard deviation `sd` (1/(mean − z) for
 /// sd = 0). A pole on the real axis has no mean: its principal value is returned (0 at the
 /// pole itself when sd = 0).
-pub fn normal_mean_of_pole(z: Complex64, mean: f64, sd: f64) -> Complex64 {
+pub(crate) fn normal_mean_of_pole(z: Complex64, mean: f64, sd: f64) -> Complex64 {
     if sd <= 0.0 {
         let d = Complex64::new(mean, 0.0) - z;
         return if d.norm_sqr() == 0.0 {

@@ -190,7 +190,7 @@ pub(crate) fn eigenbasis(
 /// The stable wheel's transfer at its equilibrium (MODEL.md#growth-of-a-stable-wheel) as poles at
 /// the Jacobian's eigenvalues, residues (c r_j)(l_j b)/P̄; None where the Jacobian has no
 /// eigenbasis (the caller then solves at each frequency).
-pub fn equilibrium_expansion(ode: &TreadOde, lin: &Linearisation) -> Option<PoleExpansion> {
+pub(crate) fn equilibrium_expansion(ode: &TreadOde, lin: &Linearisation) -> Option<PoleExpansion> {
     let ev = ode.eigenvalues();
     if ev.iter().any(|e| !e.re.is_finite()) {
         return None;

@@ -49,7 +49,7 @@ impl WearZone {
 /// The smallest sliding share the `trailing` zone is given, q_min: the brush model's rear
 /// sliding zone shrinks to nothing at small toe-in, but the tread still slides somewhere, and a
 /// zone of zero length would put all the wear on a line (judgement; 7.8 mm at the default patch).
-pub const MIN_SLIDING_SHARE: f64 = 0.05;
+pub(crate) const MIN_SLIDING_SHARE: f64 = 0.05;
 
 /// The wear zone on one contact patch: its kernel, length and position.
 #[derive(Debug, Clone, Copy, PartialEq)]

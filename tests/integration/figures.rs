@@ -18,6 +18,7 @@ use polywear::continuation::ParamBox;
 use polywear::model::{Variant, Wheel};
 use polywear::params::{ParamId, Params};
 use polywear::plot::cycle::{cycle_figure, WheelTrace};
+use polywear::plot::{FigureFile, FigureFormat};
 
 fn counts(vibrating: u64, stable: u64) -> ClassCounts {
     let mut c = ClassCounts::default();
@@ -58,8 +59,9 @@ fn the_chart_says_where_it_was_drawn_and_names_the_overlap() {
         |upto: usize| -> Vec<Option<bool>> { (0..n * n).map(|k| Some(k % n < upto)).collect() };
     let grids = [grid(n / 2), grid(n / 4)];
     let charts = [no_curves(Wheel::Follower), no_curves(Wheel::Driving)];
-    let path = dir.join("chart.svg");
-    let layout = draw(&path, &req, &charts, &grids, None).unwrap();
+    let file = FigureFile::named(&dir, "chart", FigureFormat::Svg);
+    let path = file.path.clone();
+    let layout = draw(&file, &req, &charts, &grids, None).unwrap();
     let p = Params::default();
     let speed = format!("speed {} km/h", p.speed_kmh);
     let toe = format!("toe-in {} deg", p.toe_deg);
@@ -88,7 +90,7 @@ fn the_chart_says_where_it_was_drawn_and_names_the_overlap() {
         assert!(shown.contains(words), "{words} not in the SVG");
     }
     // Without an overlap there is no such entry.
-    let layout = draw(&path, &req, &charts, &[grid(n / 2), grid(0)], None).unwrap();
+    let layout = draw(&file, &req, &charts, &[grid(n / 2), grid(0)], None).unwrap();
     assert!(!layout.legend.iter().any(|l| l.starts_with("both wheels")));
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -119,14 +121,15 @@ fn label(p: ParamId) -> String {
 fn a_colour_bar_reads_with_its_own_label() {
     let dir = fresh_dir("fig-colourbar");
     std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("map.svg");
+    let file = FigureFile::named(&dir, "map", FigureFormat::Svg);
+    let path = file.path.clone();
     let map = small_map(
         ParamId::SpeedKmh,
         (60.0, 200.0),
         ParamId::ToeDeg,
         (0.0, 0.5),
     );
-    polywear::render::figures::risk_map(&path, &map, &label, 30).unwrap();
+    polywear::render::figures::risk_map(&file, &map, &label, 30).unwrap();
     let svg = std::fs::read_to_string(&path).unwrap();
     let rotated: Vec<SvgText> = texts(&svg).into_iter().filter(|t| t.rotated).collect();
     let bar_labels = ["Risk of vibration [%]", "Difference [percentage points]"];
@@ -221,8 +224,9 @@ fn scientific_tick_labels_never_run_together() {
     // C = 3.05e7 .. 3.95e7: round ticks every 0.1e7, each label six characters wide.
     let (lo, hi) = (3.05e7, 3.95e7);
     let map = small_map(ParamId::CBrush, (lo, hi), ParamId::GMod, (7.5e5, 9.5e5));
-    let path = dir.join("map.svg");
-    polywear::render::figures::risk_map(&path, &map, &label, 30).unwrap();
+    let file = FigureFile::named(&dir, "map", FigureFormat::Svg);
+    let path = file.path.clone();
+    polywear::render::figures::risk_map(&file, &map, &label, 30).unwrap();
     assert_no_tick_labels_touch(&std::fs::read_to_string(&path).unwrap(), "risk map");
     let axes = [
         ParamId::CBrush,
@@ -257,8 +261,9 @@ fn scientific_tick_labels_never_run_together() {
             })
         })
         .collect();
-    let path = dir.join("conditional.svg");
-    polywear::render::figures::conditional(&path, Variant::SlidingShare, &axes, &label, &bins, 30)
+    let file = FigureFile::named(&dir, "conditional", FigureFormat::Svg);
+    let path = file.path.clone();
+    polywear::render::figures::conditional(&file, Variant::SlidingShare, &axes, &label, &bins, 30)
         .unwrap();
     assert_no_tick_labels_touch(&std::fs::read_to_string(&path).unwrap(), "conditional");
     std::fs::remove_dir_all(&dir).ok();
@@ -287,8 +292,9 @@ fn the_driving_wheels_markers_leave_the_followers_showing() {
             vibrates: driving,
         },
     ];
-    let path = dir.join("cycle.svg");
-    cycle_figure(&path, "test cycle", &time_s, &speed_kmh, &wheels).unwrap();
+    let file = FigureFile::named(&dir, "cycle", FigureFormat::Svg);
+    let path = file.path.clone();
+    cycle_figure(&file, "test cycle", &time_s, &speed_kmh, &wheels).unwrap();
     let drawn = circles(&std::fs::read_to_string(&path).unwrap());
     let mut overlaps = 0;
     for (k, later) in drawn.iter().enumerate() {

@@ -34,4 +34,6 @@ mod shooting_accuracy;
 mod sobol_design;
 mod talking;
 mod wear;
+mod wear_analysis;
+mod wear_explore;
 mod wear_loop;

@@ -102,7 +102,7 @@ fn even_wear_is_the_calibration_and_volume_is_gamma_times_energy() {
     let gamma = calibration(&p).gamma_m3_per_j(&p);
     let want = law::even_wear_m_per_m(
         gamma,
-        law::equilibrium_power_w(&m.ode),
+        law::friction_power_w(&m.ode, &m.ode.equilibrium()),
         m.patch.width_m,
         p.speed_mps(),
         p.r_b,

@@ -33,7 +33,7 @@ pub enum OutcomeColumn<'a> {
 }
 
 /// The row's outcome code as a polars expression.
-fn code_expr(outcome: OutcomeColumn<'_>) -> Expr {
+pub(super) fn code_expr(outcome: OutcomeColumn<'_>) -> Expr {
     match outcome {
         OutcomeColumn::Vibration => outcome_expr(),
         OutcomeColumn::WithinKm { column, km } => {

@@ -1,0 +1,306 @@
+//! The wear stage in explore: on by default, its columns after the record columns, `--no-wear`
+//! leaving exactly the vibration columns, the study's `wear`/`wear_zone` keys, and a resumed run
+//! keeping the stage it started with.
+
+use crate::common::{fresh_dir, polywear};
+use crate::parquet_rows::rows;
+use parquet::record::Field;
+use polywear::records::{RECORD_COLUMNS, WEAR_COLUMNS};
+
+fn first_chunk(dir: &std::path::Path) -> std::path::PathBuf {
+    let mut files: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "parquet"))
+        .collect();
+    files.sort();
+    files.remove(0)
+}
+
+fn float(f: &Field) -> f64 {
+    match f {
+        Field::Double(x) => *x,
+        Field::Null => f64::NAN,
+        other => panic!("not a float: {other:?}"),
+    }
+}
+
+fn text(f: &Field) -> String {
+    match f {
+        Field::Str(s) => s.clone(),
+        other => panic!("not a string: {other:?}"),
+    }
+}
+
+fn explore(study: &std::path::Path, out: &std::path::Path, extra: &[&str]) -> (i32, String) {
+    let mut args = vec![
+        "explore",
+        study.to_str().unwrap(),
+        "--quiet",
+        "--no-report",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let (code, _, stderr) = polywear(&args);
+    (code, stderr)
+}
+
+const STUDY: &str = "name = \"w\"\nsamples = 24\nchunk_size = 12\n[params]\nspeed_kmh = { dist = \"uniform\", min = 20, max = 160 }\ntoe_deg = { dist = \"uniform\", min = 0.05, max = 0.6 }\n";
+
+#[test]
+fn explore_writes_the_wear_columns_and_no_wear_leaves_exactly_the_vibration_columns() {
+    let dir = fresh_dir("wear-explore-columns");
+    std::fs::create_dir_all(&dir).unwrap();
+    let study = dir.join("s.toml");
+    std::fs::write(&study, STUDY).unwrap();
+    let (with, without) = (dir.join("with"), dir.join("without"));
+    assert_eq!(explore(&study, &with, &[]).0, 0);
+    assert_eq!(explore(&study, &without, &["--no-wear"]).0, 0);
+    let a = rows(&first_chunk(&with));
+    let b = rows(&first_chunk(&without));
+    assert_eq!(a.len(), b.len());
+    for name in WEAR_COLUMNS.iter().map(|c| c.name) {
+        assert!(a[0].contains_key(name), "{name} with the stage");
+        assert!(!b[0].contains_key(name), "{name} without it");
+    }
+    let mut vibrating_growth = 0;
+    for (ra, rb) in a.iter().zip(&b) {
+        // The vibration columns are the same with and without the stage.
+        for c in RECORD_COLUMNS {
+            assert_eq!(
+                format!("{:?}", ra[c.name]),
+                format!("{:?}", rb[c.name]),
+                "{}",
+                c.name
+            );
+        }
+        let class = text(&ra["class"]);
+        let d = float(&ra["distance_to_visible_km"]);
+        let reason = text(&ra["wear_reason"]);
+        match class.as_str() {
+            // A standstill wheel runs no distance: NaN with its reason, never a 0.
+            "standstill" => assert!(d.is_nan() && !reason.is_empty(), "{class} {d} {reason}"),
+            "stable" | "limit_cycle" | "bistable" => {
+                assert!(d > 0.0 && reason.is_empty(), "{class} {d} {reason}");
+                let n = float(&ra["polygon_order_dominant"]);
+                assert!(n >= 1.0 && n.fract() == 0.0, "{n}");
+                assert_eq!(float(&ra["wear_calibration_share"]), 0.12);
+                if class != "stable" {
+                    vibrating_growth += 1;
+                    assert!(matches!(ra["wear_rhs_evals"], Field::Long(k) if k > 0 && k <= 1000));
+                } else {
+                    assert!(matches!(ra["wear_rhs_evals"], Field::Long(0)));
+                }
+            }
+            _ => assert!(d.is_nan() && !reason.is_empty(), "{class} {d} {reason}"),
+        }
+    }
+    assert!(vibrating_growth > 0, "some wheels vibrate in this study");
+    let manifest = std::fs::read_to_string(with.join("_manifest.json")).unwrap();
+    assert!(
+        manifest.contains("\"wear_zone\": \"trailing\"")
+            || manifest.contains("\"wear_zone\":\"trailing\""),
+        "{manifest}"
+    );
+    assert!(manifest.contains("gamma_m3_per_j"), "{manifest}");
+    let manifest = std::fs::read_to_string(without.join("_manifest.json")).unwrap();
+    assert!(!manifest.contains("wear_zone"), "{manifest}");
+}
+
+#[test]
+fn the_study_sets_the_wear_stage_and_a_resume_keeps_it() {
+    let dir = fresh_dir("wear-explore-study");
+    std::fs::create_dir_all(&dir).unwrap();
+    let off = dir.join("off.toml");
+    std::fs::write(&off, format!("wear = false\n{STUDY}")).unwrap();
+    let out = dir.join("off");
+    assert_eq!(explore(&off, &out, &[]).0, 0);
+    assert!(!rows(&first_chunk(&out))[0].contains_key("distance_to_visible_km"));
+    // wear = false and a zone contradict each other.
+    let both = dir.join("both.toml");
+    std::fs::write(
+        &both,
+        format!("wear = false\nwear_zone = \"whole_patch\"\n{STUDY}"),
+    )
+    .unwrap();
+    let (code, stderr) = explore(&both, &dir.join("both"), &[]);
+    assert_eq!(code, 2);
+    assert!(
+        stderr.contains("`wear_zone` is set but `wear = false`"),
+        "{stderr}"
+    );
+    let (code, stderr) = explore(&off, &dir.join("zone"), &["--wear-zone", "whole_patch"]);
+    assert_eq!(code, 2);
+    assert!(
+        stderr.contains("--wear-zone whole_patch: the study sets `wear = false`"),
+        "{stderr}"
+    );
+    let (code, stderr) = explore(&off, &dir.join("typo"), &["--wear-zone", "trialing"]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("did you mean `trailing`"), "{stderr}");
+    // A zone from the study reaches the manifest; a resume keeps it, and refuses --no-wear.
+    let zoned = dir.join("zoned.toml");
+    std::fs::write(&zoned, format!("wear_zone = \"whole_patch\"\n{STUDY}")).unwrap();
+    let out = dir.join("zoned");
+    assert_eq!(explore(&zoned, &out, &[]).0, 0);
+    let manifest = std::fs::read_to_string(out.join("_manifest.json")).unwrap();
+    assert!(manifest.contains("whole_patch"), "{manifest}");
+    let o = out.to_str().unwrap();
+    let (code, _, stderr) = polywear(&["explore", "--resume", "--out", o, "--quiet", "--no-wear"]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("--no-wear contradicts the run"), "{stderr}");
+    let (code, _, stderr) =
+        polywear(&["explore", "--resume", "--out", o, "--quiet", "--no-report"]);
+    assert_eq!(code, 0, "{stderr}");
+}
+
+mod along_a_cycle {
+    use crate::common::{fresh_dir, polywear};
+    use polywear::classify::ClassifierOptions;
+    use polywear::cycle::wear::{cycle_wear, step_growth};
+    use polywear::cycle::{classify_cycle, DriveCycle};
+    use polywear::evaluate::{self, PointProblem, WearStage};
+    use polywear::model::Variant;
+    use polywear::params::Params;
+    use polywear::wear::WearSettings;
+
+    fn cycle(name: &str, text: &str) -> DriveCycle {
+        let dir = fresh_dir(name);
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("c.csv");
+        std::fs::write(&path, text).unwrap();
+        DriveCycle::read(&path).unwrap()
+    }
+
+    /// The worst case (φ_s = 1, no spread) at the paper's constants, where the follower grows.
+    fn worst() -> Params {
+        Params {
+            wear_share_straight: 1.0,
+            speed_spread_kmh: 0.0,
+            ..Params::r0()
+        }
+    }
+
+    #[test]
+    fn a_cycle_held_at_one_speed_is_the_per_sample_estimate_without_spread() {
+        let opts = ClassifierOptions::default();
+        let p = worst();
+        let stage =
+            WearStage::for_run(&p, Variant::SlidingShare, WearSettings::default(), &opts).unwrap();
+        let c = cycle(
+            "wear-cycle-held",
+            "time_s,speed_kmh\n0,100\n600,100\n1200,100\n",
+        );
+        let steps = classify_cycle(&c, &p, Variant::SlidingShare, &opts, Some(&stage));
+        let point = evaluate::solve(
+            &PointProblem::new(p, &[Variant::SlidingShare], &opts).with_wear(Some(&stage)),
+        );
+        for w in 0..2 {
+            let lifetime = cycle_wear(&c, &steps, w, &p);
+            let e = point.wheels[w].wear.as_ref().unwrap();
+            assert_eq!(
+                lifetime.dominant_order, e.polygon_order_dominant,
+                "wheel {w}"
+            );
+            let (a, b) = (lifetime.growth_rate_per_1000km, e.growth_rate_per_1000km);
+            assert!(
+                (a - b).abs() <= 1e-9 * b.abs().max(1.0),
+                "wheel {w}: {a} vs {b}"
+            );
+            assert_eq!(lifetime.distance_to_visible_km, e.distance_to_visible_km);
+            assert!(
+                lifetime.distance_to_visible_km.is_finite(),
+                "the worst case grows"
+            );
+            assert_eq!(lifetime.unknown_distance_share, 0.0);
+        }
+    }
+
+    #[test]
+    fn a_lifetime_weighs_each_speed_by_the_distance_driven_at_it() {
+        let opts = ClassifierOptions::default();
+        let p = worst();
+        let stage =
+            WearStage::for_run(&p, Variant::SlidingShare, WearSettings::default(), &opts).unwrap();
+        // 2 s at 50 km/h and 1 s at 100 km/h cover the same distance; the standstill covers none.
+        let c = cycle(
+            "wear-cycle-two",
+            "time_s,speed_kmh\n0,50\n2,100\n3,0\n4,0\n",
+        );
+        let steps = classify_cycle(&c, &p, Variant::SlidingShare, &opts, Some(&stage));
+        let at = |v: f64| {
+            let q = Params { speed_kmh: v, ..p };
+            let s = evaluate::solve(&PointProblem::new(q, &[Variant::SlidingShare], &opts));
+            [0, 1].map(|w| step_growth(&q, &s.wheels[w], &stage, &opts))
+        };
+        let (slow, fast) = (at(50.0), at(100.0));
+        for w in 0..2 {
+            let mean: Vec<f64> = slow[w]
+                .iter()
+                .zip(&fast[w])
+                .map(|(a, b)| 0.5 * (a + b))
+                .collect();
+            let (k, best) = mean
+                .iter()
+                .enumerate()
+                .max_by(|a, b| a.1.total_cmp(b.1))
+                .unwrap();
+            let lifetime = cycle_wear(&c, &steps, w, &p);
+            assert_eq!(lifetime.dominant_order, k as f64 + 1.0, "wheel {w}");
+            assert!(
+                (lifetime.growth_rate_per_1000km - best).abs() < 1e-12,
+                "wheel {w}"
+            );
+        }
+    }
+
+    #[test]
+    fn cycle_says_the_lifetime_distance_and_no_wear_leaves_it_out() {
+        let dir = fresh_dir("wear-cycle-cli");
+        let out = dir.join("with");
+        let (code, stdout, stderr) = polywear(&[
+            "cycle",
+            "data/cycles/hwfet.csv",
+            "--set",
+            "wear_share_straight=1",
+            "--set",
+            "speed_spread_kmh=0",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+        assert_eq!(
+            stdout
+                .matches("driving this cycle all its life: a ")
+                .count(),
+            2,
+            "{stdout}"
+        );
+        assert!(
+            stdout.contains("-sided polygon becomes visible after"),
+            "{stdout}"
+        );
+        let summary = std::fs::read_to_string(out.join("cycle_summary.csv")).unwrap();
+        assert!(
+            summary
+                .lines()
+                .next()
+                .unwrap()
+                .contains("distance_to_visible_km"),
+            "{summary}"
+        );
+        let out = dir.join("without");
+        let (code, stdout, _) = polywear(&[
+            "cycle",
+            "data/cycles/hwfet.csv",
+            "--no-wear",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0);
+        assert!(!stdout.contains("all its life"), "{stdout}");
+        let summary = std::fs::read_to_string(out.join("cycle_summary.csv")).unwrap();
+        assert!(!summary.contains("distance_to_visible_km"), "{summary}");
+    }
+}
