@@ -51,6 +51,12 @@ enum Command {
     Optimize(cli::optimize::OptimizeArgs),
     /// One operating point, both wheels: verdict table, JSON, time series, plot
     Simulate(cli::simulate::SimulateArgs),
+    /// The long-term wear loop at one point, both wheels: the distance to a visible polygon
+    ///
+    /// The long-term wear loop for one operating point (or a drive cycle driven again and
+    /// again), both wheels: the polygon's growth, lock-in, the distance to a visible polygon;
+    /// summary, history and profile tables and a figure.
+    Wear(cli::wear::WearArgs),
     /// Sweep one parameter for both wheels: Re λ, limit-cycle envelope, Hopf points
     ///
     /// Sweep one parameter for both wheels: eigenvalue and limit-cycle envelope, Hopf points,
@@ -103,6 +109,7 @@ fn main() -> ExitCode {
         Command::Cycle(a) => done(cli::cycle::run(a)),
         Command::Optimize(a) => done(cli::optimize::run(a)),
         Command::Simulate(a) => done(cli::simulate::run(a)),
+        Command::Wear(a) => done(cli::wear::run(a)),
         Command::Bifurcation(a) => done(cli::bifurcation::run(a)),
         Command::Chart(a) => done(cli::chart::run(a)),
         Command::Reproduce(a) => done(cli::reproduce::run(a)),

@@ -14,3 +14,4 @@ pub mod params;
 pub mod reproduce;
 pub mod simulate;
 pub mod validate;
+pub mod wear;

@@ -18,6 +18,7 @@ mod format;
 pub mod maps;
 pub mod spectrum;
 pub mod surface;
+pub mod wear;
 
 /// One curve of a figure, in a colour picked by the caller.
 pub(crate) struct Series<'a> {

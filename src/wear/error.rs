@@ -27,6 +27,16 @@ pub enum WearError {
     /// The equilibrium's Jacobian has no basis of eigenvectors.
     #[error("the equilibrium's Jacobian has no basis of eigenvectors")]
     NoEigenbasis,
+    /// The long-term loop or the accelerated oracle could not integrate a window.
+    #[error("the wear loop at {speed_kmh} km/h after {distance_km:.0} km: {reason}")]
+    Loop {
+        /// The speed of the window \[km/h\].
+        speed_kmh: f64,
+        /// The distance run when it failed \[km\].
+        distance_km: f64,
+        /// What failed.
+        reason: String,
+    },
     /// The wheel has no tread ODE, or no verdict to work from.
     #[error("no wear figures without a model: {0}")]
     NoModel(String),

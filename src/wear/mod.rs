@@ -8,7 +8,11 @@
 //! response to ε at a state and at the equilibrium, as poles), [`periodic`] (the cycle's
 //! response, Floquet modes and harmonic balance), [`spread`] (exact means of poles over a normal
 //! speed spread), [`estimator`] (the growth of each order, the dominant one, the distance to a
-//! visible polygon).
+//! visible polygon). The long-term loop (MODEL.md#the-long-term-loop) runs the wear by brute
+//! force: [`profile`] (the worn depth on cells, the seed), [`window`] (a few revolutions at a
+//! fixed profile), [`lock`] (the rotation number and the weights of the mean revolution),
+//! [`deposit`] (the energy laid element by element), [`legs`] (the speeds driven),
+//! [`long_term`] (the loop), and [`accelerated`] (the oracle by another road).
 //!
 //! Conventions, everywhere in this module:
 //!
@@ -31,15 +35,22 @@
 //!   wear laid back onto the tyre by the zone carries conj(H_w(n)).
 //! - **Growth**: β_n \[1/m\] is the rate of |R_n| per metre travelled: |R_n| ∝ e^{β_n s}.
 
+pub mod accelerated;
 pub mod calibration;
 pub mod cycle;
+pub mod deposit;
 mod error;
 pub mod estimator;
 pub mod feedback;
 pub mod law;
+pub mod legs;
+pub mod lock;
+pub mod long_term;
 pub mod periodic;
+pub mod profile;
 pub mod spread;
 pub mod transfer;
+pub mod window;
 pub mod zone;
 
 pub use calibration::Calibration;

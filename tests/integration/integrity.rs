@@ -180,6 +180,12 @@ fn a_link_at_any_name_a_command_writes_is_replaced_never_followed() {
     links_are_replaced("cycle", |o| {
         vec!["cycle".into(), s(&cycle), "--out".into(), s(&o.join("cyc"))]
     });
+    links_are_replaced("wear", |o| {
+        v(&["wear", "--quiet", "--distance-km", "20", "--out"])
+            .into_iter()
+            .chain([s(&o.join("wear"))])
+            .collect()
+    });
     links_are_replaced("classify", |o| {
         vec![
             "classify".into(),

@@ -36,3 +36,4 @@ mod talking;
 mod wear;
 mod wear_analysis;
 mod wear_explore;
+mod wear_loop;

@@ -1,0 +1,656 @@
+//! `polywear wear`: the long-term wear loop (MODEL.md#the-long-term-loop) for one operating
+//! point, both wheels in parallel: the summary, the history of every order, the profile at a
+//! few distances, a figure and the verdict in words.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use super::common::{base_metadata, BudgetArgs, CliError, CliResult, PointArgs};
+use polywear::classify::{Class, ClassifierOptions};
+use polywear::cycle::DriveCycle;
+use polywear::ensemble::{self, Control};
+use polywear::evaluate::{self, PointProblem, WearStage, WheelSolution};
+use polywear::model::{Variant, Wheel, WheelModel};
+use polywear::params::{ParamId, Params};
+use polywear::parquet_out::{write_csv, write_table, Column};
+use polywear::plot::wear::{wear_figure, WearTrace};
+use polywear::plot::{FigureFile, FigureFormat};
+use polywear::wear::long_term::{
+    cruise_legs, cycle_legs, run_wheel, Leg, LoopInputs, LoopSettings,
+};
+use polywear::wear::long_term::{WheelWear, FEEDBACK_ORDERS};
+use polywear::wear::{WearEstimate, WearSettings, WearZone};
+use polywear::wording::plain;
+
+/// The largest distance `--distance-km` accepts \[km\].
+const MAX_DISTANCE_KM: f64 = 1e6;
+/// Orders drawn in the figure: the deepest at the end, per wheel.
+const DRAWN_ORDERS: usize = 4;
+
+#[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  # the default point, both wheels, 60,000 km with the shipped speed spread\n",
+    "  polywear wear --out data/wear\n",
+    "  # the worst case: every straight-running joule couples, a steady speed\n",
+    "  polywear wear --set wear_share_straight=1 --speed-spread-kmh 0 --estimate --out data/wear\n",
+    "  # a drive cycle driven again and again\n",
+    "  polywear wear --cycle cycles/highway.csv --out data/wear_cycle\n",
+    "\nGuide: GUIDE.md#wear"
+))]
+pub struct WearArgs {
+    #[command(flatten)]
+    pub point: PointArgs,
+    /// Distance to run [km], accepted (0, 1e6]
+    #[arg(
+        long,
+        value_name = "KM",
+        default_value_t = 60_000.0,
+        allow_negative_numbers = true
+    )]
+    pub distance_km: f64,
+    /// Normal spread of the cruising speed [km/h], accepted [0, 100] (replaces the parameter
+    /// speed_spread_kmh; give one of the two)
+    #[arg(long, value_name = "KMH", allow_negative_numbers = true)]
+    pub speed_spread_kmh: Option<f64>,
+    /// Where the friction power wears the tread: trailing (default), whole_patch,
+    /// whole_patch_uniform
+    #[arg(long, value_name = "ZONE", default_value = "trailing")]
+    pub wear_zone: String,
+    /// Drive this cycle (CSV or Parquet: time_s, speed_kmh, as `polywear cycle` reads it) again
+    /// and again instead of cruising at --speed
+    #[arg(long, value_name = "CYCLE")]
+    pub cycle: Option<PathBuf>,
+    /// Seed of the new tyre's run-out phases
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Also print the per-sample estimator's figures and add `estimate_*` columns
+    #[arg(long)]
+    pub estimate: bool,
+    /// Format of the figure
+    #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
+    pub format: FigureFormat,
+    /// No progress bar
+    #[arg(long)]
+    pub quiet: bool,
+    #[command(flatten)]
+    pub budget: BudgetArgs,
+    /// Output folder (created if missing)
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+}
+
+/// The checked inputs of a run.
+struct Plan {
+    params: Params,
+    variant: Variant,
+    legs: Vec<Leg>,
+    settings: LoopSettings,
+    usage: String,
+    metadata: Vec<(String, String)>,
+}
+
+/// Checks every input before any work, exit 2 with the flag and the accepted range.
+fn plan(args: &WearArgs) -> CliResult<Plan> {
+    let resolved = args.point.resolve()?;
+    let mut p = resolved.params;
+    if !(args.distance_km > 0.0 && args.distance_km <= MAX_DISTANCE_KM) {
+        return Err(CliError(format!(
+            "--distance-km = {} is outside its accepted range (0, 1e6] km",
+            plain(args.distance_km, 12)
+        )));
+    }
+    let zone: WearZone = args
+        .wear_zone
+        .parse()
+        .map_err(|e| CliError(format!("--wear-zone: {e}")))?;
+    if let Some(s) = args.speed_spread_kmh {
+        if let Some(by) = resolved.given_by(ParamId::SpeedSpreadKmh) {
+            return Err(CliError(format!(
+                "--speed-spread-kmh and {by} both set the speed spread; give one"
+            )));
+        }
+        if args.cycle.is_some() {
+            return Err(CliError(
+                "--speed-spread-kmh and --cycle both set the speeds driven; give one".into(),
+            ));
+        }
+        p.try_set(ParamId::SpeedSpreadKmh, s)
+            .map_err(|e| CliError(format!("--speed-spread-kmh: {e}")))?;
+    }
+    if args.out.is_file() {
+        return Err(CliError(format!(
+            "--out {}: is a file; give a directory",
+            args.out.display()
+        )));
+    }
+    let variant: Variant = args.point.variant.into();
+    let mut metadata = base_metadata(&p, variant);
+    let (legs, usage) = match &args.cycle {
+        Some(path) => {
+            let (legs, usage) = read_cycle(path, &p, args.point.accept_implausible)?;
+            metadata.push(("cycle".into(), path.display().to_string()));
+            (legs, usage)
+        }
+        None => (
+            cruise_legs(p.speed_kmh, p.speed_spread_kmh),
+            format!(
+                "cruising at {} km/h, speed spread {} km/h",
+                plain(p.speed_kmh, 6),
+                plain(p.speed_spread_kmh, 6)
+            ),
+        ),
+    };
+    let settings = LoopSettings {
+        distance_km: args.distance_km,
+        seed: args.seed,
+        zone,
+        ..LoopSettings::default()
+    };
+    metadata.push(("wear_zone".into(), zone.as_str().into()));
+    metadata.push((
+        "wear_loop".into(),
+        serde_json::to_string(&settings).expect("plain data"),
+    ));
+    metadata.push((
+        "legs".into(),
+        serde_json::to_string(&legs).expect("plain data"),
+    ));
+    metadata.push(("usage".into(), usage.clone()));
+    Ok(Plan {
+        params: p,
+        variant,
+        legs,
+        settings,
+        usage,
+        metadata,
+    })
+}
+
+/// The cycle's speeds as legs of equal distance, refused as `polywear cycle` refuses it.
+fn read_cycle(path: &Path, p: &Params, accept_implausible: bool) -> CliResult<(Vec<Leg>, String)> {
+    let cycle = DriveCycle::read(path).map_err(|e| CliError(e.to_string()))?;
+    if !accept_implausible {
+        cycle
+            .check_plausible()
+            .map_err(|e| CliError(e.to_string()))?;
+    }
+    cycle.check_steps(p).map_err(|e| CliError(e.to_string()))?;
+    if !cycle.names.is_empty() {
+        let names: Vec<&str> = cycle.names.iter().map(|id| id.name()).collect();
+        eprintln!(
+            "note: {}: its columns {} are not used by `wear`, which drives the point's own toe, load and pressure at the cycle's speeds",
+            path.display(),
+            names.join(", ")
+        );
+    }
+    let distances: Vec<f64> = cycle
+        .step_durations_s()
+        .iter()
+        .zip(&cycle.speed_kmh)
+        .map(|(dt, v)| dt * v / 3.6)
+        .collect();
+    let legs = cycle_legs(&cycle.speed_kmh, &distances);
+    if legs.is_empty() {
+        return Err(CliError(format!(
+            "--cycle {}: covers no distance (every step at standstill)",
+            path.display()
+        )));
+    }
+    let km: f64 = distances.iter().sum::<f64>() / 1e3;
+    Ok((
+        legs,
+        format!(
+            "driving the cycle {} ({km:.2} km) again and again",
+            path.display()
+        ),
+    ))
+}
+
+/// The state the loop starts a wheel from: on the classifier's cycle where it vibrates.
+fn start_of(w: &WheelSolution) -> Option<[f64; 3]> {
+    let m = w.model.as_ref().ok()?;
+    let v = &w.verdict;
+    (v.class.vibrates() && v.section_v_mps > 0.0)
+        .then(|| [v.section_z_m, m.ode.equilibrium()[1], v.section_v_mps])
+}
+
+pub fn run(args: &WearArgs) -> CliResult {
+    let plan = plan(args)?;
+    let p = plan.params;
+    let opts = ClassifierOptions {
+        budget: args.budget.apply(Default::default())?,
+        ..ClassifierOptions::default()
+    };
+    let settings = WearSettings {
+        zone: plan.settings.zone,
+    };
+    let stage = WearStage::for_run(&p, plan.variant, settings, &opts)
+        .map_err(|e| CliError(e.to_string()))?;
+    let gamma = stage.calibration.gamma_m3_per_j(&p);
+    let variants = [plan.variant];
+    let point = evaluate::solve(&PointProblem::new(p, &variants, &opts).with_wear(Some(&stage)));
+    let bar = progress_bar(args.quiet, 2.0 * plan.settings.distance_km);
+    let stop = AtomicBool::new(false);
+    let started = std::time::Instant::now();
+    let runs = ensemble::solve(
+        2,
+        |i| {
+            let w = &point.wheels[i];
+            let inputs = LoopInputs {
+                params: &p,
+                wheel: Wheel::BOTH[i],
+                variant: plan.variant,
+                gamma_m3_per_j: gamma,
+                legs: &plan.legs,
+                start: start_of(w),
+            };
+            match &w.model {
+                Ok(_) if !matches!(w.verdict.class, Class::NoTraction | Class::Failed) => {
+                    run_wheel(&inputs, &plan.settings, &|km| bar.inc(km.round() as u64))
+                        .map_err(|e| e.to_string())
+                }
+                Ok(_) => Err(format!("{}: {}", w.verdict.class, w.verdict.reason)),
+                Err(e) => Err(e.to_string()),
+            }
+        },
+        &Control {
+            progress: &|_| {},
+            stop: &|| stop.load(Ordering::Relaxed),
+        },
+    )
+    .all();
+    bar.finish_and_clear();
+    let secs = started.elapsed().as_secs_f64();
+    let wheels: Vec<WheelOutcome> = point
+        .wheels
+        .iter()
+        .zip(runs)
+        .enumerate()
+        .map(|(i, (w, run))| WheelOutcome {
+            wheel: Wheel::BOTH[i],
+            solution: w,
+            run,
+        })
+        .collect();
+    write_outputs(args, &plan, &wheels)?;
+    print_verdict(&plan, &wheels, args.estimate, secs);
+    Ok(())
+}
+
+/// One wheel's verdict, its estimate and its loop.
+struct WheelOutcome<'a> {
+    wheel: Wheel,
+    solution: &'a WheelSolution,
+    run: Result<WheelWear, String>,
+}
+
+fn progress_bar(quiet: bool, total_km: f64) -> ProgressBar {
+    let bar = if quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::with_draw_target(Some(total_km as u64), ProgressDrawTarget::stderr())
+    };
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} km (both wheels)  {rate}  ETA {eta}",
+        )
+        .expect("valid template")
+        .with_key(
+            "rate",
+            |s: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                let _ = write!(w, "{:.0} km/s", s.per_sec());
+            },
+        ),
+    );
+    bar
+}
+
+/// The summary's figures of one wheel (NaN where undefined).
+struct Figures {
+    dominant: f64,
+    detuning: f64,
+    locked: bool,
+    lock_halfwidth_hz: f64,
+    even: f64,
+    growth_mm: f64,
+    growth_rate: f64,
+    saturation_mm: f64,
+    distance_km: f64,
+}
+
+fn figures(o: &WheelOutcome<'_>, p: &Params) -> Figures {
+    let nan = f64::NAN;
+    let Ok(run) = &o.run else {
+        return Figures {
+            dominant: nan,
+            detuning: nan,
+            locked: false,
+            lock_halfwidth_hz: nan,
+            even: nan,
+            growth_mm: nan,
+            growth_rate: nan,
+            saturation_mm: nan,
+            distance_km: nan,
+        };
+    };
+    let n = run.dominant_order();
+    let e = run.end();
+    let i = n as usize - 1;
+    let nu = o.solution.verdict.polygon_order;
+    // The tongue's half-width at the final depth: the estimator's at the seed, linear in R.
+    let estimate = o.solution.wear.as_ref();
+    let lock_halfwidth_hz = estimate
+        .and_then(|est| est.orders.iter().find(|g| g.order == n))
+        .map(|g| {
+            let hz_per_kmh = n as f64 * WheelModel::rotation_hz(p) / p.speed_kmh;
+            g.lock_halfwidth_kmh * hz_per_kmh * e.depths_m[i] / (2.0 * run.seed_m)
+        })
+        .filter(|x| *x > 0.0)
+        .unwrap_or(nan);
+    Figures {
+        dominant: n as f64,
+        detuning: nu - n as f64,
+        locked: run.locked_speed_kmh().is_some(),
+        lock_halfwidth_hz,
+        even: run.even_wear_m_per_m * 1e9,
+        growth_mm: e.depth_rate_m_per_m[i] * 1e9,
+        growth_rate: e.growth_per_m[i] * 1e6,
+        saturation_mm: run.saturation_depth_m() * 1e3,
+        distance_km: run.distance_to_visible_km(p.visible_depth_mm * 1e-3),
+    }
+}
+
+fn summary_columns(p: &Params, wheels: &[WheelOutcome<'_>], estimate: bool) -> Vec<Column> {
+    let f: Vec<Figures> = wheels.iter().map(|w| figures(w, p)).collect();
+    let col = |name: &str, unit: &'static str, get: &dyn Fn(&Figures) -> f64| {
+        Column::f64(name, unit, f.iter().map(get).collect())
+    };
+    let mut cols = vec![
+        Column::str(
+            "wheel",
+            wheels
+                .iter()
+                .map(|w| w.wheel.as_str().to_string())
+                .collect(),
+        ),
+        Column::str(
+            "class",
+            wheels
+                .iter()
+                .map(|w| w.solution.verdict.class.to_string())
+                .collect(),
+        ),
+        Column::f64(
+            "polygon_order",
+            "",
+            wheels
+                .iter()
+                .map(|w| w.solution.verdict.polygon_order)
+                .collect(),
+        ),
+        col("dominant_order", "", &|x| x.dominant),
+        col("detuning_rev", "", &|x| x.detuning),
+        Column::i64("locked", "", f.iter().map(|x| x.locked as i64).collect()),
+        col("lock_halfwidth_hz", "Hz", &|x| x.lock_halfwidth_hz),
+        col("wear_even_mm_per_1000km", "mm/1000 km", &|x| x.even),
+        col("growth_mm_per_1000km", "mm/1000 km", &|x| x.growth_mm),
+        col("growth_rate_per_1000km", "1/1000 km", &|x| x.growth_rate),
+        col("saturation_depth_mm", "mm", &|x| x.saturation_mm),
+        col("distance_to_visible_km", "km", &|x| x.distance_km),
+        Column::f64(
+            "wear_calibration_share",
+            "",
+            vec![p.wear_share_straight; wheels.len()],
+        ),
+    ];
+    if estimate {
+        let est = |get: &dyn Fn(&WearEstimate) -> f64| -> Vec<f64> {
+            wheels
+                .iter()
+                .map(|w| w.solution.wear.as_ref().map_or(f64::NAN, get))
+                .collect()
+        };
+        cols.push(Column::f64(
+            "estimate_dominant_order",
+            "",
+            est(&|e| e.polygon_order_dominant),
+        ));
+        cols.push(Column::f64(
+            "estimate_detuning_rev",
+            "",
+            est(&|e| e.detuning_rev),
+        ));
+        cols.push(Column::f64(
+            "estimate_growth_rate_per_1000km",
+            "1/1000 km",
+            est(&|e| e.growth_rate_per_1000km),
+        ));
+        cols.push(Column::f64(
+            "estimate_distance_to_visible_km",
+            "km",
+            est(&|e| e.distance_to_visible_km),
+        ));
+    }
+    cols
+}
+
+/// The history: one row per wheel, step and order.
+fn history_columns(wheels: &[WheelOutcome<'_>]) -> Vec<Column> {
+    let (mut wheel, mut km, mut order, mut depth, mut height) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for w in wheels {
+        let Ok(run) = &w.run else { continue };
+        for h in &run.history {
+            for (n, d) in h.depths_m.iter().enumerate() {
+                wheel.push(w.wheel.as_str().to_string());
+                km.push(h.distance_km);
+                order.push(n as i64 + 1);
+                depth.push(d * 1e3);
+                height.push(h.tread_height_m * 1e3);
+            }
+        }
+    }
+    vec![
+        Column::str("wheel", wheel),
+        Column::f64("distance_km", "km", km),
+        Column::i64("order", "", order),
+        Column::f64("depth_mm", "mm", depth),
+        Column::f64("tread_height_mm", "mm", height),
+    ]
+}
+
+/// The profiles: one row per wheel, chosen distance and cell.
+fn profile_columns(wheels: &[WheelOutcome<'_>]) -> Vec<Column> {
+    let (mut wheel, mut km, mut angle, mut depth) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for w in wheels {
+        let Ok(run) = &w.run else { continue };
+        for (s, d) in &run.profiles {
+            let mean = d.iter().sum::<f64>() / d.len() as f64;
+            for (i, x) in d.iter().enumerate() {
+                wheel.push(w.wheel.as_str().to_string());
+                km.push(*s);
+                angle.push(360.0 * (i as f64 + 0.5) / d.len() as f64);
+                depth.push((x - mean) * 1e3);
+            }
+        }
+    }
+    vec![
+        Column::str("wheel", wheel),
+        Column::f64("distance_km", "km", km),
+        Column::f64("angle_deg", "deg", angle),
+        Column::f64("depth_mm", "mm", depth),
+    ]
+}
+
+fn write_outputs(args: &WearArgs, plan: &Plan, wheels: &[WheelOutcome<'_>]) -> CliResult {
+    let dir = &args.out;
+    polywear::safe_write::create_dir(dir)
+        .map_err(|e| CliError(format!("--out {}: {e}", dir.display())))?;
+    let err = |e: &dyn std::fmt::Display| CliError(e.to_string());
+    let mut meta = plan.metadata.clone();
+    meta.push((
+        "profile".into(),
+        "depth_mm: the worn depth minus its mean (r = -depth); depth peak-to-valley in history"
+            .into(),
+    ));
+    let summary = summary_columns(&plan.params, wheels, args.estimate);
+    write_csv(&dir.join("wear_summary.csv"), &summary).map_err(|e| err(&e))?;
+    write_table(&dir.join("wear_summary.parquet"), &summary, &meta).map_err(|e| err(&e))?;
+    write_table(
+        &dir.join("wear_history.parquet"),
+        &history_columns(wheels),
+        &meta,
+    )
+    .map_err(|e| err(&e))?;
+    write_table(
+        &dir.join("wear_profile.parquet"),
+        &profile_columns(wheels),
+        &meta,
+    )
+    .map_err(|e| err(&e))?;
+    let traces: Vec<WearTrace> = wheels
+        .iter()
+        .filter_map(|w| w.run.as_ref().ok().map(|r| (w.wheel, r)))
+        .map(|(wheel, r)| WearTrace {
+            wheel: wheel.as_str(),
+            profiles: &r.profiles,
+            depths: drawn_depths(r),
+            visible_mm: plan.params.visible_depth_mm,
+        })
+        .collect();
+    if !traces.is_empty() {
+        let figure = FigureFile::named(dir, "wear", args.format);
+        let title = format!("polywear wear: {}", plan.usage);
+        wear_figure(&figure, &title, &traces).map_err(|e| err(&e))?;
+    }
+    Ok(())
+}
+
+/// The [`DRAWN_ORDERS`] deepest orders at the end, their depth \[mm\] against distance.
+fn drawn_depths(run: &WheelWear) -> Vec<(u32, Vec<(f64, f64)>)> {
+    let end = &run.end().depths_m;
+    let mut orders: Vec<usize> = (0..end.len().min(FEEDBACK_ORDERS)).collect();
+    orders.sort_by(|a, b| end[*b].total_cmp(&end[*a]));
+    orders
+        .into_iter()
+        .take(DRAWN_ORDERS)
+        .map(|i| {
+            let pts = run
+                .history
+                .iter()
+                .map(|h| (h.distance_km, h.depths_m[i] * 1e3))
+                .collect();
+            (i as u32 + 1, pts)
+        })
+        .collect()
+}
+
+/// The verdict of one wheel in words.
+fn verdict_words(o: &WheelOutcome<'_>, p: &Params, distance_km: f64) -> String {
+    let run = match &o.run {
+        Ok(r) => r,
+        Err(e) => return format!("{}: no wear figures ({e})", o.wheel),
+    };
+    let lock = match run.locked_speed_kmh() {
+        Some(v) => format!("locked at {} km/h", plain(v, 4)),
+        None => "vibration not locked".into(),
+    };
+    let n = run.dominant_order();
+    match run.visible {
+        Some((order, km)) => format!(
+            "{}: a{} {order}-sided polygon becomes visible after {} km ({lock})",
+            o.wheel,
+            if order == 8 || order == 11 || order == 18 {
+                "n"
+            } else {
+                ""
+            },
+            thousands(km)
+        ),
+        None => {
+            let s = run.distance_to_visible_km(p.visible_depth_mm * 1e-3);
+            if s.is_infinite() {
+                format!(
+                    "{}: no polygon in {} km, every order levels out ({lock})",
+                    o.wheel,
+                    thousands(distance_km)
+                )
+            } else {
+                format!(
+                    "{}: no polygon in {} km; order {n} still grows and would be visible after about {} km ({lock})",
+                    o.wheel,
+                    thousands(distance_km),
+                    thousands(s)
+                )
+            }
+        }
+    }
+}
+
+/// A distance in words: to the km below 1,000 km, to 100 km above, with thousands separators.
+fn thousands(km: f64) -> String {
+    let rounded = if km < 1e3 {
+        km.round()
+    } else {
+        (km / 100.0).round() * 100.0
+    };
+    let s = format!("{rounded:.0}");
+    let mut out = String::new();
+    for (i, c) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+fn print_verdict(plan: &Plan, wheels: &[WheelOutcome<'_>], estimate: bool, secs: f64) {
+    let p = &plan.params;
+    println!(
+        "{} (wear zone {}, phi_s = {}, seed run-out {} um, visible at {} mm); {:.1} s",
+        plan.usage,
+        plan.settings.zone,
+        plain(p.wear_share_straight, 4),
+        plain(p.seed_runout_um, 4),
+        plain(p.visible_depth_mm, 4),
+        secs
+    );
+    let words: Vec<String> = wheels
+        .iter()
+        .map(|w| verdict_words(w, p, plan.settings.distance_km))
+        .collect();
+    println!("{}", words.join("; "));
+    for w in wheels {
+        let f = figures(w, p);
+        println!(
+            "  {}: loop      dominant order {}, growth {} per 1000 km, distance {} km",
+            w.wheel,
+            plain(f.dominant, 4),
+            plain(f.growth_rate, 3),
+            plain(f.distance_km.round(), 8)
+        );
+        if estimate {
+            match &w.solution.wear {
+                Some(e) => println!(
+                    "  {}: estimate  dominant order {}, growth {} per 1000 km, distance {} km{}",
+                    w.wheel,
+                    plain(e.polygon_order_dominant, 4),
+                    plain(e.growth_rate_per_1000km, 3),
+                    plain(e.distance_to_visible_km.round(), 8),
+                    if e.reason.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" ({})", e.reason)
+                    }
+                ),
+                None => println!("  {}: estimate  none", w.wheel),
+            }
+        }
+    }
+}

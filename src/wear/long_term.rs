@@ -1,0 +1,700 @@
+//! Level A, the long-term loop (MODEL.md#the-long-term-loop): the tread ODE integrated over a
+//! few revolutions at a fixed worn profile, the wear of one mean revolution scaled up to a step
+//! of distance, the profile updated, and again, until a polygon is visible or the distance asked
+//! is run.
+//!
+//! State: the depth d(θ) on M cells ([`Profile`]), the tread height h and the ODE state, which
+//! each window starts from where the last one ended. A step visits the speeds of the usage
+//! ([`Leg`]) in proportion to distance, one chunk per speed, the profile updated after each, so
+//! that an order meets the alternation of lock and drift it meets on the road. Each chunk:
+//!
+//! 1. integrates N_skip + N_in revolutions with ε(t) of the profile ([`super::window`]);
+//! 2. means the measured revolutions with the weights that cancel the drifting prints of an
+//!    unlocked cycle exactly ([`super::lock::revolution_weights`]): the plain mean leaves C_N(δ)
+//!    of the print, which the scaling would multiply by thousands of revolutions;
+//! 3. lays that revolution's energy onto the cells, each element by its own pressure
+//!    ([`DepositPlan`]), adds the wear that is not straight running, (1 − φ_s)w′₀ per element by
+//!    its pressure, and scales both by chunk/(2π r_B) revolutions;
+//! 4. lowers h by the mean of all the wear (the tread's real height loss).
+//!
+//! The step is the smallest of Δs_max, a tenth of the time in which the fastest harmonic doubles
+//! (0.1 |R|/|dR/ds| and 0.2/|β|) and 1 µm of profile change, never below Δs_min; a step after
+//! which a speed's lock flag or its nearest order changed is redone at half the length, down to
+//! Δs_min, so that a tongue's edge is not jumped over.
+
+use super::calibration::wear_rate_ref_m_per_m;
+use super::deposit::{other_wear_m_per_m, DepositPlan};
+use super::feedback::Feedback;
+pub use super::legs::{cruise_legs, cycle_legs, Leg, SPEED_NODES};
+use super::lock::{is_locked, revolution_weights, rotation_number, window_revs, WINDOW_REVS};
+use super::profile::{harmonics_of, Profile};
+use super::window::{integrate_window, EpsilonTable, WindowRequest};
+use super::zone::WearZone;
+use super::{Complex64, WearError};
+use crate::model::{Variant, Wheel, WheelModel};
+use crate::params::Params;
+
+/// Profile cells M of the shipped loop (1.95 mm each at r_B = 0.317 m, under a quarter of the
+/// trailing zone's length).
+pub const CELLS: usize = 1024;
+/// Profile orders that act back through ε and that the history records, 1 ..= this (the seed's
+/// band is 1..=64; the zone filters what lies beyond).
+pub const FEEDBACK_ORDERS: usize = 128;
+/// Revolutions integrated before a leg's first measured window (onto its cycle).
+const FIRST_SKIP_REVS: usize = 30;
+/// A window cycles (has a rotation number) when |v| reaches this share of U = V sin α.
+const CYCLING_SHARE_OF_U: f64 = 0.1;
+/// The tread model is rebuilt at a speed once h has moved this much since \[m\].
+const HEIGHT_REBUILD_M: f64 = 1e-5;
+/// Table points of ε per revolution per feedback order.
+const TABLE_POINTS_PER_ORDER: usize = 8;
+/// Most steps a run may take (a guard against a step rule that stalls).
+const MAX_STEPS: usize = 20_000;
+
+/// How the loop runs (the physics constants are parameters; these are the numerics and the
+/// run's length).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct LoopSettings {
+    /// Profile cells M.
+    pub cells: usize,
+    /// Energy samples per revolution (each laid at its interval's centre angle, so the
+    /// interval acts as one more box filter of its length: 1/4 of a cell's 1.95 mm... see
+    /// MODEL.md#the-long-term-loop).
+    pub samples_per_rev: usize,
+    /// Distance to run \[km\].
+    pub distance_km: f64,
+    /// Largest step Δs_max \[km\].
+    pub max_step_km: f64,
+    /// Smallest step Δs_min \[km\] (also the first step).
+    pub min_step_km: f64,
+    /// Revolutions integrated and not measured after each profile update, N_skip.
+    pub skip_revs: usize,
+    /// Whether the tread height falls with the wear (f rises roughly as 1/h).
+    pub update_tread_height: bool,
+    /// Relative tolerance of the windows' integration.
+    pub rtol: f64,
+    /// Seed of the seed profile's phases.
+    pub seed: u64,
+    /// Where the friction power wears the tread.
+    pub zone: WearZone,
+    /// Stop once a polygon is visible (else run the whole distance).
+    pub stop_at_visible: bool,
+}
+
+impl Default for LoopSettings {
+    fn default() -> Self {
+        LoopSettings {
+            cells: CELLS,
+            samples_per_rev: CELLS / 4,
+            distance_km: 60_000.0,
+            max_step_km: 500.0,
+            min_step_km: 20.0,
+            skip_revs: 2,
+            update_tread_height: true,
+            rtol: 1e-7,
+            seed: 1,
+            zone: WearZone::DEFAULT,
+            stop_at_visible: true,
+        }
+    }
+}
+
+/// What the loop needs about one wheel.
+#[derive(Debug, Clone, Copy)]
+pub struct LoopInputs<'a> {
+    /// The wheel's parameters (the speed is each leg's; the tread height is the new tyre's).
+    pub params: &'a Params,
+    /// Which wheel.
+    pub wheel: Wheel,
+    /// Friction variant.
+    pub variant: Variant,
+    /// The run's abradability γ \[m³/J\] (for the φ_s of `params`).
+    pub gamma_m3_per_j: f64,
+    /// The usage.
+    pub legs: &'a [Leg],
+    /// The state (z, y, v) to start from: a point of the cycle the classifier found where the
+    /// wheel vibrates; `None` starts at the equilibrium of the first leg.
+    pub start: Option<[f64; 3]>,
+}
+
+/// The state of the run after one accepted step.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct HistoryPoint {
+    /// Distance run \[km\].
+    pub distance_km: f64,
+    /// Tread height h \[m\].
+    pub tread_height_m: f64,
+    /// D_n = 2|R_n| of orders 1 ..= [`FEEDBACK_ORDERS`] \[m\].
+    pub depths_m: Vec<f64>,
+    /// dD_n/ds of the same orders over the step that led here \[m/m\] (0 at the start).
+    pub depth_rate_m_per_m: Vec<f64>,
+    /// β_n = d ln|R_n|/ds over that step \[1/m\] (0 at the start).
+    pub growth_per_m: Vec<f64>,
+    /// The rotation number ρ of each leg's window in that step (NaN: no cycle).
+    pub rho: Vec<f64>,
+    /// Whether each leg's window was locked (ρ a whole number to 1e-3).
+    pub locked: Vec<bool>,
+}
+
+/// The result of the loop for one wheel.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct WheelWear {
+    /// The wheel.
+    pub wheel: Wheel,
+    /// The usage it ran.
+    pub legs: Vec<Leg>,
+    /// The start and every accepted step.
+    pub history: Vec<HistoryPoint>,
+    /// The depth profile d(θ) \[m\] at a few distances \[km\], the start and the end included.
+    pub profiles: Vec<(f64, Vec<f64>)>,
+    /// The first order to reach d_visible and the distance \[km\] at which it did (interpolated
+    /// exponentially within its step).
+    pub visible: Option<(u32, f64)>,
+    /// Straight-running friction energy laid onto the tread over the run \[J\].
+    pub energy_j: f64,
+    /// The volume that energy wore \[m³\] (γ times the energy, to rounding).
+    pub straight_volume_m3: f64,
+    /// The tread band b·2π r_B \[m²\] of the new tyre (volume / band / distance = even wear).
+    pub band_area_m2: f64,
+    /// The run's mean straight-running even wear \[m/m\].
+    pub even_wear_m_per_m: f64,
+    /// The seed's run-out per order R⁰ \[m\].
+    pub seed_m: f64,
+    /// Right-hand-side evaluations spent.
+    pub rhs_evals: u64,
+    /// Accepted steps.
+    pub steps: usize,
+    /// Steps redone at half length.
+    pub redone: usize,
+}
+
+/// The tread model of one leg at one tread height.
+struct LegModel {
+    height_m: f64,
+    params: Params,
+    model: WheelModel,
+    feedback: Feedback,
+    period_s: f64,
+}
+
+/// Everything that a redo restores.
+#[derive(Clone)]
+struct RunState {
+    profile: Profile,
+    height_m: f64,
+    /// The ODE state each leg's last window ended in (`None`: not visited yet).
+    x: Vec<Option<[f64; 3]>>,
+    /// The state the last window ended in, whichever leg it was.
+    last_x: [f64; 3],
+    distance_m: f64,
+    rho: Vec<f64>,
+    energy_j: f64,
+    straight_volume_m3: f64,
+    history_len: usize,
+}
+
+/// What one chunk measured.
+struct Chunk {
+    rate_m_per_m: Vec<f64>,
+    rho: f64,
+    locked: bool,
+}
+
+/// A step's distance-weighted wear rate per cell \[m/m\] and each leg's ρ and lock flag.
+type StepRates = (Vec<f64>, Vec<f64>, Vec<bool>);
+
+/// The lock signature of a step: per leg, locked and to which order.
+type Signature = Vec<(bool, i64)>;
+
+/// One wheel's run.
+struct Run<'a> {
+    inputs: LoopInputs<'a>,
+    settings: &'a LoopSettings,
+    models: Vec<Option<LegModel>>,
+    state: RunState,
+    first: bool,
+    rhs_evals: u64,
+}
+
+impl<'a> Run<'a> {
+    /// The model of leg `i` at the run's current tread height (rebuilt once h has moved).
+    fn leg_model(&mut self, i: usize) -> Result<&LegModel, WearError> {
+        let h = self.state.height_m;
+        let stale = match &self.models[i] {
+            Some(m) => (m.height_m - h).abs() > HEIGHT_REBUILD_M,
+            None => true,
+        };
+        if stale {
+            let speed_kmh = self.inputs.legs[i].speed_kmh;
+            let params = Params {
+                speed_kmh,
+                tread_height: h,
+                ..*self.inputs.params
+            };
+            let model = WheelModel::build(&params, self.inputs.wheel, self.inputs.variant)
+                .map_err(|e| self.failure(speed_kmh, e.to_string()))?;
+            let feedback = Feedback::new(&params, &model, self.settings.zone);
+            let period_s = 1.0 / model.ode.linear_stability().eig_freq_hz;
+            self.models[i] = Some(LegModel {
+                height_m: h,
+                params,
+                model,
+                feedback,
+                period_s,
+            });
+        }
+        Ok(self.models[i].as_ref().expect("built above"))
+    }
+
+    fn failure(&self, speed_kmh: f64, reason: String) -> WearError {
+        WearError::Loop {
+            speed_kmh,
+            distance_km: self.state.distance_m / 1e3,
+            reason,
+        }
+    }
+
+    /// Drives leg `i` for `chunk_m` metres at the current profile and lays its wear.
+    fn chunk(&mut self, i: usize, chunk_m: f64) -> Result<Chunk, WearError> {
+        let (settings, gamma) = (self.settings, self.inputs.gamma_m3_per_j);
+        let prev_rho = self.state.rho[i];
+        // A leg's first visit starts where the last window ended and settles onto its own
+        // cycle; later visits go on from the leg's own state, so that no window measures the
+        // slow relaxation of a cycle from another speed (which is not fixed to the tyre, and
+        // which the scaling would multiply).
+        let start_x = self.state.x[i];
+        let first = start_x.is_none();
+        self.first = false;
+        let radius = self.state.profile.radius_m();
+        let orders = FEEDBACK_ORDERS.min(radius.len() / 2 - 1);
+        let harmonics = harmonics_of(&radius, orders);
+        let lm = self.leg_model(i)?;
+        let (p, fb, ode, period_s) = (lm.params, lm.feedback, lm.model.ode, lm.period_s);
+        let width_m = lm.model.patch.width_m;
+        let table = EpsilonTable::new(&fb, &harmonics, TABLE_POINTS_PER_ORDER * orders);
+        let revs = if first {
+            WINDOW_REVS.1
+        } else {
+            window_revs(prev_rho)
+        };
+        let window = integrate_window(&WindowRequest {
+            ode: &ode,
+            epsilon: &table,
+            rotation_hz: WheelModel::rotation_hz(&p),
+            start: start_x.unwrap_or(self.state.last_x),
+            skip_revs: if first {
+                FIRST_SKIP_REVS
+            } else {
+                settings.skip_revs
+            },
+            revs,
+            samples_per_rev: settings.samples_per_rev,
+            rtol: settings.rtol,
+            period_s,
+            max_steps: 50_000_000,
+        })
+        .map_err(|e| self.failure(p.speed_kmh, e.to_string()))?;
+        let cycling = window.peak_v_mps > CYCLING_SHARE_OF_U * ode.u_mps;
+        let t_rev = 1.0 / WheelModel::rotation_hz(&p);
+        let rho = if cycling {
+            rotation_number(&window.crossings_s, t_rev)
+        } else {
+            f64::NAN
+        };
+        let weights = revolution_weights(window.energy_j.len(), rho);
+        let samples = settings.samples_per_rev;
+        let mut mean_j = vec![0.0; samples];
+        for (w, rev) in weights.iter().zip(&window.energy_j) {
+            for (m, e) in mean_j.iter_mut().zip(rev) {
+                *m += w * e;
+            }
+        }
+        let plan = DepositPlan::new(
+            &fb.zone,
+            p.r_b,
+            width_m,
+            &radius,
+            fb.local_per_m,
+            samples,
+            0.5,
+        );
+        let per_rev_m = plan.lay(gamma, &mean_j);
+        let rev_m = std::f64::consts::TAU * p.r_b;
+        let other_rate = (1.0 - p.wear_share_straight) * wear_rate_ref_m_per_m(&p);
+        let other = other_wear_m_per_m(&radius, fb.local_per_m, other_rate);
+        let rate: Vec<f64> = per_rev_m
+            .iter()
+            .zip(&other)
+            .map(|(d, o)| d / rev_m + o)
+            .collect();
+        let revs_driven = chunk_m / rev_m;
+        let cell_area = width_m * rev_m / radius.len() as f64;
+        self.state.energy_j += mean_j.iter().sum::<f64>() * revs_driven;
+        self.state.straight_volume_m3 += per_rev_m.iter().sum::<f64>() * cell_area * revs_driven;
+        for (d, r) in self.state.profile.depth_m.iter_mut().zip(&rate) {
+            *d += r * chunk_m;
+        }
+        if settings.update_tread_height {
+            self.state.height_m -= rate.iter().sum::<f64>() / rate.len() as f64 * chunk_m;
+        }
+        self.state.x[i] = Some(window.end);
+        self.state.last_x = window.end;
+        self.state.rho[i] = rho;
+        self.rhs_evals += window.rhs_evals as u64;
+        Ok(Chunk {
+            rate_m_per_m: rate,
+            rho,
+            locked: cycling && is_locked(rho),
+        })
+    }
+
+    /// One step of `step_m` over every leg; returns the distance-weighted wear rate per cell
+    /// and each leg's (ρ, lock flag).
+    fn step(&mut self, step_m: f64) -> Result<StepRates, WearError> {
+        let legs = self.inputs.legs;
+        let mut rate = vec![0.0; self.state.profile.cells()];
+        let (mut rho, mut locked) = (Vec::new(), Vec::new());
+        for (i, leg) in legs.iter().enumerate() {
+            let c = self.chunk(i, leg.share * step_m)?;
+            for (r, c) in rate.iter_mut().zip(&c.rate_m_per_m) {
+                *r += leg.share * c;
+            }
+            rho.push(c.rho);
+            locked.push(c.locked);
+        }
+        self.state.distance_m += step_m;
+        Ok((rate, rho, locked))
+    }
+}
+
+/// The lock signature that a step must not change without being redone: per leg, the lock
+/// flag and, where locked, the order it is locked to. (An unlocked ρ drifts on with the tread
+/// height and the growing profile; its nearest order changing is not an event to resolve.)
+fn signature(rho: &[f64], locked: &[bool]) -> Signature {
+    rho.iter()
+        .zip(locked)
+        .map(|(r, l)| (*l, if *l { r.round() as i64 } else { -1 }))
+        .collect()
+}
+
+/// D_n, dD_n/ds and β_n of orders 1..=`orders` for the profile `profile` under the wear rate
+/// `rate_m_per_m` per cell.
+fn harmonic_rates(
+    profile: &Profile,
+    rate_m_per_m: &[f64],
+    orders: usize,
+) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let r = profile.harmonics(orders);
+    let mean = rate_m_per_m.iter().sum::<f64>() / rate_m_per_m.len() as f64;
+    let dr_rate: Vec<f64> = rate_m_per_m.iter().map(|x| -(x - mean)).collect();
+    let dr = harmonics_of(&dr_rate, orders);
+    let mut depth = Vec::with_capacity(orders);
+    let mut d_rate = Vec::with_capacity(orders);
+    let mut beta = Vec::with_capacity(orders);
+    for (rn, drn) in r.iter().zip(&dr) {
+        let a = rn.norm();
+        let along = (drn * rn.conj()).re;
+        depth.push(2.0 * a);
+        d_rate.push(if a > 0.0 {
+            2.0 * along / a
+        } else {
+            2.0 * drn.norm()
+        });
+        beta.push(if a > 0.0 { along / (a * a) } else { 0.0 });
+    }
+    (depth, d_rate, beta)
+}
+
+/// Orders shallower than this share of the deepest take no part in the step rule: their β is
+/// the ratio of two roundings.
+const STEP_RULE_DEPTH_SHARE: f64 = 0.01;
+
+/// The next step \[m\]: Δs_max, 0.1 |R|max/|dR/ds|max, 0.2/|β|max (over the orders at least
+/// [`STEP_RULE_DEPTH_SHARE`] of the deepest) and 1 µm of profile change, never below Δs_min.
+fn next_step_m(settings: &LoopSettings, point: &HistoryPoint, rate_spread_m_per_m: f64) -> f64 {
+    let depth = point.depths_m.iter().fold(0.0f64, |m, d| m.max(*d));
+    let significant = |i: &usize| point.depths_m[*i] >= STEP_RULE_DEPTH_SHARE * depth;
+    let max_abs = |v: &[f64]| {
+        (0..v.len())
+            .filter(significant)
+            .fold(0.0f64, |m, i| m.max(v[i].abs()))
+    };
+    let d_rate = max_abs(&point.depth_rate_m_per_m);
+    let beta = max_abs(&point.growth_per_m);
+    let mut step = settings.max_step_km * 1e3;
+    if d_rate > 0.0 {
+        step = step.min(0.1 * depth / d_rate);
+    }
+    if beta > 0.0 {
+        step = step.min(0.2 / beta);
+    }
+    if rate_spread_m_per_m > 0.0 {
+        step = step.min(1e-6 / rate_spread_m_per_m);
+    }
+    step.max(settings.min_step_km * 1e3)
+}
+
+/// Runs the long-term loop for one wheel. `progress` is told each accepted step's distance
+/// \[km\] (from any thread).
+pub fn run_wheel(
+    inputs: &LoopInputs<'_>,
+    settings: &LoopSettings,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<WheelWear, WearError> {
+    let p = inputs.params;
+    let seed_m = p.seed_runout_um * 1e-6;
+    let profile = Profile::seeded(settings.cells, seed_m, settings.seed);
+    let orders = FEEDBACK_ORDERS.min(settings.cells / 2 - 1);
+    let mut run = Run {
+        inputs: *inputs,
+        settings,
+        models: (0..inputs.legs.len()).map(|_| None).collect(),
+        state: RunState {
+            profile,
+            height_m: p.tread_height,
+            x: vec![None; inputs.legs.len()],
+            last_x: [0.0; 3],
+            distance_m: 0.0,
+            rho: vec![f64::NAN; inputs.legs.len()],
+            energy_j: 0.0,
+            straight_volume_m3: 0.0,
+            history_len: 1,
+        },
+        first: true,
+        rhs_evals: 0,
+    };
+    let first_model = run.leg_model(0)?;
+    let band_area_m2 = first_model.model.patch.width_m * std::f64::consts::TAU * p.r_b;
+    run.state.last_x = inputs
+        .start
+        .unwrap_or_else(|| first_model.model.ode.equilibrium());
+    let (depths, _, _) = harmonic_rates(&run.state.profile, &vec![0.0; settings.cells], orders);
+    let mut history = vec![HistoryPoint {
+        distance_km: 0.0,
+        tread_height_m: p.tread_height,
+        depths_m: depths,
+        depth_rate_m_per_m: vec![0.0; orders],
+        growth_per_m: vec![0.0; orders],
+        rho: vec![f64::NAN; inputs.legs.len()],
+        locked: vec![false; inputs.legs.len()],
+    }];
+    let mut profiles = vec![(0.0, run.state.profile.depth_m.clone())];
+    let total_m = settings.distance_km * 1e3;
+    let visible_m = p.visible_depth_mm * 1e-3;
+    let mut step_m = settings.min_step_km * 1e3;
+    // The state before the last accepted step, its length and the signature it was taken at.
+    let mut last: Option<(RunState, f64, Signature)> = None;
+    let (mut steps, mut redone) = (0usize, 0usize);
+    let mut visible = None;
+    while run.state.distance_m < total_m * (1.0 - 1e-12) && steps < MAX_STEPS {
+        let this_m = step_m.min(total_m - run.state.distance_m);
+        let before = run.state.clone();
+        let (rate, rho, locked) = run.step(this_m)?;
+        let sig = signature(&rho, &locked);
+        if let Some((prev_state, prev_m, prev_sig)) = &last {
+            let half = 0.5 * prev_m;
+            if *prev_sig != sig && half >= settings.min_step_km * 1e3 * (1.0 - 1e-12) {
+                // The previous step changed a lock flag or an order: redo it at half length.
+                run.state = prev_state.clone();
+                history.truncate(run.state.history_len);
+                profiles.retain(|(km, _)| *km <= run.state.distance_m / 1e3);
+                step_m = half;
+                last = None;
+                redone += 1;
+                continue;
+            }
+        }
+        steps += 1;
+        let (depths, d_rate, beta) = harmonic_rates(&before.profile, &rate, orders);
+        let _ = depths;
+        let (depths_now, _, _) = harmonic_rates(&run.state.profile, &rate, orders);
+        let prev_depths = history.last().expect("the start").depths_m.clone();
+        let point = HistoryPoint {
+            distance_km: run.state.distance_m / 1e3,
+            tread_height_m: run.state.height_m,
+            depths_m: depths_now,
+            depth_rate_m_per_m: d_rate,
+            growth_per_m: beta,
+            rho,
+            locked,
+        };
+        let mean = rate.iter().sum::<f64>() / rate.len() as f64;
+        let spread = rate.iter().fold(0.0f64, |m, r| m.max((r - mean).abs()));
+        step_m = next_step_m(settings, &point, spread);
+        if visible.is_none() {
+            visible = crossing(&prev_depths, &point.depths_m, visible_m, &before, this_m);
+        }
+        history.push(point);
+        run.state.history_len = history.len();
+        profiles.push((
+            run.state.distance_m / 1e3,
+            run.state.profile.depth_m.clone(),
+        ));
+        progress(this_m / 1e3);
+        last = Some((before, this_m, sig));
+        if visible.is_some() && settings.stop_at_visible {
+            break;
+        }
+    }
+    let distance_m = run.state.distance_m;
+    Ok(WheelWear {
+        wheel: inputs.wheel,
+        legs: inputs.legs.to_vec(),
+        profiles: pick_profiles(profiles, 5),
+        visible,
+        energy_j: run.state.energy_j,
+        straight_volume_m3: run.state.straight_volume_m3,
+        band_area_m2,
+        even_wear_m_per_m: run.state.straight_volume_m3 / (band_area_m2 * distance_m.max(1e-300)),
+        seed_m,
+        rhs_evals: run.rhs_evals,
+        steps,
+        redone,
+        history,
+    })
+}
+
+/// The first order whose depth crossed `visible_m` in a step of `step_m` from `before`, and
+/// where (exponential interpolation between the depths at the step's ends) \[km\].
+fn crossing(
+    prev: &[f64],
+    now: &[f64],
+    visible_m: f64,
+    before: &RunState,
+    step_m: f64,
+) -> Option<(u32, f64)> {
+    let (n, (d0, d1)) = prev
+        .iter()
+        .zip(now)
+        .enumerate()
+        .filter(|(_, (_, d1))| **d1 >= visible_m)
+        .max_by(|a, b| (a.1 .1).total_cmp(b.1 .1))?;
+    let share = if *d0 > 0.0 && d1 > d0 && *d0 < visible_m {
+        (visible_m / d0).ln() / (d1 / d0).ln()
+    } else {
+        1.0
+    };
+    Some(((n + 1) as u32, (before.distance_m + share * step_m) / 1e3))
+}
+
+/// At most `count` of `profiles`: the first, the last and those nearest to evenly spaced
+/// distances between.
+fn pick_profiles(profiles: Vec<(f64, Vec<f64>)>, count: usize) -> Vec<(f64, Vec<f64>)> {
+    if profiles.len() <= count {
+        return profiles;
+    }
+    let last = profiles.last().map(|p| p.0).unwrap_or(0.0);
+    let mut picked: Vec<usize> = (0..count)
+        .map(|k| {
+            let target = last * k as f64 / (count - 1) as f64;
+            (0..profiles.len())
+                .min_by(|a, b| {
+                    (profiles[*a].0 - target)
+                        .abs()
+                        .total_cmp(&(profiles[*b].0 - target).abs())
+                })
+                .expect("not empty")
+        })
+        .collect();
+    picked.dedup();
+    picked.into_iter().map(|i| profiles[i].clone()).collect()
+}
+
+impl WheelWear {
+    /// The last history point.
+    pub fn end(&self) -> &HistoryPoint {
+        self.history.last().expect("the start is always there")
+    }
+
+    /// The order with the deepest polygon at the end (1-based).
+    pub fn dominant_order(&self) -> u32 {
+        let d = &self.end().depths_m;
+        (0..d.len())
+            .max_by(|a, b| d[*a].total_cmp(&d[*b]))
+            .map(|i| i as u32 + 1)
+            .unwrap_or(1)
+    }
+
+    /// The distance run \[km\].
+    pub fn distance_km(&self) -> f64 {
+        self.end().distance_km
+    }
+
+    /// Whether every order is at most its seed depth 2R⁰ at the end and none grows: no polygon.
+    pub fn levels_out(&self) -> bool {
+        let e = self.end();
+        let seed = 2.0 * self.seed_m;
+        e.depths_m.iter().all(|d| *d <= seed * (1.0 + 1e-9))
+            && e.growth_per_m.iter().all(|b| *b <= 0.0)
+    }
+
+    /// The distance to a visible polygon \[km\]: where one became visible; else, if the
+    /// dominant order still grows, the end of the run plus its exponential extrapolation;
+    /// else +inf.
+    pub fn distance_to_visible_km(&self, visible_m: f64) -> f64 {
+        if let Some((_, km)) = self.visible {
+            return km;
+        }
+        let n = self.dominant_order() as usize - 1;
+        let e = self.end();
+        let (d, beta) = (e.depths_m[n], e.growth_per_m[n]);
+        if beta > 0.0 && d > 0.0 {
+            e.distance_km + (visible_m / d).ln() / beta / 1e3
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// The depth \[m\] at which the dominant order stopped growing: its depth at the end where
+    /// its growth fell below a tenth of its largest, NaN where it still grows or never grew.
+    pub fn saturation_depth_m(&self) -> f64 {
+        let n = self.dominant_order() as usize - 1;
+        let peak = self
+            .history
+            .iter()
+            .fold(0.0f64, |m, h| m.max(h.growth_per_m[n]));
+        let e = self.end();
+        if peak > 0.0 && e.growth_per_m[n] < 0.1 * peak && e.depths_m[n] > 2.0 * self.seed_m {
+            e.depths_m[n]
+        } else {
+            f64::NAN
+        }
+    }
+
+    /// The leg locked at the end with the largest share, as its speed \[km/h\].
+    pub fn locked_speed_kmh(&self) -> Option<f64> {
+        let e = self.end();
+        self.legs
+            .iter()
+            .zip(&e.locked)
+            .filter(|(_, l)| **l)
+            .max_by(|a, b| a.0.share.total_cmp(&b.0.share))
+            .map(|(leg, _)| leg.speed_kmh)
+    }
+}
+
+/// The growth rate of harmonic `n` from the history between two distances \[1/m\]:
+/// ln(D(s₂)/D(s₁))/(s₂ − s₁) at the nearest history points.
+pub fn measured_growth_per_m(wear: &WheelWear, order: u32, from_km: f64, to_km: f64) -> f64 {
+    let near = |km: f64| {
+        wear.history
+            .iter()
+            .min_by(|a, b| {
+                (a.distance_km - km)
+                    .abs()
+                    .total_cmp(&(b.distance_km - km).abs())
+            })
+            .expect("the start")
+    };
+    let (a, b) = (near(from_km), near(to_km));
+    let n = order as usize - 1;
+    (b.depths_m[n] / a.depths_m[n]).ln() / ((b.distance_km - a.distance_km) * 1e3)
+}
+
+/// The complex harmonic amplitudes R_1..=R_`orders` of a depth profile (r = −(d − d̄)).
+pub fn profile_harmonics(depth_m: &[f64], orders: usize) -> Vec<Complex64> {
+    Profile {
+        depth_m: depth_m.to_vec(),
+    }
+    .harmonics(orders)
+}
