@@ -358,7 +358,7 @@ fn figures(o: &WheelOutcome<'_>, p: &Params) -> Figures {
         lock_halfwidth_hz,
         even: run.even_wear_m_per_m * 1e9,
         growth_mm: e.depth_rate_m_per_m[i] * 1e9,
-        growth_rate: e.growth_per_m[i] * 1e6,
+        growth_rate: run.linear_growth_per_m(n) * 1e6,
         saturation_mm: run.saturation_depth_m() * 1e3,
         distance_km: run.distance_to_visible_km(p.visible_depth_mm * 1e-3),
     }

@@ -661,6 +661,27 @@ impl WheelWear {
         }
     }
 
+    /// The growth rate of `order` in its linear regime \[1/m\]: ln(D(s₁)/D(0))/s₁ from the start
+    /// to the first history point where the order is [`LINEAR_REGIME_SEEDS`] seeds deep (the end
+    /// if it never is), the figure the estimator's β̄ predicts (MODEL.md#the-per-sample-estimator);
+    /// NaN where the order has no seed.
+    pub fn linear_growth_per_m(&self, order: u32) -> f64 {
+        let n = order as usize - 1;
+        let start = &self.history[0];
+        let deep = LINEAR_REGIME_SEEDS * 2.0 * self.seed_m;
+        let stop = self
+            .history
+            .iter()
+            .skip(1)
+            .find(|h| h.depths_m[n] >= deep)
+            .unwrap_or_else(|| self.end());
+        let ds_m = (stop.distance_km - start.distance_km) * 1e3;
+        if start.depths_m[n] <= 0.0 || ds_m <= 0.0 {
+            return f64::NAN;
+        }
+        (stop.depths_m[n] / start.depths_m[n]).ln() / ds_m
+    }
+
     /// The leg locked at the end with the largest share, as its speed \[km/h\].
     pub fn locked_speed_kmh(&self) -> Option<f64> {
         let e = self.end();
@@ -672,6 +693,10 @@ impl WheelWear {
             .map(|(leg, _)| leg.speed_kmh)
     }
 }
+
+/// How many seeds deep an order may grow before its growth is no longer linear
+/// ([`WheelWear::linear_growth_per_m`]).
+pub const LINEAR_REGIME_SEEDS: f64 = 5.0;
 
 /// The growth rate of harmonic `n` from the history between two distances \[1/m\]:
 /// ln(D(s₂)/D(s₁))/(s₂ − s₁) at the nearest history points.
