@@ -434,6 +434,54 @@ fn next_step_m(settings: &LoopSettings, point: &HistoryPoint, rate_spread_m_per_
     step.max(settings.min_step_km * 1e3)
 }
 
+impl<'a> Run<'a> {
+    /// The run at distance 0: the seeded profile, the first leg's model and equilibrium (or
+    /// the given start), the first history point, and the tread band's area \[m²\].
+    fn start(
+        inputs: &LoopInputs<'a>,
+        settings: &'a LoopSettings,
+        orders: usize,
+    ) -> Result<(Self, HistoryPoint, f64), WearError> {
+        let p = inputs.params;
+        let seed_m = p.seed_runout_um * 1e-6;
+        let profile = Profile::seeded(settings.cells, seed_m, settings.seed);
+        let mut run = Run {
+            inputs: *inputs,
+            settings,
+            models: (0..inputs.legs.len()).map(|_| None).collect(),
+            state: RunState {
+                profile,
+                height_m: p.tread_height,
+                x: vec![None; inputs.legs.len()],
+                last_x: [0.0; 3],
+                distance_m: 0.0,
+                rho: vec![f64::NAN; inputs.legs.len()],
+                energy_j: 0.0,
+                straight_volume_m3: 0.0,
+                history_len: 1,
+            },
+            first: true,
+            rhs_evals: 0,
+        };
+        let first_model = run.leg_model(0)?;
+        let band_area_m2 = first_model.model.patch.width_m * std::f64::consts::TAU * p.r_b;
+        run.state.last_x = inputs
+            .start
+            .unwrap_or_else(|| first_model.model.ode.equilibrium());
+        let (depths, _, _) = harmonic_rates(&run.state.profile, &vec![0.0; settings.cells], orders);
+        let start = HistoryPoint {
+            distance_km: 0.0,
+            tread_height_m: p.tread_height,
+            depths_m: depths,
+            depth_rate_m_per_m: vec![0.0; orders],
+            growth_per_m: vec![0.0; orders],
+            rho: vec![f64::NAN; inputs.legs.len()],
+            locked: vec![false; inputs.legs.len()],
+        };
+        Ok((run, start, band_area_m2))
+    }
+}
+
 /// Runs the long-term loop for one wheel. `progress` is told each accepted step's distance
 /// \[km\] (from any thread).
 pub fn run_wheel(
@@ -443,41 +491,9 @@ pub fn run_wheel(
 ) -> Result<WheelWear, WearError> {
     let p = inputs.params;
     let seed_m = p.seed_runout_um * 1e-6;
-    let profile = Profile::seeded(settings.cells, seed_m, settings.seed);
     let orders = FEEDBACK_ORDERS.min(settings.cells / 2 - 1);
-    let mut run = Run {
-        inputs: *inputs,
-        settings,
-        models: (0..inputs.legs.len()).map(|_| None).collect(),
-        state: RunState {
-            profile,
-            height_m: p.tread_height,
-            x: vec![None; inputs.legs.len()],
-            last_x: [0.0; 3],
-            distance_m: 0.0,
-            rho: vec![f64::NAN; inputs.legs.len()],
-            energy_j: 0.0,
-            straight_volume_m3: 0.0,
-            history_len: 1,
-        },
-        first: true,
-        rhs_evals: 0,
-    };
-    let first_model = run.leg_model(0)?;
-    let band_area_m2 = first_model.model.patch.width_m * std::f64::consts::TAU * p.r_b;
-    run.state.last_x = inputs
-        .start
-        .unwrap_or_else(|| first_model.model.ode.equilibrium());
-    let (depths, _, _) = harmonic_rates(&run.state.profile, &vec![0.0; settings.cells], orders);
-    let mut history = vec![HistoryPoint {
-        distance_km: 0.0,
-        tread_height_m: p.tread_height,
-        depths_m: depths,
-        depth_rate_m_per_m: vec![0.0; orders],
-        growth_per_m: vec![0.0; orders],
-        rho: vec![f64::NAN; inputs.legs.len()],
-        locked: vec![false; inputs.legs.len()],
-    }];
+    let (mut run, start, band_area_m2) = Run::start(inputs, settings, orders)?;
+    let mut history = vec![start];
     let mut profiles = vec![(0.0, run.state.profile.depth_m.clone())];
     let total_m = settings.distance_km * 1e3;
     let visible_m = p.visible_depth_mm * 1e-3;
