@@ -745,3 +745,73 @@ fn field_calibration_holds() {
         visible.len()
     );
 }
+
+/// P3, a speed spread slowing a fixed order until it stops: at the shipped φ_s, the default
+/// point's follower grows its fastest order without a spread, and a wider spread slows that
+/// order until it levels out (β ≤ 0) within 10 km/h.
+#[test]
+fn a_speed_spread_slows_a_fixed_order_until_it_stops() {
+    let p = Params {
+        speed_spread_kmh: 0.0,
+        ..Params::default()
+    };
+    let (e, g, _) = estimated(&p, Wheel::Follower, WearZone::Trailing);
+    let n = e.polygon_order_dominant as u32;
+    let share = p.wear_share_straight;
+    let at = |kmh: f64| g.order_with(n, share, kmh / 3.6).growth_rate_per_1000km;
+    assert!(
+        at(0.0) > 0.0,
+        "order {n} grows without a spread: {}",
+        at(0.0)
+    );
+    let spreads = [2.0, 3.0, 5.0, 8.0, 10.0];
+    let rates: Vec<f64> = spreads.iter().map(|&s| at(s)).collect();
+    for w in rates.windows(2) {
+        assert!(w[1] < w[0], "a wider spread slows order {n}: {rates:?}");
+    }
+    assert!(
+        rates.iter().any(|&b| b <= 0.0),
+        "order {n} stops growing within 10 km/h: {rates:?}"
+    );
+}
+
+/// P2, lock-in only inside a tongue whose width grows with the depth: without a spread, a
+/// vibrating wheel's order n is locked exactly where its speed lies within the tongue around
+/// V_n = V ν/n, and the tongue's half-width is proportional to the seed run-out R⁰.
+#[test]
+fn lock_in_only_inside_a_tongue_that_widens_with_the_depth() {
+    let p = r0(1.0);
+    let (e, _, _) = estimated(&p, Wheel::Follower, WearZone::Trailing);
+    let n = e.polygon_order_dominant as u32;
+    let half = |seed_um: f64| {
+        let q = Params {
+            seed_runout_um: seed_um,
+            ..p
+        };
+        let (_, g, _) = estimated(&q, Wheel::Follower, WearZone::Trailing);
+        g.order_with(n, 1.0, 0.0)
+    };
+    let (one, two, four) = (half(1.0), half(2.0), half(4.0));
+    assert!(one.lock_halfwidth_kmh > 0.0, "{one:?}");
+    assert!((two.lock_halfwidth_kmh / one.lock_halfwidth_kmh - 2.0).abs() < 1e-9);
+    assert!((four.lock_halfwidth_kmh / one.lock_halfwidth_kmh - 4.0).abs() < 1e-9);
+    // A speed inside and one outside the tongue's edge, with no spread, are locked and not.
+    let nu = e.detuning_rev + n as f64;
+    let centre = p.speed_kmh * nu / n as f64;
+    for (inside, offset) in [(true, 0.5), (false, 1.5)] {
+        let speed = centre + offset * two.lock_halfwidth_kmh;
+        let q = Params {
+            speed_kmh: speed,
+            ..p
+        };
+        let (_, g, _) = estimated(&q, Wheel::Follower, WearZone::Trailing);
+        let o = g.order_with(n, 1.0, 0.0);
+        // The tongue moves with the speed only through ν, which changes little over a fraction
+        // of a km/h: the share is exactly 1 inside and 0 outside.
+        assert_eq!(
+            o.locked_share,
+            if inside { 1.0 } else { 0.0 },
+            "{speed} km/h: {o:?}"
+        );
+    }
+}
