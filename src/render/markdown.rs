@@ -7,9 +7,8 @@ use std::fmt::Write as _;
 
 use super::drivers::{drivers_section, robustness_section, severity_section};
 use super::fleet::fleet_section;
-use super::words::{pct, rel};
+use super::words::{mcnemar_text, pct, rel};
 use super::Figures;
-use crate::analysis::stats::format_p;
 use crate::analysis::Analysis;
 use crate::classify::Class;
 use crate::model::Variant;
@@ -177,15 +176,6 @@ fn occurrence_section(s: &mut String, a: &Analysis) {
         );
     }
     let _ = writeln!(s, "\nTables: `occurrence.csv`, `occurrence.parquet`.\n");
-}
-
-/// McNemar's p-value in words: "n/a (no discordant pairs)" when there is nothing to test.
-pub(crate) fn mcnemar_text(p: &crate::analysis::paired::Paired) -> String {
-    if p.p_value.is_nan() {
-        "n/a (no discordant pairs)".into()
-    } else {
-        format!("{} ({})", format_p(p.p_value), p.method)
-    }
 }
 
 fn paired_section(s: &mut String, a: &Analysis) {

@@ -2,6 +2,7 @@
 //! figures ([`figures`]) and `report.md` ([`markdown`]), which ties them together in words. It
 //! computes nothing; everything it shows is in the `Analysis`.
 
+mod columns;
 pub mod drivers;
 pub mod figures;
 pub mod fleet;

@@ -5,6 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
+use super::columns::{count_col, f64_col, str_col};
 use super::RenderError;
 use crate::analysis::conditional::BinStat;
 use crate::analysis::counts::ClassCounts;
@@ -143,18 +144,6 @@ pub(super) fn write_tables(
     write_table(&pq, cols, meta).map_err(|e| RenderError::Write(e.to_string()))?;
     files.push(pq);
     Ok(())
-}
-
-pub(super) fn count_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> u64) -> Column {
-    Column::i64(name, "", rows.iter().map(|r| f(r) as i64).collect())
-}
-
-pub(super) fn f64_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> f64) -> Column {
-    Column::f64(name, "", rows.iter().map(f).collect())
-}
-
-pub(super) fn str_col<T>(name: &str, rows: &[T], f: impl Fn(&T) -> String) -> Column {
-    Column::str(name, rows.iter().map(f).collect())
 }
 
 /// The class-count columns every probability table carries: classified rows (`samples`),

@@ -6,7 +6,7 @@
 
 use std::fmt::Write as _;
 
-use super::words::{pct, rel};
+use super::words::{mcnemar_text, pct, rel};
 use super::Figures;
 use crate::analysis::paired::Paired;
 use crate::analysis::rows::SampleWeight;
@@ -227,7 +227,7 @@ fn paired_table(s: &mut String, w: &WearAnalysis) {
             p.both,
             p.neither,
             p.unclassified,
-            super::markdown::mcnemar_text(p)
+            mcnemar_text(p)
         );
     }
     let _ = writeln!(

@@ -3,7 +3,7 @@
 //! (`wear_conditional`), cell (`wear_riskmap_<x>_<y>`), quantity (`wear_severity`), order
 //! (`wear_orders`) and operating point (`wear_fleet_rows`).
 
-use super::tables::{count_col, f64_col, str_col};
+use super::columns::{count_col, f64_col, str_col};
 use crate::analysis::counts::WithinCounts;
 use crate::analysis::wear_risk::{WearAnalysis, WearMap};
 use crate::model::Wheel;
