@@ -3,15 +3,17 @@
 use std::collections::BTreeMap;
 
 use super::bins::Bins;
-use super::counts::ClassCounts;
+use super::counts::{ClassCounts, RiskCounts};
 use super::rows::{GroupKey, Rows};
 use super::AnalysisError;
 use crate::model::{Variant, Wheel};
 use crate::params::ParamId;
 
-/// Probability in one bin of one axis.
+/// Probability in one bin of one axis. The vibration analysis counts rows per class
+/// ([`ClassCounts`], the default); the wear analysis counts wheels within a distance
+/// ([`crate::analysis::counts::WithinCounts`]).
 #[derive(Debug, Clone, PartialEq)]
-pub struct BinStat {
+pub struct BinStat<C = ClassCounts> {
     /// The friction variant.
     pub variant: Variant,
     /// The wheel.
@@ -24,26 +26,43 @@ pub struct BinStat {
     pub hi: f64,
     /// Middle of the bin, where the figure plots it.
     pub mid: f64,
-    /// Rows per class in the bin.
-    pub counts: ClassCounts,
+    /// What the bin counts.
+    pub counts: C,
 }
 
 /// P(vibration | axis in bin), per variant, wheel and bin of one axis: every bin of every
 /// (variant, wheel) present, empty bins included.
 pub fn conditional(rows: &Rows, axis: ParamId, bins: &Bins) -> Result<Vec<BinStat>, AnalysisError> {
     let groups = rows.class_counts(&[GroupKey::Bin(axis.name(), bins)])?;
-    let mut map: BTreeMap<(Variant, Wheel, i64), ClassCounts> = BTreeMap::new();
-    for g in &groups {
-        map.entry((g.variant, g.wheel, g.bins[0]))
-            .or_default()
-            .merge(&g.counts);
+    Ok(bins_of_groups(
+        groups
+            .iter()
+            .map(|g| (g.variant, g.wheel, g.bins[0], &g.counts)),
+        axis,
+        bins,
+    ))
+}
+
+/// Every bin of `bins` for every (variant, wheel) of `groups` (variant, wheel, bin index of a
+/// [`GroupKey::Bin`] key, counts), in variant, wheel and bin order, empty bins included; a bin
+/// index outside `bins` is left out.
+pub(crate) fn bins_of_groups<'a, C: RiskCounts + 'a>(
+    groups: impl IntoIterator<Item = (Variant, Wheel, i64, &'a C)>,
+    axis: ParamId,
+    bins: &Bins,
+) -> Vec<BinStat<C>> {
+    let mut map: BTreeMap<(Variant, Wheel), Vec<C>> = BTreeMap::new();
+    for (variant, wheel, bin, counts) in groups {
+        let per_bin = map
+            .entry((variant, wheel))
+            .or_insert_with(|| vec![C::default(); bins.count()]);
+        if let Some(c) = usize::try_from(bin).ok().and_then(|i| per_bin.get_mut(i)) {
+            c.merge(counts);
+        }
     }
-    let mut keys: Vec<(Variant, Wheel)> = groups.iter().map(|g| (g.variant, g.wheel)).collect();
-    keys.sort();
-    keys.dedup();
     let mut out = Vec::new();
-    for (variant, wheel) in keys {
-        for i in 0..bins.count() {
+    for ((variant, wheel), per_bin) in map {
+        for (i, counts) in per_bin.into_iter().enumerate() {
             let (lo, hi, mid) = bins.range(i);
             out.push(BinStat {
                 variant,
@@ -52,12 +71,9 @@ pub fn conditional(rows: &Rows, axis: ParamId, bins: &Bins) -> Result<Vec<BinSta
                 lo,
                 hi,
                 mid,
-                counts: map
-                    .get(&(variant, wheel, i as i64))
-                    .copied()
-                    .unwrap_or_default(),
+                counts,
             });
         }
     }
-    Ok(out)
+    out
 }

@@ -144,6 +144,52 @@ impl WithinCounts {
     }
 }
 
+/// What a cell of a risk map or a bin of a conditional probability counts: rows per class for
+/// the vibration analysis ([`ClassCounts`]), wheels within a distance for the wear analysis
+/// ([`WithinCounts`]). Each estimates one proportion with its Wilson interval, so the maps,
+/// bins and figures that show it are written once for both.
+pub trait RiskCounts: Copy + Default {
+    /// Adds another group's counts.
+    fn merge(&mut self, other: &Self);
+    /// The proportion; NaN without a denominator.
+    fn p(&self) -> f64;
+    /// 95% Wilson interval of [`RiskCounts::p`].
+    fn wilson(&self) -> (f64, f64);
+    /// Whether the denominator is at least `min_count` (and at least one): enough to show
+    /// [`RiskCounts::p`].
+    fn enough(&self, min_count: u64) -> bool;
+}
+
+impl RiskCounts for ClassCounts {
+    fn merge(&mut self, other: &Self) {
+        ClassCounts::merge(self, other);
+    }
+    fn p(&self) -> f64 {
+        ClassCounts::p(self)
+    }
+    fn wilson(&self) -> (f64, f64) {
+        ClassCounts::wilson(self)
+    }
+    fn enough(&self, min_count: u64) -> bool {
+        ClassCounts::enough(self, min_count)
+    }
+}
+
+impl RiskCounts for WithinCounts {
+    fn merge(&mut self, other: &Self) {
+        WithinCounts::merge(self, other);
+    }
+    fn p(&self) -> f64 {
+        WithinCounts::p(self)
+    }
+    fn wilson(&self) -> (f64, f64) {
+        WithinCounts::wilson(self)
+    }
+    fn enough(&self, min_count: u64) -> bool {
+        WithinCounts::enough(self, min_count)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

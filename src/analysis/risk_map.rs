@@ -3,19 +3,22 @@
 use std::collections::BTreeMap;
 
 use super::bins::Bins;
-use super::counts::ClassCounts;
+use super::counts::{ClassCounts, RiskCounts};
 use super::rows::{GroupKey, Rows};
 use super::AnalysisError;
 use crate::chart::WheelCurves;
 use crate::model::{Variant, Wheel};
 use crate::params::ParamId;
 
-/// Class counts per cell, indexed `[ix][iy]`.
-pub(crate) type CountGrid = Vec<Vec<ClassCounts>>;
+/// Counts per cell, indexed `[ix][iy]`.
+pub type Grid<C> = Vec<Vec<C>>;
 
-/// A risk map: class counts over a 2-D grid of bins of two axes, per wheel.
+/// A risk map: counts over a 2-D grid of bins of two axes, per wheel. The vibration analysis
+/// counts rows per class ([`ClassCounts`], the default); the wear analysis counts wheels within
+/// a distance over the same cells ([`crate::analysis::counts::WithinCounts`]), so both maps
+/// share their axes, bins and Hopf curves.
 #[derive(Debug, Clone)]
-pub struct RiskMap {
+pub struct RiskMap<C = ClassCounts> {
     /// The friction variant.
     pub variant: Variant,
     /// The parameter on the horizontal axis.
@@ -27,14 +30,14 @@ pub struct RiskMap {
     /// Bins of the vertical axis.
     pub y_bins: Bins,
     /// (wheel, `counts[ix][iy]`).
-    pub cells: Vec<(Wheel, CountGrid)>,
+    pub cells: Vec<(Wheel, Grid<C>)>,
     /// The Hopf curves of the run's nominal tire over the map's box (the study's median values
     /// elsewhere), when they can be traced: the stability boundary the map should follow.
     pub nominal: Option<Vec<WheelCurves>>,
 }
 
-impl RiskMap {
-    /// (cells where some wheel has at least `min_count` classified samples, all cells).
+impl<C: RiskCounts> RiskMap<C> {
+    /// (cells where some wheel has at least `min_count` samples counted, all cells).
     pub fn coverage(&self, min_count: u64) -> (usize, usize) {
         let cells = self.x_bins.count() * self.y_bins.count();
         let filled = (0..self.x_bins.count())
@@ -44,7 +47,7 @@ impl RiskMap {
         (filled, cells)
     }
 
-    /// Probability per cell, NaN where fewer than `min_count` classified samples fell.
+    /// Probability per cell, NaN where fewer than `min_count` samples are counted.
     pub fn probability(&self, wheel: Wheel, min_count: u64) -> Vec<Vec<f64>> {
         let Some((_, grid)) = self.cells.iter().find(|(w, _)| *w == wheel) else {
             return vec![vec![f64::NAN; self.y_bins.count()]; self.x_bins.count()];
@@ -56,6 +59,17 @@ impl RiskMap {
                     .collect()
             })
             .collect()
+    }
+
+    /// Every cell of every wheel: (wheel, ix, iy, counts), wheel by wheel, `ix` then `iy`.
+    pub fn each_cell(&self) -> impl Iterator<Item = (Wheel, usize, usize, C)> + '_ {
+        self.cells.iter().flat_map(|(wheel, grid)| {
+            grid.iter().enumerate().flat_map(move |(ix, col)| {
+                col.iter()
+                    .enumerate()
+                    .map(move |(iy, c)| (*wheel, ix, iy, *c))
+            })
+        })
     }
 }
 
@@ -78,27 +92,44 @@ pub(crate) fn draw_edges(b: &Bins) -> Vec<f64> {
 /// Risk maps of every variant over the axes `x` × `y` (without their nominal curves).
 pub(crate) fn risk_maps(
     rows: &Rows,
+    x: (ParamId, &Bins),
+    y: (ParamId, &Bins),
+) -> Result<Vec<RiskMap>, AnalysisError> {
+    let key = GroupKey::Cell(x.0.name(), x.1, y.0.name(), y.1);
+    let groups = rows.class_counts(&[key])?;
+    Ok(maps_of_cells(
+        groups
+            .iter()
+            .map(|g| (g.variant, g.wheel, g.bins[0], &g.counts)),
+        x,
+        y,
+    ))
+}
+
+/// One map per variant present in `cells` (variant, wheel, cell index of a
+/// [`GroupKey::Cell`] key, counts), both wheels each (a wheel without rows with empty cells),
+/// without their nominal curves; a cell index outside the grid is left out.
+pub(crate) fn maps_of_cells<'a, C: RiskCounts + 'a>(
+    cells: impl IntoIterator<Item = (Variant, Wheel, i64, &'a C)>,
     (x, xb): (ParamId, &Bins),
     (y, yb): (ParamId, &Bins),
-) -> Result<Vec<RiskMap>, AnalysisError> {
+) -> Vec<RiskMap<C>> {
     let ny = yb.count() as i64;
-    let empty = || vec![vec![ClassCounts::default(); yb.count()]; xb.count()];
-    let mut maps: BTreeMap<Variant, BTreeMap<Wheel, CountGrid>> = BTreeMap::new();
-    for g in rows.class_counts(&[GroupKey::Cell(x.name(), xb, y.name(), yb)])? {
+    let empty = || vec![vec![C::default(); yb.count()]; xb.count()];
+    let mut maps: BTreeMap<Variant, BTreeMap<Wheel, Grid<C>>> = BTreeMap::new();
+    for (variant, wheel, cell, counts) in cells {
         let grid = maps
-            .entry(g.variant)
+            .entry(variant)
             .or_default()
-            .entry(g.wheel)
+            .entry(wheel)
             .or_insert_with(empty);
-        let cell = g.bins[0];
         if let (Ok(ix), Ok(iy)) = (usize::try_from(cell / ny), usize::try_from(cell % ny)) {
             if ix < xb.count() && iy < yb.count() {
-                grid[ix][iy].merge(&g.counts);
+                grid[ix][iy].merge(counts);
             }
         }
     }
-    Ok(maps
-        .into_iter()
+    maps.into_iter()
         .map(|(variant, wheels)| RiskMap {
             variant,
             x,
@@ -111,5 +142,5 @@ pub(crate) fn risk_maps(
                 .collect(),
             nominal: None,
         })
-        .collect())
+        .collect()
 }

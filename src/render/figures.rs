@@ -4,6 +4,7 @@
 
 use super::RenderError;
 use crate::analysis::conditional::BinStat;
+use crate::analysis::counts::RiskCounts;
 use crate::analysis::risk_map::{draw_edges, RiskMap};
 use crate::analysis::severity::{Severity, SEVERITY_QUANTITIES};
 use crate::model::{Variant, Wheel};
@@ -20,34 +21,57 @@ pub fn conditional(
     bins: &[BinStat],
     min_count: u64,
 ) -> Result<(), RenderError> {
+    let words = BandWording {
+        what: "tread vibration".into(),
+        y_label: "Risk of vibration",
+    };
+    conditional_figure(file, variant, axes, label, bins, &words, min_count)
+}
+
+/// What a conditional-probability figure says of its outcome.
+pub(crate) struct BandWording {
+    /// The outcome in the title, after "Risk of": "tread vibration".
+    pub what: String,
+    /// The panels' y-axis title: "Risk of vibration".
+    pub y_label: &'static str,
+}
+
+/// P(outcome | parameter) along every axis of one variant, both wheels, 95% Wilson bands, in
+/// the words of `words`; bins with fewer than `min_count` samples counted are left out.
+pub(crate) fn conditional_figure<C: RiskCounts>(
+    file: &FigureFile,
+    variant: Variant,
+    axes: &[ParamId],
+    label: &dyn Fn(ParamId) -> String,
+    bins: &[BinStat<C>],
+    words: &BandWording,
+    min_count: u64,
+) -> Result<(), RenderError> {
     let cols = if axes.len() <= 4 { 2 } else { 3 };
     let rows = axes.len().div_ceil(cols).max(1);
     plot::panels(
         file,
         (520 * cols as u32, 360 * rows as u32 + 40),
         (rows, cols),
-        &format!("Risk of tread vibration by parameter ({variant} variant; shaded or bars: 95% interval)"),
+        &format!(
+            "Risk of {} by parameter ({variant} variant; shaded or bars: 95% interval)",
+            words.what
+        ),
         |i, area| {
             let Some(axis) = axes.get(i) else {
                 return Ok(());
             };
+            let of_axis = || bins.iter().filter(|b| b.axis == *axis);
             // Levels (lo = hi) are drawn as points: nothing lies between them.
-            let discrete = bins
-                .iter()
-                .filter(|b| b.axis == *axis)
-                .all(|b| b.lo == b.hi);
+            let discrete = of_axis().all(|b| b.lo == b.hi);
             let bands: Vec<maps::Band<'_>> = Wheel::BOTH
                 .iter()
                 .map(|wh| maps::Band {
                     label: wh.as_str(),
                     discrete,
-                    points: bins
-                        .iter()
+                    points: of_axis()
                         .filter(|b| {
-                            b.variant == variant
-                                && b.wheel == *wh
-                                && b.axis == *axis
-                                && b.counts.enough(min_count)
+                            b.variant == variant && b.wheel == *wh && b.counts.enough(min_count)
                         })
                         .map(|b| {
                             let (lo, hi) = b.counts.wilson();
@@ -56,13 +80,7 @@ pub fn conditional(
                         .collect(),
                 })
                 .collect();
-            maps::band_panel(
-                area,
-                &axis.label(),
-                &label(*axis),
-                "Risk of vibration",
-                &bands,
-            )
+            maps::band_panel(area, &axis.label(), &label(*axis), words.y_label, &bands)
         },
     )
     .map_err(RenderError::Figure)
@@ -84,25 +102,36 @@ struct MapPanel {
     bar_label: String,
 }
 
-/// What a risk map shows: its axes and bins, each wheel's probability per cell (NaN: too few),
-/// the nominal tire's Hopf curves, and the outcome in words.
-pub struct MapFigure<'a> {
-    /// The friction variant.
-    pub variant: Variant,
-    /// The horizontal axis and its bins.
-    pub x: (ParamId, &'a crate::analysis::bins::Bins),
-    /// The vertical axis and its bins.
-    pub y: (ParamId, &'a crate::analysis::bins::Bins),
-    /// Follower, driving: probability per cell `[ix][iy]`.
-    pub p: [Vec<Vec<f64>>; 2],
-    /// The nominal tire's Hopf curves over the box.
-    pub nominal: Option<&'a [crate::chart::WheelCurves]>,
-    /// The outcome, to follow "Risk of": "tread vibration", "a visible polygon within 40,000 km".
+/// What a risk map's figure says of its outcome.
+pub(crate) struct MapWording {
+    /// The outcome in the figure's title, after "Risk of": "tread vibration (polygonal wear)".
+    pub headline: String,
+    /// The outcome in the wheels' panel titles, after "Risk of": "tread vibration".
     pub what: String,
     /// The colour bar's label: "Risk of vibration \[%\]".
-    pub bar_label: String,
+    pub bar_label: &'static str,
+    /// What the title says of the lines before its note on grey cells: "lines: Hopf curves; ",
+    /// or nothing.
+    pub lines_note: &'static str,
+}
+
+/// What a risk map shows: its axes and bins, each wheel's probability per cell (NaN: too few),
+/// the nominal tire's Hopf curves, and the outcome in words.
+struct MapFigure<'a> {
+    /// The horizontal axis and its bins.
+    x: (ParamId, &'a crate::analysis::bins::Bins),
+    /// The vertical axis and its bins.
+    y: (ParamId, &'a crate::analysis::bins::Bins),
+    /// Follower, driving: probability per cell `[ix][iy]`.
+    p: [Vec<Vec<f64>>; 2],
+    /// The nominal tire's Hopf curves over the box.
+    nominal: Option<&'a [crate::chart::WheelCurves]>,
+    /// The outcome, to follow "Risk of": "tread vibration", "a polygon within 40,000 km".
+    what: &'a str,
+    /// The colour bar's label: "Risk of vibration \[%\]".
+    bar_label: &'a str,
     /// The figure's title.
-    pub title: String,
+    title: String,
 }
 
 /// The three panels of a risk map: each wheel's risk in percent, and the difference in
@@ -130,7 +159,7 @@ fn map_panels(fig: &MapFigure<'_>) -> [MapPanel; 3] {
         values,
         range: (0.0, 100.0),
         cmap: maps::viridis,
-        bar_label: fig.bar_label.clone(),
+        bar_label: fig.bar_label.to_string(),
     };
     [
         risk(format!("Risk of {}, follower wheel", fig.what), pf),
@@ -190,8 +219,25 @@ pub fn risk_map(
     label: &dyn Fn(ParamId) -> String,
     min_count: u64,
 ) -> Result<(), RenderError> {
+    let words = MapWording {
+        headline: "tread vibration (polygonal wear)".into(),
+        what: "tread vibration".into(),
+        bar_label: "Risk of vibration [%]",
+        lines_note: "",
+    };
+    map_figure(file, map, &words, label, min_count)
+}
+
+/// Draws a risk map's three panels ([`risk_map`]) in the words of `words`, whatever its cells
+/// count.
+pub(crate) fn map_figure<C: RiskCounts>(
+    file: &FigureFile,
+    map: &RiskMap<C>,
+    words: &MapWording,
+    label: &dyn Fn(ParamId) -> String,
+    min_count: u64,
+) -> Result<(), RenderError> {
     let fig = MapFigure {
-        variant: map.variant,
         x: (map.x, &map.x_bins),
         y: (map.y, &map.y_bins),
         p: [
@@ -199,27 +245,20 @@ pub fn risk_map(
             map.probability(Wheel::Driving, min_count),
         ],
         nominal: map.nominal.as_deref(),
-        what: "tread vibration".into(),
-        bar_label: "Risk of vibration [%]".into(),
+        what: &words.what,
+        bar_label: words.bar_label,
         title: format!(
-            "Risk of tread vibration (polygonal wear) over {} and {} ({} variant; grey: fewer than {min_count} samples)",
+            "Risk of {} over {} and {} ({} variant; {}grey: fewer than {min_count} samples)",
+            words.headline,
             map.x.label().to_lowercase(),
             map.y.label().to_lowercase(),
-            map.variant
+            map.variant,
+            words.lines_note,
         ),
     };
-    map_figure(file, &fig, label)
-}
-
-/// Draws a risk map's three panels ([`risk_map`]) from what it shows.
-pub fn map_figure(
-    file: &FigureFile,
-    fig: &MapFigure<'_>,
-    label: &dyn Fn(ParamId) -> String,
-) -> Result<(), RenderError> {
     let ((x, xb), (y, yb)) = (fig.x, fig.y);
     let overlays = map_overlays(fig.nominal);
-    let panels = map_panels(fig);
+    let panels = map_panels(&fig);
     let (xe, ye) = (draw_edges(xb), draw_edges(yb));
     plot::figure(file, (2100, 760), &fig.title, |area| {
         let parts = area.split_evenly((1, 3));

@@ -16,6 +16,8 @@ mod words;
 
 use std::path::{Path, PathBuf};
 
+use crate::analysis::counts::RiskCounts;
+use crate::analysis::risk_map::RiskMap;
 use crate::analysis::Analysis;
 use crate::model::Variant;
 use crate::params::ParamId;
@@ -164,17 +166,10 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
         figures::conditional(&f, variant, &axes, &label, &a.conditional, min_count)?;
         out.conditional.push((variant, f.path));
     }
-    for map in a.maps.iter().filter(|m| a.is_drawn(m)) {
-        let stem = format!("riskmap_{}_{}_{}", map.x, map.y, map.variant);
-        let f = FigureFile::named(dir, &stem, format);
-        figures::risk_map(&f, map, &label, min_count)?;
-        out.risk_maps.push(RiskMapFigure {
-            variant: map.variant,
-            x: map.x,
-            y: map.y,
-            path: f.path,
-        });
-    }
+    let drawn = a.maps.iter().filter(|m| a.is_drawn(m));
+    out.risk_maps = map_figures(drawn, (dir, "riskmap", format), &|f, map| {
+        figures::risk_map(f, map, &label, min_count)
+    })?;
     for variant in a.variants() {
         let f = FigureFile::named(dir, &format!("severity_{variant}"), format);
         figures::severity(&f, variant, &a.severity)?;
@@ -191,17 +186,9 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
             wear_figures::conditional(&f, variant, &axes, &label, w, min_count)?;
             out.wear_conditional.push((variant, f.path));
         }
-        for map in &w.maps {
-            let stem = format!("wear_riskmap_{}_{}_{}", map.x, map.y, map.variant);
-            let f = FigureFile::named(dir, &stem, format);
-            wear_figures::risk_map(&f, map, &label, min_count)?;
-            out.wear_maps.push(RiskMapFigure {
-                variant: map.variant,
-                x: map.x,
-                y: map.y,
-                path: f.path,
-            });
-        }
+        out.wear_maps = map_figures(w.maps.iter(), (dir, "wear_riskmap", format), &|f, map| {
+            wear_figures::risk_map(f, map, &label, min_count)
+        })?;
         let with_orders = |v: &Variant| w.orders.iter().any(|o| o.variant == *v);
         for variant in a.variants().into_iter().filter(with_orders) {
             let f = FigureFile::named(dir, &format!("wear_orders_{variant}"), format);
@@ -210,4 +197,25 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
         }
     }
     Ok(out)
+}
+
+/// One figure per map of `maps`, drawn by `draw`, each in `<prefix>_<x>_<y>_<variant>` of the
+/// folder and format of `to`: the vibration and the wear maps go through the same loop.
+fn map_figures<'a, C: RiskCounts + 'a>(
+    maps: impl Iterator<Item = &'a RiskMap<C>>,
+    (dir, prefix, format): (&Path, &str, FigureFormat),
+    draw: &dyn Fn(&FigureFile, &RiskMap<C>) -> Result<(), RenderError>,
+) -> Result<Vec<RiskMapFigure>, RenderError> {
+    maps.map(|map| {
+        let stem = format!("{prefix}_{}_{}_{}", map.x, map.y, map.variant);
+        let f = FigureFile::named(dir, &stem, format);
+        draw(&f, map)?;
+        Ok(RiskMapFigure {
+            variant: map.variant,
+            x: map.x,
+            y: map.y,
+            path: f.path,
+        })
+    })
+    .collect()
 }

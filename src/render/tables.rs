@@ -214,18 +214,16 @@ fn conditional_columns(b: &[BinStat], min_count: u64) -> Vec<Column> {
 fn riskmap_columns(maps: &[&RiskMap], min_count: u64) -> Vec<Column> {
     // (variant, wheel, x_lo, x_hi, y_lo, y_hi, counts)
     type Cell = (Variant, Wheel, f64, f64, f64, f64, ClassCounts);
-    let mut rows: Vec<Cell> = Vec::new();
-    for map in maps {
-        for (wheel, grid) in &map.cells {
-            for (ix, col) in grid.iter().enumerate() {
-                for (iy, c) in col.iter().enumerate() {
-                    let (xl, xh, _) = map.x_bins.range(ix);
-                    let (yl, yh, _) = map.y_bins.range(iy);
-                    rows.push((map.variant, *wheel, xl, xh, yl, yh, *c));
-                }
-            }
-        }
-    }
+    let rows: Vec<Cell> = maps
+        .iter()
+        .flat_map(|map| {
+            map.each_cell().map(|(wheel, ix, iy, c)| {
+                let (xl, xh, _) = map.x_bins.range(ix);
+                let (yl, yh, _) = map.y_bins.range(iy);
+                (map.variant, wheel, xl, xh, yl, yh, c)
+            })
+        })
+        .collect();
     let (x, y) = (&maps[0].x, &maps[0].y);
     let mut cols = vec![
         str_col("variant", &rows, |r| r.0.to_string()),

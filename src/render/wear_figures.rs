@@ -1,14 +1,14 @@
 //! The wear answer's figures: P(visible polygon within 40,000 km) per bin of every axis (Wilson
 //! bands), the risk maps of polygonal-wear likelihood beside the vibration maps (same cells,
-//! same stability boundaries, [`super::figures::map_figure`]), and the dominant orders' bars.
+//! same stability boundaries, [`super::figures::map_figure`], [`super::figures::conditional_figure`]), and the dominant orders' bars.
 
-use super::figures::{map_figure, MapFigure};
+use super::figures::{conditional_figure, map_figure, BandWording, MapWording};
 use super::wear::km;
 use super::RenderError;
-use crate::analysis::wear_risk::{WearAnalysis, WearMap, ORDERS_WITHIN_KM};
+use crate::analysis::wear_risk::{WearAnalysis, WearMap, HEADLINE_WITHIN_KM, ORDERS_WITHIN_KM};
 use crate::model::{Variant, Wheel};
 use crate::params::ParamId;
-use crate::plot::{self, maps, FigureFile, Series};
+use crate::plot::{self, FigureFile, Series};
 
 /// P(visible polygon within the headline distance | parameter) along every axis of one
 /// variant, both wheels, 95% Wilson bands; bins with fewer than `min_count` wheels with a
@@ -21,72 +21,41 @@ pub fn conditional(
     w: &WearAnalysis,
     min_count: u64,
 ) -> Result<(), RenderError> {
-    let cols = if axes.len() <= 4 { 2 } else { 3 };
-    let rows = axes.len().div_ceil(cols).max(1);
-    let within = w.conditional.first().map_or(String::new(), |_| {
-        km(crate::analysis::wear_risk::HEADLINE_WITHIN_KM)
-    });
-    plot::panels(
+    let within = w
+        .conditional
+        .first()
+        .map_or(String::new(), |_| km(HEADLINE_WITHIN_KM));
+    let words = BandWording {
+        what: format!("a visible polygon within {within}"),
+        y_label: "Risk of polygonal wear",
+    };
+    conditional_figure(
         file,
-        (520 * cols as u32, 360 * rows as u32 + 40),
-        (rows, cols),
-        &format!("Risk of a visible polygon within {within} by parameter ({variant} variant; shaded or bars: 95% interval)"),
-        |i, area| {
-            let Some(axis) = axes.get(i) else {
-                return Ok(());
-            };
-            let of_axis = || w.conditional.iter().filter(|b| b.axis == *axis);
-            let discrete = of_axis().all(|b| b.lo == b.hi);
-            let bands: Vec<maps::Band<'_>> = Wheel::BOTH
-                .iter()
-                .map(|wh| maps::Band {
-                    label: wh.as_str(),
-                    discrete,
-                    points: of_axis()
-                        .filter(|b| {
-                            b.variant == variant && b.wheel == *wh && b.counts.enough(min_count)
-                        })
-                        .map(|b| {
-                            let (lo, hi) = b.counts.wilson();
-                            (b.mid, b.counts.p(), lo, hi)
-                        })
-                        .collect(),
-                })
-                .collect();
-            maps::band_panel(area, &axis.label(), &label(*axis), "Risk of polygonal wear", &bands)
-        },
+        variant,
+        axes,
+        label,
+        &w.conditional,
+        &words,
+        min_count,
     )
-    .map_err(RenderError::Figure)
 }
 
-/// A risk map of polygonal-wear likelihood: each wheel's P(visible polygon within the map's
-/// distance) per cell and the difference, with the nominal tire's Hopf curves.
+/// A risk map of polygonal-wear likelihood: each wheel's P(visible polygon within
+/// [`HEADLINE_WITHIN_KM`]) per cell and the difference, with the nominal tire's Hopf curves.
 pub fn risk_map(
     file: &FigureFile,
     map: &WearMap,
     label: &dyn Fn(ParamId) -> String,
     min_count: u64,
 ) -> Result<(), RenderError> {
-    let within = km(map.within_km);
-    let fig = MapFigure {
-        variant: map.variant,
-        x: (map.x, &map.x_bins),
-        y: (map.y, &map.y_bins),
-        p: [
-            map.probability(Wheel::Follower, min_count),
-            map.probability(Wheel::Driving, min_count),
-        ],
-        nominal: map.nominal.as_deref(),
+    let within = km(HEADLINE_WITHIN_KM);
+    let words = MapWording {
+        headline: format!("a visible polygon within {within}"),
         what: format!("a polygon within {within}"),
-        bar_label: "Risk of polygonal wear [%]".into(),
-        title: format!(
-            "Risk of a visible polygon within {within} over {} and {} ({} variant; lines: Hopf curves; grey: fewer than {min_count} samples)",
-            map.x.label().to_lowercase(),
-            map.y.label().to_lowercase(),
-            map.variant
-        ),
+        bar_label: "Risk of polygonal wear [%]",
+        lines_note: "lines: Hopf curves; ",
     };
-    map_figure(file, &fig, label)
+    map_figure(file, map, &words, label, min_count)
 }
 
 /// The dominant orders' shares per wheel among the wheels with a visible polygon within

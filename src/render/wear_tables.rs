@@ -5,7 +5,7 @@
 
 use super::columns::{count_col, f64_col, str_col};
 use crate::analysis::counts::WithinCounts;
-use crate::analysis::wear_risk::{WearAnalysis, WearMap};
+use crate::analysis::wear_risk::{WearAnalysis, WearMap, HEADLINE_WITHIN_KM};
 use crate::model::Wheel;
 use crate::parquet_out::Column;
 
@@ -117,22 +117,16 @@ pub fn tables(w: &WearAnalysis, min_count: u64) -> Vec<(String, Vec<Column>)> {
 
 /// One row per variant, wheel and cell of the wear risk maps of one pair of axes.
 fn map_columns(maps: &[&WearMap], min_count: u64) -> Vec<Column> {
-    let mut rows: Vec<(&WearMap, Wheel, usize, usize, WithinCounts)> = Vec::new();
-    for m in maps {
-        for (wheel, grid) in &m.cells {
-            for (ix, col) in grid.iter().enumerate() {
-                for (iy, c) in col.iter().enumerate() {
-                    rows.push((m, *wheel, ix, iy, *c));
-                }
-            }
-        }
-    }
+    let rows: Vec<(&WearMap, Wheel, usize, usize, WithinCounts)> = maps
+        .iter()
+        .flat_map(|m| m.each_cell().map(move |(w, ix, iy, c)| (*m, w, ix, iy, c)))
+        .collect();
     let mut cols = vec![
         str_col("variant", &rows, |r| r.0.variant.to_string()),
         str_col("wheel", &rows, |r| r.1.to_string()),
         f64_col("x_mid", &rows, |r| r.0.x_bins.range(r.2).2),
         f64_col("y_mid", &rows, |r| r.0.y_bins.range(r.3).2),
-        f64_col("within_km", &rows, |r| r.0.within_km),
+        f64_col("within_km", &rows, |_| HEADLINE_WITHIN_KM),
     ];
     cols.extend(within_columns(&rows, |r| r.4, min_count));
     cols

@@ -18,13 +18,13 @@ mod severity;
 use std::collections::BTreeMap;
 
 use super::bins::Bins;
+use super::conditional::{self, BinStat};
 use super::counts::WithinCounts;
 use super::fleet::{WeightKind, ROW_COLUMN};
 use super::paired::{self, Paired};
-use super::risk_map::RiskMap;
+use super::risk_map::{self, RiskMap};
 use super::rows::{GroupKey, OrderCount, OutcomeColumn, Rows, SampleWeight};
 use super::{AnalysisError, RunInfo};
-use crate::chart::WheelCurves;
 use crate::model::{Variant, Wheel};
 use crate::params::ParamId;
 use crate::records::WearColumn;
@@ -66,64 +66,11 @@ pub struct WearPaired {
 }
 
 /// P(visible polygon within [`HEADLINE_WITHIN_KM`]) in one bin of one axis.
-#[derive(Debug, Clone, PartialEq)]
-pub struct WearBin {
-    /// The friction variant.
-    pub variant: Variant,
-    /// The wheel.
-    pub wheel: Wheel,
-    /// The drawn parameter binned.
-    pub axis: ParamId,
-    /// Lower edge of the bin (the level itself for levels).
-    pub lo: f64,
-    /// Upper edge of the bin (the level itself for levels).
-    pub hi: f64,
-    /// Middle of the bin.
-    pub mid: f64,
-    /// The wheels within the distance, among the known.
-    pub counts: WithinCounts,
-}
-
-/// Wear counts per cell, indexed `[ix][iy]`.
-pub type WearGrid = Vec<Vec<WithinCounts>>;
+pub type WearBin = BinStat<WithinCounts>;
 
 /// A risk map of polygonal-wear likelihood: P(visible polygon within [`HEADLINE_WITHIN_KM`])
 /// over the cells of a vibration risk map, per wheel, with the same stability boundaries.
-#[derive(Debug, Clone)]
-pub struct WearMap {
-    /// The friction variant.
-    pub variant: Variant,
-    /// The parameter on the horizontal axis.
-    pub x: ParamId,
-    /// The parameter on the vertical axis.
-    pub y: ParamId,
-    /// Bins of the horizontal axis.
-    pub x_bins: Bins,
-    /// Bins of the vertical axis.
-    pub y_bins: Bins,
-    /// The distance \[km\].
-    pub within_km: f64,
-    /// (wheel, `counts[ix][iy]`).
-    pub cells: Vec<(Wheel, WearGrid)>,
-    /// The nominal tire's Hopf curves over the map's box, as on the vibration map.
-    pub nominal: Option<Vec<WheelCurves>>,
-}
-
-impl WearMap {
-    /// Probability per cell, NaN where fewer than `min_count` wheels have a known distance.
-    pub fn probability(&self, wheel: Wheel, min_count: u64) -> Vec<Vec<f64>> {
-        let Some((_, grid)) = self.cells.iter().find(|(w, _)| *w == wheel) else {
-            return vec![vec![f64::NAN; self.y_bins.count()]; self.x_bins.count()];
-        };
-        grid.iter()
-            .map(|col| {
-                col.iter()
-                    .map(|c| if c.enough(min_count) { c.p() } else { f64::NAN })
-                    .collect()
-            })
-            .collect()
-    }
-}
+pub type WearMap = RiskMap<WithinCounts>;
 
 /// One row of an operating-point file: P(visible polygon within [`HEADLINE_WITHIN_KM`]) per
 /// wheel.
@@ -319,71 +266,31 @@ fn wear_conditional(
         &[HEADLINE_WITHIN_KM],
         weight,
     )?;
-    let mut map: BTreeMap<(Variant, Wheel), Vec<WithinCounts>> = BTreeMap::new();
-    for g in &groups {
-        let per_bin = map
-            .entry((g.variant, g.wheel))
-            .or_insert_with(|| vec![WithinCounts::default(); bins.count()]);
-        if let Some(c) = usize::try_from(g.bins[0])
-            .ok()
-            .and_then(|i| per_bin.get_mut(i))
-        {
-            c.merge(&g.counts[0]);
-        }
-    }
-    let mut out = Vec::new();
-    for ((variant, wheel), per_bin) in map {
-        for (i, counts) in per_bin.into_iter().enumerate() {
-            let (lo, hi, mid) = bins.range(i);
-            out.push(WearBin {
-                variant,
-                wheel,
-                axis,
-                lo,
-                hi,
-                mid,
-                counts,
-            });
-        }
-    }
-    Ok(out)
+    Ok(conditional::bins_of_groups(
+        groups
+            .iter()
+            .map(|g| (g.variant, g.wheel, g.bins[0], &g.counts[0])),
+        axis,
+        bins,
+    ))
 }
 
 /// The wear risk map over the cells of the vibration map `m`, each variant of the rows.
 fn wear_map(rows: &Rows, m: &RiskMap, weight: SampleWeight) -> Result<Vec<WearMap>, AnalysisError> {
-    let (xb, yb) = (&m.x_bins, &m.y_bins);
-    let ny = yb.count() as i64;
-    let empty = || vec![vec![WithinCounts::default(); yb.count()]; xb.count()];
-    let mut grids: BTreeMap<Wheel, WearGrid> = BTreeMap::new();
-    let key = GroupKey::Cell(m.x.name(), xb, m.y.name(), yb);
-    for g in rows.within_counts(&[key], &[HEADLINE_WITHIN_KM], weight)? {
-        if g.variant != m.variant {
-            continue;
-        }
-        let grid = grids.entry(g.wheel).or_insert_with(empty);
-        let cell = g.bins[0];
-        if let (Ok(ix), Ok(iy)) = (usize::try_from(cell / ny), usize::try_from(cell % ny)) {
-            if ix < xb.count() && iy < yb.count() {
-                grid[ix][iy].merge(&g.counts[0]);
-            }
-        }
-    }
-    if grids.is_empty() {
-        return Ok(Vec::new());
-    }
-    Ok(vec![WearMap {
-        variant: m.variant,
-        x: m.x,
-        y: m.y,
-        x_bins: xb.clone(),
-        y_bins: yb.clone(),
-        within_km: HEADLINE_WITHIN_KM,
-        cells: Wheel::BOTH
-            .iter()
-            .map(|w| (*w, grids.get(w).cloned().unwrap_or_else(empty)))
-            .collect(),
-        nominal: m.nominal.clone(),
-    }])
+    let (x, y) = ((m.x, &m.x_bins), (m.y, &m.y_bins));
+    let key = GroupKey::Cell(m.x.name(), x.1, m.y.name(), y.1);
+    let groups = rows.within_counts(&[key], &[HEADLINE_WITHIN_KM], weight)?;
+    let cells = groups
+        .iter()
+        .filter(|g| g.variant == m.variant)
+        .map(|g| (g.variant, g.wheel, g.bins[0], &g.counts[0]));
+    Ok(risk_map::maps_of_cells(cells, x, y)
+        .into_iter()
+        .map(|map| WearMap {
+            nominal: m.nominal.clone(),
+            ..map
+        })
+        .collect())
 }
 
 /// Per row of the operating-point file: P(visible polygon within [`HEADLINE_WITHIN_KM`]) per
