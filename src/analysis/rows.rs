@@ -69,9 +69,11 @@ pub enum GroupKey<'a> {
     Value(&'a str),
 }
 
-/// Rows per class of one group.
+/// The counts of one group: its variant, wheel and keys, and what the query counted in it (rows
+/// per class by default, [`Rows::class_counts`]; the wear stage's counts per distance,
+/// [`WearGroup`]).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Group {
+pub struct Group<C = ClassCounts> {
     /// The friction variant.
     pub variant: Variant,
     /// The wheel.
@@ -80,8 +82,8 @@ pub struct Group {
     pub bins: Vec<i64>,
     /// The values of the `Value` keys, in key order.
     pub values: Vec<f64>,
-    /// Rows per class.
-    pub counts: ClassCounts,
+    /// What the query counted.
+    pub counts: C,
 }
 
 /// A bin of a severity histogram.
@@ -169,7 +171,6 @@ impl Rows {
     /// groups by five, and polars' streaming group-by keeps rows of groups beyond its hot table
     /// in memory until the end). Rows of a class this version does not know are refused.
     pub fn class_counts(&self, keys: &[GroupKey<'_>]) -> Result<Vec<Group>, AnalysisError> {
-        let exprs = key_exprs(keys);
         let known = Class::ALL;
         let mut aggs = vec![len().cast(DataType::Int64).alias("n")];
         aggs.extend(known.iter().map(|c| {
@@ -179,16 +180,13 @@ impl Rows {
                 .sum()
                 .alias(format!("n_{}", c.as_str()))
         }));
-        let df = collect(self.lf.clone().group_by(exprs).agg(aggs))?;
+        let df = self.grouped(keys, aggs)?;
         let total = ints(&df, "n")?;
         let per_class: Vec<Vec<i64>> = known
             .iter()
             .map(|c| ints(&df, &format!("n_{}", c.as_str())))
             .collect::<Result<_, _>>()?;
-        let (bins, values) = key_values(&df, keys)?;
-        let groups = variant_wheel(&df)?;
-        let mut out = Vec::with_capacity(df.height());
-        for (i, (variant, wheel)) in groups.into_iter().enumerate() {
+        groups_of(&df, keys, |i| {
             let mut counts = ClassCounts::default();
             let mut known_rows = 0;
             for (k, class) in known.iter().enumerate() {
@@ -200,15 +198,14 @@ impl Rows {
                     rows: (total[i] - known_rows) as u64,
                 });
             }
-            out.push(Group {
-                variant,
-                wheel,
-                bins: bins.iter().map(|b| b[i]).collect(),
-                values: values.iter().map(|v| v[i]).collect(),
-                counts,
-            });
-        }
-        Ok(out)
+            Ok(counts)
+        })
+    }
+
+    /// The aggregates `aggs` per variant, wheel and combination of `keys` ([`key_exprs`]), in
+    /// one streaming group-by.
+    fn grouped(&self, keys: &[GroupKey<'_>], aggs: Vec<Expr>) -> Result<DataFrame, AnalysisError> {
+        collect(self.lf.clone().group_by(key_exprs(keys)).agg(aggs))
     }
 
     /// Observed minimum and maximum of each column, in one streaming pass; the `quantities`
@@ -367,6 +364,29 @@ fn key_values(df: &DataFrame, keys: &[GroupKey<'_>]) -> Result<KeyColumns, Analy
         }
     }
     Ok((bins, values))
+}
+
+/// The groups of `df`, a table grouped by [`key_exprs`] of `keys`: each row's variant, wheel
+/// and keys, with `counts` of its row index.
+fn groups_of<C>(
+    df: &DataFrame,
+    keys: &[GroupKey<'_>],
+    mut counts: impl FnMut(usize) -> Result<C, AnalysisError>,
+) -> Result<Vec<Group<C>>, AnalysisError> {
+    let (bins, values) = key_values(df, keys)?;
+    variant_wheel(df)?
+        .into_iter()
+        .enumerate()
+        .map(|(i, (variant, wheel))| {
+            Ok(Group {
+                variant,
+                wheel,
+                bins: bins.iter().map(|b| b[i]).collect(),
+                values: values.iter().map(|v| v[i]).collect(),
+                counts: counts(i)?,
+            })
+        })
+        .collect()
 }
 
 /// Samples per (variant, follower code + 3 × driving code) ([`outcome_code`]).

@@ -7,7 +7,7 @@ use polars::prelude::*;
 
 use super::scenario_pairs::code_expr;
 use super::{
-    bin_expr, collect, floats, ints, key_exprs, key_values, variant_wheel, GroupKey, HistogramBin,
+    bin_expr, collect, floats, groups_of, ints, variant_wheel, Group, GroupKey, HistogramBin,
     OutcomeColumn, Rows,
 };
 use crate::analysis::bins::Bins;
@@ -31,20 +31,8 @@ pub enum SampleWeight {
 /// Weight units per km/h of a [`SampleWeight::SpeedKmh`] weight.
 pub const WEIGHT_UNITS_PER_KMH: f64 = 10.0;
 
-/// The wear counts of one group, one per distance asked for.
-#[derive(Debug, Clone, PartialEq)]
-pub struct WearGroup {
-    /// The friction variant.
-    pub variant: Variant,
-    /// The wheel.
-    pub wheel: Wheel,
-    /// The bin or cell indices of the `Bin` and `Cell` keys, in key order.
-    pub bins: Vec<i64>,
-    /// The values of the `Value` keys, in key order.
-    pub values: Vec<f64>,
-    /// Per distance asked for, in that order.
-    pub counts: Vec<WithinCounts>,
-}
+/// The wear counts of one group, one per distance asked for, in that order.
+pub type WearGroup = Group<Vec<WithinCounts>>;
 
 /// How one wear quantity spreads over one variant and wheel's rows.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -162,7 +150,7 @@ impl Rows {
             aggs.push(yes.clone().sum().alias(format!("within{k}")));
             aggs.push((yes * w.clone()).sum().alias(format!("w_within{k}")));
         }
-        let df = collect(self.lf.clone().group_by(key_exprs(keys)).agg(aggs))?;
+        let df = self.grouped(keys, aggs)?;
         let (n, known, w_known, w2) = (
             ints(&df, "n")?,
             ints(&df, "known")?,
@@ -177,28 +165,19 @@ impl Rows {
                 ))
             })
             .collect::<Result<_, AnalysisError>>()?;
-        let (bins, values) = key_values(&df, keys)?;
-        Ok(variant_wheel(&df)?
-            .into_iter()
-            .enumerate()
-            .map(|(i, (variant, wheel))| WearGroup {
-                variant,
-                wheel,
-                bins: bins.iter().map(|b| b[i]).collect(),
-                values: values.iter().map(|v| v[i]).collect(),
-                counts: within
-                    .iter()
-                    .map(|(y, wy)| WithinCounts {
-                        within: y[i] as u64,
-                        known: known[i] as u64,
-                        unknown: (n[i] - known[i]) as u64,
-                        w_within: wy[i],
-                        w_known: w_known[i],
-                        w2_known: w2[i],
-                    })
-                    .collect(),
-            })
-            .collect())
+        groups_of(&df, keys, |i| {
+            Ok(within
+                .iter()
+                .map(|(y, wy)| WithinCounts {
+                    within: y[i] as u64,
+                    known: known[i] as u64,
+                    unknown: (n[i] - known[i]) as u64,
+                    w_within: wy[i],
+                    w_known: w_known[i],
+                    w2_known: w2[i],
+                })
+                .collect())
+        })
     }
 
     /// How `column` spreads per variant and wheel, and the range of its finite values over all
