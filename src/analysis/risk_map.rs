@@ -144,3 +144,69 @@ pub(crate) fn maps_of_cells<'a, C: RiskCounts + 'a>(
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::counts::WithinCounts;
+
+    fn within(within: u64, known: u64) -> WithinCounts {
+        WithinCounts {
+            within,
+            known,
+            unknown: 0,
+            w_within: within as i64,
+            w_known: known as i64,
+            w2_known: known as i64,
+        }
+    }
+
+    #[test]
+    fn cells_fold_into_one_map_per_variant_with_both_wheels_whatever_they_count() {
+        let (xb, yb) = (
+            Bins::equal_width(0.0, 1.0, 3),
+            Bins::equal_width(0.0, 1.0, 2),
+        );
+        let (x, y) = (ParamId::SpeedKmh, ParamId::ToeDeg);
+        // Cell 5 = (ix 2, iy 1), twice; cell 6 lies outside the 3 × 2 grid; the combined
+        // variant has follower rows only.
+        let a = within(1, 4);
+        let b = within(2, 3);
+        let cells = [
+            (Variant::SlidingShare, Wheel::Driving, 5, &a),
+            (Variant::SlidingShare, Wheel::Driving, 5, &b),
+            (Variant::SlidingShare, Wheel::Driving, 6, &a),
+            (Variant::Combined, Wheel::Follower, 0, &a),
+        ];
+        let maps = maps_of_cells(cells, (x, &xb), (y, &yb));
+        let variants: Vec<Variant> = maps.iter().map(|m| m.variant).collect();
+        assert_eq!(variants, [Variant::Combined, Variant::SlidingShare]);
+        let share = &maps[1];
+        let wheels: Vec<Wheel> = share.cells.iter().map(|(w, _)| *w).collect();
+        assert_eq!(wheels, Wheel::BOTH);
+        let driving = share.probability(Wheel::Driving, 1);
+        assert_eq!(driving[2][1], 3.0 / 7.0);
+        let counted: u64 = share.each_cell().map(|(_, _, _, c)| c.known).sum();
+        assert_eq!(counted, 7, "the cell outside the grid is left out");
+        assert!(share.probability(Wheel::Follower, 1)[0][0].is_nan());
+        assert_eq!(share.coverage(1), (1, 6));
+        // Cells in the tables' order: wheel by wheel, ix then iy.
+        let order: Vec<(Wheel, usize, usize)> = share
+            .each_cell()
+            .map(|(w, ix, iy, _)| (w, ix, iy))
+            .collect();
+        assert_eq!(order.len(), 12);
+        assert_eq!(order[1], (Wheel::Follower, 0, 1));
+        assert_eq!(order[11], (Wheel::Driving, 2, 1));
+        // Class counts fold the same way.
+        let mut c = ClassCounts::default();
+        c.add(crate::classify::Class::LimitCycle, 3);
+        c.add(crate::classify::Class::Stable, 1);
+        let class_maps = maps_of_cells(
+            [(Variant::Paper, Wheel::Follower, 1, &c)],
+            (x, &xb),
+            (y, &yb),
+        );
+        assert_eq!(class_maps[0].probability(Wheel::Follower, 1)[0][1], 0.75);
+    }
+}
