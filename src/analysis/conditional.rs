@@ -77,3 +77,59 @@ pub(crate) fn bins_of_groups<'a, C: RiskCounts + 'a>(
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::counts::WithinCounts;
+    use crate::classify::Class;
+
+    #[test]
+    fn every_bin_of_every_group_in_order_empty_ones_included_whatever_they_count() {
+        let bins = Bins::equal_width(0.0, 3.0, 3);
+        let w = WithinCounts {
+            within: 1,
+            known: 2,
+            unknown: 0,
+            w_within: 1,
+            w_known: 2,
+            w2_known: 2,
+        };
+        let groups = [
+            (Variant::SlidingShare, Wheel::Follower, 1, &w),
+            (Variant::Paper, Wheel::Driving, 2, &w),
+            (Variant::Paper, Wheel::Driving, 2, &w),
+            (Variant::Paper, Wheel::Driving, 3, &w),
+            (Variant::Paper, Wheel::Driving, -1, &w),
+        ];
+        let out = bins_of_groups(groups, ParamId::SpeedKmh, &bins);
+        let keys: Vec<(Variant, Wheel, f64)> =
+            out.iter().map(|b| (b.variant, b.wheel, b.mid)).collect();
+        assert_eq!(
+            keys,
+            [
+                (Variant::Paper, Wheel::Driving, 0.5),
+                (Variant::Paper, Wheel::Driving, 1.5),
+                (Variant::Paper, Wheel::Driving, 2.5),
+                (Variant::SlidingShare, Wheel::Follower, 0.5),
+                (Variant::SlidingShare, Wheel::Follower, 1.5),
+                (Variant::SlidingShare, Wheel::Follower, 2.5),
+            ]
+        );
+        let known: Vec<u64> = out.iter().map(|b| b.counts.known).collect();
+        assert_eq!(
+            known,
+            [0, 0, 4, 0, 2, 0],
+            "bins outside the axis are left out"
+        );
+        let mut c = ClassCounts::default();
+        c.add(Class::Bistable, 1);
+        c.add(Class::Stable, 3);
+        let out = bins_of_groups(
+            [(Variant::Paper, Wheel::Follower, 0, &c)],
+            ParamId::ToeDeg,
+            &bins,
+        );
+        assert_eq!((out.len(), out[0].counts.p()), (3, 0.25));
+    }
+}
