@@ -160,35 +160,27 @@ pub trait RiskCounts: Copy + Default {
     fn enough(&self, min_count: u64) -> bool;
 }
 
-impl RiskCounts for ClassCounts {
-    fn merge(&mut self, other: &Self) {
-        ClassCounts::merge(self, other);
-    }
-    fn p(&self) -> f64 {
-        ClassCounts::p(self)
-    }
-    fn wilson(&self) -> (f64, f64) {
-        ClassCounts::wilson(self)
-    }
-    fn enough(&self, min_count: u64) -> bool {
-        ClassCounts::enough(self, min_count)
-    }
+/// [`RiskCounts`] of a type by its own methods of the same names.
+macro_rules! risk_counts_by_own_methods {
+    ($($t:ty),*) => {$(
+        impl RiskCounts for $t {
+            fn merge(&mut self, other: &Self) {
+                <$t>::merge(self, other);
+            }
+            fn p(&self) -> f64 {
+                <$t>::p(self)
+            }
+            fn wilson(&self) -> (f64, f64) {
+                <$t>::wilson(self)
+            }
+            fn enough(&self, min_count: u64) -> bool {
+                <$t>::enough(self, min_count)
+            }
+        }
+    )*};
 }
 
-impl RiskCounts for WithinCounts {
-    fn merge(&mut self, other: &Self) {
-        WithinCounts::merge(self, other);
-    }
-    fn p(&self) -> f64 {
-        WithinCounts::p(self)
-    }
-    fn wilson(&self) -> (f64, f64) {
-        WithinCounts::wilson(self)
-    }
-    fn enough(&self, min_count: u64) -> bool {
-        WithinCounts::enough(self, min_count)
-    }
-}
+risk_counts_by_own_methods!(ClassCounts, WithinCounts);
 
 #[cfg(test)]
 mod tests {
