@@ -167,7 +167,7 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
         out.conditional.push((variant, f.path));
     }
     let drawn = a.maps.iter().filter(|m| a.is_drawn(m));
-    out.risk_maps = map_figures(drawn, (dir, "riskmap", format), &|f, map| {
+    out.risk_maps = map_figures(drawn, (dir, "riskmap", format), |f, map| {
         figures::risk_map(f, map, &label, min_count)
     })?;
     for variant in a.variants() {
@@ -186,7 +186,7 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
             wear_figures::conditional(&f, variant, &axes, &label, w, min_count)?;
             out.wear_conditional.push((variant, f.path));
         }
-        out.wear_maps = map_figures(w.maps.iter(), (dir, "wear_riskmap", format), &|f, map| {
+        out.wear_maps = map_figures(w.maps.iter(), (dir, "wear_riskmap", format), |f, map| {
             wear_figures::risk_map(f, map, &label, min_count)
         })?;
         let with_orders = |v: &Variant| w.orders.iter().any(|o| o.variant == *v);
@@ -201,11 +201,15 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
 
 /// One figure per map of `maps`, drawn by `draw`, each in `<prefix>_<x>_<y>_<variant>` of the
 /// folder and format of `to`: the vibration and the wear maps go through the same loop.
-fn map_figures<'a, C: RiskCounts + 'a>(
+fn map_figures<'a, C, F>(
     maps: impl Iterator<Item = &'a RiskMap<C>>,
     (dir, prefix, format): (&Path, &str, FigureFormat),
-    draw: &dyn Fn(&FigureFile, &RiskMap<C>) -> Result<(), RenderError>,
-) -> Result<Vec<RiskMapFigure>, RenderError> {
+    draw: F,
+) -> Result<Vec<RiskMapFigure>, RenderError>
+where
+    C: RiskCounts + 'a,
+    F: Fn(&FigureFile, &RiskMap<C>) -> Result<(), RenderError>,
+{
     maps.map(|map| {
         let stem = format!("{prefix}_{}_{}_{}", map.x, map.y, map.variant);
         let f = FigureFile::named(dir, &stem, format);

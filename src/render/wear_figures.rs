@@ -1,6 +1,7 @@
 //! The wear answer's figures: P(visible polygon within 40,000 km) per bin of every axis (Wilson
 //! bands), the risk maps of polygonal-wear likelihood beside the vibration maps (same cells,
-//! same stability boundaries, [`super::figures::map_figure`], [`super::figures::conditional_figure`]), and the dominant orders' bars.
+//! same stability boundaries), and the dominant orders' bars. The bands and the maps are drawn
+//! by the vibration figures' own code ([`super::figures`]) in the wear analysis' words.
 
 use super::figures::{conditional_figure, map_figure, BandWording, MapWording};
 use super::wear::km;
