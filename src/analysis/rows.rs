@@ -286,18 +286,7 @@ impl Rows {
                     fixed_point(col(quantity), lo, hi).sum().alias("sum"),
                 ]),
         )?;
-        let (b, n, sum) = (ints(&df, "bin")?, ints(&df, "n")?, ints(&df, "sum")?);
-        Ok(variant_wheel(&df)?
-            .into_iter()
-            .enumerate()
-            .map(|(i, (variant, wheel))| HistogramBin {
-                variant,
-                wheel,
-                bin: b[i],
-                n: n[i],
-                fixed_sum: sum[i],
-            })
-            .collect())
+        histogram_bins(&df, Some(&ints(&df, "sum")?))
     }
 
     /// Every row's outcome, sorted by variant, wheel and sample.
@@ -387,6 +376,26 @@ fn groups_of<C>(
             })
         })
         .collect()
+}
+
+/// The bins of `df`, a histogram grouped by variant, wheel and `bin` with its rows in `n`, each
+/// with its fixed-point sum from `sums` (0 without).
+fn histogram_bins(
+    df: &DataFrame,
+    sums: Option<&[i64]>,
+) -> Result<Vec<HistogramBin>, AnalysisError> {
+    let (b, n) = (ints(df, "bin")?, ints(df, "n")?);
+    Ok(variant_wheel(df)?
+        .into_iter()
+        .enumerate()
+        .map(|(i, (variant, wheel))| HistogramBin {
+            variant,
+            wheel,
+            bin: b[i],
+            n: n[i],
+            fixed_sum: sums.map_or(0, |s| s[i]),
+        })
+        .collect())
 }
 
 /// Samples per (variant, follower code + 3 × driving code) ([`outcome_code`]).

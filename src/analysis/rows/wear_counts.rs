@@ -7,8 +7,8 @@ use polars::prelude::*;
 
 use super::scenario_pairs::code_expr;
 use super::{
-    bin_expr, collect, floats, groups_of, ints, variant_wheel, Group, GroupKey, HistogramBin,
-    OutcomeColumn, Rows,
+    bin_expr, collect, floats, groups_of, histogram_bins, ints, variant_wheel, Group, GroupKey,
+    HistogramBin, OutcomeColumn, Rows,
 };
 use crate::analysis::bins::Bins;
 use crate::analysis::counts::WithinCounts;
@@ -250,18 +250,7 @@ impl Rows {
                 .group_by([col("variant"), col("wheel"), bin.alias("bin")])
                 .agg([len().cast(DataType::Int64).alias("n")]),
         )?;
-        let (b, n) = (ints(&df, "bin")?, ints(&df, "n")?);
-        Ok(variant_wheel(&df)?
-            .into_iter()
-            .enumerate()
-            .map(|(i, (variant, wheel))| HistogramBin {
-                variant,
-                wheel,
-                bin: b[i],
-                n: n[i],
-                fixed_sum: 0,
-            })
-            .collect())
+        histogram_bins(&df, None)
     }
 
     /// Wheels per dominant order among those with a visible polygon within `within_km`.
