@@ -19,9 +19,10 @@ use polywear::parquet_out::{write_csv, write_table, Column};
 use polywear::plot::wear::{wear_figure, WearTrace};
 use polywear::plot::{FigureFile, FigureFormat};
 use polywear::wear::long_term::{
-    cruise_legs, cycle_legs, run_wheel, Leg, LoopInputs, LoopSettings,
+    cruise_legs, cycle_legs, run_wheel, Leg, LoopInputs, LoopSettings, SPEED_NODES,
 };
 use polywear::wear::long_term::{WheelWear, FEEDBACK_ORDERS};
+use polywear::wear::loop_spread::LoopSpread;
 use polywear::wear::{WearEstimate, WearSettings, WearZone};
 use polywear::wording::plain;
 
@@ -38,7 +39,7 @@ const DRAWN_ORDERS: usize = 4;
     "  # the worst case: every straight-running joule couples, a steady speed\n",
     "  polywear wear --set wear_share_straight=1 --speed-spread-kmh 0 --estimate --out data/wear\n",
     "  # a drive cycle driven again and again\n",
-    "  polywear wear --cycle cycles/highway.csv --out data/wear_cycle\n",
+    "  polywear wear --cycle data/cycles/hwfet.csv --out data/wear_cycle\n",
     "\nGuide: GUIDE.md#wear"
 ))]
 pub struct WearArgs {
@@ -56,6 +57,12 @@ pub struct WearArgs {
     /// speed_spread_kmh; give one of the two)
     #[arg(long, value_name = "KMH", allow_negative_numbers = true)]
     pub speed_spread_kmh: Option<f64>,
+    /// Speeds driven, each its own share of the distance and its own tread state, accepted
+    /// [1, 64]: a spread's quantiles (default 1, the mean speed, with the spread's exact effect
+    /// on the linear loop added) or a cycle's distance-weighted quantiles (default 5). More
+    /// speeds resolve where a speed inside a tongue locks, at that many times the cost
+    #[arg(long, value_name = "K", allow_negative_numbers = true)]
+    pub speed_nodes: Option<i64>,
     /// Where the friction power wears the tread: trailing (default), whole_patch,
     /// whole_patch_uniform
     #[arg(long, value_name = "ZONE", default_value = "trailing")]
@@ -83,11 +90,16 @@ pub struct WearArgs {
     pub out: PathBuf,
 }
 
+/// Most speeds `--speed-nodes` accepts.
+const MAX_SPEED_NODES: usize = 64;
+
 /// The checked inputs of a run.
 struct Plan {
     params: Params,
     variant: Variant,
     legs: Vec<Leg>,
+    /// Cruising at one speed (with the parameters' spread), not driving a cycle.
+    cruising: bool,
     settings: LoopSettings,
     usage: String,
     metadata: Vec<(String, String)>,
@@ -127,20 +139,35 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
             args.out.display()
         )));
     }
+    let nodes = match args.speed_nodes {
+        None if args.cycle.is_some() => SPEED_NODES,
+        None => 1,
+        Some(k) if (1..=MAX_SPEED_NODES as i64).contains(&k) => k as usize,
+        Some(k) => {
+            return Err(CliError(format!(
+                "--speed-nodes = {k} is outside its accepted range [1, {MAX_SPEED_NODES}]"
+            )))
+        }
+    };
     let variant: Variant = args.point.variant.into();
     let mut metadata = base_metadata(&p, variant);
     let (legs, usage) = match &args.cycle {
         Some(path) => {
-            let (legs, usage) = read_cycle(path, &p, args.point.accept_implausible)?;
+            let (legs, usage) = read_cycle(path, &p, nodes, args.point.accept_implausible)?;
             metadata.push(("cycle".into(), path.display().to_string()));
             (legs, usage)
         }
         None => (
-            cruise_legs(p.speed_kmh, p.speed_spread_kmh),
+            cruise_legs(p.speed_kmh, p.speed_spread_kmh, nodes),
             format!(
-                "cruising at {} km/h, speed spread {} km/h",
+                "cruising at {} km/h, speed spread {} km/h{}",
                 plain(p.speed_kmh, 6),
-                plain(p.speed_spread_kmh, 6)
+                plain(p.speed_spread_kmh, 6),
+                match (p.speed_spread_kmh > 0.0, nodes) {
+                    (false, _) => String::new(),
+                    (true, 1) => " (driven at the mean speed)".into(),
+                    (true, k) => format!(" (driven at {k} of its speeds)"),
+                }
             ),
         ),
     };
@@ -163,6 +190,7 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
     Ok(Plan {
         params: p,
         variant,
+        cruising: args.cycle.is_none(),
         legs,
         settings,
         usage,
@@ -171,7 +199,12 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
 }
 
 /// The cycle's speeds as legs of equal distance, refused as `polywear cycle` refuses it.
-fn read_cycle(path: &Path, p: &Params, accept_implausible: bool) -> CliResult<(Vec<Leg>, String)> {
+fn read_cycle(
+    path: &Path,
+    p: &Params,
+    nodes: usize,
+    accept_implausible: bool,
+) -> CliResult<(Vec<Leg>, String)> {
     let cycle = DriveCycle::read(path).map_err(|e| CliError(e.to_string()))?;
     if !accept_implausible {
         cycle
@@ -193,7 +226,7 @@ fn read_cycle(path: &Path, p: &Params, accept_implausible: bool) -> CliResult<(V
         .zip(&cycle.speed_kmh)
         .map(|(dt, v)| dt * v / 3.6)
         .collect();
-    let legs = cycle_legs(&cycle.speed_kmh, &distances);
+    let legs = cycle_legs(&cycle.speed_kmh, &distances, nodes);
     if legs.is_empty() {
         return Err(CliError(format!(
             "--cycle {}: covers no distance (every step at standstill)",
@@ -247,6 +280,11 @@ pub fn run(args: &WearArgs) -> CliResult {
                 gamma_m3_per_j: gamma,
                 legs: &plan.legs,
                 start: start_of(w),
+                spread: (plan.cruising && p.speed_spread_kmh > 0.0).then_some(LoopSpread {
+                    spread_kmh: p.speed_spread_kmh,
+                    calibration: &stage.calibration,
+                    classifier: &opts,
+                }),
             };
             match &w.model {
                 Ok(_) if !matches!(w.verdict.class, Class::NoTraction | Class::Failed) => {

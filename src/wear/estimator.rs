@@ -275,21 +275,11 @@ impl WheelGrowth {
         let fb = &self.feedback;
         let v = self.speed_mps;
         let h = fb.zone.transfer(n, self.r_b);
-        let e_n = fb.forcing_per_radius(n);
-        // The cycle locks to a seed-sized polygon within |δ| ≤ δ_L = ν |e_n R⁰| |ĝ₋₁|, the speed
-        // band ±V δ_L / n around V_n = V ν / n (ν ∝ 1/V at a fixed tread frequency).
-        let lock_rev = r.nu * e_n.norm() * self.seed_m * r.phase_coupling_s;
-        let lock_mps = v * lock_rev / n;
-        let lock_speed_mps = v * r.nu / n;
-        let kappa = fb.local_per_m;
+        // The cycle locks to a seed-sized polygon in a band of speeds around V_n.
+        let (lock_speed_mps, lock_mps) = self.tongue_mps(n, self.seed_m);
         let even = share * self.even_per_share;
         let other = (1.0 - share) * self.other_per_share;
-        // β of the linear loop for the forcing's mean transfer g.
-        let linear = |g: Complex64| {
-            let through_tread = g * h.conj() * e_n;
-            let gain = Complex64::new(kappa * (1.0 - h.norm_sqr()), 0.0) + through_tread;
-            (-even * gain.re - other, -even * through_tread.re)
-        };
+        let linear = |g: Complex64| self.linear_per_m(n, share, g);
         let (mut beta, regenerative) =
             linear(r.transfer.mean_over_speed(n, self.r_b, v, spread_mps));
         // Inside the tongue the order grows by the locked print instead of the linear loop:
@@ -319,6 +309,55 @@ impl WheelGrowth {
             lock_halfwidth_kmh: lock_mps * 3.6,
             locked_share,
         }
+    }
+
+    /// β of the linear loop of order `n` at φ_s = `share` for the forcing's (mean) transfer
+    /// `g`, and its regenerative part (the one through the tread) \[1/m\].
+    fn linear_per_m(&self, n: f64, share: f64, g: Complex64) -> (f64, f64) {
+        let fb = &self.feedback;
+        let h = fb.zone.transfer(n, self.r_b);
+        let through_tread = g * h.conj() * fb.forcing_per_radius(n);
+        let gain = Complex64::new(fb.local_per_m * (1.0 - h.norm_sqr()), 0.0) + through_tread;
+        let (even, other) = (
+            share * self.even_per_share,
+            (1.0 - share) * self.other_per_share,
+        );
+        (-even * gain.re - other, -even * through_tread.re)
+    }
+
+    /// β of the linear loop of order `order` at φ_s = `share`, cruising at `speed_mps` with a
+    /// normal spread of `spread_mps` (0: that speed alone) \[1/m\]: the exact normal mean of
+    /// the transfer's poles in the speed (the wheel's linearisation kept, ω_n = nV/r_B moving),
+    /// no lock.
+    pub fn linear_growth_per_m(
+        &self,
+        order: u32,
+        share: f64,
+        speed_mps: f64,
+        spread_mps: f64,
+    ) -> f64 {
+        let n = order as f64;
+        let g = self
+            .response
+            .transfer
+            .mean_over_speed(n, self.r_b, speed_mps, spread_mps);
+        self.linear_per_m(n, share, g).0
+    }
+
+    /// The speed of the wheel's linearisation \[m/s\].
+    pub fn speed_mps(&self) -> f64 {
+        self.speed_mps
+    }
+
+    /// The speed band \[m/s\] (centre, half-width) in which the cycle locks to order `n` of
+    /// depth |R_n| = `radius_m`: |δ| ≤ δ_L = ν |e_n R_n| |ĝ₋₁|, the band ±V δ_L / n around
+    /// V_n = V ν / n (ν ∝ 1/V at a fixed tread frequency); none for a stable wheel.
+    fn tongue_mps(&self, n: f64, radius_m: f64) -> (f64, f64) {
+        let r = &self.response;
+        let v = self.speed_mps;
+        let e_n = self.feedback.forcing_per_radius(n);
+        let lock_rev = r.nu * e_n.norm() * radius_m * r.phase_coupling_s;
+        (v * r.nu / n, v * lock_rev / n)
     }
 
     /// The locked print as a growth rate \[1/m\]: a cycle locked to the order prints its power

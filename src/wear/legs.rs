@@ -1,10 +1,11 @@
 //! The speeds a wheel drives in the long-term loop (MODEL.md#the-long-term-loop): a steady
 //! speed, a normal spread of the cruising speed, or a drive cycle, each as a few legs of equal
-//! shares of the distance.
+//! shares of the distance. (Over a spread, what a few speeds miss of the linear loop is added
+//! exactly: [`super::loop_spread`].)
 
 use crate::sampling::distribution::normal_quantile;
 
-/// Equal-share speeds a normal spread or a drive cycle is visited at.
+/// Equal-share speeds a drive cycle is visited at unless told otherwise.
 pub const SPEED_NODES: usize = 5;
 
 /// One speed of the usage and its share of the distance.
@@ -17,29 +18,27 @@ pub struct Leg {
 }
 
 /// Cruising at `speed_kmh` with a normal spread of `spread_kmh`: the speed itself without a
-/// spread, else [`SPEED_NODES`] equal shares at the spread's quantiles (k + ½)/K (kept above
-/// 1 km/h).
-pub fn cruise_legs(speed_kmh: f64, spread_kmh: f64) -> Vec<Leg> {
-    if spread_kmh <= 0.0 {
+/// spread, else `nodes` equal shares at the spread's quantiles (k + ½)/K (kept above 1 km/h).
+pub fn cruise_legs(speed_kmh: f64, spread_kmh: f64, nodes: usize) -> Vec<Leg> {
+    if spread_kmh <= 0.0 || nodes <= 1 {
         return vec![Leg {
             speed_kmh,
             share: 1.0,
         }];
     }
-    let k = SPEED_NODES;
-    (0..k)
+    (0..nodes)
         .map(|i| Leg {
-            speed_kmh: (speed_kmh + spread_kmh * normal_quantile((i as f64 + 0.5) / k as f64))
+            speed_kmh: (speed_kmh + spread_kmh * normal_quantile((i as f64 + 0.5) / nodes as f64))
                 .max(1.0),
-            share: 1.0 / k as f64,
+            share: 1.0 / nodes as f64,
         })
         .collect()
 }
 
-/// A drive cycle's speeds `speeds_kmh[i]`, each driven `distances_m[i]`, as [`SPEED_NODES`]
+/// A drive cycle's speeds `speeds_kmh[i]`, each driven `distances_m[i]`, as `nodes`
 /// equal shares of distance at the distance-weighted quantiles (k + ½)/K of speed (standstill
 /// rows carry no distance and drop out). Empty when the cycle covers no distance.
-pub fn cycle_legs(speeds_kmh: &[f64], distances_m: &[f64]) -> Vec<Leg> {
+pub fn cycle_legs(speeds_kmh: &[f64], distances_m: &[f64], nodes: usize) -> Vec<Leg> {
     let mut rows: Vec<(f64, f64)> = speeds_kmh
         .iter()
         .zip(distances_m)
@@ -51,7 +50,7 @@ pub fn cycle_legs(speeds_kmh: &[f64], distances_m: &[f64]) -> Vec<Leg> {
     if total.is_nan() || total <= 0.0 {
         return Vec::new();
     }
-    let k = SPEED_NODES;
+    let k = nodes.max(1);
     let mut legs = Vec::with_capacity(k);
     let (mut acc, mut row) = (0.0, 0usize);
     for i in 0..k {

@@ -15,7 +15,10 @@
 //! 3. lays that revolution's energy onto the cells, each element by its own pressure
 //!    ([`DepositPlan`]), adds the wear that is not straight running, (1 − φ_s)w′₀ per element by
 //!    its pressure, and scales both by chunk/(2π r_B) revolutions;
-//! 4. lowers h by the mean of all the wear (the tread's real height loss).
+//! 4. where the legs stand for a normal speed spread, adds what they miss of the linear loop's
+//!    exact mean over it, order by order ([`super::loop_spread`]; nothing is worn more or less,
+//!    only moved between orders);
+//! 5. lowers h by the mean of all the wear (the tread's real height loss).
 //!
 //! The step is the smallest of Δs_max, a tenth of the time in which the fastest harmonic doubles
 //! (0.1 |R|/|dR/ds| and 0.2/|β|) and 1 µm of profile change, never below Δs_min; a step after
@@ -27,10 +30,15 @@ use super::deposit::{other_wear_m_per_m, DepositPlan};
 use super::feedback::Feedback;
 pub use super::legs::{cruise_legs, cycle_legs, Leg, SPEED_NODES};
 use super::lock::{is_locked, revolution_weights, rotation_number, window_revs, WINDOW_REVS};
+use super::loop_spread::{depth_rate_m_per_m, LoopSpread};
 use super::profile::{harmonics_of, Profile};
+pub use super::wheel_wear::{
+    measured_growth_per_m, profile_harmonics, HistoryPoint, WheelWear, LINEAR_REGIME_SEEDS,
+};
 use super::window::{integrate_window, EpsilonTable, WindowRequest};
 use super::zone::WearZone;
-use super::{Complex64, WearError};
+use super::WearError;
+use crate::classify::CycleHint;
 use crate::model::{Variant, Wheel, WheelModel};
 use crate::params::Params;
 
@@ -115,57 +123,9 @@ pub struct LoopInputs<'a> {
     /// The state (z, y, v) to start from: a point of the cycle the classifier found where the
     /// wheel vibrates; `None` starts at the equilibrium of the first leg.
     pub start: Option<[f64; 3]>,
-}
-
-/// The state of the run after one accepted step.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct HistoryPoint {
-    /// Distance run \[km\].
-    pub distance_km: f64,
-    /// Tread height h \[m\].
-    pub tread_height_m: f64,
-    /// D_n = 2|R_n| of orders 1 ..= [`FEEDBACK_ORDERS`] \[m\].
-    pub depths_m: Vec<f64>,
-    /// dD_n/ds of the same orders over the step that led here \[m/m\] (0 at the start).
-    pub depth_rate_m_per_m: Vec<f64>,
-    /// β_n = d ln|R_n|/ds over that step \[1/m\] (0 at the start).
-    pub growth_per_m: Vec<f64>,
-    /// The rotation number ρ of each leg's window in that step (NaN: no cycle).
-    pub rho: Vec<f64>,
-    /// Whether each leg's window was locked (ρ a whole number to 1e-3).
-    pub locked: Vec<bool>,
-}
-
-/// The result of the loop for one wheel.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct WheelWear {
-    /// The wheel.
-    pub wheel: Wheel,
-    /// The usage it ran.
-    pub legs: Vec<Leg>,
-    /// The start and every accepted step.
-    pub history: Vec<HistoryPoint>,
-    /// The depth profile d(θ) \[m\] at a few distances \[km\], the start and the end included.
-    pub profiles: Vec<(f64, Vec<f64>)>,
-    /// The first order to reach d_visible and the distance \[km\] at which it did (interpolated
-    /// exponentially within its step).
-    pub visible: Option<(u32, f64)>,
-    /// Straight-running friction energy laid onto the tread over the run \[J\].
-    pub energy_j: f64,
-    /// The volume that energy wore \[m³\] (γ times the energy, to rounding).
-    pub straight_volume_m3: f64,
-    /// The tread band b·2π r_B \[m²\] of the new tyre (volume / band / distance = even wear).
-    pub band_area_m2: f64,
-    /// The run's mean straight-running even wear \[m/m\].
-    pub even_wear_m_per_m: f64,
-    /// The seed's run-out per order R⁰ \[m\].
-    pub seed_m: f64,
-    /// Right-hand-side evaluations spent.
-    pub rhs_evals: u64,
-    /// Accepted steps.
-    pub steps: usize,
-    /// Steps redone at half length.
-    pub redone: usize,
+    /// Where the legs are a normal spread's speeds around `params`' speed: what they miss of
+    /// the linear loop's mean over it is added ([`super::loop_spread`]); `None`: the legs only.
+    pub spread: Option<LoopSpread<'a>>,
 }
 
 /// The tread model of one leg at one tread height.
@@ -214,6 +174,10 @@ struct Run<'a> {
     state: RunState,
     first: bool,
     rhs_evals: u64,
+    /// What the legs miss of the spread \[1/m\] per order, the tread height it was computed
+    /// at, and the cycle there (the next classification's guess).
+    missed: Option<(Vec<f64>, f64, Option<CycleHint>)>,
+    spread_kept: (usize, String),
 }
 
 impl<'a> Run<'a> {
@@ -246,6 +210,57 @@ impl<'a> Run<'a> {
         Ok(self.models[i].as_ref().expect("built above"))
     }
 
+    /// What the legs miss of the spread \[1/m\] per order at the run's tread height
+    /// (computed again once it has moved); where it cannot be, the last figures (counted, with
+    /// the reason), and an error only when there are none. `None` without a spread.
+    fn missed_growth(&mut self) -> Result<Option<Vec<f64>>, WearError> {
+        let Some(spread) = self.inputs.spread else {
+            return Ok(None);
+        };
+        let h = self.state.height_m;
+        if let Some((missed, at_m, _)) = &self.missed {
+            if (at_m - h).abs() <= HEIGHT_REBUILD_M {
+                return Ok(Some(missed.clone()));
+            }
+        }
+        let p = self.inputs.params;
+        let params = Params {
+            tread_height: h,
+            ..*p
+        };
+        let hint = self.missed.as_ref().and_then(|m| m.2);
+        let orders = FEEDBACK_ORDERS.min(self.settings.cells / 2 - 1);
+        let computed = WheelModel::build(&params, self.inputs.wheel, self.inputs.variant)
+            .map_err(|e| WearError::NoModel(e.to_string()))
+            .and_then(|model| {
+                spread.missed_growth_per_m(
+                    &params,
+                    &model,
+                    self.settings.zone,
+                    self.inputs.legs,
+                    orders,
+                    hint,
+                )
+            });
+        match (computed, self.missed.take()) {
+            (Ok((missed, hint)), _) => {
+                self.missed = Some((missed.clone(), h, hint));
+                Ok(Some(missed))
+            }
+            (Err(e), Some(last)) => {
+                self.spread_kept.0 += 1;
+                self.spread_kept.1 = e.to_string();
+                let missed = last.0.clone();
+                self.missed = Some(last);
+                Ok(Some(missed))
+            }
+            (Err(e), None) => Err(self.failure(
+                p.speed_kmh,
+                format!("what the legs miss of the speed spread: {e}"),
+            )),
+        }
+    }
+
     fn failure(&self, speed_kmh: f64, reason: String) -> WearError {
         WearError::Loop {
             speed_kmh,
@@ -268,6 +283,7 @@ impl<'a> Run<'a> {
         let radius = self.state.profile.radius_m();
         let orders = FEEDBACK_ORDERS.min(radius.len() / 2 - 1);
         let harmonics = harmonics_of(&radius, orders);
+        let missed = self.missed_growth()?;
         let lm = self.leg_model(i)?;
         let (p, fb, ode, period_s) = (lm.params, lm.feedback, lm.model.ode, lm.period_s);
         let width_m = lm.model.patch.width_m;
@@ -322,11 +338,20 @@ impl<'a> Run<'a> {
         let rev_m = std::f64::consts::TAU * p.r_b;
         let other_rate = (1.0 - p.wear_share_straight) * wear_rate_ref_m_per_m(&p);
         let other = other_wear_m_per_m(&radius, fb.local_per_m, other_rate);
-        let rate: Vec<f64> = per_rev_m
+        let mut rate: Vec<f64> = per_rev_m
             .iter()
             .zip(&other)
             .map(|(d, o)| d / rev_m + o)
             .collect();
+        if let Some(missed) = missed {
+            // The step's whole distance at this chunk's share: Σ shares = 1.
+            for (r, m) in rate
+                .iter_mut()
+                .zip(depth_rate_m_per_m(&missed, &harmonics, radius.len()))
+            {
+                *r += m;
+            }
+        }
         let revs_driven = chunk_m / rev_m;
         let cell_area = width_m * rev_m / radius.len() as f64;
         self.state.energy_j += mean_j.iter().sum::<f64>() * revs_driven;
@@ -462,6 +487,8 @@ impl<'a> Run<'a> {
             },
             first: true,
             rhs_evals: 0,
+            missed: None,
+            spread_kept: (0, String::new()),
         };
         let first_model = run.leg_model(0)?;
         let band_area_m2 = first_model.model.patch.width_m * std::f64::consts::TAU * p.r_b;
@@ -566,6 +593,8 @@ pub fn run_wheel(
         rhs_evals: run.rhs_evals,
         steps,
         redone,
+        speed_spread_kmh: inputs.spread.map_or(0.0, |s| s.spread_kmh),
+        spread_kept: run.spread_kept,
         history,
     })
 }
@@ -614,128 +643,4 @@ fn pick_profiles(profiles: Vec<(f64, Vec<f64>)>, count: usize) -> Vec<(f64, Vec<
         .collect();
     picked.dedup();
     picked.into_iter().map(|i| profiles[i].clone()).collect()
-}
-
-impl WheelWear {
-    /// The last history point.
-    pub fn end(&self) -> &HistoryPoint {
-        self.history.last().expect("the start is always there")
-    }
-
-    /// The order with the deepest polygon at the end (1-based).
-    pub fn dominant_order(&self) -> u32 {
-        let d = &self.end().depths_m;
-        (0..d.len())
-            .max_by(|a, b| d[*a].total_cmp(&d[*b]))
-            .map(|i| i as u32 + 1)
-            .unwrap_or(1)
-    }
-
-    /// The distance run \[km\].
-    pub fn distance_km(&self) -> f64 {
-        self.end().distance_km
-    }
-
-    /// Whether every order is at most its seed depth 2R⁰ at the end and none grows: no polygon.
-    pub fn levels_out(&self) -> bool {
-        let e = self.end();
-        let seed = 2.0 * self.seed_m;
-        e.depths_m.iter().all(|d| *d <= seed * (1.0 + 1e-9))
-            && e.growth_per_m.iter().all(|b| *b <= 0.0)
-    }
-
-    /// The distance to a visible polygon \[km\]: where one became visible; else, if the
-    /// dominant order still grows, the end of the run plus its exponential extrapolation;
-    /// else +inf.
-    pub fn distance_to_visible_km(&self, visible_m: f64) -> f64 {
-        if let Some((_, km)) = self.visible {
-            return km;
-        }
-        let n = self.dominant_order() as usize - 1;
-        let e = self.end();
-        let (d, beta) = (e.depths_m[n], e.growth_per_m[n]);
-        if beta > 0.0 && d > 0.0 {
-            e.distance_km + (visible_m / d).ln() / beta / 1e3
-        } else {
-            f64::INFINITY
-        }
-    }
-
-    /// The depth \[m\] at which the dominant order stopped growing: its depth at the end where
-    /// its growth fell below a tenth of its largest, NaN where it still grows or never grew.
-    pub fn saturation_depth_m(&self) -> f64 {
-        let n = self.dominant_order() as usize - 1;
-        let peak = self
-            .history
-            .iter()
-            .fold(0.0f64, |m, h| m.max(h.growth_per_m[n]));
-        let e = self.end();
-        if peak > 0.0 && e.growth_per_m[n] < 0.1 * peak && e.depths_m[n] > 2.0 * self.seed_m {
-            e.depths_m[n]
-        } else {
-            f64::NAN
-        }
-    }
-
-    /// The growth rate of `order` in its linear regime \[1/m\]: ln(D(s₁)/D(0))/s₁ from the start
-    /// to the first history point where the order is [`LINEAR_REGIME_SEEDS`] seeds deep (the end
-    /// if it never is), the figure the estimator's β̄ predicts (MODEL.md#the-per-sample-estimator);
-    /// NaN where the order has no seed.
-    pub fn linear_growth_per_m(&self, order: u32) -> f64 {
-        let n = order as usize - 1;
-        let start = &self.history[0];
-        let deep = LINEAR_REGIME_SEEDS * 2.0 * self.seed_m;
-        let stop = self
-            .history
-            .iter()
-            .skip(1)
-            .find(|h| h.depths_m[n] >= deep)
-            .unwrap_or_else(|| self.end());
-        let ds_m = (stop.distance_km - start.distance_km) * 1e3;
-        if start.depths_m[n] <= 0.0 || ds_m <= 0.0 {
-            return f64::NAN;
-        }
-        (stop.depths_m[n] / start.depths_m[n]).ln() / ds_m
-    }
-
-    /// The leg locked at the end with the largest share, as its speed \[km/h\].
-    pub fn locked_speed_kmh(&self) -> Option<f64> {
-        let e = self.end();
-        self.legs
-            .iter()
-            .zip(&e.locked)
-            .filter(|(_, l)| **l)
-            .max_by(|a, b| a.0.share.total_cmp(&b.0.share))
-            .map(|(leg, _)| leg.speed_kmh)
-    }
-}
-
-/// How many seeds deep an order may grow before its growth is no longer linear
-/// ([`WheelWear::linear_growth_per_m`]).
-pub const LINEAR_REGIME_SEEDS: f64 = 5.0;
-
-/// The growth rate of harmonic `n` from the history between two distances \[1/m\]:
-/// ln(D(s₂)/D(s₁))/(s₂ − s₁) at the nearest history points.
-pub fn measured_growth_per_m(wear: &WheelWear, order: u32, from_km: f64, to_km: f64) -> f64 {
-    let near = |km: f64| {
-        wear.history
-            .iter()
-            .min_by(|a, b| {
-                (a.distance_km - km)
-                    .abs()
-                    .total_cmp(&(b.distance_km - km).abs())
-            })
-            .expect("the start")
-    };
-    let (a, b) = (near(from_km), near(to_km));
-    let n = order as usize - 1;
-    (b.depths_m[n] / a.depths_m[n]).ln() / ((b.distance_km - a.distance_km) * 1e3)
-}
-
-/// The complex harmonic amplitudes R_1..=R_`orders` of a depth profile (r = −(d − d̄)).
-pub fn profile_harmonics(depth_m: &[f64], orders: usize) -> Vec<Complex64> {
-    Profile {
-        depth_m: depth_m.to_vec(),
-    }
-    .harmonics(orders)
 }

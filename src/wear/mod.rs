@@ -46,10 +46,12 @@ pub mod law;
 pub mod legs;
 pub mod lock;
 pub mod long_term;
+pub mod loop_spread;
 pub mod periodic;
 pub mod profile;
 pub mod spread;
 pub mod transfer;
+pub mod wheel_wear;
 pub mod window;
 pub mod zone;
 

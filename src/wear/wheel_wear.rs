@@ -1,0 +1,190 @@
+//! What the long-term loop found for one wheel (MODEL.md#the-long-term-loop): its history of
+//! depths, growth and lock per step, a few profiles, and the figures the summary reads from
+//! them (the dominant order, the distance to a visible polygon, the growth in the linear
+//! regime).
+
+use super::legs::Leg;
+use super::profile::Profile;
+use super::Complex64;
+use crate::model::Wheel;
+
+/// The state of the run after one accepted step.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct HistoryPoint {
+    /// Distance run \[km\].
+    pub distance_km: f64,
+    /// Tread height h \[m\].
+    pub tread_height_m: f64,
+    /// D_n = 2|R_n| of orders 1 ..= [`FEEDBACK_ORDERS`] \[m\].
+    pub depths_m: Vec<f64>,
+    /// dD_n/ds of the same orders over the step that led here \[m/m\] (0 at the start).
+    pub depth_rate_m_per_m: Vec<f64>,
+    /// β_n = d ln|R_n|/ds over that step \[1/m\] (0 at the start).
+    pub growth_per_m: Vec<f64>,
+    /// The rotation number ρ of each leg's window in that step (NaN: no cycle).
+    pub rho: Vec<f64>,
+    /// Whether each leg's window was locked (ρ a whole number to 1e-3).
+    pub locked: Vec<bool>,
+}
+
+/// The result of the loop for one wheel.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct WheelWear {
+    /// The wheel.
+    pub wheel: Wheel,
+    /// The usage it ran.
+    pub legs: Vec<Leg>,
+    /// The start and every accepted step.
+    pub history: Vec<HistoryPoint>,
+    /// The depth profile d(θ) \[m\] at a few distances \[km\], the start and the end included.
+    pub profiles: Vec<(f64, Vec<f64>)>,
+    /// The first order to reach d_visible and the distance \[km\] at which it did (interpolated
+    /// exponentially within its step).
+    pub visible: Option<(u32, f64)>,
+    /// Straight-running friction energy laid onto the tread over the run \[J\].
+    pub energy_j: f64,
+    /// The volume that energy wore \[m³\] (γ times the energy, to rounding).
+    pub straight_volume_m3: f64,
+    /// The tread band b·2π r_B \[m²\] of the new tyre (volume / band / distance = even wear).
+    pub band_area_m2: f64,
+    /// The run's mean straight-running even wear \[m/m\].
+    pub even_wear_m_per_m: f64,
+    /// The seed's run-out per order R⁰ \[m\].
+    pub seed_m: f64,
+    /// Right-hand-side evaluations spent.
+    pub rhs_evals: u64,
+    /// Accepted steps.
+    pub steps: usize,
+    /// Steps redone at half length.
+    pub redone: usize,
+    /// The normal spread the legs stand for \[km/h\] (0: none).
+    pub speed_spread_kmh: f64,
+    /// Tread heights at which what the legs miss of the spread could not be computed again (the
+    /// wheel not classified or linearised there) and the last figures were kept, with the last
+    /// reason.
+    pub spread_kept: (usize, String),
+}
+
+impl WheelWear {
+    /// The last history point.
+    pub fn end(&self) -> &HistoryPoint {
+        self.history.last().expect("the start is always there")
+    }
+
+    /// The order with the deepest polygon at the end (1-based).
+    pub fn dominant_order(&self) -> u32 {
+        let d = &self.end().depths_m;
+        (0..d.len())
+            .max_by(|a, b| d[*a].total_cmp(&d[*b]))
+            .map(|i| i as u32 + 1)
+            .unwrap_or(1)
+    }
+
+    /// The distance run \[km\].
+    pub fn distance_km(&self) -> f64 {
+        self.end().distance_km
+    }
+
+    /// Whether every order is at most its seed depth 2R⁰ at the end and none grows: no polygon.
+    pub fn levels_out(&self) -> bool {
+        let e = self.end();
+        let seed = 2.0 * self.seed_m;
+        e.depths_m.iter().all(|d| *d <= seed * (1.0 + 1e-9))
+            && e.growth_per_m.iter().all(|b| *b <= 0.0)
+    }
+
+    /// The distance to a visible polygon \[km\]: where one became visible; else, if the
+    /// dominant order still grows, the end of the run plus its exponential extrapolation;
+    /// else +inf.
+    pub fn distance_to_visible_km(&self, visible_m: f64) -> f64 {
+        if let Some((_, km)) = self.visible {
+            return km;
+        }
+        let n = self.dominant_order() as usize - 1;
+        let e = self.end();
+        let (d, beta) = (e.depths_m[n], e.growth_per_m[n]);
+        if beta > 0.0 && d > 0.0 {
+            e.distance_km + (visible_m / d).ln() / beta / 1e3
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// The depth \[m\] at which the dominant order stopped growing: its depth at the end where
+    /// its growth fell below a tenth of its largest, NaN where it still grows or never grew.
+    pub fn saturation_depth_m(&self) -> f64 {
+        let n = self.dominant_order() as usize - 1;
+        let peak = self
+            .history
+            .iter()
+            .fold(0.0f64, |m, h| m.max(h.growth_per_m[n]));
+        let e = self.end();
+        if peak > 0.0 && e.growth_per_m[n] < 0.1 * peak && e.depths_m[n] > 2.0 * self.seed_m {
+            e.depths_m[n]
+        } else {
+            f64::NAN
+        }
+    }
+
+    /// The growth rate of `order` in its linear regime \[1/m\]: ln(D(s₁)/D(0))/s₁ from the start
+    /// to the first history point where the order is [`LINEAR_REGIME_SEEDS`] seeds deep (the end
+    /// if it never is), the figure the estimator's β̄ predicts (MODEL.md#the-per-sample-estimator);
+    /// NaN where the order has no seed.
+    pub fn linear_growth_per_m(&self, order: u32) -> f64 {
+        let n = order as usize - 1;
+        let start = &self.history[0];
+        let deep = LINEAR_REGIME_SEEDS * 2.0 * self.seed_m;
+        let stop = self
+            .history
+            .iter()
+            .skip(1)
+            .find(|h| h.depths_m[n] >= deep)
+            .unwrap_or_else(|| self.end());
+        let ds_m = (stop.distance_km - start.distance_km) * 1e3;
+        if start.depths_m[n] <= 0.0 || ds_m <= 0.0 {
+            return f64::NAN;
+        }
+        (stop.depths_m[n] / start.depths_m[n]).ln() / ds_m
+    }
+
+    /// The leg locked at the end with the largest share, as its speed \[km/h\].
+    pub fn locked_speed_kmh(&self) -> Option<f64> {
+        let e = self.end();
+        self.legs
+            .iter()
+            .zip(&e.locked)
+            .filter(|(_, l)| **l)
+            .max_by(|a, b| a.0.share.total_cmp(&b.0.share))
+            .map(|(leg, _)| leg.speed_kmh)
+    }
+}
+
+/// How many seeds deep an order may grow before its growth is no longer linear
+/// ([`WheelWear::linear_growth_per_m`]).
+pub const LINEAR_REGIME_SEEDS: f64 = 5.0;
+
+/// The growth rate of harmonic `n` from the history between two distances \[1/m\]:
+/// ln(D(s₂)/D(s₁))/(s₂ − s₁) at the nearest history points.
+pub fn measured_growth_per_m(wear: &WheelWear, order: u32, from_km: f64, to_km: f64) -> f64 {
+    let near = |km: f64| {
+        wear.history
+            .iter()
+            .min_by(|a, b| {
+                (a.distance_km - km)
+                    .abs()
+                    .total_cmp(&(b.distance_km - km).abs())
+            })
+            .expect("the start")
+    };
+    let (a, b) = (near(from_km), near(to_km));
+    let n = order as usize - 1;
+    (b.depths_m[n] / a.depths_m[n]).ln() / ((b.distance_km - a.distance_km) * 1e3)
+}
+
+/// The complex harmonic amplitudes R_1..=R_`orders` of a depth profile (r = −(d − d̄)).
+pub fn profile_harmonics(depth_m: &[f64], orders: usize) -> Vec<Complex64> {
+    Profile {
+        depth_m: depth_m.to_vec(),
+    }
+    .harmonics(orders)
+}
