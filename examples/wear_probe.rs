@@ -6,7 +6,6 @@ use polywear::evaluate::{calibrate_wear, solve_wheel};
 use polywear::model::{Variant, Wheel};
 use polywear::params::Params;
 use polywear::wear::long_term::{cruise_legs, run_wheel, LoopInputs, LoopSettings};
-use polywear::wear::loop_spread::LoopSpread;
 use std::time::Instant;
 
 fn main() {
@@ -17,6 +16,7 @@ fn main() {
         speed_kmh: speed,
         wear_share_straight: arg(2, 1.0),
         speed_spread_kmh: arg(3, 0.0),
+        toe_deg: std::env::var("PW_TOE").map_or(Params::default().toe_deg, |t| t.parse().unwrap()),
         ..Params::default()
     };
     let wheel = if a.get(4).map(String::as_str) == Some("d") {
@@ -33,12 +33,11 @@ fn main() {
         let eq = w.model.as_ref().unwrap().ode.equilibrium();
         [v.section_z_m, eq[1], v.section_v_mps]
     });
-    // PW_LEGS=K: K equal-share speeds of the spread (default 5); PW_PLAIN: without what they
-    // miss of the linear loop's mean.
+    // PW_LEGS=K: K equal-share speeds of the spread (default 5); PW_TOE: the toe-in [deg].
     let nodes: usize = std::env::var("PW_LEGS")
         .ok()
         .map(|k| k.parse().unwrap())
-        .unwrap_or(1);
+        .unwrap_or(5);
     let legs = cruise_legs(speed, p.speed_spread_kmh, nodes);
     let settings = LoopSettings {
         distance_km: arg(5, 60_000.0),
@@ -54,13 +53,6 @@ fn main() {
             gamma_m3_per_j: cal.gamma_m3_per_j(&p),
             legs: &legs,
             start,
-            spread: (std::env::var("PW_PLAIN").is_err() && p.speed_spread_kmh > 0.0).then_some(
-                LoopSpread {
-                    spread_kmh: p.speed_spread_kmh,
-                    calibration: &cal,
-                    classifier: &opts,
-                },
-            ),
         },
         &settings,
         &|_| {},

@@ -325,30 +325,6 @@ impl WheelGrowth {
         (-even * gain.re - other, -even * through_tread.re)
     }
 
-    /// β of the linear loop of order `order` at φ_s = `share`, cruising at `speed_mps` with a
-    /// normal spread of `spread_mps` (0: that speed alone) \[1/m\]: the exact normal mean of
-    /// the transfer's poles in the speed (the wheel's linearisation kept, ω_n = nV/r_B moving),
-    /// no lock.
-    pub fn linear_growth_per_m(
-        &self,
-        order: u32,
-        share: f64,
-        speed_mps: f64,
-        spread_mps: f64,
-    ) -> f64 {
-        let n = order as f64;
-        let g = self
-            .response
-            .transfer
-            .mean_over_speed(n, self.r_b, speed_mps, spread_mps);
-        self.linear_per_m(n, share, g).0
-    }
-
-    /// The speed of the wheel's linearisation \[m/s\].
-    pub fn speed_mps(&self) -> f64 {
-        self.speed_mps
-    }
-
     /// The speed band \[m/s\] (centre, half-width) in which the cycle locks to order `n` of
     /// depth |R_n| = `radius_m`: |δ| ≤ δ_L = ν |e_n R_n| |ĝ₋₁|, the band ±V δ_L / n around
     /// V_n = V ν / n (ν ∝ 1/V at a fixed tread frequency); none for a stable wheel.

@@ -15,10 +15,7 @@
 //! 3. lays that revolution's energy onto the cells, each element by its own pressure
 //!    ([`DepositPlan`]), adds the wear that is not straight running, (1 − φ_s)w′₀ per element by
 //!    its pressure, and scales both by chunk/(2π r_B) revolutions;
-//! 4. where the legs stand for a normal speed spread, adds what they miss of the linear loop's
-//!    exact mean over it, order by order ([`super::loop_spread`]; nothing is worn more or less,
-//!    only moved between orders);
-//! 5. lowers h by the mean of all the wear (the tread's real height loss).
+//! 4. lowers h by the mean of all the wear (the tread's real height loss).
 //!
 //! The step is the smallest of Δs_max, a tenth of the time in which the fastest harmonic doubles
 //! (0.1 |R|/|dR/ds| and 0.2/|β|) and 1 µm of profile change, never below Δs_min; a step after
@@ -30,7 +27,6 @@ use super::deposit::{other_wear_m_per_m, DepositPlan};
 use super::feedback::Feedback;
 pub use super::legs::{cruise_legs, cycle_legs, Leg, SPEED_NODES};
 use super::lock::{is_locked, revolution_weights, rotation_number, window_revs, WINDOW_REVS};
-use super::loop_spread::{depth_rate_m_per_m, LoopSpread};
 use super::profile::{harmonics_of, Profile};
 pub use super::wheel_wear::{
     measured_growth_per_m, profile_harmonics, HistoryPoint, WheelWear, LINEAR_REGIME_SEEDS,
@@ -38,7 +34,6 @@ pub use super::wheel_wear::{
 use super::window::{integrate_window, EpsilonTable, WindowRequest};
 use super::zone::WearZone;
 use super::WearError;
-use crate::classify::CycleHint;
 use crate::model::{Variant, Wheel, WheelModel};
 use crate::params::Params;
 
@@ -123,9 +118,6 @@ pub struct LoopInputs<'a> {
     /// The state (z, y, v) to start from: a point of the cycle the classifier found where the
     /// wheel vibrates; `None` starts at the equilibrium of the first leg.
     pub start: Option<[f64; 3]>,
-    /// Where the legs are a normal spread's speeds around `params`' speed: what they miss of
-    /// the linear loop's mean over it is added ([`super::loop_spread`]); `None`: the legs only.
-    pub spread: Option<LoopSpread<'a>>,
 }
 
 /// The tread model of one leg at one tread height.
@@ -174,10 +166,6 @@ struct Run<'a> {
     state: RunState,
     first: bool,
     rhs_evals: u64,
-    /// What the legs miss of the spread \[1/m\] per order, the tread height it was computed
-    /// at, and the cycle there (the next classification's guess).
-    missed: Option<(Vec<f64>, f64, Option<CycleHint>)>,
-    spread_kept: (usize, String),
 }
 
 impl<'a> Run<'a> {
@@ -210,57 +198,6 @@ impl<'a> Run<'a> {
         Ok(self.models[i].as_ref().expect("built above"))
     }
 
-    /// What the legs miss of the spread \[1/m\] per order at the run's tread height
-    /// (computed again once it has moved); where it cannot be, the last figures (counted, with
-    /// the reason), and an error only when there are none. `None` without a spread.
-    fn missed_growth(&mut self) -> Result<Option<Vec<f64>>, WearError> {
-        let Some(spread) = self.inputs.spread else {
-            return Ok(None);
-        };
-        let h = self.state.height_m;
-        if let Some((missed, at_m, _)) = &self.missed {
-            if (at_m - h).abs() <= HEIGHT_REBUILD_M {
-                return Ok(Some(missed.clone()));
-            }
-        }
-        let p = self.inputs.params;
-        let params = Params {
-            tread_height: h,
-            ..*p
-        };
-        let hint = self.missed.as_ref().and_then(|m| m.2);
-        let orders = FEEDBACK_ORDERS.min(self.settings.cells / 2 - 1);
-        let computed = WheelModel::build(&params, self.inputs.wheel, self.inputs.variant)
-            .map_err(|e| WearError::NoModel(e.to_string()))
-            .and_then(|model| {
-                spread.missed_growth_per_m(
-                    &params,
-                    &model,
-                    self.settings.zone,
-                    self.inputs.legs,
-                    orders,
-                    hint,
-                )
-            });
-        match (computed, self.missed.take()) {
-            (Ok((missed, hint)), _) => {
-                self.missed = Some((missed.clone(), h, hint));
-                Ok(Some(missed))
-            }
-            (Err(e), Some(last)) => {
-                self.spread_kept.0 += 1;
-                self.spread_kept.1 = e.to_string();
-                let missed = last.0.clone();
-                self.missed = Some(last);
-                Ok(Some(missed))
-            }
-            (Err(e), None) => Err(self.failure(
-                p.speed_kmh,
-                format!("what the legs miss of the speed spread: {e}"),
-            )),
-        }
-    }
-
     fn failure(&self, speed_kmh: f64, reason: String) -> WearError {
         WearError::Loop {
             speed_kmh,
@@ -283,7 +220,6 @@ impl<'a> Run<'a> {
         let radius = self.state.profile.radius_m();
         let orders = FEEDBACK_ORDERS.min(radius.len() / 2 - 1);
         let harmonics = harmonics_of(&radius, orders);
-        let missed = self.missed_growth()?;
         let lm = self.leg_model(i)?;
         let (p, fb, ode, period_s) = (lm.params, lm.feedback, lm.model.ode, lm.period_s);
         let width_m = lm.model.patch.width_m;
@@ -338,20 +274,11 @@ impl<'a> Run<'a> {
         let rev_m = std::f64::consts::TAU * p.r_b;
         let other_rate = (1.0 - p.wear_share_straight) * wear_rate_ref_m_per_m(&p);
         let other = other_wear_m_per_m(&radius, fb.local_per_m, other_rate);
-        let mut rate: Vec<f64> = per_rev_m
+        let rate: Vec<f64> = per_rev_m
             .iter()
             .zip(&other)
             .map(|(d, o)| d / rev_m + o)
             .collect();
-        if let Some(missed) = missed {
-            // The step's whole distance at this chunk's share: Σ shares = 1.
-            for (r, m) in rate
-                .iter_mut()
-                .zip(depth_rate_m_per_m(&missed, &harmonics, radius.len()))
-            {
-                *r += m;
-            }
-        }
         let revs_driven = chunk_m / rev_m;
         let cell_area = width_m * rev_m / radius.len() as f64;
         self.state.energy_j += mean_j.iter().sum::<f64>() * revs_driven;
@@ -487,8 +414,6 @@ impl<'a> Run<'a> {
             },
             first: true,
             rhs_evals: 0,
-            missed: None,
-            spread_kept: (0, String::new()),
         };
         let first_model = run.leg_model(0)?;
         let band_area_m2 = first_model.model.patch.width_m * std::f64::consts::TAU * p.r_b;
@@ -593,8 +518,6 @@ pub fn run_wheel(
         rhs_evals: run.rhs_evals,
         steps,
         redone,
-        speed_spread_kmh: inputs.spread.map_or(0.0, |s| s.spread_kmh),
-        spread_kept: run.spread_kept,
         history,
     })
 }

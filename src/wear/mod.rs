@@ -46,7 +46,6 @@ pub mod law;
 pub mod legs;
 pub mod lock;
 pub mod long_term;
-pub mod loop_spread;
 pub mod periodic;
 pub mod profile;
 pub mod spread;

@@ -57,12 +57,6 @@ pub struct WheelWear {
     pub steps: usize,
     /// Steps redone at half length.
     pub redone: usize,
-    /// The normal spread the legs stand for \[km/h\] (0: none).
-    pub speed_spread_kmh: f64,
-    /// Tread heights at which what the legs miss of the spread could not be computed again (the
-    /// wheel not classified or linearised there) and the last figures were kept, with the last
-    /// reason.
-    pub spread_kept: (usize, String),
 }
 
 impl WheelWear {
