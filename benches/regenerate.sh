@@ -28,12 +28,12 @@ if [ "$quick" = 1 ]; then
   EXPLORE_N=2000; OUTPUT_N=2000; SCALING_N=1000; FSYNC_N=400; VALIDATE_N=4; THROUGHPUT_N=500
   ANALYZE_SIZES="2e4 4e4"; ANALYZE_RUNS=1; REPRODUCE="--steps 11 --paired-samples 200"
   DECODING_N=2560; PEERS_N=20; PEERS_SCIPY=2; CRITERION="--test"; CYCLE_REPEATS=1
-  SCENARIOS_N=1000; OPTIMIZE_N=300
+  SCENARIOS_N=1000; OPTIMIZE_N=300; WEAR_KM=300
 else
   EXPLORE_N=1e6; OUTPUT_N=1e6; SCALING_N=20000; FSYNC_N=4000; VALIDATE_N=340; THROUGHPUT_N=20000
   ANALYZE_SIZES="1e6 4e6"; ANALYZE_RUNS=3; REPRODUCE=""
   DECODING_N=51200; PEERS_N=1000; PEERS_SCIPY=50; CRITERION="--warm-up-time 1 --measurement-time 3"; CYCLE_REPEATS=9
-  SCENARIOS_N=20000; OPTIMIZE_N=10000
+  SCENARIOS_N=20000; OPTIMIZE_N=10000; WEAR_KM=60000
 fi
 
 cargo build --release --quiet --bin polywear
@@ -141,6 +141,17 @@ if want wear-estimator; then
   say "Command: \`cargo bench --bench wear -- $THROUGHPUT_N\` (both wheels of the default study classified without and with the per-sample wear estimator, interleaved, best of 2; the estimator's RHS evaluations per wheel by class)."
   say ""
   cargo bench --quiet --bench wear -- "$THROUGHPUT_N" 2>/dev/null | block
+fi
+
+if want wear-loop; then
+  section "wear-loop"
+  say "Command: \`polywear wear --distance-km $WEAR_KM\` at the default point, both wheels in parallel: the worst case at a steady speed (\`--set wear_share_straight=1 --speed-spread-kmh 0\`), then the shipped defaults (5 km/h of spread) at 5 speeds (the default) and at 1 (\`--speed-nodes 1\`), one after the other."
+  say ""
+  for args in "--set wear_share_straight=1 --speed-spread-kmh 0" "" "--speed-nodes 1"; do
+    # shellcheck disable=SC2086
+    timed "$bin" wear --quiet --distance-km "$WEAR_KM" $args --out "$work/wear" > "$work/wear.out" 2> "$work/wear.err"
+    echo "wear ${args:-(shipped defaults)}: $(tail -1 "$work/wear.err")"
+  done | block
 fi
 
 if want chart; then

@@ -518,6 +518,7 @@ pub fn run_wheel(
         rhs_evals: run.rhs_evals,
         steps,
         redone,
+        end_states: run.state.x.clone(),
         history,
     })
 }

@@ -49,6 +49,7 @@ pub mod long_term;
 pub mod periodic;
 pub mod profile;
 pub mod spread;
+pub mod tongue;
 pub mod transfer;
 pub mod wheel_wear;
 pub mod window;

@@ -57,6 +57,8 @@ pub struct WheelWear {
     pub steps: usize,
     /// Steps redone at half length.
     pub redone: usize,
+    /// The ODE state (z, y, v) each leg's last window ended in (`None`: never driven).
+    pub end_states: Vec<Option<[f64; 3]>>,
 }
 
 impl WheelWear {
@@ -139,6 +141,16 @@ impl WheelWear {
             return f64::NAN;
         }
         (stop.depths_m[n] / start.depths_m[n]).ln() / ds_m
+    }
+
+    /// The leg locked at the end with the largest share: its index, speed \[km/h\] and the
+    /// order it is locked to.
+    pub fn locked_leg(&self) -> Option<(usize, f64, u32)> {
+        let e = self.end();
+        (0..self.legs.len())
+            .filter(|i| e.locked[*i])
+            .max_by(|a, b| self.legs[*a].share.total_cmp(&self.legs[*b].share))
+            .map(|i| (i, self.legs[i].speed_kmh, e.rho[i].round() as u32))
     }
 
     /// The leg locked at the end with the largest share, as its speed \[km/h\].

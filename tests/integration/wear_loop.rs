@@ -450,3 +450,56 @@ fn wear_drives_a_shipped_cycle() {
         "{speeds:?}"
     );
 }
+
+/// P2 on the loop's own windows: a cycle locks to a single polygon of order 19 only inside a
+/// tongue of speeds around V_19 = V ν/19, whose half-width grows in proportion to the depth at
+/// small depths (phase reduction: δ_lock ∝ |R_n|), and agrees with the estimator's tongue
+/// (MODEL.md#growth-of-a-vibrating-wheel) but for a factor of about two (the estimator's is
+/// wider).
+#[test]
+fn the_loop_locks_only_inside_a_tongue_that_widens_with_the_depth() {
+    use polywear::wear::tongue::{measure, TongueRequest};
+    let p = worst(100.0);
+    let w = solve_wheel(p, V, Wheel::Follower, &ClassifierOptions::default());
+    let nu = w.verdict.polygon_order;
+    let centre_kmh = p.speed_kmh * nu / 19.0;
+    let cells = 1024;
+    let halfwidth = |depth_m: f64| {
+        // One harmonic of order 19, D = `depth_m` peak to valley.
+        let d: Vec<f64> = (0..cells)
+            .map(|i| {
+                let theta = (i as f64 + 0.5) * std::f64::consts::TAU / cells as f64;
+                -0.5 * depth_m * (19.0 * theta).cos()
+            })
+            .collect();
+        measure(&TongueRequest {
+            params: &p,
+            wheel: Wheel::Follower,
+            variant: V,
+            zone: polywear::wear::WearZone::Trailing,
+            depth_m: &d,
+            tread_height_m: p.tread_height,
+            start: start(&w).unwrap(),
+            locked: (centre_kmh, 19),
+            orders: 64,
+            rtol: 1e-7,
+        })
+        .unwrap()
+        .expect("locked at the tongue's centre")
+    };
+    let (shallow, deep) = (halfwidth(4e-6), halfwidth(16e-6));
+    assert!(!shallow.at_bound && !deep.at_bound);
+    let ratio = deep.halfwidth_kmh / shallow.halfwidth_kmh;
+    assert!(
+        (2.5..5.5).contains(&ratio),
+        "x4 the depth: x{ratio} the tongue ({shallow:?}, {deep:?})"
+    );
+    // The estimator's tongue at the seed is twice as wide (MODEL.md#growth-of-a-vibrating-wheel).
+    let estimated = growth(&p, &w).order(19).lock_halfwidth_kmh;
+    let ratio = shallow.halfwidth_kmh / estimated;
+    assert!(
+        (0.35..0.7).contains(&ratio),
+        "loop ±{} km/h, estimator ±{estimated} km/h",
+        shallow.halfwidth_kmh
+    );
+}

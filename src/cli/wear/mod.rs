@@ -13,17 +13,19 @@ use polywear::classify::{Class, ClassifierOptions};
 use polywear::cycle::DriveCycle;
 use polywear::ensemble::{self, Control};
 use polywear::evaluate::{self, PointProblem, WearStage, WheelSolution};
-use polywear::model::{Variant, Wheel, WheelModel};
+use polywear::model::{Variant, Wheel};
 use polywear::params::{ParamId, Params};
-use polywear::parquet_out::{write_csv, write_table, Column};
-use polywear::plot::wear::{wear_figure, WearTrace};
-use polywear::plot::{FigureFile, FigureFormat};
+use polywear::plot::FigureFormat;
 use polywear::wear::long_term::{
     cruise_legs, cycle_legs, run_wheel, Leg, LoopInputs, LoopSettings, SPEED_NODES,
 };
 use polywear::wear::long_term::{WheelWear, FEEDBACK_ORDERS};
-use polywear::wear::{WearEstimate, WearSettings, WearZone};
+use polywear::wear::tongue::{self, Tongue, TongueRequest};
+use polywear::wear::{WearSettings, WearZone};
 use polywear::wording::plain;
+
+mod outputs;
+use outputs::{figures, write_outputs};
 
 /// The largest distance `--distance-km` accepts \[km\].
 const MAX_DISTANCE_KM: f64 = 1e6;
@@ -160,8 +162,8 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
                 plain(p.speed_spread_kmh, 6),
                 match (p.speed_spread_kmh > 0.0, nodes) {
                     (false, _) => String::new(),
-                    (true, 1) => " (driven at the mean speed only)".into(),
-                    (true, k) => format!(" (driven at {k} of its speeds)"),
+                    (true, 1) => ", driven at the mean speed only".into(),
+                    (true, k) => format!(", driven at {k} of its speeds"),
                 }
             ),
         ),
@@ -278,6 +280,10 @@ pub fn run(args: &WearArgs) -> CliResult {
             match &w.model {
                 Ok(_) if !matches!(w.verdict.class, Class::NoTraction | Class::Failed) => {
                     run_wheel(&inputs, &plan.settings, &|km| bar.inc(km.round() as u64))
+                        .map(|run| {
+                            let tongue = measured_tongue(&run, &inputs, &plan.settings);
+                            (run, tongue)
+                        })
                         .map_err(|e| e.to_string())
                 }
                 Ok(_) => Err(format!("{}: {}", w.verdict.class, w.verdict.reason)),
@@ -297,10 +303,17 @@ pub fn run(args: &WearArgs) -> CliResult {
         .iter()
         .zip(runs)
         .enumerate()
-        .map(|(i, (w, run))| WheelOutcome {
-            wheel: Wheel::BOTH[i],
-            solution: w,
-            run,
+        .map(|(i, (w, outcome))| {
+            let (run, tongue) = match outcome {
+                Ok((run, tongue)) => (Ok(run), tongue),
+                Err(e) => (Err(e), Err("no run".into())),
+            };
+            WheelOutcome {
+                wheel: Wheel::BOTH[i],
+                solution: w,
+                run,
+                tongue,
+            }
         })
         .collect();
     write_outputs(args, &plan, &wheels)?;
@@ -313,6 +326,37 @@ struct WheelOutcome<'a> {
     wheel: Wheel,
     solution: &'a WheelSolution,
     run: Result<WheelWear, String>,
+    /// The tongue measured at the end where a leg is locked (`None` where none is), or why it
+    /// could not be.
+    tongue: Result<Option<Tongue>, String>,
+}
+
+/// The lock-in tongue at the run's end, measured at its final profile around its locked leg
+/// (`wear::tongue`); `None` where no leg is locked at the end.
+fn measured_tongue(
+    run: &WheelWear,
+    inputs: &LoopInputs<'_>,
+    settings: &LoopSettings,
+) -> Result<Option<Tongue>, String> {
+    let Some((leg, speed_kmh, order)) = run.locked_leg() else {
+        return Ok(None);
+    };
+    let (Some(start), Some((_, depth_m))) = (run.end_states[leg], run.profiles.last()) else {
+        return Ok(None);
+    };
+    tongue::measure(&TongueRequest {
+        params: inputs.params,
+        wheel: inputs.wheel,
+        variant: inputs.variant,
+        zone: settings.zone,
+        depth_m,
+        tread_height_m: run.end().tread_height_m,
+        start,
+        locked: (speed_kmh, order),
+        orders: FEEDBACK_ORDERS,
+        rtol: settings.rtol,
+    })
+    .map_err(|e| e.to_string())
 }
 
 fn progress_bar(quiet: bool, total_km: f64) -> ProgressBar {
@@ -336,256 +380,25 @@ fn progress_bar(quiet: bool, total_km: f64) -> ProgressBar {
     bar
 }
 
-/// The summary's figures of one wheel (NaN where undefined).
-struct Figures {
-    dominant: f64,
-    detuning: f64,
-    locked: bool,
-    lock_halfwidth_hz: f64,
-    even: f64,
-    growth_mm: f64,
-    growth_rate: f64,
-    saturation_mm: f64,
-    distance_km: f64,
-}
-
-fn figures(o: &WheelOutcome<'_>, p: &Params) -> Figures {
-    let nan = f64::NAN;
-    let Ok(run) = &o.run else {
-        return Figures {
-            dominant: nan,
-            detuning: nan,
-            locked: false,
-            lock_halfwidth_hz: nan,
-            even: nan,
-            growth_mm: nan,
-            growth_rate: nan,
-            saturation_mm: nan,
-            distance_km: nan,
-        };
-    };
-    let n = run.dominant_order();
-    let e = run.end();
-    let i = n as usize - 1;
-    let nu = o.solution.verdict.polygon_order;
-    // The tongue's half-width at the final depth: the estimator's at the seed, linear in R.
-    let estimate = o.solution.wear.as_ref();
-    let lock_halfwidth_hz = estimate
-        .and_then(|est| est.orders.iter().find(|g| g.order == n))
-        .map(|g| {
-            let hz_per_kmh = n as f64 * WheelModel::rotation_hz(p) / p.speed_kmh;
-            g.lock_halfwidth_kmh * hz_per_kmh * e.depths_m[i] / (2.0 * run.seed_m)
-        })
-        .filter(|x| *x > 0.0)
-        .unwrap_or(nan);
-    Figures {
-        dominant: n as f64,
-        detuning: nu - n as f64,
-        locked: run.locked_speed_kmh().is_some(),
-        lock_halfwidth_hz,
-        even: run.even_wear_m_per_m * 1e9,
-        growth_mm: e.depth_rate_m_per_m[i] * 1e9,
-        growth_rate: run.linear_growth_per_m(n) * 1e6,
-        saturation_mm: run.saturation_depth_m() * 1e3,
-        distance_km: run.distance_to_visible_km(p.visible_depth_mm * 1e-3),
-    }
-}
-
-fn summary_columns(p: &Params, wheels: &[WheelOutcome<'_>], estimate: bool) -> Vec<Column> {
-    let f: Vec<Figures> = wheels.iter().map(|w| figures(w, p)).collect();
-    let col = |name: &str, unit: &'static str, get: &dyn Fn(&Figures) -> f64| {
-        Column::f64(name, unit, f.iter().map(get).collect())
-    };
-    let mut cols = vec![
-        Column::str(
-            "wheel",
-            wheels
-                .iter()
-                .map(|w| w.wheel.as_str().to_string())
-                .collect(),
-        ),
-        Column::str(
-            "class",
-            wheels
-                .iter()
-                .map(|w| w.solution.verdict.class.to_string())
-                .collect(),
-        ),
-        Column::f64(
-            "polygon_order",
-            "",
-            wheels
-                .iter()
-                .map(|w| w.solution.verdict.polygon_order)
-                .collect(),
-        ),
-        col("dominant_order", "", &|x| x.dominant),
-        col("detuning_rev", "", &|x| x.detuning),
-        Column::i64("locked", "", f.iter().map(|x| x.locked as i64).collect()),
-        col("lock_halfwidth_hz", "Hz", &|x| x.lock_halfwidth_hz),
-        col("wear_even_mm_per_1000km", "mm/1000 km", &|x| x.even),
-        col("growth_mm_per_1000km", "mm/1000 km", &|x| x.growth_mm),
-        col("growth_rate_per_1000km", "1/1000 km", &|x| x.growth_rate),
-        col("saturation_depth_mm", "mm", &|x| x.saturation_mm),
-        col("distance_to_visible_km", "km", &|x| x.distance_km),
-        Column::f64(
-            "wear_calibration_share",
-            "",
-            vec![p.wear_share_straight; wheels.len()],
-        ),
-    ];
-    if estimate {
-        let est = |get: &dyn Fn(&WearEstimate) -> f64| -> Vec<f64> {
-            wheels
-                .iter()
-                .map(|w| w.solution.wear.as_ref().map_or(f64::NAN, get))
-                .collect()
-        };
-        cols.push(Column::f64(
-            "estimate_dominant_order",
-            "",
-            est(&|e| e.polygon_order_dominant),
-        ));
-        cols.push(Column::f64(
-            "estimate_detuning_rev",
-            "",
-            est(&|e| e.detuning_rev),
-        ));
-        cols.push(Column::f64(
-            "estimate_growth_rate_per_1000km",
-            "1/1000 km",
-            est(&|e| e.growth_rate_per_1000km),
-        ));
-        cols.push(Column::f64(
-            "estimate_distance_to_visible_km",
-            "km",
-            est(&|e| e.distance_to_visible_km),
-        ));
-    }
-    cols
-}
-
-/// The history: one row per wheel, step and order.
-fn history_columns(wheels: &[WheelOutcome<'_>]) -> Vec<Column> {
-    let (mut wheel, mut km, mut order, mut depth, mut height) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for w in wheels {
-        let Ok(run) = &w.run else { continue };
-        for h in &run.history {
-            for (n, d) in h.depths_m.iter().enumerate() {
-                wheel.push(w.wheel.as_str().to_string());
-                km.push(h.distance_km);
-                order.push(n as i64 + 1);
-                depth.push(d * 1e3);
-                height.push(h.tread_height_m * 1e3);
-            }
-        }
-    }
-    vec![
-        Column::str("wheel", wheel),
-        Column::f64("distance_km", "km", km),
-        Column::i64("order", "", order),
-        Column::f64("depth_mm", "mm", depth),
-        Column::f64("tread_height_mm", "mm", height),
-    ]
-}
-
-/// The profiles: one row per wheel, chosen distance and cell.
-fn profile_columns(wheels: &[WheelOutcome<'_>]) -> Vec<Column> {
-    let (mut wheel, mut km, mut angle, mut depth) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for w in wheels {
-        let Ok(run) = &w.run else { continue };
-        for (s, d) in &run.profiles {
-            let mean = d.iter().sum::<f64>() / d.len() as f64;
-            for (i, x) in d.iter().enumerate() {
-                wheel.push(w.wheel.as_str().to_string());
-                km.push(*s);
-                angle.push(360.0 * (i as f64 + 0.5) / d.len() as f64);
-                depth.push((x - mean) * 1e3);
-            }
-        }
-    }
-    vec![
-        Column::str("wheel", wheel),
-        Column::f64("distance_km", "km", km),
-        Column::f64("angle_deg", "deg", angle),
-        Column::f64("depth_mm", "mm", depth),
-    ]
-}
-
-fn write_outputs(args: &WearArgs, plan: &Plan, wheels: &[WheelOutcome<'_>]) -> CliResult {
-    let dir = &args.out;
-    polywear::safe_write::create_dir(dir)
-        .map_err(|e| CliError(format!("--out {}: {e}", dir.display())))?;
-    let err = |e: &dyn std::fmt::Display| CliError(e.to_string());
-    let mut meta = plan.metadata.clone();
-    meta.push((
-        "profile".into(),
-        "depth_mm: the worn depth minus its mean (r = -depth); depth peak-to-valley in history"
-            .into(),
-    ));
-    let summary = summary_columns(&plan.params, wheels, args.estimate);
-    write_csv(&dir.join("wear_summary.csv"), &summary).map_err(|e| err(&e))?;
-    write_table(&dir.join("wear_summary.parquet"), &summary, &meta).map_err(|e| err(&e))?;
-    write_table(
-        &dir.join("wear_history.parquet"),
-        &history_columns(wheels),
-        &meta,
-    )
-    .map_err(|e| err(&e))?;
-    write_table(
-        &dir.join("wear_profile.parquet"),
-        &profile_columns(wheels),
-        &meta,
-    )
-    .map_err(|e| err(&e))?;
-    let traces: Vec<WearTrace> = wheels
-        .iter()
-        .filter_map(|w| w.run.as_ref().ok().map(|r| (w.wheel, r)))
-        .map(|(wheel, r)| WearTrace {
-            wheel: wheel.as_str(),
-            profiles: &r.profiles,
-            depths: drawn_depths(r),
-            visible_mm: plan.params.visible_depth_mm,
-        })
-        .collect();
-    if !traces.is_empty() {
-        let figure = FigureFile::named(dir, "wear", args.format);
-        let title = format!("polywear wear: {}", plan.usage);
-        wear_figure(&figure, &title, &traces).map_err(|e| err(&e))?;
-    }
-    Ok(())
-}
-
-/// The [`DRAWN_ORDERS`] deepest orders at the end, their depth \[mm\] against distance.
-fn drawn_depths(run: &WheelWear) -> Vec<(u32, Vec<(f64, f64)>)> {
-    let end = &run.end().depths_m;
-    let mut orders: Vec<usize> = (0..end.len().min(FEEDBACK_ORDERS)).collect();
-    orders.sort_by(|a, b| end[*b].total_cmp(&end[*a]));
-    orders
-        .into_iter()
-        .take(DRAWN_ORDERS)
-        .map(|i| {
-            let pts = run
-                .history
-                .iter()
-                .map(|h| (h.distance_km, h.depths_m[i] * 1e3))
-                .collect();
-            (i as u32 + 1, pts)
-        })
-        .collect()
-}
-
 /// The verdict of one wheel in words.
 fn verdict_words(o: &WheelOutcome<'_>, p: &Params, distance_km: f64) -> String {
     let run = match &o.run {
         Ok(r) => r,
         Err(e) => return format!("{}: no wear figures ({e})", o.wheel),
     };
-    let lock = match run.locked_speed_kmh() {
-        Some(v) => format!("locked at {} km/h", plain(v, 4)),
-        None => "vibration not locked".into(),
+    let lock = match (run.locked_speed_kmh(), &o.tongue) {
+        (Some(v), Ok(Some(t))) => format!(
+            "locked at {} km/h; its tongue spans {}±{} km/h",
+            plain(v, 4),
+            if t.at_bound { "at least " } else { "" },
+            plain(t.halfwidth_kmh, 2)
+        ),
+        (Some(v), Err(e)) => format!(
+            "locked at {} km/h; its tongue not measured: {e}",
+            plain(v, 4)
+        ),
+        (Some(v), Ok(None)) => format!("locked at {} km/h", plain(v, 4)),
+        (None, _) => "vibration not locked".into(),
     };
     let n = run.dominant_order();
     match run.visible {
