@@ -42,6 +42,8 @@ fn main() {
     let settings = LoopSettings {
         distance_km: arg(5, 60_000.0),
         rtol: arg(6, 1e-8),
+        // PW_FIXED_H: the tread height held at the new tyre's.
+        update_tread_height: std::env::var("PW_FIXED_H").is_err(),
         ..LoopSettings::default()
     };
     let t0 = Instant::now();

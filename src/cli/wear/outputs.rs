@@ -110,26 +110,19 @@ fn summary_columns(p: &Params, wheels: &[WheelOutcome<'_>], estimate: bool) -> V
                 .map(|w| w.solution.wear.as_ref().map_or(f64::NAN, get))
                 .collect()
         };
-        cols.push(Column::f64(
-            "estimate_dominant_order",
-            "",
-            est(&|e| e.polygon_order_dominant),
-        ));
-        cols.push(Column::f64(
-            "estimate_detuning_rev",
-            "",
-            est(&|e| e.detuning_rev),
-        ));
-        cols.push(Column::f64(
-            "estimate_growth_rate_per_1000km",
-            "1/1000 km",
-            est(&|e| e.growth_rate_per_1000km),
-        ));
-        cols.push(Column::f64(
-            "estimate_distance_to_visible_km",
-            "km",
-            est(&|e| e.distance_to_visible_km),
-        ));
+        let columns: [(&str, &str, fn(&WearEstimate) -> f64); 4] = [
+            ("estimate_dominant_order", "", |e| e.polygon_order_dominant),
+            ("estimate_detuning_rev", "", |e| e.detuning_rev),
+            ("estimate_growth_rate_per_1000km", "1/1000 km", |e| {
+                e.growth_rate_per_1000km
+            }),
+            ("estimate_distance_to_visible_km", "km", |e| {
+                e.distance_to_visible_km
+            }),
+        ];
+        for (name, unit, get) in columns {
+            cols.push(Column::f64(name, unit, est(&get)));
+        }
     }
     cols
 }
