@@ -15,7 +15,7 @@ pub struct HistoryPoint {
     pub distance_km: f64,
     /// Tread height h \[m\].
     pub tread_height_m: f64,
-    /// D_n = 2|R_n| of orders 1 ..= [`FEEDBACK_ORDERS`] \[m\].
+    /// D_n = 2|R_n| of orders 1 ..= [`super::long_term::FEEDBACK_ORDERS`] \[m\].
     pub depths_m: Vec<f64>,
     /// dD_n/ds of the same orders over the step that led here \[m/m\] (0 at the start).
     pub depth_rate_m_per_m: Vec<f64>,
