@@ -10,6 +10,9 @@ use polywear::plot::FigureFile;
 use polywear::wear::long_term::{WheelWear, FEEDBACK_ORDERS};
 use polywear::wear::WearEstimate;
 
+/// An `estimate_*` column: name, unit and how it reads a wheel's estimate.
+type EstimateColumn = (&'static str, &'static str, fn(&WearEstimate) -> f64);
+
 /// The summary's figures of one wheel (NaN where undefined).
 pub(super) struct Figures {
     pub(super) dominant: f64,
@@ -110,7 +113,7 @@ fn summary_columns(p: &Params, wheels: &[WheelOutcome<'_>], estimate: bool) -> V
                 .map(|w| w.solution.wear.as_ref().map_or(f64::NAN, get))
                 .collect()
         };
-        let columns: [(&str, &str, fn(&WearEstimate) -> f64); 4] = [
+        let columns: [EstimateColumn; 4] = [
             ("estimate_dominant_order", "", |e| e.polygon_order_dominant),
             ("estimate_detuning_rev", "", |e| e.detuning_rev),
             ("estimate_growth_rate_per_1000km", "1/1000 km", |e| {
