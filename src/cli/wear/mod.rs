@@ -468,11 +468,17 @@ fn print_verdict(plan: &Plan, wheels: &[WheelOutcome<'_>], estimate: bool, secs:
     println!("{}", words.join("; "));
     for w in wheels {
         let f = figures(w, p);
+        // The growth from the seed (the estimator's figure) and over the last step, which can
+        // differ in sign once the tread has worn and ν has moved.
+        let at_end = w.run.as_ref().map_or(f64::NAN, |r| {
+            r.end().growth_per_m[f.dominant as usize - 1] * 1e6
+        });
         println!(
-            "  {}: loop      dominant order {}, growth {} per 1000 km, distance {} km",
+            "  {}: loop      dominant order {}, growth {} per 1000 km from the seed, {} at the end, distance {} km",
             w.wheel,
             plain(f.dominant, 4),
             plain(f.growth_rate, 3),
+            plain(at_end, 3),
             plain(f.distance_km.round(), 8)
         );
         if estimate {
