@@ -14,6 +14,7 @@ pub mod envelope;
 mod error;
 mod hopf_start;
 mod peak;
+mod scales;
 pub mod section;
 pub mod shooting;
 
@@ -24,6 +25,7 @@ pub use budget::{BudgetError, WheelBudget};
 use envelope::Envelope;
 pub use error::{ClassifyError, ShootingError};
 use hopf_start::{hopf_dz_per_v, normal_form_section_v};
+pub use scales::Scales;
 
 /// Smallest section velocity of a limit cycle, relative to the road's lateral speed U: smaller
 /// "cycles" are the equilibrium seen through integration noise (a stable equilibrium has a
@@ -191,40 +193,6 @@ impl Default for ClassifierOptions {
             fallback_max_s: 60.0,
             budget: WheelBudget::default(),
         }
-    }
-}
-
-/// Scales of the three states at one equilibrium, for tolerances and convergence tests.
-#[derive(Debug, Clone, Copy)]
-pub struct Scales {
-    /// z at the equilibrium \[m\].
-    pub z_eq: f64,
-    /// y at the equilibrium \[m\].
-    pub y_eq: f64,
-    /// |z0| \[m\].
-    pub z: f64,
-    /// |y0| \[m\].
-    pub y: f64,
-    /// Road lateral speed U [m/s].
-    pub v: f64,
-}
-
-impl Scales {
-    /// The scales at `ode`'s equilibrium.
-    pub fn new(ode: &TreadOde) -> Self {
-        let eq = ode.equilibrium();
-        Scales {
-            z_eq: eq[0],
-            y_eq: eq[1],
-            z: eq[0].abs(),
-            y: eq[1].abs(),
-            v: ode.u_mps.abs(),
-        }
-    }
-
-    /// Absolute tolerances matching `rtol` at these scales.
-    pub fn atol(&self, rtol: f64) -> [f64; 3] {
-        [rtol * self.z, rtol * self.y, rtol * self.v]
     }
 }
 
