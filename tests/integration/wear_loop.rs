@@ -333,6 +333,8 @@ fn wear_refuses_bad_input() {
         (vec!["--set", "visible_depth_mm=0"], "visible_depth_mm"),
         (vec!["--set", "visible_depth_mm=2"], "limit_depth_mm"),
         (vec!["--cycle", "no/such/cycle.csv"], "cycle.csv"),
+        (vec!["--speed-nodes", "0"], "[1, 64]"),
+        (vec!["--speed-nodes", "65"], "--speed-nodes"),
     ] {
         let mut a = vec!["wear", "--quiet", "--out", o];
         a.extend(args.iter());
