@@ -56,6 +56,25 @@ impl PartialEq for Paired {
 }
 
 impl Paired {
+    /// McNemar's p-value in words, with the test that gave it: "n/a (no discordant pairs)"
+    /// when there is nothing to test.
+    pub fn mcnemar_text(&self) -> String {
+        if self.p_value.is_nan() {
+            "n/a (no discordant pairs)".into()
+        } else {
+            format!("{} ({})", super::stats::format_p(self.p_value), self.method)
+        }
+    }
+
+    /// The discordant and concordant counts in words: "only follower a, only driving b, both
+    /// c, neither d".
+    pub fn counts_text(&self) -> String {
+        format!(
+            "only follower {}, only driving {}, both {}, neither {}",
+            self.only_follower, self.only_driving, self.both, self.neither
+        )
+    }
+
     /// Compared samples where the follower vibrates.
     pub fn follower_vibrating(&self) -> u64 {
         self.both + self.only_follower

@@ -261,12 +261,9 @@ fn print_summary(a: &Analysis) {
     }
     for p in &a.paired {
         println!(
-            "  {:>8} paired: only follower {}, only driving {}, both {}, neither {}; McNemar p = {}",
+            "  {:>8} paired: {}; McNemar p = {}",
             p.variant,
-            p.only_follower,
-            p.only_driving,
-            p.both,
-            p.neither,
+            p.counts_text(),
             if p.p_value.is_nan() {
                 "n/a (no discordant pairs)".to_string()
             } else {
@@ -334,22 +331,11 @@ fn print_wear(a: &Analysis) {
     for wp in &w.paired {
         let p = &wp.paired;
         println!(
-            "  {:>8} paired within {:>10}: only follower {}, only driving {}, both {}, neither {}; McNemar p = {}",
+            "  {:>8} paired within {:>10}: {}; McNemar p = {}",
             p.variant,
             km(wp.within_km),
-            p.only_follower,
-            p.only_driving,
-            p.both,
-            p.neither,
-            if p.p_value.is_nan() {
-                "n/a (no discordant pairs)".to_string()
-            } else {
-                format!(
-                    "{} ({})",
-                    polywear::analysis::stats::format_p(p.p_value),
-                    p.method
-                )
-            }
+            p.counts_text(),
+            p.mcnemar_text()
         );
     }
 }

@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 
 use super::drivers::{drivers_section, robustness_section, severity_section};
 use super::fleet::fleet_section;
-use super::words::{mcnemar_text, pct, rel};
+use super::words::{paired_cells, pct, rel};
 use super::Figures;
 use crate::analysis::Analysis;
 use crate::classify::Class;
@@ -186,18 +186,7 @@ fn paired_section(s: &mut String, a: &Analysis) {
     );
     let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|---:|");
     for p in &a.paired {
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} | {} | {} | {} | {} |",
-            p.variant,
-            p.pairs,
-            p.only_follower,
-            p.only_driving,
-            p.both,
-            p.neither,
-            p.unclassified,
-            mcnemar_text(p)
-        );
+        let _ = writeln!(s, "| {} | {} |", p.variant, paired_cells(p));
     }
     let _ = writeln!(
         s,

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::columns::{count_col, f64_col, str_col};
+use super::columns::{count_col, f64_col, proportion_columns, str_col};
 use super::RenderError;
 use crate::analysis::conditional::BinStat;
 use crate::analysis::counts::ClassCounts;
@@ -150,18 +150,12 @@ pub(super) fn write_tables(
 /// vibrating rows, p with its Wilson interval, and the unclassified rows on their own.
 fn class_columns<T>(rows: &[T], counts: impl Fn(&T) -> ClassCounts, min_count: u64) -> Vec<Column> {
     let c = |r: &T| counts(r);
-    vec![
+    let mut cols = vec![
         count_col("samples", rows, |r| c(r).classified()),
         count_col("vibrating", rows, |r| c(r).vibrating()),
-        f64_col("p", rows, |r| {
-            if c(r).enough(min_count) {
-                c(r).p()
-            } else {
-                f64::NAN
-            }
-        }),
-        f64_col("wilson95_lo", rows, |r| c(r).wilson().0),
-        f64_col("wilson95_hi", rows, |r| c(r).wilson().1),
+    ];
+    cols.extend(proportion_columns(rows, c, min_count));
+    cols.extend([
         count_col(Class::Stable.as_str(), rows, |r| c(r).get(Class::Stable)),
         count_col(Class::LimitCycle.as_str(), rows, |r| {
             c(r).get(Class::LimitCycle)
@@ -171,7 +165,8 @@ fn class_columns<T>(rows: &[T], counts: impl Fn(&T) -> ClassCounts, min_count: u
         }),
         count_col(Class::NoTraction.as_str(), rows, |r| c(r).no_traction()),
         count_col(Class::Failed.as_str(), rows, |r| c(r).failed()),
-    ]
+    ]);
+    cols
 }
 
 fn occurrence_columns(o: &[Occurrence]) -> Vec<Column> {

@@ -6,7 +6,7 @@
 
 use std::fmt::Write as _;
 
-use super::words::{mcnemar_text, pct, rel};
+use super::words::{paired_cells, pct, rel};
 use super::Figures;
 use crate::analysis::paired::Paired;
 use crate::analysis::rows::SampleWeight;
@@ -218,16 +218,10 @@ fn paired_table(s: &mut String, w: &WearAnalysis) {
         let p = &wp.paired;
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} |",
             p.variant,
             km(wp.within_km),
-            p.pairs,
-            p.only_follower,
-            p.only_driving,
-            p.both,
-            p.neither,
-            p.unclassified,
-            mcnemar_text(p)
+            paired_cells(p)
         );
     }
     let _ = writeln!(

@@ -3,7 +3,7 @@
 //! (`wear_conditional`), cell (`wear_riskmap_<x>_<y>`), quantity (`wear_severity`), order
 //! (`wear_orders`) and operating point (`wear_fleet_rows`).
 
-use super::columns::{count_col, f64_col, str_col};
+use super::columns::{count_col, f64_col, proportion_columns, str_col};
 use crate::analysis::counts::WithinCounts;
 use crate::analysis::wear_risk::{WearAnalysis, WearMap, HEADLINE_WITHIN_KM};
 use crate::model::Wheel;
@@ -12,20 +12,13 @@ use crate::parquet_out::Column;
 /// The counts every wear probability table carries: wheels with a distance, those within, p
 /// (NaN below `min_count`) with its Wilson interval, and the unknown wheels.
 fn within_columns<T>(rows: &[T], c: impl Fn(&T) -> WithinCounts, min_count: u64) -> Vec<Column> {
-    vec![
+    let mut cols = vec![
         count_col("samples", rows, |r| c(r).known),
         count_col("within", rows, |r| c(r).within),
-        f64_col("p", rows, |r| {
-            if c(r).enough(min_count) {
-                c(r).p()
-            } else {
-                f64::NAN
-            }
-        }),
-        f64_col("wilson95_lo", rows, |r| c(r).wilson().0),
-        f64_col("wilson95_hi", rows, |r| c(r).wilson().1),
-        count_col("unknown", rows, |r| c(r).unknown),
-    ]
+    ];
+    cols.extend(proportion_columns(rows, &c, min_count));
+    cols.push(count_col("unknown", rows, |r| c(r).unknown));
+    cols
 }
 
 /// Every wear table: (file stem, columns).

@@ -1,10 +1,9 @@
 //! Small wordings the report's sections share: a probability in percent, a file by its name,
-//! a McNemar p-value.
+//! a paired comparison's row.
 
 use std::path::Path;
 
 use crate::analysis::paired::Paired;
-use crate::analysis::stats::format_p;
 
 /// A probability in percent with two decimals; "n/a" where there is no data.
 pub(crate) fn pct(p: f64) -> String {
@@ -22,11 +21,17 @@ pub(crate) fn rel(path: &Path) -> String {
         .unwrap_or_default()
 }
 
-/// McNemar's p-value in words: "n/a (no discordant pairs)" when there is nothing to test.
-pub(crate) fn mcnemar_text(p: &Paired) -> String {
-    if p.p_value.is_nan() {
-        "n/a (no discordant pairs)".into()
-    } else {
-        format!("{} ({})", format_p(p.p_value), p.method)
-    }
+/// A paired comparison's cells in a Markdown table row: pairs, only follower, only driving,
+/// both, neither, a wheel unclassified, McNemar's p-value.
+pub(crate) fn paired_cells(p: &Paired) -> String {
+    format!(
+        "{} | {} | {} | {} | {} | {} | {}",
+        p.pairs,
+        p.only_follower,
+        p.only_driving,
+        p.both,
+        p.neither,
+        p.unclassified,
+        p.mcnemar_text()
+    )
 }
