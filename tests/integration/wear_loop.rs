@@ -496,7 +496,9 @@ fn the_loop_locks_only_inside_a_tongue_that_widens_with_the_depth() {
         (2.5..5.5).contains(&ratio),
         "x4 the depth: x{ratio} the tongue ({shallow:?}, {deep:?})"
     );
-    // The estimator's tongue at the seed is twice as wide (MODEL.md#growth-of-a-vibrating-wheel).
+    // The estimator's first-order tongue at the seed is about twice as wide: the band in speed is
+    // narrower than first order already at the seed (MODEL.md#growth-of-a-vibrating-wheel, and
+    // `the_first_order_tongue_is_the_forced_cycles_lock_band_at_small_depth`).
     let estimated = growth(&p, &w).order(19).lock_halfwidth_kmh;
     let ratio = shallow.halfwidth_kmh / estimated;
     assert!(
@@ -504,4 +506,72 @@ fn the_loop_locks_only_inside_a_tongue_that_widens_with_the_depth() {
         "loop ±{} km/h, estimator ±{estimated} km/h",
         shallow.halfwidth_kmh
     );
+}
+
+/// The lock-in coupling of the periodic linearisation (Adler, MODEL.md#growth-of-a-vibrating-wheel)
+/// against brute force: the default point's cycle at a fixed speed, forced by one order-19
+/// harmonic, with only the rotation frequency moved so that δ = ν − 19 is scanned at a fixed
+/// model. At a small depth (R = 0.25 µm) it locks within 0.6 δ_L of the estimator's first-order
+/// half-width δ_L and not at 1.5 δ_L; at the seed (R = 2 µm) the band is already narrower than
+/// first order, so 0.9 δ_L is outside it (the estimator's tongue is an upper bound there).
+#[test]
+fn the_first_order_tongue_is_the_forced_cycles_lock_band_at_small_depth() {
+    use polywear::wear::lock::{is_locked, rotation_number};
+    use polywear::wear::window::{integrate_window, EpsilonTable, WindowRequest};
+    use polywear::wear::{Complex64, Feedback, WearZone};
+    let p = worst(100.0);
+    let w = solve_wheel(p, V, Wheel::Follower, &ClassifierOptions::default());
+    let m = w.model.as_ref().unwrap();
+    let nu = w.verdict.polygon_order;
+    let f_hz = nu * polywear::model::WheelModel::rotation_hz(&p);
+    let fb = Feedback::new(&p, m, WearZone::Trailing);
+    let locked_at = |radius_m: f64, detuning: f64| {
+        let mut h = vec![Complex64::new(0.0, 0.0); 64];
+        h[18] = Complex64::new(radius_m, 0.0);
+        let table = EpsilonTable::new(&fb, &h, 2048);
+        let rotation_hz = f_hz / (19.0 + detuning);
+        let win = integrate_window(&WindowRequest {
+            ode: &m.ode,
+            epsilon: &table,
+            rotation_hz,
+            start: start(&w).unwrap(),
+            skip_revs: 300,
+            revs: 40,
+            samples_per_rev: 64,
+            rtol: 1e-8,
+            period_s: 1.0 / f_hz,
+            max_steps: 10_000_000,
+        })
+        .unwrap();
+        let rho = rotation_number(&win.crossings_s, 1.0 / rotation_hz);
+        (is_locked(rho), rho)
+    };
+    let first_order = |radius_um: f64| {
+        let q = Params {
+            seed_runout_um: radius_um,
+            ..p
+        };
+        let half_kmh = growth(&q, &w).order(19).lock_halfwidth_kmh;
+        half_kmh / p.speed_kmh * 19.0
+    };
+    let small = first_order(0.25);
+    assert!(small > 0.0);
+    for (x, locks) in [
+        (0.0, true),
+        (-0.6, true),
+        (0.6, true),
+        (-1.5, false),
+        (1.5, false),
+    ] {
+        let (locked, rho) = locked_at(0.25e-6, x * small);
+        assert_eq!(
+            locked, locks,
+            "R 0.25 um, delta {x} delta_L ({small}): rho {rho}"
+        );
+    }
+    let seed = first_order(2.0);
+    for x in [-0.9, 0.9] {
+        let (locked, rho) = locked_at(2e-6, x * seed);
+        assert!(!locked, "R 2 um, delta {x} delta_L ({seed}): rho {rho}");
+    }
 }
