@@ -20,7 +20,12 @@
 //! The step is the smallest of Δs_max, a tenth of the time in which the fastest harmonic doubles
 //! (0.1 |R|/|dR/ds| and 0.2/|β|) and 1 µm of profile change, never below Δs_min; a step after
 //! which a speed's lock flag or its nearest order changed is redone at half the length, down to
-//! Δs_min, so that a tongue's edge is not jumped over.
+//! Δs_min, so that a tongue's edge is not jumped over. The redone step starts from the state the
+//! first try started from, and its windows are taken as the first try measured them, laid again
+//! for the shorter distance, not integrated again (the later legs' windows saw the earlier legs'
+//! wear laid for the longer step: a difference of the step's own first order). Until the run passes the distance where the
+//! change was seen, a step takes at most half the way there, so that the redos close in on the
+//! change as a bisection does instead of stepping over it again at the rule's length.
 
 use super::calibration::wear_rate_ref_m_per_m;
 use super::deposit::{other_wear_m_per_m, DepositPlan};
@@ -145,15 +150,29 @@ struct RunState {
     history_len: usize,
 }
 
-/// What one chunk measured.
-struct Chunk {
+/// What one leg's window measured at a step's profile, kept so that a step redone at a shorter
+/// length lays it again instead of integrating the same window twice.
+#[derive(Clone)]
+struct Measured {
+    /// The wear rate per cell \[m/m\] (straight running and the rest).
     rate_m_per_m: Vec<f64>,
+    /// The mean revolution's straight-running friction energy \[J\].
+    energy_per_rev_j: f64,
+    /// The depth it wears summed over the cells, per revolution \[m\].
+    straight_depth_per_rev_m: f64,
+    /// One cell's area of the tread band \[m²\].
+    cell_area_m2: f64,
+    /// The distance of one revolution 2π r_B \[m\].
+    rev_m: f64,
+    /// The state (z, y, v) the window ended in.
+    end: [f64; 3],
     rho: f64,
     locked: bool,
 }
 
-/// A step's distance-weighted wear rate per cell \[m/m\] and each leg's ρ and lock flag.
-type StepRates = (Vec<f64>, Vec<f64>, Vec<bool>);
+/// A step's distance-weighted wear rate per cell \[m/m\], each leg's ρ and lock flag, and what
+/// each leg's window measured.
+type StepRates = (Vec<f64>, Vec<f64>, Vec<bool>, Vec<Measured>);
 
 /// The lock signature of a step: per leg, locked and to which order.
 type Signature = Vec<(bool, i64)>;
@@ -164,7 +183,6 @@ struct Run<'a> {
     settings: &'a LoopSettings,
     models: Vec<Option<LegModel>>,
     state: RunState,
-    first: bool,
     rhs_evals: u64,
 }
 
@@ -206,8 +224,38 @@ impl<'a> Run<'a> {
         }
     }
 
-    /// Drives leg `i` for `chunk_m` metres at the current profile and lays its wear.
-    fn chunk(&mut self, i: usize, chunk_m: f64) -> Result<Chunk, WearError> {
+    /// Drives leg `i` for `chunk_m` metres at the current profile and lays its wear; with
+    /// `measured`, lays what an earlier window at this same state measured instead of
+    /// integrating again (a step redone at a shorter length).
+    fn chunk(
+        &mut self,
+        i: usize,
+        chunk_m: f64,
+        measured: Option<&Measured>,
+    ) -> Result<Measured, WearError> {
+        let m = match measured {
+            Some(m) => m.clone(),
+            None => self.measure(i)?,
+        };
+        let revs_driven = chunk_m / m.rev_m;
+        self.state.energy_j += m.energy_per_rev_j * revs_driven;
+        self.state.straight_volume_m3 += m.straight_depth_per_rev_m * m.cell_area_m2 * revs_driven;
+        for (d, r) in self.state.profile.depth_m.iter_mut().zip(&m.rate_m_per_m) {
+            *d += r * chunk_m;
+        }
+        if self.settings.update_tread_height {
+            let rate = &m.rate_m_per_m;
+            self.state.height_m -= rate.iter().sum::<f64>() / rate.len() as f64 * chunk_m;
+        }
+        self.state.x[i] = Some(m.end);
+        self.state.last_x = m.end;
+        self.state.rho[i] = m.rho;
+        Ok(m)
+    }
+
+    /// Integrates leg `i`'s window at the current profile and state: its mean revolution laid
+    /// onto the cells as a wear rate, its ρ and lock flag, and the state it ends in.
+    fn measure(&mut self, i: usize) -> Result<Measured, WearError> {
         let (settings, gamma) = (self.settings, self.inputs.gamma_m3_per_j);
         let prev_rho = self.state.rho[i];
         // A leg's first visit starts where the last window ended and settles onto its own
@@ -216,7 +264,6 @@ impl<'a> Run<'a> {
         // which the scaling would multiply).
         let start_x = self.state.x[i];
         let first = start_x.is_none();
-        self.first = false;
         let radius = self.state.profile.radius_m();
         let orders = FEEDBACK_ORDERS.min(radius.len() / 2 - 1);
         let harmonics = harmonics_of(&radius, orders);
@@ -246,6 +293,7 @@ impl<'a> Run<'a> {
             max_steps: 50_000_000,
         })
         .map_err(|e| self.failure(p.speed_kmh, e.to_string()))?;
+        self.rhs_evals += window.rhs_evals as u64;
         let cycling = window.peak_v_mps > CYCLING_SHARE_OF_U * ode.u_mps;
         let t_rev = 1.0 / WheelModel::rotation_hz(&p);
         let rho = if cycling {
@@ -274,48 +322,42 @@ impl<'a> Run<'a> {
         let rev_m = std::f64::consts::TAU * p.r_b;
         let other_rate = (1.0 - p.wear_share_straight) * wear_rate_ref_m_per_m(&p);
         let other = other_wear_m_per_m(&radius, fb.local_per_m, other_rate);
-        let rate: Vec<f64> = per_rev_m
+        let rate_m_per_m = per_rev_m
             .iter()
             .zip(&other)
             .map(|(d, o)| d / rev_m + o)
             .collect();
-        let revs_driven = chunk_m / rev_m;
-        let cell_area = width_m * rev_m / radius.len() as f64;
-        self.state.energy_j += mean_j.iter().sum::<f64>() * revs_driven;
-        self.state.straight_volume_m3 += per_rev_m.iter().sum::<f64>() * cell_area * revs_driven;
-        for (d, r) in self.state.profile.depth_m.iter_mut().zip(&rate) {
-            *d += r * chunk_m;
-        }
-        if settings.update_tread_height {
-            self.state.height_m -= rate.iter().sum::<f64>() / rate.len() as f64 * chunk_m;
-        }
-        self.state.x[i] = Some(window.end);
-        self.state.last_x = window.end;
-        self.state.rho[i] = rho;
-        self.rhs_evals += window.rhs_evals as u64;
-        Ok(Chunk {
-            rate_m_per_m: rate,
+        Ok(Measured {
+            rate_m_per_m,
+            energy_per_rev_j: mean_j.iter().sum::<f64>(),
+            straight_depth_per_rev_m: per_rev_m.iter().sum::<f64>(),
+            cell_area_m2: width_m * rev_m / radius.len() as f64,
+            rev_m,
+            end: window.end,
             rho,
             locked: cycling && is_locked(rho),
         })
     }
 
-    /// One step of `step_m` over every leg; returns the distance-weighted wear rate per cell
-    /// and each leg's (ρ, lock flag).
-    fn step(&mut self, step_m: f64) -> Result<StepRates, WearError> {
+    /// One step of `step_m` over every leg; returns the distance-weighted wear rate per cell,
+    /// each leg's (ρ, lock flag) and what its window measured. With `measured` (a step redone
+    /// from the same state) the legs lay that again and integrate nothing.
+    fn step(&mut self, step_m: f64, measured: Option<&[Measured]>) -> Result<StepRates, WearError> {
         let legs = self.inputs.legs;
         let mut rate = vec![0.0; self.state.profile.cells()];
         let (mut rho, mut locked) = (Vec::new(), Vec::new());
+        let mut kept = Vec::with_capacity(legs.len());
         for (i, leg) in legs.iter().enumerate() {
-            let c = self.chunk(i, leg.share * step_m)?;
+            let c = self.chunk(i, leg.share * step_m, measured.map(|m| &m[i]))?;
             for (r, c) in rate.iter_mut().zip(&c.rate_m_per_m) {
                 *r += leg.share * c;
             }
             rho.push(c.rho);
             locked.push(c.locked);
+            kept.push(c);
         }
         self.state.distance_m += step_m;
-        Ok((rate, rho, locked))
+        Ok((rate, rho, locked, kept))
     }
 }
 
@@ -412,7 +454,6 @@ impl<'a> Run<'a> {
                 straight_volume_m3: 0.0,
                 history_len: 1,
             },
-            first: true,
             rhs_evals: 0,
         };
         let first_model = run.leg_model(0)?;
@@ -434,6 +475,27 @@ impl<'a> Run<'a> {
     }
 }
 
+/// The length of a step from `distance_m` whose rule gives `step_m`: where a window ahead saw
+/// the signature change (`edge_m`, cleared once passed), at most half the way to it (never
+/// under `min_step_m`), so that the redone steps close in on the change as a bisection does
+/// instead of stepping over it again at the rule's length.
+fn bracketed_step_m(
+    step_m: f64,
+    distance_m: f64,
+    edge_m: &mut Option<f64>,
+    min_step_m: f64,
+) -> f64 {
+    match *edge_m {
+        Some(e) if distance_m < e * (1.0 - 1e-12) => {
+            step_m.min((0.5 * (e - distance_m)).max(min_step_m))
+        }
+        _ => {
+            *edge_m = None;
+            step_m
+        }
+    }
+}
+
 /// Runs the long-term loop for one wheel. `progress` is told each accepted step's distance
 /// \[km\] (from any thread).
 pub fn run_wheel(
@@ -449,25 +511,34 @@ pub fn run_wheel(
     let mut profiles = vec![(0.0, run.state.profile.depth_m.clone())];
     let total_m = settings.distance_km * 1e3;
     let visible_m = p.visible_depth_mm * 1e-3;
-    let mut step_m = settings.min_step_km * 1e3;
-    // The state before the last accepted step, its length and the signature it was taken at.
-    let mut last: Option<(RunState, f64, Signature)> = None;
+    let min_step_m = settings.min_step_km * 1e3;
+    let mut step_m = min_step_m;
+    // The state before the last accepted step, its length, the signature it was taken at and
+    // what its windows measured.
+    let mut last: Option<(RunState, f64, Signature, Vec<Measured>)> = None;
+    // A redo's windows, measured at the very state it restarts from.
+    let mut remeasured: Option<Vec<Measured>> = None;
+    // The distance at which a window last saw the signature change, ahead of the run.
+    let mut edge_m: Option<f64> = None;
     let (mut steps, mut redone) = (0usize, 0usize);
     let mut visible = None;
     while run.state.distance_m < total_m * (1.0 - 1e-12) && steps < MAX_STEPS {
-        let this_m = step_m.min(total_m - run.state.distance_m);
+        let this_m = bracketed_step_m(step_m, run.state.distance_m, &mut edge_m, min_step_m)
+            .min(total_m - run.state.distance_m);
         let before = run.state.clone();
-        let (rate, rho, locked) = run.step(this_m)?;
+        let (rate, rho, locked, measured) = run.step(this_m, remeasured.take().as_deref())?;
         let sig = signature(&rho, &locked);
-        if let Some((prev_state, prev_m, prev_sig)) = &last {
+        if let Some((prev_state, prev_m, prev_sig, prev_measured)) = last.take() {
             let half = 0.5 * prev_m;
-            if *prev_sig != sig && half >= settings.min_step_km * 1e3 * (1.0 - 1e-12) {
-                // The previous step changed a lock flag or an order: redo it at half length.
-                run.state = prev_state.clone();
+            if prev_sig != sig && half >= min_step_m * (1.0 - 1e-12) {
+                // The previous step changed a lock flag or an order: redo it at half length,
+                // laying again what its windows measured at the same state.
+                edge_m = Some(before.distance_m);
+                run.state = prev_state;
                 history.truncate(run.state.history_len);
                 profiles.retain(|(km, _)| *km <= run.state.distance_m / 1e3);
                 step_m = half;
-                last = None;
+                remeasured = Some(prev_measured);
                 redone += 1;
                 continue;
             }
@@ -499,7 +570,7 @@ pub fn run_wheel(
             run.state.profile.depth_m.clone(),
         ));
         progress(this_m / 1e3);
-        last = Some((before, this_m, sig));
+        last = Some((before, this_m, sig, measured));
         if visible.is_some() && settings.stop_at_visible {
             break;
         }
@@ -567,4 +638,23 @@ fn pick_profiles(profiles: Vec<(f64, Vec<f64>)>, count: usize) -> Vec<(f64, Vec<
         .collect();
     picked.dedup();
     picked.into_iter().map(|i| profiles[i].clone()).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Short of the distance where a change was seen, a step goes at most half the way there
+    /// (never under Δs_min); once there, the rule's step again and the edge forgotten.
+    #[test]
+    fn steps_close_in_on_a_change_as_a_bisection() {
+        let mut edge = Some(1000.0);
+        assert_eq!(bracketed_step_m(500.0, 600.0, &mut edge, 20.0), 200.0);
+        assert_eq!(bracketed_step_m(100.0, 600.0, &mut edge, 20.0), 100.0);
+        assert_eq!(bracketed_step_m(500.0, 990.0, &mut edge, 20.0), 20.0);
+        assert_eq!(edge, Some(1000.0));
+        assert_eq!(bracketed_step_m(500.0, 1000.0, &mut edge, 20.0), 500.0);
+        assert_eq!(edge, None);
+        assert_eq!(bracketed_step_m(500.0, 600.0, &mut edge, 20.0), 500.0);
+    }
 }
