@@ -44,6 +44,8 @@ fn main() {
         rtol: arg(6, 1e-8),
         // PW_FIXED_H: the tread height held at the new tyre's.
         update_tread_height: std::env::var("PW_FIXED_H").is_err(),
+        // PW_MIN_STEP_KM: the loop's Δs_min (default 20 km).
+        min_step_km: std::env::var("PW_MIN_STEP_KM").map_or(20.0, |s| s.parse().unwrap()),
         ..LoopSettings::default()
     };
     let t0 = Instant::now();
