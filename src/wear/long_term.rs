@@ -29,6 +29,7 @@
 
 use super::calibration::wear_rate_ref_m_per_m;
 use super::deposit::{other_wear_m_per_m, DepositPlan};
+use super::edge::{bracketed_step_m, signature, EdgeSides, Signature};
 use super::feedback::Feedback;
 pub use super::legs::{cruise_legs, cycle_legs, Leg, SPEED_NODES};
 use super::lock::{is_locked, revolution_weights, rotation_number, window_revs, WINDOW_REVS};
@@ -173,9 +174,6 @@ struct Measured {
 /// A step's distance-weighted wear rate per cell \[m/m\], each leg's ρ and lock flag, and what
 /// each leg's window measured.
 type StepRates = (Vec<f64>, Vec<f64>, Vec<bool>, Vec<Measured>);
-
-/// The lock signature of a step: per leg, locked and to which order.
-type Signature = Vec<(bool, i64)>;
 
 /// One wheel's run.
 struct Run<'a> {
@@ -361,16 +359,6 @@ impl<'a> Run<'a> {
     }
 }
 
-/// The lock signature that a step must not change without being redone: per leg, the lock
-/// flag and, where locked, the order it is locked to. (An unlocked ρ drifts on with the tread
-/// height and the growing profile; its nearest order changing is not an event to resolve.)
-fn signature(rho: &[f64], locked: &[bool]) -> Signature {
-    rho.iter()
-        .zip(locked)
-        .map(|(r, l)| (*l, if *l { r.round() as i64 } else { -1 }))
-        .collect()
-}
-
 /// D_n, dD_n/ds and β_n of orders 1..=`orders` for the profile `profile` under the wear rate
 /// `rate_m_per_m` per cell.
 fn harmonic_rates(
@@ -475,27 +463,6 @@ impl<'a> Run<'a> {
     }
 }
 
-/// The length of a step from `distance_m` whose rule gives `step_m`: where a window ahead saw
-/// the signature change (`edge_m`, cleared once passed), at most half the way to it (never
-/// under `min_step_m`), so that the redone steps close in on the change as a bisection does
-/// instead of stepping over it again at the rule's length.
-fn bracketed_step_m(
-    step_m: f64,
-    distance_m: f64,
-    edge_m: &mut Option<f64>,
-    min_step_m: f64,
-) -> f64 {
-    match *edge_m {
-        Some(e) if distance_m < e * (1.0 - 1e-12) => {
-            step_m.min((0.5 * (e - distance_m)).max(min_step_m))
-        }
-        _ => {
-            *edge_m = None;
-            step_m
-        }
-    }
-}
-
 /// Runs the long-term loop for one wheel. `progress` is told each accepted step's distance
 /// \[km\] (from any thread).
 pub fn run_wheel(
@@ -518,22 +485,40 @@ pub fn run_wheel(
     let mut last: Option<(RunState, f64, Signature, Vec<Measured>)> = None;
     // A redo's windows, measured at the very state it restarts from.
     let mut remeasured: Option<Vec<Measured>> = None;
-    // The distance at which a window last saw the signature change, ahead of the run.
-    let mut edge_m: Option<f64> = None;
+    // The distance at which a window last saw the signature change, ahead of the run, and the
+    // resolution that change needs.
+    let mut edge: Option<(f64, f64)> = None;
+    let shares: Vec<f64> = inputs.legs.iter().map(|l| l.share).collect();
     let (mut steps, mut redone) = (0usize, 0usize);
     let mut visible = None;
     while run.state.distance_m < total_m * (1.0 - 1e-12) && steps < MAX_STEPS {
-        let this_m = bracketed_step_m(step_m, run.state.distance_m, &mut edge_m, min_step_m)
+        let this_m = bracketed_step_m(step_m, run.state.distance_m, &mut edge)
             .min(total_m - run.state.distance_m);
         let before = run.state.clone();
         let (rate, rho, locked, measured) = run.step(this_m, remeasured.take().as_deref())?;
         let sig = signature(&rho, &locked);
         if let Some((prev_state, prev_m, prev_sig, prev_measured)) = last.take() {
             let half = 0.5 * prev_m;
-            if prev_sig != sig && half >= min_step_m * (1.0 - 1e-12) {
-                // The previous step changed a lock flag or an order: redo it at half length,
-                // laying again what its windows measured at the same state.
-                edge_m = Some(before.distance_m);
+            let resolution_m = if prev_sig == sig {
+                f64::INFINITY
+            } else {
+                EdgeSides {
+                    shares: &shares,
+                    signatures: [&prev_sig, &sig],
+                    rates_m_per_m: [
+                        prev_measured.iter().map(|m| &m.rate_m_per_m[..]).collect(),
+                        measured.iter().map(|m| &m.rate_m_per_m[..]).collect(),
+                    ],
+                    profile: &before.profile,
+                    seed_depth_m: 2.0 * seed_m,
+                }
+                .resolution_m(min_step_m)
+            };
+            if half >= resolution_m * (1.0 - 1e-12) {
+                // The previous step changed a lock flag or an order, and the change is not yet
+                // placed as finely as its print needs: redo it at half length, laying again
+                // what its windows measured at the same state.
+                edge = Some((before.distance_m, resolution_m));
                 run.state = prev_state;
                 history.truncate(run.state.history_len);
                 profiles.retain(|(km, _)| *km <= run.state.distance_m / 1e3);
@@ -638,23 +623,4 @@ fn pick_profiles(profiles: Vec<(f64, Vec<f64>)>, count: usize) -> Vec<(f64, Vec<
         .collect();
     picked.dedup();
     picked.into_iter().map(|i| profiles[i].clone()).collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Short of the distance where a change was seen, a step goes at most half the way there
-    /// (never under Δs_min); once there, the rule's step again and the edge forgotten.
-    #[test]
-    fn steps_close_in_on_a_change_as_a_bisection() {
-        let mut edge = Some(1000.0);
-        assert_eq!(bracketed_step_m(500.0, 600.0, &mut edge, 20.0), 200.0);
-        assert_eq!(bracketed_step_m(100.0, 600.0, &mut edge, 20.0), 100.0);
-        assert_eq!(bracketed_step_m(500.0, 990.0, &mut edge, 20.0), 20.0);
-        assert_eq!(edge, Some(1000.0));
-        assert_eq!(bracketed_step_m(500.0, 1000.0, &mut edge, 20.0), 500.0);
-        assert_eq!(edge, None);
-        assert_eq!(bracketed_step_m(500.0, 600.0, &mut edge, 20.0), 500.0);
-    }
 }

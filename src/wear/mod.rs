@@ -11,7 +11,7 @@
 //! visible polygon). The long-term loop (MODEL.md#the-long-term-loop) runs the wear by brute
 //! force: [`profile`] (the worn depth on cells, the seed), [`window`] (a few revolutions at a
 //! fixed profile), [`lock`] (the rotation number and the weights of the mean revolution),
-//! [`deposit`] (the energy laid element by element), [`legs`] (the speeds driven),
+//! [`deposit`] (the energy laid element by element), [`edge`] (how finely a lock edge is placed), [`legs`] (the speeds driven),
 //! [`long_term`] (the loop), and [`accelerated`] (the oracle by another road).
 //!
 //! Conventions, everywhere in this module:
@@ -39,6 +39,7 @@ pub mod accelerated;
 pub mod calibration;
 pub mod cycle;
 pub mod deposit;
+pub mod edge;
 mod error;
 pub mod estimator;
 pub mod feedback;
