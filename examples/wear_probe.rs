@@ -80,7 +80,9 @@ fn main() {
             .collect();
         println!("steps km: {}", d.join(" "));
     }
-    let n = r.dominant_order() as usize - 1;
+    // PW_ORDER: the order followed (default the dominant one).
+    let n =
+        std::env::var("PW_ORDER").map_or(r.dominant_order() as usize, |s| s.parse().unwrap()) - 1;
     for h in r.history.iter().step_by((r.history.len() / 15).max(1)) {
         println!(
             "  {:9.1} km h {:.3} mm D{} {:.3} um beta {:.3}/1000km rho {:?} D{} {:.3} D{} {:.3} D2 {:.3}",
