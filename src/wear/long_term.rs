@@ -463,6 +463,34 @@ impl<'a> Run<'a> {
     }
 }
 
+/// Each leg's wear rate per cell \[m/m\] of a step's windows.
+fn rates_of(measured: &[Measured]) -> Vec<&[f64]> {
+    measured.iter().map(|m| &m.rate_m_per_m[..]).collect()
+}
+
+/// The history point of a step accepted from `before` to `after` under the wear rate
+/// `rate_m_per_m` per cell: the depths at its end, and the rates at its start.
+fn history_point(
+    before: &RunState,
+    after: &RunState,
+    rate_m_per_m: &[f64],
+    orders: usize,
+    rho: Vec<f64>,
+    locked: Vec<bool>,
+) -> HistoryPoint {
+    let (_, d_rate, beta) = harmonic_rates(&before.profile, rate_m_per_m, orders);
+    let (depths_now, _, _) = harmonic_rates(&after.profile, rate_m_per_m, orders);
+    HistoryPoint {
+        distance_km: after.distance_m / 1e3,
+        tread_height_m: after.height_m,
+        depths_m: depths_now,
+        depth_rate_m_per_m: d_rate,
+        growth_per_m: beta,
+        rho,
+        locked,
+    }
+}
+
 /// Runs the long-term loop for one wheel. `progress` is told each accepted step's distance
 /// \[km\] (from any thread).
 pub fn run_wheel(
@@ -502,17 +530,14 @@ pub fn run_wheel(
             let resolution_m = if prev_sig == sig {
                 f64::INFINITY
             } else {
-                EdgeSides {
+                let sides = EdgeSides {
                     shares: &shares,
                     signatures: [&prev_sig, &sig],
-                    rates_m_per_m: [
-                        prev_measured.iter().map(|m| &m.rate_m_per_m[..]).collect(),
-                        measured.iter().map(|m| &m.rate_m_per_m[..]).collect(),
-                    ],
+                    rates_m_per_m: [rates_of(&prev_measured), rates_of(&measured)],
                     profile: &before.profile,
                     seed_depth_m: 2.0 * seed_m,
-                }
-                .resolution_m(min_step_m)
+                };
+                sides.resolution_m(min_step_m)
             };
             if half >= resolution_m * (1.0 - 1e-12) {
                 // The previous step changed a lock flag or an order, and the change is not yet
@@ -529,19 +554,8 @@ pub fn run_wheel(
             }
         }
         steps += 1;
-        let (depths, d_rate, beta) = harmonic_rates(&before.profile, &rate, orders);
-        let _ = depths;
-        let (depths_now, _, _) = harmonic_rates(&run.state.profile, &rate, orders);
         let prev_depths = history.last().expect("the start").depths_m.clone();
-        let point = HistoryPoint {
-            distance_km: run.state.distance_m / 1e3,
-            tread_height_m: run.state.height_m,
-            depths_m: depths_now,
-            depth_rate_m_per_m: d_rate,
-            growth_per_m: beta,
-            rho,
-            locked,
-        };
+        let point = history_point(&before, &run.state, &rate, orders, rho, locked);
         let mean = rate.iter().sum::<f64>() / rate.len() as f64;
         let spread = rate.iter().fold(0.0f64, |m, r| m.max((r - mean).abs()));
         step_m = next_step_m(settings, &point, spread);
