@@ -60,7 +60,7 @@ pub struct WearArgs {
     pub speed_spread_kmh: Option<f64>,
     /// Speeds driven, equal shares of the distance, each with its own tread state: the spread's
     /// quantiles, or the cycle's distance-weighted ones; accepted [1, 64]. The distance to a
-    /// visible polygon settles with 5 (within 10% of 40 or 80 at the reference point); more
+    /// visible polygon settles with 5 (within 15% of 40 at the reference point); more
     /// cost that many times the time
     #[arg(long, value_name = "K", default_value_t = SPEED_NODES as i64, allow_negative_numbers = true)]
     pub speed_nodes: i64,
