@@ -479,11 +479,10 @@ fn history_point(
     locked: Vec<bool>,
 ) -> HistoryPoint {
     let (_, d_rate, beta) = harmonic_rates(&before.profile, rate_m_per_m, orders);
-    let (depths_now, _, _) = harmonic_rates(&after.profile, rate_m_per_m, orders);
     HistoryPoint {
         distance_km: after.distance_m / 1e3,
         tread_height_m: after.height_m,
-        depths_m: depths_now,
+        depths_m: after.profile.depths_m(orders),
         depth_rate_m_per_m: d_rate,
         growth_per_m: beta,
         rho,
