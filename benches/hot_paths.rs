@@ -7,9 +7,10 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 
 use polywear::classify::{classify, envelope, ClassifierOptions, Scales};
+use polywear::model::Variational;
 use polywear::model::{Variant, Wheel, WheelModel};
 use polywear::params::Params;
-use polywear::solver::{integrate, Control, OdeSystem, SolverOptions, Variational};
+use polywear::solver::{integrate, Control, OdeSystem, SolverOptions};
 
 /// The right-hand side as first written: `powf` for (w_t/V_s)^φ, `hypot` for w_t, and the
 /// Jacobian of the variational equations evaluating the sliding speed and the curve again.

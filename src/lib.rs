@@ -1,35 +1,22 @@
 //! polywear: how likely a tire is to develop polygonal wear through lateral self-excited
-//! vibration of the tread (Zuo, Duan, Li 2014). The library is one data flow; each stage takes
-//! plain data and gives plain data (ARCHITECTURE.md lists every module):
+//! vibration of the tread (Zuo, Duan, Li 2014).
 //!
-//! | stage | module | entry points |
-//! |---|---|---|
-//! | study | [`study`] | [`study::Study::parse`] (a study's TOML → `Study`), [`study::apply_param_file`] |
-//! | sampling | [`sampling`] | [`study::Study::sampler`] → [`study::Sampler::sample`] (index → `Params`) |
-//! | parameters | [`params`] | [`params::Params`] (SI fields, `Default` = the shipped tire), [`params::ParamId`] |
-//! | model (MODEL.md#the-physics-step-by-step, steps 1–8) | [`model`] | [`model::WheelModel::build`] → the [`model::TreadOde`] |
-//! | solver | [`solver`] | [`solver::integrate_with`] (Dormand–Prince pairs, dense output) |
-//! | classification (step 9) | [`classify`] | [`classify::classify`] → [`classify::WheelVerdict`] |
-//! | the one road | [`evaluate`] | [`evaluate::PointProblem`] → [`evaluate::solve`] → [`evaluate::PointSolution`] |
-//! | ensembles | [`ensemble`] | [`ensemble::solve`] (an indexed family in parallel, in index order) |
-//! | batch runs | [`explore`] | [`explore::RunPlan`] (chunks, shards, resume) → [`explore::RunSummary`] |
-//! | records | [`records`] | [`records::WheelRecord`] (one row per wheel), [`records::record_columns`] |
-//! | Parquet | [`parquet_out`] | [`parquet_out::write_table`], [`parquet_out::write_csv`] |
-//! | analysis | [`analysis`], [`render`] | [`analysis::run`] → [`analysis::Analysis`] → [`render::write`] |
+//! This crate is the front door of a workspace laid along the data flow
+//! (docs/book/src/maintainers/architecture.md):
 //!
-//! Beside the flow: drive cycles ([`cycle`]), wear ([`wear`], after the classifier in
-//! [`evaluate`]), optimisation ([`optimize`]), stability charts ([`chart`], over
-//! [`continuation`]), sweeps ([`bifurcation`]), fits ([`calibrate`]), the paper's figures
-//! ([`reproduce`], [`plot`] with its [`plot::FigureFormat`]) and the acceptance check
-//! ([`validation`]).
+//! | crate | stages |
+//! |---|---|
+//! | `polywear-core` | [`params`], [`sampling`], [`model`], [`solver`], [`continuation`], [`classify`], [`wear`], [`evaluate`], [`ensemble`], [`records`] |
+//! | `polywear-study` | [`study`], [`explore`], [`parquet_out`], [`cycle`], [`calibrate`], [`optimize`], [`chart`], [`bifurcation`], [`validation`] |
+//! | `polywear-analysis` | [`analysis`], [`render`], [`plot`], [`figures`], [`reproduce`] |
+//! | `polywear-cli` | the `polywear` program |
+//!
+//! [`prelude`] holds what a user of the engine needs for one point, a study and its analysis.
 //!
 //! One operating point, both wheels, through the evaluator:
 //!
 //! ```
-//! use polywear::classify::{Class, ClassifierOptions};
-//! use polywear::evaluate::{solve, PointProblem};
-//! use polywear::model::Variant;
-//! use polywear::params::Params;
+//! use polywear::prelude::*;
 //!
 //! let params = Params::default();
 //! let options = ClassifierOptions::default();
@@ -46,39 +33,23 @@
 
 #![warn(missing_docs)]
 
-#[macro_use]
-pub mod text_enum;
+pub use polywear_analysis::{analysis, figures, plot, render, reproduce};
+pub use polywear_core::{
+    classify, columns, continuation, ensemble, evaluate, model, numeric, params, records, sampling,
+    solver, text_enum, wear, wording,
+};
+pub use polywear_study::{
+    bifurcation, calibrate, chart, cycle, explore, key_value, operating_points, optimize,
+    output_dir, parquet_out, safe_read, safe_write, stats, study, table_input, toml_input,
+    trajectory, validation,
+};
 
-pub mod analysis;
-pub mod bifurcation;
-pub mod calibrate;
-pub mod chart;
-pub mod classify;
-pub mod continuation;
-pub mod cycle;
-pub mod ensemble;
-pub mod evaluate;
-pub mod explore;
-pub mod key_value;
-pub mod model;
-pub mod numeric;
-pub mod operating_points;
-pub mod optimize;
-pub mod output_dir;
-pub mod params;
-pub mod parquet_out;
-pub mod plot;
-pub mod records;
-pub mod render;
-pub mod reproduce;
-pub mod safe_read;
-pub mod safe_write;
-pub mod sampling;
-pub mod solver;
-pub mod study;
-pub mod table_input;
-pub mod toml_input;
-pub mod trajectory;
-pub mod validation;
-pub mod wear;
-pub mod wording;
+/// What a user of the engine needs: one point (problem → solve → solution), a study (in memory
+/// or to Parquet) and its analysis.
+pub mod prelude {
+    pub use polywear_core::classify::{Class, ClassifierOptions, WheelVerdict};
+    pub use polywear_core::evaluate::{solve, PointProblem, PointSolution};
+    pub use polywear_core::model::{Variant, Wheel, WheelModel};
+    pub use polywear_core::params::{ParamId, Params};
+    pub use polywear_core::records::WheelRecord;
+}

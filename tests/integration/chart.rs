@@ -6,11 +6,11 @@ use crate::common;
 use nalgebra::{Complex, DMatrix, DVector};
 use parquet::file::reader::{FileReader, SerializedFileReader};
 
-use polywear::chart::derivatives::TreadSystem;
 use polywear::chart::{ChartRequest, WheelCurves, RE_LAMBDA_BOUND};
 use polywear::continuation::hopf::{analyse, HopfData};
 use polywear::continuation::trace::TraceOptions;
 use polywear::continuation::{CVector, OdeWithJacobian, ParamBox};
+use polywear::model::TreadSystem;
 use polywear::model::{Variant, Wheel, WheelModel};
 use polywear::params::{ParamId, Params};
 

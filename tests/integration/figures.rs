@@ -10,11 +10,11 @@ use polywear::analysis::bins::Bins;
 use polywear::analysis::conditional::BinStat;
 use polywear::analysis::counts::ClassCounts;
 use polywear::analysis::risk_map::RiskMap;
-use polywear::chart::draw::draw;
 use polywear::chart::{ChartRequest, WheelCurves};
 use polywear::classify::Class;
 use polywear::continuation::trace::HopfCurves;
 use polywear::continuation::ParamBox;
+use polywear::figures::chart::draw;
 use polywear::model::{Variant, Wheel};
 use polywear::params::{ParamId, Params};
 use polywear::plot::cycle::{cycle_figure, WheelTrace};
@@ -52,7 +52,7 @@ fn the_chart_says_where_it_was_drawn_and_names_the_overlap() {
             hi: [6500.0, 320.0],
         },
     };
-    let n = polywear::chart::draw::SHADE_CELLS;
+    let n = polywear::figures::chart::SHADE_CELLS;
     // The follower unstable in the left half, the driving wheel in the left quarter: both
     // there.
     let grid =

@@ -1,0 +1,651 @@
+//! Analysis stage: reads explore output (Parquet) and answers what users ask of an overnight
+//! run: how likely is self-excited vibration (and so polygonal wear) on driving and follower
+//! wheels, where in the operating space does the risk live, how severe is it, and which
+//! parameters drive it.
+//!
+//! Problem → result: [`inputs::check_inputs`] reads the footers and manifests (inputs that do
+//! not belong together are refused before any row is read) into a [`RunInfo`]; [`run`] answers
+//! every question for [`AnalysisOptions`] and returns an [`Analysis`], plain data.
+//! [`crate::render`] writes its tables, figures and page. One module per question:
+//! [`occurrence`], [`failures`] (why rows have no verdict), [`paired`], [`fleet`] (per row of
+//! an operating-point file), [`conditional`] (per axis, on [`bins`]), [`risk_map`],
+//! [`severity`], [`given_data`] (first-order indices from any design), [`sensitivity`] (Sobol
+//! indices of a Saltelli design), [`robustness`], [`scenarios`] (each scenario against the
+//! baseline on the same samples); [`rows`] alone speaks to polars, and [`stats`] holds the
+//! intervals and tests. In a run with scenarios every question but the last is answered on the
+//! baseline's rows.
+//!
+//! P(vibration), the probability every table gives, is the share of classified rows (stable,
+//! limit cycle, bistable) whose wheel vibrates: settles on a limit cycle, or is bistable (can be
+//! kicked onto one). Rows that failed or have no traction are counted apart ([`counts`]).
+
+pub mod bins;
+pub mod conditional;
+pub mod counts;
+pub mod failures;
+pub mod fleet;
+mod footer;
+pub mod given_data;
+pub mod inputs;
+pub mod occurrence;
+pub mod paired;
+pub mod quantities;
+pub mod risk_map;
+pub mod robustness;
+pub mod rows;
+pub mod scenarios;
+pub mod sensitivity;
+pub mod severity;
+pub use polywear_study::stats;
+pub mod wear_risk;
+
+use std::path::{Path, PathBuf};
+
+use conditional::BinStat;
+use counts::ClassCounts;
+use failures::Failures;
+use fleet::Fleet;
+use given_data::FirstOrder;
+pub use inputs::RunInfo;
+use occurrence::Occurrence;
+use paired::Paired;
+use risk_map::RiskMap;
+use robustness::{Robustness, RobustnessSummary};
+use rows::Rows;
+use scenarios::ScenarioEffect;
+use sensitivity::Sensitivity;
+use severity::{Severity, SEVERITY_QUANTITIES};
+use wear_risk::WearAnalysis;
+
+use polywear_core::classify::Class;
+use polywear_core::model::Variant;
+use polywear_core::params::ParamId;
+
+/// What an analysis computes: bins, risk maps, the smallest count shown, bootstrap resamples.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AnalysisOptions {
+    /// Bins per axis of the conditional probabilities.
+    pub bins: usize,
+    /// Bins per axis of the risk maps.
+    pub map_bins: usize,
+    /// Cells with fewer classified samples are shown as "too few", not as a probability.
+    pub min_count: u64,
+    /// Pairs of axes for risk maps (those absent from the run are skipped with a note).
+    pub pairs: Vec<(ParamId, ParamId)>,
+    /// Bootstrap resamples behind the Sobol indices' intervals.
+    pub bootstrap: usize,
+    /// The scenarios are compared on the risk of a visible polygon within this distance \[km\].
+    pub scenario_within_km: f64,
+    /// P(visible polygon within each of these distances) \[km\] (the wear stage's columns;
+    /// [`wear_risk::HEADLINE_WITHIN_KM`] is always among them).
+    pub within_km: Vec<f64>,
+}
+
+impl AnalysisOptions {
+    /// Default bins per axis of the conditional probabilities.
+    pub const DEFAULT_BINS: usize = 20;
+    /// Default bins per axis of the risk maps.
+    pub const DEFAULT_MAP_BINS: usize = 24;
+    /// Default smallest classified count of a shown cell.
+    pub const DEFAULT_MIN_COUNT: u64 = 30;
+    /// Default bootstrap resamples of the Sobol indices' intervals.
+    pub const DEFAULT_BOOTSTRAP: usize = 200;
+    /// Default distance of the scenarios' wear comparison \[km\].
+    pub const DEFAULT_SCENARIO_WITHIN_KM: f64 = 40_000.0;
+
+    /// The risk maps always drawn: speed × toe-in and load × pressure.
+    pub fn default_pairs() -> Vec<(ParamId, ParamId)> {
+        vec![
+            (ParamId::SpeedKmh, ParamId::ToeDeg),
+            (ParamId::LoadN, ParamId::PressureKpa),
+        ]
+    }
+
+    /// The size polars' streaming group-by should give its per-thread hot tables for this
+    /// analysis: its largest group-by is a risk map's cells for every variant and both wheels
+    /// (counted for every variant there is, as the run's are not known before its files are
+    /// read). polars reads it from `POLARS_HOT_TABLE_SIZE`; see [`rows`].
+    pub fn hot_table_size(&self) -> usize {
+        rows::hot_table_size(Variant::ALL.len() * 2 * self.map_bins * self.map_bins)
+    }
+}
+
+impl Default for AnalysisOptions {
+    fn default() -> Self {
+        AnalysisOptions {
+            bins: Self::DEFAULT_BINS,
+            map_bins: Self::DEFAULT_MAP_BINS,
+            min_count: Self::DEFAULT_MIN_COUNT,
+            pairs: Self::default_pairs(),
+            bootstrap: Self::DEFAULT_BOOTSTRAP,
+            scenario_within_km: Self::DEFAULT_SCENARIO_WITHIN_KM,
+            within_km: wear_risk::DEFAULT_WITHIN_KM.to_vec(),
+        }
+    }
+}
+
+/// Everything an analysis computes: plain data for the printed summary and for
+/// [`crate::render`].
+#[derive(Debug, Clone)]
+pub struct Analysis {
+    /// What the files' metadata says about the run.
+    pub info: RunInfo,
+    /// The options it was computed with.
+    pub options: AnalysisOptions,
+    /// P(vibration) per variant and wheel.
+    pub occurrence: Vec<Occurrence>,
+    /// The rows without a verdict, grouped by reason.
+    pub failures: Failures,
+    /// Driving against follower on the same samples, per variant.
+    pub paired: Vec<Paired>,
+    /// P(vibration) per row of the operating-point file (only for a study with one).
+    pub fleet: Option<Fleet>,
+    /// P(vibration) per bin of every drawn parameter.
+    pub conditional: Vec<BinStat>,
+    /// Risk maps over pairs of axes (their tables are written whether or not they are drawn).
+    pub maps: Vec<RiskMap>,
+    /// The maps of `maps` not drawn because too few of their cells hold enough samples.
+    pub sparse_maps: Vec<SparseMap>,
+    /// Cycle quantities among the vibrating rows.
+    pub severity: Vec<Severity>,
+    /// First-order indices of the vibration indicator from the rows (every design).
+    pub first_order: Vec<FirstOrder>,
+    /// Sobol indices (only for a Saltelli design).
+    pub sensitivity: Option<Vec<Sensitivity>>,
+    /// P(vibration) per lost-digit decoding (only when the study draws decodings).
+    pub robustness: Option<Robustness>,
+    /// How often the driving wheel is less exposed, per variant.
+    pub robustness_summary: Vec<RobustnessSummary>,
+    /// Each scenario against the baseline (empty without scenarios).
+    pub scenarios: Vec<ScenarioEffect>,
+    /// The wear answer (None for a run without the wear stage's columns).
+    pub wear: Option<WearAnalysis>,
+    /// Remarks for the report (skipped pairs, a design without Sobol indices, ...).
+    pub notes: Vec<String>,
+}
+
+impl Analysis {
+    /// Whether the map is drawn: not one of [`Analysis::sparse_maps`].
+    pub fn is_drawn(&self, map: &RiskMap) -> bool {
+        !self
+            .sparse_maps
+            .iter()
+            .any(|s| (s.variant, s.x, s.y) == (map.variant, map.x, map.y))
+    }
+
+    /// Class counts over every variant and wheel.
+    pub fn totals(&self) -> ClassCounts {
+        let mut t = ClassCounts::default();
+        for o in &self.occurrence {
+            t.merge(&o.counts);
+        }
+        t
+    }
+
+    /// True when no row has a verdict (every row failed or had no traction).
+    pub fn nothing_classified(&self) -> bool {
+        self.totals().classified() == 0
+    }
+
+    /// The variants present in the rows, in order.
+    pub fn variants(&self) -> Vec<Variant> {
+        let mut v: Vec<Variant> = self.occurrence.iter().map(|o| o.variant).collect();
+        v.sort();
+        v.dedup();
+        v
+    }
+}
+
+/// A risk map left out: its axes, and how many of its cells hold at least `min_count`
+/// classified samples on some wheel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SparseMap {
+    /// The friction variant.
+    pub variant: Variant,
+    /// The horizontal axis.
+    pub x: ParamId,
+    /// The vertical axis.
+    pub y: ParamId,
+    /// Cells with enough samples.
+    pub filled: usize,
+    /// All cells.
+    pub cells: usize,
+}
+
+/// A risk map is drawn only when at least this share of its cells holds enough samples: the
+/// few rows of an operating-point file fill a handful of cells of a speed × toe-in grid, and a
+/// map that is mostly grey says less than the per-row table.
+pub const MIN_MAP_COVERAGE: f64 = 0.25;
+
+/// Why an analysis cannot be done: inputs that do not belong together (named by file and key),
+/// rows this version cannot read, or a failed query.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum AnalysisError {
+    /// A file or directory cannot be read.
+    #[error("{}: {message}", path.display())]
+    Io {
+        /// The file or directory.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// An input that does not exist.
+    #[error("{}: no such file or directory", .0.display())]
+    NoSuchInput(PathBuf),
+    /// No Parquet file among the inputs.
+    #[error("no Parquet files in {inputs}; accepted: an explore output directory (chunk-*.parquet), Parquet files, or several of them")]
+    NoParquet {
+        /// The inputs, comma-separated.
+        inputs: String,
+    },
+    /// Only explore directories without chunk files (empty shards, or runs stopped before
+    /// their first chunk, which a resume continues).
+    #[error("{inputs} hold no rows: every directory is an explore output without chunk files (empty shards or a run stopped before its first chunk)")]
+    NoRows {
+        /// The inputs, comma-separated.
+        inputs: String,
+    },
+    /// A Parquet file that explore did not write.
+    #[error("{}: not an explore output (no `drawn_names` metadata); analyze reads what `polywear explore` writes", path.display())]
+    NotExplore {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A footer or manifest whose run metadata cannot be read.
+    #[error("{}: the run's metadata cannot be read: {message}", path.display())]
+    Metadata {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+    /// Two inputs of different runs.
+    #[error("{} and {} do not belong together: their `{key}` differs ({ours} vs {theirs}); analyze one run at a time", first.display(), other.display())]
+    Mismatch {
+        /// The first input file.
+        first: PathBuf,
+        /// The file that differs from it.
+        other: PathBuf,
+        /// The metadata key that differs.
+        key: &'static str,
+        /// The first file's value (shortened).
+        ours: String,
+        /// The other file's value (shortened).
+        theirs: String,
+    },
+    /// A file without `sample_id` statistics.
+    #[error("{}: no `sample_id` statistics in the footer; analyze reads what `polywear explore` writes", path.display())]
+    NoIdStatistics {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A file whose rows are not every variant and wheel of each sample once.
+    #[error("{}: {rows} rows for sample_id {}..={}, expected {} ({per_sample} per sample): duplicate or missing (sample_id, variant, wheel) rows", path.display(), ids.0, ids.1, (ids.1 - ids.0 + 1) as u64 * per_sample)]
+    RowCount {
+        /// The file.
+        path: PathBuf,
+        /// Its rows.
+        rows: u64,
+        /// Its sample ids, first and last.
+        ids: (i64, i64),
+        /// Rows per sample (two wheels per variant).
+        per_sample: u64,
+    },
+    /// Two files holding rows of the same samples.
+    #[error("{} and {} hold the same rows: duplicate (sample_id, variant, wheel) rows for sample_id {}..={} (the same directory given twice, or overlapping shards)", first.display(), other.display(), ids.0, ids.1)]
+    Overlap {
+        /// One file.
+        first: PathBuf,
+        /// The other.
+        other: PathBuf,
+        /// The shared sample ids, first and last.
+        ids: (i64, i64),
+    },
+    /// A column the analysis reads that is missing or of another type than explore writes.
+    #[error("{}: column `{column}` is {found}, expected {expected}; analyze reads the columns `polywear explore` writes (a rewritten file must keep their types)", path.display())]
+    ColumnType {
+        /// The file.
+        path: PathBuf,
+        /// The column.
+        column: String,
+        /// Its type in the file, or `missing`.
+        found: String,
+        /// The type explore writes.
+        expected: String,
+    },
+    /// A chunk file that does not match the run's journal.
+    #[error("{}: {why}; `polywear explore --resume --out {}` verifies every chunk and re-evaluates this one", path.display(), polywear_study::explore::recorded_run::shell_word(&dir.display().to_string()))]
+    Damaged {
+        /// The chunk file.
+        path: PathBuf,
+        /// How it differs from its journal entry.
+        why: String,
+        /// The run's directory.
+        dir: PathBuf,
+    },
+    /// Sample ids outside the run's `[0, samples)`.
+    #[error("{}: sample_id {}..={} lies outside the run's [0, {samples}) (`samples` = {samples} in its metadata)", path.display(), ids.0, ids.1)]
+    SampleIds {
+        /// The file.
+        path: PathBuf,
+        /// Its sample ids, first and last.
+        ids: (i64, i64),
+        /// The run's sample count.
+        samples: u64,
+    },
+    /// Rows whose variant or wheel the footers do not describe.
+    #[error("{}: {what}; every row's variant must be one of the footer's `variant` ({variants}), with one follower and one driving row per sample", path.display())]
+    RowsDisagree {
+        /// The file.
+        path: PathBuf,
+        /// What the rows hold.
+        what: String,
+        /// The footer's variants.
+        variants: String,
+    },
+    /// A drawn value that is NaN or infinite (explore writes only finite ones).
+    #[error("column `{column}` holds {rows} NaN or infinite values; explore writes only finite drawn values, so the files were changed after the run")]
+    NotFinite {
+        /// The column.
+        column: String,
+        /// Rows with such a value.
+        rows: u64,
+    },
+    /// Rows of a class this version does not know.
+    #[error("{rows} rows have a `class` this version does not know; accepted: {}", Class::ALL.map(|c| c.as_str()).join(", "))]
+    UnknownClass {
+        /// How many.
+        rows: u64,
+    },
+    /// A variant, wheel or class name this version does not know.
+    #[error("{0}")]
+    Row(String),
+    /// polars failed.
+    #[error("analysis query: {0}")]
+    Query(String),
+}
+
+impl AnalysisError {
+    fn io(path: &Path, e: impl std::fmt::Display) -> AnalysisError {
+        AnalysisError::Io {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        }
+    }
+}
+
+/// Rows of the paired comparison in a sample's outcome table use this many rows per file batch.
+const PAIRED_BATCH_ROWS: u64 = 400_000;
+
+/// A step of an analysis, reported when it is done (each is one or a few streaming queries).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Step {
+    /// Rows per class, per variant and wheel.
+    Occurrence,
+    /// The paired comparison.
+    Paired,
+    /// The reasons of the rows without a verdict.
+    Failures,
+    /// The per-row table of an operating-point file.
+    Fleet,
+    /// The observed ranges of the axes and cycle quantities.
+    Ranges,
+    /// The conditional probabilities along one axis.
+    Conditional,
+    /// The risk maps of one pair of axes.
+    RiskMap,
+    /// The severity histograms.
+    Severity,
+    /// The first-order indices from the rows.
+    FirstOrder,
+    /// The Sobol indices.
+    Sensitivity,
+    /// The lost-digit decodings.
+    Robustness,
+    /// The scenarios against the baseline.
+    Scenarios,
+    /// The wear answer.
+    Wear,
+}
+
+/// Answers every question of the analysis on checked inputs. polars' group tables are sized by
+/// the process ([`AnalysisOptions::hot_table_size`]).
+pub fn run(info: RunInfo, opts: &AnalysisOptions) -> Result<Analysis, AnalysisError> {
+    run_with_progress(info, opts, &mut |_| {})
+}
+
+/// [`run`], calling `progress` after each [`Step`]: a caller can report progress, or hand the
+/// memory a finished query freed back to the system (as the command line does).
+pub fn run_with_progress(
+    info: RunInfo,
+    opts: &AnalysisOptions,
+    progress: &mut dyn FnMut(Step),
+) -> Result<Analysis, AnalysisError> {
+    let mut notes = Vec::new();
+    let has_scenarios = !info.scenarios.is_empty();
+    let rows = Rows::scan_baseline(&info.files, has_scenarios)?;
+    let occurrence = occurrence::occurrence(&rows)?;
+    check_rows_agree(&info, &occurrence)?;
+    progress(Step::Occurrence);
+    let mut totals = ClassCounts::default();
+    occurrence.iter().for_each(|o| totals.merge(&o.counts));
+    let unclassified = totals.total() - totals.classified();
+    let failures = failures::failures(&info.files, totals.total(), unclassified)?;
+    progress(Step::Failures);
+    let paired = paired::paired(&info.files, PAIRED_BATCH_ROWS, has_scenarios)?;
+    progress(Step::Paired);
+    let fleet = fleet::fleet(&rows, &info)?;
+    progress(Step::Fleet);
+    let quantities: Vec<&str> = SEVERITY_QUANTITIES.iter().map(|q| q.name()).collect();
+    let axes: Vec<&str> = info.drawn_names.iter().map(|p| p.name()).collect();
+    let ranges = rows.ranges(&axes, &quantities)?;
+    progress(Step::Ranges);
+    let mut conditional = Vec::new();
+    for &axis in &info.drawn_names {
+        let b = bins::axis_bins(&info, &ranges, axis, opts.bins);
+        conditional.extend(conditional::conditional(&rows, axis, &b)?);
+        progress(Step::Conditional);
+    }
+    let (maps, sparse_maps) = risk_maps(&rows, &info, &ranges, opts, &mut notes, progress)?;
+    let severity = severity::severity(&rows, &ranges)?;
+    progress(Step::Severity);
+    let first_order = given_data::first_order_indices(&rows, &info, &ranges, opts.bootstrap)?;
+    progress(Step::FirstOrder);
+    let sensitivity = sensitivity::sensitivity(&rows, &info, opts.bootstrap)?;
+    progress(Step::Sensitivity);
+    let robustness = robustness::robustness(&rows, &info)?;
+    progress(Step::Robustness);
+    let robustness_summary = robustness
+        .as_ref()
+        .map(|r| r.summary(opts.min_count))
+        .unwrap_or_default();
+    let scenarios = scenarios::compare(
+        &info,
+        opts.scenario_within_km,
+        PAIRED_BATCH_ROWS,
+        &mut notes,
+    )?;
+    progress(Step::Scenarios);
+    let wear = if wear_risk::has_wear(&rows)? {
+        let axis_bins = info
+            .drawn_names
+            .iter()
+            .map(|&axis| (axis, bins::axis_bins(&info, &ranges, axis, opts.bins)))
+            .collect();
+        let drawn: Vec<&RiskMap> = maps
+            .iter()
+            .filter(|m| {
+                !sparse_maps
+                    .iter()
+                    .any(|s| (s.variant, s.x, s.y) == (m.variant, m.x, m.y))
+            })
+            .collect();
+        let inputs = wear_risk::WearInputs {
+            axis_bins,
+            maps: drawn,
+            batch_rows: PAIRED_BATCH_ROWS,
+        };
+        Some(wear_risk::wear(&rows, &info, &opts.within_km, &inputs)?)
+    } else {
+        None
+    };
+    progress(Step::Wear);
+    Ok(Analysis {
+        info,
+        options: opts.clone(),
+        occurrence,
+        failures,
+        paired,
+        fleet,
+        conditional,
+        maps,
+        sparse_maps,
+        severity,
+        first_order,
+        sensitivity,
+        robustness,
+        robustness_summary,
+        scenarios,
+        wear,
+        notes,
+    })
+}
+
+/// The risk maps of every pair of drawn axes, with the nominal tire's Hopf curves over each;
+/// a pair the run does not draw is a note, a map with too few filled cells
+/// ([`MIN_MAP_COVERAGE`]) a [`SparseMap`].
+fn risk_maps(
+    rows: &Rows,
+    info: &RunInfo,
+    ranges: &std::collections::BTreeMap<String, (f64, f64)>,
+    opts: &AnalysisOptions,
+    notes: &mut Vec<String>,
+    progress: &mut dyn FnMut(Step),
+) -> Result<(Vec<RiskMap>, Vec<SparseMap>), AnalysisError> {
+    let (mut maps, mut sparse) = (Vec::new(), Vec::new());
+    for &(x, y) in &opts.pairs {
+        if !info.drawn_names.contains(&x) || !info.drawn_names.contains(&y) {
+            let axes: Vec<&str> = info.drawn_names.iter().map(|p| p.name()).collect();
+            notes.push(format!(
+                "risk map {x} × {y} skipped: the run does not draw both (it draws {})",
+                axes.join(", ")
+            ));
+            continue;
+        }
+        let xb = bins::axis_bins(info, ranges, x, opts.map_bins);
+        let yb = bins::axis_bins(info, ranges, y, opts.map_bins);
+        for map in risk_map::risk_maps(rows, (x, &xb), (y, &yb))? {
+            let (filled, cells) = map.coverage(opts.min_count);
+            if (filled as f64) < MIN_MAP_COVERAGE * cells as f64 {
+                sparse.push(SparseMap {
+                    variant: map.variant,
+                    x,
+                    y,
+                    filled,
+                    cells,
+                });
+            }
+            maps.push(map);
+        }
+        progress(Step::RiskMap);
+    }
+    // The nominal tire's Hopf curves over the box of each map that is drawn.
+    if let Some(study) = &info.study {
+        let drawn = |m: &RiskMap| {
+            !sparse
+                .iter()
+                .any(|s| (s.variant, s.x, s.y) == (m.variant, m.x, m.y))
+        };
+        for map in maps.iter_mut().filter(|m| drawn(m)) {
+            map.nominal = polywear_study::chart::nominal_curves(
+                study,
+                map.variant,
+                map.x.name(),
+                map.y.name(),
+                &risk_map::draw_edges(&map.x_bins),
+                &risk_map::draw_edges(&map.y_bins),
+            );
+        }
+    }
+    Ok((maps, sparse))
+}
+
+/// Refuses rows whose variant or wheel the footers do not describe: each variant of the footers
+/// and each wheel hold exactly one row per sample present, and no other pair has rows. The file
+/// at fault is found by a query of each file, on this error's path only.
+fn check_rows_agree(info: &RunInfo, occurrence: &[Occurrence]) -> Result<(), AnalysisError> {
+    let agree = |occ: &[Occurrence], samples: Option<u64>| {
+        let counts: Vec<u64> = occ.iter().map(|o| o.counts.total()).collect();
+        occ.len() == 2 * info.variants.len()
+            && occ.iter().all(|o| info.variants.contains(&o.variant))
+            && counts.windows(2).all(|w| w[0] == w[1])
+            && samples.is_none_or(|n| counts.first() == Some(&n))
+    };
+    if agree(occurrence, Some(info.samples_present)) {
+        return Ok(());
+    }
+    let what = |occ: &[Occurrence]| {
+        occ.iter()
+            .map(|o| format!("{} {} rows of {}", o.counts.total(), o.wheel, o.variant))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let culprit = info
+        .files
+        .iter()
+        .map(|f| {
+            Ok((
+                f,
+                occurrence::occurrence(&Rows::scan(std::slice::from_ref(f))?)?,
+            ))
+        })
+        .find(|r: &Result<_, AnalysisError>| r.as_ref().map_or(true, |(_, o)| !agree(o, None)))
+        .transpose()?;
+    let (path, occ) = match &culprit {
+        Some((f, occ)) => ((*f).clone(), occ.as_slice()),
+        None => (info.files[0].clone(), occurrence),
+    };
+    Err(AnalysisError::RowsDisagree {
+        path,
+        what: format!("holds {}", what(occ)),
+        variants: info.variant_text(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn analysis_errors_name_files_and_keys_but_no_command_line_flag() {
+        let e = AnalysisError::NoRows {
+            inputs: "runs/a".into(),
+        };
+        assert!(!e.to_string().contains("--"), "{e}");
+        let e = AnalysisError::Mismatch {
+            first: "a.parquet".into(),
+            other: "b.parquet".into(),
+            key: "seed",
+            ours: "1".into(),
+            theirs: "2".into(),
+        };
+        assert_eq!(
+            e.to_string(),
+            "a.parquet and b.parquet do not belong together: their `seed` differs (1 vs 2); analyze one run at a time"
+        );
+    }
+
+    #[test]
+    fn hot_tables_grow_with_the_risk_maps_within_bounds() {
+        let size = |map_bins| {
+            AnalysisOptions {
+                map_bins,
+                ..AnalysisOptions::default()
+            }
+            .hot_table_size()
+        };
+        assert_eq!(size(2), 16_384);
+        assert_eq!(size(24), 65_536);
+        assert_eq!(size(200), 1 << 22);
+    }
+}

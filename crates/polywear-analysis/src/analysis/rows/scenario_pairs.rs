@@ -1,0 +1,124 @@
+//! The paired outcomes of a run with scenarios: per sample, variant and wheel, the outcome under
+//! the baseline beside the outcome under each scenario, counted by pair of outcomes.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use polars::prelude::*;
+
+use super::{collect, file_rows, ints, outcome_expr, strs, Rows};
+use crate::analysis::AnalysisError;
+use polywear_core::model::{Variant, Wheel};
+use polywear_core::text_enum::UnknownName;
+use polywear_study::study::BASELINE;
+
+/// Samples per (scenario index, variant, wheel, baseline code, scenario code), the codes those
+/// of [`crate::analysis::counts::outcome_code`]: 0 no, 1 yes, 2 unclassified; the scenario
+/// index counts the scenarios from 0, the baseline not included.
+pub type ScenarioPairCounts = BTreeMap<(usize, Variant, Wheel, i64, i64), u64>;
+
+/// What a row's outcome is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum OutcomeColumn<'a> {
+    /// The wheel vibrates (class limit cycle or bistable).
+    Vibration,
+    /// The wheel's value of `column` (a distance in km: +inf where never) is at most `km`;
+    /// unclassified where the row failed, had no traction, or the value is NaN.
+    WithinKm {
+        /// The distance column.
+        column: &'a str,
+        /// The distance \[km\].
+        km: f64,
+    },
+}
+
+/// The row's outcome code as a polars expression.
+pub(super) fn code_expr(outcome: OutcomeColumn<'_>) -> Expr {
+    match outcome {
+        OutcomeColumn::Vibration => outcome_expr(),
+        OutcomeColumn::WithinKm { column, km } => {
+            let x = col(column).cast(DataType::Float64);
+            when(outcome_expr().eq(lit(2i64)))
+                .then(lit(2i64))
+                .when(x.clone().is_null().or(x.clone().is_nan()))
+                .then(lit(2i64))
+                .when(x.lt_eq(lit(km)))
+                .then(lit(1i64))
+                .otherwise(lit(0i64))
+        }
+    }
+}
+
+/// Counts every sample's pair of outcomes (baseline, scenario) for each of `scenarios` (the
+/// names after the baseline, in row order), variant and wheel. A sample's rows all lie in one
+/// chunk file, so the files are grouped in batches of about `batch_rows` rows and the group-by
+/// never holds more than one batch's samples. A sample missing a scenario's row counts as
+/// unclassified under it.
+pub fn scenario_pairs(
+    files: &[PathBuf],
+    batch_rows: u64,
+    scenarios: &[&str],
+    outcome: OutcomeColumn<'_>,
+) -> Result<ScenarioPairCounts, AnalysisError> {
+    let names: Vec<&str> = std::iter::once(BASELINE)
+        .chain(scenarios.iter().copied())
+        .collect();
+    let code_cols: Vec<String> = (0..names.len()).map(|k| format!("c{k}")).collect();
+    let mut counts = ScenarioPairCounts::new();
+    let mut start = 0;
+    while start < files.len() {
+        let mut end = start;
+        let mut rows = 0u64;
+        while end < files.len() && (end == start || rows < batch_rows) {
+            rows += file_rows(&files[end]);
+            end += 1;
+        }
+        let lf = Rows::scan(&files[start..end])?.lf;
+        // Per sample: each block's code + 1 (0 where the block has no row).
+        let per_block: Vec<Expr> = names
+            .iter()
+            .zip(&code_cols)
+            .map(|(name, c)| {
+                (col("code") + lit(1i64))
+                    .filter(col("scenario").eq(lit(*name)))
+                    .sum()
+                    .alias(c.as_str())
+            })
+            .collect();
+        let mut keys = vec![col("variant"), col("wheel")];
+        keys.extend(code_cols.iter().map(|c| col(c.as_str())));
+        let df = collect(
+            lf.select([
+                col("variant"),
+                col("wheel"),
+                col("sample_id"),
+                col("scenario"),
+                code_expr(outcome).alias("code"),
+            ])
+            .group_by([col("variant"), col("wheel"), col("sample_id")])
+            .agg(per_block)
+            .group_by(keys)
+            .agg([len().cast(DataType::Int64).alias("n")]),
+        )?;
+        let (v, w, n) = (strs(&df, "variant")?, strs(&df, "wheel")?, ints(&df, "n")?);
+        let codes: Vec<Vec<i64>> = code_cols
+            .iter()
+            .map(|c| ints(&df, c))
+            .collect::<Result<_, _>>()?;
+        // Code + 1 back to the code; a missing row (0) is unclassified.
+        let code = |x: i64| if (1..=3).contains(&x) { x - 1 } else { 2 };
+        for i in 0..df.height() {
+            let err = |e: UnknownName| AnalysisError::Row(e.to_string());
+            let variant: Variant = v[i].parse().map_err(err)?;
+            let wheel: Wheel = w[i].parse().map_err(err)?;
+            let base = code(codes[0][i]);
+            for (k, c) in codes.iter().enumerate().skip(1) {
+                *counts
+                    .entry((k - 1, variant, wheel, base, code(c[i])))
+                    .or_default() += n[i] as u64;
+            }
+        }
+        start = end;
+    }
+    Ok(counts)
+}

@@ -1,0 +1,458 @@
+//! The files of an optimisation: `optimum.csv` (one row; with an `optimum.parquet` sidecar
+//! carrying the metadata), `surface.parquet` (every setting evaluated), the picture of the
+//! objective surface with the nominal tire's stability boundaries, and `report.md`, which says
+//! in words where the optimum is, how flat it is, and whether it sits on the box's edge.
+
+use std::path::{Path, PathBuf};
+
+use crate::plot::maps::Overlay;
+use crate::plot::surface::{marker, surface_curve, surface_map, MapPoint, VLine};
+use crate::plot::FigureFile;
+use crate::plot::{FigureFormat, PlotError};
+use polywear_core::model::{Wheel, WheelModel};
+use polywear_core::wording::plain;
+use polywear_study::optimize::{Problem, Solution};
+use polywear_study::parquet_out::{write_csv, write_table, Column};
+
+/// Why the files cannot be written.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// A folder or file cannot be written.
+    #[error("{}: {message}", path.display())]
+    Io {
+        /// The file or folder.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// A table cannot be written.
+    #[error("{0}")]
+    Write(#[from] polywear_study::parquet_out::WriteError),
+    /// The picture cannot be drawn.
+    #[error("{0}")]
+    Figure(#[from] PlotError),
+}
+
+/// A probability or objective as people read it: 12.3%.
+fn pct(x: f64) -> String {
+    if x.is_finite() {
+        format!("{:.1}%", 100.0 * x)
+    } else {
+        "–".into()
+    }
+}
+
+/// The sentences of the result: the optimum with its interval, how flat it is, the edge.
+pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
+    let mut lines = Vec::new();
+    let axes = &problem.axes;
+    let Some(b) = solution.best else {
+        lines.push(format!(
+            "no setting of the {} evaluated meets the constraints ({})",
+            solution.settings.len(),
+            problem
+                .constraints
+                .iter()
+                .map(|c| c.text.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+        return lines;
+    };
+    let best = &solution.settings[b];
+    let at: Vec<String> = axes
+        .iter()
+        .zip(&best.values)
+        .map(|(a, v)| format!("{} = {}", a.param, plain(*v, 4)))
+        .collect();
+    lines.push(format!(
+        "optimum: {}: {} {} (95% interval {} to {}) over {} samples",
+        at.join(", "),
+        problem.objective.text(),
+        pct(best.objective.value),
+        pct(best.objective.low),
+        pct(best.objective.high),
+        best.objective.n
+    ));
+    let within = solution.within_best();
+    let spans: Vec<String> = axes
+        .iter()
+        .enumerate()
+        .map(|(k, a)| {
+            let (lo, hi) = within
+                .iter()
+                .map(|&i| solution.settings[i].values[k])
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+                    (l.min(v), h.max(v))
+                });
+            format!("{} {} to {}", a.param, plain(lo, 4), plain(hi, 4))
+        })
+        .collect();
+    let worst = solution
+        .settings
+        .iter()
+        .filter(|s| s.feasible)
+        .map(|s| s.objective.value)
+        .fold(f64::NEG_INFINITY, f64::max);
+    // Paired on the same samples, a difference is far better resolved than either value.
+    let indistinct = within
+        .iter()
+        .filter(|&&i| {
+            let (_, lo, hi) = solution.vs_best[i];
+            i != b && lo <= 0.0 && hi >= 0.0
+        })
+        .count();
+    lines.push(format!(
+        "how flat: {} of {} settings lie within the best's interval (objective at most {}), spanning {}; {} of them cannot be told from the best (their paired difference's 95% interval holds 0); over the box the objective runs from {} to {}",
+        within.len(),
+        solution.settings.len(),
+        pct(best.objective.high),
+        spans.join(", "),
+        indistinct,
+        pct(best.objective.value),
+        pct(worst)
+    ));
+    for (k, side) in solution.on_edge() {
+        let a = &axes[k];
+        let end = if side == "lower" { a.lo } else { a.hi };
+        lines.push(format!(
+            "the optimum sits on the box's {side} edge of {} ({}): the minimum may lie beyond the box; widen it there if the parameter's accepted range allows",
+            a.param,
+            plain(end, 6)
+        ));
+    }
+    lines
+}
+
+/// Writes every file into `dir`; `metadata` (version, command, parameters, variant, study,
+/// seed, objective) goes into every Parquet footer; `format` is the picture's.
+pub fn write(
+    problem: &Problem,
+    solution: &Solution,
+    dir: &Path,
+    metadata: &[(String, String)],
+    format: FigureFormat,
+) -> Result<Vec<PathBuf>, OutputError> {
+    polywear_study::safe_write::create_dir(dir).map_err(|e| OutputError::Io {
+        path: dir.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    let mut written = Vec::new();
+    let optimum = optimum_columns(problem, solution);
+    let csv = dir.join("optimum.csv");
+    write_csv(&csv, &optimum)?;
+    written.push(csv);
+    let sidecar = dir.join("optimum.parquet");
+    write_table(&sidecar, &optimum, metadata)?;
+    written.push(sidecar);
+    let surface = dir.join("surface.parquet");
+    write_table(&surface, &surface_columns(problem, solution), metadata)?;
+    written.push(surface);
+    let picture = FigureFile::named(dir, "surface", format);
+    draw(problem, solution, &picture)?;
+    let text = page(problem, solution, &picture.path);
+    written.push(picture.path);
+    let report = dir.join("report.md");
+    polywear_study::safe_write::write_file(&report, text.as_bytes()).map_err(|e| {
+        OutputError::Io {
+            path: report.clone(),
+            message: e.to_string(),
+        }
+    })?;
+    written.push(report);
+    Ok(written)
+}
+
+/// `optimum.csv`: a column per varied parameter, `objective`, `objective_low`,
+/// `objective_high` (NaN when no setting meets the constraints).
+fn optimum_columns(problem: &Problem, solution: &Solution) -> Vec<Column> {
+    let best = solution.best.map(|b| &solution.settings[b]);
+    let mut cols: Vec<Column> = problem
+        .axes
+        .iter()
+        .enumerate()
+        .map(|(k, a)| {
+            let v = best.map_or(f64::NAN, |s| s.values[k]);
+            Column::f64(a.param.name(), a.param.spec().unit, vec![v])
+        })
+        .collect();
+    let e = best.map(|s| s.objective);
+    for (name, v) in [
+        ("objective", e.map(|e| e.value)),
+        ("objective_low", e.map(|e| e.low)),
+        ("objective_high", e.map(|e| e.high)),
+    ] {
+        cols.push(Column::f64(name, "-", vec![v.unwrap_or(f64::NAN)]));
+    }
+    cols
+}
+
+/// `surface.parquet`: one row per setting evaluated, in order.
+fn surface_columns(problem: &Problem, solution: &Solution) -> Vec<Column> {
+    let s = &solution.settings;
+    let mut cols: Vec<Column> = problem
+        .axes
+        .iter()
+        .enumerate()
+        .map(|(k, a)| {
+            let v = s.iter().map(|x| x.values[k]).collect();
+            Column::f64(a.param.name(), a.param.spec().unit, v)
+        })
+        .collect();
+    let f = |name: &str, g: &dyn Fn(usize) -> f64| {
+        Column::f64(name, "-", (0..s.len()).map(g).collect())
+    };
+    let within = solution.within_best();
+    cols.extend([
+        f("objective", &|i| s[i].objective.value),
+        f("objective_low", &|i| s[i].objective.low),
+        f("objective_high", &|i| s[i].objective.high),
+        Column::i64(
+            "samples",
+            "",
+            s.iter().map(|x| x.objective.n as i64).collect(),
+        ),
+        Column::i64("level", "", s.iter().map(|x| x.level as i64).collect()),
+        Column::i64(
+            "feasible",
+            "",
+            s.iter().map(|x| i64::from(x.feasible)).collect(),
+        ),
+        Column::i64(
+            "within_best_interval",
+            "",
+            (0..s.len())
+                .map(|i| i64::from(within.contains(&i)))
+                .collect(),
+        ),
+        f("difference_vs_best", &|i| solution.vs_best[i].0),
+        f("difference_low", &|i| solution.vs_best[i].1),
+        f("difference_high", &|i| solution.vs_best[i].2),
+    ]);
+    for (k, c) in problem.constraints.iter().enumerate() {
+        let name = format!("constraint_{}_{}", c.term.name(), c.wheel.name());
+        cols.push(f(&name, &|i| s[i].constrained[k].value));
+    }
+    cols
+}
+
+/// The picture: a map over two parameters with the nominal tire's Hopf curves, or a curve over
+/// one with its Hopf points.
+fn draw(problem: &Problem, solution: &Solution, file: &FigureFile) -> Result<(), OutputError> {
+    let axes = &problem.axes;
+    let label = |k: usize| {
+        polywear_core::params::axis_label(axes[k].param.name(), axes[k].param.spec().unit)
+    };
+    let title = format!(
+        "{} over the study's samples (variant {})",
+        problem.objective.text(),
+        problem.variant
+    );
+    let best = solution.best.map(|b| &solution.settings[b]);
+    if axes.len() == 1 {
+        let mut pts: Vec<(f64, f64, f64, f64)> = solution
+            .settings
+            .iter()
+            .filter(|s| s.feasible)
+            .map(|s| {
+                (
+                    s.values[0],
+                    s.objective.value,
+                    s.objective.low,
+                    s.objective.high,
+                )
+            })
+            .collect();
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let lines = nominal_points(problem);
+        surface_curve(
+            file,
+            &title,
+            (&label(0), "objective"),
+            &pts,
+            best.map(|s| (s.values[0], s.objective.value)),
+            &lines,
+        )?;
+        return Ok(());
+    }
+    let (xb, yb) = ((axes[0].lo, axes[0].hi), (axes[1].lo, axes[1].hi));
+    let points: Vec<MapPoint> = solution
+        .settings
+        .iter()
+        .map(|s| MapPoint {
+            x: s.values[0],
+            y: s.values[1],
+            value: if s.feasible {
+                s.objective.value
+            } else {
+                f64::NAN
+            },
+        })
+        .collect();
+    let mut overlay = nominal_curves(problem);
+    let within: Vec<Vec<(f64, f64)>> = solution
+        .within_best()
+        .iter()
+        .flat_map(|&i| {
+            let s = &solution.settings[i];
+            marker((s.values[0], s.values[1]), xb, yb, 0.008, false)
+        })
+        .collect();
+    overlay.push(Overlay {
+        label: "within the best's 95% interval".into(),
+        color: plotters::style::RGBColor(255, 140, 0),
+        lines: within,
+    });
+    if let Some(s) = best {
+        overlay.push(Overlay {
+            label: "optimum".into(),
+            color: plotters::style::RGBColor(220, 20, 60),
+            lines: marker((s.values[0], s.values[1]), xb, yb, 0.02, true),
+        });
+    }
+    surface_map(
+        file,
+        &title,
+        (&label(0), &label(1)),
+        xb,
+        yb,
+        &points,
+        &overlay,
+        &problem.objective.text(),
+    )?;
+    Ok(())
+}
+
+/// The nominal tire's Hopf curves over the box (white: follower, black: driving wheel).
+fn nominal_curves(problem: &Problem) -> Vec<Overlay> {
+    let (x, y) = (&problem.axes[0], &problem.axes[1]);
+    let curves = polywear_study::chart::nominal_curves(
+        &problem.study,
+        problem.variant,
+        x.param.name(),
+        y.param.name(),
+        &[x.lo, x.hi],
+        &[y.lo, y.hi],
+    )
+    .unwrap_or_default();
+    curves
+        .iter()
+        .map(|c| Overlay {
+            label: format!("{} stability boundary of the nominal tire", c.wheel),
+            color: match c.wheel {
+                Wheel::Follower => plotters::style::WHITE,
+                Wheel::Driving => plotters::style::BLACK,
+            },
+            lines: c
+                .curves
+                .curves
+                .iter()
+                .map(|k| k.points.iter().map(|d| (d.p[0], d.p[1])).collect())
+                .collect(),
+        })
+        .collect()
+}
+
+/// Where the nominal tire's equilibrium changes stability along one axis (both wheels): the
+/// sign changes of max Re λ (MODEL.md#step-8-linear-stability) on a scan, each placed by
+/// linear interpolation.
+fn nominal_points(problem: &Problem) -> Vec<VLine> {
+    let a = &problem.axes[0];
+    let mut base = problem.study.base;
+    for d in &problem.study.drawn {
+        base[d.param] = d.dist.quantile(0.5);
+    }
+    const SCAN: usize = 400;
+    let mut lines = Vec::new();
+    for (k, wheel) in Wheel::BOTH.into_iter().enumerate() {
+        let re: Vec<(f64, f64)> = (0..=SCAN)
+            .map(|i| {
+                let x = a.value(i as f64 / SCAN as f64);
+                let mut p = base;
+                p[a.param] = x;
+                let re = WheelModel::build(&p, wheel, problem.variant)
+                    .map_or(f64::NAN, |m| m.ode.linear_stability().eig_re_max);
+                (x, re)
+            })
+            .collect();
+        for w in re.windows(2) {
+            let ((x0, r0), (x1, r1)) = (w[0], w[1]);
+            if r0.is_finite() && r1.is_finite() && (r0 > 0.0) != (r1 > 0.0) {
+                lines.push(VLine {
+                    x: x0 + (x1 - x0) * r0 / (r0 - r1),
+                    label: format!("{wheel} stability boundary of the nominal tire"),
+                    color: 2 + k,
+                });
+            }
+        }
+    }
+    lines
+}
+
+/// `report.md`: the question, the answer in words, the picture and the files.
+fn page(problem: &Problem, solution: &Solution, picture: &Path) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let _ = writeln!(s, "# Optimum of study `{}`\n", problem.study.name);
+    let _ = writeln!(
+        s,
+        "Minimised: **{}**{}, over {} samples of the study (seed {}, variant {}), every setting on \
+         the same samples. A wheel counts for `vibration` when it settles on a limit cycle or is \
+         bistable; for `wear` when a visible polygon appears within {} km.\n",
+        problem.objective.text(),
+        if problem.constraints.is_empty() {
+            String::new()
+        } else {
+            format!(
+                ", subject to {}",
+                problem
+                    .constraints
+                    .iter()
+                    .map(|c| format!("`{}`", c.text))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        },
+        problem.samples,
+        problem.seed,
+        problem.variant,
+        plain(problem.within_km, 9)
+    );
+    let _ = writeln!(s, "What a setting means:\n");
+    for a in &problem.axes {
+        let _ = writeln!(
+            s,
+            "- {}; searched from {} to {}",
+            a.meaning(),
+            plain(a.lo, 6),
+            plain(a.hi, 6)
+        );
+    }
+    let _ = writeln!(s, "\n## Result\n");
+    for line in summary(problem, solution) {
+        let _ = writeln!(s, "- {}.", capitalise(&line));
+    }
+    let name = picture
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned());
+    let _ = writeln!(s, "\n![]({})\n", name.unwrap_or_default());
+    let _ = writeln!(
+        s,
+        "The search: a {}-point grid per axis, refined {} times (each halving the step) around \
+         the best {} settings within the best's interval; {} settings evaluated. Files: \
+         `optimum.csv` (and `optimum.parquet` with the metadata), `surface.parquet` (every \
+         setting, with its paired difference from the best).",
+        problem.search.grid,
+        problem.search.levels,
+        problem.search.keep,
+        solution.settings.len()
+    );
+    s
+}
+
+fn capitalise(text: &str) -> String {
+    let mut c = text.chars();
+    c.next()
+        .map(|f| f.to_uppercase().chain(c).collect())
+        .unwrap_or_default()
+}

@@ -1,0 +1,382 @@
+//! `polywear analyze`: occurrence probabilities, driving vs follower, risk maps, severity and
+//! sensitivity from an explore output.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use polywear_analysis::plot::FigureFormat;
+
+use super::common::{CliError, CliResult};
+use polywear_analysis::analysis::inputs::check_inputs;
+use polywear_analysis::analysis::{Analysis, AnalysisError, AnalysisOptions};
+use polywear_analysis::render::RenderOptions;
+use polywear_core::params::ParamId;
+
+#[derive(Debug, Args, Clone)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  # an extra risk map\n",
+    "  polywear analyze data/explore_highway_fleet_seed2014 --pair g_mod,load_n\n",
+    "  # the shards of one run, together\n",
+    "  polywear analyze results/shard-*\n",
+    "\nGuide: GUIDE.md#analyze"
+))]
+pub struct AnalyzeArgs {
+    /// Explore output: a directory of chunk files, a Parquet file, or several (e.g. shard
+    /// directories)
+    #[arg(value_name = "DIR", required = true)]
+    pub inputs: Vec<PathBuf>,
+    /// Where the report goes, created when missing [default: <first input>/_report]
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Bins per axis for conditional probabilities, accepted [2, 200]
+    #[arg(long, default_value_t = AnalysisOptions::DEFAULT_BINS, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--bins", 2, 200))]
+    pub bins: usize,
+    /// Bins per axis for risk maps, accepted [2, 200]
+    #[arg(long, default_value_t = AnalysisOptions::DEFAULT_MAP_BINS, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--map-bins", 2, 200))]
+    pub map_bins: usize,
+    /// Cells and bins with fewer samples are shown as "too few", accepted [1, 1e9]
+    #[arg(long, default_value_t = AnalysisOptions::DEFAULT_MIN_COUNT, allow_negative_numbers = true, value_parser = super::common::whole_in::<u64>("--min-count", 1, 1_000_000_000))]
+    pub min_count: u64,
+    /// Extra risk map over two drawn parameters, e.g. `--pair g_mod,load_n` (repeatable); the
+    /// maps speed_kmh,toe_deg and load_n,pressure_kpa are always drawn
+    #[arg(long, value_name = "X,Y", value_parser = parse_pair)]
+    pub pair: Vec<(ParamId, ParamId)>,
+    /// Bootstrap resamples for the Sobol indices' intervals, accepted [10, 100000]
+    #[arg(long, default_value_t = AnalysisOptions::DEFAULT_BOOTSTRAP, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--bootstrap", 10, 100_000))]
+    pub bootstrap: usize,
+    /// A run with scenarios compares each with the baseline on the risk of a visible polygon
+    /// within this distance [km] (and on vibration), accepted (0, 1e6]
+    #[arg(long, value_name = "KM", default_value_t = AnalysisOptions::DEFAULT_SCENARIO_WITHIN_KM, allow_negative_numbers = true, value_parser = parse_km)]
+    pub scenario_within_km: f64,
+    /// P(visible polygonal wear within each distance) per wheel [km], comma-separated, each
+    /// within (0, 1e6]; 40000 (the headline) is always added
+    #[arg(long, value_name = "KM,...", default_value = "10000,25000,40000,60000", allow_negative_numbers = true, value_parser = parse_km_list)]
+    pub within_km: KmList,
+    /// File type of the figures
+    #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
+    pub format: FigureFormat,
+}
+
+/// The distances of `--within-km` \[km\].
+#[derive(Debug, Clone, PartialEq)]
+pub struct KmList(pub Vec<f64>);
+
+/// Parses `--within-km`: distances in km within (0, 1e6], comma-separated.
+pub fn parse_km_list(s: &str) -> Result<KmList, String> {
+    let km: Vec<f64> = s
+        .split(',')
+        .map(|v| {
+            parse_km(v).map_err(|_| {
+                format!("--within-km `{}` must be a distance in km within (0, 1e6], e.g. --within-km 10000,25000,40000,60000", v.trim())
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(KmList(km))
+}
+
+/// Parses a distance in km within (0, 1e6].
+pub fn parse_km(s: &str) -> Result<f64, String> {
+    s.trim()
+        .replace('_', "")
+        .parse::<f64>()
+        .ok()
+        .filter(|x| *x > 0.0 && *x <= 1e6)
+        .ok_or_else(|| format!("`{s}` must be a distance in km within (0, 1e6]"))
+}
+
+fn parse_pair(s: &str) -> Result<(ParamId, ParamId), String> {
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| format!("--pair `{s}`: expected X,Y"))?;
+    let parse = |n: &str| {
+        n.trim()
+            .parse::<ParamId>()
+            .map_err(|e| format!("--pair `{s}`: {e}"))
+    };
+    let (a, b) = (parse(a)?, parse(b)?);
+    if a == b {
+        return Err(format!("--pair `{s}`: the two axes must differ; accepted: two different parameter names, e.g. g_mod,load_n"));
+    }
+    Ok((a, b))
+}
+
+pub fn run(args: &AnalyzeArgs) -> CliResult {
+    run_with(args, true)
+}
+
+/// Runs the analysis; prints the summary when `verbose`.
+pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
+    for (flag, v, lo, hi) in [
+        ("--bins", args.bins as u64, 2, 200),
+        ("--map-bins", args.map_bins as u64, 2, 200),
+        ("--min-count", args.min_count, 1, 1_000_000_000),
+        ("--bootstrap", args.bootstrap as u64, 10, 100_000),
+    ] {
+        if !(lo..=hi).contains(&v) {
+            return Err(CliError(format!(
+                "{flag} = {v} is outside its accepted range [{lo}, {hi}]"
+            )));
+        }
+    }
+    let out_dir = args.out.clone().unwrap_or_else(|| {
+        let first = &args.inputs[0];
+        if first.is_dir() {
+            // Underscore: pyarrow/pandas skip it, so `pd.read_parquet(DIR)` still reads only the rows.
+            first.join("_report")
+        } else {
+            first.with_extension("report")
+        }
+    });
+    let mut pairs = AnalysisOptions::default_pairs();
+    for p in &args.pair {
+        if !pairs.contains(p) {
+            pairs.push(*p);
+        }
+    }
+    let opts = AnalysisOptions {
+        bins: args.bins,
+        map_bins: args.map_bins,
+        min_count: args.min_count,
+        pairs,
+        bootstrap: args.bootstrap,
+        scenario_within_km: args.scenario_within_km,
+        within_km: args.within_km.0.clone(),
+    };
+    let render = RenderOptions {
+        out_dir,
+        figure_format: args.format,
+    };
+    report(
+        &args.inputs,
+        &opts,
+        &render,
+        verbose,
+        "choose another folder with --out",
+    )
+}
+
+/// An analysis error in the words of the command line.
+pub fn analysis_error(e: AnalysisError) -> CliError {
+    match e {
+        AnalysisError::NoRows { inputs } => CliError(format!(
+            "{inputs} hold no rows: every directory is an explore output without chunk files (empty shards or a run stopped before its first chunk; `polywear explore --resume --out DIR` continues one)"
+        )),
+        e => CliError(e.to_string()),
+    }
+}
+
+/// The analysis API for the command line: checks the inputs (footers and manifests only, so
+/// inputs that do not belong together stop here, before any work), runs the analysis, writes
+/// the report, and prints the summary when `verbose`. `explore` calls it for its closing
+/// report. A report that cannot be written ends with `elsewhere`, how to write it elsewhere.
+pub fn report(
+    inputs: &[PathBuf],
+    opts: &AnalysisOptions,
+    render: &RenderOptions,
+    verbose: bool,
+    elsewhere: &str,
+) -> CliResult {
+    let start = Instant::now();
+    let info = check_inputs(inputs).map_err(analysis_error)?;
+    if info.rows == 0 {
+        return Err(CliError("the inputs hold no rows".into()));
+    }
+    let a =
+        polywear_analysis::analysis::run_with_progress(info, opts, &mut |_| release_freed_memory())
+            .map_err(analysis_error)?;
+    let written = polywear_analysis::render::write(&a, render)
+        .map_err(|e| CliError(format!("cannot write the report: {e}; {elsewhere}")))?;
+    let report = written.report;
+    if a.nothing_classified() {
+        let t = a.totals();
+        return Err(CliError(format!(
+            "no row has a verdict: all {} rows failed ({}) or had no traction ({}), so there is no probability to give; report: {}",
+            t.total(),
+            t.failed(),
+            t.no_traction(),
+            report.display()
+        )));
+    }
+    if !verbose {
+        return Ok(());
+    }
+    print_summary(&a);
+    println!(
+        "analysed {} rows in {:.1} s; report: {}",
+        a.info.rows,
+        start.elapsed().as_secs_f64(),
+        report.display()
+    );
+    Ok(())
+}
+
+/// Hands the memory a finished query freed back to the system. glibc's malloc keeps freed
+/// blocks in its per-thread arenas, so without this the resident size creeps up with every
+/// query although the live data stays the same (a few MB at the peak of a 400,000-row report).
+fn release_freed_memory() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: malloc_trim only returns free heap pages to the kernel; no pointer is touched.
+    unsafe {
+        libc::malloc_trim(0);
+    }
+}
+
+fn print_summary(a: &Analysis) {
+    let i = &a.info;
+    print_failures(a);
+    println!(
+        "{} of {} samples present ({} rows in {} files)",
+        i.samples_present,
+        i.samples,
+        i.rows,
+        i.files.len()
+    );
+    if i.samples_present < i.samples {
+        println!(
+            "  note: {} samples missing (chunks not in the inputs); the tables cover the samples present",
+            i.samples - i.samples_present
+        );
+    }
+    print_wear(a);
+    let weighted = a
+        .fleet
+        .as_ref()
+        .map_or(String::new(), |f| format!(", {}", f.weight.words()));
+    println!("P(vibration) over classified rows{weighted}, with 95% Wilson interval:");
+    for o in &a.occurrence {
+        let (lo, hi) = o.counts.wilson();
+        println!(
+            "  {:>8} {:>8}: {:>7.3}%  [{:.3}%, {:.3}%]  ({} of {} classified; {} failed, {} no traction)",
+            o.variant,
+            o.wheel,
+            100.0 * o.p(),
+            100.0 * lo,
+            100.0 * hi,
+            o.counts.vibrating(),
+            o.counts.classified(),
+            o.counts.failed(),
+            o.counts.no_traction()
+        );
+    }
+    for p in &a.paired {
+        println!(
+            "  {:>8} paired: {}; McNemar p = {}",
+            p.variant,
+            p.counts_text(),
+            if p.p_value.is_nan() {
+                "n/a (no discordant pairs)".to_string()
+            } else {
+                polywear_study::stats::format_p(p.p_value)
+            }
+        );
+    }
+    print_fleet(a);
+    if !a.scenarios.is_empty() {
+        println!("What the changes do (paired on the same samples; 95% Newcombe interval):");
+    }
+    for e in &a.scenarios {
+        println!(
+            "  {} ({}, {}): {}",
+            e.scenario,
+            e.variant,
+            e.outcome.name(),
+            polywear_analysis::render::scenarios::sentence(e)
+        );
+    }
+    for r in &a.robustness_summary {
+        println!(
+            "  {:>8} lost digits: driving less exposed in {} of {} decodings ({:.1}%, 95% [{:.1}%, {:.1}%]); {} with too few samples",
+            r.variant,
+            r.driving_less,
+            r.compared,
+            100.0 * r.share,
+            100.0 * r.lo,
+            100.0 * r.hi,
+            r.too_few
+        );
+    }
+    for n in &a.notes {
+        println!("  note: {n}");
+    }
+}
+
+/// The wear answer first: P(visible polygon within each distance) per wheel and the paired
+/// comparison at each; one line where the run has no wear stage.
+fn print_wear(a: &Analysis) {
+    use polywear_analysis::render::wear::km;
+    let Some(w) = &a.wear else {
+        println!("wear: the wear stage was left out of this run (--no-wear or `wear = false`); vibration only");
+        return;
+    };
+    println!(
+        "P(visible polygonal wear within X km), cruising at each sample's operating point (phi_s = {}, sigma_V = {} km/h, field-fitted), with 95% Wilson interval:",
+        w.share_straight, w.speed_spread_kmh
+    );
+    for o in &w.occurrence {
+        let (lo, hi) = o.counts.wilson();
+        println!(
+            "  {:>8} {:>8} within {:>10}: {:>7.3}%  [{:.3}%, {:.3}%]  ({} of {} with a distance; {} unknown)",
+            o.variant,
+            o.wheel,
+            km(o.within_km),
+            100.0 * o.counts.p(),
+            100.0 * lo,
+            100.0 * hi,
+            o.counts.within,
+            o.counts.known,
+            o.counts.unknown
+        );
+    }
+    for wp in &w.paired {
+        let p = &wp.paired;
+        println!(
+            "  {:>8} paired within {:>10}: {}; McNemar p = {}",
+            p.variant,
+            km(wp.within_km),
+            p.counts_text(),
+            p.mcnemar_text()
+        );
+    }
+}
+
+/// When more than 1% of the rows have no verdict, the first thing printed: how many, and why.
+fn print_failures(a: &Analysis) {
+    let f = &a.failures;
+    if !f.loud() {
+        return;
+    }
+    println!(
+        "WARNING: {} of {} rows ({:.1}%) have no verdict; every probability below is over the other {} only. Why:",
+        f.unclassified,
+        f.rows,
+        100.0 * f.share(),
+        f.rows - f.unclassified
+    );
+    for g in &f.groups {
+        println!("  {:>9} {}: {}", g.rows, g.class, g.pattern);
+    }
+}
+
+/// For a fleet run: how many operating points carry half of the fleet's risk, and which.
+fn print_fleet(a: &Analysis) {
+    let Some(fleet) = &a.fleet else {
+        return;
+    };
+    for variant in a.variants() {
+        let rows: Vec<_> = fleet.rows.iter().filter(|r| r.variant == variant).collect();
+        let Some((k, weight)) = polywear_analysis::render::fleet::half_the_risk(&rows) else {
+            continue;
+        };
+        let names: Vec<String> = rows[..k].iter().map(|r| r.row.to_string()).collect();
+        println!(
+            "  {:>8} operating points: {k} of {} carry half of the fleet's risk (rows {}; {:.1}% of the {}); every row in fleet_rows.csv",
+            variant,
+            rows.len(),
+            names.join(", "),
+            100.0 * weight,
+            fleet.weight.short()
+        );
+    }
+}

@@ -1,0 +1,136 @@
+//! What a long run says and hears: a progress line every few seconds for batch logs (stderr not
+//! a terminal, e.g. a Slurm job), and SIGINT/SIGTERM turned into a clean stop.
+
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use super::common::{CliError, CliResult};
+use polywear_core::wording::plain;
+
+/// Progress lines on stderr: `progress: 1216 of 6000 samples (20.3%), 412 samples/s, ETA 12 s`.
+pub struct ProgressLog {
+    total: u64,
+    every: Duration,
+    start: Instant,
+    done: AtomicU64,
+    next: Mutex<Instant>,
+}
+
+impl ProgressLog {
+    pub fn new(total: u64, every: Duration) -> ProgressLog {
+        let start = Instant::now();
+        ProgressLog {
+            total,
+            every,
+            start,
+            done: AtomicU64::new(0),
+            next: Mutex::new(start + every),
+        }
+    }
+
+    /// Counts `n` more samples; prints a line when the interval has passed (one worker prints,
+    /// the others do not wait for it).
+    pub fn add(&self, n: u64) {
+        let done = self.done.fetch_add(n, Ordering::Relaxed) + n;
+        let now = Instant::now();
+        let Ok(mut next) = self.next.try_lock() else {
+            return;
+        };
+        if now < *next {
+            return;
+        }
+        *next = now + self.every;
+        eprintln!("{}", self.line(done, now - self.start));
+    }
+
+    fn line(&self, done: u64, elapsed: Duration) -> String {
+        let rate = done as f64 / elapsed.as_secs_f64().max(1e-9);
+        let eta = if rate > 0.0 {
+            duration_text((self.total.saturating_sub(done)) as f64 / rate)
+        } else {
+            "unknown".into()
+        };
+        format!(
+            "progress: {done} of {} samples ({}%), {} samples/s, ETA {eta}",
+            self.total,
+            plain(100.0 * done as f64 / self.total.max(1) as f64, 3),
+            plain(rate, 3)
+        )
+    }
+}
+
+/// Seconds written as people read them: `42 s`, `3 min 20 s`, `2 h 05 min`.
+pub fn duration_text(secs: f64) -> String {
+    let s = secs.max(0.0).round() as u64;
+    match s {
+        0..60 => format!("{s} s"),
+        60..3600 => format!("{} min {:02} s", s / 60, s % 60),
+        _ => format!("{} h {:02} min", s / 3600, (s % 3600) / 60),
+    }
+}
+
+/// SIGINT and SIGTERM while a run is in progress: the first sets a flag the workers read (no new
+/// chunk starts, see `RunPlan::run_until`); a second one, or any after [`Interrupt::disarm`],
+/// ends the program at once with 128 + the signal number, as the default action would.
+pub struct Interrupt {
+    signal: Arc<AtomicUsize>,
+    armed: Arc<AtomicBool>,
+}
+
+impl Interrupt {
+    pub fn install() -> CliResult<Interrupt> {
+        use signal_hook::consts::{SIGINT, SIGTERM};
+        let signal = Arc::new(AtomicUsize::new(0));
+        let armed = Arc::new(AtomicBool::new(false));
+        for sig in [SIGINT, SIGTERM] {
+            let e = |e: std::io::Error| CliError(format!("cannot handle signal {sig}: {e}"));
+            // In this order: a signal that finds `armed` set ends the program; the first one
+            // records itself and arms.
+            signal_hook::flag::register_conditional_shutdown(sig, 128 + sig, Arc::clone(&armed))
+                .map_err(e)?;
+            signal_hook::flag::register_usize(sig, Arc::clone(&signal), sig as usize).map_err(e)?;
+            signal_hook::flag::register(sig, Arc::clone(&armed)).map_err(e)?;
+        }
+        Ok(Interrupt { signal, armed })
+    }
+
+    /// The signal that asked the run to stop, if one did.
+    pub fn signal(&self) -> Option<i32> {
+        match self.signal.load(Ordering::SeqCst) {
+            0 => None,
+            s => Some(s as i32),
+        }
+    }
+
+    /// From now on a signal ends the program at once.
+    pub fn disarm(&self) {
+        self.armed.store(true, Ordering::SeqCst);
+    }
+}
+
+/// `SIGINT (Ctrl-C)` or `SIGTERM`.
+pub fn signal_name(sig: i32) -> &'static str {
+    match sig {
+        signal_hook::consts::SIGINT => "SIGINT (Ctrl-C)",
+        signal_hook::consts::SIGTERM => "SIGTERM",
+        _ => "a signal",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn durations_and_progress_lines() {
+        assert_eq!(duration_text(42.4), "42 s");
+        assert_eq!(duration_text(200.0), "3 min 20 s");
+        assert_eq!(duration_text(7500.0), "2 h 05 min");
+        let log = ProgressLog::new(6000, Duration::from_secs(5));
+        assert_eq!(
+            log.line(1500, Duration::from_secs(3)),
+            "progress: 1500 of 6000 samples (25%), 500 samples/s, ETA 9 s"
+        );
+    }
+}

@@ -1,0 +1,213 @@
+//! `polywear bifurcation`: a 1-D sweep of any parameter for both wheels, in parallel, with the
+//! Hopf points located by root-finding on the leading eigenvalue's real part.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use polywear_analysis::plot::{FigureFile, FigureFormat};
+
+use super::common::{base_metadata, BudgetArgs, CliError, CliResult, PointArgs};
+use polywear_core::classify::ClassifierOptions;
+use polywear_core::model::{Variant, Wheel};
+use polywear_core::params::{ParamError, ParamId, Params};
+use polywear_core::records::{record_columns, WheelRecord};
+use polywear_core::wording::plain;
+use polywear_study::bifurcation::{linspace, sweep};
+use polywear_study::parquet_out::{write_table, Column};
+
+#[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  polywear bifurcation --param speed_kmh --from 40 --to 260 --steps 221\n",
+    "  polywear bifurcation --param toe_deg --from 0.05 --to 1 --params studies/params_r0.toml\n",
+    "\nGuide: GUIDE.md#bifurcation"
+))]
+pub struct BifurcationArgs {
+    /// Parameter to sweep, by name (see `polywear params`), e.g. speed_kmh, toe_deg, load_n
+    #[arg(long, value_name = "NAME")]
+    pub param: String,
+    /// First value of the sweep (in the parameter's unit)
+    #[arg(long, allow_negative_numbers = true)]
+    pub from: f64,
+    /// Last value of the sweep
+    #[arg(long, allow_negative_numbers = true)]
+    pub to: f64,
+    /// Number of values, accepted [2, 100000]
+    #[arg(long, default_value_t = 101, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--steps", 2, 100_000))]
+    pub steps: usize,
+    #[command(flatten)]
+    pub point: PointArgs,
+    /// Hard-excitation check at each value (lateral velocity amplitude [m/s])
+    #[arg(long, value_name = "MPS")]
+    pub kick: Option<f64>,
+    #[command(flatten)]
+    pub budget: BudgetArgs,
+    /// Output prefix: writes PREFIX.parquet and PREFIX.png (or .svg); a missing folder is
+    /// created [default: data/bifurcation_<param>]
+    #[arg(long, value_name = "PREFIX")]
+    pub out: Option<PathBuf>,
+    /// File type of the figure
+    #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
+    pub format: FigureFormat,
+    /// Worker threads (default: all cores), accepted [1, 1024]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
+    pub threads: Option<usize>,
+}
+
+pub fn run(args: &BifurcationArgs) -> CliResult {
+    let req = resolve(args)?;
+    let values = linspace(args.from, args.to, args.steps);
+    let pool = super::common::thread_pool(args.threads)?;
+    let sw = pool.install(|| sweep(&req.base, req.param, &values, req.variant, &req.opts));
+    print_summary(args, &sw);
+    write(args, &req, &sw)
+}
+
+/// The sweep the flags ask for, checked before any work.
+struct SweepRequest {
+    base: Params,
+    param: ParamId,
+    variant: Variant,
+    opts: ClassifierOptions,
+    /// The output files' path without extension (its folder created).
+    prefix: PathBuf,
+}
+
+fn resolve(args: &BifurcationArgs) -> CliResult<SweepRequest> {
+    let resolved = args.point.resolve()?;
+    let base = resolved.params;
+    let param: ParamId = args
+        .param
+        .parse()
+        .map_err(|e: ParamError| CliError(format!("--param: {e}")))?;
+    super::common::sweep_owns(param, &format!("--param {param}"), &resolved)?;
+    let s = param.spec();
+    if !(2..=100_000).contains(&args.steps) {
+        return Err(CliError(format!(
+            "--steps = {} is outside its accepted range [2, 100000]",
+            args.steps
+        )));
+    }
+    for (flag, v) in [("--from", args.from), ("--to", args.to)] {
+        s.check(v).map_err(|e| CliError(format!("{flag}: {e}")))?;
+        if !args.point.accept_implausible {
+            s.check_plausible(v)
+                .map_err(|e| CliError(format!("{flag}: {e}")))?;
+        }
+        let mut p = base;
+        p.try_set(param, v)?;
+        p.validate().map_err(|e| CliError(format!("{flag}: {e}")))?;
+    }
+    if args.from == args.to {
+        return Err(CliError(format!(
+            "--from and --to are both {}; accepted: two different values of {} in its range {} {}",
+            plain(args.from, 12),
+            s.name,
+            s.range_text(),
+            s.unit
+        )));
+    }
+    if let Some(k) = args.kick {
+        if k.is_nan() || k <= 0.0 {
+            return Err(CliError(format!(
+                "--kick = {k} m/s is refused; accepted: a positive lateral velocity amplitude in m/s, e.g. 0.05"
+            )));
+        }
+    }
+    let prefix = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("data/bifurcation_{}", s.name)));
+    if let Some(dir) = prefix.parent().filter(|d| !d.as_os_str().is_empty()) {
+        polywear_study::safe_write::create_dir(dir)
+            .map_err(|e| CliError(format!("--out {}: {e}", dir.display())))?;
+    }
+    let variant: Variant = args.point.variant.into();
+    let opts = ClassifierOptions {
+        kick_mps: args.kick,
+        budget: args.budget.apply(Default::default())?,
+        ..ClassifierOptions::default()
+    };
+    Ok(SweepRequest {
+        base,
+        param,
+        variant,
+        opts,
+        prefix,
+    })
+}
+
+/// The windows of vibration in words, and each wheel's Hopf points.
+fn print_summary(args: &BifurcationArgs, sw: &polywear_study::bifurcation::Sweep) {
+    let s = sw.param.spec();
+    let variant = sw.variant;
+    let (records, hopf) = (&sw.records, &sw.hopf);
+    println!(
+        "sweep of {} from {} to {} {} ({} values, variant {variant}) at {}",
+        s.name,
+        plain(args.from, 6),
+        plain(args.to, 6),
+        s.unit,
+        args.steps,
+        sw.held_fixed()
+    );
+    for wheel in Wheel::BOTH {
+        for line in sw.windows_in_words(wheel) {
+            println!("{line}");
+        }
+    }
+    for wheel in Wheel::BOTH {
+        let rows: Vec<&WheelRecord> = records.iter().filter(|r| r.wheel == wheel).collect();
+        let vib = rows.iter().filter(|r| r.class.vibrates()).count();
+        println!("{wheel:>9}: {vib} of {} values vibrate", rows.len());
+        for h in hopf.iter().filter(|h| h.wheel == wheel) {
+            println!(
+                "           Hopf point at {} = {:.6} {} ({} as it increases); l1 = {:.4e}, {}",
+                s.name,
+                h.value,
+                s.unit,
+                if h.destabilizing {
+                    "loses stability"
+                } else {
+                    "regains stability"
+                },
+                h.l1,
+                polywear_study::chart::criticality(h.l1)
+            );
+        }
+    }
+}
+
+/// The sweep's table (Parquet, with the Hopf points in its metadata) and picture.
+fn write(
+    args: &BifurcationArgs,
+    req: &SweepRequest,
+    sw: &polywear_study::bifurcation::Sweep,
+) -> CliResult {
+    let (s, jobs, records, hopf) = (req.param.spec(), &sw.jobs, &sw.records, &sw.hopf);
+    let (base, variant, prefix) = (&req.base, req.variant, &req.prefix);
+    // The swept value gets its own column (the parameter may also be a record column).
+    let mut cols = vec![Column::f64(
+        "sweep_value",
+        s.unit,
+        jobs.iter().map(|j| j.0).collect(),
+    )];
+    cols.extend(record_columns(records));
+    let mut meta = base_metadata(base, variant);
+    meta.push(("sweep_param".into(), s.name.into()));
+    let hopf_json: Vec<serde_json::Value> = hopf
+        .iter()
+        .map(|h| serde_json::json!({"wheel": h.wheel.as_str(), "value": h.value, "destabilizing": h.destabilizing, "l1": h.l1, "criticality": polywear_study::chart::criticality(h.l1)}))
+        .collect();
+    meta.push((
+        "hopf_points".into(),
+        serde_json::Value::from(hopf_json).to_string(),
+    ));
+    let pq = prefix.with_extension("parquet");
+    write_table(&pq, &cols, &meta)?;
+    let figure = FigureFile::beside(prefix, args.format);
+    polywear_analysis::figures::bifurcation::draw(&figure, sw)
+        .map_err(|e| CliError(e.to_string()))?;
+    eprintln!("wrote {} and {}", pq.display(), figure.path.display());
+    Ok(())
+}

@@ -1,0 +1,209 @@
+//! `polywear calibrate`: fit parameters to target observations, write a parameter file.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::Args;
+
+use super::common::{CliError, CliResult};
+use polywear_core::params::{ParamError, ParamId};
+use polywear_study::calibrate::{
+    calibrate, check_fit, parameter_file, parse_problem, Fit, Problem,
+};
+
+#[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  # the fit behind the defaults\n",
+    "  polywear calibrate studies/paper_targets.toml --out data/fit.toml\n",
+    "  # then use the fitted parameters\n",
+    "  polywear simulate --params data/fit.toml\n",
+    "\nGuide: GUIDE.md#calibrate"
+))]
+pub struct CalibrateArgs {
+    /// Targets file (TOML; see studies/paper_targets.toml)
+    #[arg(value_name = "TARGETS.toml")]
+    pub targets: PathBuf,
+    /// Parameters to fit, comma-separated (overrides the file's `fit`)
+    #[arg(long, value_name = "A,B,...", value_delimiter = ',')]
+    pub fit: Vec<String>,
+    /// Where the fitted parameter file goes (a missing folder is created)
+    #[arg(
+        long,
+        value_name = "FILE",
+        default_value = "data/calibrated_params.toml"
+    )]
+    pub out: PathBuf,
+    /// Write the parameter file even when a target is not met within its tolerance (by default
+    /// such a fit writes no file and exits 1)
+    #[arg(long)]
+    pub write_anyway: bool,
+    /// Start from [params] values outside their plausible ranges (`polywear params`) anyway
+    #[arg(long)]
+    pub accept_implausible: bool,
+}
+
+/// Reads and checks the targets and flags, fits, prints the fit, then writes the parameter file;
+/// exit code 1 (not the 2 of bad input) when the fit misses a target and `--write-anyway` is not
+/// given.
+pub fn run(args: &CalibrateArgs) -> CliResult<ExitCode> {
+    let problem = resolve(args)?;
+    let start = Instant::now();
+    let fit = calibrate(&problem);
+    print_fit(&problem, &fit, start.elapsed().as_secs_f64());
+    write(args, &fit)
+}
+
+/// The targets file as a problem, with `--fit` in place of the file's `fit`, and the folder of
+/// `--out` created: everything checked before the fit starts.
+fn resolve(args: &CalibrateArgs) -> CliResult<Problem> {
+    let problem = read_problem(args)?;
+    if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        polywear_study::safe_write::create_dir(dir)
+            .map_err(|e| CliError(format!("--out {}: {e}", dir.display())))?;
+    }
+    Ok(problem)
+}
+
+/// The fit's headline, its targets and its parameters.
+fn print_fit(problem: &Problem, fit: &Fit, secs: f64) {
+    println!(
+        "fitted {} parameters to {} targets in {:.1} s ({} cost evaluations), cost {:.4e}",
+        fit.fitted.len(),
+        problem.targets.len(),
+        secs,
+        fit.evaluations,
+        fit.cost
+    );
+    print_targets(fit);
+    print_parameters(fit);
+}
+
+/// The parameter file at `--out`, unless the fit misses a target without `--write-anyway`.
+fn write(args: &CalibrateArgs, fit: &Fit) -> CliResult<ExitCode> {
+    let file = parameter_file(fit, &args.targets.display().to_string())
+        .map_err(|e| CliError(e.to_string()))?;
+    if let Err(e) = fit.check_met() {
+        if !args.write_anyway {
+            // The fit ran on good input but does not stand: exit 1, not the 2 of bad input.
+            eprintln!("error: {e}; --write-anyway writes it nonetheless");
+            return Ok(ExitCode::from(1));
+        }
+        eprintln!("warning: {e}; written nonetheless (--write-anyway)");
+    }
+    polywear_study::safe_write::write_file(&args.out, file.as_bytes())
+        .map_err(|e| CliError(format!("--out {}: {e}", args.out.display())))?;
+    println!("\nwrote {} (use it with --params)", args.out.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The targets file as a problem, with `--fit` in place of the file's `fit` (checked alike).
+fn read_problem(args: &CalibrateArgs) -> CliResult<Problem> {
+    let text =
+        super::common::read_input(&args.targets, "", polywear_study::safe_read::Limit::Text)?;
+    let at = |e: &dyn std::fmt::Display| CliError(format!("{}: {e}", args.targets.display()));
+    let mut problem = parse_problem(&text).map_err(|e| at(&e))?;
+    if !args.accept_implausible {
+        // The defaults are plausible: only the file's [params] can fail here.
+        problem.start.check_plausible().map_err(|e| {
+            let key = match &e {
+                ParamError::Implausible { name, .. } => format!("`params.{name}`: "),
+                _ => String::new(),
+            };
+            at(&format!("{key}{e}"))
+        })?;
+    }
+    if args.fit.is_empty() {
+        return Ok(problem);
+    }
+    let mut fit: Vec<ParamId> = Vec::new();
+    for n in &args.fit {
+        let name: ParamId = n
+            .trim()
+            .parse()
+            .map_err(|e: ParamError| CliError(format!("--fit: {e}")))?;
+        if fit.contains(&name) {
+            return Err(CliError(format!("--fit: `{name}` is named twice")));
+        }
+        if problem.choices.iter().any(|(c, _)| *c == name) {
+            return Err(CliError(format!(
+                "--fit: `{name}` is restricted by the file's `choices`; it cannot also be fitted"
+            )));
+        }
+        fit.push(name);
+    }
+    problem.fit = fit;
+    check_fit(&problem).map_err(|e| CliError(format!("--fit: {e}")))?;
+    Ok(problem)
+}
+
+/// The fit table: each target's value, the model's at the start and at the fit, and whether it
+/// is met; then why each unmet target is not.
+fn print_targets(fit: &Fit) {
+    println!(
+        "\n{:<38} {:<9} {:<14} {:>11} {:>13} {:>13} {:>8}  met",
+        "target", "wheel", "variant", "value", "model start", "model fit", "error"
+    );
+    for t in &fit.targets {
+        println!(
+            "{:<38} {:<9} {:<14} {:>11.5} {:>13.5} {:>13.5} {:>7.2}%  {}",
+            t.name,
+            t.wheel,
+            t.variant,
+            t.value,
+            t.start,
+            t.fitted,
+            100.0 * t.rel_error(),
+            if t.met() { "yes" } else { "NO" }
+        );
+    }
+    let shortfalls: Vec<String> = fit.targets.iter().filter_map(|t| t.shortfall()).collect();
+    if shortfalls.is_empty() {
+        println!("\nevery target is met within its tolerance");
+    } else {
+        println!();
+        for s in &shortfalls {
+            println!("warning: {s}");
+        }
+    }
+}
+
+/// The chosen readings, the fitted parameters and the sensitivities at the fit.
+fn print_parameters(fit: &Fit) {
+    if !fit.chosen.is_empty() {
+        println!(
+            "\nchosen among {} combinations of `choices`: {}",
+            fit.combinations,
+            fit.chosen
+                .iter()
+                .map(|(n, v)| format!("{n} = {v}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    println!(
+        "\n{:<14} {:>14} {:>14} {:>9}",
+        "parameter", "start", "fitted", "change"
+    );
+    for (name, a, b) in &fit.fitted {
+        println!(
+            "{:<14} {a:>14.6e} {b:>14.6e} {:>8.2}%",
+            name.name(),
+            100.0 * (b - a) / a
+        );
+    }
+    println!("\nsensitivity d ln(target) / d ln(parameter) at the fit:");
+    print!("{:<28}", "");
+    for (name, _, _) in &fit.fitted {
+        print!(" {:>10}", name.name());
+    }
+    println!();
+    for (t, row) in fit.targets.iter().zip(&fit.sensitivity) {
+        print!("{:<28}", t.name);
+        for v in row {
+            print!(" {v:>10.3}");
+        }
+        println!();
+    }
+}

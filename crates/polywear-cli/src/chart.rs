@@ -1,0 +1,324 @@
+//! `polywear chart`: every Hopf curve of both wheels in the plane of two parameters, with the
+//! frequency, the first Lyapunov coefficient and the criticality along them.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use super::common::{
+    base_metadata, check_extension, check_out_file, CliError, CliResult, PointArgs, Resolved,
+    WheelArg,
+};
+use polywear_analysis::figures::chart::{draw, SHADE_CELLS};
+use polywear_analysis::plot::{FigureFile, FigureFormat};
+use polywear_core::continuation::trace::TraceOptions;
+use polywear_core::continuation::ParamBox;
+use polywear_core::params::{ParamError, ParamId, Params};
+use polywear_study::chart::band::{structure_band, structure_params, StructureBand};
+use polywear_study::chart::{
+    band_columns, curve_columns, special_columns, summary, ChartRequest, RE_LAMBDA_BOUND,
+};
+use polywear_study::parquet_out::{write_csv, write_table};
+use polywear_study::study::Study;
+
+/// Cells per axis of the uncertainty band's grid.
+const BAND_CELLS: usize = 100;
+
+/// The study of `--study`, checked against the chart before work: a parameter it draws for the
+/// band and the command line or `--params` sets too is refused (the band would replace it).
+fn band_study(
+    args: &ChartArgs,
+    req: &ChartRequest,
+    resolved: &Resolved,
+) -> CliResult<Option<(Study, u64)>> {
+    let (Some(path), Some(k)) = (&args.study, args.structure_samples) else {
+        return Ok(None);
+    };
+    let text = super::common::read_input(path, "--study ", polywear_study::safe_read::Limit::Text)?;
+    let study = Study::parse_with_base(&text, req.base)
+        .map_err(|e| CliError(format!("--study {}: {e}", path.display())))?;
+    study
+        .check_samples(k)
+        .map_err(|e| CliError(format!("--structure-samples {k}: {e}")))?;
+    let drawn = structure_params(req, &study);
+    if drawn.is_empty() {
+        return Err(CliError(format!(
+            "--study {}: draws no parameter besides the operating point and the chart's axes; \
+             the band needs distributions of tire-structure, friction or vehicle parameters",
+            path.display()
+        )));
+    }
+    for d in study.drawn.iter().filter(|d| drawn.contains(&d.param)) {
+        if let Some(by) = resolved.given_by(d.param) {
+            return Err(CliError(format!(
+                "{by} sets `{}`, which --study {} draws per structure for the band; a parameter is drawn or set, not both",
+                d.param,
+                path.display()
+            )));
+        }
+        if !(args.point.accept_implausible || study.accept_implausible) {
+            d.check_plausible()
+                .map_err(|e| CliError(format!("--study {}: {e}", path.display())))?;
+        }
+    }
+    Ok(Some((study, k)))
+}
+
+#[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  # speed x toe-in, both wheels: Hopf curves, l1, Bautin points, picture\n",
+    "  polywear chart --x speed_kmh --x-from 60 --x-to 250 --y toe_deg --y-from 0.05 --y-to 0.6 \\\n",
+    "      --out data/chart_speed_toe.parquet\n",
+    "  # load x pressure at 120 km/h, follower only\n",
+    "  polywear chart --x load_n --x-from 2000 --x-to 8000 --y pressure_kpa --y-from 150 \\\n",
+    "      --y-to 350 --speed 120 --wheel follower --out data/chart_load_pressure.parquet\n",
+    "  # the boundary's uncertainty band over 64 tire structures of a study\n",
+    "  polywear chart --x speed_kmh --x-from 60 --x-to 250 --y toe_deg --y-from 0.05 --y-to 0.6 \\\n",
+    "      --study studies/default.toml --structure-samples 64 --out data/chart_band.parquet\n",
+    "\nGuide: GUIDE.md#stability-charts"
+))]
+pub struct ChartArgs {
+    /// Parameter on the horizontal axis, by name (see `polywear params`), e.g. speed_kmh
+    #[arg(long, value_name = "NAME")]
+    pub x: String,
+    /// Lower end of the horizontal axis (in the parameter's unit)
+    #[arg(long = "x-from", value_name = "VALUE", allow_negative_numbers = true)]
+    pub x_from: f64,
+    /// Upper end of the horizontal axis
+    #[arg(long = "x-to", value_name = "VALUE", allow_negative_numbers = true)]
+    pub x_to: f64,
+    /// Parameter on the vertical axis, e.g. toe_deg
+    #[arg(long, value_name = "NAME")]
+    pub y: String,
+    /// Lower end of the vertical axis
+    #[arg(long = "y-from", value_name = "VALUE", allow_negative_numbers = true)]
+    pub y_from: f64,
+    /// Upper end of the vertical axis
+    #[arg(long = "y-to", value_name = "VALUE", allow_negative_numbers = true)]
+    pub y_to: f64,
+    /// Which wheel's curves to trace
+    #[arg(long, value_enum, default_value_t = WheelArg::Both)]
+    pub wheel: WheelArg,
+    /// The operating point and other parameters; the nominal point marked on the chart
+    #[command(flatten)]
+    pub point: PointArgs,
+    /// Output table FILE.parquet; FILE.csv, FILE_special.parquet/.csv and FILE.png are written
+    /// beside it
+    #[arg(long, value_name = "FILE.parquet")]
+    pub out: PathBuf,
+    /// Study file whose distributions of the non-operating parameters (tire structure,
+    /// friction, vehicle; not the chart's axes) are drawn for the boundary's uncertainty band
+    #[arg(long, value_name = "STUDY.toml", requires = "structure_samples")]
+    pub study: Option<PathBuf>,
+    /// Number of tire structures drawn from --study, accepted [2, 10000]; the chart then shows
+    /// where 5% to 95% of them put each wheel's boundary, and FILE_band.parquet/.csv hold the
+    /// unstable share per grid cell
+    #[arg(long, value_name = "K", requires = "study", allow_negative_numbers = true,
+          value_parser = super::common::whole_in::<u64>("--structure-samples", 2, 10_000))]
+    pub structure_samples: Option<u64>,
+    /// Worker threads (default: all cores), accepted [1, 1024]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
+    pub threads: Option<usize>,
+}
+
+/// An axis: its parameter, checked by name, range and plausibility (unless `accept`), with the
+/// flags named in errors.
+fn axis(name: &str, from: f64, to: f64, flag: &str, accept: bool) -> CliResult<ParamId> {
+    let id: ParamId = name
+        .parse()
+        .map_err(|e: ParamError| CliError(format!("--{flag}: {e}")))?;
+    let s = id.spec();
+    for (which, v) in [("from", from), ("to", to)] {
+        s.check(v)
+            .map_err(|e| CliError(format!("--{flag}-{which}: {e}")))?;
+        if !accept {
+            s.check_plausible(v)
+                .map_err(|e| CliError(format!("--{flag}-{which}: {e}")))?;
+        }
+    }
+    if from >= to {
+        return Err(CliError(format!(
+            "--{flag}-from = {from} must be below --{flag}-to = {to} (the range of {} is empty or inverted; accepted values {} {})",
+            s.name,
+            s.range_text(),
+            s.unit
+        )));
+    }
+    Ok(id)
+}
+
+/// Checks the request and builds it, before any work.
+pub fn request(args: &ChartArgs) -> CliResult<(ChartRequest, Resolved)> {
+    let accept = args.point.accept_implausible;
+    let x = axis(&args.x, args.x_from, args.x_to, "x", accept)?;
+    let y = axis(&args.y, args.y_from, args.y_to, "y", accept)?;
+    if x == y {
+        return Err(CliError(format!(
+            "--x and --y are both `{x}`; a chart needs two different parameters"
+        )));
+    }
+    let resolved = args.point.resolve()?;
+    super::common::sweep_owns(x, &format!("--x {x}"), &resolved)?;
+    super::common::sweep_owns(y, &format!("--y {y}"), &resolved)?;
+    let base = resolved.params;
+    // Every corner must be a valid parameter set (e.g. mu_s on an axis may not exceed mu_m).
+    for (xf, xv) in [("--x-from", args.x_from), ("--x-to", args.x_to)] {
+        for (yf, yv) in [("--y-from", args.y_from), ("--y-to", args.y_to)] {
+            let mut p: Params = base;
+            p.try_set(x, xv)?;
+            p.try_set(y, yv)?;
+            p.validate()
+                .map_err(|e| CliError(format!("corner {xf}, {yf}: {e}")))?;
+        }
+    }
+    check_extension(&args.out, &["parquet"], "--out")?;
+    check_out_file(&args.out, "--out")?;
+    let req = ChartRequest {
+        base,
+        variant: args.point.variant.into(),
+        wheels: args.wheel.wheels(),
+        x,
+        y,
+        bounds: ParamBox {
+            lo: [args.x_from, args.y_from],
+            hi: [args.x_to, args.y_to],
+        },
+    };
+    Ok((req, resolved))
+}
+
+/// The chart's metadata: the base parameters, axes, box, wheels and the conventions of l1.
+fn chart_metadata(
+    args: &ChartArgs,
+    req: &ChartRequest,
+    opts: &TraceOptions,
+) -> Vec<(String, String)> {
+    let mut meta = base_metadata(&req.base, req.variant);
+    meta.push(("chart_x".into(), req.x.name().into()));
+    meta.push(("chart_y".into(), req.y.name().into()));
+    meta.push((
+        "chart_box".into(),
+        serde_json::json!({
+            req.x.name(): [args.x_from, args.x_to],
+            req.y.name(): [args.y_from, args.y_to],
+        })
+        .to_string(),
+    ));
+    let wheels: Vec<&str> = req.wheels.iter().map(|w| w.as_str()).collect();
+    meta.push(("wheels".into(), wheels.join(",")));
+    meta.push((
+        "l1_convention".into(),
+        "Kuznetsov eq. 3.20; A q = i w q, A^T p = -i w p, <q,q> = 1, <p,q> = 1; state (z [m], y [m], v [m/s])".into(),
+    ));
+    meta.push((
+        "re_lambda_bound".into(),
+        format!("|re_lambda_per_s| <= {RE_LAMBDA_BOUND:e} * 2 pi freq_hz at every point"),
+    ));
+    meta.push(("trace_options".into(), format!("{opts:?}")));
+    meta
+}
+
+/// The structure band's table, with the study it was drawn from.
+fn write_band(
+    args: &ChartArgs,
+    req: &ChartRequest,
+    meta: &[(String, String)],
+    b: &StructureBand,
+    study: &Study,
+    k: u64,
+) -> CliResult {
+    println!(
+        "uncertainty band: {k} structures from study `{}` (seed {}), drawn: {}",
+        study.name,
+        study.seed,
+        b.drawn
+            .iter()
+            .map(|d| d.name())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let mut band_meta = meta.to_vec();
+    band_meta.push(("study".into(), study.name.clone()));
+    band_meta.push(("study_source".into(), study.source.clone()));
+    band_meta.push(("seed".into(), study.seed.to_string()));
+    band_meta.push(("structure_samples".into(), k.to_string()));
+    band_meta.push((
+        "structure_params".into(),
+        b.drawn
+            .iter()
+            .map(|d| d.name())
+            .collect::<Vec<_>>()
+            .join(","),
+    ));
+    let cols = band_columns(req, b);
+    write_table(&sibling(&args.out, "_band", "parquet"), &cols, &band_meta)?;
+    write_csv(&sibling(&args.out, "_band", "csv"), &cols)?;
+    Ok(())
+}
+
+fn sibling(out: &Path, suffix: &str, ext: &str) -> PathBuf {
+    let stem = out.file_stem().and_then(|s| s.to_str()).unwrap_or("chart");
+    out.with_file_name(format!("{stem}{suffix}.{ext}"))
+}
+
+pub fn run(args: &ChartArgs) -> CliResult {
+    let (req, resolved) = request(args)?;
+    let band_plan = band_study(args, &req, &resolved)?;
+    let pool = super::common::thread_pool(args.threads)?;
+    let opts = TraceOptions::default();
+    let started = std::time::Instant::now();
+    let (charts, grids) = pool.install(|| {
+        let charts = req.trace(&opts);
+        let grids: Vec<_> = req
+            .wheels
+            .iter()
+            .map(|&w| req.stability_grid(w, SHADE_CELLS, SHADE_CELLS))
+            .collect();
+        (charts, grids)
+    });
+    let chart_s = started.elapsed().as_secs_f64();
+    let band: Option<StructureBand> = band_plan
+        .as_ref()
+        .map(|(study, k)| pool.install(|| structure_band(&req, study, study.seed, *k, BAND_CELLS)));
+    println!(
+        "chart of {} [{}] {}..{} x {} [{}] {}..{} (variant {}), {:.2} s",
+        req.x.name(),
+        req.x.spec().unit,
+        args.x_from,
+        args.x_to,
+        req.y.name(),
+        req.y.spec().unit,
+        args.y_from,
+        args.y_to,
+        req.variant,
+        chart_s
+    );
+    for line in summary(&req, &charts) {
+        println!("{line}");
+    }
+    let meta = chart_metadata(args, &req, &opts);
+    let cols = curve_columns(&req, &charts);
+    write_table(&args.out, &cols, &meta)?;
+    let csv = args.out.with_extension("csv");
+    write_csv(&csv, &cols)?;
+    let special = special_columns(&req, &charts);
+    let sp_pq = sibling(&args.out, "_special", "parquet");
+    let sp_csv = sibling(&args.out, "_special", "csv");
+    write_table(&sp_pq, &special, &meta)?;
+    write_csv(&sp_csv, &special)?;
+    if let (Some(b), Some((study, k))) = (&band, &band_plan) {
+        write_band(args, &req, &meta, b, study, *k)?;
+    }
+    let picture = FigureFile::beside(&args.out, FigureFormat::Png);
+    draw(&picture, &req, &charts, &grids, band.as_ref()).map_err(|e| CliError(e.to_string()))?;
+    eprintln!(
+        "wrote {}, {}, {}, {} and {}",
+        args.out.display(),
+        csv.display(),
+        sp_pq.display(),
+        sp_csv.display(),
+        picture.path.display()
+    );
+    Ok(())
+}

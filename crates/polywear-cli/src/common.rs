@@ -1,0 +1,483 @@
+//! Flags shared by the commands that evaluate operating points, and the error type of the CLI.
+
+use std::path::Path;
+
+use clap::builder::TypedValueParser as _;
+use clap::{Args, ValueEnum};
+use strum::VariantNames as _;
+
+use polywear_analysis::plot::{FigureFile, FigureFormat};
+use polywear_core::classify::WheelBudget;
+use polywear_core::model::{Variant, Wheel};
+use polywear_core::params::{ParamError, ParamId, Params};
+
+/// An error that ends the program: printed as `error: …`, exit code 2.
+#[derive(Debug)]
+pub struct CliError(pub String);
+
+impl std::fmt::Display for CliError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl From<ParamError> for CliError {
+    fn from(e: ParamError) -> Self {
+        CliError(e.to_string())
+    }
+}
+
+impl From<polywear_study::parquet_out::WriteError> for CliError {
+    fn from(e: polywear_study::parquet_out::WriteError) -> Self {
+        let text = e.to_string();
+        let hint = if text.contains("read-only") || text.contains("full disk") {
+            "; choose another folder with the command's --out"
+        } else {
+            ""
+        };
+        CliError(format!("cannot write output: {text}{hint}"))
+    }
+}
+
+pub type CliResult<T = ()> = Result<T, CliError>;
+
+/// The text of an input file (a regular file within `limit`, see `polywear_study::safe_read`), refused
+/// as `{prefix}FILE: why` (`prefix` names the flag, e.g. `"--params "`, or is empty).
+pub fn read_input(
+    path: &Path,
+    prefix: &str,
+    limit: polywear_study::safe_read::Limit,
+) -> CliResult<String> {
+    polywear_study::safe_read::read_text(path, limit).map_err(|e| CliError(format!("{prefix}{e}")))
+}
+
+/// The operating point and any other model parameter.
+#[derive(Debug, Args, Clone)]
+pub struct PointArgs {
+    #[arg(long, value_name = "KMH", allow_hyphen_values = true, help = flag_help(ParamId::SpeedKmh))]
+    pub speed: Option<f64>,
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, help = flag_help(ParamId::ToeDeg))]
+    pub toe: Option<f64>,
+    #[arg(long, value_name = "N", allow_hyphen_values = true, help = flag_help(ParamId::LoadN))]
+    pub load: Option<f64>,
+    #[arg(long, value_name = "KPA", allow_hyphen_values = true, help = flag_help(ParamId::PressureKpa))]
+    pub pressure: Option<f64>,
+    /// Any model parameter by name, e.g. `--set g_mod=0.9e6` (repeatable; `polywear params`
+    /// lists names, units, defaults and ranges)
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_assignment)]
+    pub set: Vec<(String, f64)>,
+    /// Parameter file (TOML `[params]` table, e.g. from `polywear calibrate`); --set and the
+    /// operating-point flags replace its values, each replacement said in a note
+    #[arg(long, value_name = "FILE")]
+    pub params: Option<std::path::PathBuf>,
+    /// Run values outside their plausible ranges (`polywear params`) anyway; without it a
+    /// likely unit mix-up (pressure 2.4: bar, not kPa) is refused before any work
+    #[arg(long)]
+    pub accept_implausible: bool,
+    /// Friction variant (differs for the driving wheel only): `sliding_share` (default; 2-D LuGre
+    /// with the patch-mean longitudinal sliding speed, reproduces the paper's driving-wheel
+    /// results), `paper` (the paper's literal Eq. 21, w_t = |w|) or `combined` (2-D LuGre with
+    /// the full longitudinal sliding speed)
+    #[arg(long, value_enum, default_value_t = VariantArg::SlidingShare)]
+    pub variant: VariantArg,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
+pub enum VariantArg {
+    Paper,
+    Combined,
+    #[value(name = "sliding_share", alias = "sliding-share")]
+    SlidingShare,
+}
+
+impl From<VariantArg> for Variant {
+    fn from(v: VariantArg) -> Self {
+        match v {
+            VariantArg::Paper => Variant::Paper,
+            VariantArg::Combined => Variant::Combined,
+            VariantArg::SlidingShare => Variant::SlidingShare,
+        }
+    }
+}
+
+/// `--format`'s parser: the library's figure formats by name (`png`, `svg`), listed in help
+/// and in the refusal of any other name.
+pub fn figure_formats() -> impl clap::builder::TypedValueParser<Value = FigureFormat> {
+    clap::builder::PossibleValuesParser::new(FigureFormat::VARIANTS.iter().copied()).map(|name| {
+        name.parse::<FigureFormat>()
+            .expect("a possible value is a format")
+    })
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
+pub enum WheelArg {
+    Follower,
+    Driving,
+    Both,
+}
+
+impl WheelArg {
+    pub fn wheels(self) -> Vec<Wheel> {
+        match self {
+            WheelArg::Follower => vec![Wheel::Follower],
+            WheelArg::Driving => vec![Wheel::Driving],
+            WheelArg::Both => Wheel::BOTH.to_vec(),
+        }
+    }
+}
+
+/// The help of an operating-point flag, from the parameter table: what it is, its unit, its
+/// accepted range and its default, e.g. "Vehicle speed [km/h], accepted (0, 400] [default: 100]".
+fn flag_help(id: ParamId) -> String {
+    let s = id.spec();
+    format!(
+        "{} [{}], accepted {} [default: {}]",
+        s.description.trim_end_matches('.'),
+        s.unit,
+        s.range_text(),
+        polywear_core::wording::plain(s.default, 6)
+    )
+}
+
+pub fn parse_assignment(s: &str) -> Result<(String, f64), String> {
+    let (name, value) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected NAME=VALUE, got `{s}`"))?;
+    let name = name.trim();
+    let value: f64 = value
+        .trim()
+        .parse()
+        .map_err(|_| format!("value of `{name}` is not a number: `{}`", value.trim()))?;
+    Ok((name.to_string(), value))
+}
+
+/// The parameters of a command, and where the explicitly given ones came from: a command that
+/// also sets a parameter itself (a sweep, a chart's axes, a study) refuses or notes the overlap.
+#[derive(Debug, Clone)]
+pub struct Resolved {
+    /// Defaults, then the `--params` file, then `--set` and the named flags; validated.
+    pub params: Params,
+    /// The `--params` file and the parameters it names.
+    pub file: Option<(std::path::PathBuf, Vec<ParamId>)>,
+    /// The parameters typed on the command line, each with its words (`--toe 0.15`).
+    pub typed: Vec<(ParamId, String)>,
+}
+
+impl Resolved {
+    /// Where parameter `id` was given explicitly (`--toe 0.15`, `--params FILE`), if it was.
+    pub fn given_by(&self, id: ParamId) -> Option<String> {
+        if let Some((_, by)) = self.typed.iter().find(|(t, _)| *t == id) {
+            return Some(by.clone());
+        }
+        let (path, names) = self.file.as_ref()?;
+        names
+            .contains(&id)
+            .then(|| format!("--params {}", path.display()))
+    }
+}
+
+impl PointArgs {
+    /// Defaults, then `--params`, then `--set` and the four named flags; everything validated
+    /// before work starts (see [`PointArgs::resolve`]).
+    pub fn params(&self) -> CliResult<Params> {
+        self.resolve().map(|r| r.params)
+    }
+
+    /// The parameters with their sources. A parameter typed twice on the command line
+    /// (`--set speed_kmh=80 --speed 100`) is refused as ambiguous; a typed value replaces the
+    /// `--params` file's and a note says so; implausible values are refused unless
+    /// `--accept-implausible`.
+    pub fn resolve(&self) -> CliResult<Resolved> {
+        let (mut p, named) = param_file(self.params.as_deref(), self.accept_implausible)?;
+        let file_values = p;
+        let mut typed: Vec<(ParamId, String, f64)> = Vec::new();
+        for (name, value) in &self.set {
+            let by = format!("--set {name}={}", polywear_core::wording::plain(*value, 12));
+            let id: ParamId = name
+                .parse()
+                .map_err(|e: ParamError| CliError(format!("--set {name}={value}: {e}")))?;
+            typed.push((id, by, *value));
+        }
+        for (flag, id, value) in [
+            ("--speed", ParamId::SpeedKmh, self.speed),
+            ("--toe", ParamId::ToeDeg, self.toe),
+            ("--load", ParamId::LoadN, self.load),
+            ("--pressure", ParamId::PressureKpa, self.pressure),
+        ] {
+            if let Some(v) = value {
+                typed.push((
+                    id,
+                    format!("{flag} {}", polywear_core::wording::plain(v, 12)),
+                    v,
+                ));
+            }
+        }
+        for (k, (id, by, value)) in typed.iter().enumerate() {
+            if let Some((_, first, _)) = typed[..k].iter().find(|(t, _, _)| t == id) {
+                return Err(CliError(format!(
+                    "`{id}` is given twice on the command line ({first} and {by}); give it once"
+                )));
+            }
+            p.try_set(*id, *value)
+                .map_err(|e| CliError(format!("{by}: {e}")))?;
+            if !self.accept_implausible {
+                id.spec()
+                    .check_plausible(*value)
+                    .map_err(|e| CliError(format!("{by}: {e}")))?;
+            }
+        }
+        let file = self.params.clone().map(|path| (path, named));
+        if let Some((path, names)) = &file {
+            for (id, by, value) in &typed {
+                if names.contains(id) && file_values[*id] != *value {
+                    eprintln!(
+                        "note: {by} replaces {id} = {} of --params {}",
+                        polywear_core::wording::plain(file_values[*id], 12),
+                        path.display()
+                    );
+                }
+            }
+        }
+        p.validate()?;
+        Ok(Resolved {
+            params: p,
+            file,
+            typed: typed.into_iter().map(|(id, by, _)| (id, by)).collect(),
+        })
+    }
+}
+
+/// The defaults, with the `--params` file applied when one is given (see [`param_file`]).
+pub fn base_params(path: Option<&Path>, accept_implausible: bool) -> CliResult<Params> {
+    param_file(path, accept_implausible).map(|(p, _)| p)
+}
+
+/// The defaults with the `--params` file applied, and the parameters the file names; a value
+/// outside its plausible range is refused unless `accept_implausible`.
+pub fn param_file(
+    path: Option<&Path>,
+    accept_implausible: bool,
+) -> CliResult<(Params, Vec<ParamId>)> {
+    let Some(path) = path else {
+        return Ok((Params::default(), Vec::new()));
+    };
+    let text = read_input(path, "--params ", polywear_study::safe_read::Limit::Text)?;
+    let (p, named) = polywear_study::study::read_param_file(&Params::default(), &text)
+        .map_err(|e| CliError(format!("--params {}: {e}", path.display())))?;
+    if !accept_implausible {
+        for &id in &named {
+            id.spec().check_plausible(p[id]).map_err(|e| {
+                CliError(format!("--params {}: `params.{id}`: {e}", path.display()))
+            })?;
+        }
+    }
+    Ok((p, named))
+}
+
+/// Refuses a column carried into the output (passed through, or the weight) whose name an
+/// output column of polywear has (`class`, `sample_id`): the output's columns must be unique.
+pub fn refuse_reserved_names<'a>(
+    carried: impl IntoIterator<Item = &'a str>,
+    file: &Path,
+    key: &str,
+    extra: &[&str],
+) -> CliResult {
+    let records = polywear_core::records::record_columns(&[]);
+    for name in carried {
+        if extra.contains(&name) || records.iter().any(|r| r.name == name) {
+            return Err(CliError(format!(
+                "{}: column `{name}`, which {key} names, is also an output column of polywear; rename it in the file",
+                file.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// A parameter the command itself varies (a sweep, a chart's axis): given on the command line
+/// too it is refused as ambiguous; a `--params` file's value is replaced, and a note says so.
+pub fn sweep_owns(id: ParamId, owner: &str, resolved: &Resolved) -> CliResult {
+    if let Some((_, by)) = resolved.typed.iter().find(|(t, _)| *t == id) {
+        return Err(CliError(format!(
+            "{by} sets `{id}`, which {owner} varies; leave {by} out"
+        )));
+    }
+    if let Some(by) = resolved.given_by(id) {
+        eprintln!(
+            "note: {owner} replaces {id} = {} of {by}",
+            polywear_core::wording::plain(resolved.params[id], 12)
+        );
+    }
+    Ok(())
+}
+
+/// Refuses a parameter that a `--params` file sets and a study (or its operating-point file)
+/// sets too: two files for one value are ambiguous.
+pub fn refuse_file_overlap(
+    named: &[ParamId],
+    params_path: Option<&Path>,
+    study: &polywear_study::study::Study,
+    origin: &str,
+) -> CliResult {
+    let Some(path) = params_path else {
+        return Ok(());
+    };
+    for &id in named {
+        if let Some(there) = study.sets(id) {
+            return Err(CliError(format!(
+                "--params {} sets `{id}`, and {origin} {there}; a parameter comes from one file: remove it from one of them",
+                path.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Accepted range of `--threads`, the same in every command.
+pub const THREADS_MAX: usize = 1024;
+
+/// Parses a whole number for `flag` within [lo, hi]; anything else (negative, fractional, not a
+/// number, out of range) is refused with the accepted range. Use with
+/// `allow_negative_numbers = true`, so that `-5` reaches this message instead of clap's
+/// "unexpected argument".
+pub fn whole_in<T: TryFrom<u64>>(
+    flag: &'static str,
+    lo: u64,
+    hi: u64,
+) -> impl Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static {
+    move |s: &str| {
+        s.trim()
+            .parse::<u64>()
+            .ok()
+            .filter(|v| (lo..=hi).contains(v))
+            .and_then(|v| T::try_from(v).ok())
+            .ok_or_else(|| format!("{flag} `{s}` must be a whole number in [{lo}, {hi}]"))
+    }
+}
+
+/// Parses `--threads`: a whole number in [1, THREADS_MAX].
+pub fn parse_threads(s: &str) -> Result<usize, String> {
+    whole_in("--threads", 1, THREADS_MAX as u64)(s)
+}
+
+/// Prepares an output file before any work starts: a missing folder is created (as every
+/// command does with its output paths), a directory given as the file is refused.
+pub fn check_out_file(path: &Path, flag: &str) -> CliResult {
+    if path.is_dir() {
+        return Err(CliError(format!(
+            "{flag} {}: is a directory; accepted: a file name",
+            path.display()
+        )));
+    }
+    let parent = path.parent().filter(|d| !d.as_os_str().is_empty());
+    if let Some(dir) = parent {
+        polywear_study::safe_write::create_dir(dir).map_err(|e| {
+            CliError(format!(
+                "{flag} {}: cannot create the folder {}: {e}",
+                path.display(),
+                dir.display()
+            ))
+        })?;
+    }
+    Ok(())
+}
+
+/// The worker pool of `--threads` (None: all cores).
+pub fn thread_pool(threads: Option<usize>) -> CliResult<rayon::ThreadPool> {
+    if let Some(t) = threads {
+        if !(1..=THREADS_MAX).contains(&t) {
+            return Err(CliError(format!(
+                "--threads = {t} is outside its accepted range [1, {THREADS_MAX}]"
+            )));
+        }
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+        .map_err(|e| CliError(format!("cannot start threads: {e}")))
+}
+
+/// A figure file named in full (`--plot FILE`): its format is its extension, refused with the
+/// accepted ones before any work starts.
+pub fn figure_file(path: &Path, flag: &str) -> CliResult<FigureFile> {
+    let format = FigureFormat::of_path(path)
+        .ok_or_else(|| extension_refusal(path, flag, FigureFormat::VARIANTS))?;
+    Ok(FigureFile {
+        path: path.to_path_buf(),
+        format,
+    })
+}
+
+/// Refuses output paths whose extension we cannot write, before any work starts.
+pub fn check_extension(path: &Path, accepted: &[&str], flag: &str) -> CliResult {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if accepted.contains(&ext) {
+        Ok(())
+    } else {
+        Err(extension_refusal(path, flag, accepted))
+    }
+}
+
+/// The refusal of `path`'s extension, naming the flag and the accepted ones.
+fn extension_refusal(path: &Path, flag: &str, accepted: &[&str]) -> CliError {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    CliError(format!(
+        "{flag} {}: unsupported file type `.{ext}`; accepted: {}",
+        path.display(),
+        accepted
+            .iter()
+            .map(|e| format!(".{e}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    ))
+}
+
+/// Metadata written into every output file: program version, command line, parameters.
+pub fn base_metadata(p: &Params, variant: Variant) -> Vec<(String, String)> {
+    let args: Vec<String> = std::env::args().collect();
+    vec![
+        ("polywear_version".into(), env!("CARGO_PKG_VERSION").into()),
+        ("command".into(), args.join(" ")),
+        ("variant".into(), variant.as_str().into()),
+        (
+            "params".into(),
+            serde_json::to_string(p).expect("params serialize"),
+        ),
+    ]
+}
+
+/// The per-wheel work budget flags, shared by every command that classifies.
+#[derive(Debug, Args, Clone, Default)]
+pub struct BudgetArgs {
+    /// Most RHS evaluations one wheel may take; a wheel that needs more becomes a `failed` row
+    /// with reason `budget exceeded (...)`. Accepted [100, 1e12]; default: the study's
+    /// `max_rhs_evals`, else 20000000 (a limit cycle takes about a thousand)
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub max_rhs_evals: Option<f64>,
+    /// Most wall-clock seconds one wheel may take (a safety net; normal wheels take
+    /// milliseconds). Accepted [0.001, 86400]; default: the study's `max_wheel_seconds`, else 60
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub max_wheel_seconds: Option<f64>,
+}
+
+impl BudgetArgs {
+    /// `base` (defaults or the study's) with the flags given applied, checked.
+    pub fn apply(&self, base: WheelBudget) -> CliResult<WheelBudget> {
+        let mut b = base;
+        if let Some(n) = self.max_rhs_evals {
+            let (lo, hi) = WheelBudget::RHS_EVALS_RANGE;
+            if !(n.fract() == 0.0 && n >= lo as f64 && n <= hi as f64) {
+                return Err(CliError(format!(
+                    "--max-rhs-evals = {n} must be a whole number in [{lo}, {hi}]"
+                )));
+            }
+            b.max_rhs_evals = n as u64;
+        }
+        if let Some(s) = self.max_wheel_seconds {
+            b.max_wheel_seconds = s;
+        }
+        b.check()
+            .map_err(|e| CliError(format!("--{} {}", e.key().replace('_', "-"), e.refusal())))?;
+        Ok(b)
+    }
+}

@@ -1,0 +1,592 @@
+//! `polywear explore`: the batch study, with progress bar, summary, resume and shards.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+
+use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use polywear_analysis::plot::FigureFormat;
+
+mod resume;
+
+use super::batch::{signal_name, Interrupt, ProgressLog};
+use super::common::{BudgetArgs, CliError, CliResult};
+use polywear_core::wear::WearZone;
+use polywear_core::wording::plain;
+use polywear_study::explore::recorded_run::{shell_word, DirState, RecordedRun};
+use polywear_study::explore::{ExploreError, PreparedOutput, RunPlan, RunSummary, Shard};
+use polywear_study::study::{Study, DEFAULT_STUDY, SEED_MAX};
+use resume::{check_against_recorded, parse_wear_zone, resume_command, wear_settings};
+
+#[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  # the built-in study, one million samples\n",
+    "  polywear explore --samples 1e6\n",
+    "  # a shipped study; rerun to resume\n",
+    "  polywear explore studies/decoding.toml --out data/decoding --resume\n",
+    "  # shard 0 of 4\n",
+    "  polywear explore studies/wide_structure.toml --shard 0/4 --out results/shard-0\n",
+    "\nGuide: GUIDE.md#explore"
+))]
+pub struct ExploreArgs {
+    /// Study file (TOML; see studies/ and GUIDE.md#studies). Without it: the built-in highway-fleet study
+    /// (studies/default.toml)
+    #[arg(value_name = "STUDY.toml")]
+    pub study: Option<PathBuf>,
+    /// Number of samples (1e6, 1_000_000 and 1000000 all work); default: the study's `samples`.
+    /// For a grid design it must equal the grid's size; for a saltelli design it counts base
+    /// points (each takes k + 2 evaluations for k drawn parameters)
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = parse_samples)]
+    pub samples: Option<u64>,
+    /// Seed; default: the study's `seed`. Same study + seed = same rows, whatever the threads.
+    /// Accepted [0, 4398046510080]
+    #[arg(long, allow_negative_numbers = true, value_parser = super::common::whole_in::<u64>("--seed", 0, SEED_MAX))]
+    pub seed: Option<u64>,
+    /// Worker threads (default: all cores), accepted [1, 1024]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
+    pub threads: Option<usize>,
+    /// Output directory, created when missing (must be empty or absent unless --resume)
+    /// [default: data/explore_<study>_seed<seed>]
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Continue a stopped run in --out with its own study, parameters, samples, seed and shard
+    /// (`polywear explore --resume --out DIR`; repeating them is accepted, contradicting them is
+    /// refused). Complete chunk files are kept, the rest is redone; starts the run if --out is
+    /// absent or empty. SIGINT/SIGTERM stop a run cleanly and print this command
+    #[arg(long)]
+    pub resume: bool,
+    /// Evaluate only shard k of N (k from 0), e.g. `--shard $SLURM_ARRAY_TASK_ID/16`; the N
+    /// shards' files together are the single-machine output
+    #[arg(long, value_name = "k/N", allow_hyphen_values = true, value_parser = parse_shard)]
+    pub shard: Option<Shard>,
+    /// Parameter file (TOML `[params]`, e.g. from `polywear calibrate`): values for parameters
+    /// the study does not name (one the study or its operating-point file sets too is refused)
+    #[arg(long, value_name = "FILE")]
+    pub params: Option<PathBuf>,
+    /// Run values outside their plausible ranges (`polywear params`) anyway: a study value,
+    /// distribution bound or operating-point cell such as pressure_kpa = 2.4 (bar, not kPa) is
+    /// refused before any work without it (a study can say `accept_implausible = true`)
+    #[arg(long)]
+    pub accept_implausible: bool,
+    /// No progress bar, progress lines or summary
+    #[arg(long, short)]
+    pub quiet: bool,
+    /// When stderr is not a terminal (a batch log), print a progress line (done, rate, ETA)
+    /// every S seconds instead of the bar, accepted [0.1, 86400]
+    #[arg(long, value_name = "S", default_value_t = 5.0, value_parser = parse_log_every)]
+    pub log_every: f64,
+    /// Leave the wear stage out: the rows then carry no wear columns (distance to a visible
+    /// polygon, growth rate, dominant order) and the run is about as fast as vibration alone.
+    /// A study can say `wear = false`
+    #[arg(long, conflicts_with = "wear_zone")]
+    pub no_wear: bool,
+    /// Where the friction power wears the tread (MODEL.md#step-11-wear-zone): trailing (the
+    /// default), whole_patch or whole_patch_uniform; a study can say `wear_zone = "..."`
+    #[arg(long, value_name = "ZONE", value_parser = parse_wear_zone)]
+    pub wear_zone: Option<WearZone>,
+    /// Skip the analysis report (risk maps, probabilities) written to DIR/_report at the end
+    #[arg(long)]
+    pub no_report: bool,
+    /// File type of the report's figures
+    #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
+    pub format: FigureFormat,
+    #[command(flatten)]
+    pub budget: BudgetArgs,
+}
+
+pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
+    let plan = resolve(args)?;
+    let pool = super::common::thread_pool(args.threads)?;
+    // Checks and locks --out; the lock is held until this function returns.
+    let prepared = plan.prepare_output().map_err(explore_error)?;
+    for line in &prepared.redone {
+        eprintln!("resume: {line}");
+    }
+    let todo = prepared.pending_samples(&plan);
+    let (bar, log) = progress(args, todo);
+    if !args.quiet {
+        if let Some(w) = chunk_size_warning(plan.study.chunk_size) {
+            eprintln!("{w}");
+        }
+        announce(&plan, &prepared, &pool, todo);
+    }
+    let stop = Interrupt::install()?;
+    let start = Instant::now();
+    let result = pool.install(|| {
+        plan.run_until(
+            &prepared,
+            &|n| {
+                bar.inc(n);
+                if let Some(log) = &log {
+                    log.add(n);
+                }
+            },
+            &|| stop.signal().is_some(),
+        )
+    });
+    bar.finish_and_clear();
+    // From here on a signal ends the program at once: the rows are saved.
+    stop.disarm();
+    let summary = result.map_err(|e| match e {
+        ExploreError::Write(_) => write_failure(args, &plan, &e),
+        e => explore_error(e),
+    })?;
+    let secs = start.elapsed().as_secs_f64();
+    if let Some(signal) = stop.signal() {
+        drop(prepared);
+        let saved = summary.samples_skipped + summary.samples_evaluated;
+        eprintln!(
+            "\nstopped by {}: {saved} of {} samples are saved in {}; the chunks in flight were dropped and are redone on resume",
+            signal_name(signal),
+            plan.owned_samples(),
+            plan.out_dir.display()
+        );
+        eprintln!("resume with: {}", resume_command(args, &plan));
+        return Ok(ExitCode::from((128 + signal) as u8));
+    }
+    finish(args, &plan, &summary, secs).map(|()| ExitCode::SUCCESS)
+}
+
+/// The run the flags ask for: the study (the file, the one recorded in `--resume --out DIR`, or
+/// the built-in one), its base parameters, samples, seed, shard and output directory.
+fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
+    // `--resume --out DIR` continues the run recorded there: its study, parameters, samples,
+    // seed and shard are the defaults, and a flag that contradicts them is refused.
+    // A manifest this build cannot read back (damaged, or from a version that recorded less) is
+    // left to `prepare_output`, which says how the directory differs from this run.
+    let recorded = match (&args.out, args.resume) {
+        (Some(dir), true) => RecordedRun::read(dir)
+            .ok()
+            .flatten()
+            .map(|run| (dir.clone(), run)),
+        _ => None,
+    };
+    let (source, origin) = match (&args.study, &recorded) {
+        (Some(path), _) => (
+            super::common::read_input(path, "study ", polywear_study::safe_read::Limit::Text)?,
+            path.display().to_string(),
+        ),
+        (None, Some((dir, run))) => (
+            run.study.clone(),
+            format!("the study recorded in {}", dir.display()),
+        ),
+        (None, None) => (
+            DEFAULT_STUDY.to_string(),
+            "built-in default study".to_string(),
+        ),
+    };
+    // A resumed run's values were judged when it started.
+    let accept = args.accept_implausible || recorded.is_some();
+    let (base, named) = match (&args.params, &recorded) {
+        // The recorded values already hold the study's fixed ones, which parsing sets again.
+        (None, Some((_, run))) => (run.params, Vec::new()),
+        _ => super::common::param_file(args.params.as_deref(), accept)?,
+    };
+    // A relative `[operating_points]` file is found beside the study file (for a recorded
+    // study, where the run found it).
+    let study_dir = match (&args.study, &recorded) {
+        (Some(path), _) => path.parent().map(Path::to_path_buf).unwrap_or_default(),
+        (None, Some((_, run))) => run.operating_points_dir.clone().unwrap_or_default(),
+        (None, None) => PathBuf::new(),
+    };
+    let mut study = Study::parse_at(&source, base, &study_dir)
+        .map_err(|e| CliError(format!("{origin}: {e}")))?;
+    if let Some((dir, run)) = &recorded {
+        check_against_recorded(args, &study, dir, run)?;
+    }
+    check_new_inputs(args, &study, &named, (&origin, &study_dir), accept)?;
+    study.wear = wear_settings(args, &study, recorded.as_ref().map(|(_, run)| run))?;
+    let wear = RunPlan::wear_stage(&study).map_err(|e| CliError(format!("{origin}: {e}")))?;
+    study.budget = args.budget.apply(study.budget)?;
+    let recorded_samples = recorded
+        .as_ref()
+        .map(|(_, run)| run.samples / study.evaluations(1));
+    let base_samples = args.samples.or(recorded_samples).unwrap_or(study.samples);
+    study
+        .check_samples(base_samples)
+        .map_err(|e| CliError(format!("{origin}: --samples {base_samples}: {e}")))?;
+    // A Saltelli design needs k + 2 evaluations per base sample.
+    let samples = study.evaluations(base_samples);
+    let seed = args
+        .seed
+        .or(recorded.as_ref().map(|(_, run)| run.seed))
+        .unwrap_or(study.seed);
+    study
+        .check_scenarios(seed, samples)
+        .map_err(|e| CliError(format!("{origin}: {e}")))?;
+    let out_dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| default_out_dir(&study, seed));
+    let recorded_shard = recorded.as_ref().map(|(_, run)| run.shard);
+    Ok(RunPlan {
+        study,
+        seed,
+        samples,
+        shard: args.shard.or(recorded_shard).unwrap_or(Shard::WHOLE),
+        out_dir,
+        resume: args.resume,
+        command: std::env::args().collect::<Vec<_>>().join(" "),
+        wear,
+    })
+}
+
+/// The progress bar on a terminal, or progress lines every `--log-every` seconds in a log.
+fn progress(args: &ExploreArgs, todo: u64) -> (ProgressBar, Option<ProgressLog>) {
+    let log = (!args.quiet && !std::io::stderr().is_terminal())
+        .then(|| ProgressLog::new(todo, Duration::from_secs_f64(args.log_every)));
+    let bar = if args.quiet || log.is_some() {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::with_draw_target(Some(todo), ProgressDrawTarget::stderr())
+    };
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} samples  {rate}  ETA {eta}",
+        )
+        .expect("valid template")
+        .with_key(
+            "rate",
+            |s: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                let _ = write!(w, "{:.0} samples/s", s.per_sec());
+            },
+        ),
+    );
+    (bar, log)
+}
+
+/// The run's first lines: what is evaluated where, and what a resume keeps.
+fn announce(plan: &RunPlan, prepared: &PreparedOutput, pool: &rayon::ThreadPool, todo: u64) {
+    eprintln!(
+        "{}: {} samples ({} design, seed {}, variants {}), shard {}, {} threads -> {}",
+        plan.study.name,
+        plan.samples,
+        plan.study.design.as_str(),
+        plan.seed,
+        plan.study
+            .variants
+            .iter()
+            .map(|v| v.as_str())
+            .collect::<Vec<_>>()
+            .join("+"),
+        plan.shard,
+        pool.current_num_threads(),
+        plan.out_dir.display()
+    );
+    print_scenarios(&plan.study);
+    let kept = prepared.kept_samples(plan);
+    if kept > 0 {
+        eprintln!(
+            "resume: {kept} of {} samples already saved; {todo} to do",
+            plan.owned_samples()
+        );
+    }
+}
+
+/// The summary of a finished run and the analysis of its output directory.
+fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -> CliResult {
+    if !args.quiet {
+        println!(
+            "{} samples evaluated in {} s ({} samples/s); {} already saved; {} chunk files written to {}",
+            summary.samples_evaluated,
+            plain(secs, 2),
+            plain(summary.samples_evaluated as f64 / secs.max(1e-9), 3),
+            summary.samples_skipped,
+            summary.chunks_written,
+            plan.out_dir.display()
+        );
+    }
+    // A shard that owns no chunk (fewer chunks than shards) did all it had to: say so, exit 0.
+    if plan.owned_chunks().next().is_none() {
+        if !args.no_report {
+            empty_shard_report(plan, args.quiet).map_err(CliError)?;
+        }
+        return Ok(());
+    }
+    // The analysis of the whole output directory (this shard's files, those of an earlier
+    // session included), unless asked not to: its summary is the run's one summary.
+    if args.no_report {
+        if !args.quiet {
+            println!(
+                "no report (--no-report); the whole run's summary: polywear analyze {}",
+                shell_word(&plan.out_dir.display().to_string())
+            );
+        }
+        return Ok(());
+    }
+    let render = polywear_analysis::render::RenderOptions {
+        out_dir: plan.out_dir.join("_report"),
+        figure_format: args.format,
+    };
+    let elsewhere = format!(
+        "the rows are saved: write the report elsewhere with `polywear analyze {} --out FOLDER`",
+        shell_word(&plan.out_dir.display().to_string())
+    );
+    super::analyze::report(
+        std::slice::from_ref(&plan.out_dir),
+        &polywear_analysis::analysis::AnalysisOptions::default(),
+        &render,
+        !args.quiet,
+        &elsewhere,
+    )
+}
+
+/// A chunk or the journal that cannot be written (a full disk, a folder made read-only): what
+/// is saved, as the journal records it, and the exact command that continues the run once the
+/// cause is fixed.
+fn write_failure(args: &ExploreArgs, plan: &RunPlan, e: &ExploreError) -> CliError {
+    let saved = RecordedRun::read(&plan.out_dir)
+        .ok()
+        .flatten()
+        .map(|run| run.saved(&plan.out_dir));
+    let saved = match saved {
+        Some(s) => format!(
+            "{} of {} samples are saved in {} ({} of {} chunks)",
+            s.samples,
+            s.samples_owned,
+            plan.out_dir.display(),
+            s.chunks,
+            s.chunks_owned
+        ),
+        None => format!("nothing is saved in {}", plan.out_dir.display()),
+    };
+    let text = e.to_string();
+    let cause = if text.contains("No space left") || text.contains("full disk") {
+        "the disk is full: "
+    } else {
+        ""
+    };
+    CliError(format!(
+        "{cause}{text}\n{saved}; free space or fix the folder, then resume with: {}",
+        resume_command(args, plan)
+    ))
+}
+
+/// Below this `chunk_size` explore warns: each chunk costs a file and three fsyncs.
+const CHUNK_SIZE_WARN: u64 = 64;
+
+/// The warning for a small `chunk_size`, with its measured cost (BENCHMARKS.md#fsync).
+fn chunk_size_warning(chunk_size: u64) -> Option<String> {
+    (chunk_size < CHUNK_SIZE_WARN).then(|| {
+        format!(
+            "warning: chunk_size = {chunk_size} is below {CHUNK_SIZE_WARN}: every chunk is a file with three fsyncs, and analyze opens each; on 2,000 samples of the default study (2 cores) chunk_size 1 made explore {} and analyze {} slower than the default 4096; keep it in the thousands",
+            CHUNK_1_EXPLORE_SLOWER, CHUNK_1_ANALYZE_SLOWER
+        )
+    })
+}
+
+/// Measured side by side (GUIDE.md#what-is-guaranteed): explore and analyze of 2,000 samples of
+/// the default study at chunk_size 1 against 4096.
+const CHUNK_1_EXPLORE_SLOWER: &str = "about 30x";
+/// See [`CHUNK_1_EXPLORE_SLOWER`].
+const CHUNK_1_ANALYZE_SLOWER: &str = "about 9x";
+
+/// The study's values against their plausible ranges (unless `accept`), a `--params` file that
+/// sets what the study sets too, passed-through columns named as output columns; and, before
+/// any work, how a computed weight is made.
+fn check_new_inputs(
+    args: &ExploreArgs,
+    study: &Study,
+    named: &[polywear_core::params::ParamId],
+    (origin, study_dir): (&str, &Path),
+    accept: bool,
+) -> CliResult {
+    if !accept {
+        study
+            .check_plausible()
+            .map_err(|e| CliError(format!("{origin}: {e}")))?;
+    }
+    super::common::refuse_file_overlap(named, args.params.as_deref(), study, origin)?;
+    let Some(op) = &study.operating_points else {
+        return Ok(());
+    };
+    super::common::refuse_reserved_names(
+        op.pass_through.iter().map(|c| c.name.as_str()),
+        &op.path,
+        "`operating_points.pass_through`",
+        &["sample_id", "operating_point_row"],
+    )?;
+    if let (Some(how), false) = (&op.weight_computed, args.quiet) {
+        eprintln!(
+            "{}",
+            polywear_study::operating_points::computed_weight_note(&study_dir.join(&op.file), how)
+        );
+    }
+    Ok(())
+}
+
+/// Says which scenarios every sample is also evaluated under, if any.
+fn print_scenarios(study: &Study) {
+    if study.scenarios.is_empty() {
+        return;
+    }
+    let each: Vec<String> = study
+        .scenarios
+        .iter()
+        .map(|s| format!("{} ({})", s.name, s.words()))
+        .collect();
+    eprintln!(
+        "  each sample also under {} scenario(s): {}",
+        study.scenarios.len(),
+        each.join("; ")
+    );
+}
+
+/// An explore error in the words of the command line: the output directory as `--out`, a
+/// resume's refusals as `--resume`'s, each with the flags that get on.
+fn explore_error(e: ExploreError) -> CliError {
+    let dir = match &e {
+        ExploreError::Write(_) | ExploreError::Wear(_) => return CliError(e.to_string()),
+        ExploreError::OutputDir { dir, .. }
+        | ExploreError::Raced { dir }
+        | ExploreError::Occupied { dir, .. }
+        | ExploreError::NothingToResume { dir, .. }
+        | ExploreError::UnreadableManifest { dir, .. }
+        | ExploreError::OtherGenerator { dir, .. }
+        | ExploreError::OtherStudy { dir, .. }
+        | ExploreError::OperatingPointsChanged { dir, .. }
+        | ExploreError::DifferentRun { dir, .. }
+        | ExploreError::ForeignChunk { dir, .. } => dir.clone(),
+    };
+    let text = e.to_string();
+    let prefix = format!("{}: ", dir.display());
+    let what = text.strip_prefix(&prefix).unwrap_or(&text);
+    let d = shell_word(&dir.display().to_string());
+    let another = "or choose another --out for a new run";
+    let message = match &e {
+        ExploreError::Occupied { state, .. } => match state {
+            DirState::Finished { .. } => {
+                format!("{what}; analyse it with `polywear analyze {d}`, {another}")
+            }
+            DirState::Unfinished { .. } => format!(
+                "{what}; continue it with `polywear explore --resume --out {d}`, {another}"
+            ),
+            DirState::Foreign => format!(
+                "{what}; accepted: an empty or absent directory (for a new run), or a run's directory with --resume"
+            ),
+            DirState::Unreadable(_) => format!("{what}; choose another --out"),
+        },
+        ExploreError::OtherGenerator { .. } | ExploreError::OperatingPointsChanged { .. } => {
+            format!("--resume: {what}")
+        }
+        ExploreError::OtherStudy { .. } => format!(
+            "--resume: {what}\nleave the study file out to continue the run with its own study, or choose another --out"
+        ),
+        ExploreError::DifferentRun { .. } => format!(
+            "--resume: {what}; continue it with `--resume --out {d}` alone, or choose another --out"
+        ),
+        ExploreError::OutputDir { .. } if what.contains("read-only") => {
+            format!("{what}; choose another directory with --out")
+        }
+        _ => what.to_string(),
+    };
+    CliError(format!("--out {}: {message}", dir.display()))
+}
+
+/// The closing report of a shard that owns no chunk: `_report/report.md` says it holds no rows.
+fn empty_shard_report(plan: &RunPlan, quiet: bool) -> Result<(), String> {
+    let dir = plan.out_dir.join("_report");
+    polywear_study::safe_write::create_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let text = format!(
+        "# Shard {k}/{n} of study `{name}`: no rows\n\nThis shard holds no rows: the run has {chunks} \
+         chunk(s) of {size} samples ({samples} samples), fewer than the {n} shards, and shard k \
+         owns the chunks whose index is k mod {n}. Nothing is missing; analyse all shards together \
+         (`polywear analyze <shard directories>`).\n",
+        k = plan.shard.index,
+        n = plan.shard.count,
+        name = plan.study.name,
+        chunks = plan.n_chunks(),
+        size = plan.study.chunk_size,
+        samples = plan.samples,
+    );
+    let path = dir.join("report.md");
+    polywear_study::safe_write::write_file(&path, text.as_bytes())
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    if quiet {
+        return Ok(());
+    }
+    println!(
+        "shard {}/{} holds no rows ({} chunk(s) for {} shards); report: {}",
+        plan.shard.index,
+        plan.shard.count,
+        plan.n_chunks(),
+        plan.shard.count,
+        path.display()
+    );
+    Ok(())
+}
+
+/// Parses `--shard k/N` (k counted from 0, as Slurm array and Kubernetes indexed-job indices).
+pub fn parse_shard(s: &str) -> Result<Shard, String> {
+    let (k, n) = s
+        .split_once('/')
+        .ok_or_else(|| format!("--shard `{s}`: expected k/N, e.g. 0/4"))?;
+    let k: u64 = k
+        .trim()
+        .parse()
+        .map_err(|_| format!("--shard `{s}`: k is not a whole number"))?;
+    let n: u64 = n
+        .trim()
+        .parse()
+        .map_err(|_| format!("--shard `{s}`: N is not a whole number"))?;
+    Shard::new(k, n).ok_or_else(|| format!("--shard `{s}`: need 0 <= k < N"))
+}
+
+/// Parses `--log-every`: seconds in [0.1, 86400].
+fn parse_log_every(s: &str) -> Result<f64, String> {
+    s.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|x| (0.1..=86_400.0).contains(x))
+        .ok_or_else(|| format!("--log-every `{s}` must be a number of seconds in [0.1, 86400]"))
+}
+
+/// Parses `--samples`: 1e6, 1_000_000 and 1000000 all mean one million.
+pub fn parse_samples(s: &str) -> Result<u64, String> {
+    let t = s.trim().replace('_', "");
+    let x: f64 = t
+        .parse()
+        .map_err(|_| format!("--samples `{s}` is not a number (e.g. 1e6, 1_000_000)"))?;
+    if !x.is_finite() || x < 1.0 || x.fract() != 0.0 || x > (1u64 << 40) as f64 {
+        return Err(format!(
+            "--samples `{s}` must be a whole number in [1, 2^40]"
+        ));
+    }
+    Ok(x as u64)
+}
+
+/// Default output directory for a study and seed.
+pub fn default_out_dir(study: &Study, seed: u64) -> PathBuf {
+    Path::new("data").join(format!("explore_{}_seed{seed}", study.name))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn samples_and_shards_parse() {
+        assert_eq!(parse_samples("1e6"), Ok(1_000_000));
+        assert_eq!(parse_samples("1_000_000"), Ok(1_000_000));
+        assert_eq!(parse_samples("1000000"), Ok(1_000_000));
+        assert!(parse_samples("1.5").is_err());
+        assert!(parse_samples("0").is_err());
+        assert!(parse_samples("-3").is_err());
+        assert!(parse_samples("lots").is_err());
+        assert_eq!(parse_shard("2/4"), Ok(Shard::new(2, 4).unwrap()));
+        assert!(parse_shard("4/4").is_err());
+        assert!(parse_shard("1").is_err());
+        assert!(parse_shard("0/0").is_err());
+    }
+
+    #[test]
+    fn a_small_chunk_size_is_warned_about_with_its_cost() {
+        assert!(chunk_size_warning(4096).is_none());
+        assert!(chunk_size_warning(64).is_none());
+        let w = chunk_size_warning(1).unwrap();
+        assert!(w.contains("chunk_size = 1") && w.contains("30x"), "{w}");
+    }
+}

@@ -1,0 +1,316 @@
+//! `polywear simulate`: one operating point, both wheels: verdict, time series, plot.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use super::common::{
+    base_metadata, check_extension, check_out_file, figure_file, BudgetArgs, CliError, CliResult,
+    PointArgs, WheelArg,
+};
+use polywear_analysis::figures::trajectory::plot_point;
+use polywear_analysis::plot::FigureFile;
+use polywear_core::classify::{Class, ClassifierOptions};
+use polywear_core::evaluate;
+use polywear_core::model::{Variant, Wheel};
+use polywear_core::params::Params;
+use polywear_core::records::WheelRecord;
+use polywear_core::wording::plain;
+use polywear_study::parquet_out::{write_csv, write_table, Column};
+use polywear_study::trajectory::{time_series, Samples};
+
+#[derive(Debug, Args)]
+#[command(after_help = concat!(
+    "Examples:\n",
+    "  # the default point, both wheels\n",
+    "  polywear simulate\n",
+    "  polywear simulate --speed 150 --toe 0.4 --variant paper --json\n",
+    "  # figure and time series\n",
+    "  polywear simulate --plot data/point.png --out data/point.parquet\n",
+    "\nGuide: GUIDE.md#simulate"
+))]
+pub struct SimulateArgs {
+    #[command(flatten)]
+    pub point: PointArgs,
+    /// Which wheel(s) to evaluate
+    #[arg(long, value_enum, default_value_t = WheelArg::Both)]
+    pub wheel: WheelArg,
+    /// Simulated time of the time series [s], accepted (0, 600]
+    #[arg(
+        long,
+        value_name = "S",
+        default_value_t = 5.0,
+        allow_negative_numbers = true
+    )]
+    pub duration: f64,
+    /// Sampling rate of the written/plotted time series [Hz], accepted [100, 1e6]
+    #[arg(long, value_name = "HZ", default_value_t = 20_000.0)]
+    pub sample_rate: f64,
+    /// Hard-excitation check: also start at this lateral velocity amplitude [m/s] to find a
+    /// limit cycle coexisting with a stable equilibrium (class `bistable`)
+    #[arg(long, value_name = "MPS", allow_hyphen_values = true)]
+    pub kick: Option<f64>,
+    #[command(flatten)]
+    pub budget: BudgetArgs,
+    /// Print one JSON object per wheel (the columns of tests/data/points.csv and more)
+    #[arg(long)]
+    pub json: bool,
+    /// Write the time series (t, wheel, z, y, v) to FILE.parquet or FILE.csv (a missing folder
+    /// is created)
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Draw time history, phase portrait and spectrum of v to FILE.png or FILE.svg (a missing
+    /// folder is created)
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+}
+
+pub fn run(args: &SimulateArgs) -> CliResult {
+    let request = resolve(args)?;
+    let simulated = simulate(&request);
+    write(args, &request, &simulated)
+}
+
+/// One `simulate`, checked: the point, its wheels, the classifier's options, and the files to
+/// write (the time series only where one of them needs it).
+struct SimulateRequest {
+    params: Params,
+    variant: Variant,
+    wheels: Vec<Wheel>,
+    opts: ClassifierOptions,
+    duration_s: f64,
+    sample_rate_hz: f64,
+    out: Option<PathBuf>,
+    plot: Option<FigureFile>,
+}
+
+impl SimulateRequest {
+    /// Whether a file asks for the wheels' time series.
+    fn wants_series(&self) -> bool {
+        self.out.is_some() || self.plot.is_some()
+    }
+}
+
+/// What one point gives: a record per wheel, and the time series of every wheel with a model
+/// when a file asks for it.
+struct Simulated {
+    records: Vec<WheelRecord>,
+    series: Vec<(Wheel, Samples)>,
+}
+
+/// Every flag checked, in the order the refusals name them, before any work starts.
+fn resolve(args: &SimulateArgs) -> CliResult<SimulateRequest> {
+    let params = args.point.params()?;
+    if !(args.duration > 0.0 && args.duration <= 600.0) {
+        return Err(CliError(format!(
+            "--duration = {} s is outside its accepted range (0, 600] s",
+            args.duration
+        )));
+    }
+    if !(100.0..=1e6).contains(&args.sample_rate) {
+        return Err(CliError(format!(
+            "--sample-rate = {} Hz is outside its accepted range [100, 1e6] Hz",
+            args.sample_rate
+        )));
+    }
+    if let Some(k) = args.kick {
+        if !(k > 0.0 && k.is_finite()) {
+            return Err(CliError(format!(
+                "--kick = {k} m/s is refused; accepted: a positive lateral velocity amplitude in m/s, e.g. 0.05"
+            )));
+        }
+    }
+    if let Some(out) = &args.out {
+        check_extension(out, &["parquet", "csv"], "--out")?;
+        check_out_file(out, "--out")?;
+    }
+    let plot = match &args.plot {
+        Some(path) => {
+            let file = figure_file(path, "--plot")?;
+            check_out_file(path, "--plot")?;
+            Some(file)
+        }
+        None => None,
+    };
+    let opts = ClassifierOptions {
+        kick_mps: args.kick,
+        budget: args.budget.apply(Default::default())?,
+        ..ClassifierOptions::default()
+    };
+    Ok(SimulateRequest {
+        params,
+        variant: args.point.variant.into(),
+        wheels: args.wheel.wheels(),
+        opts,
+        duration_s: args.duration,
+        sample_rate_hz: args.sample_rate,
+        out: args.out.clone(),
+        plot,
+    })
+}
+
+/// Each wheel on its own (no shooting hint from the other): the verdict of one wheel does not
+/// depend on which others were asked for. A time series that ends early is warned about.
+fn simulate(request: &SimulateRequest) -> Simulated {
+    let mut records = Vec::new();
+    let mut series = Vec::new();
+    for &wheel in &request.wheels {
+        let w = evaluate::solve_wheel(request.params, request.variant, wheel, &request.opts);
+        records.push(w.record);
+        if let Ok(m) = &w.model {
+            if request.wants_series() {
+                let ts = time_series(
+                    m,
+                    request.duration_s,
+                    request.sample_rate_hz,
+                    request.opts.disturbance_m,
+                );
+                if let Some(w) = &ts.ended_early {
+                    eprintln!("warning: {w}");
+                }
+                series.push((wheel, ts.samples));
+            }
+        }
+    }
+    Simulated { records, series }
+}
+
+/// The verdicts (a table, or JSON lines with `--json`), then the time series and the plot.
+fn write(args: &SimulateArgs, request: &SimulateRequest, simulated: &Simulated) -> CliResult {
+    let Simulated { records, series } = simulated;
+    if args.json {
+        for r in records {
+            println!("{}", serde_json::to_string(r).expect("record serializes"));
+        }
+    } else {
+        print_table(records);
+    }
+    if let Some(out) = &request.out {
+        write_series(out, series, &request.params, request.variant)?;
+        eprintln!("wrote time series to {}", out.display());
+    }
+    if let Some(file) = &request.plot {
+        plot_point(file, series, records, request.sample_rate_hz)
+            .map_err(|e| CliError(e.to_string()))?;
+        eprintln!("wrote plot to {}", file.path.display());
+    }
+    Ok(())
+}
+
+/// The verdict of one wheel in words, the first thing `simulate` prints:
+/// "follower: vibrates (65.4 mm/s, 38.5 µm, 270 Hz, 19.4-gon)", "driving: stable (decays at
+/// 7.07 1/s)".
+pub fn verdict_line(r: &WheelRecord) -> String {
+    let cycle = || {
+        format!(
+            "{} mm/s, {} µm, {} Hz, {}-gon",
+            plain(r.amp_v_mps * 1e3, 3),
+            plain(r.amp_y_m * 1e6, 3),
+            plain(r.freq_hz, 3),
+            plain(r.polygon_order, 3)
+        )
+    };
+    let verdict = match r.class {
+        Class::LimitCycle => format!("vibrates ({})", cycle()),
+        Class::Bistable => format!(
+            "stable, but vibrates once disturbed hard enough (bistable: {})",
+            cycle()
+        ),
+        Class::Stable => format!("stable (decays at {} 1/s)", plain(-r.eig_re_max, 3)),
+        Class::NoTraction => format!("no traction ({})", r.reason),
+        Class::Failed => format!("no verdict ({})", r.reason),
+        Class::Standstill => format!("standing still ({})", r.reason),
+    };
+    format!("{}: {verdict}", r.wheel)
+}
+
+fn print_table(records: &[WheelRecord]) {
+    let Some(first) = records.first() else { return };
+    for r in records {
+        println!("{}", verdict_line(r));
+    }
+    println!();
+    println!(
+        "operating point: {} km/h, toe {} deg, load {} N, pressure {} kPa, variant {}",
+        plain(first.speed_kmh, 6),
+        plain(first.toe_deg, 6),
+        plain(first.load_n, 6),
+        plain(first.pressure_kpa, 6),
+        first.variant
+    );
+    type Cell = fn(&WheelRecord) -> String;
+    let rows: [(&str, Cell); 14] = [
+        ("class", |r| r.class.to_string()),
+        ("slip ratio", |r| plain(r.slip_ratio, 4)),
+        ("contact length [mm]", |r| {
+            plain(r.contact_length_m * 1e3, 4)
+        }),
+        ("contact width [mm]", |r| plain(r.contact_width_m * 1e3, 4)),
+        ("K_s [N/m]", |r| plain(r.k_s, 5)),
+        ("F_m / F_s [N]", |r| {
+            format!("{} / {}", plain(r.f_m, 4), plain(r.f_s, 4))
+        }),
+        ("eig re max [1/s]", |r| plain(r.eig_re_max, 4)),
+        ("eig freq [Hz]", |r| plain(r.eig_freq_hz, 5)),
+        ("amplitude y [µm]", |r| plain(r.amp_y_m * 1e6, 4)),
+        ("amplitude v [mm/s]", |r| plain(r.amp_v_mps * 1e3, 4)),
+        ("cycle freq [Hz]", |r| plain(r.freq_hz, 5)),
+        ("polygon order", |r| plain(r.polygon_order, 4)),
+        ("energy/cycle [µJ]", |r| {
+            plain(r.energy_per_cycle_j * 1e6, 4)
+        }),
+        ("Floquet max |mu|", |r| plain(r.floquet_max, 4)),
+    ];
+    print!("{:<20}", "");
+    for r in records {
+        print!("{:>22}", r.wheel);
+    }
+    println!();
+    for (k, (label, f)) in rows.iter().enumerate() {
+        // Padded by characters, not bytes: `µ` takes two bytes.
+        print!(
+            "{label}{}",
+            " ".repeat(20usize.saturating_sub(label.chars().count()))
+        );
+        for r in records {
+            // A stable wheel has no cycle: no amplitude, frequency, polygon order, energy or
+            // Floquet multiplier.
+            let cell = if (8..14).contains(&k) && r.class == Class::Stable {
+                "-".to_string()
+            } else {
+                f(r)
+            };
+            print!("{cell:>22}");
+        }
+        println!();
+    }
+}
+
+fn write_series(
+    path: &Path,
+    series: &[(Wheel, Samples)],
+    p: &Params,
+    variant: Variant,
+) -> CliResult {
+    let all = || {
+        series
+            .iter()
+            .flat_map(|(w, s)| s.iter().map(move |x| (*w, x)))
+    };
+    let cols = vec![
+        Column::str(
+            "wheel",
+            all().map(|(w, _)| w.as_str().to_string()).collect(),
+        ),
+        Column::f64("t_s", "s", all().map(|(_, x)| x.0).collect()),
+        Column::f64("z_m", "m", all().map(|(_, x)| x.1[0]).collect()),
+        Column::f64("y_m", "m", all().map(|(_, x)| x.1[1]).collect()),
+        Column::f64("v_mps", "m/s", all().map(|(_, x)| x.1[2]).collect()),
+    ];
+    if path.extension().is_some_and(|e| e == "csv") {
+        write_csv(path, &cols)?;
+    } else {
+        write_table(path, &cols, &base_metadata(p, variant))?;
+    }
+    Ok(())
+}

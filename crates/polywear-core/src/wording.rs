@@ -1,0 +1,137 @@
+//! Numbers and names written for people: plain numbers without float noise or needless
+//! exponents (16.2, 0.005, 600 rather than 1.6226e1 or 599.9999999999999), and the closest
+//! accepted name to a misspelt one ("did you mean `speed_kmh`?").
+
+/// `x` rounded to `significant` digits, written without an exponent between 1e-5 and 1e10 and
+/// with trailing zeros trimmed; outside that, as `1.5e-7`.
+pub fn plain(x: f64, significant: usize) -> String {
+    if !x.is_finite() {
+        return x.to_string();
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let sig = significant.clamp(1, 17);
+    let sci = format!("{:.*e}", sig - 1, x);
+    let (mantissa, exp) = sci.split_once('e').expect("exponent form");
+    let exp: i32 = exp.parse().expect("exponent");
+    if !(-5..10).contains(&exp) {
+        return format!("{}e{exp}", trim_zeros(mantissa));
+    }
+    let decimals = (sig as i32 - 1 - exp).max(0) as usize;
+    let rounded: f64 = sci.parse().expect("a number");
+    trim_zeros(&format!("{rounded:.decimals$}"))
+}
+
+fn trim_zeros(s: &str) -> String {
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s.to_string()
+    }
+}
+
+/// What a message may quote of a file's or a value's content: at most 16 characters, escaped
+/// (line breaks, control characters and quotes written as `\n`, `\u{1}`, `\"`), in backticks,
+/// with `…` when cut. A file refused for what it holds (a password file given as a CSV) is then
+/// named, never shown.
+pub fn snippet(s: &str) -> String {
+    const MAX_CHARS: usize = 16;
+    let cut = s.chars().count() > MAX_CHARS;
+    let head: String = s.chars().take(MAX_CHARS).collect();
+    let escaped: String = head.escape_debug().collect();
+    format!("`{escaped}{}`", if cut { "…" } else { "" })
+}
+
+/// The candidate closest to `typed` by edit distance (Levenshtein), if it is close enough to be
+/// a likely misspelling: at most a third of the name's letters changed (one in a name of three
+/// or four letters, two or more in a longer one, none in a shorter one), or
+/// `typed` a prefix of it (`speed` for `speed_kmh`), or it a prefix of `typed`. Case is ignored.
+pub fn closest<'a>(typed: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    let t = typed.trim().to_lowercase();
+    if t.is_empty() {
+        return None;
+    }
+    let limit = match t.chars().count() {
+        0..=2 => 0,
+        3..=4 => 1,
+        n => (n / 3).max(2),
+    };
+    candidates
+        .into_iter()
+        .filter_map(|c| {
+            let lc = c.to_lowercase();
+            let d = strsim::levenshtein(&t, &lc);
+            let prefix = t.len() >= 3 && (lc.starts_with(&t) || t.starts_with(&lc));
+            (d <= limit || prefix).then_some((d, c))
+        })
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, c)| c)
+}
+
+/// " did you mean `x`?" (with a leading space) for the closest candidate, or nothing.
+pub fn did_you_mean<'a>(typed: &str, candidates: impl IntoIterator<Item = &'a str>) -> String {
+    closest(typed, candidates)
+        .map(|c| format!(" did you mean `{c}`?"))
+        .unwrap_or_default()
+}
+
+/// A whole number with thousands separators, rounded: 40,000. Negative numbers keep their sign.
+pub fn thousands(x: f64) -> String {
+    let digits = format!("{}", x.round().abs() as u64);
+    let mut out = String::from(if x.round() < 0.0 { "-" } else { "" });
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn snippets_are_short_and_escaped() {
+        assert_eq!(snippet("speed_kmh"), "`speed_kmh`");
+        assert_eq!(
+            snippet("root:$6$saltsalt$hashhashhash:19000:0:99999:7:::\nbin:x"),
+            "`root:$6$saltsalt…`"
+        );
+        assert_eq!(snippet("a\nb\"c"), "`a\\nb\\\"c`");
+    }
+
+    #[test]
+    fn plain_numbers() {
+        assert_eq!(plain(599.999_999_999_999_9, 6), "600");
+        assert_eq!(plain(16.2261, 3), "16.2");
+        assert_eq!(plain(0.005, 3), "0.005");
+        assert_eq!(plain(-0.3, 6), "-0.3");
+        assert_eq!(plain(200000.0, 3), "200000");
+        assert_eq!(plain(7.365e-5, 3), "0.0000737");
+        assert_eq!(plain(1.5e-7, 3), "1.5e-7");
+        assert_eq!(plain(0.0, 3), "0");
+    }
+
+    #[test]
+    fn closest_names() {
+        let names = [
+            "speed_kmh",
+            "toe_deg",
+            "load_n",
+            "pressure_kpa",
+            "g_mod",
+            "mu_s",
+            "mu_m",
+        ];
+        assert_eq!(closest("sped_kmh", names), Some("speed_kmh"));
+        assert_eq!(closest("spede_kmh", names), Some("speed_kmh"));
+        assert_eq!(closest("speed", names), Some("speed_kmh"));
+        assert_eq!(closest("gmod", names), Some("g_mod"));
+        assert_eq!(closest("Toe_Deg", names), Some("toe_deg"));
+        assert_eq!(closest("wheelbase", names), None);
+        assert_eq!(did_you_mean("xyz", names), "");
+    }
+}

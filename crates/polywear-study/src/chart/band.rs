@@ -1,0 +1,102 @@
+//! The boundary's uncertainty: K tire structures drawn from a study's distributions of the
+//! parameters that are not the operating point (the groups "Tire structure", "Friction and
+//! damping" and "Vehicle" of `polywear params`, MODEL.md#parameter-table), each one's stability on the chart's grid, and per cell the share of
+//! structures for which the wheel is unstable. Cells with a share between 5% and 95% form the
+//! band in which 90% of the structures put the boundary.
+
+use super::ChartRequest;
+use crate::study::Study;
+use polywear_core::ensemble::{self, Control};
+use polywear_core::model::Wheel;
+use polywear_core::params::{Group, ParamId, Params};
+
+/// The shares at which the band starts and ends.
+pub(crate) const BAND: (f64, f64) = (0.05, 0.95);
+
+/// The structures' draws and, per wheel, the unstable share of each grid cell.
+#[derive(Debug, Clone)]
+pub struct StructureBand {
+    /// The drawn parameters.
+    pub drawn: Vec<ParamId>,
+    /// The K structures: the chart's base parameters with the drawn ones set per sample.
+    pub structures: Vec<Params>,
+    /// Cells per axis; shares are row-major in y, then x.
+    pub cells: usize,
+    /// (wheel, share of structures unstable per cell; NaN where no structure has a model).
+    pub shares: Vec<(Wheel, Vec<f64>)>,
+}
+
+/// The study's drawn parameters that are neither operating-point parameters nor chart axes.
+pub fn structure_params(req: &ChartRequest, study: &Study) -> Vec<ParamId> {
+    study
+        .drawn
+        .iter()
+        .map(|d| d.param)
+        .filter(|&id| id.spec().group != Group::OperatingPoint && id != req.x && id != req.y)
+        .collect()
+}
+
+/// Draws `k` structures (sample indices 0..k of the study's design with `seed`) on top of the
+/// chart's parameters and evaluates each wheel's stability on a `cells`² grid.
+pub fn structure_band(
+    req: &ChartRequest,
+    study: &Study,
+    seed: u64,
+    k: u64,
+    cells: usize,
+) -> StructureBand {
+    let drawn = structure_params(req, study);
+    let sampler = study.sampler(seed, k);
+    let structures: Vec<Params> = (0..k)
+        .map(|i| {
+            let (_, values) = sampler.sample(i);
+            let mut q = req.base;
+            for (d, v) in study.drawn.iter().zip(values) {
+                if drawn.contains(&d.param) {
+                    q[d.param] = v;
+                }
+            }
+            q
+        })
+        .collect();
+    let shares = req
+        .wheels
+        .iter()
+        .map(|&wheel| {
+            let grid = |k: usize| {
+                let r = ChartRequest {
+                    base: structures[k],
+                    ..req.clone()
+                };
+                r.stability_grid(wheel, cells, cells)
+            };
+            let grids: Vec<Vec<Option<bool>>> =
+                ensemble::solve(structures.len(), grid, &Control::QUIET).all();
+            let share = (0..cells * cells)
+                .map(|c| {
+                    let known: Vec<bool> = grids.iter().filter_map(|g| g[c]).collect();
+                    if known.is_empty() {
+                        f64::NAN
+                    } else {
+                        known.iter().filter(|u| **u).count() as f64 / known.len() as f64
+                    }
+                })
+                .collect();
+            (wheel, share)
+        })
+        .collect();
+    StructureBand {
+        drawn,
+        structures,
+        cells,
+        shares,
+    }
+}
+
+impl StructureBand {
+    /// Whether a cell lies in the band: unstable for more than 5% and at most 95% of the
+    /// structures.
+    pub fn in_band(share: f64) -> bool {
+        share > BAND.0 && share <= BAND.1
+    }
+}

@@ -1,0 +1,657 @@
+//! Drive cycles: a speed trace (`time_s`, `speed_kmh`, optionally any parameter per step) whose
+//! every step is classified for both wheels as if the operating point were held (quasi-static:
+//! MODEL.md#step-1-deflection to #step-9-attractor at each step's parameters). Standstill
+//! (0 km/h) is a step of its own: no sliding, no tread dynamics, not vibrating.
+//!
+//! Quasi-static validity. The tread answers a change of operating point within its time
+//! constant τ = 1/|Re λ| (λ the leading eigenvalue at the equilibrium,
+//! MODEL.md#step-8-linear-stability). The speed's change moves Re λ; the time it takes to move
+//! Re λ by its own size is
+//! T = |Re λ| / |d(Re λ)/dt|. The quasi-static verdict holds at a step when τ ≤ T, i.e. when
+//! |d(Re λ)/dt| ≤ (Re λ)²: the tread settles before its stability has changed appreciably. It
+//! fails near every crossing of a Hopf boundary (Re λ → 0), where the tread lags the speed (a
+//! delayed bifurcation). d(Re λ)/dt is the central difference over the neighbouring steps
+//! (one-sided at the ends and next to steps without a tread ODE); steps without a tread ODE
+//! (standstill, no traction, failed) are not assessed and count as holding.
+
+pub mod summary;
+pub mod wear;
+
+use std::path::{Path, PathBuf};
+
+use crate::parquet_out::WriteError;
+use crate::table_input::{NumericTable, TableError};
+use polywear_core::classify::{Class, ClassifierOptions};
+use polywear_core::ensemble::{self, Control};
+use polywear_core::evaluate::{self, PointProblem, WearStage};
+use polywear_core::model::Variant;
+use polywear_core::params::{ParamError, ParamId, Params};
+use polywear_core::records::WheelRecord;
+use polywear_core::wording::plain;
+
+/// Why a drive cycle is refused (before any work, naming the file, row and column) or its
+/// outputs are not written.
+#[derive(Debug, thiserror::Error)]
+pub enum CycleError {
+    /// The file cannot be read as a table of numbers.
+    #[error(transparent)]
+    Table(#[from] TableError),
+    /// `time_s` or `speed_kmh` is missing.
+    #[error("{}: no column `{name}` (columns: {}); a cycle needs `time_s` and `speed_kmh`", path.display(), columns.join(", "))]
+    MissingColumn {
+        /// The cycle file.
+        path: PathBuf,
+        /// The missing column.
+        name: &'static str,
+        /// The columns it has.
+        columns: Vec<String>,
+    },
+    /// A column that is no parameter.
+    #[error("{}: column `{name}` (column {number}) is neither `time_s` nor a parameter of `polywear params`{}", path.display(), did_you_mean(name))]
+    UnknownColumn {
+        /// The cycle file.
+        path: PathBuf,
+        /// The column's name.
+        name: String,
+        /// Its position, counted from 1.
+        number: usize,
+    },
+    /// A single row: no step duration.
+    #[error("{}: one step only; a cycle needs at least two (the time between steps sets their durations)", path.display())]
+    OneStep {
+        /// The cycle file.
+        path: PathBuf,
+    },
+    /// A time not after the previous row's.
+    #[error("{at}: time_s = {} does not follow the previous row's {} (times must increase)", plain(*time_s, 12), plain(*previous_s, 12))]
+    TimeNotIncreasing {
+        /// File, row and column.
+        at: String,
+        /// The row's time \[s\].
+        time_s: f64,
+        /// The previous row's time \[s\].
+        previous_s: f64,
+    },
+    /// A negative speed.
+    #[error("{at}: speed_kmh = {} is negative; accepted 0 (standstill) or {range}", plain(*speed_kmh, 12))]
+    NegativeSpeed {
+        /// File, row and column.
+        at: String,
+        /// The speed given \[km/h\].
+        speed_kmh: f64,
+        /// The speed's accepted range.
+        range: String,
+    },
+    /// Times so far apart that a step's duration, the cycle's length or its distance is not a
+    /// finite number.
+    #[error("{}: the cycle's {what} is not finite (times and their differences must stay below about 1e300 s; {})", path.display(), plain(*value, 6))]
+    NotFiniteSum {
+        /// The cycle file.
+        path: PathBuf,
+        /// Which sum: a step's duration, the total time or the distance.
+        what: &'static str,
+        /// Its value (inf).
+        value: f64,
+    },
+    /// A value outside its parameter's range, or a step whose parameters do not fit together.
+    #[error("{at}: {source}")]
+    Param {
+        /// File and row (and column for one cell).
+        at: String,
+        /// The parameter's refusal.
+        source: ParamError,
+    },
+    /// The output directory cannot be created.
+    #[error("{}: {source}", dir.display())]
+    CreateDir {
+        /// The output directory.
+        dir: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// A table could not be written.
+    #[error(transparent)]
+    Write(#[from] WriteError),
+}
+
+/// "; did you mean `speed_kmh`?" for a misspelt parameter name, or nothing.
+fn did_you_mean(name: &str) -> String {
+    polywear_core::params::suggest_name(name)
+        .map(|n| format!("; did you mean `{n}`?"))
+        .unwrap_or_default()
+}
+
+/// Consecutive steps classified in order by one worker, each starting its shooting from the
+/// previous step's cycle (the neighbouring step's cycle is close: the speed changes little in
+/// one step). Blocks are fixed, so the rows do not depend on the number of threads.
+pub const BLOCK_STEPS: usize = 32;
+
+/// A checked drive cycle.
+#[derive(Debug, Clone)]
+pub struct DriveCycle {
+    /// The file the cycle was read from.
+    pub path: PathBuf,
+    /// FNV-1a 64 of the file's bytes (recorded in the outputs' metadata).
+    pub hash: String,
+    /// Time of each step \[s\], strictly increasing.
+    pub time_s: Vec<f64>,
+    /// Vehicle speed at each step \[km/h\].
+    pub speed_kmh: Vec<f64>,
+    /// Parameters given per step (other than the speed), in file order.
+    pub names: Vec<ParamId>,
+    /// `values[i][j]`: step i's value of `names[j]`.
+    pub values: Vec<Vec<f64>>,
+    table: NumericTable,
+}
+
+impl DriveCycle {
+    /// Reads and checks a cycle file (CSV or Parquet): `time_s` strictly increasing, `speed_kmh`
+    /// in [0, 400], every other column a parameter of `polywear params` within its range, at
+    /// least two steps. Refusals name the file, row and column.
+    pub fn read(path: &Path) -> Result<DriveCycle, CycleError> {
+        // A column that is neither `time_s` nor a parameter is refused by its name, before its
+        // cells are read as numbers.
+        let t = NumericTable::read_with_text(path, &|c| {
+            c != "time_s" && c.parse::<ParamId>().is_err()
+        })?;
+        let need = |name: &'static str| {
+            t.column(name).ok_or_else(|| CycleError::MissingColumn {
+                path: path.to_path_buf(),
+                name,
+                columns: t.columns.clone(),
+            })
+        };
+        let (tc, vc) = (need("time_s")?, need("speed_kmh")?);
+        let mut names = Vec::new();
+        let mut cols = Vec::new();
+        for (j, c) in t.columns.iter().enumerate() {
+            if j == tc || j == vc {
+                continue;
+            }
+            let id: ParamId = c.parse().map_err(|_| CycleError::UnknownColumn {
+                path: path.to_path_buf(),
+                name: c.clone(),
+                number: j + 1,
+            })?;
+            names.push(id);
+            cols.push(j);
+        }
+        if t.rows.len() < 2 {
+            return Err(CycleError::OneStep {
+                path: path.to_path_buf(),
+            });
+        }
+        let speed_spec = ParamId::SpeedKmh.spec();
+        let mut values = Vec::with_capacity(t.rows.len());
+        for (i, row) in t.rows.iter().enumerate() {
+            if i > 0 && row[tc] <= t.rows[i - 1][tc] {
+                return Err(CycleError::TimeNotIncreasing {
+                    at: t.at(i, tc),
+                    time_s: row[tc],
+                    previous_s: t.rows[i - 1][tc],
+                });
+            }
+            let v = row[vc];
+            if v < 0.0 {
+                return Err(CycleError::NegativeSpeed {
+                    at: t.at(i, vc),
+                    speed_kmh: v,
+                    range: speed_spec.range_text(),
+                });
+            }
+            if v > 0.0 {
+                speed_spec.check(v).map_err(|source| CycleError::Param {
+                    at: t.at(i, vc),
+                    source,
+                })?;
+            }
+            let mut step = Vec::with_capacity(cols.len());
+            for (&j, id) in cols.iter().zip(&names) {
+                id.spec()
+                    .check(row[j])
+                    .map_err(|source| CycleError::Param {
+                        at: t.at(i, j),
+                        source,
+                    })?;
+                step.push(row[j]);
+            }
+            values.push(step);
+        }
+        let cycle = DriveCycle {
+            path: path.to_path_buf(),
+            hash: t.hash.clone(),
+            time_s: t.rows.iter().map(|r| r[tc]).collect(),
+            speed_kmh: t.rows.iter().map(|r| r[vc]).collect(),
+            names,
+            values,
+            table: t,
+        };
+        cycle.check_sums()?;
+        Ok(cycle)
+    }
+
+    /// Refuses a cycle whose step durations, total time or distance overflow: every sum a
+    /// summary forms must be finite, or its shares would be NaN.
+    fn check_sums(&self) -> Result<(), CycleError> {
+        let durations = self.step_durations_s();
+        let bad = |what, value: f64| CycleError::NotFiniteSum {
+            path: self.path.clone(),
+            what,
+            value,
+        };
+        if let Some(d) = durations.iter().find(|d| !d.is_finite()) {
+            return Err(bad("step duration", *d));
+        }
+        let total: f64 = durations.iter().sum();
+        if !total.is_finite() {
+            return Err(bad("total time", total));
+        }
+        let distance: f64 = durations
+            .iter()
+            .zip(&self.speed_kmh)
+            .map(|(d, v)| d * v / 3.6)
+            .sum();
+        if !distance.is_finite() {
+            return Err(bad("distance", distance));
+        }
+        Ok(())
+    }
+
+    /// Number of time steps.
+    pub fn len(&self) -> usize {
+        self.time_s.len()
+    }
+
+    /// Whether the cycle has no step.
+    pub fn is_empty(&self) -> bool {
+        self.time_s.is_empty()
+    }
+
+    /// Whether step `i` is standstill (speed 0).
+    pub fn standstill(&self, i: usize) -> bool {
+        self.speed_kmh[i] == 0.0
+    }
+
+    /// How long each step holds \[s\]: until the next step; the last step as long as the one
+    /// before it (a logger's sample holds until the next). With steps of equal length every
+    /// step weighs the same, and the time shares are shares of steps.
+    pub fn step_durations_s(&self) -> Vec<f64> {
+        let t = &self.time_s;
+        let n = t.len();
+        (0..n)
+            .map(|i| {
+                if i + 1 < n {
+                    t[i + 1] - t[i]
+                } else {
+                    t[n - 1] - t[n - 2]
+                }
+            })
+            .collect()
+    }
+
+    /// The parameter set of step `i` on top of `base`: the step's columns, then its speed (a
+    /// standstill step keeps `base`'s speed; it is never classified).
+    pub fn step_params(&self, base: &Params, i: usize) -> Params {
+        let mut p = *base;
+        for (&id, v) in self.names.iter().zip(&self.values[i]) {
+            p[id] = *v;
+        }
+        if !self.standstill(i) {
+            p.speed_kmh = self.speed_kmh[i];
+        }
+        p
+    }
+
+    /// Refuses, before any work, the first step whose value of a parameter column lies outside
+    /// its plausible range (a likely unit mix-up, MODEL.md#parameter-table), naming its row
+    /// and column.
+    pub fn check_plausible(&self) -> Result<(), CycleError> {
+        let cols: Vec<usize> = self
+            .names
+            .iter()
+            .map(|id| self.table.column(id.name()).expect("a column of the file"))
+            .collect();
+        for (i, step) in self.values.iter().enumerate() {
+            for ((&id, &x), &j) in self.names.iter().zip(step).zip(&cols) {
+                id.spec()
+                    .check_plausible(x)
+                    .map_err(|source| CycleError::Param {
+                        at: self.table.at(i, j),
+                        source,
+                    })?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Refuses, before any work, a step whose parameters break a rule tying several together
+    /// (e.g. mu_s ≤ mu_m) on top of `base`, naming its row.
+    pub fn check_steps(&self, base: &Params) -> Result<(), CycleError> {
+        for i in 0..self.len() {
+            self.step_params(base, i)
+                .validate()
+                .map_err(|source| CycleError::Param {
+                    at: format!("{}, {}", self.path.display(), self.table.row_name(i)),
+                    source,
+                })?;
+        }
+        Ok(())
+    }
+}
+
+/// One wheel at one step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepWheel {
+    /// The wheel's record, with the explorer's columns.
+    pub record: WheelRecord,
+    /// τ = 1/|Re λ| \[s\] (NaN without a tread ODE).
+    pub tread_time_constant_s: f64,
+    /// T = |Re λ| / |d(Re λ)/dt| \[s\] (infinite where Re λ does not change; NaN without an ODE).
+    pub stability_change_time_s: f64,
+    /// τ ≤ T (true where not assessed).
+    pub quasi_static: bool,
+    /// β_n \[1/1000 km\] of orders 1..=[`wear::CYCLE_ORDERS_MAX`] at this step
+    /// ([`wear::step_growth`]); empty without the wear stage or without figures.
+    pub order_growth_per_1000km: Vec<f64>,
+}
+
+impl StepWheel {
+    /// The vehicle stands still at this step (speed 0, class `standstill`): not vibrating, not
+    /// classified.
+    pub fn standstill(&self) -> bool {
+        self.record.class == Class::Standstill
+    }
+
+    /// In self-excited vibration at this step (a limit cycle or bistable, never at standstill).
+    pub fn vibrates(&self) -> bool {
+        self.record.class.vibrates()
+    }
+}
+
+/// Classifies both wheels at every step of `cycle` on top of `base` (follower then driving per
+/// step; `[step][wheel]`). See [`classify_cycles`].
+pub fn classify_cycle(
+    cycle: &DriveCycle,
+    base: &Params,
+    variant: Variant,
+    opts: &ClassifierOptions,
+    wear: Option<&WearStage>,
+) -> Vec<[StepWheel; 2]> {
+    classify_cycles(cycle, std::slice::from_ref(base), variant, opts, wear)
+        .pop()
+        .expect("one base")
+}
+
+/// [`classify_cycle`] for each of several parameter bases (tire structures), `[base][step]`.
+/// Blocks of [`BLOCK_STEPS`] steps of every base run in parallel on the current rayon pool;
+/// within a block each wheel starts from its own cycle at the previous step, and a step with
+/// the same parameters as the previous one takes its verdict. With `wear`, every step also runs
+/// the wear stage (its columns in the records, and each order's growth for [`wear::cycle_wear`]).
+pub fn classify_cycles(
+    cycle: &DriveCycle,
+    bases: &[Params],
+    variant: Variant,
+    opts: &ClassifierOptions,
+    wear: Option<&WearStage>,
+) -> Vec<Vec<[StepWheel; 2]>> {
+    let n = cycle.len();
+    let per_base = n.div_ceil(BLOCK_STEPS);
+    let jobs: Vec<(usize, usize)> = (0..bases.len())
+        .flat_map(|k| (0..per_base).map(move |b| (k, b)))
+        .collect();
+    let block = |j: usize| {
+        let (k, b) = jobs[j];
+        classify_block(cycle, &bases[k], variant, opts, wear, b)
+    };
+    let mut records: Vec<[(WheelRecord, Vec<f64>); 2]> =
+        ensemble::solve(jobs.len(), block, &Control::QUIET)
+            .all()
+            .into_iter()
+            .flatten()
+            .collect();
+    let mut out = Vec::with_capacity(bases.len());
+    for _ in bases {
+        let rest = records.split_off(n);
+        let mut steps: Vec<[StepWheel; 2]> = records
+            .into_iter()
+            .map(|pair| {
+                pair.map(|(record, growth)| StepWheel {
+                    record,
+                    tread_time_constant_s: f64::NAN,
+                    stability_change_time_s: f64::NAN,
+                    quasi_static: true,
+                    order_growth_per_1000km: growth,
+                })
+            })
+            .collect();
+        for w in 0..2 {
+            assess_quasi_static(&cycle.time_s, &mut steps, w);
+        }
+        out.push(steps);
+        records = rest;
+    }
+    out
+}
+
+/// The records of block `b`, in step order. Each step is one point of the one road
+/// ([`polywear_core::evaluate::solve`]); each wheel starts its shooting from its own cycle at the
+/// previous step (the driving wheel without one from the follower's at this step).
+fn classify_block(
+    cycle: &DriveCycle,
+    base: &Params,
+    variant: Variant,
+    opts: &ClassifierOptions,
+    wear: Option<&WearStage>,
+    b: usize,
+) -> Vec<[(WheelRecord, Vec<f64>); 2]> {
+    let lo = b * BLOCK_STEPS;
+    let hi = (lo + BLOCK_STEPS).min(cycle.len());
+    let mut out: Vec<[(WheelRecord, Vec<f64>); 2]> = Vec::with_capacity(hi - lo);
+    let mut hints = vec![None, None];
+    let mut previous: Option<Params> = None;
+    for i in lo..hi {
+        let mut p = cycle.step_params(base, i);
+        if cycle.standstill(i) {
+            p.speed_kmh = 0.0;
+            previous = None;
+        } else if previous == Some(p) {
+            let same = out.last().expect("a previous step").clone();
+            out.push(same);
+            continue;
+        } else {
+            previous = Some(p);
+        }
+        let problem = PointProblem {
+            previous: &hints,
+            ..PointProblem::new(p, std::slice::from_ref(&variant), opts).with_wear(wear)
+        };
+        let solution = evaluate::solve(&problem);
+        if !cycle.standstill(i) {
+            hints = solution.hints();
+        }
+        let growth = |w: &evaluate::WheelSolution| match wear {
+            Some(stage) if !cycle.standstill(i) => wear::step_growth(&p, w, stage, opts),
+            _ => Vec::new(),
+        };
+        let [f, d]: [(WheelRecord, Vec<f64>); 2] = solution
+            .wheels
+            .into_iter()
+            .map(|w| {
+                let g = growth(&w);
+                (w.record, g)
+            })
+            .collect::<Vec<_>>()
+            .try_into()
+            .expect("two wheels");
+        out.push([f, d]);
+    }
+    out
+}
+
+/// Fills τ, T and the quasi-static flag of wheel `w` at every step (see the module docs).
+fn assess_quasi_static(time_s: &[f64], steps: &mut [[StepWheel; 2]], w: usize) {
+    let re: Vec<Option<f64>> = steps
+        .iter()
+        .map(|s| {
+            let x = s[w].record.eig_re_max;
+            (!s[w].standstill() && x.is_finite()).then_some(x)
+        })
+        .collect();
+    let n = re.len();
+    for i in 0..n {
+        let Some(r) = re[i] else { continue };
+        let before = (i > 0)
+            .then(|| re[i - 1])
+            .flatten()
+            .map(|x| (x, time_s[i - 1]));
+        let after = (i + 1 < n)
+            .then(|| re[i + 1])
+            .flatten()
+            .map(|x| (x, time_s[i + 1]));
+        let rate = match (before, after) {
+            (Some((a, ta)), Some((b, tb))) => (b - a) / (tb - ta),
+            (Some((a, ta)), None) => (r - a) / (time_s[i] - ta),
+            (None, Some((b, tb))) => (b - r) / (tb - time_s[i]),
+            (None, None) => 0.0,
+        };
+        let s = &mut steps[i][w];
+        s.tread_time_constant_s = 1.0 / r.abs();
+        s.stability_change_time_s = if rate == 0.0 {
+            f64::INFINITY
+        } else {
+            r.abs() / rate.abs()
+        };
+        s.quasi_static = s.tread_time_constant_s <= s.stability_change_time_s;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cycle(text: &str) -> Result<DriveCycle, String> {
+        let dir = std::env::temp_dir().join(format!("polywear-cycle-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join(format!("c{}.csv", text.len()));
+        std::fs::write(&p, text).unwrap();
+        DriveCycle::read(&p).map_err(|e| e.to_string())
+    }
+
+    /// A standstill row of the default point, the frame the tests below fill in.
+    fn standstill_record(p: &Params) -> WheelRecord {
+        let opts = ClassifierOptions::default();
+        let mut p = *p;
+        p.speed_kmh = 0.0;
+        evaluate::solve_wheel(
+            p,
+            Variant::Paper,
+            polywear_core::model::Wheel::Follower,
+            &opts,
+        )
+        .record
+    }
+
+    #[test]
+    fn durations_hold_until_the_next_step() {
+        let c = cycle("time_s,speed_kmh\n0,0\n1,50\n3,100\n").unwrap();
+        assert_eq!(c.step_durations_s(), vec![1.0, 2.0, 2.0]);
+        assert!(c.standstill(0) && !c.standstill(1));
+    }
+
+    #[test]
+    fn quasi_static_fails_where_re_lambda_changes_faster_than_its_square() {
+        // Re λ over 1 s steps: steady at -2 (holds), then through 0 (fails there), and one
+        // step without an ODE (not assessed).
+        let re = [-2.0, -2.0, -2.0, -1.0, 0.0, 1.0, 2.0, f64::NAN];
+        let time: Vec<f64> = (0..re.len()).map(|i| i as f64).collect();
+        let p = Params::default();
+        let mut steps: Vec<[StepWheel; 2]> = re
+            .iter()
+            .map(|&r| {
+                let mut record = standstill_record(&p);
+                record.class = Class::Stable;
+                record.eig_re_max = r;
+                let w = StepWheel {
+                    record,
+                    tread_time_constant_s: f64::NAN,
+                    stability_change_time_s: f64::NAN,
+                    quasi_static: true,
+                    order_growth_per_1000km: Vec::new(),
+                };
+                [w.clone(), w]
+            })
+            .collect();
+        assess_quasi_static(&time, &mut steps, 0);
+        let qs: Vec<bool> = steps.iter().map(|s| s[0].quasi_static).collect();
+        // Step 1: rate 0, T infinite. Step 2: rate 0.5/s, T = 4 s ≥ τ = 0.5 s. Step 3: rate
+        // 1/s, T = 1 s = τ (holds, just). Step 4: Re λ = 0, τ infinite (fails). Step 5: T = τ
+        // = 1 s. Step 6: one-sided rate 1/s (the next step has no ODE), T = 2 s ≥ τ = 0.5 s.
+        assert_eq!(qs, [true, true, true, true, false, true, true, true]);
+        assert_eq!(steps[1][0].stability_change_time_s, f64::INFINITY);
+        assert_eq!(steps[2][0].stability_change_time_s, 4.0);
+        assert_eq!(steps[3][0].tread_time_constant_s, 1.0);
+        assert!(steps[7][0].tread_time_constant_s.is_nan());
+    }
+
+    #[test]
+    fn summary_shares_stretches_and_orders() {
+        // Step 2 holds 2 s, the others 1 s; vibrating steps 1, 2 (order 18.4 → 18) and 4
+        // (19.6 → 20); step 3 stable; step 0 standstill.
+        let c = cycle("time_s,speed_kmh\n0,0\n1,36\n2,72\n4,36\n5,72\n6,36\n").unwrap();
+        let p = Params::default();
+        let vib = [false, true, true, false, true, false];
+        let order = [0.0, 18.4, 18.4, 0.0, 19.6, 0.0];
+        let steps: Vec<[StepWheel; 2]> = (0..6)
+            .map(|i| {
+                let mut record = standstill_record(&p);
+                record.class = if i == 0 {
+                    Class::Standstill
+                } else if vib[i] {
+                    Class::LimitCycle
+                } else {
+                    Class::Stable
+                };
+                record.polygon_order = order[i];
+                let w = StepWheel {
+                    record,
+                    tread_time_constant_s: f64::NAN,
+                    stability_change_time_s: f64::NAN,
+                    quasi_static: i != 3,
+                    order_growth_per_1000km: Vec::new(),
+                };
+                [w.clone(), w]
+            })
+            .collect();
+        let s = summary::summarise(&c, &steps, 0);
+        // Durations 1, 1, 2, 1, 1, 1 (the last as the one before): 7 s in all, 4 vibrating.
+        assert!((s.time_share - 4.0 / 7.0).abs() < 1e-12);
+        assert_eq!(s.longest_vibration_s, 3.0);
+        // Distance: 36 km/h for 1 s = 0.01 km; in all 0.01 + 0.04 + 0.01 + 0.02 + 0.01 km, in
+        // vibration 0.01 + 0.04 + 0.02 km, the longest stretch 0.05 km.
+        assert!((s.longest_vibration_km - 0.05).abs() < 1e-12);
+        assert!((s.distance_share - 0.07 / 0.09).abs() < 1e-12);
+        assert!((s.standstill_share - 1.0 / 7.0).abs() < 1e-12);
+        assert!((s.not_quasi_static_share - 1.0 / 7.0).abs() < 1e-12);
+        assert_eq!(s.order_shares.keys().copied().collect::<Vec<_>>(), [18, 20]);
+        assert!((s.order_shares[&18] - 0.75).abs() < 1e-12);
+    }
+
+    #[test]
+    fn bad_cycles_are_refused_with_row_and_column() {
+        let e = cycle("time_s,speed_kmh\n0,10\n0,20\n").unwrap_err();
+        assert!(e.contains("row 2 (line 3), column `time_s`"), "{e}");
+        let e = cycle("time_s,speed_kmh\n0,10\n1,-2\n").unwrap_err();
+        assert!(
+            e.contains("column `speed_kmh`") && e.contains("negative"),
+            "{e}"
+        );
+        let e = cycle("time_s,speed_kmh,load_n\n0,10,4000\n1,20,-1\n").unwrap_err();
+        assert!(e.contains("row 2 (line 3), column `load_n`"), "{e}");
+        let e = cycle("time_s,speed_kmh,vin\n0,10,1\n1,20,1\n").unwrap_err();
+        assert!(e.contains("column `vin`"), "{e}");
+        let e = cycle("time_s,speed\n0,10\n1,20\n").unwrap_err();
+        assert!(e.contains("no column `speed_kmh`"), "{e}");
+        let e = cycle("time_s,speed_kmh\n0,10\n").unwrap_err();
+        assert!(e.contains("at least two"), "{e}");
+    }
+}

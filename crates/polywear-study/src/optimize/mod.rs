@@ -1,0 +1,344 @@
+//! `polywear optimize`: the setting of one or two parameters, within a box, that minimises the
+//! risk of polygonal wear (or of vibration, or a weighted sum) over a study's samples.
+//!
+//! A *setting* of a parameter the study fixes is its value (`set`). For a drawn parameter it
+//! moves the distribution so that its centre is the value and keeps the fleet's spread: every
+//! sample's value moves by the same amount (`shift`; the centre is a uniform's midpoint, a
+//! normal's or truncated normal's mean, the mean of levels or of an operating-point column),
+//! or, for a lognormal, is scaled by the same factor (`scale`; the centre is its median). Every
+//! setting is evaluated on the same samples (common random numbers), so two settings differ
+//! only by the setting. The search ([`search`]) is a coarse grid refined where it matters; the
+//! objective ([`objective`]) comes with its 95% interval, and the result says how flat the
+//! optimum is: the settings whose objective lies within the best's interval.
+
+pub mod evaluate;
+pub mod objective;
+pub mod search;
+
+use crate::study::{Change, ParamChange, Study, StudyError};
+use objective::{Estimate, Objective, Outcomes, Term, WheelChoice};
+use polywear_core::classify::ClassifierOptions;
+use polywear_core::model::Variant;
+use polywear_core::params::ParamId;
+use polywear_core::sampling::distribution::Distribution;
+use search::{Evaluated, SearchOptions};
+
+/// How a setting of a parameter changes the study's samples.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SettingKind {
+    /// The study fixes the parameter: the setting is its value.
+    Set,
+    /// Drawn: every sample moves by (setting − centre).
+    Shift {
+        /// The distribution's centre.
+        centre: f64,
+    },
+    /// Drawn lognormal: every sample is scaled by setting / median.
+    Scale {
+        /// The distribution's median.
+        median: f64,
+    },
+}
+
+/// One varied parameter and its range.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Axis {
+    /// The parameter.
+    pub param: ParamId,
+    /// The box's lower end (a setting).
+    pub lo: f64,
+    /// Its upper end.
+    pub hi: f64,
+    /// What a setting does to the samples.
+    pub kind: SettingKind,
+}
+
+impl Axis {
+    /// The axis of `param` over [lo, hi] in `study`, its kind from how the study gives it.
+    pub fn new(study: &Study, param: ParamId, lo: f64, hi: f64) -> Axis {
+        let kind = match study.drawn.iter().find(|d| d.param == param) {
+            Some(d) => match &d.dist {
+                Distribution::LogNormal { median, .. } => SettingKind::Scale { median: *median },
+                dist => SettingKind::Shift {
+                    centre: centre(dist),
+                },
+            },
+            None => match column_mean(study, param) {
+                Some(centre) => SettingKind::Shift { centre },
+                None => SettingKind::Set,
+            },
+        };
+        Axis {
+            param,
+            lo,
+            hi,
+            kind,
+        }
+    }
+
+    /// The setting at unit coordinate `u`.
+    pub fn value(&self, u: f64) -> f64 {
+        if u >= 1.0 {
+            self.hi
+        } else {
+            self.lo + u * (self.hi - self.lo)
+        }
+    }
+
+    /// The change a setting makes to every sample.
+    pub fn change(&self, setting: f64) -> ParamChange {
+        let change = match self.kind {
+            SettingKind::Set => Change::Set(setting),
+            SettingKind::Shift { centre } => Change::Shift(setting - centre),
+            SettingKind::Scale { median } => Change::Scale(setting / median),
+        };
+        ParamChange {
+            param: self.param,
+            change,
+        }
+    }
+
+    /// What a setting means for this parameter, in words.
+    pub fn meaning(&self) -> String {
+        match self.kind {
+            SettingKind::Set => format!("{}: the value every sample takes", self.param),
+            SettingKind::Shift { centre } => format!(
+                "{}: the centre of its distribution (now {}), every sample moved by the same amount",
+                self.param,
+                polywear_core::wording::plain(centre, 6)
+            ),
+            SettingKind::Scale { median } => format!(
+                "{}: the median of its lognormal distribution (now {}), every sample scaled by the same factor",
+                self.param,
+                polywear_core::wording::plain(median, 6)
+            ),
+        }
+    }
+
+    /// Refuses a box end that takes any of the run's samples outside the parameter's accepted
+    /// range (the change is monotone in the setting, so the two ends decide).
+    pub fn check(
+        &self,
+        study: &Study,
+        seed: u64,
+        samples: u64,
+        key: &str,
+    ) -> Result<(), StudyError> {
+        for end in [self.lo, self.hi] {
+            study.check_change(key, self.change(end), seed, samples)?;
+        }
+        Ok(())
+    }
+}
+
+/// The centre of a location family: midpoint, mean, or mean of the levels.
+fn centre(dist: &Distribution) -> f64 {
+    match dist {
+        Distribution::Uniform { min, max, .. } => 0.5 * (min + max),
+        Distribution::Normal { mean, .. } | Distribution::TruncatedNormal { mean, .. } => *mean,
+        Distribution::LogNormal { median, .. } => *median,
+        Distribution::Levels(levels) => levels.iter().sum::<f64>() / levels.len() as f64,
+    }
+}
+
+/// The weighted mean of an operating-point column, when the study draws `param` from one.
+fn column_mean(study: &Study, param: ParamId) -> Option<f64> {
+    let op = study.operating_points.as_ref()?;
+    let j = op.names.iter().position(|n| *n == param.name())?;
+    let total: f64 = op.weights.iter().sum();
+    Some(
+        op.values
+            .iter()
+            .zip(&op.weights)
+            .map(|(row, w)| row[j] * w)
+            .sum::<f64>()
+            / total,
+    )
+}
+
+/// A bound a setting must meet: on a risk (its estimate), as `--constraint vibration:driving<=0.3`
+/// writes it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Constraint {
+    /// The risk.
+    pub term: Term,
+    /// On which wheel.
+    pub wheel: WheelChoice,
+    /// At most (true) or at least (false).
+    pub at_most: bool,
+    /// The bound, as a probability.
+    pub bound: f64,
+    /// The constraint as given.
+    pub text: String,
+}
+
+impl Constraint {
+    /// The objective whose estimate the constraint bounds.
+    pub fn objective(&self) -> Objective {
+        Objective {
+            terms: vec![(1.0, self.term)],
+            wheel: self.wheel,
+        }
+    }
+
+    /// Whether `e` meets it.
+    pub fn holds(&self, e: &Estimate) -> bool {
+        if self.at_most {
+            e.value <= self.bound
+        } else {
+            e.value >= self.bound
+        }
+    }
+}
+
+/// What `optimize` is asked.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    /// The study whose samples every setting is evaluated on.
+    pub study: Study,
+    /// The seed of its draws.
+    pub seed: u64,
+    /// Samples per setting.
+    pub samples: u64,
+    /// The friction variant both wheels are evaluated under.
+    pub variant: Variant,
+    /// One or two varied parameters.
+    pub axes: Vec<Axis>,
+    /// What is minimised.
+    pub objective: Objective,
+    /// Bounds on risks a setting must meet.
+    pub constraints: Vec<Constraint>,
+    /// A visible polygon counts when it appears within this distance \[km\].
+    pub within_km: f64,
+    /// How far the search refines.
+    pub search: SearchOptions,
+    /// The classifier's options (the study's work budget).
+    pub classifier: ClassifierOptions,
+    /// The wear stage, when the objective or a constraint weighs wear.
+    pub wear: Option<polywear_core::evaluate::WearStage>,
+}
+
+/// One evaluated setting.
+#[derive(Debug, Clone)]
+pub struct Setting {
+    /// The value of each varied parameter, in axis order.
+    pub values: Vec<f64>,
+    /// Where it lies in the unit box.
+    pub unit: Vec<f64>,
+    /// The refinement level it was added at.
+    pub level: usize,
+    /// The objective.
+    pub objective: Estimate,
+    /// Each constraint's estimate, in order.
+    pub constrained: Vec<Estimate>,
+    /// Whether every constraint holds.
+    pub feasible: bool,
+    /// Every sample's outcomes, in sample order.
+    pub outcomes: Vec<Outcomes>,
+}
+
+/// The search's result.
+#[derive(Debug, Clone)]
+pub struct Solution {
+    /// Every setting evaluated, in order.
+    pub settings: Vec<Setting>,
+    /// The best feasible setting, if any.
+    pub best: Option<usize>,
+    /// Each setting minus the best on the same samples, with its 95% interval (NaN without a
+    /// best).
+    pub vs_best: Vec<(f64, f64, f64)>,
+}
+
+impl Solution {
+    /// The feasible settings whose objective lies within the best's 95% interval: how flat the
+    /// optimum is.
+    pub fn within_best(&self) -> Vec<usize> {
+        let Some(b) = self.best else {
+            return Vec::new();
+        };
+        let high = self.settings[b].objective.high;
+        (0..self.settings.len())
+            .filter(|&i| {
+                let s = &self.settings[i];
+                s.feasible && s.objective.value <= high
+            })
+            .collect()
+    }
+
+    /// The axes on whose edge the best setting lies: (axis index, "lower" or "upper").
+    pub fn on_edge(&self) -> Vec<(usize, &'static str)> {
+        let Some(b) = self.best else {
+            return Vec::new();
+        };
+        let unit = &self.settings[b].unit;
+        unit.iter()
+            .enumerate()
+            .filter_map(|(k, &u)| match u {
+                u if u <= 0.0 => Some((k, "lower")),
+                u if u >= 1.0 => Some((k, "upper")),
+                _ => None,
+            })
+            .collect()
+    }
+}
+
+/// Turns the search's evaluations back into settings (the order is the same).
+pub(crate) fn collect(
+    points: &[Evaluated],
+    mut settings: Vec<Setting>,
+    objective: &Objective,
+) -> Solution {
+    for (s, p) in settings.iter_mut().zip(points) {
+        s.level = p.level;
+    }
+    let best = search::best(points);
+    let vs_best = match best {
+        Some(b) => settings
+            .iter()
+            .map(|s| objective.paired_difference(&s.outcomes, &settings[b].outcomes))
+            .collect(),
+        None => vec![(f64::NAN, f64::NAN, f64::NAN); settings.len()],
+    };
+    Solution {
+        settings,
+        best,
+        vs_best,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_setting_sets_a_fixed_parameter_and_moves_a_drawn_ones_centre() {
+        let study = Study::parse(
+            r#"[params]
+               toe_deg = { dist = "uniform", min = 0.2, max = 0.4 }
+               g_mod = { dist = "lognormal", median = 1e6, sigma = 0.05 }
+               load_n = 4500"#,
+        )
+        .unwrap();
+        let toe = Axis::new(&study, ParamId::ToeDeg, 0.1, 0.5);
+        assert_eq!(
+            toe.kind,
+            SettingKind::Shift {
+                centre: 0.30000000000000004
+            }
+        );
+        let c = toe.change(0.1);
+        assert!(
+            matches!(c.change, Change::Shift(d) if (d + 0.2).abs() < 1e-15),
+            "{c:?}"
+        );
+        let g = Axis::new(&study, ParamId::GMod, 0.5e6, 2e6);
+        assert_eq!(g.change(2e6).change, Change::Scale(2.0));
+        let load = Axis::new(&study, ParamId::LoadN, 3000.0, 5000.0);
+        assert_eq!(load.kind, SettingKind::Set);
+        assert_eq!(load.change(3500.0).change, Change::Set(3500.0));
+        assert_eq!(
+            (load.value(0.0), load.value(0.5), load.value(1.0)),
+            (3000.0, 4000.0, 5000.0)
+        );
+    }
+}

@@ -1,0 +1,500 @@
+//! What-if scenarios: `[scenarios.NAME]` tables that change the study's parameters, each
+//! evaluated on the same samples (the same sample ids, operating points and tire structures) as
+//! the study itself, the *baseline*. A change is applied to a sample's parameter set after it is
+//! drawn, so the baseline and every scenario see the same draws (common random numbers) and
+//! only the change differs between them.
+//!
+//! The checks are in two steps: reading the file refuses what is wrong whatever the run (an
+//! unknown parameter, a change with no or two kinds, a value outside its parameter's range, a
+//! name used twice, an empty scenario); [`Study::check_scenarios`] refuses, before a run starts,
+//! a change that takes any of the run's samples outside its parameter's accepted range, and says
+//! for how many.
+
+use super::error::ChangeOutOfRange;
+use super::schema::{ChangeSpec, ScenarioTables};
+use super::{Study, StudyError};
+use crate::toml_input::finite_at;
+use polywear_core::params::{ParamId, Params};
+use polywear_core::sampling::design::Design;
+use polywear_core::sampling::distribution::Distribution;
+use polywear_core::wording::plain;
+
+/// The name of the study without changes, in the `scenario` column and the report.
+pub const BASELINE: &str = "baseline";
+
+/// Longest accepted scenario name, in characters.
+pub(crate) const NAME_MAX_CHARS: usize = 64;
+
+/// Runs of more samples than this are not counted one by one (a second or so on 2 cores at the
+/// limit): a change whose changed bounds leave the range is then refused without a count.
+pub const COUNT_LIMIT: u64 = 2_000_000;
+
+/// One change to one parameter, as `{ set = v }`, `{ shift = d }`, `{ scale = k }` or
+/// `{ cap = c }` writes it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Change {
+    /// Every sample takes the value.
+    Set(f64),
+    /// Every sample's value moves by this amount (the fleet's spread kept).
+    Shift(f64),
+    /// Every sample's value is multiplied by this positive factor.
+    Scale(f64),
+    /// Every sample's value is held to at most this.
+    Cap(f64),
+}
+
+/// The kinds of change, as the study file names them.
+pub const CHANGE_KINDS: [&str; 4] = ["set", "shift", "scale", "cap"];
+
+impl Change {
+    /// The changed value of `x`.
+    pub fn apply(self, x: f64) -> f64 {
+        match self {
+            Change::Set(v) => v,
+            Change::Shift(d) => x + d,
+            Change::Scale(k) => x * k,
+            Change::Cap(c) => x.min(c),
+        }
+    }
+
+    /// The change's key in the study file.
+    pub fn kind(self) -> &'static str {
+        match self {
+            Change::Set(_) => "set",
+            Change::Shift(_) => "shift",
+            Change::Scale(_) => "scale",
+            Change::Cap(_) => "cap",
+        }
+    }
+
+    /// The change's number.
+    pub fn amount(self) -> f64 {
+        match self {
+            Change::Set(x) | Change::Shift(x) | Change::Scale(x) | Change::Cap(x) => x,
+        }
+    }
+
+    /// The change as the study file writes it: `{ shift = -0.15 }`.
+    pub fn text(self) -> String {
+        format!("{{ {} = {} }}", self.kind(), plain(self.amount(), 12))
+    }
+}
+
+/// One parameter's change in a scenario.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParamChange {
+    /// The parameter changed.
+    pub param: ParamId,
+    /// How.
+    pub change: Change,
+}
+
+impl ParamChange {
+    /// The change in words, with the parameter's unit: `toe_deg shifted by -0.15 deg`.
+    pub fn words(&self) -> String {
+        let unit = self.param.spec().unit;
+        let unit = if unit == "-" {
+            String::new()
+        } else {
+            format!(" {unit}")
+        };
+        let x = |v: f64| plain(v, 12);
+        match self.change {
+            Change::Set(v) => format!("{} set to {}{unit}", self.param, x(v)),
+            Change::Shift(d) => format!("{} shifted by {}{unit}", self.param, signed(d)),
+            Change::Scale(k) => format!("{} scaled by {}", self.param, x(k)),
+            Change::Cap(c) => format!("{} capped at {}{unit}", self.param, x(c)),
+        }
+    }
+}
+
+/// A number with its sign, without float noise: `+20`, `-0.15`.
+fn signed(x: f64) -> String {
+    if x >= 0.0 {
+        format!("+{}", plain(x, 12))
+    } else {
+        plain(x, 12)
+    }
+}
+
+/// A named set of changes, evaluated on the baseline's samples.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scenario {
+    /// Its name, in the `scenario` column and the report.
+    pub name: String,
+    /// The changes, in parameter order.
+    pub changes: Vec<ParamChange>,
+}
+
+impl Scenario {
+    /// `p` with the scenario's changes applied.
+    pub fn apply(&self, p: &Params) -> Params {
+        let mut q = *p;
+        for c in &self.changes {
+            q[c.param] = c.change.apply(q[c.param]);
+        }
+        q
+    }
+
+    /// A sample's drawn values (named by `names`) with the scenario's changes applied.
+    pub fn apply_values(&self, names: &[ParamId], values: &[f64]) -> Vec<f64> {
+        names
+            .iter()
+            .zip(values)
+            .map(|(id, &x)| {
+                self.changes
+                    .iter()
+                    .filter(|c| c.param == *id)
+                    .fold(x, |x, c| c.change.apply(x))
+            })
+            .collect()
+    }
+
+    /// The changes in words: `toe_deg shifted by -0.15 deg, pressure_kpa shifted by +20 kPa`.
+    pub fn words(&self) -> String {
+        self.changes
+            .iter()
+            .map(ParamChange::words)
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// The scenario as JSON, in the study file's terms:
+    /// `{"name":"toe-in","changes":{"toe_deg":{"shift":-0.15}}}`.
+    pub fn to_json(&self) -> serde_json::Value {
+        let changes: serde_json::Map<String, serde_json::Value> = self
+            .changes
+            .iter()
+            .map(|c| {
+                let mut m = serde_json::Map::new();
+                m.insert(c.change.kind().into(), c.change.amount().into());
+                (c.param.name().to_string(), m.into())
+            })
+            .collect();
+        serde_json::json!({ "name": self.name, "changes": changes })
+    }
+
+    /// A scenario read back from [`Scenario::to_json`]'s form (a chunk's `scenarios` metadata);
+    /// None for anything else.
+    pub fn from_json(v: &serde_json::Value) -> Option<Scenario> {
+        let name = v.get("name")?.as_str()?.to_string();
+        let mut changes = Vec::new();
+        for (param, c) in v.get("changes")?.as_object()? {
+            let (kind, x) = c.as_object()?.iter().next()?;
+            let x = x.as_f64()?;
+            let change = match kind.as_str() {
+                "set" => Change::Set(x),
+                "shift" => Change::Shift(x),
+                "scale" => Change::Scale(x),
+                "cap" => Change::Cap(x),
+                _ => return None,
+            };
+            changes.push(ParamChange {
+                param: param.parse().ok()?,
+                change,
+            });
+        }
+        // In parameter order, as the study file's changes are.
+        changes.sort_by_key(|c| c.param);
+        Some(Scenario { name, changes })
+    }
+
+    /// The key of `param`'s change in the study file: `scenarios.NAME.param`, the name quoted
+    /// where TOML needs it.
+    pub fn key(&self, param: ParamId) -> String {
+        format!("{}.{param}", scenario_key(&self.name))
+    }
+}
+
+/// `scenarios.NAME`, the name quoted unless it is a bare TOML key.
+pub fn scenario_key(name: &str) -> String {
+    let bare = !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if bare {
+        format!("scenarios.{name}")
+    } else {
+        format!("scenarios.{name:?}")
+    }
+}
+
+/// The scenarios of a study file, checked (in name order, as TOML tables keep their keys).
+pub(super) fn scenarios(tables: &ScenarioTables) -> Result<Vec<Scenario>, StudyError> {
+    let mut out = Vec::new();
+    for (name, changes) in tables {
+        check_name(name)?;
+        if changes.is_empty() {
+            return Err(StudyError::EmptyScenario {
+                key: scenario_key(name),
+            });
+        }
+        let mut scenario = Scenario {
+            name: name.clone(),
+            changes: Vec::new(),
+        };
+        for (&param, spec) in changes {
+            let key = scenario.key(param);
+            let change = change(spec, &key)?;
+            check_value(param, change, &key)?;
+            scenario.changes.push(ParamChange { param, change });
+        }
+        out.push(scenario);
+    }
+    Ok(out)
+}
+
+/// Refuses a name that is empty, too long, holds control characters, or is the baseline's.
+fn check_name(name: &str) -> Result<(), StudyError> {
+    let why = if name.trim().is_empty() {
+        "is empty"
+    } else if name.chars().count() > NAME_MAX_CHARS {
+        "is longer than 64 characters"
+    } else if name.chars().any(char::is_control) {
+        "holds a control character"
+    } else if name.trim().eq_ignore_ascii_case(BASELINE) {
+        return Err(StudyError::RepeatedScenario {
+            name: name.to_string(),
+            why: "`baseline` names the study without changes".into(),
+        });
+    } else {
+        return Ok(());
+    };
+    Err(StudyError::ScenarioName {
+        key: scenario_key(name),
+        why,
+    })
+}
+
+/// The one change a table gives, its number finite.
+fn change(spec: &ChangeSpec, key: &str) -> Result<Change, StudyError> {
+    let given: Vec<(&'static str, f64)> = [
+        ("set", spec.set),
+        ("shift", spec.shift),
+        ("scale", spec.scale),
+        ("cap", spec.cap),
+    ]
+    .into_iter()
+    .filter_map(|(k, v)| v.map(|v| (k, v)))
+    .collect();
+    let [(kind, x)] = given[..] else {
+        return Err(StudyError::ChangeKinds {
+            key: key.to_string(),
+            given: given.iter().map(|g| g.0).collect::<Vec<_>>().join(", "),
+        });
+    };
+    let x = finite_at(x, &format!("{key}.{kind}"))?;
+    Ok(match kind {
+        "set" => Change::Set(x),
+        "shift" => Change::Shift(x),
+        "scale" if x <= 0.0 => {
+            return Err(StudyError::NotPositive {
+                key: format!("{key}.scale"),
+                value: x,
+            })
+        }
+        "scale" => Change::Scale(x),
+        _ => Change::Cap(x),
+    })
+}
+
+/// A set or cap value must itself be accepted by the parameter (a cap below the range would
+/// take every sample out of it).
+fn check_value(param: ParamId, change: Change, key: &str) -> Result<(), StudyError> {
+    if let Change::Set(x) | Change::Cap(x) = change {
+        param.spec().check(x).map_err(|source| StudyError::Param {
+            key: format!("{key}.{}", change.kind()),
+            source,
+        })?;
+    }
+    Ok(())
+}
+
+/// The values a parameter takes over a study's samples: the bounds of its distribution (hard
+/// for uniform, truncated normal, levels, grids and operating-point columns; the extreme
+/// quantiles, soft, for normal and lognormal tails), or its one fixed value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ValueRange {
+    /// The smallest value.
+    pub lo: f64,
+    /// The largest value.
+    pub hi: f64,
+    /// Whether draws can reach the bounds (false: tails that a run's samples rarely reach).
+    pub hard: bool,
+}
+
+impl Study {
+    /// The values `param` takes over the study's samples.
+    pub fn value_range(&self, param: ParamId) -> ValueRange {
+        if let Some(d) = self.drawn.iter().find(|d| d.param == param) {
+            let grid = (self.design == Design::Grid)
+                .then(|| d.dist.grid_values())
+                .flatten();
+            if let Some(levels) = grid {
+                return hull(&levels);
+            }
+            return match &d.dist {
+                Distribution::Uniform { min, max, .. }
+                | Distribution::TruncatedNormal { min, max, .. } => ValueRange {
+                    lo: *min,
+                    hi: *max,
+                    hard: true,
+                },
+                Distribution::Levels(levels) => hull(levels),
+                dist @ (Distribution::Normal { .. } | Distribution::LogNormal { .. }) => {
+                    let (lo, hi) = dist.draw_range();
+                    ValueRange {
+                        lo,
+                        hi,
+                        hard: false,
+                    }
+                }
+            };
+        }
+        if let Some(op) = &self.operating_points {
+            if let Some(j) = op.names.iter().position(|n| *n == param.name()) {
+                let column: Vec<f64> = op.values.iter().map(|row| row[j]).collect();
+                return hull(&column);
+            }
+        }
+        let x = self.base[param];
+        ValueRange {
+            lo: x,
+            hi: x,
+            hard: true,
+        }
+    }
+
+    /// Refuses, before a run of `samples` samples with `seed` starts, a scenario change that
+    /// takes any sample's value outside its parameter's accepted range.
+    pub fn check_scenarios(&self, seed: u64, samples: u64) -> Result<(), StudyError> {
+        for s in &self.scenarios {
+            for c in &s.changes {
+                self.check_change(&s.key(c.param), *c, seed, samples)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Refuses `change` when it takes any of the run's samples outside its parameter's accepted
+    /// range; `key` names it in the message. The changed bounds decide where they are hard;
+    /// otherwise (or to say how many) the run's samples are counted, up to [`COUNT_LIMIT`].
+    pub fn check_change(
+        &self,
+        key: &str,
+        change: ParamChange,
+        seed: u64,
+        samples: u64,
+    ) -> Result<(), StudyError> {
+        let spec = change.param.spec();
+        let range = self.value_range(change.param);
+        let (a, b) = (change.change.apply(range.lo), change.change.apply(range.hi));
+        let to = (a.min(b), a.max(b));
+        if spec.check(to.0).is_ok() && spec.check(to.1).is_ok() {
+            return Ok(());
+        }
+        let leaving = (samples <= COUNT_LIMIT).then(|| self.count_leaving(change, seed, samples));
+        if !range.hard && leaving == Some(0) {
+            return Ok(());
+        }
+        Err(StudyError::ScenarioOutOfRange(Box::new(ChangeOutOfRange {
+            key: key.to_string(),
+            change: change.change.text(),
+            param: change.param.name(),
+            range: spec.range_text(),
+            leaving,
+            samples,
+            from: (range.lo, range.hi),
+            to,
+        })))
+    }
+
+    /// How many of the run's samples the change takes outside the parameter's range.
+    fn count_leaving(&self, change: ParamChange, seed: u64, samples: u64) -> u64 {
+        let sampler = self.sampler(seed, samples);
+        let spec = change.param.spec();
+        let leaves = |i: usize| {
+            let x = sampler.sample_with_row(i as u64).0[change.param];
+            spec.check(change.change.apply(x)).is_err()
+        };
+        let control = polywear_core::ensemble::Control::QUIET;
+        polywear_core::ensemble::solve(samples as usize, leaves, &control)
+            .all()
+            .into_iter()
+            .filter(|&leaves| leaves)
+            .count() as u64
+    }
+
+    /// Names of the row blocks of a sample, in row order: the baseline, then each scenario.
+    pub fn scenario_names(&self) -> Vec<&str> {
+        std::iter::once(BASELINE)
+            .chain(self.scenarios.iter().map(|s| s.name.as_str()))
+            .collect()
+    }
+
+    /// The scenarios as a JSON array (the `scenarios` metadata of every chunk).
+    pub fn scenarios_json(&self) -> serde_json::Value {
+        serde_json::Value::Array(self.scenarios.iter().map(Scenario::to_json).collect())
+    }
+}
+
+/// The smallest and largest of finite values, hard.
+fn hull(values: &[f64]) -> ValueRange {
+    let (lo, hi) = values
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    ValueRange { lo, hi, hard: true }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn changes_apply_as_their_names_say() {
+        assert_eq!(Change::Set(2.0).apply(5.0), 2.0);
+        assert_eq!(Change::Shift(-0.5).apply(5.0), 4.5);
+        assert_eq!(Change::Scale(2.0).apply(5.0), 10.0);
+        assert_eq!(Change::Cap(4.0).apply(5.0), 4.0);
+        assert_eq!(Change::Cap(6.0).apply(5.0), 5.0);
+        let c = ParamChange {
+            param: ParamId::ToeDeg,
+            change: Change::Shift(-0.15),
+        };
+        assert_eq!(c.words(), "toe_deg shifted by -0.15 deg");
+        let c = ParamChange {
+            param: ParamId::PressureKpa,
+            change: Change::Shift(20.0),
+        };
+        assert_eq!(c.words(), "pressure_kpa shifted by +20 kPa");
+        assert_eq!(scenario_key("toe_in"), "scenarios.toe_in");
+        assert_eq!(scenario_key("toe-in -0.15"), "scenarios.\"toe-in -0.15\"");
+    }
+
+    #[test]
+    fn a_scenario_changes_its_parameters_and_their_drawn_values_only() {
+        let s = Scenario {
+            name: "x".into(),
+            changes: vec![
+                ParamChange {
+                    param: ParamId::ToeDeg,
+                    change: Change::Shift(0.1),
+                },
+                ParamChange {
+                    param: ParamId::GMod,
+                    change: Change::Scale(2.0),
+                },
+            ],
+        };
+        let p = Params::default();
+        let q = s.apply(&p);
+        assert_eq!(q.toe_deg, p.toe_deg + 0.1);
+        assert_eq!(q.g_mod, 2.0 * p.g_mod);
+        assert_eq!(q.speed_kmh, p.speed_kmh);
+        let names = [ParamId::SpeedKmh, ParamId::GMod];
+        assert_eq!(s.apply_values(&names, &[100.0, 1.0]), vec![100.0, 2.0]);
+        assert_eq!(Scenario::from_json(&s.to_json()), Some(s));
+    }
+}
