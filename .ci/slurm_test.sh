@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # A real one-node Slurm cluster: installs slurm-wlm and munge, starts munged, slurmctld and
-# slurmd, submits GUIDE.md's job-array recipe word for word (4 shards of a small study, one of
-# them empty), waits, analyses the shard directories together, and checks that the rows and the
-# occurrence table equal a single-machine run. Stops the daemons it started, whatever happens.
+# slurmd, submits the book's job-array recipe (docs/book/src/how-to/slurm.md) word for word (4
+# shards of a small study, one of them empty), waits, analyses the shard directories together,
+# and checks that the rows and the occurrence table equal a single-machine run. Stops the
+# daemons it started, whatever happens.
 # Needs root (apt-get, daemons) and the release binary (built here if absent; CARGO_TARGET_DIR
 # is honoured).
 set -euo pipefail
@@ -98,11 +99,12 @@ for _ in $(seq 60); do
 done
 sinfo
 
-echo "== slurm: the GUIDE's job-array recipe, word for word"
-# The recipe is the ```sh block after the marker <!-- slurm-recipe --> in GUIDE.md.
+echo "== slurm: the book's job-array recipe, word for word"
+# The recipe is the ```sh block after the marker <!-- slurm-recipe --> in the book's Slurm page.
+RECIPE=docs/book/src/how-to/slurm.md
 awk '/<!-- slurm-recipe/ {m=1; next} m && /^```sh/ {p=1; next} p && /^```/ {exit} p' \
-  GUIDE.md > "$WORK/polywear.sbatch"
-grep -q -- "--array=0-3" "$WORK/polywear.sbatch" || { echo "recipe not found in GUIDE.md"; exit 1; }
+  "$RECIPE" > "$WORK/polywear.sbatch"
+grep -q -- "--array=0-3" "$WORK/polywear.sbatch" || { echo "recipe not found in $RECIPE"; exit 1; }
 cat "$WORK/polywear.sbatch"
 # A small study: 3 chunks of 100 samples for 4 shards, so shard 3 owns no chunk (an empty shard).
 mkdir -p "$WORK/job"

@@ -1,4 +1,4 @@
-"""Other Parquet layouts of the same explore rows, for BENCHMARKS.md#output-size.
+"""Other Parquet layouts of the same explore rows, for docs/book/src/maintainers/benchmarks.md#output-size.
 
 Usage: python3 benches/parquet_layouts.py RUN_DIR
 Reads every chunk of RUN_DIR (a `polywear explore` output) into one table and writes it back with

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Regenerates every table of BENCHMARKS.md, in one run, into data/benchmarks/report.md (and
+# Regenerates every table of docs/book/src/maintainers/benchmarks.md, in one run, into data/benchmarks/report.md (and
 # prints it). Each section names the exact command behind its figures, so any one of them can
 # be rerun alone. Timings depend on the machine and its load: the report starts with both.
 #
 # Usage: benches/regenerate.sh [--quick] [--out DIR] [--only SECTION,...]
-#   default: the sizes BENCHMARKS.md quotes, about 15 minutes on 2 quiet cores
+#   default: the sizes the benchmarks page quotes, about 15 minutes on 2 quiet cores
 #   --quick: tiny sizes and criterion's test mode, a smoke run (under a minute once built) that
 #            checks every benchmark still runs; its figures mean nothing
 #   --only:  just these sections (e.g. --only hot-paths,sampling), the report holding only them

@@ -1,8 +1,10 @@
 //! The documents hold together: every `NAME.md#anchor` cited in code, studies and documents names
 //! a heading that exists, every citation of MODEL.md in code names a section, no file points
 //! outside the repository (only `.ci/` may reach the shared reference copy), MODEL.md's parameter
-//! table is what `polywear params --markdown` prints, and every command of `polywear --help` has
-//! a row in README's command table and a section in GUIDE.md.
+//! table is what `polywear params --markdown` prints, the book's output-column table is what
+//! `records::columns_markdown()` prints, every page of the book is in its SUMMARY.md, and every
+//! command of `polywear --help` has a row in README's command table and a reference page of its
+//! own in the book.
 
 use crate::common;
 use std::collections::BTreeSet;
@@ -12,8 +14,12 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// The book's pages (mdBook's `src`), from the repository's root.
+const BOOK: &str = "docs/book/src";
+
 /// The text files of the project: root documents and manifests, and every file under the source,
-/// test, bench, study, example and docs folders (outputs under `data/` and `target/` excluded).
+/// test, bench, study, example and docs folders, the book's pages (`docs/book/src/`) among them
+/// (outputs under `data/` and `target/` excluded).
 fn project_files() -> Vec<PathBuf> {
     fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
         let Ok(entries) = std::fs::read_dir(dir) else {
@@ -82,53 +88,82 @@ fn anchors(markdown: &str) -> BTreeSet<String> {
     out
 }
 
-/// `(document, anchor)` for every `NAME.md#anchor` in a text, and for every bare `#step-...`
-/// that continues a MODEL.md citation ("MODEL.md#step-1-deflection to #step-3-tread-block").
-fn citations(text: &str) -> Vec<(String, String)> {
+/// One cited section: the document's path as written, the anchor, and whether the citation is
+/// a Markdown link's target (`[text](../../../../MODEL.md#variants)`).
+struct Citation {
+    doc: String,
+    anchor: String,
+    link: bool,
+}
+
+/// Every `PATH.md#anchor` in a text (the path with its folders, `../` included), and every bare
+/// `#step-...` that continues a MODEL.md citation ("MODEL.md#step-1-deflection to
+/// #step-3-tread-block").
+fn citations(text: &str) -> Vec<Citation> {
     let mut out = Vec::new();
     let bytes = text.as_bytes();
     let word = |c: u8| c.is_ascii_alphanumeric() || c == b'-' || c == b'_';
+    let path_char = |c: char| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '/' | '.');
     for (i, _) in text.match_indices(".md#") {
         let start = text[..i]
-            .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '/'))
-            .map_or(0, |s| s + 1);
-        let doc = &text[start..i + 3];
+            .char_indices()
+            .rev()
+            .find(|(_, c)| !path_char(*c))
+            .map_or(0, |(s, c)| s + c.len_utf8());
         let mut end = i + 4;
         while end < bytes.len() && word(bytes[end]) {
             end += 1;
         }
-        out.push((doc.to_string(), text[i + 4..end].to_string()));
+        out.push(Citation {
+            doc: text[start..i + 3].to_string(),
+            anchor: text[i + 4..end].to_string(),
+            link: text[..start].ends_with("]("),
+        });
     }
     for (i, _) in text.match_indices(" #step-") {
         let mut end = i + 2;
         while end < bytes.len() && word(bytes[end]) {
             end += 1;
         }
-        out.push(("MODEL.md".into(), text[i + 2..end].to_string()));
+        out.push(Citation {
+            doc: "MODEL.md".into(),
+            anchor: text[i + 2..end].to_string(),
+            link: false,
+        });
     }
     out
 }
 
 #[test]
 fn every_cited_section_exists() {
+    let files = project_files();
+    assert!(
+        files.iter().any(|f| rel(f) == format!("{BOOK}/SUMMARY.md")),
+        "the scan does not reach the book's pages ({BOOK}/)"
+    );
     let mut bad = Vec::new();
     let mut n = 0;
-    for f in project_files() {
+    for f in files {
         if rel(&f) == "tests/integration/docs.rs" {
             continue;
         }
         let text = std::fs::read_to_string(&f).unwrap();
-        for (doc, a) in citations(&text) {
-            // Paths are relative to the repository root (code, studies) or to the citing
-            // document (Markdown links); the project's documents all live at the root.
-            let name = Path::new(&doc).file_name().unwrap();
-            let target = root().join(name);
-            let ok = std::fs::read_to_string(&target)
-                .map(|t| anchors(&t).contains(&a))
+        for c in citations(&text) {
+            // A Markdown link resolves from the citing document's folder, as GitHub resolves it
+            // (a book page reaches MODEL.md as ../../../../MODEL.md); code, studies and running
+            // text name the path from the repository's root (MODEL.md#variants,
+            // docs/book/src/reference/explore.md#explore).
+            let base = if c.link && is_markdown(&f) {
+                f.parent().unwrap().to_path_buf()
+            } else {
+                root()
+            };
+            let ok = std::fs::read_to_string(base.join(&c.doc))
+                .map(|t| anchors(&t).contains(&c.anchor))
                 .unwrap_or(false);
             n += 1;
             if !ok {
-                bad.push(format!("{}: {doc}#{a}", rel(&f)));
+                bad.push(format!("{}: {}#{}", rel(&f), c.doc, c.anchor));
             }
         }
         // Links within one Markdown document: [text](#anchor).
@@ -243,17 +278,47 @@ fn model_md_parameter_table_is_current() {
 }
 
 #[test]
-fn guide_output_column_table_is_the_column_table() {
+fn book_output_column_table_is_the_column_table() {
     let table = polywear::records::columns_markdown();
-    let guide = std::fs::read_to_string(root().join("GUIDE.md")).unwrap();
+    let page = format!("{BOOK}/reference/output-files.md");
+    let text = std::fs::read_to_string(root().join(&page)).unwrap();
     assert!(
-        guide.contains(&table),
-        "GUIDE.md's output-column table differs from polywear::records::columns_markdown():\n{table}"
+        text.contains(&table),
+        "{page}'s output-column table differs from polywear::records::columns_markdown():\n{table}"
+    );
+}
+
+/// mdBook renders only the pages its SUMMARY.md lists: a page left out would read on GitHub but
+/// be missing from the book.
+#[test]
+fn every_book_page_is_in_the_summary() {
+    let book = root().join(BOOK);
+    let summary = std::fs::read_to_string(book.join("SUMMARY.md")).unwrap();
+    let mut missing = Vec::new();
+    let mut pages = 0;
+    for f in project_files() {
+        let Ok(page) = f.strip_prefix(book.as_path()) else {
+            continue;
+        };
+        if !is_markdown(&f) || page == Path::new("SUMMARY.md") {
+            continue;
+        }
+        pages += 1;
+        let page = page.display().to_string();
+        if !summary.contains(&format!("]({page})")) {
+            missing.push(page);
+        }
+    }
+    assert!(pages > 20, "only {pages} pages found under {BOOK}/");
+    assert!(
+        missing.is_empty(),
+        "pages of {BOOK}/ that its SUMMARY.md does not list:\n{}",
+        missing.join("\n")
     );
 }
 
 #[test]
-fn every_command_is_in_the_readme_table_and_the_guide() {
+fn every_command_is_in_the_readme_table_and_the_book() {
     let (code, help, _) = common::polywear(&["--help"]);
     assert_eq!(code, 0);
     let commands: Vec<&str> = help
@@ -266,7 +331,7 @@ fn every_command_is_in_the_readme_table_and_the_guide() {
         .collect();
     assert!(commands.len() >= 9, "{help}");
     let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
-    let guide = std::fs::read_to_string(root().join("GUIDE.md")).unwrap();
+    let summary = std::fs::read_to_string(root().join(BOOK).join("SUMMARY.md")).unwrap();
     let mut missing = Vec::new();
     for c in commands {
         if !readme.contains(&format!("| `polywear {c}")) {
@@ -274,8 +339,15 @@ fn every_command_is_in_the_readme_table_and_the_guide() {
                 "README.md: no row `| `polywear {c}...` in the command table"
             ));
         }
-        if !guide.contains(&format!("polywear {c}")) {
-            missing.push(format!("GUIDE.md: `polywear {c}` never shown"));
+        // Each command has a reference page of its own, which shows it, in the book's contents.
+        let page = format!("{BOOK}/reference/{c}.md");
+        match std::fs::read_to_string(root().join(&page)) {
+            Ok(text) if text.contains(&format!("polywear {c}")) => {}
+            Ok(_) => missing.push(format!("{page}: `polywear {c}` never shown")),
+            Err(_) => missing.push(format!("{page}: no reference page for `polywear {c}`")),
+        }
+        if !summary.contains(&format!("(reference/{c}.md)")) {
+            missing.push(format!("{BOOK}/SUMMARY.md: reference/{c}.md not listed"));
         }
     }
     assert!(missing.is_empty(), "{}", missing.join("\n"));
