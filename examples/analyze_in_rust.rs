@@ -1,5 +1,5 @@
 //! The analysis from Rust instead of the command line: `RunInfo` → `Analysis` → rendered
-//! report (GUIDE.md#analyze).
+//! report (docs/book/src/reference/analyze.md#analyze).
 //!
 //! Run: `cargo run --release --example analyze_in_rust -- EXPLORE_DIR REPORT_DIR`.
 

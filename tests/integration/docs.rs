@@ -17,7 +17,8 @@ fn root() -> PathBuf {
 /// The book's pages (mdBook's `src`), from the repository's root.
 const BOOK: &str = "docs/book/src";
 
-/// The text files of the project: root documents and manifests, and every file under the source,
+/// The text files of the project: root documents and manifests, and every file under the source
+/// (`src/` and the workspace's `crates/`),
 /// test, bench, study, example and docs folders, the book's pages (`docs/book/src/`) among them
 /// (outputs under `data/` and `target/` excluded).
 fn project_files() -> Vec<PathBuf> {
@@ -37,7 +38,7 @@ fn project_files() -> Vec<PathBuf> {
     let r = root();
     let mut files = Vec::new();
     for d in [
-        "src", "tests", "benches", "studies", "examples", "docs", ".ci",
+        "src", "crates", "tests", "benches", "studies", "examples", "docs", ".ci",
     ] {
         walk(&r.join(d), &mut files);
     }

@@ -72,11 +72,11 @@ fn pandas_polars_and_duckdb_read_the_same_frame_in_one_line_each() {
     }
     let dir = fresh_dir("py-readers");
     explore_default("300", &dir);
-    // The lines are the ones GUIDE.md shows, run against this output.
+    // The lines are the ones the explore reference page shows, run against this output.
     let snippet = include_str!("../data/read_run_snippet.py");
     assert!(
-        include_str!("../../GUIDE.md").contains(snippet.trim()),
-        "GUIDE.md must show tests/data/read_run_snippet.py"
+        include_str!("../../docs/book/src/reference/explore.md").contains(snippet.trim()),
+        "docs/book/src/reference/explore.md must show tests/data/read_run_snippet.py"
     );
     let script = snippet.replace("data/explore_highway_fleet_seed2014", dir.to_str().unwrap())
         + r#"
@@ -100,11 +100,11 @@ fn guide_pandas_snippet_agrees_with_analyze() {
     }
     let dir = fresh_dir("py-snippet");
     explore_default("2000", &dir);
-    // The snippet is the one printed in GUIDE.md, run against this output.
+    // The snippet is the one printed on the analyze reference page, run against this output.
     let snippet = include_str!("../data/guide_snippet.py");
     assert!(
-        include_str!("../../GUIDE.md").contains(snippet.trim()),
-        "GUIDE.md must show tests/data/guide_snippet.py"
+        include_str!("../../docs/book/src/reference/analyze.md").contains(snippet.trim()),
+        "docs/book/src/reference/analyze.md must show tests/data/guide_snippet.py"
     );
     let script = snippet.replace("data/explore_highway_fleet_seed2014", dir.to_str().unwrap())
         + r#"

@@ -20,7 +20,7 @@ use polywear_core::params::ParamId;
     "  polywear analyze data/explore_highway_fleet_seed2014 --pair g_mod,load_n\n",
     "  # the shards of one run, together\n",
     "  polywear analyze results/shard-*\n",
-    "\nGuide: GUIDE.md#analyze"
+    "\nGuide: docs/book/src/reference/analyze.md#analyze"
 ))]
 pub struct AnalyzeArgs {
     /// Explore output: a directory of chunk files, a Parquet file, or several (e.g. shard

@@ -20,7 +20,7 @@ use polywear_study::parquet_out::{write_table, Column};
     "Examples:\n",
     "  polywear bifurcation --param speed_kmh --from 40 --to 260 --steps 221\n",
     "  polywear bifurcation --param toe_deg --from 0.05 --to 1 --params studies/params_r0.toml\n",
-    "\nGuide: GUIDE.md#bifurcation"
+    "\nGuide: docs/book/src/reference/bifurcation.md#bifurcation"
 ))]
 pub struct BifurcationArgs {
     /// Parameter to sweep, by name (see `polywear params`), e.g. speed_kmh, toe_deg, load_n

@@ -19,7 +19,7 @@ use polywear_study::calibrate::{
     "  polywear calibrate studies/paper_targets.toml --out data/fit.toml\n",
     "  # then use the fitted parameters\n",
     "  polywear simulate --params data/fit.toml\n",
-    "\nGuide: GUIDE.md#calibrate"
+    "\nGuide: docs/book/src/reference/calibrate.md#calibrate"
 ))]
 pub struct CalibrateArgs {
     /// Targets file (TOML; see studies/paper_targets.toml)

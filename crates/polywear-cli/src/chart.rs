@@ -76,7 +76,7 @@ fn band_study(
     "  # the boundary's uncertainty band over 64 tire structures of a study\n",
     "  polywear chart --x speed_kmh --x-from 60 --x-to 250 --y toe_deg --y-from 0.05 --y-to 0.6 \\\n",
     "      --study studies/default.toml --structure-samples 64 --out data/chart_band.parquet\n",
-    "\nGuide: GUIDE.md#stability-charts"
+    "\nGuide: docs/book/src/reference/chart.md#stability-charts"
 ))]
 pub struct ChartArgs {
     /// Parameter on the horizontal axis, by name (see `polywear params`), e.g. speed_kmh

@@ -23,7 +23,7 @@ use polywear_study::parquet_out::{write_csv, write_table, Column};
     "  polywear classify points.csv --out data/points_classified.csv\n",
     "  # a fleet's telematics file, as a study's [operating_points] reads it\n",
     "  polywear classify studies/fleet_telematics.csv --weight hours --out data/fleet_points.csv\n",
-    "\nGuide: GUIDE.md#classify"
+    "\nGuide: docs/book/src/reference/classify.md#classify"
 ))]
 pub struct ClassifyArgs {
     /// CSV or Parquet with a header of parameter names (e.g. speed_kmh,toe_deg,load_n,pressure_kpa)

@@ -29,7 +29,7 @@ const STRUCTURE_SAMPLES_MAX: u64 = 100_000;
     "  # the highway cycle over 100 tire structures of a study: means and 90% intervals\n",
     "  polywear cycle data/cycles/hwfet.csv --study studies/default.toml --structure-samples 100 \\\n",
     "      --out data/hwfet\n",
-    "\nGuide: GUIDE.md#drive-cycles-polywear-cycle"
+    "\nGuide: docs/book/src/reference/cycle.md#drive-cycles-polywear-cycle"
 ))]
 pub struct CycleArgs {
     /// Drive cycle (CSV or Parquet): `time_s` (increasing) and `speed_kmh` (0 = standstill),

@@ -29,10 +29,10 @@ use resume::{check_against_recorded, parse_wear_zone, resume_command, wear_setti
     "  polywear explore studies/decoding.toml --out data/decoding --resume\n",
     "  # shard 0 of 4\n",
     "  polywear explore studies/wide_structure.toml --shard 0/4 --out results/shard-0\n",
-    "\nGuide: GUIDE.md#explore"
+    "\nGuide: docs/book/src/reference/explore.md#explore"
 ))]
 pub struct ExploreArgs {
-    /// Study file (TOML; see studies/ and GUIDE.md#studies). Without it: the built-in highway-fleet study
+    /// Study file (TOML; see studies/ and docs/book/src/how-to/studies.md#studies). Without it: the built-in highway-fleet study
     /// (studies/default.toml)
     #[arg(value_name = "STUDY.toml")]
     pub study: Option<PathBuf>,
@@ -368,7 +368,7 @@ fn write_failure(args: &ExploreArgs, plan: &RunPlan, e: &ExploreError) -> CliErr
 /// Below this `chunk_size` explore warns: each chunk costs a file and three fsyncs.
 const CHUNK_SIZE_WARN: u64 = 64;
 
-/// The warning for a small `chunk_size`, with its measured cost (BENCHMARKS.md#fsync).
+/// The warning for a small `chunk_size`, with its measured cost (docs/book/src/maintainers/benchmarks.md#fsync).
 fn chunk_size_warning(chunk_size: u64) -> Option<String> {
     (chunk_size < CHUNK_SIZE_WARN).then(|| {
         format!(
@@ -378,7 +378,7 @@ fn chunk_size_warning(chunk_size: u64) -> Option<String> {
     })
 }
 
-/// Measured side by side (GUIDE.md#what-is-guaranteed): explore and analyze of 2,000 samples of
+/// Measured side by side (docs/book/src/reference/guarantees.md#what-is-guaranteed): explore and analyze of 2,000 samples of
 /// the default study at chunk_size 1 against 4096.
 const CHUNK_1_EXPLORE_SLOWER: &str = "about 30x";
 /// See [`CHUNK_1_EXPLORE_SLOWER`].

@@ -3,6 +3,11 @@
 //! figures (`polywear-analysis`). One module per subcommand; every refusal is exit code 2.
 //! [`main`] is the whole program; the `polywear` binary only calls it.
 
+// The flags' doc comments are clap's --help text, which writes units as `[km]` and placeholders
+// as `<study>` (CONTRIBUTING.md): rustdoc reads those as links and HTML tags, and escaping them
+// would print the backslashes in --help.
+#![allow(rustdoc::broken_intra_doc_links, rustdoc::invalid_html_tags)]
+
 pub mod analyze;
 pub mod batch;
 pub mod bifurcation;
@@ -33,7 +38,7 @@ use clap::{Parser, Subcommand};
 #[command(name = "polywear", version, about, long_about, max_term_width = 100)]
 #[command(after_help = concat!(
     "Each command's --help explains its flags and ends with an example.\n",
-    "Guide: GUIDE.md (every command, studies, output files); the model: MODEL.md#the-physics-step-by-step"
+    "Guide: docs/book/src/SUMMARY.md (every command, studies, output files); the model: MODEL.md#the-physics-step-by-step"
 ))]
 struct Cli {
     #[command(subcommand)]
@@ -99,7 +104,7 @@ enum Command {
         "  polywear params\n",
         "  # the table of MODEL.md#parameter-table\n",
         "  polywear params --markdown\n",
-        "\nGuide: GUIDE.md#parameters-and-bad-input"
+        "\nGuide: docs/book/src/how-to/parameters-and-bad-input.md#parameters-and-bad-input"
     ))]
     Params {
         /// Print a Markdown table (as in MODEL.md#parameter-table)

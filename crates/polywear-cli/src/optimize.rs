@@ -29,7 +29,7 @@ use polywear_study::study::{Study, DEFAULT_STUDY, SEED_MAX};
     "  # the follower's vibration, with the pressure at least 230 kPa\n",
     "  polywear optimize studies/toe_and_pressure.toml --vary toe_deg=0.05..0.40 --vary pressure_kpa=200..300 \\\n",
     "      --objective vibration --wheel follower --constraint pressure_kpa>=230 --samples 2000 --out data/optimum_vib\n",
-    "\nGuide: GUIDE.md#optimize"
+    "\nGuide: docs/book/src/reference/optimize.md#optimize"
 ))]
 pub struct OptimizeArgs {
     /// Study file (TOML): every setting is evaluated on its samples. Without it: the built-in

@@ -15,7 +15,7 @@ use super::common::{CliError, CliResult};
     "  polywear reproduce\n",
     "  # at the constants R0\n",
     "  polywear reproduce --params studies/params_r0.toml --out data/paper_r0\n",
-    "\nGuide: GUIDE.md#reproduce"
+    "\nGuide: docs/book/src/reference/reproduce.md#reproduce"
 ))]
 pub struct ReproduceArgs {
     /// Output directory, created when missing

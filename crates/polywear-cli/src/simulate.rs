@@ -27,7 +27,7 @@ use polywear_study::trajectory::{time_series, Samples};
     "  polywear simulate --speed 150 --toe 0.4 --variant paper --json\n",
     "  # figure and time series\n",
     "  polywear simulate --plot data/point.png --out data/point.parquet\n",
-    "\nGuide: GUIDE.md#simulate"
+    "\nGuide: docs/book/src/reference/simulate.md#simulate"
 ))]
 pub struct SimulateArgs {
     #[command(flatten)]

@@ -14,7 +14,7 @@ use polywear_study::validation::{compare_with, median, Comparison, HOPF_BAND};
 #[command(after_help = concat!(
     "Examples:\n",
     "  polywear validate --points 340 --seed 1 --out data/validate_340.csv\n",
-    "\nGuide: GUIDE.md#validate"
+    "\nGuide: docs/book/src/reference/validate.md#validate"
 ))]
 pub struct ValidateArgs {
     /// Random operating points (each evaluated for 2 wheels × 3 variants), accepted [1, 100000]

@@ -3,7 +3,7 @@
 //! comes back as a [`PointSolution`], per wheel the static model (MODEL.md#the-physics-step-by-step,
 //! steps 1–8), the verdict (step 9) and the output row. Every command that evaluates operating
 //! points calls [`solve`]; a stage after the classifier is added here, and in no other place
-//! (ARCHITECTURE.md#how-to-add-a-stage-after-the-classifier).
+//! (docs/book/src/maintainers/architecture.md#how-to-add-a-stage-after-the-classifier).
 //!
 //! The wear stage (MODEL.md#the-per-sample-estimator) runs after the classifier when the problem
 //! carries a [`WearStage`]: the run's calibration and settings, computed once per run by

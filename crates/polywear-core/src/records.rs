@@ -5,7 +5,7 @@
 //! Every column is declared once, in `define_record!`'s table: name, unit, type and meaning.
 //! The row type [`WheelRecord`], the typed column ids [`RecordColumn`], the column table
 //! [`RECORD_COLUMNS`] (the Parquet and CSV writers, the `units` metadata, the analysis's column
-//! names, the table in GUIDE.md#output-files) and [`record_columns`] all come from it.
+//! names, the table in docs/book/src/reference/output-files.md#output-files) and [`record_columns`] all come from it.
 
 use serde::Serialize;
 
@@ -340,7 +340,7 @@ impl WheelRecord {
     }
 }
 
-/// The columns of an explore chunk as a Markdown table (GUIDE.md#output-files carries it, and a
+/// The columns of an explore chunk as a Markdown table (docs/book/src/reference/output-files.md#output-files carries it, and a
 /// test keeps the two equal): the sample columns, then every record column.
 pub fn columns_markdown() -> String {
     let mut out = String::from("| column | unit | type | meaning |\n|---|---|---|---|\n");

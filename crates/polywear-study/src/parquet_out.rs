@@ -101,14 +101,14 @@ impl Write for DigestingFile {
 }
 
 /// The zstd level of every file. Higher levels shrink the explore chunks by well under 1% (level
-/// 9: 0.3%) for several times the compression time (BENCHMARKS.md#output-size).
+/// 9: 0.3%) for several times the compression time (docs/book/src/maintainers/benchmarks.md#output-size).
 pub const ZSTD_LEVEL: i32 = 3;
 
 /// Whether a column is dictionary-encoded: names (wheel, variant, class, method, reason) and
 /// integers (few distinct values per file) are; floating-point values are written plain. Most
 /// floats of a row are distinct to the last bit, so a dictionary holds each value once more
 /// beside its index; where a value repeats (a sample's inputs on both wheels' rows), zstd finds
-/// the repeat in the plain bytes as well (BENCHMARKS.md#output-size). Byte-stream-split
+/// the repeat in the plain bytes as well (docs/book/src/maintainers/benchmarks.md#output-size). Byte-stream-split
 /// encoding measured larger still: it cuts the repeated 8-byte values apart.
 fn dictionary_encoded(data: &ColumnData) -> bool {
     !matches!(data, ColumnData::F64(_))

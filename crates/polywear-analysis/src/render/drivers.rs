@@ -85,7 +85,7 @@ pub(crate) fn drivers_section(s: &mut String, a: &Analysis) {
             let _ = writeln!(
                 s,
                 "\nTotal indices (interactions included) need a run with `design = \"saltelli\"` \
-                 in the study (GUIDE.md#analyze)."
+                 in the study (docs/book/src/reference/analyze.md#analyze)."
             );
         }
     }

@@ -26,7 +26,7 @@ pub fn write(
     for sw in &r.sweeps {
         let stem = format!("bifurcation_{}_{}", sw.param, sw.variant);
         let picture = FigureFile::named(dir, &stem, format);
-        crate::figures::bifurcation::draw(&picture, &sw).map_err(ReproduceError::Figure)?;
+        crate::figures::bifurcation::draw(&picture, sw).map_err(ReproduceError::Figure)?;
         files.push(picture.path);
     }
     files.push(bifurcation_table(r, dir)?);

@@ -41,7 +41,7 @@ const DRAWN_ORDERS: usize = 4;
     "  polywear wear --set wear_share_straight=1 --speed-spread-kmh 0 --estimate --out data/wear\n",
     "  # a drive cycle driven again and again\n",
     "  polywear wear --cycle data/cycles/hwfet.csv --out data/wear_cycle\n",
-    "\nGuide: GUIDE.md#wear"
+    "\nGuide: docs/book/src/reference/wear.md#wear"
 ))]
 pub struct WearArgs {
     #[command(flatten)]

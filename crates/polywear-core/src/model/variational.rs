@@ -1,6 +1,6 @@
 //! The tread ODE as the solver sees it: [`TreadOde`] is a [`crate::solver::OdeSystem`], and
 //! so are its variational equations ([`Variational`], [`SectionVariational`]) that shooting
-//! integrates for the monodromy matrix (MODEL.md#step-9-classification). The model owns these
+//! integrates for the monodromy matrix (MODEL.md#shooting). The model owns these
 //! impls, so the integrator stays generic and never names the tire.
 
 use super::TreadOde;

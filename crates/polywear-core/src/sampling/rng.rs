@@ -10,7 +10,7 @@
 //! - sample `i` (a sample index, below 2^62) reads stream `i`; its axis `a` starts at word
 //!   `2^32·a` (2^32 words of its own, so a rejection sampler may take as many as it needs);
 //!   the row a sample draws from a study's measured operating points reads its last axis,
-//!   2^36 − 1 ([`polywear_study::operating_points::ROW_AXIS`]), so the drawn parameters keep their values
+//!   2^36 − 1 (`ROW_AXIS` of polywear-study's `operating_points`), so the drawn parameters keep their values
 //!   with and without the file;
 //! - streams from [`LHS_STREAMS`] up hold the round functions of the Latin-hypercube permutation,
 //!   stream [`SOBOL_SCRAMBLE_STREAM`] the per-axis Sobol scrambling seeds.

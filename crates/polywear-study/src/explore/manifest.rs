@@ -2,7 +2,7 @@
 //! directory's `_manifest.json` and, with the chunk's own fields, as every chunk file's Parquet
 //! key–value metadata ([`crate::key_value`]); `--resume`, [`crate::explore::recorded_run`] and the
 //! analysis read it back typed. The keys and values are those pandas/pyarrow users read
-//! (GUIDE.md#output-files): text fields as text, numbers and lists as JSON.
+//! (docs/book/src/reference/output-files.md#output-files): text fields as text, numbers and lists as JSON.
 
 use std::path::PathBuf;
 
