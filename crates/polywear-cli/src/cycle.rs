@@ -7,7 +7,7 @@ use std::time::Instant;
 use clap::Args;
 
 use super::common::{base_metadata, BudgetArgs, CliError, CliResult, VariantArg};
-use polywear_analysis::figures::cycle::{CycleRun, FleetDraw};
+use polywear_analysis::figures::cycle::{CycleFilesError, CycleRun, FleetDraw};
 use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::WearStage;
 use polywear_core::model::Variant;
@@ -15,7 +15,7 @@ use polywear_core::params::{Group, ParamError, ParamId, Params};
 use polywear_core::sampling::design::Design;
 use polywear_core::wear::{WearSettings, WearZone};
 use polywear_core::wording::plain;
-use polywear_study::cycle::{classify_cycles, CycleError, DriveCycle, StepWheel};
+use polywear_study::cycle::{classify_cycles, DriveCycle, StepWheel};
 use polywear_study::study::Study;
 
 /// Most tire structures `--structure-samples` accepts.
@@ -518,9 +518,7 @@ fn write(
         wear_bases: if wear { structures.bases } else { Vec::new() },
     };
     let written = run.write(&args.out).map_err(|e| match e {
-        polywear_analysis::figures::cycle::CycleFilesError::Cycle(CycleError::CreateDir {
-            ..
-        }) => CliError(format!("--out {e}")),
+        CycleFilesError::CreateDir { .. } => CliError(format!("--out {e}")),
         e => CliError(e.to_string()),
     })?;
     if !args.quiet {

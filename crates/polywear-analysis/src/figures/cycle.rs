@@ -12,7 +12,7 @@ use polywear_core::params::{ParamId, Params, OPERATING_AXES};
 use polywear_core::records::{record_columns, OPERATING_POINT_ROW, SAMPLE_ID};
 use polywear_study::cycle::summary::{summarise, summary_columns, WheelSummary};
 use polywear_study::cycle::wear::cycle_wear;
-use polywear_study::cycle::{CycleError, DriveCycle, StepWheel};
+use polywear_study::cycle::{DriveCycle, StepWheel};
 use polywear_study::operating_points::OperatingPoints;
 use polywear_study::parquet_out::{write_csv, write_table, Column, WriteError};
 
@@ -20,8 +20,13 @@ use polywear_study::parquet_out::{write_csv, write_table, Column, WriteError};
 #[derive(Debug, thiserror::Error)]
 pub enum CycleFilesError {
     /// The output directory cannot be created.
-    #[error(transparent)]
-    Cycle(#[from] CycleError),
+    #[error("{}: {source}", dir.display())]
+    CreateDir {
+        /// The output directory.
+        dir: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
     /// A table could not be written.
     #[error(transparent)]
     Write(#[from] WriteError),
@@ -145,9 +150,11 @@ impl CycleRun<'_> {
     /// Writes `cycle.parquet`, `cycle_summary.csv` (+ `.parquet`) and `cycle.png` into `dir`;
     /// returns the paths written.
     pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>, CycleFilesError> {
-        polywear_study::safe_write::create_dir(dir).map_err(|source| CycleError::CreateDir {
-            dir: dir.to_path_buf(),
-            source,
+        polywear_study::safe_write::create_dir(dir).map_err(|source| {
+            CycleFilesError::CreateDir {
+                dir: dir.to_path_buf(),
+                source,
+            }
         })?;
         let mut meta = self.metadata.clone();
         meta.push((

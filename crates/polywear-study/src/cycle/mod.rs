@@ -19,7 +19,6 @@ pub mod wear;
 
 use std::path::{Path, PathBuf};
 
-use crate::parquet_out::WriteError;
 use crate::table_input::{NumericTable, TableError};
 use polywear_core::classify::{Class, ClassifierOptions};
 use polywear_core::ensemble::{self, Control};
@@ -101,17 +100,6 @@ pub enum CycleError {
         /// The parameter's refusal.
         source: ParamError,
     },
-    /// The output directory cannot be created.
-    #[error("{}: {source}", dir.display())]
-    CreateDir {
-        /// The output directory.
-        dir: PathBuf,
-        /// What the system said.
-        source: std::io::Error,
-    },
-    /// A table could not be written.
-    #[error(transparent)]
-    Write(#[from] WriteError),
 }
 
 /// "; did you mean `speed_kmh`?" for a misspelt parameter name, or nothing.
