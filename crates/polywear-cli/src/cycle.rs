@@ -7,7 +7,8 @@ use std::time::Instant;
 use clap::Args;
 
 use super::common::{base_metadata, BudgetArgs, CliError, CliResult, VariantArg};
-use polywear_analysis::figures::cycle::{CycleFilesError, CycleRun, FleetDraw};
+use polywear_analysis::figures::cycle::{CycleRun, FleetDraw};
+use polywear_analysis::figures::FilesError;
 use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::WearStage;
 use polywear_core::model::Variant;
@@ -518,7 +519,7 @@ fn write(
         wear_bases: if wear { structures.bases } else { Vec::new() },
     };
     let written = run.write(&args.out).map_err(|e| match e {
-        CycleFilesError::CreateDir { .. } => CliError(format!("--out {e}")),
+        FilesError::CreateDir { .. } => CliError(format!("--out {e}")),
         e => CliError(e.to_string()),
     })?;
     if !args.quiet {

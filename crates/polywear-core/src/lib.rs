@@ -12,6 +12,7 @@
 //! | classification (step 9) | [`classify`] | [`classify::classify`] → [`classify::WheelVerdict`] |
 //! | wear | [`wear`] | the per-sample estimate and the long-term loop |
 //! | the one road | [`evaluate`] | [`evaluate::PointProblem`] → [`evaluate::solve`] → [`evaluate::PointSolution`] |
+//! | the long-term loop on both wheels | [`long_term`] | [`long_term::LongTermProblem`] → [`long_term::solve`] → [`long_term::LongTermSolution`] |
 //! | ensembles | [`ensemble`] | [`ensemble::solve`] (an indexed family in parallel, in index order) |
 //! | records | [`records`] | [`records::WheelRecord`] (one row per wheel), [`records::record_columns`] → [`columns::Column`] |
 //!
@@ -48,6 +49,7 @@ pub mod columns;
 pub mod continuation;
 pub mod ensemble;
 pub mod evaluate;
+pub mod long_term;
 pub mod model;
 pub mod numeric;
 pub mod params;

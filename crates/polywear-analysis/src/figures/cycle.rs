@@ -5,6 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
+use super::FilesError;
 use crate::plot::cycle::{cycle_figure, WheelTrace};
 use crate::plot::{FigureFile, FigureFormat, PlotError};
 use polywear_core::model::Variant;
@@ -14,26 +15,7 @@ use polywear_study::cycle::summary::{summarise, summary_columns, WheelSummary};
 use polywear_study::cycle::wear::cycle_wear;
 use polywear_study::cycle::{DriveCycle, StepWheel};
 use polywear_study::operating_points::OperatingPoints;
-use polywear_study::parquet_out::{write_csv, write_table, Column, WriteError};
-
-/// Why a classified cycle's files were not written.
-#[derive(Debug, thiserror::Error)]
-pub enum CycleFilesError {
-    /// The output directory cannot be created.
-    #[error("{}: {source}", dir.display())]
-    CreateDir {
-        /// The output directory.
-        dir: PathBuf,
-        /// What the system said.
-        source: std::io::Error,
-    },
-    /// A table could not be written.
-    #[error(transparent)]
-    Write(#[from] WriteError),
-    /// The figure could not be drawn.
-    #[error(transparent)]
-    Plot(#[from] PlotError),
-}
+use polywear_study::parquet_out::{write_csv, write_table, Column};
 
 /// A classified cycle, for one or several tire structures.
 pub struct CycleRun<'a> {
@@ -149,12 +131,10 @@ impl CycleRun<'_> {
 
     /// Writes `cycle.parquet`, `cycle_summary.csv` (+ `.parquet`) and `cycle.png` into `dir`;
     /// returns the paths written.
-    pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>, CycleFilesError> {
-        polywear_study::safe_write::create_dir(dir).map_err(|source| {
-            CycleFilesError::CreateDir {
-                dir: dir.to_path_buf(),
-                source,
-            }
+    pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>, FilesError> {
+        polywear_study::safe_write::create_dir(dir).map_err(|source| FilesError::CreateDir {
+            dir: dir.to_path_buf(),
+            source,
         })?;
         let mut meta = self.metadata.clone();
         meta.push((

@@ -3,34 +3,24 @@
 //! few distances, a figure and the verdict in words.
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::common::{base_metadata, BudgetArgs, CliError, CliResult, PointArgs};
+use polywear_analysis::figures::wear::LongTermFiles;
+use polywear_analysis::figures::FilesError;
 use polywear_analysis::plot::FigureFormat;
-use polywear_core::classify::{Class, ClassifierOptions};
-use polywear_core::ensemble::{self, Control};
-use polywear_core::evaluate::{self, PointProblem, WearStage, WheelSolution};
-use polywear_core::model::{Variant, Wheel};
-use polywear_core::params::{ParamId, Params};
-use polywear_core::wear::long_term::{
-    cruise_legs, cycle_legs, run_wheel, Leg, LoopInputs, LoopSettings, SPEED_NODES,
+use polywear_core::classify::ClassifierOptions;
+use polywear_core::long_term::{
+    self, LongTermError, LongTermProblem, LongTermSolution, WheelLongTerm, MAX_DISTANCE_KM,
 };
-use polywear_core::wear::long_term::{WheelWear, FEEDBACK_ORDERS};
-use polywear_core::wear::tongue::{self, Tongue, TongueRequest};
-use polywear_core::wear::{WearSettings, WearZone};
+use polywear_core::model::Variant;
+use polywear_core::params::{ParamId, Params};
+use polywear_core::wear::long_term::{cruise_legs, Leg, LoopSettings, SPEED_NODES};
+use polywear_core::wear::WearZone;
 use polywear_core::wording::plain;
 use polywear_study::cycle::DriveCycle;
-
-mod outputs;
-use outputs::{figures, write_outputs};
-
-/// The largest distance `--distance-km` accepts \[km\].
-const MAX_DISTANCE_KM: f64 = 1e6;
-/// Orders drawn in the figure: the deepest at the end, per wheel.
-const DRAWN_ORDERS: usize = 4;
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -96,10 +86,7 @@ const MAX_SPEED_NODES: usize = 64;
 
 /// The checked inputs of a run.
 struct Plan {
-    params: Params,
-    variant: Variant,
-    legs: Vec<Leg>,
-    settings: LoopSettings,
+    problem: LongTermProblem,
     usage: String,
     metadata: Vec<(String, String)>,
 }
@@ -184,11 +171,20 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
         serde_json::to_string(&legs).expect("plain data"),
     ));
     metadata.push(("usage".into(), usage.clone()));
+    let classifier = ClassifierOptions {
+        budget: args.budget.apply(Default::default())?,
+        ..ClassifierOptions::default()
+    };
+    let problem =
+        LongTermProblem::new(p, variant, legs, settings, classifier).map_err(|e| match e {
+            LongTermError::Distance(km) => CliError(format!(
+                "--distance-km = {} is outside its accepted range (0, 1e6] km",
+                plain(km, 12)
+            )),
+            e => CliError(e.to_string()),
+        })?;
     Ok(Plan {
-        params: p,
-        variant,
-        legs,
-        settings,
+        problem,
         usage,
         metadata,
     })
@@ -216,20 +212,13 @@ fn read_cycle(
             names.join(", ")
         );
     }
-    let distances: Vec<f64> = cycle
-        .step_durations_s()
-        .iter()
-        .zip(&cycle.speed_kmh)
-        .map(|(dt, v)| dt * v / 3.6)
-        .collect();
-    let legs = cycle_legs(&cycle.speed_kmh, &distances, nodes);
+    let (legs, km) = cycle.wear_legs(nodes);
     if legs.is_empty() {
         return Err(CliError(format!(
             "--cycle {}: covers no distance (every step at standstill)",
             path.display()
         )));
     }
-    let km: f64 = distances.iter().sum::<f64>() / 1e3;
     Ok((
         legs,
         format!(
@@ -239,124 +228,28 @@ fn read_cycle(
     ))
 }
 
-/// The state the loop starts a wheel from: on the classifier's cycle where it vibrates.
-fn start_of(w: &WheelSolution) -> Option<[f64; 3]> {
-    let m = w.model.as_ref().ok()?;
-    let v = &w.verdict;
-    (v.class.vibrates() && v.section_v_mps > 0.0)
-        .then(|| [v.section_z_m, m.ode.equilibrium()[1], v.section_v_mps])
-}
-
 pub fn run(args: &WearArgs) -> CliResult {
     let plan = plan(args)?;
-    let p = plan.params;
-    let opts = ClassifierOptions {
-        budget: args.budget.apply(Default::default())?,
-        ..ClassifierOptions::default()
-    };
-    let settings = WearSettings {
-        zone: plan.settings.zone,
-    };
-    let stage = WearStage::for_run(&p, plan.variant, settings, &opts)
-        .map_err(|e| CliError(e.to_string()))?;
-    let gamma = stage.calibration.gamma_m3_per_j(&p);
-    let variants = [plan.variant];
-    let point = evaluate::solve(&PointProblem::new(p, &variants, &opts).with_wear(Some(&stage)));
-    let bar = progress_bar(args.quiet, 2.0 * plan.settings.distance_km);
-    let stop = AtomicBool::new(false);
+    let bar = progress_bar(args.quiet, 2.0 * plan.problem.settings.distance_km);
     let started = std::time::Instant::now();
-    let runs = ensemble::solve(
-        2,
-        |i| {
-            let w = &point.wheels[i];
-            let inputs = LoopInputs {
-                params: &p,
-                wheel: Wheel::BOTH[i],
-                variant: plan.variant,
-                gamma_m3_per_j: gamma,
-                legs: &plan.legs,
-                start: start_of(w),
-            };
-            match &w.model {
-                Ok(_) if !matches!(w.verdict.class, Class::NoTraction | Class::Failed) => {
-                    run_wheel(&inputs, &plan.settings, &|km| bar.inc(km.round() as u64))
-                        .map(|run| {
-                            let tongue = measured_tongue(&run, &inputs, &plan.settings);
-                            (run, tongue)
-                        })
-                        .map_err(|e| e.to_string())
-                }
-                Ok(_) => Err(format!("{}: {}", w.verdict.class, w.verdict.reason)),
-                Err(e) => Err(e.to_string()),
-            }
-        },
-        &Control {
-            progress: &|_| {},
-            stop: &|| stop.load(Ordering::Relaxed),
-        },
-    )
-    .all();
+    let solution = long_term::solve(&plan.problem, &|km| bar.inc(km.round() as u64))
+        .map_err(|e| CliError(e.to_string()))?;
     bar.finish_and_clear();
     let secs = started.elapsed().as_secs_f64();
-    let wheels: Vec<WheelOutcome> = point
-        .wheels
-        .iter()
-        .zip(runs)
-        .enumerate()
-        .map(|(i, (w, outcome))| {
-            let (run, tongue) = match outcome {
-                Ok((run, tongue)) => (Ok(run), tongue),
-                Err(e) => (Err(e), Err("no run".into())),
-            };
-            WheelOutcome {
-                wheel: Wheel::BOTH[i],
-                solution: w,
-                run,
-                tongue,
-            }
-        })
-        .collect();
-    write_outputs(args, &plan, &wheels)?;
-    print_verdict(&plan, &wheels, args.estimate, secs);
+    LongTermFiles {
+        solution: &solution,
+        metadata: &plan.metadata,
+        estimate: args.estimate,
+        format: args.format,
+        title: format!("polywear wear: {}", plan.usage),
+    }
+    .write(&args.out)
+    .map_err(|e| match e {
+        FilesError::CreateDir { .. } => CliError(format!("--out {e}")),
+        e => CliError(e.to_string()),
+    })?;
+    print_verdict(&plan, &solution, args.estimate, secs);
     Ok(())
-}
-
-/// One wheel's verdict, its estimate and its loop.
-struct WheelOutcome<'a> {
-    wheel: Wheel,
-    solution: &'a WheelSolution,
-    run: Result<WheelWear, String>,
-    /// The tongue measured at the end where a leg is locked (`None` where none is), or why it
-    /// could not be.
-    tongue: Result<Option<Tongue>, String>,
-}
-
-/// The lock-in tongue at the run's end, measured at its final profile around its locked leg
-/// (`wear::tongue`); `None` where no leg is locked at the end.
-fn measured_tongue(
-    run: &WheelWear,
-    inputs: &LoopInputs<'_>,
-    settings: &LoopSettings,
-) -> Result<Option<Tongue>, String> {
-    let Some((leg, speed_kmh, order)) = run.locked_leg() else {
-        return Ok(None);
-    };
-    let (Some(start), Some((_, depth_m))) = (run.end_states[leg], run.profiles.last()) else {
-        return Ok(None);
-    };
-    tongue::measure(&TongueRequest {
-        params: inputs.params,
-        wheel: inputs.wheel,
-        variant: inputs.variant,
-        zone: settings.zone,
-        depth_m,
-        tread_height_m: run.end().tread_height_m,
-        start,
-        locked: (speed_kmh, order),
-        orders: FEEDBACK_ORDERS,
-        rtol: settings.rtol,
-    })
-    .map_err(|e| e.to_string())
 }
 
 fn progress_bar(quiet: bool, total_km: f64) -> ProgressBar {
@@ -381,7 +274,7 @@ fn progress_bar(quiet: bool, total_km: f64) -> ProgressBar {
 }
 
 /// The verdict of one wheel in words.
-fn verdict_words(o: &WheelOutcome<'_>, p: &Params, distance_km: f64) -> String {
+fn verdict_words(o: &WheelLongTerm, p: &Params, distance_km: f64) -> String {
     let run = match &o.run {
         Ok(r) => r,
         Err(e) => return format!("{}: no wear figures ({e})", o.wheel),
@@ -434,28 +327,21 @@ fn verdict_words(o: &WheelOutcome<'_>, p: &Params, distance_km: f64) -> String {
 
 /// A distance in words: to the km below 1,000 km, to 100 km above, with thousands separators.
 fn thousands(km: f64) -> String {
-    let rounded = if km < 1e3 {
-        km.round()
+    polywear_core::wording::thousands(if km < 1e3 {
+        km
     } else {
         (km / 100.0).round() * 100.0
-    };
-    let s = format!("{rounded:.0}");
-    let mut out = String::new();
-    for (i, c) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i) % 3 == 0 {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
+    })
 }
 
-fn print_verdict(plan: &Plan, wheels: &[WheelOutcome<'_>], estimate: bool, secs: f64) {
-    let p = &plan.params;
+fn print_verdict(plan: &Plan, solution: &LongTermSolution, estimate: bool, secs: f64) {
+    let p = &plan.problem.params;
+    let settings = &plan.problem.settings;
+    let wheels = &solution.wheels;
     println!(
         "{} (wear zone {}, phi_s = {}, seed run-out {} um, visible at {} mm); {:.1} s",
         plan.usage,
-        plan.settings.zone,
+        settings.zone,
         plain(p.wear_share_straight, 4),
         plain(p.seed_runout_um, 4),
         plain(p.visible_depth_mm, 4),
@@ -463,23 +349,23 @@ fn print_verdict(plan: &Plan, wheels: &[WheelOutcome<'_>], estimate: bool, secs:
     );
     let words: Vec<String> = wheels
         .iter()
-        .map(|w| verdict_words(w, p, plan.settings.distance_km))
+        .map(|w| verdict_words(w, p, settings.distance_km))
         .collect();
     println!("{}", words.join("; "));
     for w in wheels {
-        let f = figures(w, p);
+        let f = w.figures(p);
         // The growth from the seed (the estimator's figure) and over the last step, which can
         // differ in sign once the tread has worn and ν has moved.
         let at_end = w.run.as_ref().map_or(f64::NAN, |r| {
-            r.end().growth_per_m[f.dominant as usize - 1] * 1e6
+            r.end().growth_per_m[f.dominant_order as usize - 1] * 1e6
         });
         println!(
             "  {}: loop      dominant order {}, growth {} per 1000 km from the seed, {} at the end, distance {} km",
             w.wheel,
-            plain(f.dominant, 4),
-            plain(f.growth_rate, 3),
+            plain(f.dominant_order, 4),
+            plain(f.growth_rate_per_1000km, 3),
             plain(at_end, 3),
-            plain(f.distance_km.round(), 8)
+            plain(f.distance_to_visible_km.round(), 8)
         );
         if estimate {
             match &w.solution.wear {

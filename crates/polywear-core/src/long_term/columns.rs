@@ -1,0 +1,140 @@
+//! The long-term run as columns: the summary (one row per wheel), the history (per wheel, step
+//! and order) and the profiles (per wheel, chosen distance and cell).
+
+use super::{LongTermFigures, LongTermSolution};
+use crate::columns::Column;
+use crate::wear::WearEstimate;
+
+/// An `estimate_*` column: name, unit and how it reads a wheel's estimate.
+type EstimateColumn = (&'static str, &'static str, fn(&WearEstimate) -> f64);
+
+impl LongTermSolution {
+    /// One row per wheel: class, orders, lock, rates and the distance to a visible polygon;
+    /// with `estimate`, the per-sample estimator's `estimate_*` columns beside them.
+    pub fn summary_columns(&self, estimate: bool) -> Vec<Column> {
+        let p = &self.params;
+        let wheels = &self.wheels;
+        let f: Vec<LongTermFigures> = wheels.iter().map(|w| w.figures(p)).collect();
+        let col = |name: &str, unit: &'static str, get: &dyn Fn(&LongTermFigures) -> f64| {
+            Column::f64(name, unit, f.iter().map(get).collect())
+        };
+        let mut cols = vec![
+            Column::str(
+                "wheel",
+                wheels
+                    .iter()
+                    .map(|w| w.wheel.as_str().to_string())
+                    .collect(),
+            ),
+            Column::str(
+                "class",
+                wheels
+                    .iter()
+                    .map(|w| w.solution.verdict.class.to_string())
+                    .collect(),
+            ),
+            Column::f64(
+                "polygon_order",
+                "",
+                wheels
+                    .iter()
+                    .map(|w| w.solution.verdict.polygon_order)
+                    .collect(),
+            ),
+            col("dominant_order", "", &|x| x.dominant_order),
+            col("detuning_rev", "", &|x| x.detuning_rev),
+            Column::i64("locked", "", f.iter().map(|x| x.locked as i64).collect()),
+            col("lock_halfwidth_hz", "Hz", &|x| x.lock_halfwidth_hz),
+            col("wear_even_mm_per_1000km", "mm/1000 km", &|x| {
+                x.even_mm_per_1000km
+            }),
+            col("growth_mm_per_1000km", "mm/1000 km", &|x| {
+                x.growth_mm_per_1000km
+            }),
+            col("growth_rate_per_1000km", "1/1000 km", &|x| {
+                x.growth_rate_per_1000km
+            }),
+            col("saturation_depth_mm", "mm", &|x| x.saturation_depth_mm),
+            col("distance_to_visible_km", "km", &|x| {
+                x.distance_to_visible_km
+            }),
+            Column::f64(
+                "wear_calibration_share",
+                "",
+                vec![p.wear_share_straight; wheels.len()],
+            ),
+        ];
+        if estimate {
+            let est = |get: &dyn Fn(&WearEstimate) -> f64| -> Vec<f64> {
+                wheels
+                    .iter()
+                    .map(|w| w.solution.wear.as_ref().map_or(f64::NAN, get))
+                    .collect()
+            };
+            let columns: [EstimateColumn; 4] = [
+                ("estimate_dominant_order", "", |e| e.polygon_order_dominant),
+                ("estimate_detuning_rev", "", |e| e.detuning_rev),
+                ("estimate_growth_rate_per_1000km", "1/1000 km", |e| {
+                    e.growth_rate_per_1000km
+                }),
+                ("estimate_distance_to_visible_km", "km", |e| {
+                    e.distance_to_visible_km
+                }),
+            ];
+            for (name, unit, get) in columns {
+                cols.push(Column::f64(name, unit, est(&get)));
+            }
+        }
+        cols
+    }
+
+    /// The history: one row per wheel, step and order (depth peak-to-valley).
+    pub fn history_columns(&self) -> Vec<Column> {
+        let (mut wheel, mut km, mut order, mut depth, mut height) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for w in &self.wheels {
+            let Ok(run) = &w.run else { continue };
+            for h in &run.history {
+                for (n, d) in h.depths_m.iter().enumerate() {
+                    wheel.push(w.wheel.as_str().to_string());
+                    km.push(h.distance_km);
+                    order.push(n as i64 + 1);
+                    depth.push(d * 1e3);
+                    height.push(h.tread_height_m * 1e3);
+                }
+            }
+        }
+        vec![
+            Column::str("wheel", wheel),
+            Column::f64("distance_km", "km", km),
+            Column::i64("order", "", order),
+            Column::f64("depth_mm", "mm", depth),
+            Column::f64("tread_height_mm", "mm", height),
+        ]
+    }
+
+    /// The profiles: one row per wheel, chosen distance and cell (the worn depth minus its
+    /// mean, so r = −depth).
+    pub fn profile_columns(&self) -> Vec<Column> {
+        let (mut wheel, mut km, mut angle, mut depth) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for w in &self.wheels {
+            let Ok(run) = &w.run else { continue };
+            for (s, d) in &run.profiles {
+                let mean = d.iter().sum::<f64>() / d.len() as f64;
+                for (i, x) in d.iter().enumerate() {
+                    wheel.push(w.wheel.as_str().to_string());
+                    km.push(*s);
+                    angle.push(360.0 * (i as f64 + 0.5) / d.len() as f64);
+                    depth.push((x - mean) * 1e3);
+                }
+            }
+        }
+        vec![
+            Column::str("wheel", wheel),
+            Column::f64("distance_km", "km", km),
+            Column::f64("angle_deg", "deg", angle),
+            Column::f64("depth_mm", "mm", depth),
+        ]
+    }
+}

@@ -1,0 +1,66 @@
+//! The figures of one wheel's run that the summary table and the verdict quote.
+
+use super::WheelLongTerm;
+use crate::params::Params;
+
+/// The summary's figures of one wheel (NaN where undefined: no run, no tongue).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LongTermFigures {
+    /// The deepest order at the end.
+    pub dominant_order: f64,
+    /// The vibration's order ν minus the dominant order \[rev\].
+    pub detuning_rev: f64,
+    /// Whether a leg is locked at the end.
+    pub locked: bool,
+    /// The tongue's half-width at the end \[Hz\].
+    pub lock_halfwidth_hz: f64,
+    /// The even wear rate \[mm/1000 km\].
+    pub even_mm_per_1000km: f64,
+    /// The dominant order's depth rate at the end \[mm/1000 km\].
+    pub growth_mm_per_1000km: f64,
+    /// The dominant order's linear growth rate from the seed \[1/1000 km\].
+    pub growth_rate_per_1000km: f64,
+    /// The depth at which the growth saturates \[mm\].
+    pub saturation_depth_mm: f64,
+    /// The distance to a visible polygon \[km\] (+inf where every order levels out).
+    pub distance_to_visible_km: f64,
+}
+
+impl WheelLongTerm {
+    /// The figures of this wheel's run.
+    pub fn figures(&self, p: &Params) -> LongTermFigures {
+        let nan = f64::NAN;
+        let Ok(run) = &self.run else {
+            return LongTermFigures {
+                dominant_order: nan,
+                detuning_rev: nan,
+                locked: false,
+                lock_halfwidth_hz: nan,
+                even_mm_per_1000km: nan,
+                growth_mm_per_1000km: nan,
+                growth_rate_per_1000km: nan,
+                saturation_depth_mm: nan,
+                distance_to_visible_km: nan,
+            };
+        };
+        let n = run.dominant_order();
+        let e = run.end();
+        let i = n as usize - 1;
+        let nu = self.solution.verdict.polygon_order;
+        let lock_halfwidth_hz = match &self.tongue {
+            Ok(Some(t)) => t.halfwidth_hz,
+            _ => nan,
+        };
+        LongTermFigures {
+            dominant_order: n as f64,
+            detuning_rev: nu - n as f64,
+            locked: run.locked_speed_kmh().is_some(),
+            lock_halfwidth_hz,
+            even_mm_per_1000km: run.even_wear_m_per_m * 1e9,
+            growth_mm_per_1000km: e.depth_rate_m_per_m[i] * 1e9,
+            growth_rate_per_1000km: run.linear_growth_per_m(n) * 1e6,
+            saturation_depth_mm: run.saturation_depth_m() * 1e3,
+            distance_to_visible_km: run.distance_to_visible_km(p.visible_depth_mm * 1e-3),
+        }
+    }
+}

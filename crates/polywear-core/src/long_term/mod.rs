@@ -1,0 +1,238 @@
+//! The long-term loop as a problem (MODEL.md#the-long-term-loop): one operating point driven
+//! over a distance on both wheels, `LongTermProblem` → [`solve`] → [`LongTermSolution`]. Above
+//! [`crate::evaluate`] (each wheel starts from its verdict) and [`crate::wear::long_term`] (the
+//! loop of one wheel), which is why it is a module of its own and not a part of `wear`.
+
+use crate::classify::{Class, ClassifierOptions};
+use crate::ensemble::{self, Control};
+use crate::evaluate::{self, PointProblem, WearStage, WheelSolution};
+use crate::model::{ModelFailure, Variant, Wheel};
+use crate::params::Params;
+use crate::wear::long_term::{
+    run_wheel, Leg, LoopInputs, LoopSettings, WheelWear, FEEDBACK_ORDERS,
+};
+use crate::wear::tongue::{self, Tongue, TongueRequest};
+use crate::wear::{WearError, WearSettings};
+
+mod columns;
+mod figures;
+pub use figures::LongTermFigures;
+
+/// The largest distance a long-term problem accepts \[km\].
+pub const MAX_DISTANCE_KM: f64 = 1e6;
+
+/// Why a long-term problem was refused before any work.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum LongTermError {
+    /// The distance is outside (0, [`MAX_DISTANCE_KM`]].
+    #[error("distance_km = {0} is outside its accepted range (0, 1e6] km")]
+    Distance(f64),
+    /// No leg to drive, or a leg whose speed or share is not positive and finite.
+    #[error("the usage has no legs, or a leg without a positive speed and share")]
+    Legs,
+    /// The wear stage could not be calibrated (MODEL.md#calibration).
+    #[error(transparent)]
+    Stage(#[from] WearError),
+}
+
+/// One operating point and its usage, both wheels, over a distance.
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub struct LongTermProblem {
+    /// The point's parameters (each leg drives its own speed).
+    pub params: Params,
+    /// The friction variant of both wheels.
+    pub variant: Variant,
+    /// The speeds driven and their shares of the distance.
+    pub legs: Vec<Leg>,
+    /// The loop's steps, cells, seed, wear zone and distance.
+    pub settings: LoopSettings,
+    /// The classifier that gives each wheel its start (its cycle where it vibrates).
+    pub classifier: ClassifierOptions,
+}
+
+impl LongTermProblem {
+    /// A problem whose distance and legs are checked.
+    pub fn new(
+        params: Params,
+        variant: Variant,
+        legs: Vec<Leg>,
+        settings: LoopSettings,
+        classifier: ClassifierOptions,
+    ) -> Result<Self, LongTermError> {
+        let km = settings.distance_km;
+        if !(km > 0.0 && km <= MAX_DISTANCE_KM) {
+            return Err(LongTermError::Distance(km));
+        }
+        let good = |x: f64| x.is_finite() && x > 0.0;
+        if legs.is_empty() || !legs.iter().all(|l| good(l.speed_kmh) && good(l.share)) {
+            return Err(LongTermError::Legs);
+        }
+        Ok(LongTermProblem {
+            params,
+            variant,
+            legs,
+            settings,
+            classifier,
+        })
+    }
+}
+
+/// Why a wheel has no long-term run, or no tongue.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum WheelRunFailure {
+    /// The wheel has no tread ODE.
+    #[error("{0}")]
+    Model(ModelFailure),
+    /// The wheel has an ODE but no traction or no verdict to start from.
+    #[error("{class}: {reason}")]
+    Verdict {
+        /// Its class.
+        class: Class,
+        /// Why.
+        reason: String,
+    },
+    /// The loop, or the tongue's measurement, could not integrate.
+    #[error("{0}")]
+    Loop(WearError),
+    /// No run, so no tongue to measure.
+    #[error("no run")]
+    NoRun,
+}
+
+/// One wheel's verdict, its estimate and its loop.
+#[derive(Debug, Clone)]
+pub struct WheelLongTerm {
+    /// Which wheel.
+    pub wheel: Wheel,
+    /// The point's evaluation of this wheel: its verdict and the per-sample estimate.
+    pub solution: WheelSolution,
+    /// The loop's history and profiles, or why there is none.
+    pub run: Result<WheelWear, WheelRunFailure>,
+    /// The lock-in tongue measured at the end where a leg is locked (`None` where none is),
+    /// or why it could not be.
+    pub tongue: Result<Option<Tongue>, WheelRunFailure>,
+}
+
+/// Both wheels' runs, in [`Wheel::BOTH`] order.
+#[derive(Debug, Clone)]
+pub struct LongTermSolution {
+    /// The point's parameters.
+    pub params: Params,
+    /// One per wheel.
+    pub wheels: Vec<WheelLongTerm>,
+}
+
+/// Runs both wheels in parallel, each from its verdict's cycle where it vibrates; `progress`
+/// is called with the kilometres just run. The wear stage is calibrated first (a refused
+/// calibration is the one error: a wheel that cannot run is an answer, not an error).
+pub fn solve(
+    problem: &LongTermProblem,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<LongTermSolution, LongTermError> {
+    let p = problem.params;
+    let settings = &problem.settings;
+    let stage = WearStage::for_run(
+        &p,
+        problem.variant,
+        WearSettings {
+            zone: settings.zone,
+        },
+        &problem.classifier,
+    )?;
+    let gamma = stage.calibration.gamma_m3_per_j(&p);
+    let variants = [problem.variant];
+    let point = evaluate::solve(
+        &PointProblem::new(p, &variants, &problem.classifier).with_wear(Some(&stage)),
+    );
+    let runs = ensemble::solve(
+        2,
+        |i| {
+            let w = &point.wheels[i];
+            let inputs = LoopInputs {
+                params: &p,
+                wheel: Wheel::BOTH[i],
+                variant: problem.variant,
+                gamma_m3_per_j: gamma,
+                legs: &problem.legs,
+                start: start_of(w),
+            };
+            match &w.model {
+                Ok(_) if !matches!(w.verdict.class, Class::NoTraction | Class::Failed) => {
+                    run_wheel(&inputs, settings, progress)
+                        .map(|run| {
+                            let tongue = measured_tongue(&run, &inputs, settings);
+                            (run, tongue)
+                        })
+                        .map_err(WheelRunFailure::Loop)
+                }
+                Ok(_) => Err(WheelRunFailure::Verdict {
+                    class: w.verdict.class,
+                    reason: w.verdict.reason.clone(),
+                }),
+                Err(e) => Err(WheelRunFailure::Model(e.clone())),
+            }
+        },
+        &Control {
+            progress: &|_| {},
+            stop: &|| false,
+        },
+    )
+    .all();
+    let wheels = point
+        .wheels
+        .into_iter()
+        .zip(runs)
+        .enumerate()
+        .map(|(i, (solution, outcome))| {
+            let (run, tongue) = match outcome {
+                Ok((run, tongue)) => (Ok(run), tongue),
+                Err(e) => (Err(e), Err(WheelRunFailure::NoRun)),
+            };
+            WheelLongTerm {
+                wheel: Wheel::BOTH[i],
+                solution,
+                run,
+                tongue,
+            }
+        })
+        .collect();
+    Ok(LongTermSolution { params: p, wheels })
+}
+
+/// The state the loop starts a wheel from: on the classifier's cycle where it vibrates.
+fn start_of(w: &WheelSolution) -> Option<[f64; 3]> {
+    let m = w.model.as_ref().ok()?;
+    let v = &w.verdict;
+    (v.class.vibrates() && v.section_v_mps > 0.0)
+        .then(|| [v.section_z_m, m.ode.equilibrium()[1], v.section_v_mps])
+}
+
+/// The lock-in tongue at the run's end, measured at its final profile around its locked leg
+/// (`wear::tongue`); `None` where no leg is locked at the end.
+fn measured_tongue(
+    run: &WheelWear,
+    inputs: &LoopInputs<'_>,
+    settings: &LoopSettings,
+) -> Result<Option<Tongue>, WheelRunFailure> {
+    let Some((leg, speed_kmh, order)) = run.locked_leg() else {
+        return Ok(None);
+    };
+    let (Some(start), Some((_, depth_m))) = (run.end_states[leg], run.profiles.last()) else {
+        return Ok(None);
+    };
+    tongue::measure(&TongueRequest {
+        params: inputs.params,
+        wheel: inputs.wheel,
+        variant: inputs.variant,
+        zone: settings.zone,
+        depth_m,
+        tread_height_m: run.end().tread_height_m,
+        start,
+        locked: (speed_kmh, order),
+        orders: FEEDBACK_ORDERS,
+        rtol: settings.rtol,
+    })
+    .map_err(WheelRunFailure::Loop)
+}
