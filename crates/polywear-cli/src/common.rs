@@ -10,6 +10,7 @@ use polywear_analysis::plot::{FigureFile, FigureFormat};
 use polywear_core::classify::WheelBudget;
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::{ParamError, ParamId, Params};
+use polywear_study::param_sources::{Refusal, Typed};
 
 /// An error that ends the program: printed as `error: …`, exit code 2.
 #[derive(Debug)]
@@ -18,6 +19,12 @@ pub struct CliError(pub String);
 impl std::fmt::Display for CliError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(&self.0)
+    }
+}
+
+impl From<Refusal> for CliError {
+    fn from(e: Refusal) -> Self {
+        CliError(e.0)
     }
 }
 
@@ -151,30 +158,9 @@ pub fn parse_assignment(s: &str) -> Result<(String, f64), String> {
     Ok((name.to_string(), value))
 }
 
-/// The parameters of a command, and where the explicitly given ones came from: a command that
-/// also sets a parameter itself (a sweep, a chart's axes, a study) refuses or notes the overlap.
-#[derive(Debug, Clone)]
-pub struct Resolved {
-    /// Defaults, then the `--params` file, then `--set` and the named flags; validated.
-    pub params: Params,
-    /// The `--params` file and the parameters it names.
-    pub file: Option<(std::path::PathBuf, Vec<ParamId>)>,
-    /// The parameters typed on the command line, each with its words (`--toe 0.15`).
-    pub typed: Vec<(ParamId, String)>,
-}
-
-impl Resolved {
-    /// Where parameter `id` was given explicitly (`--toe 0.15`, `--params FILE`), if it was.
-    pub fn given_by(&self, id: ParamId) -> Option<String> {
-        if let Some((_, by)) = self.typed.iter().find(|(t, _)| *t == id) {
-            return Some(by.clone());
-        }
-        let (path, names) = self.file.as_ref()?;
-        names
-            .contains(&id)
-            .then(|| format!("--params {}", path.display()))
-    }
-}
+pub use polywear_study::param_sources::{
+    param_file, refuse_file_overlap, refuse_reserved_names, ParamSources as Resolved,
+};
 
 impl PointArgs {
     /// Defaults, then `--params`, then `--set` and the four named flags; everything validated
@@ -183,20 +169,20 @@ impl PointArgs {
         self.resolve().map(|r| r.params)
     }
 
-    /// The parameters with their sources. A parameter typed twice on the command line
-    /// (`--set speed_kmh=80 --speed 100`) is refused as ambiguous; a typed value replaces the
-    /// `--params` file's and a note says so; implausible values are refused unless
-    /// `--accept-implausible`.
+    /// The parameters with their sources ([`Resolved::resolve`]: the one-place rule), the
+    /// notes printed on stderr.
     pub fn resolve(&self) -> CliResult<Resolved> {
-        let (mut p, named) = param_file(self.params.as_deref(), self.accept_implausible)?;
-        let file_values = p;
-        let mut typed: Vec<(ParamId, String, f64)> = Vec::new();
+        let mut typed = Vec::new();
         for (name, value) in &self.set {
-            let by = format!("--set {name}={}", polywear_core::wording::plain(*value, 12));
             let id: ParamId = name
                 .parse()
                 .map_err(|e: ParamError| CliError(format!("--set {name}={value}: {e}")))?;
-            typed.push((id, by, *value));
+            let by = format!("--set {name}={}", polywear_core::wording::plain(*value, 12));
+            typed.push(Typed {
+                id,
+                by,
+                value: *value,
+            });
         }
         for (flag, id, value) in [
             ("--speed", ParamId::SpeedKmh, self.speed),
@@ -204,131 +190,30 @@ impl PointArgs {
             ("--load", ParamId::LoadN, self.load),
             ("--pressure", ParamId::PressureKpa, self.pressure),
         ] {
-            if let Some(v) = value {
-                typed.push((
-                    id,
-                    format!("{flag} {}", polywear_core::wording::plain(v, 12)),
-                    v,
-                ));
+            if let Some(value) = value {
+                let by = format!("{flag} {}", polywear_core::wording::plain(value, 12));
+                typed.push(Typed { id, by, value });
             }
         }
-        for (k, (id, by, value)) in typed.iter().enumerate() {
-            if let Some((_, first, _)) = typed[..k].iter().find(|(t, _, _)| t == id) {
-                return Err(CliError(format!(
-                    "`{id}` is given twice on the command line ({first} and {by}); give it once"
-                )));
-            }
-            p.try_set(*id, *value)
-                .map_err(|e| CliError(format!("{by}: {e}")))?;
-            if !self.accept_implausible {
-                id.spec()
-                    .check_plausible(*value)
-                    .map_err(|e| CliError(format!("{by}: {e}")))?;
-            }
+        let (resolved, notes) =
+            Resolved::resolve(self.params.as_deref(), typed, self.accept_implausible)?;
+        for note in notes {
+            eprintln!("{note}");
         }
-        let file = self.params.clone().map(|path| (path, named));
-        if let Some((path, names)) = &file {
-            for (id, by, value) in &typed {
-                if names.contains(id) && file_values[*id] != *value {
-                    eprintln!(
-                        "note: {by} replaces {id} = {} of --params {}",
-                        polywear_core::wording::plain(file_values[*id], 12),
-                        path.display()
-                    );
-                }
-            }
-        }
-        p.validate()?;
-        Ok(Resolved {
-            params: p,
-            file,
-            typed: typed.into_iter().map(|(id, by, _)| (id, by)).collect(),
-        })
+        Ok(resolved)
     }
 }
 
 /// The defaults, with the `--params` file applied when one is given (see [`param_file`]).
 pub fn base_params(path: Option<&Path>, accept_implausible: bool) -> CliResult<Params> {
-    param_file(path, accept_implausible).map(|(p, _)| p)
+    Ok(param_file(path, accept_implausible).map(|(p, _)| p)?)
 }
 
-/// The defaults with the `--params` file applied, and the parameters the file names; a value
-/// outside its plausible range is refused unless `accept_implausible`.
-pub fn param_file(
-    path: Option<&Path>,
-    accept_implausible: bool,
-) -> CliResult<(Params, Vec<ParamId>)> {
-    let Some(path) = path else {
-        return Ok((Params::default(), Vec::new()));
-    };
-    let text = read_input(path, "--params ", polywear_study::safe_read::Limit::Text)?;
-    let (p, named) = polywear_study::study::read_param_file(&Params::default(), &text)
-        .map_err(|e| CliError(format!("--params {}: {e}", path.display())))?;
-    if !accept_implausible {
-        for &id in &named {
-            id.spec().check_plausible(p[id]).map_err(|e| {
-                CliError(format!("--params {}: `params.{id}`: {e}", path.display()))
-            })?;
-        }
-    }
-    Ok((p, named))
-}
-
-/// Refuses a column carried into the output (passed through, or the weight) whose name an
-/// output column of polywear has (`class`, `sample_id`): the output's columns must be unique.
-pub fn refuse_reserved_names<'a>(
-    carried: impl IntoIterator<Item = &'a str>,
-    file: &Path,
-    key: &str,
-    extra: &[&str],
-) -> CliResult {
-    let records = polywear_core::records::record_columns(&[]);
-    for name in carried {
-        if extra.contains(&name) || records.iter().any(|r| r.name == name) {
-            return Err(CliError(format!(
-                "{}: column `{name}`, which {key} names, is also an output column of polywear; rename it in the file",
-                file.display()
-            )));
-        }
-    }
-    Ok(())
-}
-
-/// A parameter the command itself varies (a sweep, a chart's axis): given on the command line
-/// too it is refused as ambiguous; a `--params` file's value is replaced, and a note says so.
+/// A parameter the command itself varies (a sweep, a chart's axis): typed too it is refused;
+/// a `--params` file's value is replaced, and a note says so.
 pub fn sweep_owns(id: ParamId, owner: &str, resolved: &Resolved) -> CliResult {
-    if let Some((_, by)) = resolved.typed.iter().find(|(t, _)| *t == id) {
-        return Err(CliError(format!(
-            "{by} sets `{id}`, which {owner} varies; leave {by} out"
-        )));
-    }
-    if let Some(by) = resolved.given_by(id) {
-        eprintln!(
-            "note: {owner} replaces {id} = {} of {by}",
-            polywear_core::wording::plain(resolved.params[id], 12)
-        );
-    }
-    Ok(())
-}
-
-/// Refuses a parameter that a `--params` file sets and a study (or its operating-point file)
-/// sets too: two files for one value are ambiguous.
-pub fn refuse_file_overlap(
-    named: &[ParamId],
-    params_path: Option<&Path>,
-    study: &polywear_study::study::Study,
-    origin: &str,
-) -> CliResult {
-    let Some(path) = params_path else {
-        return Ok(());
-    };
-    for &id in named {
-        if let Some(there) = study.sets(id) {
-            return Err(CliError(format!(
-                "--params {} sets `{id}`, and {origin} {there}; a parameter comes from one file: remove it from one of them",
-                path.display()
-            )));
-        }
+    if let Some(note) = resolved.owned_by(id, owner)? {
+        eprintln!("{note}");
     }
     Ok(())
 }
@@ -432,19 +317,7 @@ fn extension_refusal(path: &Path, flag: &str, accepted: &[&str]) -> CliError {
     ))
 }
 
-/// Metadata written into every output file: program version, command line, parameters.
-pub fn base_metadata(p: &Params, variant: Variant) -> Vec<(String, String)> {
-    let args: Vec<String> = std::env::args().collect();
-    vec![
-        ("polywear_version".into(), env!("CARGO_PKG_VERSION").into()),
-        ("command".into(), args.join(" ")),
-        ("variant".into(), variant.as_str().into()),
-        (
-            "params".into(),
-            serde_json::to_string(p).expect("params serialize"),
-        ),
-    ]
-}
+pub use polywear_study::provenance::run_metadata as base_metadata;
 
 /// The per-wheel work budget flags, shared by every command that classifies.
 #[derive(Debug, Args, Clone, Default)]

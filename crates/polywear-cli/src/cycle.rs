@@ -9,14 +9,16 @@ use clap::Args;
 use super::common::{base_metadata, BudgetArgs, CliError, CliResult, VariantArg};
 use polywear_analysis::figures::cycle::{CycleRun, FleetDraw};
 use polywear_analysis::figures::FilesError;
+use polywear_analysis::render::cycle::summary_lines;
 use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::WearStage;
 use polywear_core::model::Variant;
-use polywear_core::params::{Group, ParamError, ParamId, Params};
-use polywear_core::sampling::design::Design;
+use polywear_core::params::{ParamError, ParamId, Params};
 use polywear_core::wear::{WearSettings, WearZone};
 use polywear_core::wording::plain;
+use polywear_study::cycle::structures::{draw_structures, study_metadata, CommandLine, Structures};
 use polywear_study::cycle::{classify_cycles, DriveCycle, StepWheel};
+use polywear_study::param_sources::Typed;
 use polywear_study::study::Study;
 
 /// Most tire structures `--structure-samples` accepts.
@@ -86,29 +88,18 @@ pub struct CycleArgs {
     pub budget: BudgetArgs,
 }
 
-/// The tire structures of `--study`: the drawn non-operating parameters (and a fleet's columns
-/// other than the operating axes) with their values per sample, each sample's parameter base,
-/// the fleet rows drawn, and the lines that say what the cycle takes from the study.
-struct Structures {
-    names: Vec<ParamId>,
-    values: Vec<Vec<f64>>,
-    bases: Vec<Params>,
-    fleet_rows: Option<Vec<usize>>,
-    said: Vec<String>,
-}
-
 /// What the command line gives: the `--params` file's values and names, and the `--set` values
 /// with their words.
-struct CommandLine {
+struct Given {
     file: Params,
     named: Vec<ParamId>,
-    set: Vec<(ParamId, f64, String)>,
+    set: Vec<Typed>,
 }
 
 /// Reads `--params` and `--set`, refusing before any work: the speed (the cycle gives it), a
 /// parameter set twice, one the cycle file gives per step (from `--set` or `--params`), and
 /// implausible values unless accepted. A `--set` value replacing the file's is noted.
-fn command_line(args: &CycleArgs, cycle: &DriveCycle) -> CliResult<CommandLine> {
+fn command_line(args: &CycleArgs, cycle: &DriveCycle) -> CliResult<Given> {
     let accept = args.accept_implausible;
     let (file, named) = super::common::param_file(args.params.as_deref(), accept)?;
     let params_by = || {
@@ -117,7 +108,7 @@ fn command_line(args: &CycleArgs, cycle: &DriveCycle) -> CliResult<CommandLine> 
             args.params.as_deref().unwrap_or(Path::new("")).display()
         )
     };
-    let mut set: Vec<(ParamId, f64, String)> = Vec::new();
+    let mut set: Vec<Typed> = Vec::new();
     for (name, value) in &args.set {
         let by = format!("--set {name}={}", plain(*value, 12));
         let id: ParamId = name
@@ -129,9 +120,10 @@ fn command_line(args: &CycleArgs, cycle: &DriveCycle) -> CliResult<CommandLine> 
                     .into(),
             ));
         }
-        if let Some((_, _, first)) = set.iter().find(|(t, _, _)| *t == id) {
+        if let Some(first) = set.iter().find(|t| t.id == id) {
             return Err(CliError(format!(
-                "`{id}` is given twice on the command line ({first} and {by}); give it once"
+                "`{id}` is given twice on the command line ({} and {by}); give it once",
+                first.by
             )));
         }
         id.spec()
@@ -142,12 +134,16 @@ fn command_line(args: &CycleArgs, cycle: &DriveCycle) -> CliResult<CommandLine> 
                 .check_plausible(*value)
                 .map_err(|e| CliError(format!("{by}: {e}")))?;
         }
-        set.push((id, *value, by));
+        set.push(Typed {
+            id,
+            by,
+            value: *value,
+        });
     }
     let column = |id: ParamId| cycle.names.contains(&id);
     for (id, by) in set
         .iter()
-        .map(|(id, _, by)| (*id, by.clone()))
+        .map(|t| (t.id, t.by.clone()))
         .chain(named.iter().map(|&id| (id, params_by())))
     {
         if column(id) {
@@ -164,229 +160,18 @@ fn command_line(args: &CycleArgs, cycle: &DriveCycle) -> CliResult<CommandLine> 
             params_by()
         );
     }
-    for (id, value, by) in &set {
-        if named.contains(id) && file[*id] != *value {
+    for t in &set {
+        if named.contains(&t.id) && file[t.id] != t.value {
             eprintln!(
-                "note: {by} replaces {id} = {} of {}",
-                plain(file[*id], 12),
+                "note: {} replaces {} = {} of {}",
+                t.by,
+                t.id,
+                plain(file[t.id], 12),
                 params_by()
             );
         }
     }
-    Ok(CommandLine { file, named, set })
-}
-
-/// Draws the structure samples of `--study` on top of the `--params` values, with `--set`
-/// applied after the study's fixed values (a replaced fixed value is noted). With
-/// `[operating_points]` each sample also draws a row, whose columns but the speed hold for the
-/// whole cycle.
-fn structures(
-    args: &CycleArgs,
-    path: &Path,
-    k: u64,
-    line: &CommandLine,
-    cycle: &DriveCycle,
-) -> CliResult<(Structures, Study)> {
-    let origin = format!("--study {}", path.display());
-    let source =
-        super::common::read_input(path, "--study ", polywear_study::safe_read::Limit::Text)?;
-    let dir = path.parent().unwrap_or(Path::new(""));
-    let study =
-        Study::parse_at(&source, line.file, dir).map_err(|e| CliError(format!("{origin}: {e}")))?;
-    if !(args.accept_implausible || study.accept_implausible) {
-        study
-            .check_plausible()
-            .map_err(|e| CliError(format!("{origin}: {e}")))?;
-    }
-    super::common::refuse_file_overlap(&line.named, args.params.as_deref(), &study, &origin)?;
-    if study.design == Design::Saltelli {
-        return Err(CliError(format!(
-            "{origin}: a saltelli design's rows are arranged for Sobol indices, not a sample of tire structures; use random, lhs or sobol"
-        )));
-    }
-    study
-        .check_samples(k)
-        .map_err(|e| CliError(format!("{origin}: --structure-samples: {e}")))?;
-    let fleet = study.operating_points.as_ref();
-    if let Some(op) = fleet {
-        super::common::refuse_reserved_names(
-            op.pass_through.iter().map(|c| c.name.as_str()),
-            &op.path,
-            "`operating_points.pass_through`",
-            &[
-                "sample_id",
-                "operating_point_row",
-                "step",
-                "time_s",
-                "step_duration_s",
-                "tread_time_constant_s",
-                "stability_change_time_s",
-                "quasi_static",
-            ],
-        )?;
-    }
-    // The fleet's columns that hold for the whole cycle (the cycle gives the speed).
-    let fleet_ids: Vec<ParamId> = fleet
-        .iter()
-        .flat_map(|op| op.names.iter())
-        .map(|n| n.parse::<ParamId>().expect("a parameter column"))
-        .filter(|&id| id != ParamId::SpeedKmh)
-        .collect();
-    let names: Vec<ParamId> = study
-        .drawn
-        .iter()
-        .map(|d| d.param)
-        .filter(|id| id.spec().group != Group::OperatingPoint)
-        .chain(
-            fleet_ids
-                .iter()
-                .copied()
-                .filter(|id| !id.is_operating_axis()),
-        )
-        .collect();
-    if names.is_empty() && fleet.is_none() {
-        return Err(CliError(format!(
-            "{origin}: the study draws no tire-structure, friction or vehicle parameter, so every structure sample would be the same"
-        )));
-    }
-    refuse_study_overlaps(&study, &origin, line, cycle, &names, &fleet_ids)?;
-    let sampler = study.sampler(study.seed, k);
-    let mut out = Structures {
-        names,
-        values: Vec::new(),
-        bases: Vec::new(),
-        fleet_rows: fleet.map(|_| Vec::new()),
-        said: said_about_study(&study, (&origin, dir), k, cycle, line),
-    };
-    for i in 0..k {
-        let (p, _, row) = sampler.sample_with_row(i);
-        let mut b = study.base;
-        for &id in out.names.iter().chain(&fleet_ids) {
-            b[id] = p[id];
-        }
-        for &(id, value, _) in &line.set {
-            b.try_set(id, value)?;
-        }
-        out.values.push(out.names.iter().map(|&id| p[id]).collect());
-        out.bases.push(b);
-        if let (Some(rows), Some(r)) = (&mut out.fleet_rows, row) {
-            rows.push(r);
-        }
-    }
-    Ok((out, study))
-}
-
-/// Refuses what the study sets and another place sets too: a drawn structure parameter or a
-/// fleet column given by `--set` or the cycle file, a fixed value the cycle file gives per
-/// step. A `--set` replacing one of the study's fixed values is noted.
-fn refuse_study_overlaps(
-    study: &Study,
-    origin: &str,
-    line: &CommandLine,
-    cycle: &DriveCycle,
-    names: &[ParamId],
-    fleet_ids: &[ParamId],
-) -> CliResult {
-    let cycle_by = format!("{} (a column)", cycle.path.display());
-    let given = line
-        .set
-        .iter()
-        .map(|(id, _, by)| (*id, by.as_str()))
-        .chain(cycle.names.iter().map(|&id| (id, cycle_by.as_str())));
-    for (id, by) in given {
-        let how = if names.contains(&id) && !fleet_ids.contains(&id) {
-            "draws per structure sample"
-        } else if fleet_ids.contains(&id) {
-            "gives per vehicle (a column of its [operating_points] file)"
-        } else if study.fixed.contains(&id) && by == cycle_by {
-            "fixes (`params.{id}`)"
-        } else {
-            continue;
-        };
-        return Err(CliError(format!(
-            "{by} sets `{id}`, which {origin} {}; a parameter comes from one place, not both",
-            how.replace("{id}", id.name())
-        )));
-    }
-    for (id, value, by) in &line.set {
-        if study.fixed.contains(id) && study.base[*id] != *value {
-            eprintln!(
-                "note: {by} replaces {origin}'s `params.{id}` = {}",
-                plain(study.base[*id], 12)
-            );
-        }
-    }
-    Ok(())
-}
-
-/// The lines said before the results: which of the study's operating-point values the cycle
-/// takes (a fleet's rows) and which it does not (the speed, drawn operating axes).
-fn said_about_study(
-    study: &Study,
-    (origin, dir): (&str, &Path),
-    k: u64,
-    cycle: &DriveCycle,
-    line: &CommandLine,
-) -> Vec<String> {
-    let mut said = Vec::new();
-    let set_here = |id: ParamId| cycle.names.contains(&id) || line.set.iter().any(|s| s.0 == id);
-    if let Some(op) = &study.operating_points {
-        let taken: Vec<&str> = op
-            .names
-            .iter()
-            .copied()
-            .filter(|n| *n != "speed_kmh")
-            .collect();
-        let by = match (&op.weight, &op.weight_computed) {
-            (_, Some(how)) => format!("by km = {how}"),
-            (Some(w), None) => format!("by its `{w}`"),
-            (None, None) => "with equal weight".to_string(),
-        };
-        let speed = if op.names.contains(&"speed_kmh") {
-            "; its `speed_kmh` column is not used: the cycle gives the speed"
-        } else {
-            ""
-        };
-        said.push(format!(
-            "fleet: each of the {k} structure samples drives the cycle with one row of {} drawn {by} ({} from the row{speed})",
-            dir.join(&op.file).display(),
-            if taken.is_empty() { "no column".to_string() } else { taken.join(", ") }
-        ));
-    }
-    if study.fixed.contains(&ParamId::SpeedKmh) {
-        said.push(format!(
-            "{origin}: its `params.speed_kmh` = {} is not used: the cycle gives the speed",
-            plain(study.base.speed_kmh, 6)
-        ));
-    }
-    let unused: Vec<ParamId> = study
-        .drawn
-        .iter()
-        .map(|d| d.param)
-        .filter(|id| id.is_operating_axis())
-        .collect();
-    if !unused.is_empty() {
-        let held: Vec<String> = unused
-            .iter()
-            .filter(|&&id| id != ParamId::SpeedKmh && !set_here(id))
-            .map(|&id| format!("{id} = {}", plain(study.base[id], 6)))
-            .collect();
-        let speed = if unused.contains(&ParamId::SpeedKmh) {
-            "the cycle gives the speed"
-        } else {
-            ""
-        };
-        let held = match (speed.is_empty(), held.is_empty()) {
-            (_, true) => speed.to_string(),
-            (true, false) => format!("{} hold for the whole cycle", held.join(", ")),
-            (false, false) => format!("{speed}, and {} hold for the whole cycle", held.join(", ")),
-        };
-        said.push(format!(
-            "{origin}: its distributions of {} are not used: {held} (a study with [operating_points] gives load, pressure and toe-in per vehicle)",
-            unused.iter().map(|id| id.name()).collect::<Vec<_>>().join(", "),
-        ));
-    }
-    said
+    Ok(Given { file, named, set })
 }
 
 pub fn run(args: &CycleArgs) -> CliResult {
@@ -450,15 +235,25 @@ fn resolve(args: &CycleArgs) -> CliResult<CycleRequest> {
     }
     let line = command_line(args, &cycle)?;
     let mut base = line.file;
-    for &(id, value, _) in &line.set {
-        base.try_set(id, value)?;
+    for t in &line.set {
+        base.try_set(t.id, t.value)?;
     }
     let mut metadata = base_metadata(&base, variant);
     metadata.push(("cycle".into(), args.cycle.display().to_string()));
     metadata.push(("cycle_hash".into(), cycle.hash.clone()));
     let (structures, study) = match (&args.study, args.structure_samples) {
         (Some(path), Some(k)) => {
-            let (s, study) = structures(args, path, k, &line, &cycle)?;
+            let given = CommandLine {
+                params_file: args.params.as_deref(),
+                file: line.file,
+                named: &line.named,
+                set: &line.set,
+                accept_implausible: args.accept_implausible,
+            };
+            let (s, study, notes) = draw_structures(&given, path, k, &cycle)?;
+            for note in notes {
+                eprintln!("{note}");
+            }
             // The study's work limits, unless the flags say otherwise.
             opts.budget = args.budget.apply(study.budget)?;
             metadata.extend(study_metadata(&study, k, &s.names));
@@ -523,7 +318,9 @@ fn write(
         e => CliError(e.to_string()),
     })?;
     if !args.quiet {
-        print_summary(&run, secs, threads);
+        for line in summary_lines(&run, secs, threads) {
+            println!("{line}");
+        }
         for p in written {
             println!("  wrote {}", p.display());
         }
@@ -542,164 +339,4 @@ fn wear_stage(args: &CycleArgs, base: &Params, variant: Variant) -> CliResult<Op
     WearStage::for_run(base, variant, settings, &ClassifierOptions::default())
         .map(Some)
         .map_err(|e| CliError(format!("the wear stage: {e} (leave it out with --no-wear)")))
-}
-
-/// The study's keys in the outputs' metadata (and the fleet's file, when it gives the rows).
-fn study_metadata(study: &Study, k: u64, names: &[ParamId]) -> Vec<(String, String)> {
-    let mut m = vec![
-        ("study_name".into(), study.name.clone()),
-        ("study".into(), study.source.clone()),
-        ("study_hash".into(), study.source_hash()),
-        ("seed".into(), study.seed.to_string()),
-        ("design".into(), study.design.as_str().into()),
-        ("structure_samples".into(), k.to_string()),
-        ("rng".into(), polywear_core::sampling::RNG_NAME.into()),
-        (
-            "drawn_names".into(),
-            serde_json::to_string(names).expect("json"),
-        ),
-    ];
-    if let Some(op) = &study.operating_points {
-        m.push(("operating_points".into(), op.to_json().to_string()));
-    }
-    m
-}
-
-/// The summary on stdout: per wheel, the shares in vibration (with the 90% interval over the
-/// structures when there are several) and the dominant polygon order.
-fn print_summary(run: &CycleRun<'_>, secs: f64, threads: usize) {
-    let c = run.cycle;
-    let dt = c.step_durations_s();
-    let total_s: f64 = dt.iter().sum();
-    let km: f64 = (0..c.len()).map(|i| c.speed_kmh[i] * dt[i] / 3600.0).sum();
-    println!(
-        "{}: {} steps, {total_s:.0} s, {km:.2} km; {} structure(s) x 2 wheels classified in {secs:.2} s ({threads} threads), variant {}",
-        c.path.display(),
-        c.len(),
-        run.steps.len(),
-        run.variant.as_str()
-    );
-    let all = run.summaries();
-    for w in 0..2 {
-        let pick = |f: &dyn Fn(&polywear_study::cycle::summary::WheelSummary) -> f64| {
-            let mut xs: Vec<f64> = all.iter().map(|s| f(&s[w])).collect();
-            xs.sort_by(f64::total_cmp);
-            let mean = xs.iter().sum::<f64>() / xs.len() as f64;
-            if xs.len() == 1 {
-                format!("{:.1}%", 100.0 * mean)
-            } else {
-                let q = polywear_study::cycle::summary::quantile;
-                format!(
-                    "{:.1}% (90% interval {:.1}-{:.1}%)",
-                    100.0 * mean,
-                    100.0 * q(&xs, 0.05),
-                    100.0 * q(&xs, 0.95)
-                )
-            }
-        };
-        let mean = |f: &dyn Fn(&polywear_study::cycle::summary::WheelSummary) -> f64| {
-            all.iter().map(|s| f(&s[w])).sum::<f64>() / all.len() as f64
-        };
-        // Polygon orders: the mean share over the structures.
-        let mut orders: std::collections::BTreeMap<i64, f64> = Default::default();
-        for s in &all {
-            for (n, share) in &s[w].order_shares {
-                *orders.entry(*n).or_default() += share / all.len() as f64;
-            }
-        }
-        let top = orders
-            .iter()
-            .max_by(|a, b| a.1.total_cmp(b.1))
-            .map(|(n, share)| format!("mostly {n}-gon ({:.0}% of it)", 100.0 * share))
-            .unwrap_or_else(|| "no vibration".into());
-        println!(
-            "  {:>8}: in vibration {} of the time, {} of the distance; longest stretch {}{:.0} s / {:.2} km; {top}; quasi-static in doubt {:.1}% of the time",
-            polywear_core::model::Wheel::BOTH[w].as_str(),
-            pick(&|s| s.time_share),
-            pick(&|s| s.distance_share),
-            if all.len() > 1 { "(mean) " } else { "" },
-            mean(&|s| s.longest_vibration_s),
-            mean(&|s| s.longest_vibration_km),
-            100.0 * mean(&|s| s.not_quasi_static_share),
-        );
-        if let Some(line) = wear_line(&all, w) {
-            println!("            {line}");
-        }
-    }
-}
-
-/// The polygon of a lifetime on the cycle, in words: the distance to a visible polygon (the
-/// median and 90% interval over the structures when there are several) and its order.
-fn wear_line(
-    all: &[[polywear_study::cycle::summary::WheelSummary; 2]],
-    w: usize,
-) -> Option<String> {
-    let wear: Vec<polywear_study::cycle::wear::CycleWear> =
-        all.iter().filter_map(|s| s[w].wear).collect();
-    if wear.is_empty() {
-        return None;
-    }
-    let km = |x: f64| format!("{} km", polywear_core::wording::thousands(x));
-    let mut d: Vec<f64> = wear.iter().map(|c| c.distance_to_visible_km).collect();
-    d.sort_by(f64::total_cmp);
-    let q = polywear_study::cycle::summary::quantile;
-    let mut orders: Vec<f64> = wear
-        .iter()
-        .map(|c| c.dominant_order)
-        .filter(|n| n.is_finite())
-        .collect();
-    orders.sort_by(f64::total_cmp);
-    let unknown = wear
-        .iter()
-        .map(|c| c.unknown_distance_share)
-        .fold(0.0, f64::max);
-    let unknown = if unknown > 0.0 {
-        format!(
-            "; {}% of the distance has no wear figures (failed or no traction) and is left out",
-            polywear_core::wording::plain(100.0 * unknown, 2)
-        )
-    } else {
-        String::new()
-    };
-    let life = "driving this cycle all its life";
-    if d.len() == 1 {
-        let c = wear[0];
-        let what = if c.distance_to_visible_km.is_nan() {
-            "no wear figures at any step".to_string()
-        } else if c.distance_to_visible_km.is_infinite() {
-            format!(
-                "no polygon ever: every order levels out (the slowest, order {:.0}, at {} per 1000 km)",
-                c.dominant_order,
-                polywear_core::wording::plain(c.growth_rate_per_1000km, 3)
-            )
-        } else {
-            format!(
-                "a {:.0}-sided polygon becomes visible after {} (growth {} per 1000 km)",
-                c.dominant_order,
-                km(c.distance_to_visible_km),
-                polywear_core::wording::plain(c.growth_rate_per_1000km, 3)
-            )
-        };
-        return Some(format!("{life}: {what}{unknown}"));
-    }
-    let never = d.iter().filter(|x| x.is_infinite()).count() as f64 / d.len() as f64;
-    let shown = |x: f64| {
-        if x.is_infinite() {
-            "never".to_string()
-        } else if x.is_nan() {
-            "unknown".to_string()
-        } else {
-            km(x)
-        }
-    };
-    let order = orders.get(orders.len() / 2).map_or(String::new(), |n| {
-        format!("; the fastest order mostly {n:.0}")
-    });
-    Some(format!(
-        "{life}: distance to a visible polygon {} (median over the structures; 90% interval {} to {}); {}% of the structures never show one{order}{unknown}",
-        shown(q(&d, 0.5)),
-        shown(q(&d, 0.05)),
-        shown(q(&d, 0.95)),
-        polywear_core::wording::plain(100.0 * never, 3)
-    ))
 }

@@ -229,7 +229,7 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
         shard: args.shard.or(recorded_shard).unwrap_or(Shard::WHOLE),
         out_dir,
         resume: args.resume,
-        command: std::env::args().collect::<Vec<_>>().join(" "),
+        command: polywear_study::provenance::command_line(),
         wear,
     })
 }

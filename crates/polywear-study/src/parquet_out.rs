@@ -164,7 +164,7 @@ impl TableWriter {
             ))
             .set_dictionary_enabled(false)
             .set_key_value_metadata(Some(kv))
-            .set_created_by(format!("polywear {}", env!("CARGO_PKG_VERSION")));
+            .set_created_by(format!("polywear {}", crate::provenance::POLYWEAR_VERSION));
         for c in template.iter().filter(|c| dictionary_encoded(&c.data)) {
             props = props.set_column_dictionary_enabled(ColumnPath::from(c.name.as_str()), true);
         }

@@ -3,6 +3,7 @@
 //! computes nothing; everything it shows is in the `Analysis`.
 
 mod columns;
+pub mod cycle;
 pub mod drivers;
 pub mod figures;
 pub mod fleet;

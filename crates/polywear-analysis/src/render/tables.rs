@@ -116,7 +116,7 @@ fn table_metadata(a: &Analysis) -> Vec<(String, String)> {
         ("min_count".into(), a.options.min_count.to_string()),
         (
             "polywear_version".into(),
-            env!("CARGO_PKG_VERSION").to_string(),
+            polywear_study::provenance::POLYWEAR_VERSION.to_string(),
         ),
     ];
     if let Some(w) = &a.wear {

@@ -108,7 +108,10 @@ pub(crate) fn write_pairs(
         draw(&picture, req, &chart.curves, &chart.grids, None)?;
         let pq = dir.join(format!("{stem}.parquet"));
         let meta = vec![
-            ("polywear_version".into(), env!("CARGO_PKG_VERSION").into()),
+            (
+                "polywear_version".into(),
+                polywear_study::provenance::POLYWEAR_VERSION.into(),
+            ),
             ("variant".into(), req.variant.as_str().into()),
             (
                 "params".into(),

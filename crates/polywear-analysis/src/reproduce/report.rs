@@ -66,7 +66,7 @@ fn intro(s: &mut String) {
     let _ = writeln!(
         s,
         "# Zuo, Duan & Li (2014) reproduced with polywear {}\n",
-        env!("CARGO_PKG_VERSION")
+        polywear_study::provenance::POLYWEAR_VERSION
     );
     let _ = writeln!(
         s,

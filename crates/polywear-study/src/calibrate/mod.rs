@@ -403,7 +403,7 @@ pub fn parameter_file(fit: &Fit, source: &str) -> Result<String, ParamFileError>
     let mut s = format!(
         "# polywear parameter file, written by `polywear calibrate` (polywear {}) from {source}.\n\
          # Fit cost (weighted squared relative errors + prior): {:.6e}\n[params]\n",
-        env!("CARGO_PKG_VERSION"),
+        crate::provenance::POLYWEAR_VERSION,
         fit.cost
     );
     for (name, start, value) in &fit.fitted {

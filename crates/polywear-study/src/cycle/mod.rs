@@ -14,6 +14,7 @@
 //! (one-sided at the ends and next to steps without a tread ODE); steps without a tread ODE
 //! (standstill, no traction, failed) are not assessed and count as holding.
 
+pub mod structures;
 pub mod summary;
 pub mod wear;
 

@@ -248,7 +248,7 @@ impl RunPlan {
     /// What the run is, as its manifest records it (written before the first chunk).
     pub fn manifest(&self) -> RunManifest {
         RunManifest {
-            polywear_version: env!("CARGO_PKG_VERSION").to_string(),
+            polywear_version: crate::provenance::POLYWEAR_VERSION.to_string(),
             command: None,
             rng: Some(polywear_core::sampling::RNG_NAME.to_string()),
             study_name: self.study.name.clone(),

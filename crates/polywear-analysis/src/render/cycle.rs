@@ -1,0 +1,145 @@
+//! The summary of a classified cycle in words: per wheel, the shares in vibration (with the 90%
+//! interval over the tire structures when there are several), the dominant polygon order and
+//! the distance to a visible polygon over a lifetime on the cycle.
+
+use crate::figures::cycle::CycleRun;
+use polywear_core::wording::{plain, thousands};
+use polywear_study::cycle::summary::{quantile, WheelSummary};
+use polywear_study::cycle::wear::CycleWear;
+
+/// The summary printed after a cycle: per wheel, the shares in vibration (with the 90% interval over the
+/// structures when there are several) and the dominant polygon order.
+pub fn summary_lines(run: &CycleRun<'_>, secs: f64, threads: usize) -> Vec<String> {
+    let mut lines = Vec::new();
+    let c = run.cycle;
+    let dt = c.step_durations_s();
+    let total_s: f64 = dt.iter().sum();
+    let km: f64 = (0..c.len()).map(|i| c.speed_kmh[i] * dt[i] / 3600.0).sum();
+    lines.push(format!(
+        "{}: {} steps, {total_s:.0} s, {km:.2} km; {} structure(s) x 2 wheels classified in {secs:.2} s ({threads} threads), variant {}",
+        c.path.display(),
+        c.len(),
+        run.steps.len(),
+        run.variant.as_str()
+    ));
+    let all = run.summaries();
+    for w in 0..2 {
+        let pick = |f: &dyn Fn(&WheelSummary) -> f64| {
+            let mut xs: Vec<f64> = all.iter().map(|s| f(&s[w])).collect();
+            xs.sort_by(f64::total_cmp);
+            let mean = xs.iter().sum::<f64>() / xs.len() as f64;
+            if xs.len() == 1 {
+                format!("{:.1}%", 100.0 * mean)
+            } else {
+                let q = quantile;
+                format!(
+                    "{:.1}% (90% interval {:.1}-{:.1}%)",
+                    100.0 * mean,
+                    100.0 * q(&xs, 0.05),
+                    100.0 * q(&xs, 0.95)
+                )
+            }
+        };
+        let mean = |f: &dyn Fn(&WheelSummary) -> f64| {
+            all.iter().map(|s| f(&s[w])).sum::<f64>() / all.len() as f64
+        };
+        // Polygon orders: the mean share over the structures.
+        let mut orders: std::collections::BTreeMap<i64, f64> = Default::default();
+        for s in &all {
+            for (n, share) in &s[w].order_shares {
+                *orders.entry(*n).or_default() += share / all.len() as f64;
+            }
+        }
+        let top = orders
+            .iter()
+            .max_by(|a, b| a.1.total_cmp(b.1))
+            .map(|(n, share)| format!("mostly {n}-gon ({:.0}% of it)", 100.0 * share))
+            .unwrap_or_else(|| "no vibration".into());
+        lines.push(format!(
+            "  {:>8}: in vibration {} of the time, {} of the distance; longest stretch {}{:.0} s / {:.2} km; {top}; quasi-static in doubt {:.1}% of the time",
+            polywear_core::model::Wheel::BOTH[w].as_str(),
+            pick(&|s| s.time_share),
+            pick(&|s| s.distance_share),
+            if all.len() > 1 { "(mean) " } else { "" },
+            mean(&|s| s.longest_vibration_s),
+            mean(&|s| s.longest_vibration_km),
+            100.0 * mean(&|s| s.not_quasi_static_share),
+        ));
+        if let Some(line) = wear_line(&all, w) {
+            lines.push(format!("            {line}"));
+        }
+    }
+    lines
+}
+
+/// The polygon of a lifetime on the cycle, in words: the distance to a visible polygon (the
+/// median and 90% interval over the structures when there are several) and its order.
+fn wear_line(all: &[[WheelSummary; 2]], w: usize) -> Option<String> {
+    let wear: Vec<CycleWear> = all.iter().filter_map(|s| s[w].wear).collect();
+    if wear.is_empty() {
+        return None;
+    }
+    let km = |x: f64| format!("{} km", thousands(x));
+    let mut d: Vec<f64> = wear.iter().map(|c| c.distance_to_visible_km).collect();
+    d.sort_by(f64::total_cmp);
+    let q = quantile;
+    let mut orders: Vec<f64> = wear
+        .iter()
+        .map(|c| c.dominant_order)
+        .filter(|n| n.is_finite())
+        .collect();
+    orders.sort_by(f64::total_cmp);
+    let unknown = wear
+        .iter()
+        .map(|c| c.unknown_distance_share)
+        .fold(0.0, f64::max);
+    let unknown = if unknown > 0.0 {
+        format!(
+            "; {}% of the distance has no wear figures (failed or no traction) and is left out",
+            plain(100.0 * unknown, 2)
+        )
+    } else {
+        String::new()
+    };
+    let life = "driving this cycle all its life";
+    if d.len() == 1 {
+        let c = wear[0];
+        let what = if c.distance_to_visible_km.is_nan() {
+            "no wear figures at any step".to_string()
+        } else if c.distance_to_visible_km.is_infinite() {
+            format!(
+                "no polygon ever: every order levels out (the slowest, order {:.0}, at {} per 1000 km)",
+                c.dominant_order,
+                plain(c.growth_rate_per_1000km, 3)
+            )
+        } else {
+            format!(
+                "a {:.0}-sided polygon becomes visible after {} (growth {} per 1000 km)",
+                c.dominant_order,
+                km(c.distance_to_visible_km),
+                plain(c.growth_rate_per_1000km, 3)
+            )
+        };
+        return Some(format!("{life}: {what}{unknown}"));
+    }
+    let never = d.iter().filter(|x| x.is_infinite()).count() as f64 / d.len() as f64;
+    let shown = |x: f64| {
+        if x.is_infinite() {
+            "never".to_string()
+        } else if x.is_nan() {
+            "unknown".to_string()
+        } else {
+            km(x)
+        }
+    };
+    let order = orders.get(orders.len() / 2).map_or(String::new(), |n| {
+        format!("; the fastest order mostly {n:.0}")
+    });
+    Some(format!(
+        "{life}: distance to a visible polygon {} (median over the structures; 90% interval {} to {}); {}% of the structures never show one{order}{unknown}",
+        shown(q(&d, 0.5)),
+        shown(q(&d, 0.05)),
+        shown(q(&d, 0.95)),
+        plain(100.0 * never, 3)
+    ))
+}
