@@ -9,16 +9,13 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use polywear_analysis::plot::FigureFormat;
 
-use super::common::{base_metadata, BudgetArgs, CliError, CliResult};
-use polywear_core::classify::ClassifierOptions;
-use polywear_core::evaluate::WearStage;
+use super::common::{BudgetArgs, CliError, CliResult};
 use polywear_core::params::ParamId;
-use polywear_core::sampling::design::Design;
 use polywear_core::wording::plain;
-use polywear_study::optimize::evaluate::{solve, wear_available, Progress};
+use polywear_study::optimize::evaluate::{solve, Progress};
 use polywear_study::optimize::objective::{parse_terms, Objective, Term, WheelChoice};
 use polywear_study::optimize::search::SearchOptions;
-use polywear_study::optimize::{Axis, Constraint, Problem};
+use polywear_study::optimize::{Problem, ProblemSpec};
 use polywear_study::study::{Study, DEFAULT_STUDY, SEED_MAX};
 
 #[derive(Debug, Args)]
@@ -160,54 +157,6 @@ fn parse_vary(s: &str) -> Result<(ParamId, f64, f64), String> {
     Ok((id, lo, hi))
 }
 
-/// One `--constraint`: a bound on a varied parameter, or on a risk.
-enum Bound {
-    Param(ParamId, bool, f64),
-    Risk(Constraint),
-}
-
-fn parse_constraint(s: &str, wheel: WheelChoice) -> CliResult<Bound> {
-    let refuse = |why: String| {
-        CliError(format!(
-            "--constraint `{s}`: {why}; accepted: NAME<=V or NAME>=V, NAME a varied parameter (pressure_kpa>=230) or a risk, wear or vibration, optionally of a wheel (vibration:driving<=0.3)"
-        ))
-    };
-    let (name, at_most, value) = if let Some((n, v)) = s.split_once("<=") {
-        (n, true, v)
-    } else if let Some((n, v)) = s.split_once(">=") {
-        (n, false, v)
-    } else {
-        return Err(refuse("no <= or >=".into()));
-    };
-    let value: f64 = value
-        .trim()
-        .parse()
-        .ok()
-        .filter(|v: &f64| v.is_finite())
-        .ok_or_else(|| refuse(format!("`{}` is not a finite number", value.trim())))?;
-    let name = name.trim();
-    let (term, wheel) = match name.split_once(':') {
-        Some((t, w)) => (t.trim(), w.parse::<WheelChoice>().map_err(refuse)?),
-        None => (name, wheel),
-    };
-    if let Ok(term) = term.parse::<Term>() {
-        if !(0.0..=1.0).contains(&value) {
-            return Err(refuse(format!(
-                "a risk is a probability, {value} is not in [0, 1]"
-            )));
-        }
-        return Ok(Bound::Risk(Constraint {
-            term,
-            wheel,
-            at_most,
-            bound: value,
-            text: s.to_string(),
-        }));
-    }
-    let id: ParamId = name.parse().map_err(|e| refuse(format!("{e}")))?;
-    Ok(Bound::Param(id, at_most, value))
-}
-
 pub fn run(args: &OptimizeArgs) -> CliResult {
     let problem = problem(args)?;
     let pool = super::common::thread_pool(args.threads)?;
@@ -271,7 +220,7 @@ pub fn run(args: &OptimizeArgs) -> CliResult {
         &problem,
         &solution,
         &out_dir,
-        &metadata(args, &problem),
+        &problem.metadata(),
         args.format,
     )
     .map_err(|e| CliError(format!("cannot write output: {e}")))?;
@@ -318,7 +267,8 @@ fn progress_bar(quiet: bool) -> ProgressBar {
     bar
 }
 
-/// The problem of the command line, every value checked before any work starts.
+/// The problem of the command line: the study read and its work limits set here, every other
+/// value checked by [`Problem::new`] before any work starts.
 fn problem(args: &OptimizeArgs) -> CliResult<Problem> {
     let (source, origin) = match &args.study {
         Some(path) => (
@@ -341,191 +291,23 @@ fn problem(args: &OptimizeArgs) -> CliResult<Problem> {
             .map_err(|e| CliError(format!("{origin}: {e}")))?;
     }
     study.budget = args.budget.apply(study.budget)?;
-    if study.design == Design::Saltelli {
-        return Err(CliError(format!(
-            "{origin}: `design` = \"saltelli\" draws blocks for Sobol indices, not a fleet's samples; accepted: a study with design random, lhs, sobol or grid"
-        )));
-    }
-    study
-        .check_samples(args.samples)
-        .map_err(|e| CliError(format!("{origin}: --samples {}: {e}", args.samples)))?;
-    let seed = args.seed.unwrap_or(study.seed);
-    let objective = Objective {
-        terms: args.objective.0.clone(),
-        wheel: args.wheel,
-    };
-    let mut axes = axes(args, &study)?;
-    let mut constraints = Vec::new();
-    for c in &args.constraint {
-        match parse_constraint(c, args.wheel)? {
-            Bound::Risk(r) => constraints.push(r),
-            Bound::Param(id, at_most, v) => narrow(&mut axes, id, at_most, v, c)?,
-        }
-    }
-    let wear = objective.uses_wear() || constraints.iter().any(|c| c.term == Term::Wear);
-    if wear && !wear_available() {
-        return Err(CliError(
-            "--objective wear: this build's rows have no `distance_to_visible_km` (the wear stage's distance to a visible polygon), so there is no risk of wear to minimise; accepted here: --objective vibration".into(),
-        ));
-    }
-    let settings = match (wear, study.wear) {
-        (false, _) => None,
-        (true, Some(s)) => Some(s),
-        (true, None) => {
-            return Err(CliError(
-                "--objective wear: the study sets `wear = false`, so its rows have no distance to a visible polygon; remove it, or use --objective vibration".into(),
-            ))
-        }
-    };
-    for (a, given) in axes.iter().zip(&args.vary) {
-        check_axis(a, &study, seed, args.samples, given)?;
-    }
-    let classifier = ClassifierOptions {
-        budget: study.budget,
-        ..ClassifierOptions::default()
-    };
-    let wear = settings
-        .map(|s| WearStage::for_run(&study.base, study.variants[0], s, &classifier))
-        .transpose()
-        .map_err(|e| CliError(format!("the wear stage: {e}")))?;
-    Ok(Problem {
-        variant: study.variants[0],
-        classifier,
-        wear,
+    Ok(Problem::new(ProblemSpec {
         study,
-        seed,
+        origin,
+        seed: args.seed,
         samples: args.samples,
-        axes,
-        objective,
-        constraints,
+        vary: args.vary.clone(),
+        constraints: args.constraint.clone(),
+        objective: Objective {
+            terms: args.objective.0.clone(),
+            wheel: args.wheel,
+        },
         within_km: args.within_km,
         search: SearchOptions {
             grid: args.grid,
             levels: args.levels,
             keep: args.keep,
         },
-    })
-}
-
-/// The axes of `--vary`: one or two distinct parameters.
-fn axes(args: &OptimizeArgs, study: &Study) -> CliResult<Vec<Axis>> {
-    if args.vary.len() > 2 {
-        return Err(CliError(format!(
-            "--vary is given {} times; accepted: one or two parameters",
-            args.vary.len()
-        )));
-    }
-    if let [a, b] = &args.vary[..] {
-        if a.0 == b.0 {
-            return Err(CliError(format!(
-                "--vary names {} twice; accepted: two different parameters",
-                a.0
-            )));
-        }
-    }
-    if !(args.accept_implausible || study.accept_implausible) {
-        for &(id, lo, hi) in &args.vary {
-            for v in [lo, hi] {
-                id.spec()
-                    .check_plausible(v)
-                    .map_err(|e| CliError(format!("--vary {id}: {e}")))?;
-            }
-        }
-    }
-    Ok(args
-        .vary
-        .iter()
-        .map(|&(id, lo, hi)| Axis::new(study, id, lo, hi))
-        .collect())
-}
-
-/// A bound on a varied parameter narrows its box.
-fn narrow(axes: &mut [Axis], id: ParamId, at_most: bool, v: f64, text: &str) -> CliResult {
-    let Some(a) = axes.iter_mut().find(|a| a.param == id) else {
-        return Err(CliError(format!(
-            "--constraint `{text}`: {id} is not varied; accepted: a bound on a --vary parameter, or on wear or vibration"
-        )));
-    };
-    if at_most {
-        a.hi = a.hi.min(v);
-    } else {
-        a.lo = a.lo.max(v);
-    }
-    if a.lo >= a.hi {
-        return Err(CliError(format!(
-            "--constraint `{text}`: leaves an empty box for {id}; accepted: a bound inside the --vary range"
-        )));
-    }
-    Ok(())
-}
-
-/// Refuses a box whose ends take any sample outside the parameter's accepted range.
-fn check_axis(
-    a: &Axis,
-    study: &Study,
-    seed: u64,
-    samples: u64,
-    given: &(ParamId, f64, f64),
-) -> CliResult {
-    let key = format!(
-        "--vary {}={}..{}",
-        given.0,
-        plain(given.1, 12),
-        plain(given.2, 12)
-    );
-    if let polywear_study::optimize::SettingKind::Set = a.kind {
-        for end in [a.lo, a.hi] {
-            a.param.spec().check(end).map_err(|e| {
-                CliError(format!("{key}: the box is outside the accepted range: {e}"))
-            })?;
-        }
-        return Ok(());
-    }
-    a.check(study, seed, samples, &key).map_err(|e| {
-        CliError(format!(
-            "{key}: the box is outside the accepted range for the study's samples: a setting is the centre of {}'s distribution, every sample moved with it; {e}",
-            a.param
-        ))
-    })
-}
-
-/// The metadata of every output file: the run, the objective, the box, the search.
-fn metadata(args: &OptimizeArgs, problem: &Problem) -> Vec<(String, String)> {
-    let study = &problem.study;
-    let mut m = base_metadata(&study.base, problem.variant);
-    let json = |v: serde_json::Value| v.to_string();
-    m.extend([
-        ("study_name".into(), study.name.clone()),
-        ("study".into(), study.source.clone()),
-        ("study_hash".into(), study.source_hash()),
-        ("seed".into(), problem.seed.to_string()),
-        ("samples".into(), problem.samples.to_string()),
-        ("design".into(), study.design.as_str().into()),
-        ("rng".into(), polywear_core::sampling::RNG_NAME.into()),
-        ("drawn".into(), json(study.drawn_json())),
-        ("objective".into(), problem.objective.text()),
-        ("within_km".into(), plain(problem.within_km, 12)),
-        (
-            "box".into(),
-            json(serde_json::Value::Array(
-                problem
-                    .axes
-                    .iter()
-                    .map(|a| {
-                        serde_json::json!({
-                            "name": a.param.name(), "lo": a.lo, "hi": a.hi, "setting": a.meaning()
-                        })
-                    })
-                    .collect(),
-            )),
-        ),
-        ("constraints".into(), json(args.constraint.clone().into())),
-        (
-            "search".into(),
-            json(serde_json::json!({
-                "grid": problem.search.grid, "levels": problem.search.levels, "keep": problem.search.keep
-            })),
-        ),
-    ]);
-    m
+        accept_implausible: args.accept_implausible,
+    })?)
 }

@@ -13,7 +13,10 @@
 
 pub mod evaluate;
 pub mod objective;
+mod request;
 pub mod search;
+
+pub use request::ProblemSpec;
 
 use crate::study::{Change, ParamChange, Study, StudyError};
 use objective::{Estimate, Objective, Outcomes, Term, WheelChoice};
@@ -191,8 +194,9 @@ impl Constraint {
     }
 }
 
-/// What `optimize` is asked.
+/// What `optimize` is asked, checked: built by [`Problem::new`] from a [`ProblemSpec`].
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct Problem {
     /// The study whose samples every setting is evaluated on.
     pub study: Study,
@@ -216,6 +220,8 @@ pub struct Problem {
     pub classifier: ClassifierOptions,
     /// The wear stage, when the objective or a constraint weighs wear.
     pub wear: Option<polywear_core::evaluate::WearStage>,
+    /// Every constraint as given, the bounds on varied parameters included (in the metadata).
+    pub given_constraints: Vec<String>,
 }
 
 /// One evaluated setting.

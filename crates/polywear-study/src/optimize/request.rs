@@ -1,0 +1,333 @@
+//! `optimize`'s problem as asked and as checked: [`Problem::new`] refuses, before any work, a
+//! box that takes a sample outside its accepted range, a constraint that names nothing varied
+//! or leaves an empty box, and a wear objective the study cannot answer, so that a problem
+//! built from Rust is checked as the command line's is.
+
+use polywear_core::classify::ClassifierOptions;
+use polywear_core::evaluate::WearStage;
+use polywear_core::params::ParamId;
+use polywear_core::sampling::design::Design;
+use polywear_core::wording::plain;
+
+use super::evaluate::wear_available;
+use super::objective::{Objective, Term, WheelChoice};
+use super::search::SearchOptions;
+use super::{Axis, Constraint, Problem, SettingKind};
+use crate::param_sources::Refusal;
+use crate::provenance::run_metadata;
+use crate::study::Study;
+
+/// What `optimize` is asked, as typed.
+#[derive(Debug, Clone)]
+pub struct ProblemSpec {
+    /// The study whose samples every setting is evaluated on (its work limits set).
+    pub study: Study,
+    /// Where the study came from, quoted in refusals.
+    pub origin: String,
+    /// The seed of its draws (`None`: the study's).
+    pub seed: Option<u64>,
+    /// Samples per setting.
+    pub samples: u64,
+    /// One or two varied parameters and their boxes.
+    pub vary: Vec<(ParamId, f64, f64)>,
+    /// The constraints as typed (`pressure_kpa>=230`, `vibration:driving<=0.3`).
+    pub constraints: Vec<String>,
+    /// What is minimised.
+    pub objective: Objective,
+    /// A visible polygon counts when it appears within this distance \[km\].
+    pub within_km: f64,
+    /// How far the search refines.
+    pub search: SearchOptions,
+    /// Box ends outside their plausible range accepted.
+    pub accept_implausible: bool,
+}
+
+impl Problem {
+    /// The checked problem of `spec`, with the wear stage calibrated when wear is weighed.
+    pub fn new(spec: ProblemSpec) -> Result<Problem, Refusal> {
+        let study = spec.study;
+        let origin = spec.origin;
+        if study.design == Design::Saltelli {
+            return Err(Refusal(format!(
+                "{origin}: `design` = \"saltelli\" draws blocks for Sobol indices, not a fleet's samples; accepted: a study with design random, lhs, sobol or grid"
+            )));
+        }
+        study
+            .check_samples(spec.samples)
+            .map_err(|e| Refusal(format!("{origin}: --samples {}: {e}", spec.samples)))?;
+        let seed = spec.seed.unwrap_or(study.seed);
+        let objective = spec.objective;
+        let mut axes = axes(&spec.vary, spec.accept_implausible, &study)?;
+        let mut constraints = Vec::new();
+        for c in &spec.constraints {
+            match parse_constraint(c, objective.wheel)? {
+                Bound::Risk(r) => constraints.push(r),
+                Bound::Param(id, at_most, v) => narrow(&mut axes, id, at_most, v, c)?,
+            }
+        }
+        let wear = objective.uses_wear() || constraints.iter().any(|c| c.term == Term::Wear);
+        if wear && !wear_available() {
+            return Err(Refusal(
+                "--objective wear: this build's rows have no `distance_to_visible_km` (the wear stage's distance to a visible polygon), so there is no risk of wear to minimise; accepted here: --objective vibration".into(),
+            ));
+        }
+        let settings = match (wear, study.wear) {
+            (false, _) => None,
+            (true, Some(s)) => Some(s),
+            (true, None) => {
+                return Err(Refusal(
+                    "--objective wear: the study sets `wear = false`, so its rows have no distance to a visible polygon; remove it, or use --objective vibration".into(),
+                ))
+            }
+        };
+        for (a, given) in axes.iter().zip(&spec.vary) {
+            check_axis(a, &study, seed, spec.samples, given)?;
+        }
+        let classifier = ClassifierOptions {
+            budget: study.budget,
+            ..ClassifierOptions::default()
+        };
+        let wear = settings
+            .map(|s| WearStage::for_run(&study.base, study.variants[0], s, &classifier))
+            .transpose()
+            .map_err(|e| Refusal(format!("the wear stage: {e}")))?;
+        Ok(Problem {
+            variant: study.variants[0],
+            classifier,
+            wear,
+            study,
+            seed,
+            samples: spec.samples,
+            axes,
+            objective,
+            constraints,
+            within_km: spec.within_km,
+            search: spec.search,
+            given_constraints: spec.constraints,
+        })
+    }
+    /// The metadata of every output file: the run, the objective, the box, the search.
+    pub fn metadata(&self) -> Vec<(String, String)> {
+        let problem = self;
+        let study = &problem.study;
+        let mut m = run_metadata(&study.base, problem.variant);
+        let json = |v: serde_json::Value| v.to_string();
+        m.extend([
+            ("study_name".into(), study.name.clone()),
+            ("study".into(), study.source.clone()),
+            ("study_hash".into(), study.source_hash()),
+            ("seed".into(), problem.seed.to_string()),
+            ("samples".into(), problem.samples.to_string()),
+            ("design".into(), study.design.as_str().into()),
+            ("rng".into(), polywear_core::sampling::RNG_NAME.into()),
+            ("drawn".into(), json(study.drawn_json())),
+            ("objective".into(), problem.objective.text()),
+            ("within_km".into(), plain(problem.within_km, 12)),
+            (
+                "box".into(),
+                json(serde_json::Value::Array(
+                    problem
+                        .axes
+                        .iter()
+                        .map(|a| {
+                            serde_json::json!({
+                                "name": a.param.name(), "lo": a.lo, "hi": a.hi, "setting": a.meaning()
+                            })
+                        })
+                        .collect(),
+                )),
+            ),
+            ("constraints".into(), json(problem.given_constraints.clone().into())),
+            (
+                "search".into(),
+                json(serde_json::json!({
+                    "grid": problem.search.grid, "levels": problem.search.levels, "keep": problem.search.keep
+                })),
+            ),
+        ]);
+        m
+    }
+}
+
+/// One `--constraint`: a bound on a varied parameter, or on a risk.
+enum Bound {
+    Param(ParamId, bool, f64),
+    Risk(Constraint),
+}
+
+fn parse_constraint(s: &str, wheel: WheelChoice) -> Result<Bound, Refusal> {
+    let refuse = |why: String| {
+        Refusal(format!(
+            "--constraint `{s}`: {why}; accepted: NAME<=V or NAME>=V, NAME a varied parameter (pressure_kpa>=230) or a risk, wear or vibration, optionally of a wheel (vibration:driving<=0.3)"
+        ))
+    };
+    let (name, at_most, value) = if let Some((n, v)) = s.split_once("<=") {
+        (n, true, v)
+    } else if let Some((n, v)) = s.split_once(">=") {
+        (n, false, v)
+    } else {
+        return Err(refuse("no <= or >=".into()));
+    };
+    let value: f64 = value
+        .trim()
+        .parse()
+        .ok()
+        .filter(|v: &f64| v.is_finite())
+        .ok_or_else(|| refuse(format!("`{}` is not a finite number", value.trim())))?;
+    let name = name.trim();
+    let (term, wheel) = match name.split_once(':') {
+        Some((t, w)) => (t.trim(), w.parse::<WheelChoice>().map_err(refuse)?),
+        None => (name, wheel),
+    };
+    if let Ok(term) = term.parse::<Term>() {
+        if !(0.0..=1.0).contains(&value) {
+            return Err(refuse(format!(
+                "a risk is a probability, {value} is not in [0, 1]"
+            )));
+        }
+        return Ok(Bound::Risk(Constraint {
+            term,
+            wheel,
+            at_most,
+            bound: value,
+            text: s.to_string(),
+        }));
+    }
+    let id: ParamId = name.parse().map_err(|e| refuse(format!("{e}")))?;
+    Ok(Bound::Param(id, at_most, value))
+}
+
+/// The axes of `--vary`: one or two distinct parameters.
+fn axes(
+    vary: &[(ParamId, f64, f64)],
+    accept_implausible: bool,
+    study: &Study,
+) -> Result<Vec<Axis>, Refusal> {
+    if vary.len() > 2 {
+        return Err(Refusal(format!(
+            "--vary is given {} times; accepted: one or two parameters",
+            vary.len()
+        )));
+    }
+    if let [a, b] = vary {
+        if a.0 == b.0 {
+            return Err(Refusal(format!(
+                "--vary names {} twice; accepted: two different parameters",
+                a.0
+            )));
+        }
+    }
+    if !(accept_implausible || study.accept_implausible) {
+        for &(id, lo, hi) in vary {
+            for v in [lo, hi] {
+                id.spec()
+                    .check_plausible(v)
+                    .map_err(|e| Refusal(format!("--vary {id}: {e}")))?;
+            }
+        }
+    }
+    Ok(vary
+        .iter()
+        .map(|&(id, lo, hi)| Axis::new(study, id, lo, hi))
+        .collect())
+}
+
+/// A bound on a varied parameter narrows its box.
+fn narrow(
+    axes: &mut [Axis],
+    id: ParamId,
+    at_most: bool,
+    v: f64,
+    text: &str,
+) -> Result<(), Refusal> {
+    let Some(a) = axes.iter_mut().find(|a| a.param == id) else {
+        return Err(Refusal(format!(
+            "--constraint `{text}`: {id} is not varied; accepted: a bound on a --vary parameter, or on wear or vibration"
+        )));
+    };
+    if at_most {
+        a.hi = a.hi.min(v);
+    } else {
+        a.lo = a.lo.max(v);
+    }
+    if a.lo >= a.hi {
+        return Err(Refusal(format!(
+            "--constraint `{text}`: leaves an empty box for {id}; accepted: a bound inside the --vary range"
+        )));
+    }
+    Ok(())
+}
+
+/// Refuses a box whose ends take any sample outside the parameter's accepted range.
+fn check_axis(
+    a: &Axis,
+    study: &Study,
+    seed: u64,
+    samples: u64,
+    given: &(ParamId, f64, f64),
+) -> Result<(), Refusal> {
+    let key = format!(
+        "--vary {}={}..{}",
+        given.0,
+        plain(given.1, 12),
+        plain(given.2, 12)
+    );
+    if let SettingKind::Set = a.kind {
+        for end in [a.lo, a.hi] {
+            a.param.spec().check(end).map_err(|e| {
+                Refusal(format!("{key}: the box is outside the accepted range: {e}"))
+            })?;
+        }
+        return Ok(());
+    }
+    a.check(study, seed, samples, &key).map_err(|e| {
+        Refusal(format!(
+            "{key}: the box is outside the accepted range for the study's samples: a setting is the centre of {}'s distribution, every sample moved with it; {e}",
+            a.param
+        ))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::study::DEFAULT_STUDY;
+
+    fn spec(vary: Vec<(ParamId, f64, f64)>, constraints: &[&str]) -> ProblemSpec {
+        ProblemSpec {
+            study: Study::parse(DEFAULT_STUDY).unwrap(),
+            origin: "built-in default study".into(),
+            seed: None,
+            samples: 50,
+            vary,
+            constraints: constraints.iter().map(|c| c.to_string()).collect(),
+            objective: Objective {
+                terms: vec![(1.0, Term::Vibration)],
+                wheel: WheelChoice::Follower,
+            },
+            within_km: 40_000.0,
+            search: SearchOptions {
+                grid: 3,
+                levels: 1,
+                keep: 1,
+            },
+            accept_implausible: false,
+        }
+    }
+
+    #[test]
+    fn a_problem_built_from_rust_is_checked_as_the_command_line_is() {
+        let toe = (ParamId::ToeDeg, 0.25, 0.4);
+        let ok = Problem::new(spec(vec![toe], &["toe_deg<=0.35"])).unwrap();
+        assert_eq!(
+            ok.axes[0].hi, 0.35,
+            "a bound on a varied parameter narrows its box"
+        );
+        assert_eq!(ok.given_constraints, ["toe_deg<=0.35"]);
+        let refused = |s: ProblemSpec| Problem::new(s).unwrap_err().0;
+        assert!(refused(spec(vec![toe], &["load_n<=5000"])).contains("load_n is not varied"));
+        assert!(refused(spec(vec![toe], &["toe_deg<=0.2"])).contains("empty box"));
+        assert!(refused(spec(vec![toe, toe], &[])).contains("twice"));
+        assert!(refused(spec(vec![toe], &["vibration<=2"])).contains("not in [0, 1]"));
+    }
+}
