@@ -1,7 +1,7 @@
 //! `polywear explore`: the batch study, with progress bar, summary, resume and shards.
 
 use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
@@ -16,9 +16,13 @@ use super::common::{BudgetArgs, CliError, CliResult};
 use polywear_core::wear::WearZone;
 use polywear_core::wording::plain;
 use polywear_study::explore::recorded_run::{shell_word, DirState, RecordedRun};
-use polywear_study::explore::{ExploreError, PreparedOutput, RunPlan, RunSummary, Shard};
-use polywear_study::study::{Study, DEFAULT_STUDY, SEED_MAX};
-use resume::{check_against_recorded, parse_wear_zone, resume_command, wear_settings};
+use polywear_study::explore::{
+    chunk_size_warning, empty_shard_report, ExploreError, ExploreRequest, PreparedOutput, RunPlan,
+    RunSummary, Shard,
+};
+use polywear_study::param_sources::Refusal;
+use polywear_study::study::{Study, SEED_MAX};
+use resume::{parse_wear_zone, resume_command};
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -150,88 +154,27 @@ pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
     finish(args, &plan, &summary, secs).map(|()| ExitCode::SUCCESS)
 }
 
-/// The run the flags ask for: the study (the file, the one recorded in `--resume --out DIR`, or
-/// the built-in one), its base parameters, samples, seed, shard and output directory.
+/// The run the flags ask for ([`ExploreRequest::plan`]), its notes on stderr.
 fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
-    // `--resume --out DIR` continues the run recorded there: its study, parameters, samples,
-    // seed and shard are the defaults, and a flag that contradicts them is refused.
-    // A manifest this build cannot read back (damaged, or from a version that recorded less) is
-    // left to `prepare_output`, which says how the directory differs from this run.
-    let recorded = match (&args.out, args.resume) {
-        (Some(dir), true) => RecordedRun::read(dir)
-            .ok()
-            .flatten()
-            .map(|run| (dir.clone(), run)),
-        _ => None,
-    };
-    let (source, origin) = match (&args.study, &recorded) {
-        (Some(path), _) => (
-            super::common::read_input(path, "study ", polywear_study::safe_read::Limit::Text)?,
-            path.display().to_string(),
-        ),
-        (None, Some((dir, run))) => (
-            run.study.clone(),
-            format!("the study recorded in {}", dir.display()),
-        ),
-        (None, None) => (
-            DEFAULT_STUDY.to_string(),
-            "built-in default study".to_string(),
-        ),
-    };
-    // A resumed run's values were judged when it started.
-    let accept = args.accept_implausible || recorded.is_some();
-    let (base, named) = match (&args.params, &recorded) {
-        // The recorded values already hold the study's fixed ones, which parsing sets again.
-        (None, Some((_, run))) => (run.params, Vec::new()),
-        _ => super::common::param_file(args.params.as_deref(), accept)?,
-    };
-    // A relative `[operating_points]` file is found beside the study file (for a recorded
-    // study, where the run found it).
-    let study_dir = match (&args.study, &recorded) {
-        (Some(path), _) => path.parent().map(Path::to_path_buf).unwrap_or_default(),
-        (None, Some((_, run))) => run.operating_points_dir.clone().unwrap_or_default(),
-        (None, None) => PathBuf::new(),
-    };
-    let mut study = Study::parse_at(&source, base, &study_dir)
-        .map_err(|e| CliError(format!("{origin}: {e}")))?;
-    if let Some((dir, run)) = &recorded {
-        check_against_recorded(args, &study, dir, run)?;
-    }
-    check_new_inputs(args, &study, &named, (&origin, &study_dir), accept)?;
-    study.wear = wear_settings(args, &study, recorded.as_ref().map(|(_, run)| run))?;
-    let wear = RunPlan::wear_stage(&study).map_err(|e| CliError(format!("{origin}: {e}")))?;
-    study.budget = args.budget.apply(study.budget)?;
-    let recorded_samples = recorded
-        .as_ref()
-        .map(|(_, run)| run.samples / study.evaluations(1));
-    let base_samples = args.samples.or(recorded_samples).unwrap_or(study.samples);
-    study
-        .check_samples(base_samples)
-        .map_err(|e| CliError(format!("{origin}: --samples {base_samples}: {e}")))?;
-    // A Saltelli design needs k + 2 evaluations per base sample.
-    let samples = study.evaluations(base_samples);
-    let seed = args
-        .seed
-        .or(recorded.as_ref().map(|(_, run)| run.seed))
-        .unwrap_or(study.seed);
-    study
-        .check_scenarios(seed, samples)
-        .map_err(|e| CliError(format!("{origin}: {e}")))?;
-    let out_dir = args
-        .out
-        .clone()
-        .unwrap_or_else(|| default_out_dir(&study, seed));
-    let recorded_shard = recorded.as_ref().map(|(_, run)| run.shard);
-    Ok(RunPlan {
-        study,
-        seed,
-        samples,
-        shard: args.shard.or(recorded_shard).unwrap_or(Shard::WHOLE),
-        out_dir,
+    let request = ExploreRequest {
+        study: args.study.clone(),
+        samples: args.samples,
+        seed: args.seed,
+        out: args.out.clone(),
         resume: args.resume,
-        command: polywear_study::provenance::command_line(),
-        wear,
-    })
+        shard: args.shard,
+        params: args.params.clone(),
+        accept_implausible: args.accept_implausible,
+        no_wear: args.no_wear,
+        wear_zone: args.wear_zone,
+    };
+    let (plan, notes) = request.plan(&|b| args.budget.apply(b).map_err(|e| Refusal(e.0)))?;
+    if !args.quiet {
+        for note in notes {
+            eprintln!("{note}");
+        }
+    }
+    Ok(plan)
 }
 
 /// The progress bar on a terminal, or progress lines every `--log-every` seconds in a log.
@@ -302,7 +245,17 @@ fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -
     // A shard that owns no chunk (fewer chunks than shards) did all it had to: say so, exit 0.
     if plan.owned_chunks().next().is_none() {
         if !args.no_report {
-            empty_shard_report(plan, args.quiet).map_err(CliError)?;
+            let path = empty_shard_report(plan).map_err(|e| CliError(e.to_string()))?;
+            if !args.quiet {
+                println!(
+                    "shard {}/{} holds no rows ({} chunk(s) for {} shards); report: {}",
+                    plan.shard.index,
+                    plan.shard.count,
+                    plan.n_chunks(),
+                    plan.shard.count,
+                    path.display()
+                );
+            }
         }
         return Ok(());
     }
@@ -363,59 +316,6 @@ fn write_failure(args: &ExploreArgs, plan: &RunPlan, e: &ExploreError) -> CliErr
         "{cause}{text}\n{saved}; free space or fix the folder, then resume with: {}",
         resume_command(args, plan)
     ))
-}
-
-/// Below this `chunk_size` explore warns: each chunk costs a file and three fsyncs.
-const CHUNK_SIZE_WARN: u64 = 64;
-
-/// The warning for a small `chunk_size`, with its measured cost (docs/book/src/maintainers/benchmarks.md#fsync).
-fn chunk_size_warning(chunk_size: u64) -> Option<String> {
-    (chunk_size < CHUNK_SIZE_WARN).then(|| {
-        format!(
-            "warning: chunk_size = {chunk_size} is below {CHUNK_SIZE_WARN}: every chunk is a file with three fsyncs, and analyze opens each; on 2,000 samples of the default study (2 cores) chunk_size 1 made explore {} and analyze {} slower than the default 4096; keep it in the thousands",
-            CHUNK_1_EXPLORE_SLOWER, CHUNK_1_ANALYZE_SLOWER
-        )
-    })
-}
-
-/// Measured side by side (docs/book/src/reference/guarantees.md#what-is-guaranteed): explore and analyze of 2,000 samples of
-/// the default study at chunk_size 1 against 4096.
-const CHUNK_1_EXPLORE_SLOWER: &str = "about 30x";
-/// See [`CHUNK_1_EXPLORE_SLOWER`].
-const CHUNK_1_ANALYZE_SLOWER: &str = "about 9x";
-
-/// The study's values against their plausible ranges (unless `accept`), a `--params` file that
-/// sets what the study sets too, passed-through columns named as output columns; and, before
-/// any work, how a computed weight is made.
-fn check_new_inputs(
-    args: &ExploreArgs,
-    study: &Study,
-    named: &[polywear_core::params::ParamId],
-    (origin, study_dir): (&str, &Path),
-    accept: bool,
-) -> CliResult {
-    if !accept {
-        study
-            .check_plausible()
-            .map_err(|e| CliError(format!("{origin}: {e}")))?;
-    }
-    super::common::refuse_file_overlap(named, args.params.as_deref(), study, origin)?;
-    let Some(op) = &study.operating_points else {
-        return Ok(());
-    };
-    super::common::refuse_reserved_names(
-        op.pass_through.iter().map(|c| c.name.as_str()),
-        &op.path,
-        "`operating_points.pass_through`",
-        &["sample_id", "operating_point_row"],
-    )?;
-    if let (Some(how), false) = (&op.weight_computed, args.quiet) {
-        eprintln!(
-            "{}",
-            polywear_study::operating_points::computed_weight_note(&study_dir.join(&op.file), how)
-        );
-    }
-    Ok(())
 }
 
 /// Says which scenarios every sample is also evaluated under, if any.
@@ -486,39 +386,6 @@ fn explore_error(e: ExploreError) -> CliError {
     CliError(format!("--out {}: {message}", dir.display()))
 }
 
-/// The closing report of a shard that owns no chunk: `_report/report.md` says it holds no rows.
-fn empty_shard_report(plan: &RunPlan, quiet: bool) -> Result<(), String> {
-    let dir = plan.out_dir.join("_report");
-    polywear_study::safe_write::create_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let text = format!(
-        "# Shard {k}/{n} of study `{name}`: no rows\n\nThis shard holds no rows: the run has {chunks} \
-         chunk(s) of {size} samples ({samples} samples), fewer than the {n} shards, and shard k \
-         owns the chunks whose index is k mod {n}. Nothing is missing; analyse all shards together \
-         (`polywear analyze <shard directories>`).\n",
-        k = plan.shard.index,
-        n = plan.shard.count,
-        name = plan.study.name,
-        chunks = plan.n_chunks(),
-        size = plan.study.chunk_size,
-        samples = plan.samples,
-    );
-    let path = dir.join("report.md");
-    polywear_study::safe_write::write_file(&path, text.as_bytes())
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-    if quiet {
-        return Ok(());
-    }
-    println!(
-        "shard {}/{} holds no rows ({} chunk(s) for {} shards); report: {}",
-        plan.shard.index,
-        plan.shard.count,
-        plan.n_chunks(),
-        plan.shard.count,
-        path.display()
-    );
-    Ok(())
-}
-
 /// Parses `--shard k/N` (k counted from 0, as Slurm array and Kubernetes indexed-job indices).
 pub fn parse_shard(s: &str) -> Result<Shard, String> {
     let (k, n) = s
@@ -558,11 +425,6 @@ pub fn parse_samples(s: &str) -> Result<u64, String> {
     Ok(x as u64)
 }
 
-/// Default output directory for a study and seed.
-pub fn default_out_dir(study: &Study, seed: u64) -> PathBuf {
-    Path::new("data").join(format!("explore_{}_seed{seed}", study.name))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -580,13 +442,5 @@ mod tests {
         assert!(parse_shard("4/4").is_err());
         assert!(parse_shard("1").is_err());
         assert!(parse_shard("0/0").is_err());
-    }
-
-    #[test]
-    fn a_small_chunk_size_is_warned_about_with_its_cost() {
-        assert!(chunk_size_warning(4096).is_none());
-        assert!(chunk_size_warning(64).is_none());
-        let w = chunk_size_warning(1).unwrap();
-        assert!(w.contains("chunk_size = 1") && w.contains("30x"), "{w}");
     }
 }

@@ -22,10 +22,12 @@ pub mod manifest;
 mod output;
 mod pipeline;
 pub mod recorded_run;
+mod request;
 
 pub use manifest::{OperatingPointsRecord, RunManifest};
 pub use output::PreparedOutput;
 pub use pipeline::{chunk_columns, evaluate_params, evaluate_sample, SampleRows, CHUNKS_IN_FLIGHT};
+pub use request::{chunk_size_warning, default_out_dir, empty_shard_report, ExploreRequest};
 
 /// The part of a run one machine evaluates: the chunks whose index ≡ `index` (mod `count`),
 /// shard k of N with k counted from 0 (as Slurm array and Kubernetes indexed-job indices).

@@ -1,0 +1,332 @@
+//! An explore run as asked for, resolved into a [`RunPlan`]: the study (the file, the one
+//! recorded in the output directory for `--resume`, or the built-in one), its parameters,
+//! samples, seed, shard, wear stage and output directory, every value checked before any work;
+//! and the resume rules: a resumed run takes its recorded values as defaults and refuses a
+//! value that contradicts them.
+
+use std::path::{Path, PathBuf};
+
+use polywear_core::classify::WheelBudget;
+use polywear_core::wear::{WearSettings, WearZone};
+
+use super::recorded_run::{changed_lines, param_changes, shell_word, RecordedRun};
+use super::{ExploreError, RunPlan, Shard};
+use crate::param_sources::{param_file, refuse_file_overlap, refuse_reserved_names, Refusal};
+use crate::study::{Study, DEFAULT_STUDY};
+
+/// What `explore` is asked: every field as given, `None` where not given.
+#[derive(Debug, Clone, Default)]
+pub struct ExploreRequest {
+    /// The study file; `None`: the recorded one on resume, else the built-in default.
+    pub study: Option<PathBuf>,
+    /// Base samples; `None`: the recorded or the study's.
+    pub samples: Option<u64>,
+    /// Seed; `None`: the recorded or the study's.
+    pub seed: Option<u64>,
+    /// Output directory; `None`: `data/explore_<study>_seed<seed>`.
+    pub out: Option<PathBuf>,
+    /// Continue the run recorded in `out`.
+    pub resume: bool,
+    /// Evaluate only this shard; `None`: the recorded one, else the whole run.
+    pub shard: Option<Shard>,
+    /// A `--params` file.
+    pub params: Option<PathBuf>,
+    /// Run implausible values anyway.
+    pub accept_implausible: bool,
+    /// Leave the wear stage out.
+    pub no_wear: bool,
+    /// The wear zone, over the study's.
+    pub wear_zone: Option<WearZone>,
+}
+
+impl ExploreRequest {
+    /// The run asked for: the study (the file, the one recorded in `--resume --out DIR`, or
+    /// the built-in one), its base parameters, samples, seed, shard and output directory.
+    pub fn plan(
+        &self,
+        budget: &dyn Fn(WheelBudget) -> Result<WheelBudget, Refusal>,
+    ) -> Result<(RunPlan, Vec<String>), Refusal> {
+        let args = self;
+        let mut notes = Vec::new();
+        // `--resume --out DIR` continues the run recorded there: its study, parameters, samples,
+        // seed and shard are the defaults, and a flag that contradicts them is refused.
+        // A manifest this build cannot read back (damaged, or from a version that recorded less) is
+        // left to `prepare_output`, which says how the directory differs from this run.
+        let recorded = match (&args.out, args.resume) {
+            (Some(dir), true) => RecordedRun::read(dir)
+                .ok()
+                .flatten()
+                .map(|run| (dir.clone(), run)),
+            _ => None,
+        };
+        let (source, origin) = match (&args.study, &recorded) {
+            (Some(path), _) => (
+                crate::safe_read::read_text(path, crate::safe_read::Limit::Text)
+                    .map_err(|e| Refusal(format!("study {e}")))?,
+                path.display().to_string(),
+            ),
+            (None, Some((dir, run))) => (
+                run.study.clone(),
+                format!("the study recorded in {}", dir.display()),
+            ),
+            (None, None) => (
+                DEFAULT_STUDY.to_string(),
+                "built-in default study".to_string(),
+            ),
+        };
+        // A resumed run's values were judged when it started.
+        let accept = args.accept_implausible || recorded.is_some();
+        let (base, named) = match (&args.params, &recorded) {
+            // The recorded values already hold the study's fixed ones, which parsing sets again.
+            (None, Some((_, run))) => (run.params, Vec::new()),
+            _ => param_file(args.params.as_deref(), accept)?,
+        };
+        // A relative `[operating_points]` file is found beside the study file (for a recorded
+        // study, where the run found it).
+        let study_dir = match (&args.study, &recorded) {
+            (Some(path), _) => path.parent().map(Path::to_path_buf).unwrap_or_default(),
+            (None, Some((_, run))) => run.operating_points_dir.clone().unwrap_or_default(),
+            (None, None) => PathBuf::new(),
+        };
+        let mut study = Study::parse_at(&source, base, &study_dir)
+            .map_err(|e| Refusal(format!("{origin}: {e}")))?;
+        if let Some((dir, run)) = &recorded {
+            check_against_recorded(args, &study, dir, run)?;
+        }
+        notes.extend(check_new_inputs(
+            args,
+            &study,
+            &named,
+            (&origin, &study_dir),
+            accept,
+        )?);
+        study.wear = wear_settings(args, &study, recorded.as_ref().map(|(_, run)| run))?;
+        let wear = RunPlan::wear_stage(&study).map_err(|e| Refusal(format!("{origin}: {e}")))?;
+        study.budget = budget(study.budget)?;
+        let recorded_samples = recorded
+            .as_ref()
+            .map(|(_, run)| run.samples / study.evaluations(1));
+        let base_samples = args.samples.or(recorded_samples).unwrap_or(study.samples);
+        study
+            .check_samples(base_samples)
+            .map_err(|e| Refusal(format!("{origin}: --samples {base_samples}: {e}")))?;
+        // A Saltelli design needs k + 2 evaluations per base sample.
+        let samples = study.evaluations(base_samples);
+        let seed = args
+            .seed
+            .or(recorded.as_ref().map(|(_, run)| run.seed))
+            .unwrap_or(study.seed);
+        study
+            .check_scenarios(seed, samples)
+            .map_err(|e| Refusal(format!("{origin}: {e}")))?;
+        let out_dir = args
+            .out
+            .clone()
+            .unwrap_or_else(|| default_out_dir(&study, seed));
+        let recorded_shard = recorded.as_ref().map(|(_, run)| run.shard);
+        let plan = RunPlan {
+            study,
+            seed,
+            samples,
+            shard: args.shard.or(recorded_shard).unwrap_or(Shard::WHOLE),
+            out_dir,
+            resume: args.resume,
+            command: crate::provenance::command_line(),
+            wear,
+        };
+        Ok((plan, notes))
+    }
+}
+
+/// The study's values against their plausible ranges (unless `accept`), a `--params` file that
+/// sets what the study sets too, passed-through columns named as output columns; and, before
+/// any work, how a computed weight is made.
+fn check_new_inputs(
+    args: &ExploreRequest,
+    study: &Study,
+    named: &[polywear_core::params::ParamId],
+    (origin, study_dir): (&str, &Path),
+    accept: bool,
+) -> Result<Vec<String>, Refusal> {
+    if !accept {
+        study
+            .check_plausible()
+            .map_err(|e| Refusal(format!("{origin}: {e}")))?;
+    }
+    refuse_file_overlap(named, args.params.as_deref(), study, origin)?;
+    let Some(op) = &study.operating_points else {
+        return Ok(Vec::new());
+    };
+    refuse_reserved_names(
+        op.pass_through.iter().map(|c| c.name.as_str()),
+        &op.path,
+        "`operating_points.pass_through`",
+        &["sample_id", "operating_point_row"],
+    )?;
+    Ok(op
+        .weight_computed
+        .iter()
+        .map(|how| crate::operating_points::computed_weight_note(&study_dir.join(&op.file), how))
+        .collect())
+}
+
+/// The run's wear stage: `--no-wear` or `--wear-zone` over the study's `wear`/`wear_zone`; a
+/// resumed run keeps the stage it started with, and a flag that contradicts it is refused.
+fn wear_settings(
+    args: &ExploreRequest,
+    study: &Study,
+    recorded: Option<&RecordedRun>,
+) -> Result<Option<WearSettings>, Refusal> {
+    let asked = match (args.no_wear, args.wear_zone) {
+        (true, _) => Some(None),
+        (false, Some(zone)) if study.wear.is_none() && recorded.is_none() => {
+            return Err(Refusal(format!(
+                "--wear-zone {zone}: the study sets `wear = false`, which leaves the wear stage out; remove it from the study, or leave --wear-zone out"
+            )))
+        }
+        (false, Some(zone)) => Some(Some(WearSettings { zone })),
+        (false, None) => None,
+    };
+    let Some(run) = recorded else {
+        return Ok(asked.unwrap_or(study.wear));
+    };
+    match asked {
+        Some(w) if w != run.wear => {
+            let was = run
+                .wear
+                .map_or("no wear stage (--no-wear)".to_string(), |w| {
+                    format!("the wear stage with --wear-zone {}", w.zone)
+                });
+            let flag = if args.no_wear {
+                "--no-wear".to_string()
+            } else {
+                format!("--wear-zone {}", args.wear_zone.expect("asked"))
+            };
+            Err(Refusal(format!(
+                "--resume: {flag} contradicts the run, which started with {was}; leave it out to continue the run as it started, or choose another --out for a new run"
+            )))
+        }
+        _ => Ok(run.wear),
+    }
+}
+
+/// Refuses a flag of `--resume --out DIR` that contradicts the run recorded in DIR, showing
+/// both values; repeating the recorded value is accepted.
+fn check_against_recorded(
+    args: &ExploreRequest,
+    study: &Study,
+    dir: &Path,
+    run: &RecordedRun,
+) -> Result<(), Refusal> {
+    let d = shell_word(&dir.display().to_string());
+    let refuse = |what: String| {
+        let sep = if what.ends_with('\n') { "" } else { "; " };
+        Refusal(format!(
+            "--resume --out {d}: {what}{sep}leave it out to continue the run as it started (`polywear explore --resume --out {d}`), or choose another --out for a new run"
+        ))
+    };
+    if let Some(path) = &args.study {
+        if study.source != run.study {
+            let lines = changed_lines(&run.study, &study.source);
+            return Err(refuse(format!(
+                "{} differs from the run's study in these lines (- the run's, + the file's):\n    {}\n",
+                path.display(),
+                lines.join("\n    ")
+            )));
+        }
+    }
+    if let Some(seed) = args.seed.filter(|s| *s != run.seed) {
+        return Err(refuse(format!(
+            "--seed {seed} contradicts the run's seed {}",
+            run.seed
+        )));
+    }
+    if let Some(n) = args
+        .samples
+        .filter(|n| study.evaluations(*n) != run.samples)
+    {
+        return Err(refuse(format!(
+            "--samples {n} contradicts the run's {} samples",
+            run.samples / study.evaluations(1)
+        )));
+    }
+    if let Some(s) = args.shard.filter(|s| *s != run.shard) {
+        return Err(refuse(format!(
+            "--shard {s} contradicts the run's shard {}",
+            run.shard
+        )));
+    }
+    if let Some(path) = &args.params {
+        if study.base != run.params {
+            return Err(refuse(format!(
+                "--params {} contradicts the run's values ({}, now from the file)",
+                path.display(),
+                param_changes(&run.params, &study.base)
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The closing report of a shard that owns no chunk: `_report/report.md` says it holds no
+/// rows; returns its path.
+pub fn empty_shard_report(plan: &RunPlan) -> Result<PathBuf, ExploreError> {
+    let dir = plan.out_dir.join("_report");
+    let failed = |path: &Path, e: std::io::Error| ExploreError::OutputDir {
+        dir: path.to_path_buf(),
+        message: e.to_string(),
+    };
+    crate::safe_write::create_dir(&dir).map_err(|e| failed(&dir, e))?;
+    let text = format!(
+        "# Shard {k}/{n} of study `{name}`: no rows\n\nThis shard holds no rows: the run has {chunks} \
+         chunk(s) of {size} samples ({samples} samples), fewer than the {n} shards, and shard k \
+         owns the chunks whose index is k mod {n}. Nothing is missing; analyse all shards together \
+         (`polywear analyze <shard directories>`).\n",
+        k = plan.shard.index,
+        n = plan.shard.count,
+        name = plan.study.name,
+        chunks = plan.n_chunks(),
+        size = plan.study.chunk_size,
+        samples = plan.samples,
+    );
+    let path = dir.join("report.md");
+    crate::safe_write::write_file(&path, text.as_bytes()).map_err(|e| failed(&path, e))?;
+    Ok(path)
+}
+
+/// Below this `chunk_size` explore warns: each chunk costs a file and three fsyncs.
+pub const CHUNK_SIZE_WARN: u64 = 64;
+
+/// The warning for a small `chunk_size`, with its measured cost (docs/book/src/maintainers/benchmarks.md#fsync).
+pub fn chunk_size_warning(chunk_size: u64) -> Option<String> {
+    (chunk_size < CHUNK_SIZE_WARN).then(|| {
+        format!(
+            "warning: chunk_size = {chunk_size} is below {CHUNK_SIZE_WARN}: every chunk is a file with three fsyncs, and analyze opens each; on 2,000 samples of the default study (2 cores) chunk_size 1 made explore {} and analyze {} slower than the default 4096; keep it in the thousands",
+            CHUNK_1_EXPLORE_SLOWER, CHUNK_1_ANALYZE_SLOWER
+        )
+    })
+}
+
+/// Measured side by side (docs/book/src/reference/guarantees.md#what-is-guaranteed): explore and analyze of 2,000 samples of
+/// the default study at chunk_size 1 against 4096.
+const CHUNK_1_EXPLORE_SLOWER: &str = "about 30x";
+/// See [`CHUNK_1_EXPLORE_SLOWER`].
+const CHUNK_1_ANALYZE_SLOWER: &str = "about 9x";
+
+/// Default output directory for a study and seed.
+pub fn default_out_dir(study: &Study, seed: u64) -> PathBuf {
+    Path::new("data").join(format!("explore_{}_seed{seed}", study.name))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_small_chunk_size_is_warned_about_with_its_cost() {
+        assert!(chunk_size_warning(4096).is_none());
+        assert!(chunk_size_warning(64).is_none());
+        let w = chunk_size_warning(1).unwrap();
+        assert!(w.contains("chunk_size = 1") && w.contains("30x"), "{w}");
+    }
+}
