@@ -9,7 +9,8 @@ use polywear_analysis::plot::FigureFormat;
 
 use super::common::{CliError, CliResult};
 use polywear_analysis::analysis::inputs::check_inputs;
-use polywear_analysis::analysis::{Analysis, AnalysisError, AnalysisOptions};
+use polywear_analysis::analysis::{AnalysisError, AnalysisOptions};
+use polywear_analysis::render::summary::summary_lines;
 use polywear_analysis::render::RenderOptions;
 use polywear_core::params::ParamId;
 
@@ -202,7 +203,9 @@ pub fn report(
     if !verbose {
         return Ok(());
     }
-    print_summary(&a);
+    for line in summary_lines(&a) {
+        println!("{line}");
+    }
     println!(
         "analysed {} rows in {:.1} s; report: {}",
         a.info.rows,
@@ -220,163 +223,5 @@ fn release_freed_memory() {
     // SAFETY: malloc_trim only returns free heap pages to the kernel; no pointer is touched.
     unsafe {
         libc::malloc_trim(0);
-    }
-}
-
-fn print_summary(a: &Analysis) {
-    let i = &a.info;
-    print_failures(a);
-    println!(
-        "{} of {} samples present ({} rows in {} files)",
-        i.samples_present,
-        i.samples,
-        i.rows,
-        i.files.len()
-    );
-    if i.samples_present < i.samples {
-        println!(
-            "  note: {} samples missing (chunks not in the inputs); the tables cover the samples present",
-            i.samples - i.samples_present
-        );
-    }
-    print_wear(a);
-    let weighted = a
-        .fleet
-        .as_ref()
-        .map_or(String::new(), |f| format!(", {}", f.weight.words()));
-    println!("P(vibration) over classified rows{weighted}, with 95% Wilson interval:");
-    for o in &a.occurrence {
-        let (lo, hi) = o.counts.wilson();
-        println!(
-            "  {:>8} {:>8}: {:>7.3}%  [{:.3}%, {:.3}%]  ({} of {} classified; {} failed, {} no traction)",
-            o.variant,
-            o.wheel,
-            100.0 * o.p(),
-            100.0 * lo,
-            100.0 * hi,
-            o.counts.vibrating(),
-            o.counts.classified(),
-            o.counts.failed(),
-            o.counts.no_traction()
-        );
-    }
-    for p in &a.paired {
-        println!(
-            "  {:>8} paired: {}; McNemar p = {}",
-            p.variant,
-            p.counts_text(),
-            if p.p_value.is_nan() {
-                "n/a (no discordant pairs)".to_string()
-            } else {
-                polywear_study::stats::format_p(p.p_value)
-            }
-        );
-    }
-    print_fleet(a);
-    if !a.scenarios.is_empty() {
-        println!("What the changes do (paired on the same samples; 95% Newcombe interval):");
-    }
-    for e in &a.scenarios {
-        println!(
-            "  {} ({}, {}): {}",
-            e.scenario,
-            e.variant,
-            e.outcome.name(),
-            polywear_analysis::render::scenarios::sentence(e)
-        );
-    }
-    for r in &a.robustness_summary {
-        println!(
-            "  {:>8} lost digits: driving less exposed in {} of {} decodings ({:.1}%, 95% [{:.1}%, {:.1}%]); {} with too few samples",
-            r.variant,
-            r.driving_less,
-            r.compared,
-            100.0 * r.share,
-            100.0 * r.lo,
-            100.0 * r.hi,
-            r.too_few
-        );
-    }
-    for n in &a.notes {
-        println!("  note: {n}");
-    }
-}
-
-/// The wear answer first: P(visible polygon within each distance) per wheel and the paired
-/// comparison at each; one line where the run has no wear stage.
-fn print_wear(a: &Analysis) {
-    use polywear_analysis::render::wear::km;
-    let Some(w) = &a.wear else {
-        println!("wear: the wear stage was left out of this run (--no-wear or `wear = false`); vibration only");
-        return;
-    };
-    println!(
-        "P(visible polygonal wear within X km), cruising at each sample's operating point (phi_s = {}, sigma_V = {} km/h, field-fitted), with 95% Wilson interval:",
-        w.share_straight, w.speed_spread_kmh
-    );
-    for o in &w.occurrence {
-        let (lo, hi) = o.counts.wilson();
-        println!(
-            "  {:>8} {:>8} within {:>10}: {:>7.3}%  [{:.3}%, {:.3}%]  ({} of {} with a distance; {} unknown)",
-            o.variant,
-            o.wheel,
-            km(o.within_km),
-            100.0 * o.counts.p(),
-            100.0 * lo,
-            100.0 * hi,
-            o.counts.within,
-            o.counts.known,
-            o.counts.unknown
-        );
-    }
-    for wp in &w.paired {
-        let p = &wp.paired;
-        println!(
-            "  {:>8} paired within {:>10}: {}; McNemar p = {}",
-            p.variant,
-            km(wp.within_km),
-            p.counts_text(),
-            p.mcnemar_text()
-        );
-    }
-}
-
-/// When more than 1% of the rows have no verdict, the first thing printed: how many, and why.
-fn print_failures(a: &Analysis) {
-    let f = &a.failures;
-    if !f.loud() {
-        return;
-    }
-    println!(
-        "WARNING: {} of {} rows ({:.1}%) have no verdict; every probability below is over the other {} only. Why:",
-        f.unclassified,
-        f.rows,
-        100.0 * f.share(),
-        f.rows - f.unclassified
-    );
-    for g in &f.groups {
-        println!("  {:>9} {}: {}", g.rows, g.class, g.pattern);
-    }
-}
-
-/// For a fleet run: how many operating points carry half of the fleet's risk, and which.
-fn print_fleet(a: &Analysis) {
-    let Some(fleet) = &a.fleet else {
-        return;
-    };
-    for variant in a.variants() {
-        let rows: Vec<_> = fleet.rows.iter().filter(|r| r.variant == variant).collect();
-        let Some((k, weight)) = polywear_analysis::render::fleet::half_the_risk(&rows) else {
-            continue;
-        };
-        let names: Vec<String> = rows[..k].iter().map(|r| r.row.to_string()).collect();
-        println!(
-            "  {:>8} operating points: {k} of {} carry half of the fleet's risk (rows {}; {:.1}% of the {}); every row in fleet_rows.csv",
-            variant,
-            rows.len(),
-            names.join(", "),
-            100.0 * weight,
-            fleet.weight.short()
-        );
     }
 }

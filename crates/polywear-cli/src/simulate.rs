@@ -1,6 +1,6 @@
 //! `polywear simulate`: one operating point, both wheels: verdict, time series, plot.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Args;
 
@@ -10,14 +10,14 @@ use super::common::{
 };
 use polywear_analysis::figures::trajectory::plot_point;
 use polywear_analysis::plot::FigureFile;
-use polywear_core::classify::{Class, ClassifierOptions};
+use polywear_analysis::render::verdict::verdict_table;
+use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate;
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::Params;
 use polywear_core::records::WheelRecord;
-use polywear_core::wording::plain;
-use polywear_study::parquet_out::{write_csv, write_table, Column};
-use polywear_study::trajectory::{time_series, Samples};
+use polywear_study::parquet_out::{write_csv, write_table};
+use polywear_study::trajectory::{series_columns, time_series, Samples};
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -183,134 +183,21 @@ fn write(args: &SimulateArgs, request: &SimulateRequest, simulated: &Simulated) 
             println!("{}", serde_json::to_string(r).expect("record serializes"));
         }
     } else {
-        print_table(records);
+        print!("{}", verdict_table(records));
     }
     if let Some(out) = &request.out {
-        write_series(out, series, &request.params, request.variant)?;
+        let cols = series_columns(series);
+        if out.extension().is_some_and(|e| e == "csv") {
+            write_csv(out, &cols)?;
+        } else {
+            write_table(out, &cols, &base_metadata(&request.params, request.variant))?;
+        }
         eprintln!("wrote time series to {}", out.display());
     }
     if let Some(file) = &request.plot {
         plot_point(file, series, records, request.sample_rate_hz)
             .map_err(|e| CliError(e.to_string()))?;
         eprintln!("wrote plot to {}", file.path.display());
-    }
-    Ok(())
-}
-
-/// The verdict of one wheel in words, the first thing `simulate` prints:
-/// "follower: vibrates (65.4 mm/s, 38.5 µm, 270 Hz, 19.4-gon)", "driving: stable (decays at
-/// 7.07 1/s)".
-pub fn verdict_line(r: &WheelRecord) -> String {
-    let cycle = || {
-        format!(
-            "{} mm/s, {} µm, {} Hz, {}-gon",
-            plain(r.amp_v_mps * 1e3, 3),
-            plain(r.amp_y_m * 1e6, 3),
-            plain(r.freq_hz, 3),
-            plain(r.polygon_order, 3)
-        )
-    };
-    let verdict = match r.class {
-        Class::LimitCycle => format!("vibrates ({})", cycle()),
-        Class::Bistable => format!(
-            "stable, but vibrates once disturbed hard enough (bistable: {})",
-            cycle()
-        ),
-        Class::Stable => format!("stable (decays at {} 1/s)", plain(-r.eig_re_max, 3)),
-        Class::NoTraction => format!("no traction ({})", r.reason),
-        Class::Failed => format!("no verdict ({})", r.reason),
-        Class::Standstill => format!("standing still ({})", r.reason),
-    };
-    format!("{}: {verdict}", r.wheel)
-}
-
-fn print_table(records: &[WheelRecord]) {
-    let Some(first) = records.first() else { return };
-    for r in records {
-        println!("{}", verdict_line(r));
-    }
-    println!();
-    println!(
-        "operating point: {} km/h, toe {} deg, load {} N, pressure {} kPa, variant {}",
-        plain(first.speed_kmh, 6),
-        plain(first.toe_deg, 6),
-        plain(first.load_n, 6),
-        plain(first.pressure_kpa, 6),
-        first.variant
-    );
-    type Cell = fn(&WheelRecord) -> String;
-    let rows: [(&str, Cell); 14] = [
-        ("class", |r| r.class.to_string()),
-        ("slip ratio", |r| plain(r.slip_ratio, 4)),
-        ("contact length [mm]", |r| {
-            plain(r.contact_length_m * 1e3, 4)
-        }),
-        ("contact width [mm]", |r| plain(r.contact_width_m * 1e3, 4)),
-        ("K_s [N/m]", |r| plain(r.k_s, 5)),
-        ("F_m / F_s [N]", |r| {
-            format!("{} / {}", plain(r.f_m, 4), plain(r.f_s, 4))
-        }),
-        ("eig re max [1/s]", |r| plain(r.eig_re_max, 4)),
-        ("eig freq [Hz]", |r| plain(r.eig_freq_hz, 5)),
-        ("amplitude y [µm]", |r| plain(r.amp_y_m * 1e6, 4)),
-        ("amplitude v [mm/s]", |r| plain(r.amp_v_mps * 1e3, 4)),
-        ("cycle freq [Hz]", |r| plain(r.freq_hz, 5)),
-        ("polygon order", |r| plain(r.polygon_order, 4)),
-        ("energy/cycle [µJ]", |r| {
-            plain(r.energy_per_cycle_j * 1e6, 4)
-        }),
-        ("Floquet max |mu|", |r| plain(r.floquet_max, 4)),
-    ];
-    print!("{:<20}", "");
-    for r in records {
-        print!("{:>22}", r.wheel);
-    }
-    println!();
-    for (k, (label, f)) in rows.iter().enumerate() {
-        // Padded by characters, not bytes: `µ` takes two bytes.
-        print!(
-            "{label}{}",
-            " ".repeat(20usize.saturating_sub(label.chars().count()))
-        );
-        for r in records {
-            // A stable wheel has no cycle: no amplitude, frequency, polygon order, energy or
-            // Floquet multiplier.
-            let cell = if (8..14).contains(&k) && r.class == Class::Stable {
-                "-".to_string()
-            } else {
-                f(r)
-            };
-            print!("{cell:>22}");
-        }
-        println!();
-    }
-}
-
-fn write_series(
-    path: &Path,
-    series: &[(Wheel, Samples)],
-    p: &Params,
-    variant: Variant,
-) -> CliResult {
-    let all = || {
-        series
-            .iter()
-            .flat_map(|(w, s)| s.iter().map(move |x| (*w, x)))
-    };
-    let cols = vec![
-        Column::str(
-            "wheel",
-            all().map(|(w, _)| w.as_str().to_string()).collect(),
-        ),
-        Column::f64("t_s", "s", all().map(|(_, x)| x.0).collect()),
-        Column::f64("z_m", "m", all().map(|(_, x)| x.1[0]).collect()),
-        Column::f64("y_m", "m", all().map(|(_, x)| x.1[1]).collect()),
-        Column::f64("v_mps", "m/s", all().map(|(_, x)| x.1[2]).collect()),
-    ];
-    if path.extension().is_some_and(|e| e == "csv") {
-        write_csv(path, &cols)?;
-    } else {
-        write_table(path, &cols, &base_metadata(p, variant))?;
     }
     Ok(())
 }

@@ -2,6 +2,7 @@
 //! a uniform grid (its figure, the paper's Figs. 8–10, is `polywear-analysis`'s).
 
 use polywear_core::classify::Scales;
+use polywear_core::columns::Column;
 use polywear_core::model::{Wheel, WheelModel};
 use polywear_core::solver::{sample_uniform, IntegrationError, SolverOptions};
 
@@ -47,4 +48,24 @@ pub fn time_series(
             error,
         }),
     }
+}
+
+/// The time series as columns: one row per wheel and sample (`wheel`, `t_s`, `z_m`, `y_m`,
+/// `v_mps`), as `simulate --out` writes them.
+pub fn series_columns(series: &[(Wheel, Samples)]) -> Vec<Column> {
+    let all = || {
+        series
+            .iter()
+            .flat_map(|(w, s)| s.iter().map(move |x| (*w, x)))
+    };
+    vec![
+        Column::str(
+            "wheel",
+            all().map(|(w, _)| w.as_str().to_string()).collect(),
+        ),
+        Column::f64("t_s", "s", all().map(|(_, x)| x.0).collect()),
+        Column::f64("z_m", "m", all().map(|(_, x)| x.1[0]).collect()),
+        Column::f64("y_m", "m", all().map(|(_, x)| x.1[1]).collect()),
+        Column::f64("v_mps", "m/s", all().map(|(_, x)| x.1[2]).collect()),
+    ]
 }

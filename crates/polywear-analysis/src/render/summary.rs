@@ -1,0 +1,170 @@
+//! The analysis in words for the terminal: the lines `analyze` (and `explore`'s closing report)
+//! print, the wear answer first.
+
+use crate::analysis::Analysis;
+
+/// The analysis in a few lines, as `analyze` and `explore` print it: failures first when they
+/// are many, the samples present, the wear answer, then vibration, fleet and scenarios.
+pub fn summary_lines(a: &Analysis) -> Vec<String> {
+    let mut lines = Vec::new();
+    let i = &a.info;
+    print_failures(a, &mut lines);
+    lines.push(format!(
+        "{} of {} samples present ({} rows in {} files)",
+        i.samples_present,
+        i.samples,
+        i.rows,
+        i.files.len()
+    ));
+    if i.samples_present < i.samples {
+        lines.push(format!(
+            "  note: {} samples missing (chunks not in the inputs); the tables cover the samples present",
+            i.samples - i.samples_present
+        ));
+    }
+    print_wear(a, &mut lines);
+    let weighted = a
+        .fleet
+        .as_ref()
+        .map_or(String::new(), |f| format!(", {}", f.weight.words()));
+    lines.push(format!(
+        "P(vibration) over classified rows{weighted}, with 95% Wilson interval:"
+    ));
+    for o in &a.occurrence {
+        let (lo, hi) = o.counts.wilson();
+        lines.push(format!(
+            "  {:>8} {:>8}: {:>7.3}%  [{:.3}%, {:.3}%]  ({} of {} classified; {} failed, {} no traction)",
+            o.variant,
+            o.wheel,
+            100.0 * o.p(),
+            100.0 * lo,
+            100.0 * hi,
+            o.counts.vibrating(),
+            o.counts.classified(),
+            o.counts.failed(),
+            o.counts.no_traction()
+        ));
+    }
+    for p in &a.paired {
+        lines.push(format!(
+            "  {:>8} paired: {}; McNemar p = {}",
+            p.variant,
+            p.counts_text(),
+            if p.p_value.is_nan() {
+                "n/a (no discordant pairs)".to_string()
+            } else {
+                polywear_study::stats::format_p(p.p_value)
+            }
+        ));
+    }
+    print_fleet(a, &mut lines);
+    if !a.scenarios.is_empty() {
+        lines.push(format!(
+            "What the changes do (paired on the same samples; 95% Newcombe interval):"
+        ));
+    }
+    for e in &a.scenarios {
+        lines.push(format!(
+            "  {} ({}, {}): {}",
+            e.scenario,
+            e.variant,
+            e.outcome.name(),
+            crate::render::scenarios::sentence(e)
+        ));
+    }
+    for r in &a.robustness_summary {
+        lines.push(format!(
+            "  {:>8} lost digits: driving less exposed in {} of {} decodings ({:.1}%, 95% [{:.1}%, {:.1}%]); {} with too few samples",
+            r.variant,
+            r.driving_less,
+            r.compared,
+            100.0 * r.share,
+            100.0 * r.lo,
+            100.0 * r.hi,
+            r.too_few
+        ));
+    }
+    for n in &a.notes {
+        lines.push(format!("  note: {n}"));
+    }
+    lines
+}
+
+/// The wear answer first: P(visible polygon within each distance) per wheel and the paired
+/// comparison at each; one line where the run has no wear stage.
+fn print_wear(a: &Analysis, lines: &mut Vec<String>) {
+    use crate::render::wear::km;
+    let Some(w) = &a.wear else {
+        lines.push(format!("wear: the wear stage was left out of this run (--no-wear or `wear = false`); vibration only"));
+        return;
+    };
+    lines.push(format!(
+        "P(visible polygonal wear within X km), cruising at each sample's operating point (phi_s = {}, sigma_V = {} km/h, field-fitted), with 95% Wilson interval:",
+        w.share_straight, w.speed_spread_kmh
+    ));
+    for o in &w.occurrence {
+        let (lo, hi) = o.counts.wilson();
+        lines.push(format!(
+            "  {:>8} {:>8} within {:>10}: {:>7.3}%  [{:.3}%, {:.3}%]  ({} of {} with a distance; {} unknown)",
+            o.variant,
+            o.wheel,
+            km(o.within_km),
+            100.0 * o.counts.p(),
+            100.0 * lo,
+            100.0 * hi,
+            o.counts.within,
+            o.counts.known,
+            o.counts.unknown
+        ));
+    }
+    for wp in &w.paired {
+        let p = &wp.paired;
+        lines.push(format!(
+            "  {:>8} paired within {:>10}: {}; McNemar p = {}",
+            p.variant,
+            km(wp.within_km),
+            p.counts_text(),
+            p.mcnemar_text()
+        ));
+    }
+}
+
+/// When more than 1% of the rows have no verdict, the first thing printed: how many, and why.
+fn print_failures(a: &Analysis, lines: &mut Vec<String>) {
+    let f = &a.failures;
+    if !f.loud() {
+        return;
+    }
+    lines.push(format!(
+        "WARNING: {} of {} rows ({:.1}%) have no verdict; every probability below is over the other {} only. Why:",
+        f.unclassified,
+        f.rows,
+        100.0 * f.share(),
+        f.rows - f.unclassified
+    ));
+    for g in &f.groups {
+        lines.push(format!("  {:>9} {}: {}", g.rows, g.class, g.pattern));
+    }
+}
+
+/// For a fleet run: how many operating points carry half of the fleet's risk, and which.
+fn print_fleet(a: &Analysis, lines: &mut Vec<String>) {
+    let Some(fleet) = &a.fleet else {
+        return;
+    };
+    for variant in a.variants() {
+        let rows: Vec<_> = fleet.rows.iter().filter(|r| r.variant == variant).collect();
+        let Some((k, weight)) = crate::render::fleet::half_the_risk(&rows) else {
+            continue;
+        };
+        let names: Vec<String> = rows[..k].iter().map(|r| r.row.to_string()).collect();
+        lines.push(format!(
+            "  {:>8} operating points: {k} of {} carry half of the fleet's risk (rows {}; {:.1}% of the {}); every row in fleet_rows.csv",
+            variant,
+            rows.len(),
+            names.join(", "),
+            100.0 * weight,
+            fleet.weight.short()
+        ));
+    }
+}
