@@ -6,63 +6,19 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::common::{
-    base_metadata, check_extension, check_out_file, CliError, CliResult, PointArgs, Resolved,
-    WheelArg,
+    check_extension, check_out_file, CliError, CliResult, PointArgs, Resolved, WheelArg,
 };
 use polywear_analysis::figures::chart::{draw, SHADE_CELLS};
 use polywear_analysis::plot::{FigureFile, FigureFormat};
 use polywear_core::continuation::trace::TraceOptions;
 use polywear_core::continuation::ParamBox;
 use polywear_core::params::{ParamError, ParamId, Params};
-use polywear_study::chart::band::{structure_band, structure_params, StructureBand};
-use polywear_study::chart::{
-    band_columns, curve_columns, special_columns, summary, ChartRequest, RE_LAMBDA_BOUND,
-};
+use polywear_study::chart::band::{band_study, structure_band, StructureBand};
+use polywear_study::chart::{band_columns, curve_columns, special_columns, summary, ChartRequest};
 use polywear_study::parquet_out::{write_csv, write_table};
-use polywear_study::study::Study;
 
 /// Cells per axis of the uncertainty band's grid.
 const BAND_CELLS: usize = 100;
-
-/// The study of `--study`, checked against the chart before work: a parameter it draws for the
-/// band and the command line or `--params` sets too is refused (the band would replace it).
-fn band_study(
-    args: &ChartArgs,
-    req: &ChartRequest,
-    resolved: &Resolved,
-) -> CliResult<Option<(Study, u64)>> {
-    let (Some(path), Some(k)) = (&args.study, args.structure_samples) else {
-        return Ok(None);
-    };
-    let text = super::common::read_input(path, "--study ", polywear_study::safe_read::Limit::Text)?;
-    let study = Study::parse_with_base(&text, req.base)
-        .map_err(|e| CliError(format!("--study {}: {e}", path.display())))?;
-    study
-        .check_samples(k)
-        .map_err(|e| CliError(format!("--structure-samples {k}: {e}")))?;
-    let drawn = structure_params(req, &study);
-    if drawn.is_empty() {
-        return Err(CliError(format!(
-            "--study {}: draws no parameter besides the operating point and the chart's axes; \
-             the band needs distributions of tire-structure, friction or vehicle parameters",
-            path.display()
-        )));
-    }
-    for d in study.drawn.iter().filter(|d| drawn.contains(&d.param)) {
-        if let Some(by) = resolved.given_by(d.param) {
-            return Err(CliError(format!(
-                "{by} sets `{}`, which --study {} draws per structure for the band; a parameter is drawn or set, not both",
-                d.param,
-                path.display()
-            )));
-        }
-        if !(args.point.accept_implausible || study.accept_implausible) {
-            d.check_plausible()
-                .map_err(|e| CliError(format!("--study {}: {e}", path.display())))?;
-        }
-    }
-    Ok(Some((study, k)))
-}
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -188,75 +144,6 @@ pub fn request(args: &ChartArgs) -> CliResult<(ChartRequest, Resolved)> {
     Ok((req, resolved))
 }
 
-/// The chart's metadata: the base parameters, axes, box, wheels and the conventions of l1.
-fn chart_metadata(
-    args: &ChartArgs,
-    req: &ChartRequest,
-    opts: &TraceOptions,
-) -> Vec<(String, String)> {
-    let mut meta = base_metadata(&req.base, req.variant);
-    meta.push(("chart_x".into(), req.x.name().into()));
-    meta.push(("chart_y".into(), req.y.name().into()));
-    meta.push((
-        "chart_box".into(),
-        serde_json::json!({
-            req.x.name(): [args.x_from, args.x_to],
-            req.y.name(): [args.y_from, args.y_to],
-        })
-        .to_string(),
-    ));
-    let wheels: Vec<&str> = req.wheels.iter().map(|w| w.as_str()).collect();
-    meta.push(("wheels".into(), wheels.join(",")));
-    meta.push((
-        "l1_convention".into(),
-        "Kuznetsov eq. 3.20; A q = i w q, A^T p = -i w p, <q,q> = 1, <p,q> = 1; state (z [m], y [m], v [m/s])".into(),
-    ));
-    meta.push((
-        "re_lambda_bound".into(),
-        format!("|re_lambda_per_s| <= {RE_LAMBDA_BOUND:e} * 2 pi freq_hz at every point"),
-    ));
-    meta.push(("trace_options".into(), format!("{opts:?}")));
-    meta
-}
-
-/// The structure band's table, with the study it was drawn from.
-fn write_band(
-    args: &ChartArgs,
-    req: &ChartRequest,
-    meta: &[(String, String)],
-    b: &StructureBand,
-    study: &Study,
-    k: u64,
-) -> CliResult {
-    println!(
-        "uncertainty band: {k} structures from study `{}` (seed {}), drawn: {}",
-        study.name,
-        study.seed,
-        b.drawn
-            .iter()
-            .map(|d| d.name())
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
-    let mut band_meta = meta.to_vec();
-    band_meta.push(("study".into(), study.name.clone()));
-    band_meta.push(("study_source".into(), study.source.clone()));
-    band_meta.push(("seed".into(), study.seed.to_string()));
-    band_meta.push(("structure_samples".into(), k.to_string()));
-    band_meta.push((
-        "structure_params".into(),
-        b.drawn
-            .iter()
-            .map(|d| d.name())
-            .collect::<Vec<_>>()
-            .join(","),
-    ));
-    let cols = band_columns(req, b);
-    write_table(&sibling(&args.out, "_band", "parquet"), &cols, &band_meta)?;
-    write_csv(&sibling(&args.out, "_band", "csv"), &cols)?;
-    Ok(())
-}
-
 fn sibling(out: &Path, suffix: &str, ext: &str) -> PathBuf {
     let stem = out.file_stem().and_then(|s| s.to_str()).unwrap_or("chart");
     out.with_file_name(format!("{stem}{suffix}.{ext}"))
@@ -264,7 +151,13 @@ fn sibling(out: &Path, suffix: &str, ext: &str) -> PathBuf {
 
 pub fn run(args: &ChartArgs) -> CliResult {
     let (req, resolved) = request(args)?;
-    let band_plan = band_study(args, &req, &resolved)?;
+    let band_plan = match (&args.study, args.structure_samples) {
+        (Some(path), Some(k)) => Some((
+            band_study(path, k, &req, &resolved, args.point.accept_implausible)?,
+            k,
+        )),
+        _ => None,
+    };
     let pool = super::common::thread_pool(args.threads)?;
     let opts = TraceOptions::default();
     let started = std::time::Instant::now();
@@ -297,7 +190,7 @@ pub fn run(args: &ChartArgs) -> CliResult {
     for line in summary(&req, &charts) {
         println!("{line}");
     }
-    let meta = chart_metadata(args, &req, &opts);
+    let meta = req.metadata(&opts);
     let cols = curve_columns(&req, &charts);
     write_table(&args.out, &cols, &meta)?;
     let csv = args.out.with_extension("csv");
@@ -308,7 +201,20 @@ pub fn run(args: &ChartArgs) -> CliResult {
     write_table(&sp_pq, &special, &meta)?;
     write_csv(&sp_csv, &special)?;
     if let (Some(b), Some((study, k))) = (&band, &band_plan) {
-        write_band(args, &req, &meta, b, study, *k)?;
+        println!(
+            "uncertainty band: {k} structures from study `{}` (seed {}), drawn: {}",
+            study.name,
+            study.seed,
+            b.drawn
+                .iter()
+                .map(|d| d.name())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        let cols = band_columns(&req, b);
+        let band_meta = b.metadata(&meta, study, *k);
+        write_table(&sibling(&args.out, "_band", "parquet"), &cols, &band_meta)?;
+        write_csv(&sibling(&args.out, "_band", "csv"), &cols)?;
     }
     let picture = FigureFile::beside(&args.out, FigureFormat::Png);
     draw(&picture, &req, &charts, &grids, band.as_ref()).map_err(|e| CliError(e.to_string()))?;

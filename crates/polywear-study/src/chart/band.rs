@@ -5,6 +5,9 @@
 //! band in which 90% of the structures put the boundary.
 
 use super::ChartRequest;
+use std::path::Path;
+
+use crate::param_sources::{ParamSources, Refusal};
 use crate::study::Study;
 use polywear_core::ensemble::{self, Control};
 use polywear_core::model::Wheel;
@@ -98,5 +101,69 @@ impl StructureBand {
     /// structures.
     pub fn in_band(share: f64) -> bool {
         share > BAND.0 && share <= BAND.1
+    }
+}
+/// The study a chart's uncertainty band draws its tire structures from, checked before work: a parameter it draws for the
+/// band and the command line or `--params` sets too is refused (the band would replace it).
+pub fn band_study(
+    path: &Path,
+    k: u64,
+    req: &ChartRequest,
+    sources: &ParamSources,
+    accept_implausible: bool,
+) -> Result<Study, Refusal> {
+    let text = crate::safe_read::read_text(path, crate::safe_read::Limit::Text)
+        .map_err(|e| Refusal(format!("--study {e}")))?;
+    let study = Study::parse_with_base(&text, req.base)
+        .map_err(|e| Refusal(format!("--study {}: {e}", path.display())))?;
+    study
+        .check_samples(k)
+        .map_err(|e| Refusal(format!("--structure-samples {k}: {e}")))?;
+    let drawn = structure_params(req, &study);
+    if drawn.is_empty() {
+        return Err(Refusal(format!(
+            "--study {}: draws no parameter besides the operating point and the chart's axes; \
+             the band needs distributions of tire-structure, friction or vehicle parameters",
+            path.display()
+        )));
+    }
+    for d in study.drawn.iter().filter(|d| drawn.contains(&d.param)) {
+        if let Some(by) = sources.given_by(d.param) {
+            return Err(Refusal(format!(
+                "{by} sets `{}`, which --study {} draws per structure for the band; a parameter is drawn or set, not both",
+                d.param,
+                path.display()
+            )));
+        }
+        if !(accept_implausible || study.accept_implausible) {
+            d.check_plausible()
+                .map_err(|e| Refusal(format!("--study {}: {e}", path.display())))?;
+        }
+    }
+    Ok(study)
+}
+
+impl StructureBand {
+    /// The band table's metadata: the chart's, then the study it was drawn from.
+    pub fn metadata(
+        &self,
+        chart: &[(String, String)],
+        study: &Study,
+        k: u64,
+    ) -> Vec<(String, String)> {
+        let mut band_meta = chart.to_vec();
+        band_meta.push(("study".into(), study.name.clone()));
+        band_meta.push(("study_source".into(), study.source.clone()));
+        band_meta.push(("seed".into(), study.seed.to_string()));
+        band_meta.push(("structure_samples".into(), k.to_string()));
+        band_meta.push((
+            "structure_params".into(),
+            self.drawn
+                .iter()
+                .map(|d| d.name())
+                .collect::<Vec<_>>()
+                .join(","),
+        ));
+        band_meta
     }
 }

@@ -75,6 +75,36 @@ pub struct ChartRequest {
     pub bounds: ParamBox,
 }
 
+impl ChartRequest {
+    /// The chart's metadata: the base parameters, axes, box, wheels and the conventions of l1.
+    pub fn metadata(&self, opts: &TraceOptions) -> Vec<(String, String)> {
+        let req = self;
+        let mut meta = crate::provenance::run_metadata(&req.base, req.variant);
+        meta.push(("chart_x".into(), req.x.name().into()));
+        meta.push(("chart_y".into(), req.y.name().into()));
+        meta.push((
+            "chart_box".into(),
+            serde_json::json!({
+                req.x.name(): [req.bounds.lo[0], req.bounds.hi[0]],
+                req.y.name(): [req.bounds.lo[1], req.bounds.hi[1]],
+            })
+            .to_string(),
+        ));
+        let wheels: Vec<&str> = req.wheels.iter().map(|w| w.as_str()).collect();
+        meta.push(("wheels".into(), wheels.join(",")));
+        meta.push((
+            "l1_convention".into(),
+            "Kuznetsov eq. 3.20; A q = i w q, A^T p = -i w p, <q,q> = 1, <p,q> = 1; state (z [m], y [m], v [m/s])".into(),
+        ));
+        meta.push((
+            "re_lambda_bound".into(),
+            format!("|re_lambda_per_s| <= {RE_LAMBDA_BOUND:e} * 2 pi freq_hz at every point"),
+        ));
+        meta.push(("trace_options".into(), format!("{opts:?}")));
+        meta
+    }
+}
+
 /// Every Hopf curve of one wheel.
 #[derive(Debug, Clone)]
 pub struct WheelCurves {
