@@ -5,12 +5,13 @@ use std::path::PathBuf;
 
 use clap::Args;
 use polywear_analysis::plot::{FigureFile, FigureFormat};
+use polywear_analysis::render::sweep::sweep_lines;
 
 use super::common::{base_metadata, BudgetArgs, CliError, CliResult, PointArgs};
 use polywear_core::classify::ClassifierOptions;
-use polywear_core::model::{Variant, Wheel};
+use polywear_core::model::Variant;
 use polywear_core::params::{ParamError, ParamId, Params};
-use polywear_core::records::{record_columns, WheelRecord};
+use polywear_core::records::record_columns;
 use polywear_core::wording::plain;
 use polywear_study::bifurcation::{linspace, sweep};
 use polywear_study::parquet_out::{write_table, Column};
@@ -59,7 +60,9 @@ pub fn run(args: &BifurcationArgs) -> CliResult {
     let values = linspace(args.from, args.to, args.steps);
     let pool = super::common::thread_pool(args.threads)?;
     let sw = pool.install(|| sweep(&req.base, req.param, &values, req.variant, &req.opts));
-    print_summary(args, &sw);
+    for line in sweep_lines(&sw, (args.from, args.to), args.steps) {
+        println!("{line}");
+    }
     write(args, &req, &sw)
 }
 
@@ -135,47 +138,6 @@ fn resolve(args: &BifurcationArgs) -> CliResult<SweepRequest> {
         opts,
         prefix,
     })
-}
-
-/// The windows of vibration in words, and each wheel's Hopf points.
-fn print_summary(args: &BifurcationArgs, sw: &polywear_study::bifurcation::Sweep) {
-    let s = sw.param.spec();
-    let variant = sw.variant;
-    let (records, hopf) = (&sw.records, &sw.hopf);
-    println!(
-        "sweep of {} from {} to {} {} ({} values, variant {variant}) at {}",
-        s.name,
-        plain(args.from, 6),
-        plain(args.to, 6),
-        s.unit,
-        args.steps,
-        sw.held_fixed()
-    );
-    for wheel in Wheel::BOTH {
-        for line in sw.windows_in_words(wheel) {
-            println!("{line}");
-        }
-    }
-    for wheel in Wheel::BOTH {
-        let rows: Vec<&WheelRecord> = records.iter().filter(|r| r.wheel == wheel).collect();
-        let vib = rows.iter().filter(|r| r.class.vibrates()).count();
-        println!("{wheel:>9}: {vib} of {} values vibrate", rows.len());
-        for h in hopf.iter().filter(|h| h.wheel == wheel) {
-            println!(
-                "           Hopf point at {} = {:.6} {} ({} as it increases); l1 = {:.4e}, {}",
-                s.name,
-                h.value,
-                s.unit,
-                if h.destabilizing {
-                    "loses stability"
-                } else {
-                    "regains stability"
-                },
-                h.l1,
-                polywear_study::chart::criticality(h.l1)
-            );
-        }
-    }
 }
 
 /// The sweep's table (Parquet, with the Hopf points in its metadata) and picture.

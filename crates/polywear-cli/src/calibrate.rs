@@ -5,6 +5,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Args;
+use polywear_analysis::render::calibration::{parameters_text, targets_text};
 
 use super::common::{CliError, CliResult};
 use polywear_core::params::{ParamError, ParamId};
@@ -76,8 +77,10 @@ fn print_fit(problem: &Problem, fit: &Fit, secs: f64) {
         fit.evaluations,
         fit.cost
     );
-    print_targets(fit);
-    print_parameters(fit);
+    let mut text = String::new();
+    targets_text(fit, &mut text);
+    parameters_text(fit, &mut text);
+    print!("{text}");
 }
 
 /// The parameter file at `--out`, unless the fit misses a target without `--write-anyway`.
@@ -136,74 +139,4 @@ fn read_problem(args: &CalibrateArgs) -> CliResult<Problem> {
     problem.fit = fit;
     check_fit(&problem).map_err(|e| CliError(format!("--fit: {e}")))?;
     Ok(problem)
-}
-
-/// The fit table: each target's value, the model's at the start and at the fit, and whether it
-/// is met; then why each unmet target is not.
-fn print_targets(fit: &Fit) {
-    println!(
-        "\n{:<38} {:<9} {:<14} {:>11} {:>13} {:>13} {:>8}  met",
-        "target", "wheel", "variant", "value", "model start", "model fit", "error"
-    );
-    for t in &fit.targets {
-        println!(
-            "{:<38} {:<9} {:<14} {:>11.5} {:>13.5} {:>13.5} {:>7.2}%  {}",
-            t.name,
-            t.wheel,
-            t.variant,
-            t.value,
-            t.start,
-            t.fitted,
-            100.0 * t.rel_error(),
-            if t.met() { "yes" } else { "NO" }
-        );
-    }
-    let shortfalls: Vec<String> = fit.targets.iter().filter_map(|t| t.shortfall()).collect();
-    if shortfalls.is_empty() {
-        println!("\nevery target is met within its tolerance");
-    } else {
-        println!();
-        for s in &shortfalls {
-            println!("warning: {s}");
-        }
-    }
-}
-
-/// The chosen readings, the fitted parameters and the sensitivities at the fit.
-fn print_parameters(fit: &Fit) {
-    if !fit.chosen.is_empty() {
-        println!(
-            "\nchosen among {} combinations of `choices`: {}",
-            fit.combinations,
-            fit.chosen
-                .iter()
-                .map(|(n, v)| format!("{n} = {v}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
-    }
-    println!(
-        "\n{:<14} {:>14} {:>14} {:>9}",
-        "parameter", "start", "fitted", "change"
-    );
-    for (name, a, b) in &fit.fitted {
-        println!(
-            "{:<14} {a:>14.6e} {b:>14.6e} {:>8.2}%",
-            name.name(),
-            100.0 * (b - a) / a
-        );
-    }
-    println!("\nsensitivity d ln(target) / d ln(parameter) at the fit:");
-    print!("{:<28}", "");
-    for (name, _, _) in &fit.fitted {
-        print!(" {:>10}", name.name());
-    }
-    println!();
-    for (t, row) in fit.targets.iter().zip(&fit.sensitivity) {
-        print!("{:<28}", t.name);
-        for v in row {
-            print!(" {v:>10.3}");
-        }
-        println!();
-    }
 }

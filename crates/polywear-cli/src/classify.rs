@@ -6,15 +6,16 @@ use std::time::Instant;
 
 use clap::Args;
 
-use super::common::{check_extension, check_out_file, BudgetArgs, CliError, CliResult, VariantArg};
+use super::common::{check_extension, check_out_file, BudgetArgs, CliResult, VariantArg};
 use polywear_core::classify::ClassifierOptions;
 use polywear_core::ensemble::{self, Control};
 use polywear_core::evaluate;
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::Params;
-use polywear_core::records::{record_columns, WheelRecord};
-use polywear_study::operating_points::{FleetColumns, FleetKeys};
-use polywear_study::parquet_out::{write_csv, write_table, Column};
+use polywear_core::records::WheelRecord;
+use polywear_study::operating_points::FleetColumns;
+use polywear_study::parquet_out::{write_csv, write_table};
+use polywear_study::point_file::{output_columns, read_points, PointFile};
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -60,88 +61,6 @@ pub struct ClassifyArgs {
     pub budget: BudgetArgs,
 }
 
-/// The keys of the weight and passed-through columns, as classify's flags.
-const KEYS: FleetKeys = FleetKeys {
-    weight: "--weight",
-    pass_through: "--pass-through",
-};
-
-/// Reads the points, each row applied on top of the defaults (or `--params`) and validated,
-/// before any work; a parameter both in `--params` and the file is refused.
-fn read_points(args: &ClassifyArgs) -> CliResult<(Vec<Params>, FleetColumns, Params)> {
-    let accept = args.accept_implausible;
-    let (base, named) = super::common::param_file(args.params.as_deref(), accept)?;
-    let path = &args.points;
-    let (f, t) = FleetColumns::read(path, args.weight.as_deref(), &args.pass_through, KEYS)
-        .map_err(|e| CliError(e.to_string()))?;
-    if f.ids.is_empty() {
-        return Err(CliError(format!(
-            "{}: no parameter column (columns: {}); name parameters of `polywear params`, e.g. speed_kmh,toe_deg",
-            path.display(),
-            t.columns.join(", ")
-        )));
-    }
-    if !accept {
-        f.check_plausible().map_err(|e| CliError(e.to_string()))?;
-    }
-    if let (Some(file), Some(id)) = (&args.params, named.iter().find(|id| f.ids.contains(id))) {
-        return Err(CliError(format!(
-            "--params {} sets `{id}`, which {} gives per point (column `{id}`); a parameter comes from one file: remove it from one of them",
-            file.display(),
-            path.display()
-        )));
-    }
-    let carried = f
-        .weight
-        .iter()
-        .map(String::as_str)
-        .chain(f.pass_through.iter().map(|c| c.name.as_str()));
-    super::common::refuse_reserved_names(carried, path, "--weight or --pass-through", &["point"])?;
-    let mut points = Vec::with_capacity(f.values.len());
-    for (i, row) in f.values.iter().enumerate() {
-        let mut p = base;
-        for (&id, &x) in f.ids.iter().zip(row) {
-            p[id] = x;
-        }
-        p.validate()
-            .map_err(|e| CliError(format!("{}, {}: {e}", path.display(), t.row_name(i))))?;
-        points.push(p);
-    }
-    if let Some(how) = &f.weight_computed {
-        eprintln!(
-            "{}",
-            polywear_study::operating_points::computed_weight_note(path, how)
-        );
-    }
-    Ok((points, f, base))
-}
-
-/// The output's columns: `point`, the weight and the passed-through columns, the records.
-fn output_columns(
-    jobs: &[(usize, Wheel)],
-    f: &FleetColumns,
-    records: &[WheelRecord],
-) -> Vec<Column> {
-    let rows: Vec<usize> = jobs.iter().map(|j| j.0).collect();
-    let mut cols = vec![Column::i64(
-        "point",
-        "",
-        rows.iter().map(|&r| r as i64).collect(),
-    )];
-    if let Some(w) = &f.weight {
-        if !f.pass_through.iter().any(|c| &c.name == w) {
-            cols.push(Column::f64(
-                w.as_str(),
-                "",
-                rows.iter().map(|&r| f.weights[r]).collect(),
-            ));
-        }
-    }
-    cols.extend(f.pass_through.iter().map(|c| c.column(&rows)));
-    cols.extend(record_columns(records));
-    cols
-}
-
 pub fn run(args: &ClassifyArgs) -> CliResult {
     let request = resolve(args)?;
     let pool = super::common::thread_pool(args.threads)?;
@@ -177,7 +96,22 @@ fn resolve(args: &ClassifyArgs) -> CliResult<ClassifyRequest> {
         budget: args.budget.apply(Default::default())?,
         ..ClassifierOptions::default()
     };
-    let (points, fleet, base) = read_points(args)?;
+    let file = read_points(
+        &args.points,
+        args.params.as_deref(),
+        args.weight.as_deref(),
+        &args.pass_through,
+        args.accept_implausible,
+    )?;
+    for note in &file.notes {
+        eprintln!("{note}");
+    }
+    let PointFile {
+        points,
+        fleet,
+        base,
+        ..
+    } = file;
     Ok(ClassifyRequest {
         points,
         fleet,

@@ -1,7 +1,7 @@
 //! `polywear cycle`: both wheels classified at every step of a drive cycle; the share of time
 //! and distance in vibration, the longest stretch, the polygon orders, and a picture.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
@@ -13,12 +13,10 @@ use polywear_analysis::render::cycle::summary_lines;
 use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::WearStage;
 use polywear_core::model::Variant;
-use polywear_core::params::{ParamError, ParamId, Params};
+use polywear_core::params::Params;
 use polywear_core::wear::{WearSettings, WearZone};
-use polywear_core::wording::plain;
 use polywear_study::cycle::structures::{draw_structures, study_metadata, CommandLine, Structures};
 use polywear_study::cycle::{classify_cycles, DriveCycle, StepWheel};
-use polywear_study::param_sources::Typed;
 use polywear_study::study::Study;
 
 /// Most tire structures `--structure-samples` accepts.
@@ -88,92 +86,6 @@ pub struct CycleArgs {
     pub budget: BudgetArgs,
 }
 
-/// What the command line gives: the `--params` file's values and names, and the `--set` values
-/// with their words.
-struct Given {
-    file: Params,
-    named: Vec<ParamId>,
-    set: Vec<Typed>,
-}
-
-/// Reads `--params` and `--set`, refusing before any work: the speed (the cycle gives it), a
-/// parameter set twice, one the cycle file gives per step (from `--set` or `--params`), and
-/// implausible values unless accepted. A `--set` value replacing the file's is noted.
-fn command_line(args: &CycleArgs, cycle: &DriveCycle) -> CliResult<Given> {
-    let accept = args.accept_implausible;
-    let (file, named) = super::common::param_file(args.params.as_deref(), accept)?;
-    let params_by = || {
-        format!(
-            "--params {}",
-            args.params.as_deref().unwrap_or(Path::new("")).display()
-        )
-    };
-    let mut set: Vec<Typed> = Vec::new();
-    for (name, value) in &args.set {
-        let by = format!("--set {name}={}", plain(*value, 12));
-        let id: ParamId = name
-            .parse()
-            .map_err(|e: ParamError| CliError(format!("--set {name}: {e}")))?;
-        if id == ParamId::SpeedKmh {
-            return Err(CliError(
-                "--set speed_kmh: the cycle gives the speed at every step (its `speed_kmh` column)"
-                    .into(),
-            ));
-        }
-        if let Some(first) = set.iter().find(|t| t.id == id) {
-            return Err(CliError(format!(
-                "`{id}` is given twice on the command line ({} and {by}); give it once",
-                first.by
-            )));
-        }
-        id.spec()
-            .check(*value)
-            .map_err(|e| CliError(format!("--set {name}: {e}")))?;
-        if !accept {
-            id.spec()
-                .check_plausible(*value)
-                .map_err(|e| CliError(format!("{by}: {e}")))?;
-        }
-        set.push(Typed {
-            id,
-            by,
-            value: *value,
-        });
-    }
-    let column = |id: ParamId| cycle.names.contains(&id);
-    for (id, by) in set
-        .iter()
-        .map(|t| (t.id, t.by.clone()))
-        .chain(named.iter().map(|&id| (id, params_by())))
-    {
-        if column(id) {
-            return Err(CliError(format!(
-                "{by} sets `{id}`, which {} gives at every step (its column `{id}`); a parameter comes from one place: leave it out of {by} or drop the column",
-                cycle.path.display()
-            )));
-        }
-    }
-    if named.contains(&ParamId::SpeedKmh) {
-        eprintln!(
-            "note: the cycle's speed replaces speed_kmh = {} of {}",
-            plain(file.speed_kmh, 12),
-            params_by()
-        );
-    }
-    for t in &set {
-        if named.contains(&t.id) && file[t.id] != t.value {
-            eprintln!(
-                "note: {} replaces {} = {} of {}",
-                t.by,
-                t.id,
-                plain(file[t.id], 12),
-                params_by()
-            );
-        }
-    }
-    Ok(Given { file, named, set })
-}
-
 pub fn run(args: &CycleArgs) -> CliResult {
     let mut request = resolve(args)?;
     if !args.quiet {
@@ -233,7 +145,15 @@ fn resolve(args: &CycleArgs) -> CliResult<CycleRequest> {
             .check_plausible()
             .map_err(|e| CliError(e.to_string()))?;
     }
-    let line = command_line(args, &cycle)?;
+    let (line, notes) = CommandLine::read(
+        args.params.as_deref(),
+        &args.set,
+        args.accept_implausible,
+        &cycle,
+    )?;
+    for note in notes {
+        eprintln!("{note}");
+    }
     let mut base = line.file;
     for t in &line.set {
         base.try_set(t.id, t.value)?;
@@ -243,14 +163,7 @@ fn resolve(args: &CycleArgs) -> CliResult<CycleRequest> {
     metadata.push(("cycle_hash".into(), cycle.hash.clone()));
     let (structures, study) = match (&args.study, args.structure_samples) {
         (Some(path), Some(k)) => {
-            let given = CommandLine {
-                params_file: args.params.as_deref(),
-                file: line.file,
-                named: &line.named,
-                set: &line.set,
-                accept_implausible: args.accept_implausible,
-            };
-            let (s, study, notes) = draw_structures(&given, path, k, &cycle)?;
+            let (s, study, notes) = draw_structures(&line, path, k, &cycle)?;
             for note in notes {
                 eprintln!("{note}");
             }

@@ -9,13 +9,15 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use polywear_analysis::plot::FigureFormat;
 
+mod errors;
 mod resume;
 
 use super::batch::{signal_name, Interrupt, ProgressLog};
 use super::common::{BudgetArgs, CliError, CliResult};
+use errors::{explore_error, write_failure};
 use polywear_core::wear::WearZone;
 use polywear_core::wording::plain;
-use polywear_study::explore::recorded_run::{shell_word, DirState, RecordedRun};
+use polywear_study::explore::recorded_run::shell_word;
 use polywear_study::explore::{
     chunk_size_warning, empty_shard_report, ExploreError, ExploreRequest, PreparedOutput, RunPlan,
     RunSummary, Shard,
@@ -287,37 +289,6 @@ fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -
     )
 }
 
-/// A chunk or the journal that cannot be written (a full disk, a folder made read-only): what
-/// is saved, as the journal records it, and the exact command that continues the run once the
-/// cause is fixed.
-fn write_failure(args: &ExploreArgs, plan: &RunPlan, e: &ExploreError) -> CliError {
-    let saved = RecordedRun::read(&plan.out_dir)
-        .ok()
-        .flatten()
-        .map(|run| run.saved(&plan.out_dir));
-    let saved = match saved {
-        Some(s) => format!(
-            "{} of {} samples are saved in {} ({} of {} chunks)",
-            s.samples,
-            s.samples_owned,
-            plan.out_dir.display(),
-            s.chunks,
-            s.chunks_owned
-        ),
-        None => format!("nothing is saved in {}", plan.out_dir.display()),
-    };
-    let text = e.to_string();
-    let cause = if text.contains("No space left") || text.contains("full disk") {
-        "the disk is full: "
-    } else {
-        ""
-    };
-    CliError(format!(
-        "{cause}{text}\n{saved}; free space or fix the folder, then resume with: {}",
-        resume_command(args, plan)
-    ))
-}
-
 /// Says which scenarios every sample is also evaluated under, if any.
 fn print_scenarios(study: &Study) {
     if study.scenarios.is_empty() {
@@ -333,57 +304,6 @@ fn print_scenarios(study: &Study) {
         study.scenarios.len(),
         each.join("; ")
     );
-}
-
-/// An explore error in the words of the command line: the output directory as `--out`, a
-/// resume's refusals as `--resume`'s, each with the flags that get on.
-fn explore_error(e: ExploreError) -> CliError {
-    let dir = match &e {
-        ExploreError::Write(_) | ExploreError::Wear(_) => return CliError(e.to_string()),
-        ExploreError::OutputDir { dir, .. }
-        | ExploreError::Raced { dir }
-        | ExploreError::Occupied { dir, .. }
-        | ExploreError::NothingToResume { dir, .. }
-        | ExploreError::UnreadableManifest { dir, .. }
-        | ExploreError::OtherGenerator { dir, .. }
-        | ExploreError::OtherStudy { dir, .. }
-        | ExploreError::OperatingPointsChanged { dir, .. }
-        | ExploreError::DifferentRun { dir, .. }
-        | ExploreError::ForeignChunk { dir, .. } => dir.clone(),
-    };
-    let text = e.to_string();
-    let prefix = format!("{}: ", dir.display());
-    let what = text.strip_prefix(&prefix).unwrap_or(&text);
-    let d = shell_word(&dir.display().to_string());
-    let another = "or choose another --out for a new run";
-    let message = match &e {
-        ExploreError::Occupied { state, .. } => match state {
-            DirState::Finished { .. } => {
-                format!("{what}; analyse it with `polywear analyze {d}`, {another}")
-            }
-            DirState::Unfinished { .. } => format!(
-                "{what}; continue it with `polywear explore --resume --out {d}`, {another}"
-            ),
-            DirState::Foreign => format!(
-                "{what}; accepted: an empty or absent directory (for a new run), or a run's directory with --resume"
-            ),
-            DirState::Unreadable(_) => format!("{what}; choose another --out"),
-        },
-        ExploreError::OtherGenerator { .. } | ExploreError::OperatingPointsChanged { .. } => {
-            format!("--resume: {what}")
-        }
-        ExploreError::OtherStudy { .. } => format!(
-            "--resume: {what}\nleave the study file out to continue the run with its own study, or choose another --out"
-        ),
-        ExploreError::DifferentRun { .. } => format!(
-            "--resume: {what}; continue it with `--resume --out {d}` alone, or choose another --out"
-        ),
-        ExploreError::OutputDir { .. } if what.contains("read-only") => {
-            format!("{what}; choose another directory with --out")
-        }
-        _ => what.to_string(),
-    };
-    CliError(format!("--out {}: {message}", dir.display()))
 }
 
 /// Parses `--shard k/N` (k counted from 0, as Slurm array and Kubernetes indexed-job indices).

@@ -16,6 +16,7 @@ pub mod optimize;
 pub mod output_dir;
 pub mod param_sources;
 pub mod parquet_out;
+pub mod point_file;
 pub mod provenance;
 pub mod safe_read;
 pub mod safe_write;

@@ -8,7 +8,9 @@ use polywear_core::classify::{Class, ClassifierOptions, WheelVerdict};
 use polywear_core::ensemble::{self, Control};
 use polywear_core::evaluate;
 use polywear_core::model::{Variant, Wheel, WheelModel};
-use polywear_core::params::Params;
+use polywear_core::params::{Params, OPERATING_AXES};
+
+use crate::parquet_out::Column;
 use polywear_core::sampling::uniform;
 
 /// Points closer to the Hopf boundary than this (|Re λ| in 1/s) are not compared: there even
@@ -134,4 +136,46 @@ pub fn median(mut xs: Vec<f64>) -> f64 {
     } else {
         0.5 * (xs[n / 2 - 1] + xs[n / 2])
     }
+}
+/// The comparisons as columns, one row per point, wheel and variant: the operating point, both
+/// verdicts, their figures and their costs.
+pub fn comparison_columns(rows: &[Comparison]) -> Vec<Column> {
+    let f = |g: &dyn Fn(&Comparison) -> f64| rows.iter().map(g).collect::<Vec<f64>>();
+    let mut cols = vec![
+        Column::i64("point", "", rows.iter().map(|r| r.index as i64).collect()),
+        Column::str("wheel", rows.iter().map(|r| r.wheel.to_string()).collect()),
+        Column::str(
+            "variant",
+            rows.iter().map(|r| r.variant.to_string()).collect(),
+        ),
+    ];
+    for id in OPERATING_AXES {
+        cols.push(Column::f64(id.name(), id.spec().unit, f(&|r| r.params[id])));
+    }
+    cols.extend([
+        Column::f64("eig_re_max", "1/s", f(&|r| r.fast.eig_re_max)),
+        Column::str(
+            "fast_class",
+            rows.iter().map(|r| r.fast.class.as_str().into()).collect(),
+        ),
+        Column::str(
+            "reference_class",
+            rows.iter()
+                .map(|r| r.reference.class.as_str().into())
+                .collect(),
+        ),
+        Column::f64("fast_amp_v_mps", "m/s", f(&|r| r.fast.amp_v_mps)),
+        Column::f64("reference_amp_v_mps", "m/s", f(&|r| r.reference.amp_v_mps)),
+        Column::f64("fast_freq_hz", "Hz", f(&|r| r.fast.freq_hz)),
+        Column::f64("reference_freq_hz", "Hz", f(&|r| r.reference.freq_hz)),
+        Column::f64("fast_us", "us", f(&|r| r.fast_us)),
+        Column::f64("reference_us", "us", f(&|r| r.reference_us)),
+        Column::f64("fast_rhs_evals", "", f(&|r| r.fast.rhs_evals as f64)),
+        Column::f64(
+            "reference_rhs_evals",
+            "",
+            f(&|r| r.reference.rhs_evals as f64),
+        ),
+    ]);
+    cols
 }

@@ -2,6 +2,7 @@
 //! figures ([`figures`]) and `report.md` ([`markdown`]), which ties them together in words. It
 //! computes nothing; everything it shows is in the `Analysis`.
 
+pub mod calibration;
 mod columns;
 pub mod cycle;
 pub mod drivers;
@@ -10,7 +11,9 @@ pub mod fleet;
 pub mod markdown;
 pub mod scenarios;
 pub mod summary;
+pub mod sweep;
 pub mod tables;
+pub mod validation;
 pub mod verdict;
 pub mod wear;
 pub mod wear_figures;

@@ -3,28 +3,123 @@
 //! fleet rows drawn, refusing every parameter that two places set (the one-place rule of
 //! [`crate::param_sources`]) before any work.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use polywear_core::params::{Group, ParamId, Params};
+use polywear_core::params::{Group, ParamError, ParamId, Params};
 use polywear_core::sampling::design::Design;
 use polywear_core::wording::plain;
 
 use super::DriveCycle;
-use crate::param_sources::{refuse_file_overlap, refuse_reserved_names, Refusal, Typed};
+use crate::param_sources::{
+    param_file, refuse_file_overlap, refuse_reserved_names, Refusal, Typed,
+};
 use crate::study::Study;
 
 /// What the command line gives: the `--params` file's values and names, and the typed values.
-pub struct CommandLine<'a> {
+#[derive(Debug, Clone)]
+pub struct CommandLine {
     /// The `--params` file, if any.
-    pub params_file: Option<&'a Path>,
+    pub params_file: Option<PathBuf>,
     /// The defaults with the file applied.
     pub file: Params,
     /// The parameters the file names.
-    pub named: &'a [ParamId],
+    pub named: Vec<ParamId>,
     /// The values typed (`--set`).
-    pub set: &'a [Typed],
+    pub set: Vec<Typed>,
     /// Implausible values accepted.
     pub accept_implausible: bool,
+}
+
+impl CommandLine {
+    /// Reads `--params` and the typed `--set` values, refusing before any work: the speed (the cycle gives it), a
+    /// parameter set twice, one the cycle file gives per step (from `--set` or `--params`), and
+    /// implausible values unless accepted. A `--set` value replacing the file's is noted.
+    pub fn read(
+        params_file: Option<&Path>,
+        typed: &[(String, f64)],
+        accept: bool,
+        cycle: &DriveCycle,
+    ) -> Result<(Self, Vec<String>), Refusal> {
+        let (file, named) = param_file(params_file, accept)?;
+        let mut notes = Vec::new();
+        let params_by = || {
+            format!(
+                "--params {}",
+                params_file.unwrap_or(Path::new("")).display()
+            )
+        };
+        let mut set: Vec<Typed> = Vec::new();
+        for (name, value) in typed {
+            let by = format!("--set {name}={}", plain(*value, 12));
+            let id: ParamId = name
+                .parse()
+                .map_err(|e: ParamError| Refusal(format!("--set {name}: {e}")))?;
+            if id == ParamId::SpeedKmh {
+                return Err(Refusal(
+                    "--set speed_kmh: the cycle gives the speed at every step (its `speed_kmh` column)"
+                        .into(),
+                ));
+            }
+            if let Some(first) = set.iter().find(|t| t.id == id) {
+                return Err(Refusal(format!(
+                    "`{id}` is given twice on the command line ({} and {by}); give it once",
+                    first.by
+                )));
+            }
+            id.spec()
+                .check(*value)
+                .map_err(|e| Refusal(format!("--set {name}: {e}")))?;
+            if !accept {
+                id.spec()
+                    .check_plausible(*value)
+                    .map_err(|e| Refusal(format!("{by}: {e}")))?;
+            }
+            set.push(Typed {
+                id,
+                by,
+                value: *value,
+            });
+        }
+        let column = |id: ParamId| cycle.names.contains(&id);
+        for (id, by) in set
+            .iter()
+            .map(|t| (t.id, t.by.clone()))
+            .chain(named.iter().map(|&id| (id, params_by())))
+        {
+            if column(id) {
+                return Err(Refusal(format!(
+                    "{by} sets `{id}`, which {} gives at every step (its column `{id}`); a parameter comes from one place: leave it out of {by} or drop the column",
+                    cycle.path.display()
+                )));
+            }
+        }
+        if named.contains(&ParamId::SpeedKmh) {
+            notes.push(format!(
+                "note: the cycle's speed replaces speed_kmh = {} of {}",
+                plain(file.speed_kmh, 12),
+                params_by()
+            ));
+        }
+        for t in &set {
+            if named.contains(&t.id) && file[t.id] != t.value {
+                notes.push(format!(
+                    "note: {} replaces {} = {} of {}",
+                    t.by,
+                    t.id,
+                    plain(file[t.id], 12),
+                    params_by()
+                ));
+            }
+        }
+        let line = CommandLine {
+            params_file: params_file.map(Path::to_path_buf),
+            file,
+            named,
+            set,
+            accept_implausible: accept,
+        };
+        Ok((line, notes))
+    }
 }
 
 /// The tire structures of `--study`: the drawn non-operating parameters (and a fleet's columns
@@ -48,7 +143,7 @@ pub struct Structures {
 /// `[operating_points]` each sample also draws a row, whose columns but the speed hold for the
 /// whole cycle.
 pub fn draw_structures(
-    line: &CommandLine<'_>,
+    line: &CommandLine,
     path: &Path,
     k: u64,
     cycle: &DriveCycle,
@@ -65,7 +160,7 @@ pub fn draw_structures(
             .check_plausible()
             .map_err(|e| Refusal(format!("{origin}: {e}")))?;
     }
-    refuse_file_overlap(&line.named, line.params_file, &study, &origin)?;
+    refuse_file_overlap(&line.named, line.params_file.as_deref(), &study, &origin)?;
     if study.design == Design::Saltelli {
         return Err(Refusal(format!(
             "{origin}: a saltelli design's rows are arranged for Sobol indices, not a sample of tire structures; use random, lhs or sobol"
@@ -133,7 +228,7 @@ pub fn draw_structures(
         for &id in out.names.iter().chain(&fleet_ids) {
             b[id] = p[id];
         }
-        for t in line.set {
+        for t in &line.set {
             b.try_set(t.id, t.value)?;
         }
         out.values.push(out.names.iter().map(|&id| p[id]).collect());
@@ -151,7 +246,7 @@ pub fn draw_structures(
 fn refuse_study_overlaps(
     study: &Study,
     origin: &str,
-    line: &CommandLine<'_>,
+    line: &CommandLine,
     cycle: &DriveCycle,
     names: &[ParamId],
     fleet_ids: &[ParamId],
@@ -200,7 +295,7 @@ fn said_about_study(
     (origin, dir): (&str, &Path),
     k: u64,
     cycle: &DriveCycle,
-    line: &CommandLine<'_>,
+    line: &CommandLine,
 ) -> Vec<String> {
     let mut said = Vec::new();
     let set_here = |id: ParamId| cycle.names.contains(&id) || line.set.iter().any(|s| s.id == id);
