@@ -72,7 +72,7 @@ pub(super) struct FileFooter {
     pub(super) path: PathBuf,
     pub(super) meta: Vec<(String, String)>,
     /// The run as the footer records it, or why it cannot be read (the message names the key).
-    run: Result<RunManifest, String>,
+    run: Result<RunManifest, polywear_study::explore::manifest::ManifestError>,
     pub(super) rows: u64,
     /// (min, max) of `sample_id` from the column statistics.
     pub(super) id_range: Option<(i64, i64)>,
@@ -110,7 +110,7 @@ impl FileFooter {
         let (rows, id_range) = id_statistics(md.row_groups(), id_col);
         Ok(FileFooter {
             path: path.to_path_buf(),
-            run: RunManifest::from_key_values(&meta).map_err(|e| e.to_string()),
+            run: RunManifest::from_key_values(&meta),
             meta,
             rows,
             id_range,
@@ -127,12 +127,10 @@ impl FileFooter {
 
     /// The run the footer records, or a refusal naming the file and the key.
     pub(super) fn run(&self) -> Result<&RunManifest, AnalysisError> {
-        self.run
-            .as_ref()
-            .map_err(|message| AnalysisError::Metadata {
-                path: self.path.clone(),
-                message: message.clone(),
-            })
+        self.run.as_ref().map_err(|e| AnalysisError::Metadata {
+            path: self.path.clone(),
+            message: e.to_string(),
+        })
     }
 
     /// The text of metadata key `key`, if present.

@@ -9,7 +9,7 @@ use crate::plot::maps::Overlay;
 use crate::plot::surface::{marker, surface_curve, surface_map, MapPoint, VLine};
 use crate::plot::FigureFile;
 use crate::plot::{FigureFormat, PlotError};
-use polywear_core::model::{Wheel, WheelModel};
+use polywear_core::model::Wheel;
 use polywear_core::wording::plain;
 use polywear_study::optimize::{Problem, Solution};
 use polywear_study::parquet_out::{write_csv, write_table, Column};
@@ -353,40 +353,17 @@ fn nominal_curves(problem: &Problem) -> Vec<Overlay> {
         .collect()
 }
 
-/// Where the nominal tire's equilibrium changes stability along one axis (both wheels): the
-/// sign changes of max Re λ (MODEL.md#step-8-linear-stability) on a scan, each placed by
-/// linear interpolation.
+/// The nominal tire's stability boundaries along the one axis, as lines.
 fn nominal_points(problem: &Problem) -> Vec<VLine> {
-    let a = &problem.axes[0];
-    let mut base = problem.study.base;
-    for d in &problem.study.drawn {
-        base[d.param] = d.dist.quantile(0.5);
-    }
-    const SCAN: usize = 400;
-    let mut lines = Vec::new();
-    for (k, wheel) in Wheel::BOTH.into_iter().enumerate() {
-        let re: Vec<(f64, f64)> = (0..=SCAN)
-            .map(|i| {
-                let x = a.value(i as f64 / SCAN as f64);
-                let mut p = base;
-                p[a.param] = x;
-                let re = WheelModel::build(&p, wheel, problem.variant)
-                    .map_or(f64::NAN, |m| m.ode.linear_stability().eig_re_max);
-                (x, re)
-            })
-            .collect();
-        for w in re.windows(2) {
-            let ((x0, r0), (x1, r1)) = (w[0], w[1]);
-            if r0.is_finite() && r1.is_finite() && (r0 > 0.0) != (r1 > 0.0) {
-                lines.push(VLine {
-                    x: x0 + (x1 - x0) * r0 / (r0 - r1),
-                    label: format!("{wheel} stability boundary of the nominal tire"),
-                    color: 2 + k,
-                });
-            }
-        }
-    }
-    lines
+    problem
+        .nominal_stability_changes()
+        .into_iter()
+        .map(|(wheel, x)| VLine {
+            x,
+            label: format!("{wheel} stability boundary of the nominal tire"),
+            color: 2 + Wheel::BOTH.iter().position(|w| *w == wheel).unwrap_or(0),
+        })
+        .collect()
 }
 
 /// `report.md`: the question, the answer in words, the picture and the files.

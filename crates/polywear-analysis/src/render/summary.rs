@@ -59,9 +59,9 @@ pub fn summary_lines(a: &Analysis) -> Vec<String> {
     }
     print_fleet(a, &mut lines);
     if !a.scenarios.is_empty() {
-        lines.push(format!(
-            "What the changes do (paired on the same samples; 95% Newcombe interval):"
-        ));
+        lines.push(
+            "What the changes do (paired on the same samples; 95% Newcombe interval):".to_string(),
+        );
     }
     for e in &a.scenarios {
         lines.push(format!(
@@ -95,7 +95,7 @@ pub fn summary_lines(a: &Analysis) -> Vec<String> {
 fn print_wear(a: &Analysis, lines: &mut Vec<String>) {
     use crate::render::wear::km;
     let Some(w) = &a.wear else {
-        lines.push(format!("wear: the wear stage was left out of this run (--no-wear or `wear = false`); vibration only"));
+        lines.push("wear: the wear stage was left out of this run (--no-wear or `wear = false`); vibration only".to_string());
         return;
     };
     lines.push(format!(

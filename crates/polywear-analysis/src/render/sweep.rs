@@ -24,7 +24,7 @@ pub fn sweep_lines(sw: &Sweep, (from, to): (f64, f64), steps: usize) -> Vec<Stri
     ));
     for wheel in Wheel::BOTH {
         for line in sw.windows_in_words(wheel) {
-            lines.push(format!("{line}"));
+            lines.push(line.to_string());
         }
     }
     for wheel in Wheel::BOTH {

@@ -59,7 +59,7 @@ pub fn report_lines(rows: &[Comparison]) -> Vec<String> {
     let all = |_: &Comparison| true;
     let lc = |r: &Comparison| r.fast.class.vibrates();
     lines.push(String::new());
-    lines.push(format!("cost per wheel (median, single thread)      fast classifier    brute-force reference   ratio"));
+    lines.push("cost per wheel (median, single thread)      fast classifier    brute-force reference   ratio".to_string());
     for (label, sel) in [
         ("all wheels", &all as &dyn Fn(&Comparison) -> bool),
         ("limit cycles only", &lc),

@@ -31,7 +31,7 @@ pub enum LongTermError {
     /// No leg to drive, or a leg whose speed or share is not positive and finite.
     #[error("the usage has no legs, or a leg without a positive speed and share")]
     Legs,
-    /// The wear stage could not be calibrated (MODEL.md#calibration).
+    /// The wear stage could not be calibrated (MODEL.md#step-10-wear-law).
     #[error(transparent)]
     Stage(#[from] WearError),
 }
@@ -235,4 +235,36 @@ fn measured_tongue(
         rtol: settings.rtol,
     })
     .map_err(WheelRunFailure::Loop)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_problem_refuses_a_distance_or_legs_it_cannot_drive() {
+        let leg = |speed_kmh, share| Leg { speed_kmh, share };
+        let new = |km: f64, legs: Vec<Leg>| {
+            let settings = LoopSettings {
+                distance_km: km,
+                ..LoopSettings::default()
+            };
+            LongTermProblem::new(
+                Params::default(),
+                Variant::DEFAULT,
+                legs,
+                settings,
+                ClassifierOptions::default(),
+            )
+        };
+        assert!(new(60_000.0, vec![leg(110.0, 1.0)]).is_ok());
+        for km in [0.0, -1.0, f64::NAN, 2e6] {
+            let e = new(km, vec![leg(110.0, 1.0)]).unwrap_err();
+            assert!(matches!(e, LongTermError::Distance(_)), "{km}: {e}");
+            assert!(e.to_string().contains("(0, 1e6]"), "{e}");
+        }
+        for legs in [vec![], vec![leg(0.0, 1.0)], vec![leg(110.0, f64::NAN)]] {
+            assert_eq!(new(1e3, legs).unwrap_err(), LongTermError::Legs);
+        }
+    }
 }

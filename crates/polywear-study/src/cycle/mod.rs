@@ -532,12 +532,12 @@ fn assess_quasi_static(time_s: &[f64], steps: &mut [[StepWheel; 2]], w: usize) {
 mod tests {
     use super::*;
 
-    fn cycle(text: &str) -> Result<DriveCycle, String> {
+    fn cycle(text: &str) -> Result<DriveCycle, CycleError> {
         let dir = std::env::temp_dir().join(format!("polywear-cycle-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let p = dir.join(format!("c{}.csv", text.len()));
         std::fs::write(&p, text).unwrap();
-        DriveCycle::read(&p).map_err(|e| e.to_string())
+        DriveCycle::read(&p)
     }
 
     /// A standstill row of the default point, the frame the tests below fill in.
@@ -641,20 +641,28 @@ mod tests {
 
     #[test]
     fn bad_cycles_are_refused_with_row_and_column() {
-        let e = cycle("time_s,speed_kmh\n0,10\n0,20\n").unwrap_err();
+        let e = cycle("time_s,speed_kmh\n0,10\n0,20\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("row 2 (line 3), column `time_s`"), "{e}");
-        let e = cycle("time_s,speed_kmh\n0,10\n1,-2\n").unwrap_err();
+        let e = cycle("time_s,speed_kmh\n0,10\n1,-2\n")
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("column `speed_kmh`") && e.contains("negative"),
             "{e}"
         );
-        let e = cycle("time_s,speed_kmh,load_n\n0,10,4000\n1,20,-1\n").unwrap_err();
+        let e = cycle("time_s,speed_kmh,load_n\n0,10,4000\n1,20,-1\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("row 2 (line 3), column `load_n`"), "{e}");
-        let e = cycle("time_s,speed_kmh,vin\n0,10,1\n1,20,1\n").unwrap_err();
+        let e = cycle("time_s,speed_kmh,vin\n0,10,1\n1,20,1\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("column `vin`"), "{e}");
-        let e = cycle("time_s,speed\n0,10\n1,20\n").unwrap_err();
+        let e = cycle("time_s,speed\n0,10\n1,20\n").unwrap_err().to_string();
         assert!(e.contains("no column `speed_kmh`"), "{e}");
-        let e = cycle("time_s,speed_kmh\n0,10\n").unwrap_err();
+        let e = cycle("time_s,speed_kmh\n0,10\n").unwrap_err().to_string();
         assert!(e.contains("at least two"), "{e}");
     }
 }

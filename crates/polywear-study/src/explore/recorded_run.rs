@@ -4,6 +4,7 @@
 //! these alone, and a directory that is refused is described by them ("finished", "k of N
 //! samples saved").
 
+use crate::param_sources::Refusal;
 use std::path::{Path, PathBuf};
 
 use super::{RunManifest, Shard};
@@ -96,7 +97,7 @@ impl RecordedRun {
             operating_points_dir: m.operating_points.as_ref().and_then(|o| o.dir()),
             wear: match &m.wear {
                 None => None,
-                Some(w) => Some(recorded_wear(w).map_err(bad)?),
+                Some(w) => Some(recorded_wear(w).map_err(|e| bad(e.0))?),
             },
         }))
     }
@@ -254,13 +255,15 @@ pub fn shell_word(s: &str) -> String {
     }
 }
 
-/// The wear settings of a manifest's `wear` object (its `wear_zone`).
-fn recorded_wear(w: &serde_json::Value) -> Result<WearSettings, String> {
+/// The wear settings of a manifest's `wear` object (its `wear_zone`), or the key that is not.
+fn recorded_wear(w: &serde_json::Value) -> Result<WearSettings, Refusal> {
     let zone = w
         .get("wear_zone")
         .and_then(|z| z.as_str())
-        .ok_or_else(|| "`wear.wear_zone` is missing".to_string())?;
-    let zone: WearZone = zone.parse().map_err(|e| format!("`wear.wear_zone`: {e}"))?;
+        .ok_or_else(|| Refusal("`wear.wear_zone` is missing".to_string()))?;
+    let zone: WearZone = zone
+        .parse()
+        .map_err(|e| Refusal(format!("`wear.wear_zone`: {e}")))?;
     Ok(WearSettings { zone })
 }
 

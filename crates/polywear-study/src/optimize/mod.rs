@@ -21,7 +21,7 @@ pub use request::ProblemSpec;
 use crate::study::{Change, ParamChange, Study, StudyError};
 use objective::{Estimate, Objective, Outcomes, Term, WheelChoice};
 use polywear_core::classify::ClassifierOptions;
-use polywear_core::model::Variant;
+use polywear_core::model::{Variant, Wheel, WheelModel};
 use polywear_core::params::ParamId;
 use polywear_core::sampling::distribution::Distribution;
 use search::{Evaluated, SearchOptions};
@@ -222,6 +222,40 @@ pub struct Problem {
     pub wear: Option<polywear_core::evaluate::WearStage>,
     /// Every constraint as given, the bounds on varied parameters included (in the metadata).
     pub given_constraints: Vec<String>,
+}
+
+impl Problem {
+    /// Where the nominal tire (the study's median values) changes stability along the first
+    /// axis, per wheel: the sign changes of max Re λ (MODEL.md#step-8-linear-stability) on a
+    /// scan of 400 steps, each placed by linear interpolation.
+    pub fn nominal_stability_changes(&self) -> Vec<(Wheel, f64)> {
+        let a = &self.axes[0];
+        let mut base = self.study.base;
+        for d in &self.study.drawn {
+            base[d.param] = d.dist.quantile(0.5);
+        }
+        const SCAN: usize = 400;
+        let mut changes = Vec::new();
+        for wheel in Wheel::BOTH {
+            let re: Vec<(f64, f64)> = (0..=SCAN)
+                .map(|i| {
+                    let x = a.value(i as f64 / SCAN as f64);
+                    let mut p = base;
+                    p[a.param] = x;
+                    let re = WheelModel::build(&p, wheel, self.variant)
+                        .map_or(f64::NAN, |m| m.ode.linear_stability().eig_re_max);
+                    (x, re)
+                })
+                .collect();
+            for w in re.windows(2) {
+                let ((x0, r0), (x1, r1)) = (w[0], w[1]);
+                if r0.is_finite() && r1.is_finite() && (r0 > 0.0) != (r1 > 0.0) {
+                    changes.push((wheel, x0 + (x1 - x0) * r0 / (r0 - r1)));
+                }
+            }
+        }
+        changes
+    }
 }
 
 /// One evaluated setting.

@@ -6,6 +6,7 @@
 //! A sample's outcomes are packed in one byte ([`Outcomes`]), two bits per wheel and risk:
 //! 0 no, 1 yes, 2 unknown (failed, no traction, or an undefined distance).
 
+use crate::param_sources::Refusal;
 use std::str::FromStr;
 
 use crate::stats::{newcombe_paired, wilson, Z95};
@@ -35,15 +36,15 @@ impl Term {
 }
 
 impl FromStr for Term {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Term, String> {
+    type Err = Refusal;
+    fn from_str(s: &str) -> Result<Term, Refusal> {
         match s.trim() {
             "wear" => Ok(Term::Wear),
             "vibration" => Ok(Term::Vibration),
-            other => Err(format!(
+            other => Err(Refusal(format!(
                 "unknown objective `{other}`;{} accepted: wear, vibration, or a weighted sum such as 0.7*wear+0.3*vibration",
                 did_you_mean(other, TERMS)
-            )),
+            ))),
         }
     }
 }
@@ -72,18 +73,18 @@ impl WheelChoice {
 }
 
 impl FromStr for WheelChoice {
-    type Err = String;
-    fn from_str(s: &str) -> Result<WheelChoice, String> {
+    type Err = Refusal;
+    fn from_str(s: &str) -> Result<WheelChoice, Refusal> {
         match s.trim() {
             "follower" => Ok(WheelChoice::Follower),
             "driving" => Ok(WheelChoice::Driving),
             "both" => Ok(WheelChoice::Both),
             "worst" => Ok(WheelChoice::Worst),
-            other => Err(format!(
+            other => Err(Refusal(format!(
                 "unknown wheel `{other}`;{} accepted: {}",
                 did_you_mean(other, WHEEL_CHOICES),
                 WHEEL_CHOICES.join(", ")
-            )),
+            ))),
         }
     }
 }
@@ -156,26 +157,30 @@ pub struct Estimate {
 }
 
 /// Parses `wear`, `vibration`, `0.7*wear+0.3*vibration` (weights positive; a risk at most once).
-pub fn parse_terms(s: &str) -> Result<Vec<(f64, Term)>, String> {
+pub fn parse_terms(s: &str) -> Result<Vec<(f64, Term)>, Refusal> {
     let mut terms: Vec<(f64, Term)> = Vec::new();
     for part in s.split('+') {
         let part = part.trim();
         let (w, name) = match part.split_once('*') {
             Some((w, name)) => {
-                let w: f64 = w
-                    .trim()
-                    .parse()
-                    .map_err(|_| format!("`{part}`: the weight `{}` is not a number", w.trim()))?;
+                let w: f64 = w.trim().parse().map_err(|_| {
+                    Refusal(format!(
+                        "`{part}`: the weight `{}` is not a number",
+                        w.trim()
+                    ))
+                })?;
                 (w, name)
             }
             None => (1.0, part),
         };
         if !(w.is_finite() && w > 0.0) {
-            return Err(format!("`{part}`: the weight must be a positive number"));
+            return Err(Refusal(format!(
+                "`{part}`: the weight must be a positive number"
+            )));
         }
         let term: Term = name.parse()?;
         if terms.iter().any(|t| t.1 == term) {
-            return Err(format!("`{}` appears twice", term.name()));
+            return Err(Refusal(format!("`{}` appears twice", term.name())));
         }
         terms.push((w, term));
     }
@@ -335,7 +340,7 @@ mod tests {
     #[test]
     fn objectives_parse_or_say_what_is_accepted() {
         assert_eq!(parse_terms("wear").unwrap(), vec![(1.0, Term::Wear)]);
-        let e = parse_terms("wer").unwrap_err();
+        let e = parse_terms("wer").unwrap_err().0;
         assert!(
             e.contains("did you mean `wear`") && e.contains("weighted sum"),
             "{e}"
@@ -346,6 +351,7 @@ mod tests {
         assert!("worse"
             .parse::<WheelChoice>()
             .unwrap_err()
+            .0
             .contains("worst"));
     }
 

@@ -176,7 +176,7 @@ fn parse_constraint(s: &str, wheel: WheelChoice) -> Result<Bound, Refusal> {
         .ok_or_else(|| refuse(format!("`{}` is not a finite number", value.trim())))?;
     let name = name.trim();
     let (term, wheel) = match name.split_once(':') {
-        Some((t, w)) => (t.trim(), w.parse::<WheelChoice>().map_err(refuse)?),
+        Some((t, w)) => (t.trim(), w.parse::<WheelChoice>().map_err(|e| refuse(e.0))?),
         None => (name, wheel),
     };
     if let Ok(term) = term.parse::<Term>() {
