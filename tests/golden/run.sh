@@ -35,6 +35,8 @@ case_ optimize_vib optimize --vary toe_deg=0.05..0.40 --objective vibration --wh
 case_ simulate simulate
 case_ simulate_json simulate --speed 150 --toe 0.4 --variant paper --json
 case_ simulate_plot simulate --plot $O/simulate_plot/p.png --out $O/simulate_plot/p.parquet
+case_ cycle_params_note cycle data/cycles/hwfet.csv --params studies/params_r0.toml --set g_mod=0.9e6 --out $O/cycle_params_note/out
+case_ simulate_params_note simulate --params studies/params_r0.toml --set g_mod=0.9e6
 case_ wear wear --out $O/wear/out
 case_ wear_est wear --set wear_share_straight=1 --speed-spread-kmh 0 --estimate --out $O/wear_est/out
 case_ wear_cycle wear --cycle data/cycles/hwfet.csv --distance-km 20000 --out $O/wear_cycle/out

@@ -73,20 +73,10 @@ impl ParamSources {
             }
         }
         let file = file.map(|path| (path.to_path_buf(), named));
-        let mut notes = Vec::new();
-        if let Some((path, names)) = &file {
-            for t in &typed {
-                if names.contains(&t.id) && file_values[t.id] != t.value {
-                    notes.push(format!(
-                        "note: {} replaces {} = {} of --params {}",
-                        t.by,
-                        t.id,
-                        plain(file_values[t.id], 12),
-                        path.display()
-                    ));
-                }
-            }
-        }
+        let notes = match &file {
+            Some((path, names)) => replaced_notes(&typed, names, &file_values, path),
+            None => Vec::new(),
+        };
         p.validate()?;
         let sources = ParamSources {
             params: p,
@@ -123,6 +113,29 @@ impl ParamSources {
             )
         }))
     }
+}
+
+/// The notes for typed values that replace a `--params` file's: "note: --toe 0.2 replaces
+/// toe_deg = 0.15 of --params FILE".
+pub fn replaced_notes(
+    typed: &[Typed],
+    named: &[ParamId],
+    file_values: &Params,
+    file: &Path,
+) -> Vec<String> {
+    typed
+        .iter()
+        .filter(|t| named.contains(&t.id) && file_values[t.id] != t.value)
+        .map(|t| {
+            format!(
+                "note: {} replaces {} = {} of --params {}",
+                t.by,
+                t.id,
+                plain(file_values[t.id], 12),
+                file.display()
+            )
+        })
+        .collect()
 }
 
 /// The defaults with the `--params` file applied, and the parameters the file names; a value

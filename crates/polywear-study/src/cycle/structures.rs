@@ -11,7 +11,7 @@ use polywear_core::wording::plain;
 
 use super::DriveCycle;
 use crate::param_sources::{
-    param_file, refuse_file_overlap, refuse_reserved_names, Refusal, Typed,
+    param_file, refuse_file_overlap, refuse_reserved_names, replaced_notes, Refusal, Typed,
 };
 use crate::study::Study;
 
@@ -100,16 +100,8 @@ impl CommandLine {
                 params_by()
             ));
         }
-        for t in &set {
-            if named.contains(&t.id) && file[t.id] != t.value {
-                notes.push(format!(
-                    "note: {} replaces {} = {} of {}",
-                    t.by,
-                    t.id,
-                    plain(file[t.id], 12),
-                    params_by()
-                ));
-            }
+        if let Some(path) = params_file {
+            notes.extend(replaced_notes(&set, &named, &file, path));
         }
         let line = CommandLine {
             params_file: params_file.map(Path::to_path_buf),
