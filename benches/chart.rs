@@ -11,17 +11,17 @@ use polywear::model::{Variant, Wheel};
 use polywear::params::{ParamId, Params};
 
 fn speed_toe() -> ChartRequest {
-    ChartRequest {
-        base: Params::default(),
-        variant: Variant::SlidingShare,
-        wheels: Wheel::BOTH.to_vec(),
-        x: ParamId::SpeedKmh,
-        y: ParamId::ToeDeg,
-        bounds: ParamBox {
+    ChartRequest::new(
+        Params::default(),
+        Variant::SlidingShare,
+        Wheel::BOTH.to_vec(),
+        (ParamId::SpeedKmh, ParamId::ToeDeg),
+        ParamBox {
             lo: [60.0, 0.05],
             hi: [250.0, 0.6],
         },
-    }
+    )
+    .unwrap()
 }
 
 fn bench_chart(c: &mut Criterion) {

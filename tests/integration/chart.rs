@@ -15,17 +15,17 @@ use polywear::model::{Variant, Wheel, WheelModel};
 use polywear::params::{ParamId, Params};
 
 fn request(x: &str, xr: (f64, f64), y: &str, yr: (f64, f64)) -> ChartRequest {
-    ChartRequest {
-        base: Params::default(),
-        variant: Variant::SlidingShare,
-        wheels: Wheel::BOTH.to_vec(),
-        x: x.parse().unwrap(),
-        y: y.parse().unwrap(),
-        bounds: ParamBox {
+    ChartRequest::new(
+        Params::default(),
+        Variant::SlidingShare,
+        Wheel::BOTH.to_vec(),
+        (x.parse().unwrap(), y.parse().unwrap()),
+        ParamBox {
             lo: [xr.0, yr.0],
             hi: [xr.1, yr.1],
         },
-    }
+    )
+    .unwrap()
 }
 
 fn speed_toe() -> ChartRequest {

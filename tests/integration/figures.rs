@@ -41,17 +41,17 @@ fn no_curves(wheel: Wheel) -> WheelCurves {
 fn the_chart_says_where_it_was_drawn_and_names_the_overlap() {
     let dir = fresh_dir("fig-chart");
     std::fs::create_dir_all(&dir).unwrap();
-    let req = ChartRequest {
-        base: Params::default(),
-        variant: Variant::SlidingShare,
-        wheels: Wheel::BOTH.to_vec(),
-        x: ParamId::LoadN,
-        y: ParamId::PressureKpa,
-        bounds: ParamBox {
+    let req = ChartRequest::new(
+        Params::default(),
+        Variant::SlidingShare,
+        Wheel::BOTH.to_vec(),
+        (ParamId::LoadN, ParamId::PressureKpa),
+        ParamBox {
             lo: [2500.0, 180.0],
             hi: [6500.0, 320.0],
         },
-    };
+    )
+    .unwrap();
     let n = polywear::figures::chart::SHADE_CELLS;
     // The follower unstable in the left half, the driving wheel in the left quarter: both
     // there.

@@ -12,9 +12,11 @@ use polywear_analysis::figures::chart::{draw, SHADE_CELLS};
 use polywear_analysis::plot::{FigureFile, FigureFormat};
 use polywear_core::continuation::trace::TraceOptions;
 use polywear_core::continuation::ParamBox;
-use polywear_core::params::{ParamError, ParamId, Params};
+use polywear_core::params::{ParamError, ParamId};
 use polywear_study::chart::band::{band_study, structure_band, StructureBand};
-use polywear_study::chart::{band_columns, curve_columns, special_columns, summary, ChartRequest};
+use polywear_study::chart::{
+    band_columns, curve_columns, special_columns, summary, ChartError, ChartRequest,
+};
 use polywear_study::parquet_out::{write_csv, write_table};
 
 /// Cells per axis of the uncertainty band's grid.
@@ -119,28 +121,34 @@ pub fn request(args: &ChartArgs) -> CliResult<(ChartRequest, Resolved)> {
     super::common::sweep_owns(y, &format!("--y {y}"), &resolved)?;
     let base = resolved.params;
     // Every corner must be a valid parameter set (e.g. mu_s on an axis may not exceed mu_m).
-    for (xf, xv) in [("--x-from", args.x_from), ("--x-to", args.x_to)] {
-        for (yf, yv) in [("--y-from", args.y_from), ("--y-to", args.y_to)] {
-            let mut p: Params = base;
-            p.try_set(x, xv)?;
-            p.try_set(y, yv)?;
-            p.validate()
-                .map_err(|e| CliError(format!("corner {xf}, {yf}: {e}")))?;
-        }
-    }
-    check_extension(&args.out, &["parquet"], "--out")?;
-    check_out_file(&args.out, "--out")?;
-    let req = ChartRequest {
+    let flag = |v: f64, from: f64, axis: &str| {
+        format!("--{axis}-{}", if v == from { "from" } else { "to" })
+    };
+    let req = ChartRequest::new(
         base,
-        variant: args.point.variant.into(),
-        wheels: args.wheel.wheels(),
-        x,
-        y,
-        bounds: ParamBox {
+        args.point.variant.into(),
+        args.wheel.wheels(),
+        (x, y),
+        ParamBox {
             lo: [args.x_from, args.y_from],
             hi: [args.x_to, args.y_to],
         },
-    };
+    )
+    .map_err(|e| match e {
+        ChartError::Corner {
+            x_value,
+            y_value,
+            reason,
+            ..
+        } => CliError(format!(
+            "corner {}, {}: {reason}",
+            flag(x_value, args.x_from, "x"),
+            flag(y_value, args.y_from, "y")
+        )),
+        e => CliError(e.to_string()),
+    })?;
+    check_extension(&args.out, &["parquet"], "--out")?;
+    check_out_file(&args.out, "--out")?;
     Ok((req, resolved))
 }
 

@@ -53,17 +53,19 @@ pub(crate) fn solve_pairs(
     for i in 0..axes.len() {
         for j in i + 1..axes.len() {
             let (x, y) = (axes[i], axes[j]);
-            let request = ChartRequest {
-                base: *base,
+            // The paper's axes are operating axes over accepted ranges, and no rule ties an
+            // operating axis to another parameter: a valid base gives valid corners.
+            let request = ChartRequest::new(
+                *base,
                 variant,
-                wheels: Wheel::BOTH.to_vec(),
-                x: x.0,
-                y: y.0,
-                bounds: ParamBox {
+                Wheel::BOTH.to_vec(),
+                (x.0, y.0),
+                ParamBox {
                     lo: [x.1, y.1],
                     hi: [x.2, y.2],
                 },
-            };
+            )
+            .expect("the paper's pairs of operating axes make a valid chart");
             let curves = request.trace(&opts);
             let grids = request
                 .wheels

@@ -60,6 +60,7 @@ impl TwoParameterFamily for TireFamily {
 
 /// What a chart is asked for.
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct ChartRequest {
     /// The parameters not on the axes, and the nominal point marked on the chart.
     pub base: Params,
@@ -102,6 +103,100 @@ impl ChartRequest {
         ));
         meta.push(("trace_options".into(), format!("{opts:?}")));
         meta
+    }
+}
+
+/// Why a chart cannot be drawn, refused before any work.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ChartError {
+    /// Both axes name one parameter.
+    #[error("both axes are `{0}`; a chart needs two different parameters")]
+    SameAxes(ParamId),
+    /// An axis end outside its parameter's accepted range, or an empty or inverted range.
+    #[error("the range {lo} to {hi} of `{param}`: {reason}")]
+    Range {
+        /// The axis's parameter.
+        param: ParamId,
+        /// Its lower end.
+        lo: f64,
+        /// Its upper end.
+        hi: f64,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A corner of the box is not a valid parameter set (a rule tying several parameters).
+    #[error("the corner {x} = {x_value}, {y} = {y_value}: {reason}")]
+    Corner {
+        /// The x parameter.
+        x: ParamId,
+        /// Its value at the corner.
+        x_value: f64,
+        /// The y parameter.
+        y: ParamId,
+        /// Its value at the corner.
+        y_value: f64,
+        /// Which rule it breaks.
+        reason: String,
+    },
+    /// No wheel asked for.
+    #[error("no wheel to trace")]
+    NoWheels,
+}
+
+impl ChartRequest {
+    /// A chart whose axes differ, whose ranges are accepted values with the lower end below the
+    /// upper, and whose four corners are valid parameter sets; checked before any work.
+    pub fn new(
+        base: Params,
+        variant: Variant,
+        wheels: Vec<Wheel>,
+        (x, y): (ParamId, ParamId),
+        bounds: ParamBox,
+    ) -> Result<ChartRequest, ChartError> {
+        if x == y {
+            return Err(ChartError::SameAxes(x));
+        }
+        if wheels.is_empty() {
+            return Err(ChartError::NoWheels);
+        }
+        for (k, param) in [x, y].into_iter().enumerate() {
+            let (lo, hi) = (bounds.lo[k], bounds.hi[k]);
+            let refuse = |reason: String| ChartError::Range {
+                param,
+                lo,
+                hi,
+                reason,
+            };
+            for v in [lo, hi] {
+                param.spec().check(v).map_err(|e| refuse(e.to_string()))?;
+            }
+            if lo >= hi {
+                return Err(refuse("the range is empty or inverted".into()));
+            }
+        }
+        for x_value in [bounds.lo[0], bounds.hi[0]] {
+            for y_value in [bounds.lo[1], bounds.hi[1]] {
+                let mut p = base;
+                p[x] = x_value;
+                p[y] = y_value;
+                p.validate().map_err(|e| ChartError::Corner {
+                    x,
+                    x_value,
+                    y,
+                    y_value,
+                    reason: e.to_string(),
+                })?;
+            }
+        }
+        Ok(ChartRequest {
+            base,
+            variant,
+            wheels,
+            x,
+            y,
+            bounds,
+        })
     }
 }
 
@@ -398,4 +493,36 @@ fn span(v: impl Iterator<Item = f64>) -> (f64, f64) {
     v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
         (a.min(x), b.max(x))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_chart_request_is_checked_before_any_work() {
+        let new = |x: ParamId, y: ParamId, lo: [f64; 2], hi: [f64; 2]| {
+            ChartRequest::new(
+                Params::default(),
+                Variant::DEFAULT,
+                Wheel::BOTH.to_vec(),
+                (x, y),
+                ParamBox { lo, hi },
+            )
+        };
+        let (speed, toe, mu_s) = (ParamId::SpeedKmh, ParamId::ToeDeg, ParamId::MuS);
+        assert!(new(speed, toe, [60.0, 0.05], [250.0, 0.6]).is_ok());
+        assert_eq!(
+            new(toe, toe, [0.05, 0.05], [0.6, 0.6]).unwrap_err(),
+            ChartError::SameAxes(toe)
+        );
+        let inverted = new(speed, toe, [250.0, 0.05], [60.0, 0.6]).unwrap_err();
+        assert!(matches!(inverted, ChartError::Range { param, .. } if param == speed));
+        let outside = new(speed, toe, [-5.0, 0.05], [250.0, 0.6]).unwrap_err();
+        assert!(matches!(outside, ChartError::Range { .. }), "{outside}");
+        // mu_s above the default mu_m at the box's upper end breaks a rule of two parameters.
+        let mu_m = Params::default().mu_m;
+        let corner = new(speed, mu_s, [60.0, 0.1], [250.0, mu_m + 0.1]).unwrap_err();
+        assert!(matches!(corner, ChartError::Corner { .. }), "{corner}");
+    }
 }
