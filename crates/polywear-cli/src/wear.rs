@@ -13,7 +13,7 @@ use polywear_analysis::figures::FilesError;
 use polywear_analysis::plot::FigureFormat;
 use polywear_core::classify::ClassifierOptions;
 use polywear_core::long_term::{
-    self, LongTermError, LongTermProblem, LongTermSolution, WheelLongTerm, MAX_DISTANCE_KM,
+    self, LongTermError, LongTermProblem, LongTermSolution, WheelLongTerm,
 };
 use polywear_core::model::Variant;
 use polywear_core::params::{ParamId, Params};
@@ -95,12 +95,7 @@ struct Plan {
 fn plan(args: &WearArgs) -> CliResult<Plan> {
     let resolved = args.point.resolve()?;
     let mut p = resolved.params;
-    if !(args.distance_km > 0.0 && args.distance_km <= MAX_DISTANCE_KM) {
-        return Err(CliError(format!(
-            "--distance-km = {} is outside its accepted range (0, 1e6] km",
-            plain(args.distance_km, 12)
-        )));
-    }
+    long_term::check_distance_km(args.distance_km).map_err(refusal)?;
     let zone: WearZone = args
         .wear_zone
         .parse()
@@ -175,19 +170,23 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
         budget: args.budget.apply(Default::default())?,
         ..ClassifierOptions::default()
     };
-    let problem =
-        LongTermProblem::new(p, variant, legs, settings, classifier).map_err(|e| match e {
-            LongTermError::Distance(km) => CliError(format!(
-                "--distance-km = {} is outside its accepted range (0, 1e6] km",
-                plain(km, 12)
-            )),
-            e => CliError(e.to_string()),
-        })?;
+    let problem = LongTermProblem::new(p, variant, legs, settings, classifier).map_err(refusal)?;
     Ok(Plan {
         problem,
         usage,
         metadata,
     })
+}
+
+/// A refused problem in the words of the command line: the distance as `--distance-km`.
+fn refusal(e: LongTermError) -> CliError {
+    match e {
+        LongTermError::Distance(km) => CliError(format!(
+            "--distance-km = {} is outside its accepted range (0, 1e6] km",
+            plain(km, 12)
+        )),
+        e => CliError(e.to_string()),
+    }
 }
 
 /// The cycle's speeds as legs of equal distance, refused as `polywear cycle` refuses it.

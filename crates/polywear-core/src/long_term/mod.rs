@@ -61,10 +61,7 @@ impl LongTermProblem {
         settings: LoopSettings,
         classifier: ClassifierOptions,
     ) -> Result<Self, LongTermError> {
-        let km = settings.distance_km;
-        if !(km > 0.0 && km <= MAX_DISTANCE_KM) {
-            return Err(LongTermError::Distance(km));
-        }
+        check_distance_km(settings.distance_km)?;
         let good = |x: f64| x.is_finite() && x > 0.0;
         if legs.is_empty() || !legs.iter().all(|l| good(l.speed_kmh) && good(l.share)) {
             return Err(LongTermError::Legs);
@@ -76,6 +73,16 @@ impl LongTermProblem {
             settings,
             classifier,
         })
+    }
+}
+
+/// The distance rule of [`LongTermProblem::new`] on its own, for a caller that refuses a bad
+/// distance before it builds the legs: (0, [`MAX_DISTANCE_KM`]] km.
+pub fn check_distance_km(km: f64) -> Result<(), LongTermError> {
+    if km > 0.0 && km <= MAX_DISTANCE_KM {
+        Ok(())
+    } else {
+        Err(LongTermError::Distance(km))
     }
 }
 
