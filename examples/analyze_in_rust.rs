@@ -12,8 +12,16 @@ fn main() -> Result<(), Box<dyn Error>> {
     };
     let info = polywear::analysis::inputs::check_inputs(&[dir.into()])?;
     let a = polywear::analysis::run(info, &polywear::analysis::AnalysisOptions::default())?;
-    for o in &a.occurrence {
+    // Both questions are answered the same way (`OutcomeAnswer`): vibration, and the wear
+    // answer at 40,000 km when the run has the wear stage.
+    for o in &a.vibration.occurrence {
         println!("{} {}: P(vibrates) = {:.3}", o.variant, o.wheel, o.p());
+    }
+    if let Some(w) = &a.wear {
+        let h = w.headline_answer();
+        for o in &h.occurrence {
+            println!("{} {}: P({}) = {:.3}", o.variant, o.wheel, h.words, o.p());
+        }
     }
     let opts = polywear::render::RenderOptions {
         out_dir: out.into(),

@@ -11,7 +11,17 @@
 //! | `polywear-analysis` | [`analysis`], [`render`], [`plot`], [`figures`], [`reproduce`] |
 //! | `polywear-cli` | the `polywear` program |
 //!
-//! [`prelude`] holds what a user of the engine needs for one point, a study and its analysis.
+//! **The public surface** is [`prelude`] and the modules re-exported here without
+//! `#[doc(hidden)]`: one point ([`evaluate`]: `PointProblem` → `solve` → `PointSolution`),
+//! a study in memory or to Parquet ([`study`], [`explore`]), the long-term loop
+//! ([`long_term`]) and the analysis of a run's files ([`analysis`], [`render`]), with the plain
+//! data they pass ([`params`], [`model`], [`classify`], [`records`]). Every problem type is
+//! `#[non_exhaustive]` and built by a constructor that checks it; every error is a `thiserror`
+//! enum naming the field and its accepted range; none holds a reference to global state. That
+//! is the surface Python bindings (PyO3) would wrap: plain-data problems in, plain-data
+//! solutions and Parquet files out (docs/book/src/reference/rust-api.md). The other modules are
+//! the workspace's inner stages, public for the command line, the tests and the benchmarks,
+//! hidden from these docs and free to change.
 //!
 //! One operating point, both wheels, through the evaluator:
 //!
@@ -29,27 +39,58 @@
 //!     assert!(r.class != Class::Failed, "{}", r.reason);
 //! }
 //! assert_eq!(solution.wheels.len(), 2);
+//! // A problem built from Rust is checked like the command line's input.
+//! let bad = Params { speed_kmh: -1.0, ..params };
+//! let refused = PointProblem::checked(bad, &[Variant::DEFAULT], &options).unwrap_err();
+//! assert!(refused.to_string().contains("speed_kmh"), "{refused}");
+//! ```
+//!
+//! A study in memory: its samples drawn and evaluated one by one, as `explore` does before it
+//! writes them to Parquet ([`explore::ExploreRequest::plan`] → [`explore::RunPlan::run`]):
+//!
+//! ```
+//! use polywear::prelude::*;
+//!
+//! let study = Study::parse(polywear::study::DEFAULT_STUDY).unwrap();
+//! let sampler = study.sampler(7, 4);
+//! let options = ClassifierOptions { budget: study.budget, ..ClassifierOptions::default() };
+//! let rows = polywear::explore::evaluate_sample(&study, &sampler, 0, &options, None);
+//! assert_eq!(rows.records.len(), 2 * study.variants.len());
 //! ```
 
 #![warn(missing_docs)]
 
-pub use polywear_analysis::{analysis, figures, plot, render, reproduce};
+// The public surface.
+pub use polywear_analysis::{analysis, render};
+pub use polywear_core::{classify, evaluate, long_term, model, params, records};
+pub use polywear_study::{explore, study};
+
+// The inner stages: public for the command line, tests and benchmarks, not a stable surface.
+#[doc(hidden)]
+pub use polywear_analysis::{figures, plot, reproduce};
+#[doc(hidden)]
 pub use polywear_core::{
-    classify, columns, continuation, ensemble, evaluate, model, numeric, params, records, sampling,
-    solver, text_enum, wear, wording,
+    columns, continuation, ensemble, numeric, sampling, solver, text_enum, wear, wording,
 };
+#[doc(hidden)]
 pub use polywear_study::{
-    bifurcation, calibrate, chart, cycle, explore, key_value, operating_points, optimize,
-    output_dir, parquet_out, safe_read, safe_write, stats, study, table_input, toml_input,
-    trajectory, validation,
+    bifurcation, calibrate, chart, cycle, operating_points, optimize, output_dir, parquet_out,
+    safe_read, safe_write, stats, table_input, trajectory, validation,
 };
 
 /// What a user of the engine needs: one point (problem → solve → solution), a study (in memory
-/// or to Parquet) and its analysis.
+/// or to Parquet), the long-term loop, and the analysis of a run.
 pub mod prelude {
+    pub use polywear_analysis::analysis::outcome::{
+        Outcome, OutcomeAnswer, Vibrates, VisibleWithin,
+    };
+    pub use polywear_analysis::analysis::{Analysis, AnalysisError, AnalysisOptions};
     pub use polywear_core::classify::{Class, ClassifierOptions, WheelVerdict};
     pub use polywear_core::evaluate::{solve, PointProblem, PointSolution};
+    pub use polywear_core::long_term::{LongTermError, LongTermProblem, LongTermSolution};
     pub use polywear_core::model::{Variant, Wheel, WheelModel};
-    pub use polywear_core::params::{ParamId, Params};
+    pub use polywear_core::params::{ParamError, ParamId, Params};
     pub use polywear_core::records::WheelRecord;
+    pub use polywear_study::explore::{ExploreError, ExploreRequest, RunPlan};
+    pub use polywear_study::study::{Study, StudyError};
 }

@@ -93,8 +93,8 @@ f, dr = w["follower"] <= 1000, w["driving"] <= 1000
 b, c = int((f & ~dr).sum()), int((~f & dr).sum())
 p = min(1.0, 2 * sum(math.comb(b + c, i) for i in range(min(b, c) + 1)) / 2 ** (b + c))
 pr = pd.read_csv(rep + "wear_paired.csv").set_index("within_km").loc[1000.0]
-assert (pr.pairs, pr.only_follower, pr.only_driving, pr.both, pr.unknown) == (len(w), b, c, int((f & dr).sum()), 300 - len(w)), pr
-assert pr.mcnemar_method == "exact" and abs(pr.mcnemar_p - p) < 1e-12 * max(p, 1e-300), (pr.mcnemar_p, p)
+assert (pr.pairs, pr.only_follower, pr.only_driving, pr.both, pr.unclassified_pairs) == (len(w), b, c, int((f & dr).sum()), 300 - len(w)), pr
+assert pr.method == "exact" and abs(pr.p_value - p) < 1e-12 * max(p, 1e-300), (pr.p_value, p)
 print("agree", b, c)
 "#;
     let out = python(script, &[edited.to_str().unwrap()]);

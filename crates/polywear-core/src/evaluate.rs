@@ -21,8 +21,11 @@ use crate::params::Params;
 use crate::records::{WearRecord, WheelRecord};
 use crate::wear::{self, Calibration, WearError, WearEstimate, WearInputs, WearSettings};
 
-/// One operating point to evaluate.
+/// One operating point to evaluate. Built by [`PointProblem::new`] (or
+/// [`PointProblem::checked`], which refuses invalid parameters first) and its `with_…`
+/// builders, so fields can be added without breaking callers.
 #[derive(Debug, Clone, Copy)]
+#[non_exhaustive]
 pub struct PointProblem<'a> {
     /// Every parameter of the point.
     pub params: Params,
@@ -81,7 +84,10 @@ pub fn calibrate_wear(
 }
 
 impl<'a> PointProblem<'a> {
-    /// The point for every variant and both wheels, without neighbouring cycles.
+    /// The point for every variant and both wheels, without neighbouring cycles. The
+    /// parameters are not checked: a point the model cannot evaluate comes back as a `failed`
+    /// wheel with its reason, never dropped (the explore engine checks its study before any
+    /// work); [`PointProblem::checked`] refuses them instead.
     pub fn new(params: Params, variants: &'a [Variant], options: &'a ClassifierOptions) -> Self {
         PointProblem {
             params,
@@ -91,6 +97,23 @@ impl<'a> PointProblem<'a> {
             previous: &[],
             wear: None,
         }
+    }
+
+    /// [`PointProblem::new`] after [`Params::validate`]: every value in its accepted range and
+    /// the rules that tie several together, the first broken one named in the error.
+    pub fn checked(
+        params: Params,
+        variants: &'a [Variant],
+        options: &'a ClassifierOptions,
+    ) -> Result<Self, crate::params::ParamError> {
+        params.validate()?;
+        Ok(Self::new(params, variants, options))
+    }
+
+    /// The same point with each wheel's cycle at a neighbouring point
+    /// ([`PointProblem::previous`]), in the order of [`PointProblem::wheel_order`].
+    pub fn with_previous(self, previous: &'a [Option<CycleHint>]) -> Self {
+        PointProblem { previous, ..self }
     }
 
     /// The same point with the wear stage after the classifier (or without it, for `None`).

@@ -89,9 +89,26 @@ pub fn thousands(x: f64) -> String {
     out
 }
 
+/// A distance in km with thousands separators: "40,000 km" (a fraction keeps its digits:
+/// "2.5 km").
+pub fn km(x: f64) -> String {
+    if (x - x.round()).abs() > 1e-9 {
+        return format!("{} km", plain(x, 9));
+    }
+    format!("{} km", thousands(x))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn distances_read_with_thousands_separators() {
+        assert_eq!(km(40_000.0), "40,000 km");
+        assert_eq!(km(1_000_000.0), "1,000,000 km");
+        assert_eq!(km(999.0), "999 km");
+        assert_eq!(km(2.5), "2.5 km");
+    }
 
     #[test]
     fn snippets_are_short_and_escaped() {

@@ -1,11 +1,10 @@
-//! Where the risk lives along each axis: P(vibration | parameter in bin), per variant and wheel.
+//! Where the risk lives along each axis: P(outcome | parameter in bin), per variant and wheel
+//! ([`crate::analysis::outcome::answer`] counts the bins).
 
 use std::collections::BTreeMap;
 
 use super::bins::Bins;
 use super::counts::{ClassCounts, RiskCounts};
-use super::rows::{GroupKey, Rows};
-use super::AnalysisError;
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::ParamId;
 
@@ -30,21 +29,8 @@ pub struct BinStat<C = ClassCounts> {
     pub counts: C,
 }
 
-/// P(vibration | axis in bin), per variant, wheel and bin of one axis: every bin of every
-/// (variant, wheel) present, empty bins included.
-pub fn conditional(rows: &Rows, axis: ParamId, bins: &Bins) -> Result<Vec<BinStat>, AnalysisError> {
-    let groups = rows.class_counts(&[GroupKey::Bin(axis.name(), bins)])?;
-    Ok(bins_of_groups(
-        groups
-            .iter()
-            .map(|g| (g.variant, g.wheel, g.bins[0], &g.counts)),
-        axis,
-        bins,
-    ))
-}
-
 /// Every bin of `bins` for every (variant, wheel) of `groups` (variant, wheel, bin index of a
-/// [`GroupKey::Bin`] key, counts), in variant, wheel and bin order, empty bins included; a bin
+/// [`GroupKey::Bin`](crate::analysis::rows::GroupKey::Bin) key, counts), in variant, wheel and bin order, empty bins included; a bin
 /// index outside `bins` is left out.
 pub(crate) fn bins_of_groups<'a, C: RiskCounts + 'a>(
     groups: impl IntoIterator<Item = (Variant, Wheel, i64, &'a C)>,

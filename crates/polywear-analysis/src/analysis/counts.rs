@@ -47,6 +47,10 @@ impl ClassCounts {
     pub fn total(&self) -> u64 {
         self.0.iter().sum()
     }
+    /// All rows, whatever their class ([`ClassCounts::total`]).
+    pub fn rows(&self) -> u64 {
+        self.total()
+    }
     /// P(vibration) over the classified rows; NaN when there are none.
     pub fn p(&self) -> f64 {
         let n = self.classified();
@@ -100,6 +104,11 @@ impl WithinCounts {
         self.w2_known += o.w2_known;
     }
 
+    /// Every wheel counted: with a known distance or not.
+    pub fn rows(&self) -> u64 {
+        self.known + self.unknown
+    }
+
     /// Whether every weight is 1 (the probability is the plain share of wheels).
     pub fn unweighted(&self) -> bool {
         self.w_known == self.known as i64 && self.w2_known == self.known as i64
@@ -134,10 +143,10 @@ impl WithinCounts {
     }
 }
 
-/// What a cell of a risk map or a bin of a conditional probability counts: rows per class for
-/// the vibration analysis ([`ClassCounts`]), wheels within a distance for the wear analysis
-/// ([`WithinCounts`]). Each estimates one proportion with its Wilson interval, so the maps,
-/// bins and figures that show it are written once for both.
+/// What a group of rows counts for an [`crate::analysis::outcome::Outcome`]: rows per class
+/// for vibration ([`ClassCounts`]), wheels within a distance for wear ([`WithinCounts`]).
+/// Each estimates one proportion with its Wilson interval, so the maps, bins, tables and
+/// figures that show it are written once for both.
 pub trait RiskCounts: Copy + Default {
     /// Adds another group's counts.
     fn merge(&mut self, other: &Self);
@@ -148,6 +157,8 @@ pub trait RiskCounts: Copy + Default {
     /// Whether the denominator is at least `min_count` (and at least one): enough to show
     /// [`RiskCounts::p`].
     fn enough(&self, min_count: u64) -> bool;
+    /// Every row counted, whatever its outcome (those counted apart included).
+    fn rows(&self) -> u64;
 }
 
 /// [`RiskCounts`] of a type by its own methods of the same names.
@@ -165,6 +176,9 @@ macro_rules! risk_counts_by_own_methods {
             }
             fn enough(&self, min_count: u64) -> bool {
                 <$t>::enough(self, min_count)
+            }
+            fn rows(&self) -> u64 {
+                <$t>::rows(self)
             }
         }
     )*};

@@ -12,8 +12,7 @@ use std::collections::BTreeMap;
 
 use super::counts::ClassCounts;
 use super::inputs::RunInfo;
-use super::rows::{GroupKey, Rows};
-use super::AnalysisError;
+use super::outcome::RowCounts;
 use polywear_core::model::{Variant, Wheel};
 
 /// The column of the chunk files that says which row of the operating-point file a sample
@@ -122,49 +121,42 @@ pub struct Fleet {
     pub never_drawn: u64,
 }
 
-/// The per-row table of a run with `[operating_points]`; None for other runs.
-pub fn fleet(rows: &Rows, info: &RunInfo) -> Result<Option<Fleet>, AnalysisError> {
-    let Some(record) = &info.operating_points else {
-        return Ok(None);
-    };
+/// The per-row table of a run with `[operating_points]`, from the vibration answer's counts
+/// per row ([`crate::analysis::outcome::OutcomeAnswer::fleet`]); None for other runs.
+pub fn fleet(per_row: &[RowCounts], info: &RunInfo) -> Option<Fleet> {
+    let record = info.operating_points.as_ref()?;
     let op = info
         .study
         .as_ref()
         .and_then(|s| s.operating_points.as_ref());
-    let mut per_row: BTreeMap<(Variant, u64), [ClassCounts; 2]> = BTreeMap::new();
-    for g in rows.class_counts(&[GroupKey::Value(ROW_COLUMN)])? {
-        let row = g.values[0];
-        if row.is_nan() || row < 1.0 {
-            continue;
-        }
-        let wheel = match g.wheel {
-            Wheel::Follower => 0,
-            Wheel::Driving => 1,
-        };
-        per_row.entry((g.variant, row as u64)).or_default()[wheel].merge(&g.counts);
-    }
     let total_weight: f64 = op.map_or(f64::NAN, |o| o.weights.iter().sum());
     let mut out: Vec<FleetRow> = per_row
-        .into_iter()
-        .map(|((variant, row), [follower, driving])| {
-            let i = (row - 1) as usize;
-            let values = op
-                .and_then(|o| o.values.get(i).cloned())
-                .unwrap_or_default();
-            let weight_share = op
-                .and_then(|o| o.weights.get(i))
-                .map_or(f64::NAN, |w| w / total_weight);
-            FleetRow {
-                variant,
-                row,
-                values,
-                weight_share,
-                follower,
-                driving,
-                risk_share: [f64::NAN; 2],
-                risk_share_both: f64::NAN,
-            }
-        })
+        .iter()
+        .map(
+            |&RowCounts {
+                 variant,
+                 row,
+                 counts: [follower, driving],
+             }| {
+                let i = (row - 1) as usize;
+                let values = op
+                    .and_then(|o| o.values.get(i).cloned())
+                    .unwrap_or_default();
+                let weight_share = op
+                    .and_then(|o| o.weights.get(i))
+                    .map_or(f64::NAN, |w| w / total_weight);
+                FleetRow {
+                    variant,
+                    row,
+                    values,
+                    weight_share,
+                    follower,
+                    driving,
+                    risk_share: [f64::NAN; 2],
+                    risk_share_both: f64::NAN,
+                }
+            },
+        )
         .collect();
     risk_shares(&mut out);
     let drawn_rows = |v: Variant| out.iter().filter(|r| r.variant == v).count() as u64;
@@ -173,13 +165,13 @@ pub fn fleet(rows: &Rows, info: &RunInfo) -> Result<Option<Fleet>, AnalysisError
         .variants
         .first()
         .map_or(0, |v| positive.saturating_sub(drawn_rows(*v)));
-    Ok(Some(Fleet {
+    Some(Fleet {
         file: record.file.clone(),
         columns: record.columns.clone(),
         weight: WeightKind::of(record.weight.as_deref(), None),
         rows: out,
         never_drawn,
-    }))
+    })
 }
 
 /// Each row's term of the weighted P(vibration) over the sum of the terms, per variant and

@@ -6,14 +6,20 @@
 //! Problem → result: [`inputs::check_inputs`] reads the footers and manifests (inputs that do
 //! not belong together are refused before any row is read) into a [`RunInfo`]; [`run`] answers
 //! every question for [`AnalysisOptions`] and returns an [`Analysis`], plain data.
-//! [`crate::render`] writes its tables, figures and page. One module per question:
-//! [`occurrence`], [`failures`] (why rows have no verdict), [`paired`], [`fleet`] (per row of
-//! an operating-point file), [`conditional`] (per axis, on [`bins`]), [`risk_map`],
-//! [`severity`], [`given_data`] (first-order indices from any design), [`sensitivity`] (Sobol
-//! indices of a Saltelli design), [`robustness`], [`scenarios`] (each scenario against the
-//! baseline on the same samples); [`rows`] alone speaks to polars, and [`stats`] holds the
-//! intervals and tests. In a run with scenarios every question but the last is answered on the
-//! baseline's rows.
+//! [`crate::render`] writes its tables, figures and page.
+//!
+//! Vibration and wear are asked the same questions through one [`outcome::Outcome`] each
+//! ([`outcome::Vibrates`], [`outcome::VisibleWithin`]): [`outcome::answer`] computes the
+//! probability per wheel, [`paired`] driving against follower, [`conditional`] per bin (on
+//! [`bins`]), [`risk_map`] over pairs of axes and the counts per row of an operating-point
+//! file into one [`outcome::OutcomeAnswer`], so [`Analysis::vibration`] and
+//! [`Analysis::wear`] ([`wear_risk`], at each distance) are one type, drawn by one renderer.
+//! The rest is one module per question: [`failures`] (why rows have no verdict), [`fleet`]
+//! (each row's values, weight and share of the risk), [`severity`], [`given_data`]
+//! (first-order indices from any design), [`sensitivity`] (Sobol indices of a Saltelli
+//! design), [`robustness`], [`scenarios`] (each scenario against the baseline on the same
+//! samples); [`rows`] alone speaks to polars, and [`stats`] holds the intervals and tests. In a
+//! run with scenarios every question but the last is answered on the baseline's rows.
 //!
 //! P(vibration), the probability every table gives, is the share of classified rows (stable,
 //! limit cycle, bistable) whose wheel vibrates: settles on a limit cycle, or is bistable (can be
@@ -27,7 +33,7 @@ pub mod fleet;
 mod footer;
 pub mod given_data;
 pub mod inputs;
-pub mod occurrence;
+pub mod outcome;
 pub mod paired;
 pub mod quantities;
 pub mod risk_map;
@@ -41,14 +47,13 @@ pub mod wear_risk;
 
 use std::path::{Path, PathBuf};
 
-use conditional::BinStat;
+use bins::Bins;
 use counts::ClassCounts;
 use failures::Failures;
 use fleet::Fleet;
 use given_data::FirstOrder;
 pub use inputs::RunInfo;
-use occurrence::Occurrence;
-use paired::Paired;
+use outcome::{AnswerPlan, MapAxes, OutcomeAnswer, Vibrates};
 use risk_map::RiskMap;
 use robustness::{Robustness, RobustnessSummary};
 use rows::Rows;
@@ -132,19 +137,18 @@ pub struct Analysis {
     pub info: RunInfo,
     /// The options it was computed with.
     pub options: AnalysisOptions,
-    /// P(vibration) per variant and wheel.
-    pub occurrence: Vec<Occurrence>,
+    /// The vibration answer ([`Vibrates`]): P(vibration) per variant and wheel, driving
+    /// against follower on the same samples, per bin of every drawn parameter, the risk maps
+    /// over pairs of axes (their tables are written whether or not they are drawn), and per row
+    /// of an operating-point file.
+    pub vibration: OutcomeAnswer<ClassCounts>,
     /// The rows without a verdict, grouped by reason.
     pub failures: Failures,
-    /// Driving against follower on the same samples, per variant.
-    pub paired: Vec<Paired>,
-    /// P(vibration) per row of the operating-point file (only for a study with one).
+    /// P(vibration) per row of the operating-point file with its values, weight and share of
+    /// the fleet's risk (only for a study with one).
     pub fleet: Option<Fleet>,
-    /// P(vibration) per bin of every drawn parameter.
-    pub conditional: Vec<BinStat>,
-    /// Risk maps over pairs of axes (their tables are written whether or not they are drawn).
-    pub maps: Vec<RiskMap>,
-    /// The maps of `maps` not drawn because too few of their cells hold enough samples.
+    /// The maps of the vibration answer not drawn because too few of their cells hold enough
+    /// samples.
     pub sparse_maps: Vec<SparseMap>,
     /// Cycle quantities among the vibrating rows.
     pub severity: Vec<Severity>,
@@ -166,7 +170,7 @@ pub struct Analysis {
 
 impl Analysis {
     /// Whether the map is drawn: not one of [`Analysis::sparse_maps`].
-    pub fn is_drawn(&self, map: &RiskMap) -> bool {
+    pub fn is_drawn<C>(&self, map: &RiskMap<C>) -> bool {
         !self
             .sparse_maps
             .iter()
@@ -175,11 +179,7 @@ impl Analysis {
 
     /// Class counts over every variant and wheel.
     pub fn totals(&self) -> ClassCounts {
-        let mut t = ClassCounts::default();
-        for o in &self.occurrence {
-            t.merge(&o.counts);
-        }
-        t
+        self.vibration.totals()
     }
 
     /// True when no row has a verdict (every row failed or had no traction).
@@ -189,7 +189,12 @@ impl Analysis {
 
     /// The variants present in the rows, in order.
     pub fn variants(&self) -> Vec<Variant> {
-        let mut v: Vec<Variant> = self.occurrence.iter().map(|o| o.variant).collect();
+        let mut v: Vec<Variant> = self
+            .vibration
+            .occurrence
+            .iter()
+            .map(|o| o.variant)
+            .collect();
         v.sort();
         v.dedup();
         v
@@ -424,29 +429,31 @@ pub fn run_with_progress(
     let mut notes = Vec::new();
     let has_scenarios = !info.scenarios.is_empty();
     let rows = Rows::scan_baseline(&info.files, has_scenarios)?;
-    let occurrence = occurrence::occurrence(&rows)?;
-    check_rows_agree(&info, &occurrence)?;
-    progress(Step::Occurrence);
-    let mut totals = ClassCounts::default();
-    occurrence.iter().for_each(|o| totals.merge(&o.counts));
-    let unclassified = totals.total() - totals.classified();
-    let failures = failures::failures(&info.files, totals.total(), unclassified)?;
-    progress(Step::Failures);
-    let paired = paired::paired(&info.files, PAIRED_BATCH_ROWS, has_scenarios)?;
-    progress(Step::Paired);
-    let fleet = fleet::fleet(&rows, &info)?;
-    progress(Step::Fleet);
     let quantities: Vec<&str> = SEVERITY_QUANTITIES.iter().map(|q| q.name()).collect();
     let axes: Vec<&str> = info.drawn_names.iter().map(|p| p.name()).collect();
     let ranges = rows.ranges(&axes, &quantities)?;
     progress(Step::Ranges);
-    let mut conditional = Vec::new();
-    for &axis in &info.drawn_names {
-        let b = bins::axis_bins(&info, &ranges, axis, opts.bins);
-        conditional.extend(conditional::conditional(&rows, axis, &b)?);
-        progress(Step::Conditional);
-    }
-    let (maps, sparse_maps) = risk_maps(&rows, &info, &ranges, opts, &mut notes, progress)?;
+    let axis_bins: Vec<(ParamId, Bins)> = info
+        .drawn_names
+        .iter()
+        .map(|&axis| (axis, bins::axis_bins(&info, &ranges, axis, opts.bins)))
+        .collect();
+    let map_axes = map_axes(&info, &ranges, opts, &mut notes);
+    let plan = AnswerPlan {
+        info: &info,
+        axis_bins: &axis_bins,
+        maps: &map_axes,
+        fleet: info.operating_points.is_some(),
+        batch_rows: PAIRED_BATCH_ROWS,
+    };
+    let mut vibration = outcome::answer(&Vibrates, &rows, &plan, progress)?;
+    let totals = vibration.totals();
+    let unclassified = totals.total() - totals.classified();
+    let failures = failures::failures(&info.files, totals.total(), unclassified)?;
+    progress(Step::Failures);
+    let fleet = fleet::fleet(&vibration.fleet, &info);
+    let sparse_maps = sparse_maps(&vibration.maps, opts.min_count);
+    draw_nominal_curves(&info, &mut vibration.maps, &sparse_maps);
     let severity = severity::severity(&rows, &ranges)?;
     progress(Step::Severity);
     let first_order = given_data::first_order_indices(&rows, &info, &ranges, opts.bootstrap)?;
@@ -467,25 +474,23 @@ pub fn run_with_progress(
     )?;
     progress(Step::Scenarios);
     let wear = if wear_risk::has_wear(&rows)? {
-        let axis_bins = info
-            .drawn_names
+        let drawn: Vec<&RiskMap> = vibration
+            .maps
             .iter()
-            .map(|&axis| (axis, bins::axis_bins(&info, &ranges, axis, opts.bins)))
-            .collect();
-        let drawn: Vec<&RiskMap> = maps
-            .iter()
-            .filter(|m| {
-                !sparse_maps
-                    .iter()
-                    .any(|s| (s.variant, s.x, s.y) == (m.variant, m.x, m.y))
-            })
+            .filter(|m| !is_sparse(&sparse_maps, m))
             .collect();
         let inputs = wear_risk::WearInputs {
-            axis_bins,
+            axis_bins: &axis_bins,
             maps: drawn,
             batch_rows: PAIRED_BATCH_ROWS,
         };
-        Some(wear_risk::wear(&rows, &info, &opts.within_km, &inputs)?)
+        Some(wear_risk::wear(
+            &rows,
+            &info,
+            &opts.within_km,
+            &inputs,
+            progress,
+        )?)
     } else {
         None
     };
@@ -493,12 +498,9 @@ pub fn run_with_progress(
     Ok(Analysis {
         info,
         options: opts.clone(),
-        occurrence,
+        vibration,
         failures,
-        paired,
         fleet,
-        conditional,
-        maps,
         sparse_maps,
         severity,
         first_order,
@@ -511,18 +513,15 @@ pub fn run_with_progress(
     })
 }
 
-/// The risk maps of every pair of drawn axes, with the nominal tire's Hopf curves over each;
-/// a pair the run does not draw is a note, a map with too few filled cells
-/// ([`MIN_MAP_COVERAGE`]) a [`SparseMap`].
-fn risk_maps(
-    rows: &Rows,
+/// The axes and bins of the risk maps of every pair of `opts.pairs` the run draws; a pair it
+/// does not draw is a note.
+fn map_axes(
     info: &RunInfo,
     ranges: &std::collections::BTreeMap<String, (f64, f64)>,
     opts: &AnalysisOptions,
     notes: &mut Vec<String>,
-    progress: &mut dyn FnMut(Step),
-) -> Result<(Vec<RiskMap>, Vec<SparseMap>), AnalysisError> {
-    let (mut maps, mut sparse) = (Vec::new(), Vec::new());
+) -> Vec<MapAxes> {
+    let mut out = Vec::new();
     for &(x, y) in &opts.pairs {
         if !info.drawn_names.contains(&x) || !info.drawn_names.contains(&y) {
             let axes: Vec<&str> = info.drawn_names.iter().map(|p| p.name()).collect();
@@ -532,84 +531,53 @@ fn risk_maps(
             ));
             continue;
         }
-        let xb = bins::axis_bins(info, ranges, x, opts.map_bins);
-        let yb = bins::axis_bins(info, ranges, y, opts.map_bins);
-        for map in risk_map::risk_maps(rows, (x, &xb), (y, &yb))? {
-            let (filled, cells) = map.coverage(opts.min_count);
-            if (filled as f64) < MIN_MAP_COVERAGE * cells as f64 {
-                sparse.push(SparseMap {
-                    variant: map.variant,
-                    x,
-                    y,
-                    filled,
-                    cells,
-                });
-            }
-            maps.push(map);
-        }
-        progress(Step::RiskMap);
+        out.push(MapAxes {
+            x: (x, bins::axis_bins(info, ranges, x, opts.map_bins)),
+            y: (y, bins::axis_bins(info, ranges, y, opts.map_bins)),
+        });
     }
-    // The nominal tire's Hopf curves over the box of each map that is drawn.
-    if let Some(study) = &info.study {
-        let drawn = |m: &RiskMap| {
-            !sparse
-                .iter()
-                .any(|s| (s.variant, s.x, s.y) == (m.variant, m.x, m.y))
-        };
-        for map in maps.iter_mut().filter(|m| drawn(m)) {
-            map.nominal = polywear_study::chart::nominal_curves(
-                study,
-                map.variant,
-                map.x.name(),
-                map.y.name(),
-                &risk_map::draw_edges(&map.x_bins),
-                &risk_map::draw_edges(&map.y_bins),
-            );
-        }
-    }
-    Ok((maps, sparse))
+    out
 }
 
-/// Refuses rows whose variant or wheel the footers do not describe: each variant of the footers
-/// and each wheel hold exactly one row per sample present, and no other pair has rows. The file
-/// at fault is found by a query of each file, on this error's path only.
-fn check_rows_agree(info: &RunInfo, occurrence: &[Occurrence]) -> Result<(), AnalysisError> {
-    let agree = |occ: &[Occurrence], samples: Option<u64>| {
-        let counts: Vec<u64> = occ.iter().map(|o| o.counts.total()).collect();
-        occ.len() == 2 * info.variants.len()
-            && occ.iter().all(|o| info.variants.contains(&o.variant))
-            && counts.windows(2).all(|w| w[0] == w[1])
-            && samples.is_none_or(|n| counts.first() == Some(&n))
-    };
-    if agree(occurrence, Some(info.samples_present)) {
-        return Ok(());
-    }
-    let what = |occ: &[Occurrence]| {
-        occ.iter()
-            .map(|o| format!("{} {} rows of {}", o.counts.total(), o.wheel, o.variant))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    let culprit = info
-        .files
-        .iter()
-        .map(|f| {
-            Ok((
-                f,
-                occurrence::occurrence(&Rows::scan(std::slice::from_ref(f))?)?,
-            ))
+/// The maps with too few filled cells to be drawn ([`MIN_MAP_COVERAGE`]).
+fn sparse_maps(maps: &[RiskMap], min_count: u64) -> Vec<SparseMap> {
+    maps.iter()
+        .filter_map(|map| {
+            let (filled, cells) = map.coverage(min_count);
+            ((filled as f64) < MIN_MAP_COVERAGE * cells as f64).then_some(SparseMap {
+                variant: map.variant,
+                x: map.x,
+                y: map.y,
+                filled,
+                cells,
+            })
         })
-        .find(|r: &Result<_, AnalysisError>| r.as_ref().map_or(true, |(_, o)| !agree(o, None)))
-        .transpose()?;
-    let (path, occ) = match &culprit {
-        Some((f, occ)) => ((*f).clone(), occ.as_slice()),
-        None => (info.files[0].clone(), occurrence),
+        .collect()
+}
+
+/// Whether `map` is one of `sparse`.
+fn is_sparse(sparse: &[SparseMap], map: &RiskMap) -> bool {
+    sparse
+        .iter()
+        .any(|s| (s.variant, s.x, s.y) == (map.variant, map.x, map.y))
+}
+
+/// The nominal tire's Hopf curves over the box of each map that is drawn (the study's, when
+/// it can be read back).
+fn draw_nominal_curves(info: &RunInfo, maps: &mut [RiskMap], sparse: &[SparseMap]) {
+    let Some(study) = &info.study else {
+        return;
     };
-    Err(AnalysisError::RowsDisagree {
-        path,
-        what: format!("holds {}", what(occ)),
-        variants: info.variant_text(),
-    })
+    for map in maps.iter_mut().filter(|m| !is_sparse(sparse, m)) {
+        map.nominal = polywear_study::chart::nominal_curves(
+            study,
+            map.variant,
+            map.x.name(),
+            map.y.name(),
+            &risk_map::draw_edges(&map.x_bins),
+            &risk_map::draw_edges(&map.y_bins),
+        );
+    }
 }
 
 #[cfg(test)]

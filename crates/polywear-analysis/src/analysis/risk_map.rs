@@ -1,11 +1,10 @@
-//! Where the risk lives over two axes: class counts over a grid of bins, per variant and wheel.
+//! Where the risk lives over two axes: an outcome's counts over a grid of bins, per variant and
+//! wheel ([`crate::analysis::outcome::answer`] counts the cells).
 
 use std::collections::BTreeMap;
 
 use super::bins::Bins;
 use super::counts::{ClassCounts, RiskCounts};
-use super::rows::{GroupKey, Rows};
-use super::AnalysisError;
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::ParamId;
 use polywear_study::chart::WheelCurves;
@@ -89,25 +88,8 @@ pub(crate) fn draw_edges(b: &Bins) -> Vec<f64> {
     e
 }
 
-/// Risk maps of every variant over the axes `x` × `y` (without their nominal curves).
-pub(crate) fn risk_maps(
-    rows: &Rows,
-    x: (ParamId, &Bins),
-    y: (ParamId, &Bins),
-) -> Result<Vec<RiskMap>, AnalysisError> {
-    let key = GroupKey::Cell(x.0.name(), x.1, y.0.name(), y.1);
-    let groups = rows.class_counts(&[key])?;
-    Ok(maps_of_cells(
-        groups
-            .iter()
-            .map(|g| (g.variant, g.wheel, g.bins[0], &g.counts)),
-        x,
-        y,
-    ))
-}
-
 /// One map per variant present in `cells` (variant, wheel, cell index of a
-/// [`GroupKey::Cell`] key, counts), both wheels each (a wheel without rows with empty cells),
+/// [`GroupKey::Cell`](crate::analysis::rows::GroupKey::Cell) key, counts), both wheels each (a wheel without rows with empty cells),
 /// without their nominal curves; a cell index outside the grid is left out.
 pub(crate) fn maps_of_cells<'a, C: RiskCounts + 'a>(
     cells: impl IntoIterator<Item = (Variant, Wheel, i64, &'a C)>,

@@ -5,6 +5,7 @@
 //! outcome in each direction. Beside it, the interval two independent runs of the same size
 //! would give ([`newcombe_independent`]), which is what pairing saves.
 
+use super::outcome::{Outcome as _, Vibrates, VisibleWithin};
 use super::rows::{scenario_pairs, OutcomeColumn, Rows, ScenarioPairCounts};
 use super::stats::{mcnemar, newcombe_independent, newcombe_paired};
 use super::{AnalysisError, RunInfo};
@@ -12,32 +13,9 @@ use polywear_core::model::{Variant, Wheel};
 
 pub use polywear_core::records::DISTANCE_COLUMN;
 
-/// The outcome a scenario is compared on.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Outcome {
-    /// The wheel vibrates (limit cycle or bistable).
-    Vibration,
-    /// A visible polygon within this distance \[km\].
-    Wear {
-        /// The distance \[km\].
-        within_km: f64,
-    },
-}
-
-impl Outcome {
-    /// The outcome's name in tables: `vibration`, `wear_within_40000_km`.
-    pub fn name(&self) -> String {
-        match self {
-            Outcome::Vibration => "vibration".into(),
-            Outcome::Wear { within_km } => {
-                format!(
-                    "wear_within_{}_km",
-                    polywear_core::wording::plain(*within_km, 9)
-                )
-            }
-        }
-    }
-}
+/// The outcome a scenario is compared on: vibration, or a visible polygon within a distance
+/// (the outcomes of [`crate::analysis::outcome`], by their row column).
+pub type Outcome = OutcomeColumn<'static>;
 
 /// One scenario's effect on one wheel under one variant.
 #[derive(Debug, Clone, PartialEq)]
@@ -128,22 +106,23 @@ pub fn compare(
     let names: Vec<&str> = info.scenarios.iter().map(|s| s.name.as_str()).collect();
     let mut outcomes = Vec::new();
     if Rows::scan(&info.files)?.has_column(DISTANCE_COLUMN)? {
-        outcomes.push((
-            Outcome::Wear { within_km },
-            OutcomeColumn::WithinKm {
-                column: DISTANCE_COLUMN,
+        let weight = super::rows::SampleWeight::Equal;
+        outcomes.push(
+            VisibleWithin {
                 km: within_km,
-            },
-        ));
+                weight,
+            }
+            .column(),
+        );
     } else {
         notes.push(format!(
             "the scenarios are compared on vibration only: the rows have no `{DISTANCE_COLUMN}` column (the wear stage's), so there is no risk of a visible polygon to compare"
         ));
     }
-    outcomes.push((Outcome::Vibration, OutcomeColumn::Vibration));
+    outcomes.push(Vibrates.column());
     let mut out = Vec::new();
-    for (outcome, column) in outcomes {
-        let counts = scenario_pairs(&info.files, batch_rows, &names, column)?;
+    for outcome in outcomes {
+        let counts = scenario_pairs(&info.files, batch_rows, &names, outcome)?;
         out.extend(effects(info, outcome, &counts));
     }
     Ok(out)

@@ -5,12 +5,12 @@
 
 use std::fmt::Write as _;
 
+use super::answer_words;
 use super::drivers::{drivers_section, robustness_section, severity_section};
 use super::fleet::fleet_section;
-use super::words::{paired_cells, pct, rel};
+use super::words::{pct, rel};
 use super::Figures;
 use crate::analysis::Analysis;
-use polywear_core::classify::Class;
 use polywear_core::model::Variant;
 
 /// What P(vibration) is, said once at the top of the page and the printed summary.
@@ -150,44 +150,20 @@ fn header(s: &mut String, a: &Analysis) {
 
 fn occurrence_section(s: &mut String, a: &Analysis) {
     let _ = writeln!(s, "## How likely is self-excited vibration?\n");
-    let _ = writeln!(
-        s,
-        "| variant | wheel | classified | vibrating | P(vibration) | 95% Wilson interval | stable | limit cycle | bistable | no traction | failed |"
-    );
-    let _ = writeln!(s, "|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|");
-    for o in &a.occurrence {
-        let (lo, hi) = o.counts.wilson();
-        let c = &o.counts;
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} | {} | {} – {} | {} | {} | {} | {} | {} |",
-            o.variant,
-            o.wheel,
-            c.classified(),
-            c.vibrating(),
-            pct(o.p()),
-            pct(lo),
-            pct(hi),
-            c.get(Class::Stable),
-            c.get(Class::LimitCycle),
-            c.get(Class::Bistable),
-            c.no_traction(),
-            c.failed()
-        );
-    }
+    let rows: Vec<_> = a
+        .vibration
+        .occurrence
+        .iter()
+        .map(|o| (f64::NAN, o))
+        .collect();
+    answer_words::occurrence_table(s, &rows, false);
     let _ = writeln!(s, "\nTables: `occurrence.csv`, `occurrence.parquet`.\n");
 }
 
 fn paired_section(s: &mut String, a: &Analysis) {
     let _ = writeln!(s, "### Driving vs follower on the same samples\n");
-    let _ = writeln!(
-        s,
-        "| variant | pairs | only follower | only driving | both | neither | a wheel unclassified | McNemar p-value |"
-    );
-    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|---:|");
-    for p in &a.paired {
-        let _ = writeln!(s, "| {} | {} |", p.variant, paired_cells(p));
-    }
+    let rows: Vec<_> = a.vibration.paired.iter().map(|p| (f64::NAN, p)).collect();
+    answer_words::paired_table(s, &rows, false, "a wheel unclassified");
     let _ = writeln!(
         s,
         "\nMcNemar's test asks whether the discordant samples (one wheel vibrates, the other not) \

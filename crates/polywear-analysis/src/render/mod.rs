@@ -2,6 +2,8 @@
 //! figures ([`figures`]) and `report.md` ([`markdown`]), which ties them together in words. It
 //! computes nothing; everything it shows is in the `Analysis`.
 
+mod answer_tables;
+mod answer_words;
 pub mod calibration;
 mod columns;
 pub mod cycle;
@@ -171,10 +173,17 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
         .collect();
     for variant in a.variants().into_iter().filter(|_| !axes.is_empty()) {
         let f = FigureFile::named(dir, &format!("conditional_{variant}"), format);
-        figures::conditional(&f, variant, &axes, &label, &a.conditional, min_count)?;
+        figures::conditional(
+            &f,
+            variant,
+            &axes,
+            &label,
+            &a.vibration.conditional,
+            min_count,
+        )?;
         out.conditional.push((variant, f.path));
     }
-    let drawn = a.maps.iter().filter(|m| a.is_drawn(m));
+    let drawn = a.vibration.maps.iter().filter(|m| a.is_drawn(m));
     out.risk_maps = map_figures(drawn, (dir, "riskmap", format), |f, map| {
         figures::risk_map(f, map, &label, min_count)
     })?;
@@ -194,9 +203,11 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
             wear_figures::conditional(&f, variant, &axes, &label, w, min_count)?;
             out.wear_conditional.push((variant, f.path));
         }
-        out.wear_maps = map_figures(w.maps.iter(), (dir, "wear_riskmap", format), |f, map| {
-            wear_figures::risk_map(f, map, &label, min_count)
-        })?;
+        out.wear_maps = map_figures(
+            w.headline_answer().maps.iter(),
+            (dir, "wear_riskmap", format),
+            |f, map| wear_figures::risk_map(f, map, &label, min_count),
+        )?;
         let with_orders = |v: &Variant| w.orders.iter().any(|o| o.variant == *v);
         for variant in a.variants().into_iter().filter(with_orders) {
             let f = FigureFile::named(dir, &format!("wear_orders_{variant}"), format);

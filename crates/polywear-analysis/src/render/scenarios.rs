@@ -39,7 +39,7 @@ fn points(x: f64, width: f64) -> String {
 fn risk(outcome: Outcome) -> String {
     match outcome {
         Outcome::Vibration => "risk of vibration".into(),
-        Outcome::Wear { within_km } => format!(
+        Outcome::WithinKm { km: within_km, .. } => format!(
             "risk of a visible polygon within {} km",
             polywear_core::wording::thousands(within_km)
         ),
@@ -71,7 +71,7 @@ pub fn sentence(e: &ScenarioEffect) -> String {
     };
     let what = match e.outcome {
         Outcome::Vibration => ("stop vibrating", "start"),
-        Outcome::Wear { .. } => ("lose it", "gain it"),
+        Outcome::WithinKm { .. } => ("lose it", "gain it"),
     };
     format!(
         "{whose} {} {moves} from {} to {} ({} points, 95% interval {} to {}; {} samples {}, {} {}; McNemar p {})",
@@ -259,8 +259,9 @@ mod tests {
             changes: "toe_deg shifted by -0.15 deg".into(),
             variant: Variant::SlidingShare,
             wheel: Wheel::Follower,
-            outcome: Outcome::Wear {
-                within_km: 40_000.0,
+            outcome: Outcome::WithinKm {
+                column: crate::analysis::scenarios::DISTANCE_COLUMN,
+                km: 40_000.0,
             },
             pairs: 10_000,
             both: 600,

@@ -1,6 +1,7 @@
 //! The analysis in words for the terminal: the lines `analyze` (and `explore`'s closing report)
 //! print, the wear answer first.
 
+use super::answer_words;
 use crate::analysis::Analysis;
 
 /// The analysis in a few lines, as `analyze` and `explore` print it: failures first when they
@@ -30,33 +31,11 @@ pub fn summary_lines(a: &Analysis) -> Vec<String> {
     lines.push(format!(
         "P(vibration) over classified rows{weighted}, with 95% Wilson interval:"
     ));
-    for o in &a.occurrence {
-        let (lo, hi) = o.counts.wilson();
-        lines.push(format!(
-            "  {:>8} {:>8}: {:>7.3}%  [{:.3}%, {:.3}%]  ({} of {} classified; {} failed, {} no traction)",
-            o.variant,
-            o.wheel,
-            100.0 * o.p(),
-            100.0 * lo,
-            100.0 * hi,
-            o.counts.vibrating(),
-            o.counts.classified(),
-            o.counts.failed(),
-            o.counts.no_traction()
-        ));
-    }
-    for p in &a.paired {
-        lines.push(format!(
-            "  {:>8} paired: {}; McNemar p = {}",
-            p.variant,
-            p.counts_text(),
-            if p.p_value.is_nan() {
-                "n/a (no discordant pairs)".to_string()
-            } else {
-                polywear_study::stats::format_p(p.p_value)
-            }
-        ));
-    }
+    let v = &a.vibration;
+    let occurrence: Vec<_> = v.occurrence.iter().map(|o| (f64::NAN, o)).collect();
+    answer_words::occurrence_lines(&mut lines, &occurrence);
+    let paired: Vec<_> = v.paired.iter().map(|p| (f64::NAN, p)).collect();
+    answer_words::paired_lines(&mut lines, &paired);
     print_fleet(a, &mut lines);
     if !a.scenarios.is_empty() {
         lines.push(
@@ -93,7 +72,6 @@ pub fn summary_lines(a: &Analysis) -> Vec<String> {
 /// The wear answer first: P(visible polygon within each distance) per wheel and the paired
 /// comparison at each; one line where the run has no wear stage.
 fn print_wear(a: &Analysis, lines: &mut Vec<String>) {
-    use crate::render::wear::km;
     let Some(w) = &a.wear else {
         lines.push("wear: the wear stage was left out of this run (--no-wear or `wear = false`); vibration only".to_string());
         return;
@@ -102,31 +80,8 @@ fn print_wear(a: &Analysis, lines: &mut Vec<String>) {
         "P(visible polygonal wear within X km), cruising at each sample's operating point (phi_s = {}, sigma_V = {} km/h, field-fitted), with 95% Wilson interval:",
         w.share_straight, w.speed_spread_kmh
     ));
-    for o in &w.occurrence {
-        let (lo, hi) = o.counts.wilson();
-        lines.push(format!(
-            "  {:>8} {:>8} within {:>10}: {:>7.3}%  [{:.3}%, {:.3}%]  ({} of {} with a distance; {} unknown)",
-            o.variant,
-            o.wheel,
-            km(o.within_km),
-            100.0 * o.counts.p(),
-            100.0 * lo,
-            100.0 * hi,
-            o.counts.within,
-            o.counts.known,
-            o.counts.unknown
-        ));
-    }
-    for wp in &w.paired {
-        let p = &wp.paired;
-        lines.push(format!(
-            "  {:>8} paired within {:>10}: {}; McNemar p = {}",
-            p.variant,
-            km(wp.within_km),
-            p.counts_text(),
-            p.mcnemar_text()
-        ));
-    }
+    answer_words::occurrence_lines(lines, &w.occurrence_rows());
+    answer_words::paired_lines(lines, &w.paired_rows());
 }
 
 /// When more than 1% of the rows have no verdict, the first thing printed: how many, and why.

@@ -5,22 +5,17 @@
 
 use std::path::{Path, PathBuf};
 
-use super::columns::{count_col, f64_col, proportion_columns, str_col};
+use super::answer_tables;
+use super::columns::{count_col, f64_col, str_col};
 use super::RenderError;
-use crate::analysis::conditional::BinStat;
-use crate::analysis::counts::ClassCounts;
 use crate::analysis::failures::Failures;
 use crate::analysis::fleet::Fleet;
 use crate::analysis::given_data::FirstOrder;
-use crate::analysis::occurrence::Occurrence;
-use crate::analysis::paired::Paired;
-use crate::analysis::risk_map::RiskMap;
 use crate::analysis::robustness::Robustness;
 use crate::analysis::sensitivity::{Sensitivity, VIBRATION};
 use crate::analysis::severity::Severity;
 use crate::analysis::Analysis;
-use polywear_core::classify::Class;
-use polywear_core::model::{Variant, Wheel};
+use polywear_core::model::Wheel;
 use polywear_core::wording::plain;
 use polywear_study::parquet_out::{write_csv, write_table, Column};
 
@@ -29,75 +24,38 @@ pub(crate) fn write_all(dir: &Path, a: &Analysis) -> Result<Vec<PathBuf>, Render
     let mut files = Vec::new();
     let min_count = a.options.min_count;
     let meta = table_metadata(a);
-    write_tables(
-        dir,
-        "occurrence",
-        &occurrence_columns(&a.occurrence),
-        &meta,
-        &mut files,
-    )?;
+    let mut write = |stem: &str, cols: &[Column]| write_tables(dir, stem, cols, &meta, &mut files);
+    let v = &a.vibration;
+    let occurrence: Vec<_> = v.occurrence.iter().map(|o| (f64::NAN, o)).collect();
+    write("occurrence", &answer_tables::occurrence(&occurrence, false))?;
     if a.failures.unclassified > 0 {
-        let cols = failure_columns(&a.failures);
-        write_tables(dir, "failures", &cols, &meta, &mut files)?;
+        write("failures", &failure_columns(&a.failures))?;
     }
-    write_tables(dir, "paired", &paired_columns(&a.paired), &meta, &mut files)?;
+    let paired: Vec<_> = v.paired.iter().map(|p| (f64::NAN, p)).collect();
+    write("paired", &answer_tables::paired(&paired, false))?;
     if let Some(fleet) = &a.fleet {
-        let cols = fleet_columns(fleet);
-        write_tables(dir, "fleet_rows", &cols, &meta, &mut files)?;
+        write("fleet_rows", &fleet_columns(fleet))?;
     }
-    write_tables(
-        dir,
-        "conditional",
-        &conditional_columns(&a.conditional, min_count),
-        &meta,
-        &mut files,
-    )?;
-    for (x, y) in &a.options.pairs {
-        let of_pair: Vec<&RiskMap> = a.maps.iter().filter(|m| m.x == *x && m.y == *y).collect();
-        if !of_pair.is_empty() {
-            write_tables(
-                dir,
-                &format!("riskmap_{x}_{y}"),
-                &riskmap_columns(&of_pair, min_count),
-                &meta,
-                &mut files,
-            )?;
-        }
+    let cols = answer_tables::conditional(&v.conditional, None, min_count);
+    write("conditional", &cols)?;
+    for (x, y, of_pair) in answer_tables::map_pairs(&v.maps) {
+        let cols = answer_tables::risk_map(&of_pair, None, min_count);
+        write(&format!("riskmap_{x}_{y}"), &cols)?;
     }
-    write_tables(
-        dir,
-        "severity",
-        &severity_columns(&a.severity),
-        &meta,
-        &mut files,
-    )?;
-    let cols = first_order_columns(&a.first_order);
-    write_tables(dir, "first_order", &cols, &meta, &mut files)?;
+    write("severity", &severity_columns(&a.severity))?;
+    write("first_order", &first_order_columns(&a.first_order))?;
     if let Some(sens) = &a.sensitivity {
-        write_tables(
-            dir,
-            "sensitivity",
-            &sensitivity_columns(sens),
-            &meta,
-            &mut files,
-        )?;
+        write("sensitivity", &sensitivity_columns(sens))?;
     }
     if !a.scenarios.is_empty() {
-        let cols = super::scenarios::columns(&a.scenarios);
-        write_tables(dir, "scenarios", &cols, &meta, &mut files)?;
+        write("scenarios", &super::scenarios::columns(&a.scenarios))?;
     }
     if let Some(r) = &a.robustness {
-        write_tables(
-            dir,
-            "robustness",
-            &robustness_columns(r, min_count),
-            &meta,
-            &mut files,
-        )?;
+        write("robustness", &robustness_columns(r, min_count))?;
     }
     if let Some(w) = &a.wear {
         for (stem, cols) in super::wear_tables::tables(w, min_count) {
-            write_tables(dir, &stem, &cols, &meta, &mut files)?;
+            write(&stem, &cols)?;
         }
     }
     Ok(files)
@@ -120,7 +78,7 @@ fn table_metadata(a: &Analysis) -> Vec<(String, String)> {
         ),
     ];
     if let Some(w) = &a.wear {
-        let within: Vec<String> = w.within_km.iter().map(|k| plain(*k, 9)).collect();
+        let within: Vec<String> = w.within_km().iter().map(|k| plain(*k, 9)).collect();
         meta.push(("within_km".into(), within.join(",")));
         meta.push(("wear_share_straight".into(), w.share_straight.to_string()));
         meta.push(("speed_spread_kmh".into(), w.speed_spread_kmh.to_string()));
@@ -144,92 +102,6 @@ pub(super) fn write_tables(
     write_table(&pq, cols, meta).map_err(|e| RenderError::Write(e.to_string()))?;
     files.push(pq);
     Ok(())
-}
-
-/// The class-count columns every probability table carries: classified rows (`samples`),
-/// vibrating rows, p with its Wilson interval, and the unclassified rows on their own.
-fn class_columns<T>(rows: &[T], counts: impl Fn(&T) -> ClassCounts, min_count: u64) -> Vec<Column> {
-    let c = |r: &T| counts(r);
-    let mut cols = vec![
-        count_col("samples", rows, |r| c(r).classified()),
-        count_col("vibrating", rows, |r| c(r).vibrating()),
-    ];
-    cols.extend(proportion_columns(rows, c, min_count));
-    cols.extend([
-        count_col(Class::Stable.as_str(), rows, |r| c(r).get(Class::Stable)),
-        count_col(Class::LimitCycle.as_str(), rows, |r| {
-            c(r).get(Class::LimitCycle)
-        }),
-        count_col(Class::Bistable.as_str(), rows, |r| {
-            c(r).get(Class::Bistable)
-        }),
-        count_col(Class::NoTraction.as_str(), rows, |r| c(r).no_traction()),
-        count_col(Class::Failed.as_str(), rows, |r| c(r).failed()),
-    ]);
-    cols
-}
-
-fn occurrence_columns(o: &[Occurrence]) -> Vec<Column> {
-    let mut cols = vec![
-        str_col("variant", o, |x| x.variant.to_string()),
-        str_col("wheel", o, |x| x.wheel.to_string()),
-    ];
-    cols.extend(class_columns(o, |x| x.counts, 1));
-    cols
-}
-
-fn paired_columns(p: &[Paired]) -> Vec<Column> {
-    vec![
-        str_col("variant", p, |x| x.variant.to_string()),
-        count_col("pairs", p, |x| x.pairs),
-        count_col("only_follower", p, |x| x.only_follower),
-        count_col("only_driving", p, |x| x.only_driving),
-        count_col("both", p, |x| x.both),
-        count_col("neither", p, |x| x.neither),
-        count_col("unclassified_pairs", p, |x| x.unclassified),
-        f64_col("mcnemar_chi2", p, |x| x.chi2),
-        f64_col("p_value", p, |x| x.p_value),
-        str_col("method", p, |x| x.method.to_string()),
-    ]
-}
-
-fn conditional_columns(b: &[BinStat], min_count: u64) -> Vec<Column> {
-    let mut cols = vec![
-        str_col("variant", b, |x| x.variant.to_string()),
-        str_col("wheel", b, |x| x.wheel.to_string()),
-        str_col("axis", b, |x| x.axis.to_string()),
-        f64_col("bin_lo", b, |x| x.lo),
-        f64_col("bin_hi", b, |x| x.hi),
-        f64_col("bin_mid", b, |x| x.mid),
-    ];
-    cols.extend(class_columns(b, |x| x.counts, min_count));
-    cols
-}
-
-fn riskmap_columns(maps: &[&RiskMap], min_count: u64) -> Vec<Column> {
-    // (variant, wheel, x_lo, x_hi, y_lo, y_hi, counts)
-    type Cell = (Variant, Wheel, f64, f64, f64, f64, ClassCounts);
-    let rows: Vec<Cell> = maps
-        .iter()
-        .flat_map(|map| {
-            map.each_cell().map(|(wheel, ix, iy, c)| {
-                let (xl, xh, _) = map.x_bins.range(ix);
-                let (yl, yh, _) = map.y_bins.range(iy);
-                (map.variant, wheel, xl, xh, yl, yh, c)
-            })
-        })
-        .collect();
-    let (x, y) = (&maps[0].x, &maps[0].y);
-    let mut cols = vec![
-        str_col("variant", &rows, |r| r.0.to_string()),
-        str_col("wheel", &rows, |r| r.1.to_string()),
-        f64_col(&format!("{x}_lo"), &rows, |r| r.2),
-        f64_col(&format!("{x}_hi"), &rows, |r| r.3),
-        f64_col(&format!("{y}_lo"), &rows, |r| r.4),
-        f64_col(&format!("{y}_hi"), &rows, |r| r.5),
-    ];
-    cols.extend(class_columns(&rows, |r| r.6, min_count));
-    cols
 }
 
 fn severity_columns(s: &[Severity]) -> Vec<Column> {

@@ -6,7 +6,8 @@
 
 use std::fmt::Write as _;
 
-use super::words::{paired_cells, pct, rel};
+use super::answer_words;
+use super::words::{pct, rel};
 use super::Figures;
 use crate::analysis::paired::Paired;
 use crate::analysis::rows::SampleWeight;
@@ -17,13 +18,7 @@ use polywear_core::params::ParamId;
 use polywear_core::wording::plain;
 use polywear_study::stats::format_p;
 
-/// A distance in km with thousands separators: "40,000 km".
-pub fn km(x: f64) -> String {
-    if (x - x.round()).abs() > 1e-9 {
-        return format!("{} km", plain(x, 9));
-    }
-    format!("{} km", polywear_core::wording::thousands(x))
-}
+pub use polywear_core::wording::km;
 
 /// The line a report without the wear stage carries instead of the wear answer.
 pub const NO_WEAR_LINE: &str = "> The wear stage was left out of this run (`polywear explore --no-wear`, or `wear = false` in the study): there is no distance to a visible polygon, so this report answers for vibration only.";
@@ -84,7 +79,7 @@ fn headline(s: &mut String, a: &Analysis, w: &WearAnalysis, variant: Variant) {
             p.only_driving
         )),
     );
-    let vib = a.paired.iter().find(|p| p.variant == variant);
+    let vib = a.vibration.paired_of(variant);
     let driving_less_vibrating =
         vib.is_some_and(|p| p.p_value < 0.05 && p.only_follower > p.only_driving);
     let driving_less_wearing =
@@ -175,27 +170,7 @@ fn meaning(s: &mut String, a: &Analysis, w: &WearAnalysis) {
 }
 
 fn occurrence_table(s: &mut String, a: &Analysis, w: &WearAnalysis) {
-    let _ = writeln!(
-        s,
-        "| variant | wheel | within | wheels with a distance | visible polygon | P(wear) | 95% Wilson interval | unknown |"
-    );
-    let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---|---:|");
-    for o in &w.occurrence {
-        let (lo, hi) = o.counts.wilson();
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} | {} | {} | {} – {} | {} |",
-            o.variant,
-            o.wheel,
-            km(o.within_km),
-            o.counts.known,
-            o.counts.within,
-            pct(o.counts.p()),
-            pct(lo),
-            pct(hi),
-            o.counts.unknown
-        );
-    }
+    answer_words::occurrence_table(s, &w.occurrence_rows(), true);
     let _ = writeln!(
         s,
         "\nTables: `wear_occurrence.csv`, `wear_occurrence.parquet`{}.\n",
@@ -209,21 +184,7 @@ fn occurrence_table(s: &mut String, a: &Analysis, w: &WearAnalysis) {
 
 fn paired_table(s: &mut String, w: &WearAnalysis) {
     let _ = writeln!(s, "### Driving vs follower in wear, on the same samples\n");
-    let _ = writeln!(
-        s,
-        "| variant | within | pairs | only follower | only driving | both | neither | a wheel unknown | McNemar p-value |"
-    );
-    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|---:|---:|");
-    for wp in &w.paired {
-        let p = &wp.paired;
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} |",
-            p.variant,
-            km(wp.within_km),
-            paired_cells(p)
-        );
-    }
+    answer_words::paired_table(s, &w.paired_rows(), true, "a wheel unknown");
     let _ = writeln!(
         s,
         "\nThe outcome is \"a visible polygon within the distance\"; McNemar's test asks whether \
@@ -336,17 +297,4 @@ fn growth(s: &mut String, w: &WearAnalysis, figures: &Figures) {
         let _ = writeln!(s, "\n![]({})", rel(f));
     }
     let _ = writeln!(s);
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn distances_read_with_thousands_separators() {
-        assert_eq!(km(40_000.0), "40,000 km");
-        assert_eq!(km(1_000_000.0), "1,000,000 km");
-        assert_eq!(km(999.0), "999 km");
-        assert_eq!(km(2.5), "2.5 km");
-    }
 }

@@ -6,7 +6,9 @@
 use super::figures::{conditional_figure, map_figure, BandWording, MapWording};
 use super::wear::km;
 use super::RenderError;
-use crate::analysis::wear_risk::{WearAnalysis, WearMap, HEADLINE_WITHIN_KM, ORDERS_WITHIN_KM};
+use crate::analysis::counts::WithinCounts;
+use crate::analysis::risk_map::RiskMap;
+use crate::analysis::wear_risk::{WearAnalysis, HEADLINE_WITHIN_KM, ORDERS_WITHIN_KM};
 use crate::plot::{self, FigureFile, Series};
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::ParamId;
@@ -22,12 +24,9 @@ pub fn conditional(
     w: &WearAnalysis,
     min_count: u64,
 ) -> Result<(), RenderError> {
-    let within = w
-        .conditional
-        .first()
-        .map_or(String::new(), |_| km(HEADLINE_WITHIN_KM));
+    let h = w.headline_answer();
     let words = BandWording {
-        what: format!("a visible polygon within {within}"),
+        what: h.words.clone(),
         y_label: "Risk of polygonal wear",
     };
     conditional_figure(
@@ -35,7 +34,7 @@ pub fn conditional(
         variant,
         axes,
         label,
-        &w.conditional,
+        &h.conditional,
         &words,
         min_count,
     )
@@ -45,7 +44,7 @@ pub fn conditional(
 /// [`HEADLINE_WITHIN_KM`]) per cell and the difference, with the nominal tire's Hopf curves.
 pub fn risk_map(
     file: &FigureFile,
-    map: &WearMap,
+    map: &RiskMap<WithinCounts>,
     label: &dyn Fn(ParamId) -> String,
     min_count: u64,
 ) -> Result<(), RenderError> {

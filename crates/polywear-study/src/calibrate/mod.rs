@@ -69,8 +69,10 @@ pub struct Target {
     pub tolerance: f64,
 }
 
-/// A calibration problem.
+/// A calibration problem. Built and checked by [`parse_problem`] (targets,
+/// parameters and their bounds), never from literal fields outside this crate.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Problem {
     /// Parameters fitted continuously (in log space).
     pub fit: Vec<ParamId>,

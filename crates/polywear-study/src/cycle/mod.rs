@@ -464,10 +464,9 @@ fn classify_block(
         } else {
             previous = Some(p);
         }
-        let problem = PointProblem {
-            previous: &hints,
-            ..PointProblem::new(p, std::slice::from_ref(&variant), opts).with_wear(wear)
-        };
+        let problem = PointProblem::new(p, std::slice::from_ref(&variant), opts)
+            .with_wear(wear)
+            .with_previous(&hints);
         let solution = evaluate::solve(&problem);
         if !cycle.standstill(i) {
             hints = solution.hints();

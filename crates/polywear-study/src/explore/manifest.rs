@@ -1,6 +1,6 @@
 //! The run's identity as one serde type, [`RunManifest`]: explore writes it as the output
 //! directory's `_manifest.json` and, with the chunk's own fields, as every chunk file's Parquet
-//! key–value metadata ([`crate::key_value`]); `--resume`, [`crate::explore::recorded_run`] and the
+//! key–value metadata (`key_value`); `--resume`, [`crate::explore::recorded_run`] and the
 //! analysis read it back typed. The keys and values are those pandas/pyarrow users read
 //! (docs/book/src/reference/output-files.md#output-files): text fields as text, numbers and lists as JSON.
 

@@ -60,8 +60,11 @@ impl std::fmt::Display for Shard {
     }
 }
 
-/// What one explore run does.
+/// What one explore run does. Built and checked by [`ExploreRequest::plan`] (the
+/// study, the output folder and every resume rule), never from literal fields outside this
+/// crate.
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct RunPlan {
     /// The study.
     pub study: Study,

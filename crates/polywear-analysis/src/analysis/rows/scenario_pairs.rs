@@ -32,6 +32,18 @@ pub enum OutcomeColumn<'a> {
     },
 }
 
+impl OutcomeColumn<'_> {
+    /// The outcome's name in tables: `vibration`, `wear_within_40000_km`.
+    pub fn name(&self) -> String {
+        match self {
+            OutcomeColumn::Vibration => "vibration".into(),
+            OutcomeColumn::WithinKm { km, .. } => {
+                format!("wear_within_{}_km", polywear_core::wording::plain(*km, 9))
+            }
+        }
+    }
+}
+
 /// The row's outcome code as a polars expression.
 pub(super) fn code_expr(outcome: OutcomeColumn<'_>) -> Expr {
     match outcome {
