@@ -226,14 +226,20 @@ fn patch_filter_transfers() {
 use polywear::wear::feedback::ForcedTread;
 use polywear::wear::periodic::CycleResponse;
 use polywear::wear::transfer::Linearisation;
-use polywear::wear::{estimate, Complex64, WearEstimate, WearInputs, WearSettings, WheelGrowth};
+use polywear::wear::{
+    estimate, Complex64, WearEstimate, WearInputs, WearPower, WearSettings, WheelGrowth,
+};
 
 /// The wheel's estimate and its loop, with R0's calibration for `base`.
 fn estimated(p: &Params, wheel: Wheel, zone: WearZone) -> (WearEstimate, WheelGrowth, u64) {
     let opts = ClassifierOptions::default();
     let cal = polywear::evaluate::calibrate_wear(p, Variant::SlidingShare, &opts).unwrap();
     let (m, v) = classify_point(p, wheel, Variant::SlidingShare, &opts);
-    let settings = WearSettings { zone };
+    // The earlier checks run on the lateral-only reading (MODEL.md#the-driving-wheels-slip-power).
+    let settings = WearSettings {
+        zone,
+        power: WearPower::LateralOnly,
+    };
     let inputs = WearInputs {
         params: p,
         model: &m,
@@ -812,6 +818,81 @@ fn lock_in_only_inside_a_tongue_that_widens_with_the_depth() {
             o.locked_share,
             if inside { 1.0 } else { 0.0 },
             "{speed} km/h: {o:?}"
+        );
+    }
+}
+
+// --- The driving wheel's slip power (MODEL.md#the-driving-wheels-slip-power) ---
+
+/// The estimate of the default point's driving wheel under `power`, on the shipped constants.
+fn driving_growth(power: WearPower) -> (WheelGrowth, WheelModel, f64) {
+    let p = Params::default();
+    let opts = ClassifierOptions::default();
+    let cal = polywear::evaluate::calibrate_wear(&p, Variant::SlidingShare, &opts).unwrap();
+    let (m, v) = classify_point(&p, Wheel::Driving, Variant::SlidingShare, &opts);
+    let settings = WearSettings {
+        zone: WearZone::Trailing,
+        power,
+    };
+    let inputs = WearInputs {
+        params: &p,
+        model: &m,
+        verdict: &v,
+        settings: &settings,
+        calibration: &cal,
+    };
+    let g = WheelGrowth::new(&inputs, &Meter::new(opts.budget)).unwrap();
+    (
+        g,
+        m.unwrap(),
+        cal.gamma_m3_per_j(&Params {
+            wear_share_straight: 1.0,
+            ..p
+        }),
+    )
+}
+
+/// Counting the slip power changes each order's growth by exactly the two derived terms: the
+/// slip wear's levelling w′_x[κ(1 − |H_w|²) + G_x Re(conj(H_w) e_n)] and the driven position's
+/// faster other wear, (1 − φ_s)(k_d − 1) w′₀ κ; and it adds w′_x to the even wear. The slip
+/// term alone is small at the trailing zone (the zone total is fixed by the frozen slip
+/// ratio up to G_x); the position's other wear is what levels.
+#[test]
+fn slip_power_adds_its_even_wear_and_two_levelling_terms() {
+    use polywear::wear::slip::SlipPower;
+    let p = Params::default();
+    let (with, model, gamma_per_share) = driving_growth(WearPower::WithSlip);
+    let (without, _, _) = driving_growth(WearPower::LateralOnly);
+    let slip = SlipPower::of(&p, &model, WearPower::WithSlip);
+    assert!((slip.power_w - 37.06).abs() < 0.01, "{}", slip.power_w);
+    let band = model.patch.width_m * p.speed_mps() * std::f64::consts::TAU * p.r_b;
+    let w_x = p.wear_share_straight * gamma_per_share * slip.power_w / band;
+    let d_even = with.even_wear_m_per_m() - without.even_wear_m_per_m();
+    assert!((d_even / w_x - 1.0).abs() < 1e-12, "{d_even} vs {w_x}");
+    let fb = polywear::wear::Feedback::new(&p, &model, WearZone::Trailing);
+    let kappa = fb.local_per_m;
+    let w0 = p.wear_rate_ref_mm_per_1000km * 1e-9;
+    let other = (1.0 - p.wear_share_straight) * (p.wear_rate_driven_factor - 1.0) * w0 * kappa;
+    for n in 16..=22 {
+        let h = fb.zone.transfer(n as f64, p.r_b);
+        let through = (h.conj() * fb.forcing_per_radius(n as f64)).re * slip.gain;
+        let slip_term = w_x * (kappa * (1.0 - h.norm_sqr()) + through);
+        let expected = -(slip_term + other) * 1e6;
+        // No spread and no lock, so the linear loop is the whole growth.
+        let a = with.order_with(n, p.wear_share_straight, 0.0);
+        let b = without.order_with(n, p.wear_share_straight, 0.0);
+        if a.locked_share > 0.0 || b.locked_share > 0.0 {
+            continue;
+        }
+        let d = a.growth_rate_per_1000km - b.growth_rate_per_1000km;
+        assert!(
+            (d - expected).abs() < 1e-9 * expected.abs().max(1e-3),
+            "order {n}: {d} vs {expected}"
+        );
+        // The slip wear alone levels order n by at most a tenth of its quasi-static w′_x κ.
+        assert!(
+            slip_term > 0.0 && slip_term < 0.1 * w_x * kappa,
+            "order {n}: {slip_term}"
         );
     }
 }

@@ -7,6 +7,7 @@ use std::time::Instant;
 use clap::Args;
 
 use super::common::{base_metadata, BudgetArgs, CliError, CliResult, VariantArg};
+use crate::wear_reading::WearReadingArgs;
 use polywear_analysis::figures::cycle::{CycleRun, FleetDraw};
 use polywear_analysis::figures::FilesError;
 use polywear_analysis::render::cycle::summary_lines;
@@ -14,7 +15,6 @@ use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::WearStage;
 use polywear_core::model::Variant;
 use polywear_core::params::Params;
-use polywear_core::wear::{WearSettings, WearZone};
 use polywear_study::cycle::structures::{draw_structures, study_metadata, CommandLine, Structures};
 use polywear_study::cycle::{classify_cycles, DriveCycle, StepWheel};
 use polywear_study::study::Study;
@@ -78,10 +78,8 @@ pub struct CycleArgs {
     /// Leave the wear stage out: no distance to a visible polygon, no wear columns
     #[arg(long, conflicts_with = "wear_zone")]
     pub no_wear: bool,
-    /// Where the friction power wears the tread (MODEL.md#step-11-wear-zone): trailing (the
-    /// default), whole_patch or whole_patch_uniform
-    #[arg(long, value_name = "ZONE", value_parser = |s: &str| s.parse::<WearZone>().map_err(|e| e.to_string()))]
-    pub wear_zone: Option<WearZone>,
+    #[command(flatten)]
+    pub wear: WearReadingArgs,
     #[command(flatten)]
     pub budget: BudgetArgs,
 }
@@ -246,9 +244,7 @@ fn wear_stage(args: &CycleArgs, base: &Params, variant: Variant) -> CliResult<Op
     if args.no_wear {
         return Ok(None);
     }
-    let settings = WearSettings {
-        zone: args.wear_zone.unwrap_or_default(),
-    };
+    let settings = args.wear.settings();
     WearStage::for_run(base, variant, settings, &ClassifierOptions::default())
         .map(Some)
         .map_err(|e| CliError(format!("the wear stage: {e} (leave it out with --no-wear)")))

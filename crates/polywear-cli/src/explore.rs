@@ -14,8 +14,8 @@ mod resume;
 
 use super::batch::{signal_name, Interrupt, ProgressLog};
 use super::common::{BudgetArgs, CliError, CliResult};
+use crate::wear_reading::WearReadingArgs;
 use errors::{explore_error, write_failure};
-use polywear_core::wear::WearZone;
 use polywear_core::wording::plain;
 use polywear_study::explore::recorded_run::shell_word;
 use polywear_study::explore::{
@@ -24,7 +24,7 @@ use polywear_study::explore::{
 };
 use polywear_study::param_sources::Refusal;
 use polywear_study::study::{Study, SEED_MAX};
-use resume::{parse_wear_zone, resume_command};
+use resume::resume_command;
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -89,10 +89,8 @@ pub struct ExploreArgs {
     /// A study can say `wear = false`
     #[arg(long, conflicts_with = "wear_zone")]
     pub no_wear: bool,
-    /// Where the friction power wears the tread (MODEL.md#step-11-wear-zone): trailing (the
-    /// default), whole_patch or whole_patch_uniform; a study can say `wear_zone = "..."`
-    #[arg(long, value_name = "ZONE", value_parser = parse_wear_zone)]
-    pub wear_zone: Option<WearZone>,
+    #[command(flatten)]
+    pub wear: WearReadingArgs,
     /// Skip the analysis report (risk maps, probabilities) written to DIR/_report at the end
     #[arg(long)]
     pub no_report: bool,
@@ -168,7 +166,8 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
         params: args.params.clone(),
         accept_implausible: args.accept_implausible,
         no_wear: args.no_wear,
-        wear_zone: args.wear_zone,
+        wear_zone: args.wear.wear_zone,
+        wear_power: args.wear.wear_power,
     };
     let (plan, notes) = request.plan(&|b| args.budget.apply(b).map_err(|e| Refusal(e.0)))?;
     if !args.quiet {

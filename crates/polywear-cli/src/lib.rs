@@ -23,6 +23,7 @@ pub mod reproduce;
 pub mod simulate;
 pub mod validate;
 pub mod wear;
+pub mod wear_reading;
 
 use std::process::ExitCode;
 

@@ -1,27 +1,8 @@
 //! `polywear params`: every model parameter with unit, default, provenance, accepted range and
-//! plausible range, and the wear zone, the one setting that is a category.
+//! plausible range, and the wear stage's category settings (wear zone, wear power).
 
 use polywear_core::params::{ParamSpec, SPECS};
-use polywear_core::wear::WearZone;
-
-/// The wear zone's row: name, default, provenance, accepted names, meaning.
-fn wear_zone_row() -> [String; 5] {
-    let names = <WearZone as strum::VariantNames>::VARIANTS;
-    [
-        "wear_zone".into(),
-        WearZone::DEFAULT.as_str().into(),
-        "judgement".into(),
-        names.join(", "),
-        format!(
-            "Where on the contact patch the friction power wears the tread, a category: {}.",
-            WearZone::ALL
-                .iter()
-                .map(|z| format!("{} = {}", z.as_str(), z.description()))
-                .collect::<Vec<_>>()
-                .join("; ")
-        ),
-    ]
-}
+use polywear_core::wear::setting_rows;
 
 pub fn run(markdown: bool) {
     if markdown {
@@ -45,11 +26,12 @@ pub fn run(markdown: bool) {
             s.description
         );
     }
-    let [name, default, provenance, accepted, meaning] = wear_zone_row();
-    println!(
-        "{name:<28} {:<10} {:<10} {default:>12}  {provenance:<31} {accepted:<22} {:<18} {meaning}",
-        "-", "category", "-"
-    );
+    for [name, default, provenance, accepted, meaning] in setting_rows() {
+        println!(
+            "{name:<28} {:<10} {:<10} {default:>12}  {provenance:<31} {accepted:<22} {:<18} {meaning}",
+            "-", "category", "-"
+        );
+    }
 }
 
 /// The parameter table as Markdown (MODEL.md#parameter-table embeds exactly this; tests/integration/docs.rs
@@ -71,10 +53,11 @@ pub fn markdown_table() -> String {
             s.description
         ));
     }
-    let [name, default, provenance, accepted, meaning] = wear_zone_row();
-    out.push_str(&format!(
-        "| `{name}` | - | category | {default} | {provenance} | {accepted} | - | {meaning} |\n"
-    ));
+    for [name, default, provenance, accepted, meaning] in setting_rows() {
+        out.push_str(&format!(
+            "| `{name}` | - | category | {default} | {provenance} | {accepted} | - | {meaning} |\n"
+        ));
+    }
     out
 }
 

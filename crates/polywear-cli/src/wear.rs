@@ -8,6 +8,7 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::common::{base_metadata, BudgetArgs, CliError, CliResult, PointArgs};
+use crate::wear_reading::WearReadingArgs;
 use polywear_analysis::figures::wear::LongTermFiles;
 use polywear_analysis::figures::FilesError;
 use polywear_analysis::plot::FigureFormat;
@@ -18,7 +19,6 @@ use polywear_core::long_term::{
 use polywear_core::model::Variant;
 use polywear_core::params::{ParamId, Params};
 use polywear_core::wear::long_term::{cruise_legs, Leg, LoopSettings, SPEED_NODES};
-use polywear_core::wear::WearZone;
 use polywear_core::wording::plain;
 use polywear_study::cycle::DriveCycle;
 
@@ -54,10 +54,8 @@ pub struct WearArgs {
     /// cost that many times the time
     #[arg(long, value_name = "K", default_value_t = SPEED_NODES as i64, allow_negative_numbers = true)]
     pub speed_nodes: i64,
-    /// Where the friction power wears the tread: trailing (default), whole_patch,
-    /// whole_patch_uniform
-    #[arg(long, value_name = "ZONE", default_value = "trailing")]
-    pub wear_zone: String,
+    #[command(flatten)]
+    pub wear: WearReadingArgs,
     /// Drive this cycle (CSV or Parquet: time_s, speed_kmh, as `polywear cycle` reads it) again
     /// and again instead of cruising at --speed
     #[arg(long, value_name = "CYCLE")]
@@ -96,10 +94,7 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
     let resolved = args.point.resolve()?;
     let mut p = resolved.params;
     long_term::check_distance_km(args.distance_km).map_err(refusal)?;
-    let zone: WearZone = args
-        .wear_zone
-        .parse()
-        .map_err(|e| CliError(format!("--wear-zone: {e}")))?;
+    let reading = args.wear.settings();
     if let Some(s) = args.speed_spread_kmh {
         if let Some(by) = resolved.given_by(ParamId::SpeedSpreadKmh) {
             return Err(CliError(format!(
@@ -153,10 +148,12 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
     let settings = LoopSettings {
         distance_km: args.distance_km,
         seed: args.seed,
-        zone,
+        zone: reading.zone,
+        power: reading.power,
         ..LoopSettings::default()
     };
-    metadata.push(("wear_zone".into(), zone.as_str().into()));
+    metadata.push(("wear_zone".into(), reading.zone.as_str().into()));
+    metadata.push(("wear_power".into(), reading.power.as_str().into()));
     metadata.push((
         "wear_loop".into(),
         serde_json::to_string(&settings).expect("plain data"),

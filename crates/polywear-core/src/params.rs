@@ -287,6 +287,8 @@ define_params! {
         None, "Driven wheels sharing the drive force.";
     WearRateRef wear_rate_ref_mm_per_1000km: "w'_0", "mm/1000 km", 0.12, Published, Wear, 0.0, true, 10.0, false,
         None, "Even-wear rate of a tire at the reference point (tread-life figures, range 0.08..0.21).";
+    WearRateDrivenFactor wear_rate_driven_factor: "k_d", "-", 1.75, Published, Wear, 0.0, true, 10.0, false,
+        None, "Even-wear rate of a driven-axle tyre over a free-rolling one's, under wear_power = with_slip (front-wheel-drive cars: front tyres wear 1.5 to 2 times as fast, tyre-rotation guidance; near 1 for a rear-driven axle).";
     WearShareStraight wear_share_straight: "phi_s", "-", 0.12, FieldFitted, Wear, 0.0, true, 1.0, false,
         None, "Share of the even wear that straight running with toe causes, the share the vibration couples to (1 = worst case).";
     FoundationFactor foundation_stiffness_factor: "E_c/G", "-", 3.0, Judgement, Wear, 0.0, false, 1000.0, false,
@@ -559,7 +561,7 @@ mod tests {
         for s in SPECS {
             assert_eq!(p.get(s.name), Some(s.default), "{}", s.name);
         }
-        assert_eq!(SPECS.len(), 34);
+        assert_eq!(SPECS.len(), 35);
         assert_eq!(ParamId::ALL.len(), SPECS.len());
     }
 
@@ -579,7 +581,7 @@ mod tests {
         }
         assert_eq!(p.speed_kmh, 0.5);
         assert_eq!(p.n_driven, 25.5);
-        assert_eq!(p.speed_spread_kmh, 33.5);
+        assert_eq!(p.speed_spread_kmh, 34.5);
         assert_eq!(p[ParamId::GMod], p.g_mod);
     }
 

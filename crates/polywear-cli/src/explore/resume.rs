@@ -1,13 +1,8 @@
 //! explore's `--resume` on the command line: the command that continues a stopped run (the
 //! resume rules themselves are `polywear_study::explore::ExploreRequest`'s).
 use super::ExploreArgs;
-use polywear_core::wear::WearZone;
 use polywear_study::explore::recorded_run::shell_word;
 use polywear_study::explore::RunPlan;
-
-pub(super) fn parse_wear_zone(s: &str) -> Result<WearZone, String> {
-    s.parse::<WearZone>().map_err(|e| e.to_string())
-}
 
 /// The command that continues `plan`'s run: `--resume --out DIR`, and the flags the manifest
 /// does not record (work budget, threads).

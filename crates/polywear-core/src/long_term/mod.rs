@@ -145,6 +145,7 @@ pub fn solve(
         problem.variant,
         WearSettings {
             zone: settings.zone,
+            power: settings.power,
         },
         &problem.classifier,
     )?;

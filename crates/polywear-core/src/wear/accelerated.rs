@@ -9,10 +9,12 @@
 //! It shares the loop's building blocks (the window's integration, the deposit, the seed)
 //! and none of its decisions: no revolution weights, no step rule, no redo, no scaling.
 
-use super::calibration::wear_rate_ref_m_per_m;
+use super::calibration::position_rate_m_per_m;
 use super::deposit::{other_wear_m_per_m, DepositPlan};
+use super::estimator::WearPower;
 use super::feedback::Feedback;
 use super::profile::{harmonics_of, Profile};
+use super::slip::SlipPower;
 use super::window::{integrate_window, EpsilonTable, WindowRequest};
 use super::zone::WearZone;
 use super::{Complex64, WearError};
@@ -40,6 +42,8 @@ pub struct OracleSettings {
     pub seed: u64,
     /// Where the friction power wears the tread.
     pub zone: WearZone,
+    /// Which friction power wears it (the driving wheel's slip power counted or not).
+    pub power: WearPower,
 }
 
 impl Default for OracleSettings {
@@ -54,6 +58,7 @@ impl Default for OracleSettings {
             rtol: 1e-7,
             seed: 1,
             zone: WearZone::DEFAULT,
+            power: WearPower::DEFAULT,
         }
     }
 }
@@ -100,8 +105,12 @@ pub fn run_oracle(
     let rotation_hz = WheelModel::rotation_hz(p);
     let period_s = 1.0 / model.ode.linear_stability().eig_freq_hz;
     let rev_m = std::f64::consts::TAU * p.r_b;
-    let other_m_per_rev =
-        (1.0 - p.wear_share_straight) * wear_rate_ref_m_per_m(p) * rev_m * s.acceleration;
+    let other_m_per_rev = (1.0 - p.wear_share_straight)
+        * position_rate_m_per_m(p, wheel, s.power)
+        * rev_m
+        * s.acceleration;
+    let slip = SlipPower::of(p, &model, s.power);
+    let dt = 1.0 / rotation_hz / s.samples_per_rev as f64;
     let mut profile = Profile::seeded(s.cells, p.seed_runout_um * 1e-6, s.seed);
     let mut x = start.unwrap_or_else(|| model.ode.equilibrium());
     let depths = |pr: &Profile| pr.harmonics(s.orders);
@@ -135,7 +144,16 @@ pub fn run_oracle(
             s.samples_per_rev,
             0.5,
         );
-        let worn = plan.lay(gamma_m3_per_j * s.acceleration, &w.energy_j[0]);
+        // The driving wheel's slip power, as the loop lays it.
+        let energy: Vec<f64> = w.energy_j[0]
+            .iter()
+            .enumerate()
+            .map(|(k, e)| {
+                let angle = std::f64::consts::TAU * (k as f64 + 0.5) / s.samples_per_rev as f64;
+                e + slip.power_w * (1.0 + slip.gain * table.at(angle)) * dt
+            })
+            .collect();
+        let worn = plan.lay(gamma_m3_per_j * s.acceleration, &energy);
         let other = other_wear_m_per_m(&radius, fb.local_per_m, other_m_per_rev);
         for ((d, a), b) in profile.depth_m.iter_mut().zip(&worn).zip(&other) {
             *d += a + b;

@@ -14,10 +14,11 @@
 
 use super::cycle::{SampledCycle, SAMPLES_PER_PERIOD};
 use super::error::WearError;
+use super::estimator::WearPower;
 use super::law::equilibrium_power_w;
 use crate::classify::budget::Meter;
 use crate::classify::{Class, WheelBudget, WheelVerdict};
-use crate::model::{ModelFailure, WheelModel};
+use crate::model::{ModelFailure, Wheel, WheelModel};
 use crate::params::{ParamId, Params, OPERATING_AXES};
 
 /// The reference point's friction energy, from which γ follows for any φ_s and w′₀.
@@ -92,6 +93,18 @@ impl Calibration {
 /// The even-wear rate at the reference point w′₀ in m/m.
 pub(crate) fn wear_rate_ref_m_per_m(p: &Params) -> f64 {
     p.wear_rate_ref_mm_per_1000km / super::law::MM_PER_1000KM_PER_M_PER_M
+}
+
+/// The even-wear rate of a wheel's position \[m/m\]: w′₀, and for the driving wheel under
+/// [`WearPower::WithSlip`] `wear_rate_driven_factor` times w′₀ (a driven axle's tyres wear
+/// faster: MODEL.md#wear-constants). The share of it that is not straight running,
+/// (1 − φ_s) of it, is the wheel's other wear.
+pub(crate) fn position_rate_m_per_m(p: &Params, wheel: Wheel, power: WearPower) -> f64 {
+    let factor = match (wheel, power) {
+        (Wheel::Driving, WearPower::WithSlip) => p.wear_rate_driven_factor,
+        _ => 1.0,
+    };
+    factor * wear_rate_ref_m_per_m(p)
 }
 
 /// `base` at the reference point: the operating axes at their shipped defaults.

@@ -8,19 +8,24 @@
 //! conj(H_w(n)); each element also wears in proportion to its own pressure. Per metre:
 //!
 //! ```text
-//! β_n = −w′ Re[κ(1 − |H_w|²) + G(iω_n) conj(H_w) e_n] − (1 − φ_s) w′₀ κ.
+//! β_n = −w′ Re[κ(1 − |H_w|²) + G(iω_n) conj(H_w) e_n]
+//!       − w′_x [κ(1 − |H_w|²) + G_x Re(conj(H_w) e_n)] − (1 − φ_s) w′_pos κ,
 //! ```
+//!
+//! w′_x the driving wheel's slip power's even wear and G_x its response, w′_pos the position's
+//! even-wear rate (MODEL.md#the-driving-wheels-slip-power).
 //!
 //! G is the equilibrium's transfer for a stable wheel (no integration) and the cycle's periodic
 //! linearisation for a vibrating one (one period integrated again, about 200 RHS evaluations).
 //! Over the speed spread the wheel's linearisation at the sample's speed is kept and ω_n moves
 //! with the speed: the mean over the normal spread is then exact pole by pole.
 
-use super::calibration::{wear_rate_ref_m_per_m, Calibration};
+use super::calibration::{position_rate_m_per_m, Calibration};
 use super::cycle::{SampledCycle, SAMPLES_PER_PERIOD};
 use super::feedback::Feedback;
 use super::law::{even_wear_m_per_m, MM_PER_1000KM_PER_M_PER_M, PER_1000KM_PER_PER_M};
 use super::periodic::CycleResponse;
+use super::slip::SlipPower;
 use super::transfer::{equilibrium_expansion, Linearisation, PoleExpansion};
 use super::zone::WearZone;
 use super::{Complex64, WearError};
@@ -42,6 +47,48 @@ pub struct WearSettings {
     /// Where the friction power wears the tread.
     #[serde(rename = "wear_zone")]
     pub zone: WearZone,
+    /// Which friction power wears it: the lateral alone, or with the driving wheel's slip.
+    #[serde(rename = "wear_power")]
+    pub power: WearPower,
+}
+
+named_enum! {
+    /// Which friction power wears the tread (the `wear_power` setting;
+    /// MODEL.md#the-driving-wheels-slip-power).
+    pub enum WearPower: "wear power" {
+        /// The tread's lateral power, and the driving wheel's longitudinal slip power
+        /// F_X·V cos α·S/(1 + S) in the same zone; the driven position's other wear at
+        /// `wear_rate_driven_factor` times w′₀. The shipped default.
+        WithSlip,
+        /// The tread's lateral power alone, both wheels at w′₀: the reading before the slip
+        /// power was counted, on which the worst-case checks at φ_s = 1 run.
+        LateralOnly,
+    }
+}
+
+impl WearPower {
+    /// Every reading, in the order of the declaration.
+    pub const ALL: [WearPower; 2] = [WearPower::WithSlip, WearPower::LateralOnly];
+    /// The reading every command uses unless told otherwise.
+    pub const DEFAULT: WearPower = WearPower::WithSlip;
+
+    /// What the reading is, in a sentence (for `polywear params`).
+    pub fn description(self) -> &'static str {
+        match self {
+            WearPower::WithSlip => {
+                "the lateral friction power and the driving wheel's longitudinal slip power; the driven position's other wear scaled by wear_rate_driven_factor"
+            }
+            WearPower::LateralOnly => {
+                "the lateral friction power alone, the same even-wear rate on both wheels"
+            }
+        }
+    }
+}
+
+impl Default for WearPower {
+    fn default() -> Self {
+        WearPower::DEFAULT
+    }
 }
 
 impl Default for WearZone {
@@ -197,9 +244,13 @@ pub fn orders_around(nu: f64) -> std::ops::RangeInclusive<u32> {
 pub struct WheelGrowth {
     response: Response,
     feedback: Feedback,
-    /// w′ per unit φ_s \[m/m\] (γ ∝ φ_s).
+    /// w′ per unit φ_s \[m/m\] (γ ∝ φ_s): the lateral power's.
     even_per_share: f64,
-    /// w′₀ κ \[1/m\]: λ_other per unit (1 − φ_s).
+    /// The driving wheel's slip power's w′ per unit φ_s \[m/m\] (0 for the follower).
+    slip_even_per_share: f64,
+    /// G_x, the slip power's response to ε (quasi-static).
+    slip_gain: f64,
+    /// w′_pos κ \[1/m\]: λ_other per unit (1 − φ_s), w′_pos the position's even-wear rate.
     other_per_share: f64,
     speed_mps: f64,
     r_b: f64,
@@ -230,11 +281,22 @@ impl WheelGrowth {
             p.speed_mps(),
             p.r_b,
         );
+        let slip = SlipPower::of(p, model, inputs.settings.power);
+        let slip_even_per_share = even_wear_m_per_m(
+            gamma_per_share,
+            slip.power_w,
+            model.patch.width_m,
+            p.speed_mps(),
+            p.r_b,
+        );
+        let position_rate = position_rate_m_per_m(p, model.wheel, inputs.settings.power);
         Ok(WheelGrowth {
-            other_per_share: wear_rate_ref_m_per_m(p) * feedback.local_per_m,
+            other_per_share: position_rate * feedback.local_per_m,
             response,
             feedback,
             even_per_share,
+            slip_even_per_share,
+            slip_gain: slip.gain,
             speed_mps: p.speed_mps(),
             r_b: p.r_b,
             seed_m: p.seed_runout_um * 1e-6,
@@ -249,9 +311,10 @@ impl WheelGrowth {
         self.response.nu
     }
 
-    /// The even wear w′ at the sample's φ_s \[m/m\].
+    /// The even wear w′ at the sample's φ_s \[m/m\]: the lateral power's and the slip
+    /// power's.
     pub fn even_wear_m_per_m(&self) -> f64 {
-        self.share * self.even_per_share
+        self.share * (self.even_per_share + self.slip_even_per_share)
     }
 
     /// κ = k_t/p₀ \[1/m\].
@@ -298,7 +361,8 @@ impl WheelGrowth {
             } else {
                 beta
             };
-            let locked = self.locked_print_per_m(even, h.norm()) - other;
+            let locked =
+                self.locked_print_per_m(even, h.norm()) - other - self.slip_per_m(n, share);
             beta += locked_share * (locked - in_band);
         }
         OrderGrowth {
@@ -322,7 +386,25 @@ impl WheelGrowth {
             share * self.even_per_share,
             (1.0 - share) * self.other_per_share,
         );
-        (-even * gain.re - other, -even * through_tread.re)
+        (
+            -even * gain.re - other - self.slip_per_m(n, share),
+            -even * through_tread.re,
+        )
+    }
+
+    /// The slip power's part of β for order `n` at φ_s = `share` \[1/m\]: its wear shared by
+    /// pressure within the zone levels by κ(1 − |H_w|²), and its zone total follows the
+    /// profile's ε with G_x (at the frozen slip ratio) through conj(H_w) e_n, as the lateral
+    /// power does with G (MODEL.md#the-driving-wheels-slip-power). Positive: it levels.
+    fn slip_per_m(&self, n: f64, share: f64) -> f64 {
+        let even = share * self.slip_even_per_share;
+        if even == 0.0 {
+            return 0.0;
+        }
+        let fb = &self.feedback;
+        let h = fb.zone.transfer(n, self.r_b);
+        let through = (h.conj() * fb.forcing_per_radius(n)).re * self.slip_gain;
+        even * (fb.local_per_m * (1.0 - h.norm_sqr()) + through)
     }
 
     /// The speed band \[m/s\] (centre, half-width) in which the cycle locks to order `n` of

@@ -27,13 +27,15 @@
 //! change was seen, a step takes at most half the way there, so that the redos close in on the
 //! change as a bisection does instead of stepping over it again at the rule's length.
 
-use super::calibration::wear_rate_ref_m_per_m;
+use super::calibration::position_rate_m_per_m;
 use super::deposit::{other_wear_m_per_m, DepositPlan};
 use super::edge::{bracketed_step_m, signature, EdgeSides, Signature};
+use super::estimator::WearPower;
 use super::feedback::Feedback;
 pub use super::legs::{cruise_legs, cycle_legs, Leg, SPEED_NODES};
 use super::lock::{is_locked, revolution_weights, rotation_number, window_revs, WINDOW_REVS};
 use super::profile::{harmonics_of, Profile};
+use super::slip::SlipPower;
 pub use super::wheel_wear::{
     measured_growth_per_m, profile_harmonics, HistoryPoint, WheelWear, LINEAR_REGIME_SEEDS,
 };
@@ -86,6 +88,8 @@ pub struct LoopSettings {
     pub seed: u64,
     /// Where the friction power wears the tread.
     pub zone: WearZone,
+    /// Which friction power wears it (the driving wheel's slip power counted or not).
+    pub power: WearPower,
     /// Stop once a polygon is visible (else run the whole distance).
     pub stop_at_visible: bool,
 }
@@ -103,6 +107,7 @@ impl Default for LoopSettings {
             rtol: 1e-7,
             seed: 1,
             zone: WearZone::DEFAULT,
+            power: WearPower::DEFAULT,
             stop_at_visible: true,
         }
     }
@@ -133,6 +138,8 @@ struct LegModel {
     model: WheelModel,
     feedback: Feedback,
     period_s: f64,
+    /// The driving wheel's slip power at this leg (none for the follower).
+    slip: SlipPower,
 }
 
 /// Everything that a redo restores.
@@ -203,12 +210,14 @@ impl<'a> Run<'a> {
                 .map_err(|e| self.failure(speed_kmh, e.to_string()))?;
             let feedback = Feedback::new(&params, &model, self.settings.zone);
             let period_s = 1.0 / model.ode.linear_stability().eig_freq_hz;
+            let slip = SlipPower::of(&params, &model, self.settings.power);
             self.models[i] = Some(LegModel {
                 height_m: h,
                 params,
                 model,
                 feedback,
                 period_s,
+                slip,
             });
         }
         Ok(self.models[i].as_ref().expect("built above"))
@@ -266,7 +275,8 @@ impl<'a> Run<'a> {
         let orders = FEEDBACK_ORDERS.min(radius.len() / 2 - 1);
         let harmonics = harmonics_of(&radius, orders);
         let lm = self.leg_model(i)?;
-        let (p, fb, ode, period_s) = (lm.params, lm.feedback, lm.model.ode, lm.period_s);
+        let (p, fb, ode, period_s, slip) =
+            (lm.params, lm.feedback, lm.model.ode, lm.period_s, lm.slip);
         let width_m = lm.model.patch.width_m;
         let table = EpsilonTable::new(&fb, &harmonics, TABLE_POINTS_PER_ORDER * orders);
         let revs = if first {
@@ -307,6 +317,16 @@ impl<'a> Run<'a> {
                 *m += w * e;
             }
         }
+        // The driving wheel's slip power in the same zone, its zone total following the
+        // profile's ε quasi-statically (MODEL.md#the-driving-wheels-slip-power); sample k's
+        // interval is centred on the angle 2π(k + ½)/N, as the plan lays it.
+        if slip.power_w > 0.0 {
+            let dt = t_rev / samples as f64;
+            for (k, m) in mean_j.iter_mut().enumerate() {
+                let angle = std::f64::consts::TAU * (k as f64 + 0.5) / samples as f64;
+                *m += slip.power_w * (1.0 + slip.gain * table.at(angle)) * dt;
+            }
+        }
         let plan = DepositPlan::new(
             &fb.zone,
             p.r_b,
@@ -318,7 +338,8 @@ impl<'a> Run<'a> {
         );
         let per_rev_m = plan.lay(gamma, &mean_j);
         let rev_m = std::f64::consts::TAU * p.r_b;
-        let other_rate = (1.0 - p.wear_share_straight) * wear_rate_ref_m_per_m(&p);
+        let other_rate = (1.0 - p.wear_share_straight)
+            * position_rate_m_per_m(&p, self.inputs.wheel, settings.power);
         let other = other_wear_m_per_m(&radius, fb.local_per_m, other_rate);
         let rate_m_per_m = per_rev_m
             .iter()

@@ -1,7 +1,8 @@
 //! The wear stage (MODEL.md#step-10-wear-law, #step-11-wear-zone, #step-12-feedback): from a
 //! wheel's vibration to the wear it lays on the tread, and from the worn profile back to the
 //! friction levels. One file per job: [`law`] (friction power, even wear, laying one revolution
-//! of wear onto the circumference), [`zone`] (where on the patch the wear goes, its kernels and
+//! of wear onto the circumference), [`slip`] (the driving wheel's longitudinal slip power),
+//! [`zone`] (where on the patch the wear goes, its kernels and
 //! transfers), [`feedback`] (the profile's action on the friction levels), [`calibration`] (the
 //! abradability γ, once per run), [`cycle`] (one sampled period of a limit cycle). The
 //! per-sample estimator (MODEL.md#the-per-sample-estimator) builds on them: [`transfer`] (the
@@ -49,6 +50,7 @@ pub mod lock;
 pub mod long_term;
 pub mod periodic;
 pub mod profile;
+pub mod slip;
 pub mod spread;
 pub mod tongue;
 pub mod transfer;
@@ -58,9 +60,51 @@ pub mod zone;
 
 pub use calibration::Calibration;
 pub use error::WearError;
-pub use estimator::{estimate, WearEstimate, WearInputs, WearSettings, WheelGrowth};
+pub use estimator::{estimate, WearEstimate, WearInputs, WearPower, WearSettings, WheelGrowth};
 pub use feedback::Feedback;
 pub use zone::{WearZone, ZoneGeometry};
+
+/// The wear stage's category settings as rows of `polywear params`: name, default,
+/// provenance, accepted names, meaning.
+pub fn setting_rows() -> [[String; 5]; 2] {
+    fn row(
+        name: &str,
+        default: &str,
+        names: &[&str],
+        what: &str,
+        each: Vec<String>,
+    ) -> [String; 5] {
+        [
+            name.into(),
+            default.into(),
+            "judgement".into(),
+            names.join(", "),
+            format!("{what}, a category: {}.", each.join("; ")),
+        ]
+    }
+    [
+        row(
+            "wear_zone",
+            WearZone::DEFAULT.as_str(),
+            <WearZone as strum::VariantNames>::VARIANTS,
+            "Where on the contact patch the friction power wears the tread",
+            WearZone::ALL
+                .iter()
+                .map(|z| format!("{} = {}", z.as_str(), z.description()))
+                .collect(),
+        ),
+        row(
+            "wear_power",
+            WearPower::DEFAULT.as_str(),
+            <WearPower as strum::VariantNames>::VARIANTS,
+            "Which friction power wears the tread",
+            WearPower::ALL
+                .iter()
+                .map(|z| format!("{} = {}", z.as_str(), z.description()))
+                .collect(),
+        ),
+    ]
+}
 
 /// Complex numbers of the transfers (nalgebra's, which the eigenvalues already use).
 pub type Complex64 = nalgebra::Complex<f64>;

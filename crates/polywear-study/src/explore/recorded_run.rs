@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use super::{RunManifest, Shard};
 use crate::output_dir::{self, MANIFEST};
 use polywear_core::params::Params;
-use polywear_core::wear::{WearSettings, WearZone};
+use polywear_core::wear::{WearPower, WearSettings, WearZone};
 
 /// The run recorded in an output directory's manifest.
 #[derive(Debug, Clone, PartialEq)]
@@ -264,7 +264,15 @@ fn recorded_wear(w: &serde_json::Value) -> Result<WearSettings, Refusal> {
     let zone: WearZone = zone
         .parse()
         .map_err(|e| Refusal(format!("`wear.wear_zone`: {e}")))?;
-    Ok(WearSettings { zone })
+    // A run recorded before the slip power was counted has no `wear_power`: it ran the
+    // lateral power alone, and its resume goes on so.
+    let power = match w.get("wear_power").and_then(|z| z.as_str()) {
+        None => WearPower::LateralOnly,
+        Some(s) => s
+            .parse()
+            .map_err(|e| Refusal(format!("`wear.wear_power`: {e}")))?,
+    };
+    Ok(WearSettings { zone, power })
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use polywear_core::classify::WheelBudget;
-use polywear_core::wear::{WearSettings, WearZone};
+use polywear_core::wear::{WearPower, WearSettings, WearZone};
 
 use super::recorded_run::{changed_lines, param_changes, shell_word, RecordedRun};
 use super::{ExploreError, RunPlan, Shard};
@@ -37,6 +37,8 @@ pub struct ExploreRequest {
     pub no_wear: bool,
     /// The wear zone, over the study's.
     pub wear_zone: Option<WearZone>,
+    /// Which friction power wears the tread, over the study's.
+    pub wear_power: Option<WearPower>,
 }
 
 impl ExploreRequest {
@@ -177,15 +179,25 @@ fn wear_settings(
     study: &Study,
     recorded: Option<&RecordedRun>,
 ) -> Result<Option<WearSettings>, Refusal> {
-    let asked = match (args.no_wear, args.wear_zone) {
-        (true, _) => Some(None),
-        (false, Some(zone)) if study.wear.is_none() && recorded.is_none() => {
+    let flags = asked_flags(args);
+    let asked = match (args.no_wear, args.wear_zone, args.wear_power) {
+        (true, _, _) => Some(None),
+        (false, None, None) => None,
+        (false, _, _) if study.wear.is_none() && recorded.is_none() => {
             return Err(Refusal(format!(
-                "--wear-zone {zone}: the study sets `wear = false`, which leaves the wear stage out; remove it from the study, or leave --wear-zone out"
+                "{flags}: the study sets `wear = false`, which leaves the wear stage out; remove it from the study, or leave {flags} out"
             )))
         }
-        (false, Some(zone)) => Some(Some(WearSettings { zone })),
-        (false, None) => None,
+        (false, zone, power) => {
+            let base = recorded
+                .and_then(|r| r.wear)
+                .or(study.wear)
+                .unwrap_or_default();
+            Some(Some(WearSettings {
+                zone: zone.unwrap_or(base.zone),
+                power: power.unwrap_or(base.power),
+            }))
+        }
     };
     let Some(run) = recorded else {
         return Ok(asked.unwrap_or(study.wear));
@@ -195,12 +207,15 @@ fn wear_settings(
             let was = run
                 .wear
                 .map_or("no wear stage (--no-wear)".to_string(), |w| {
-                    format!("the wear stage with --wear-zone {}", w.zone)
+                    format!(
+                        "the wear stage with --wear-zone {} --wear-power {}",
+                        w.zone, w.power
+                    )
                 });
             let flag = if args.no_wear {
                 "--no-wear".to_string()
             } else {
-                format!("--wear-zone {}", args.wear_zone.expect("asked"))
+                flags
             };
             Err(Refusal(format!(
                 "--resume: {flag} contradicts the run, which started with {was}; leave it out to continue the run as it started, or choose another --out for a new run"
@@ -208,6 +223,18 @@ fn wear_settings(
         }
         _ => Ok(run.wear),
     }
+}
+
+/// The wear flags given, as typed: "--wear-zone Z", "--wear-power P", or both.
+fn asked_flags(args: &ExploreRequest) -> String {
+    let mut f = Vec::new();
+    if let Some(z) = args.wear_zone {
+        f.push(format!("--wear-zone {z}"));
+    }
+    if let Some(p) = args.wear_power {
+        f.push(format!("--wear-power {p}"));
+    }
+    f.join(" ")
 }
 
 /// Refuses a flag of `--resume --out DIR` that contradicts the run recorded in DIR, showing

@@ -10,11 +10,10 @@ use super::schema::DISTS;
 /// A study problem, with the key it concerns.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum StudyError {
-    /// `wear_zone` names a zone for a study whose wear stage is off.
-    #[error(
-        "`wear_zone` is set but `wear = false` leaves the wear stage out; remove one of the two"
-    )]
-    WearZoneWithoutWear,
+    /// A wear setting (`wear_zone`, `wear_power`, the key named) is set for a study whose wear
+    /// stage is off.
+    #[error("`{0}` is set but `wear = false` leaves the wear stage out; remove one of the two")]
+    WearSettingWithoutWear(&'static str),
     /// A per-wheel budget key out of its accepted range (the message names the key).
     #[error("{0}")]
     Budget(#[from] polywear_core::classify::BudgetError),

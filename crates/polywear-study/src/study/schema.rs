@@ -15,7 +15,7 @@ use polywear_core::model::Variant;
 use polywear_core::params::{ParamId, ParamSpec, Params};
 use polywear_core::sampling::design::Design;
 use polywear_core::sampling::distribution::Distribution;
-use polywear_core::wear::{WearSettings, WearZone};
+use polywear_core::wear::{WearPower, WearSettings, WearZone};
 
 /// The distributions a drawn parameter may take, as the study file names them.
 pub(super) const DISTS: &str = "uniform, normal, truncated_normal, lognormal, levels";
@@ -36,6 +36,7 @@ pub(super) struct StudyFile {
     accept_implausible: Option<bool>,
     wear: Option<bool>,
     wear_zone: Option<WearZone>,
+    wear_power: Option<WearPower>,
     pub(super) params: Option<BTreeMap<ParamId, ParamEntry>>,
     pub(super) operating_points: Option<OperatingPointsSection>,
     pub(super) scenarios: Option<ScenarioTables>,
@@ -292,11 +293,17 @@ impl StudyFile {
             chunk_size,
             budget,
             accept_implausible: self.accept_implausible.unwrap_or(false),
-            wear: match (self.wear, self.wear_zone) {
-                (Some(false), Some(_)) => return Err(StudyError::WearZoneWithoutWear),
-                (Some(false), None) => None,
-                (_, zone) => Some(WearSettings {
+            wear: match (self.wear, self.wear_zone, self.wear_power) {
+                (Some(false), Some(_), _) => {
+                    return Err(StudyError::WearSettingWithoutWear("wear_zone"))
+                }
+                (Some(false), None, Some(_)) => {
+                    return Err(StudyError::WearSettingWithoutWear("wear_power"))
+                }
+                (Some(false), None, None) => None,
+                (_, zone, power) => Some(WearSettings {
                     zone: zone.unwrap_or_default(),
+                    power: power.unwrap_or_default(),
                 }),
             },
         })
