@@ -407,3 +407,45 @@ fn bad_driven_factors_and_wear_powers_are_refused() {
         "{stderr}"
     );
 }
+
+/// `--quiet` silences the progress and the chatter, not the answer, and a finished run leaves
+/// no `_lock` behind (a killed one leaves it, and the next run takes it over).
+#[test]
+fn quiet_still_prints_the_answer_and_a_finished_run_leaves_no_lock() {
+    let dir = fresh_dir("wear-explore-quiet");
+    std::fs::create_dir_all(&dir).unwrap();
+    let study = dir.join("s.toml");
+    std::fs::write(&study, STUDY).unwrap();
+    let out = dir.join("out");
+    let (code, stdout, stderr) = polywear(&[
+        "explore",
+        study.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("P(vibration) over classified rows"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("P(visible polygonal wear within X km)"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("samples evaluated in"), "{stdout}");
+    assert!(!stderr.contains("progress"), "{stderr}");
+    assert!(!out.join("_lock").exists());
+    assert!(out.join("_manifest.chunks.jsonl").exists());
+    // A killed run's lock file (the kernel dropped its lock) is taken over by the next run.
+    std::fs::write(out.join("_lock"), "99999\n").unwrap();
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        "--resume",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(!out.join("_lock").exists());
+}

@@ -77,7 +77,8 @@ pub struct ExploreArgs {
     /// refused before any work without it (a study can say `accept_implausible = true`)
     #[arg(long)]
     pub accept_implausible: bool,
-    /// No progress bar, progress lines or summary
+    /// No progress bar, progress lines or chatter; the answer (the analysis summary) is still
+    /// printed, as ripgrep's and cargo's -q silence progress, not the result
     #[arg(long, short)]
     pub quiet: bool,
     /// When stderr is not a terminal (a batch log), print a progress line (done, rate, ETA)
@@ -283,7 +284,7 @@ fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -
         std::slice::from_ref(&plan.out_dir),
         &polywear_analysis::analysis::AnalysisOptions::default(),
         &render,
-        !args.quiet,
+        true,
         &elsewhere,
     )
 }

@@ -10,7 +10,8 @@
 //! - `_manifest.chunks.jsonl`: one JSON line per finished chunk, appended and fsynced after the
 //!   chunk file is in place. A torn last line (a kill mid-append) is ignored: that chunk is redone;
 //! - `_lock`: holds the PID of the running process, `flock`ed while it runs (the kernel drops
-//!   the lock when the process ends, however it ends).
+//!   the lock when the process ends, however it ends). A run that finishes removes it; one that
+//!   is killed leaves it, and the next run takes it over.
 //!
 //! Names starting with `_` are skipped by pyarrow/pandas when the directory is read as a dataset.
 
@@ -106,9 +107,36 @@ pub enum ChunkMismatch {
 }
 
 /// An exclusive lock on an output directory, released when dropped or when the process ends.
+/// Dropping it removes the lock file first, while the lock is still held: a process that opened
+/// the old file meanwhile finds it no longer at the path once it has the lock, and takes the
+/// new one instead ([`lock`] checks the path against the file it locked).
 #[derive(Debug)]
 pub struct DirLock {
-    _file: File,
+    file: File,
+    path: PathBuf,
+}
+
+impl Drop for DirLock {
+    fn drop(&mut self) {
+        if same_file(&self.file, &self.path) {
+            let _ = std::fs::remove_file(&self.path);
+        }
+    }
+}
+
+/// Whether `path` still names the file `f` is open on (not removed or replaced).
+#[cfg(unix)]
+fn same_file(f: &File, path: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (f.metadata(), std::fs::symlink_metadata(path)) {
+        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+        _ => false,
+    }
+}
+
+#[cfg(not(unix))]
+fn same_file(_f: &File, path: &Path) -> bool {
+    path.exists()
 }
 
 /// The lock is `flock` through `libc` (already a dependency), not `fs4` or `fd-lock` (5 and
@@ -140,10 +168,35 @@ fn try_flock(_f: &File) -> std::io::Result<bool> {
 /// holder's PID when another process holds it, and when the lock file is a link or not a
 /// regular file (it is never written through, see [`crate::safe_write::open_lock`]).
 pub fn lock(dir: &Path, create: bool) -> Result<Option<DirLock>, OutputDirError> {
+    // A finishing run removes the file while it holds the lock: a file locked here that is no
+    // longer at the path was that one, so open the path again (a few tries: each needs another
+    // run to finish in between).
+    for _ in 0..8 {
+        match lock_once(dir, create)? {
+            Locked::Got(l) => return Ok(Some(l)),
+            Locked::NoFile => return Ok(None),
+            Locked::Stale => continue,
+        }
+    }
+    Err(OutputDirError::InUse {
+        holder: "runs that keep finishing and removing it".to_string(),
+        path: dir.join(LOCK),
+    })
+}
+
+/// What one attempt at the lock found.
+enum Locked {
+    Got(DirLock),
+    NoFile,
+    /// The file locked was removed from the path meanwhile.
+    Stale,
+}
+
+fn lock_once(dir: &Path, create: bool) -> Result<Locked, OutputDirError> {
     let path = dir.join(LOCK);
     let mut f = match safe_write::open_lock(&path, create) {
         Ok(f) => f,
-        Err(e) if !create && e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) if !create && e.kind() == std::io::ErrorKind::NotFound => return Ok(Locked::NoFile),
         Err(source) => return Err(OutputDirError::CreateLock { path, source }),
     };
     let got = match try_flock(&f) {
@@ -160,6 +213,9 @@ pub fn lock(dir: &Path, create: bool) -> Result<Option<DirLock>, OutputDirError>
             path,
         });
     }
+    if !same_file(&f, &path) {
+        return Ok(Locked::Stale);
+    }
     let pid = std::process::id();
     if let Err(source) = f
         .set_len(0)
@@ -168,7 +224,7 @@ pub fn lock(dir: &Path, create: bool) -> Result<Option<DirLock>, OutputDirError>
     {
         return Err(OutputDirError::WriteLock { path, source });
     }
-    Ok(Some(DirLock { _file: f }))
+    Ok(Locked::Got(DirLock { file: f, path }))
 }
 
 /// Whether a directory entry is bookkeeping that does not make a directory "in use": the lock
