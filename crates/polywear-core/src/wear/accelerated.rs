@@ -10,7 +10,7 @@
 //! and none of its decisions: no revolution weights, no step rule, no redo, no scaling.
 
 use super::calibration::position_rate_m_per_m;
-use super::deposit::{other_wear_m_per_m, DepositPlan};
+use super::deposit::{check_samples, other_wear_m_per_m, DepositPlan};
 use super::estimator::WearPower;
 use super::feedback::Feedback;
 use super::profile::{harmonics_of, Profile};
@@ -32,7 +32,8 @@ pub struct OracleSettings {
     pub revs: usize,
     /// Profile cells.
     pub cells: usize,
-    /// Energy samples per revolution.
+    /// Energy samples per revolution, a whole multiple of `cells`
+    /// ([`super::deposit::check_samples`]).
     pub samples_per_rev: usize,
     /// Orders that act back through ε and are recorded, 1 ..= this.
     pub orders: usize,
@@ -53,7 +54,7 @@ impl Default for OracleSettings {
             warmup_revs: 10,
             revs: 1000,
             cells: 1024,
-            samples_per_rev: 256,
+            samples_per_rev: 1024,
             orders: 128,
             rtol: 1e-7,
             seed: 1,
@@ -100,6 +101,7 @@ pub fn run_oracle(
         distance_km: 0.0,
         reason,
     };
+    check_samples(s.samples_per_rev, s.cells).map_err(fail)?;
     let model = WheelModel::build(p, wheel, variant).map_err(|e| fail(e.to_string()))?;
     let fb = Feedback::new(p, &model, s.zone);
     let rotation_hz = WheelModel::rotation_hz(p);

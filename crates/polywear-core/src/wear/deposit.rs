@@ -4,6 +4,12 @@
 //! each cell, and within the zone each element takes its share of the friction force in
 //! proportion to its own pressure, (1 + κ r(θ))/(1 + ε_loc). The shares of one instant add up to
 //! 1, so the volume worn is γ times the energy to rounding.
+//!
+//! Each sample interval's energy is laid at its centre angle θ_k, so an even power lays the comb
+//! Σ_k K_w(θ − θ_k), whose harmonics p·N (N samples per revolution) are 2|H_w(pN)| of the even
+//! wear (Poisson's sum). On M cells they vanish only if every θ_k sits at the same place in its
+//! cell, N a whole multiple of M ([`check_samples`]); N = M/4 printed orders M/4 and M/2
+//! (issue 40, MODEL.md#the-long-term-loop).
 
 use super::zone::ZoneGeometry;
 
@@ -18,6 +24,21 @@ pub struct DepositPlan {
     offsets: Vec<usize>,
     /// b·r_B·Δθ: the tread area of one cell \[m²\].
     cell_area_m2: f64,
+}
+
+/// Refuses `samples` energy samples per revolution on `cells` cells unless `samples` is a whole
+/// multiple of `cells`: only then is the plan the same for every cell, shifted, so that an even
+/// power wears every cell alike (the sample comb's harmonics, multiples of M, integrate to 0
+/// over each cell).
+pub fn check_samples(samples: usize, cells: usize) -> Result<(), String> {
+    if cells > 0 && samples > 0 && samples % cells == 0 {
+        Ok(())
+    } else {
+        Err(format!(
+            "{samples} energy samples per revolution are not a whole multiple of the {cells} \
+             cells: the samples' comb would print orders the cells resolve"
+        ))
+    }
 }
 
 impl DepositPlan {
@@ -104,8 +125,50 @@ pub fn other_wear_m_per_m(radius_m: &[f64], local_per_m: f64, rate_m_per_m: f64)
 mod tests {
     use super::*;
     use crate::wear::law::deposit_revolution;
-    use crate::wear::profile::Profile;
+    use crate::wear::profile::{harmonics_of, Profile};
     use crate::wear::zone::WearZone;
+
+    /// Issue 40: an even power laid from N = M or 2M samples wears every cell alike, for any
+    /// zone length; from N = M/4 it prints 2|H_w(pN)| of the even wear at orders M/4 and M/2
+    /// (over 30% and 15% for the 4.9-cell zone of the driving wheel at 110 km/h and 0.45°).
+    #[test]
+    fn an_even_power_wears_every_cell_alike_when_the_samples_step_by_cells() {
+        let (r_b, b, cells) = (0.317, 0.134, 1024);
+        let flat = vec![0.0; cells];
+        let comb = |q: f64, samples: usize| {
+            let g = ZoneGeometry::new(WearZone::Trailing, 0.1551, q);
+            let plan = DepositPlan::new(&g, r_b, b, &flat, 891.0, samples, 0.5);
+            let depth = plan.lay(1.0, &vec![1.0; samples]);
+            let mean = depth.iter().sum::<f64>() / cells as f64;
+            let rel: Vec<f64> = depth.iter().map(|d| d / mean - 1.0).collect();
+            let h = harmonics_of(&rel, cells / 2);
+            (g, h[cells / 4 - 1].norm(), h[cells / 2 - 1].norm() / 2.0)
+        };
+        for q in [0.0328, 0.0614, 0.2, 1.0] {
+            for samples in [cells, 2 * cells] {
+                assert!(check_samples(samples, cells).is_ok());
+                let (_, a, b) = comb(q, samples);
+                assert!(a < 1e-13 && b < 1e-13, "q {q}, {samples}: {a:e} {b:e}");
+            }
+            let (g, quarter, half) = comb(q, cells / 4);
+            assert!(check_samples(cells / 4, cells).is_err());
+            // Order M/4 is the comb's 2|H_w(M/4)| through the cells' box sinc(nΔθ/2), give or
+            // take its aliases, the odd multiples of M/4.
+            let m = cells as f64;
+            let h = |p: f64| {
+                let n = p * m / 4.0;
+                2.0 * (g.gain(n, r_b) * crate::wear::zone::sinc(n * std::f64::consts::PI / m)).abs()
+            };
+            let aliases: f64 = (1..100).map(|k| h((2 * k + 1) as f64)).sum();
+            assert!(
+                (quarter - h(1.0)).abs() <= aliases + 1e-12,
+                "q {q}: {quarter}"
+            );
+            if q == 0.0614 {
+                assert!(quarter > 0.3 && half > 0.15, "q {q}: {quarter} {half}");
+            }
+        }
+    }
 
     /// Without pressure feedback (κ = 0) the plan is the core's own deposit; with it, the
     /// volume is still γ times the energy to rounding, and a high spot (r > 0) takes more.

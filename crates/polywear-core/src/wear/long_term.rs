@@ -13,8 +13,8 @@
 //!    unlocked cycle exactly ([`super::lock::revolution_weights`]): the plain mean leaves C_N(δ)
 //!    of the print, which the scaling would multiply by thousands of revolutions;
 //! 3. lays that revolution's energy onto the cells, each element by its own pressure
-//!    ([`DepositPlan`]), adds the wear that is not straight running, (1 − φ_s)w′₀ per element by
-//!    its pressure, and scales both by chunk/(2π r_B) revolutions;
+//!    ([`DepositPlan`], one energy sample per cell), adds the wear that is not straight running,
+//!    (1 − φ_s)w′₀ per element by its pressure, and scales both by chunk/(2π r_B) revolutions;
 //! 4. lowers h by the mean of all the wear (the tread's real height loss).
 //!
 //! The step is the smallest of Δs_max, a tenth of the time in which the fastest harmonic doubles
@@ -28,7 +28,7 @@
 //! change as a bisection does instead of stepping over it again at the rule's length.
 
 use super::calibration::position_rate_m_per_m;
-use super::deposit::{other_wear_m_per_m, DepositPlan};
+use super::deposit::{check_samples, other_wear_m_per_m, DepositPlan};
 use super::edge::{bracketed_step_m, signature, EdgeSides, Signature};
 use super::estimator::WearPower;
 use super::feedback::Feedback;
@@ -68,8 +68,8 @@ const MAX_STEPS: usize = 20_000;
 pub struct LoopSettings {
     /// Profile cells M.
     pub cells: usize,
-    /// Energy samples per revolution (each laid at its interval's centre angle, so the
-    /// interval acts as one more box filter of its length: 1/4 of a cell's 1.95 mm... see
+    /// Energy samples per revolution, a whole multiple of `cells` (each laid at its interval's
+    /// centre angle: fewer print their comb onto the profile, [`super::deposit::check_samples`],
     /// MODEL.md#the-long-term-loop).
     pub samples_per_rev: usize,
     /// Distance to run \[km\].
@@ -98,7 +98,7 @@ impl Default for LoopSettings {
     fn default() -> Self {
         LoopSettings {
             cells: CELLS,
-            samples_per_rev: CELLS / 4,
+            samples_per_rev: CELLS,
             distance_km: 60_000.0,
             max_step_km: 500.0,
             min_step_km: 20.0,
@@ -519,6 +519,11 @@ pub fn run_wheel(
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<WheelWear, WearError> {
     let p = inputs.params;
+    check_samples(settings.samples_per_rev, settings.cells).map_err(|reason| WearError::Loop {
+        speed_kmh: inputs.legs.first().map_or(p.speed_kmh, |l| l.speed_kmh),
+        distance_km: 0.0,
+        reason,
+    })?;
     let seed_m = p.seed_runout_um * 1e-6;
     let orders = FEEDBACK_ORDERS.min(settings.cells / 2 - 1);
     let (mut run, start, band_area_m2) = Run::start(inputs, settings, orders)?;
