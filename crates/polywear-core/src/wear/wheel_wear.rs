@@ -61,17 +61,28 @@ pub struct WheelWear {
     pub end_states: Vec<Option<[f64; 3]>>,
 }
 
+/// The depth, in seed depths 2R⁰, below which an order still growing at the end is not
+/// extrapolated to a visible polygon ([`WheelWear::distance_to_visible_km`]).
+const EXTRAPOLATION_FLOOR_SEEDS: f64 = 1e-3;
+
 impl WheelWear {
     /// The last history point.
     pub fn end(&self) -> &HistoryPoint {
         self.history.last().expect("the start is always there")
     }
 
-    /// The order with the deepest polygon at the end (1-based).
+    /// The order with the deepest polygon at the end (1-based), among the orders the new tyre's
+    /// run-out seeds: an order without a seed starts at rounding noise (1e-17 mm), and where
+    /// every order has levelled out to the noise of a depth summed over 60,000 km (1e-11 mm of
+    /// 12 mm) such an order could otherwise come out deepest, with a "growth from the seed"
+    /// that is noise over noise.
     pub fn dominant_order(&self) -> u32 {
         let d = &self.end().depths_m;
+        let seeded = |i: &usize| self.history[0].depths_m[*i] >= self.seed_m;
         (0..d.len())
+            .filter(seeded)
             .max_by(|a, b| d[*a].total_cmp(&d[*b]))
+            .or_else(|| (0..d.len()).max_by(|a, b| d[*a].total_cmp(&d[*b])))
             .map(|i| i as u32 + 1)
             .unwrap_or(1)
     }
@@ -99,7 +110,9 @@ impl WheelWear {
         let n = self.dominant_order() as usize - 1;
         let e = self.end();
         let (d, beta) = (e.depths_m[n], e.growth_per_m[n]);
-        if beta > 0.0 && d > 0.0 {
+        // An order a thousandth of its seed deep or less has levelled out to where the depth's
+        // rounding (1e-14 m of 12 mm worn) makes its growth noise: nothing to extrapolate.
+        if beta > 0.0 && d > EXTRAPOLATION_FLOOR_SEEDS * 2.0 * self.seed_m {
             e.distance_km + (visible_m / d).ln() / beta / 1e3
         } else {
             f64::INFINITY
