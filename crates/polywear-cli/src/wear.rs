@@ -15,9 +15,9 @@ use polywear_core::classify::ClassifierOptions;
 use polywear_core::long_term::{
     self, LongTermError, LongTermProblem, LongTermSolution, WheelLongTerm,
 };
-use polywear_core::model::Variant;
+use polywear_core::model::{Variant, WheelModel};
 use polywear_core::params::{ParamId, Params};
-use polywear_core::wear::long_term::{cruise_legs, Leg, LoopSettings, SPEED_NODES};
+use polywear_core::wear::long_term::{cruise_legs, Leg, LoopSettings, RunEnd, SPEED_NODES};
 use polywear_core::wear::WearZone;
 use polywear_core::wording::plain;
 use polywear_study::cycle::DriveCycle;
@@ -293,8 +293,8 @@ fn verdict_words(o: &WheelLongTerm, p: &Params, distance_km: f64) -> String {
         (None, _) => "vibration not locked".into(),
     };
     let n = run.dominant_order();
-    match run.visible {
-        Some((order, km)) => format!(
+    match run.ended() {
+        RunEnd::Visible { order, km } => format!(
             "{}: a{} {order}-sided polygon becomes visible after {} km ({lock})",
             o.wheel,
             if order == 8 || order == 11 || order == 18 {
@@ -304,7 +304,14 @@ fn verdict_words(o: &WheelLongTerm, p: &Params, distance_km: f64) -> String {
             },
             thousands(km)
         ),
-        None => {
+        RunEnd::WornOut { km } => format!(
+            "{}: tire worn out before a polygon, after {} km ({} mm of usable tread gone; the deepest order, {n}, {} µm peak-to-valley) ({lock})",
+            o.wheel,
+            thousands(km),
+            plain(p.usable_wear_m() * 1e3, 4),
+            plain(run.end().depths_m[n as usize - 1] * 1e6, 2)
+        ),
+        RunEnd::Distance => {
             let s = run.distance_to_visible_km(p.visible_depth_mm * 1e-3);
             if s.is_infinite() {
                 format!(
@@ -366,6 +373,24 @@ fn print_verdict(plan: &Plan, solution: &LongTermSolution, estimate: bool, secs:
             plain(at_end, 3),
             plain(f.distance_to_visible_km.round(), 8)
         );
+        if w.run.is_ok() {
+            let f_rot = WheelModel::rotation_hz(p);
+            println!(
+                "  {}: tread     height {} -> {} mm, frequency {} -> {} Hz, nu {} -> {}{}",
+                w.wheel,
+                plain(p.tread_height * 1e3, 4),
+                plain(f.tread_height_end_mm, 3),
+                plain(f.tread_freq_start_hz, 4),
+                plain(f.tread_freq_end_hz, 4),
+                plain(f.tread_freq_start_hz / f_rot, 4),
+                plain(f.tread_freq_end_hz / f_rot, 4),
+                if f.worn_out_km.is_nan() {
+                    String::new()
+                } else {
+                    format!(", worn out at {} km", plain(f.worn_out_km.round(), 8))
+                }
+            );
+        }
         if estimate {
             match &w.solution.wear {
                 Some(e) => println!(
