@@ -33,6 +33,7 @@ mod scenarios;
 mod shooting_accuracy;
 mod sobol_design;
 mod talking;
+mod tread_ageing;
 mod wear;
 mod wear_analysis;
 mod wear_explore;

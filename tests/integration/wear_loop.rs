@@ -10,7 +10,7 @@ use polywear::params::Params;
 use polywear::wear::accelerated::{run_oracle, OracleSettings};
 use polywear::wear::estimator::{WearInputs, WearSettings, WheelGrowth};
 use polywear::wear::long_term::{
-    cruise_legs, run_wheel, LoopInputs, LoopSettings, WheelWear, SPEED_NODES,
+    cruise_legs, run_wheel, LoopInputs, LoopSettings, RunEnd, WheelWear, SPEED_NODES,
 };
 use polywear::wear::{law, Calibration};
 
@@ -387,6 +387,92 @@ fn accelerated_oracle_agrees_with_the_loop() {
     }
 }
 
+/// A tread with little usable depth wears out before a polygon shows: the run ends there (its
+/// last step clipped to the wear-out), the answer is "worn out", not an error, and no polygon
+/// is extrapolated past the tyre's life. The even wear is w′₀ = 0.12 mm/1000 km at the reference
+/// point, so 0.1 mm of usable tread lasts about 830 km.
+#[test]
+fn a_tyre_worn_out_before_a_polygon_ends_the_run_there() {
+    let p = Params {
+        tread_depth_new_mm: 1.7,
+        speed_spread_kmh: 0.0,
+        ..Params::default()
+    };
+    let cal = calibration(&p);
+    let w = solve_wheel(p, V, Wheel::Follower, &ClassifierOptions::default());
+    let legs = cruise_legs(p.speed_kmh, 0.0, 1);
+    let r = run_wheel(
+        &LoopInputs {
+            params: &p,
+            wheel: Wheel::Follower,
+            variant: V,
+            gamma_m3_per_j: cal.gamma_m3_per_j(&p),
+            legs: &legs,
+            start: start(&w),
+        },
+        &LoopSettings {
+            distance_km: 5000.0,
+            ..LoopSettings::default()
+        },
+        &|_| {},
+    )
+    .unwrap();
+    let km = r.worn_out_km.expect("worn out");
+    assert!((km - 833.0).abs() < 40.0, "worn out at {km} km");
+    assert_eq!(r.ended(), RunEnd::WornOut { km });
+    assert_eq!(r.ended().as_str(), "worn_out");
+    assert!(r.visible.is_none());
+    assert_eq!(
+        r.distance_to_visible_km(p.visible_depth_mm * 1e-3),
+        f64::INFINITY
+    );
+    assert!(
+        r.distance_km() >= km && r.distance_km() < 1.02 * km,
+        "{}",
+        r.distance_km()
+    );
+    let worn_mm = (p.tread_height - r.end().tread_height_m) * 1e3;
+    assert!((worn_mm - 0.1).abs() < 0.002, "worn {worn_mm} mm");
+}
+
+/// `polywear wear` says "tire worn out before a polygon" with the distance, and the summary's
+/// `run_end` is `worn_out` with `worn_out_km` beside it.
+#[test]
+fn wear_says_the_tyre_wore_out_before_a_polygon() {
+    let dir = fresh_dir("wear-worn-out");
+    let out = dir.join("out");
+    let (code, stdout, err) = polywear(&[
+        "wear",
+        "--quiet",
+        "--distance-km",
+        "3000",
+        "--speed-spread-kmh",
+        "0",
+        "--set",
+        "tread_depth_new_mm=1.7",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        stdout.contains("follower: tire worn out before a polygon, after 8")
+            && stdout.contains("0.1 mm of usable tread gone"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("follower: tread     height 15 -> 14.9"),
+        "{stdout}"
+    );
+    let csv = std::fs::read_to_string(out.join("wear_summary.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let row: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
+    let at = |name: &str| row[header.iter().position(|h| *h == name).unwrap()];
+    assert_eq!(at("run_end"), "worn_out");
+    let km: f64 = at("worn_out_km").parse().unwrap();
+    assert!((km - 833.0).abs() < 40.0, "{km}");
+    assert_eq!(at("distance_to_visible_km"), "inf");
+}
+
 /// `polywear wear` refuses bad input before any work, exit 2, naming the flag and the range.
 #[test]
 fn wear_refuses_bad_input() {
@@ -416,6 +502,9 @@ fn wear_refuses_bad_input() {
         (vec!["--set", "seed_runout_um=-1"], "seed_runout_um"),
         (vec!["--set", "visible_depth_mm=0"], "visible_depth_mm"),
         (vec!["--set", "visible_depth_mm=2"], "limit_depth_mm"),
+        (vec!["--set", "tread_depth_new_mm=16"], "(0, 15] mm"),
+        (vec!["--set", "tread_depth_worn_out_mm=8"], "[0, 8) mm"),
+        (vec!["--set", "carcass_share=1.5"], "carcass_share"),
         (vec!["--cycle", "no/such/cycle.csv"], "cycle.csv"),
         (vec!["--speed-nodes", "0"], "[1, 64]"),
         (vec!["--speed-nodes", "65"], "--speed-nodes"),
@@ -471,7 +560,8 @@ fn wear_writes_summary_history_profile_and_figure() {
     assert!(stdout.contains("estimate  dominant order"), "{stdout}");
     let csv = std::fs::read_to_string(out.join("wear_summary.csv")).unwrap();
     let header = csv.lines().next().unwrap();
-    assert!(header.starts_with("wheel,class,polygon_order,dominant_order,detuning_rev,locked,lock_halfwidth_hz,wear_even_mm_per_1000km,growth_mm_per_1000km,growth_rate_per_1000km,saturation_depth_mm,distance_to_visible_km,wear_calibration_share,estimate_"), "{header}");
+    assert!(header.starts_with("wheel,class,polygon_order,dominant_order,detuning_rev,locked,lock_halfwidth_hz,wear_even_mm_per_1000km,growth_mm_per_1000km,growth_rate_per_1000km,saturation_depth_mm,distance_to_visible_km,run_end,worn_out_km,tread_height_end_mm,tread_freq_start_hz,tread_freq_end_hz,wear_calibration_share,estimate_"), "{header}");
+    assert!(csv.lines().nth(1).unwrap().contains(",distance,"), "{csv}");
     assert_eq!(csv.lines().count(), 3);
     for f in [
         "wear_summary.parquet",

@@ -13,9 +13,7 @@ use polywear_analysis::figures::wear::LongTermFiles;
 use polywear_analysis::figures::FilesError;
 use polywear_analysis::plot::FigureFormat;
 use polywear_core::classify::ClassifierOptions;
-use polywear_core::long_term::{
-    self, LongTermError, LongTermProblem, LongTermSolution, WheelLongTerm,
-};
+use polywear_core::long_term::{self, LongTermError, LongTermProblem};
 use polywear_core::model::Variant;
 use polywear_core::params::{ParamId, Params};
 use polywear_core::wear::long_term::{cruise_legs, Leg, LoopSettings, SPEED_NODES};
@@ -244,7 +242,15 @@ pub fn run(args: &WearArgs) -> CliResult {
         FilesError::CreateDir { .. } => CliError(format!("--out {e}")),
         e => CliError(e.to_string()),
     })?;
-    print_verdict(&plan, &solution, args.estimate, secs);
+    let head = polywear_analysis::render::long_term::Header {
+        usage: &plan.usage,
+        secs,
+    };
+    for line in
+        polywear_analysis::render::long_term::lines(&plan.problem, &solution, &head, args.estimate)
+    {
+        println!("{line}");
+    }
     Ok(())
 }
 
@@ -267,118 +273,4 @@ fn progress_bar(quiet: bool, total_km: f64) -> ProgressBar {
         ),
     );
     bar
-}
-
-/// The verdict of one wheel in words.
-fn verdict_words(o: &WheelLongTerm, p: &Params, distance_km: f64) -> String {
-    let run = match &o.run {
-        Ok(r) => r,
-        Err(e) => return format!("{}: no wear figures ({e})", o.wheel),
-    };
-    let lock = match (run.locked_speed_kmh(), &o.tongue) {
-        (Some(v), Ok(Some(t))) => format!(
-            "locked at {} km/h; its tongue spans {}±{} km/h",
-            plain(v, 4),
-            if t.at_bound { "at least " } else { "" },
-            plain(t.halfwidth_kmh, 2)
-        ),
-        (Some(v), Err(e)) => format!(
-            "locked at {} km/h; its tongue not measured: {e}",
-            plain(v, 4)
-        ),
-        (Some(v), Ok(None)) => format!("locked at {} km/h", plain(v, 4)),
-        (None, _) => "vibration not locked".into(),
-    };
-    let n = run.dominant_order();
-    match run.visible {
-        Some((order, km)) => format!(
-            "{}: a{} {order}-sided polygon becomes visible after {} km ({lock})",
-            o.wheel,
-            if order == 8 || order == 11 || order == 18 {
-                "n"
-            } else {
-                ""
-            },
-            thousands(km)
-        ),
-        None => {
-            let s = run.distance_to_visible_km(p.visible_depth_mm * 1e-3);
-            if s.is_infinite() {
-                format!(
-                    "{}: no polygon in {} km, every order levels out ({lock})",
-                    o.wheel,
-                    thousands(distance_km)
-                )
-            } else {
-                format!(
-                    "{}: no polygon in {} km; order {n} still grows and would be visible after about {} km ({lock})",
-                    o.wheel,
-                    thousands(distance_km),
-                    thousands(s)
-                )
-            }
-        }
-    }
-}
-
-/// A distance in words: to the km below 1,000 km, to 100 km above, with thousands separators.
-fn thousands(km: f64) -> String {
-    polywear_core::wording::thousands(if km < 1e3 {
-        km
-    } else {
-        (km / 100.0).round() * 100.0
-    })
-}
-
-fn print_verdict(plan: &Plan, solution: &LongTermSolution, estimate: bool, secs: f64) {
-    let p = &plan.problem.params;
-    let settings = &plan.problem.settings;
-    let wheels = &solution.wheels;
-    println!(
-        "{} (wear zone {}, phi_s = {}, seed run-out {} um, visible at {} mm); {:.1} s",
-        plan.usage,
-        settings.zone,
-        plain(p.wear_share_straight, 4),
-        plain(p.seed_runout_um, 4),
-        plain(p.visible_depth_mm, 4),
-        secs
-    );
-    let words: Vec<String> = wheels
-        .iter()
-        .map(|w| verdict_words(w, p, settings.distance_km))
-        .collect();
-    println!("{}", words.join("; "));
-    for w in wheels {
-        let f = w.figures(p);
-        // The growth from the seed (the estimator's figure) and over the last step, which can
-        // differ in sign once the tread has worn and ν has moved.
-        let at_end = w.run.as_ref().map_or(f64::NAN, |r| {
-            r.end().growth_per_m[f.dominant_order as usize - 1] * 1e6
-        });
-        println!(
-            "  {}: loop      dominant order {}, growth {} per 1000 km from the seed, {} at the end, distance {} km",
-            w.wheel,
-            plain(f.dominant_order, 4),
-            plain(f.growth_rate_per_1000km, 3),
-            plain(at_end, 3),
-            plain(f.distance_to_visible_km.round(), 8)
-        );
-        if estimate {
-            match &w.solution.wear {
-                Some(e) => println!(
-                    "  {}: estimate  dominant order {}, growth {} per 1000 km, distance {} km{}",
-                    w.wheel,
-                    plain(e.polygon_order_dominant, 4),
-                    plain(e.growth_rate_per_1000km, 3),
-                    plain(e.distance_to_visible_km.round(), 8),
-                    if e.reason.is_empty() {
-                        String::new()
-                    } else {
-                        format!(" ({})", e.reason)
-                    }
-                ),
-                None => println!("  {}: estimate  none", w.wheel),
-            }
-        }
-    }
 }

@@ -303,6 +303,12 @@ define_params! {
         None, "Peak-to-valley depth of the service limit on radial run-out (at least visible_depth_mm).";
     SpeedSpreadKmh speed_spread_kmh: "sigma_V", "km/h", 5.0, FieldFitted, Wear, 0.0, false, 100.0, false,
         None, "Standard deviation of the cruising speed around the operating point's speed (a normal spread).";
+    TreadDepthNewMm tread_depth_new_mm: "d_new", "mm", 8.0, Published, Wear, 0.0, true, 200.0, false,
+        None, "Usable groove depth of the new tire's tread (the rubber the long-term loop may wear away; new passenger tires: 7-8 mm in DEKRA's 2022 tests, 10/32-11/32 in = 7.9-8.7 mm in US practice; at most tread_height).";
+    TreadDepthWornOutMm tread_depth_worn_out_mm: "d_out", "mm", 1.6, Published, Wear, 0.0, false, 200.0, false,
+        None, "Groove depth at which the tire is worn out and the loop ends (the legal minimum: 1.6 mm in the EU, Council Directive 89/459/EEC; 2/32 in = 1.6 mm in US inspection rules; below tread_depth_new_mm).";
+    CarcassShare carcass_share: "c", "-", 0.5, Judgement, Wear, 0.0, false, 1.0, false,
+        None, "Share of the new tire's contact lateral compliance 1/K_s that is carcass and belt, not tread: the worn tire's 1/K_s = c/K_s0 + (1 - c)/K_t(h), K_t of Eq. 16 at the worn height (no figure found, bounded 0.3..0.7; 0 = the tread alone, f nearly as 1/h).";
 }
 
 /// The reference constants R0 (MODEL.md#r0-and-the-shipped-defaults) where the shipped defaults
@@ -330,14 +336,18 @@ pub const OPERATING_AXES: [ParamId; 4] = [
 
 impl ParamId {
     /// The parameters tied together by [`Params::validate`]'s cross-parameter rules (μ_s ≤ μ_m,
-    /// n_d ≤ n_w, d_visible ≤ d_limit): drawing one of them can make a sample inconsistent.
-    pub const CROSS_RULES: [ParamId; 6] = [
+    /// n_d ≤ n_w, d_visible ≤ d_limit, d_new ≤ h, d_out < d_new): drawing one of them can make a
+    /// sample inconsistent.
+    pub const CROSS_RULES: [ParamId; 9] = [
         ParamId::MuS,
         ParamId::MuM,
         ParamId::NDriven,
         ParamId::NWheels,
         ParamId::VisibleDepthMm,
         ParamId::LimitDepthMm,
+        ParamId::TreadDepthNewMm,
+        ParamId::TreadHeight,
+        ParamId::TreadDepthWornOutMm,
     ];
 
     /// The parameter's row of the table: name, unit, default, accepted range.
@@ -514,7 +524,34 @@ impl Params {
                 ),
             });
         }
+        let tread_mm = self.tread_height * 1e3;
+        if self.tread_depth_new_mm > tread_mm {
+            return Err(ParamError::Inconsistent {
+                message: format!(
+                    "parameter `tread_depth_new_mm` = {} mm is outside its accepted range (0, {}] mm: it must not exceed `tread_height` = {} m (the usable groove depth is part of the tread)",
+                    plain(self.tread_depth_new_mm, 12),
+                    plain(tread_mm, 12),
+                    plain(self.tread_height, 12)
+                ),
+            });
+        }
+        if self.tread_depth_worn_out_mm >= self.tread_depth_new_mm {
+            return Err(ParamError::Inconsistent {
+                message: format!(
+                    "parameter `tread_depth_worn_out_mm` = {} mm is outside its accepted range [0, {}) mm: it must be below `tread_depth_new_mm` = {} mm (a tire is worn out before its usable tread is gone)",
+                    plain(self.tread_depth_worn_out_mm, 12),
+                    plain(self.tread_depth_new_mm, 12),
+                    plain(self.tread_depth_new_mm, 12)
+                ),
+            });
+        }
         Ok(())
+    }
+
+    /// The depth the tread may lose before the tire is worn out \[m\]:
+    /// `tread_depth_new_mm` − `tread_depth_worn_out_mm` (MODEL.md#the-long-term-loop).
+    pub fn usable_wear_m(&self) -> f64 {
+        (self.tread_depth_new_mm - self.tread_depth_worn_out_mm) * 1e-3
     }
 
     /// Checks every value against its plausible range (MODEL.md#parameter-table): the first
@@ -561,7 +598,7 @@ mod tests {
         for s in SPECS {
             assert_eq!(p.get(s.name), Some(s.default), "{}", s.name);
         }
-        assert_eq!(SPECS.len(), 35);
+        assert_eq!(SPECS.len(), 38);
         assert_eq!(ParamId::ALL.len(), SPECS.len());
     }
 
@@ -607,7 +644,9 @@ mod tests {
         );
         assert!(e.to_string().contains("did you mean `speed_kmh`?"));
         assert!(
-            e.to_string().ends_with("limit_depth_mm, speed_spread_kmh"),
+            e.to_string().ends_with(
+                "speed_spread_kmh, tread_depth_new_mm, tread_depth_worn_out_mm, carcass_share"
+            ),
             "{e}"
         );
     }
@@ -655,5 +694,51 @@ mod tests {
             ..Params::default()
         };
         p.validate().unwrap();
+        // The usable depth is part of the tread, and the tire is worn out before it is gone.
+        let p = Params {
+            tread_depth_new_mm: 16.0,
+            ..Params::default()
+        };
+        let e = p.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("`tread_depth_new_mm` = 16 mm")
+                && e.contains("(0, 15] mm")
+                && e.contains("`tread_height` = 0.015 m"),
+            "{e}"
+        );
+        Params {
+            tread_depth_new_mm: 15.0,
+            ..Params::default()
+        }
+        .validate()
+        .unwrap();
+        Params {
+            tread_height: 0.008,
+            ..Params::default()
+        }
+        .validate()
+        .unwrap();
+        for worn_out in [8.0, 9.0] {
+            let p = Params {
+                tread_depth_worn_out_mm: worn_out,
+                ..Params::default()
+            };
+            let e = p.validate().unwrap_err().to_string();
+            assert!(
+                e.contains("`tread_depth_worn_out_mm`")
+                    && e.contains("[0, 8) mm")
+                    && e.contains("`tread_depth_new_mm` = 8 mm"),
+                "{e}"
+            );
+        }
+        let e = Params::default()
+            .set("tread_depth_new_mm", 0.0)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("tread_depth_new_mm") && e.contains("(0, 200]"),
+            "{e}"
+        );
+        assert!((Params::default().usable_wear_m() - 6.4e-3).abs() < 1e-15);
     }
 }

@@ -10,6 +10,7 @@ pub mod cycle;
 pub mod drivers;
 pub mod figures;
 pub mod fleet;
+pub mod long_term;
 pub mod markdown;
 pub mod scenarios;
 pub mod summary;

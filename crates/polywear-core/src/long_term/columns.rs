@@ -9,7 +9,8 @@ use crate::wear::WearEstimate;
 type EstimateColumn = (&'static str, &'static str, fn(&WearEstimate) -> f64);
 
 impl LongTermSolution {
-    /// One row per wheel: class, orders, lock, rates and the distance to a visible polygon;
+    /// One row per wheel: class, orders, lock, rates, the distance to a visible polygon, how the
+    /// run ended (a polygon, the tyre worn out, the distance) and the tread's ageing;
     /// with `estimate`, the per-sample estimator's `estimate_*` columns beside them.
     pub fn summary_columns(&self, estimate: bool) -> Vec<Column> {
         let p = &self.params;
@@ -58,6 +59,16 @@ impl LongTermSolution {
             col("distance_to_visible_km", "km", &|x| {
                 x.distance_to_visible_km
             }),
+            Column::str(
+                "run_end",
+                f.iter()
+                    .map(|x| x.ended.map_or("", |e| e.as_str()).to_string())
+                    .collect(),
+            ),
+            col("worn_out_km", "km", &|x| x.worn_out_km),
+            col("tread_height_end_mm", "mm", &|x| x.tread_height_end_mm),
+            col("tread_freq_start_hz", "Hz", &|x| x.tread_freq_start_hz),
+            col("tread_freq_end_hz", "Hz", &|x| x.tread_freq_end_hz),
             Column::f64(
                 "wear_calibration_share",
                 "",

@@ -1,7 +1,9 @@
 //! The figures of one wheel's run that the summary table and the verdict quote.
 
 use super::WheelLongTerm;
+use crate::model::WheelModel;
 use crate::params::Params;
+use crate::wear::long_term::RunEnd;
 
 /// The summary's figures of one wheel (NaN where undefined: no run, no tongue).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -22,8 +24,20 @@ pub struct LongTermFigures {
     pub growth_rate_per_1000km: f64,
     /// The depth at which the growth saturates \[mm\].
     pub saturation_depth_mm: f64,
-    /// The distance to a visible polygon \[km\] (+inf where every order levels out).
+    /// The distance to a visible polygon \[km\] (+inf where every order levels out or the tyre
+    /// wore out first).
     pub distance_to_visible_km: f64,
+    /// How the run ended (`None`: no run).
+    pub ended: Option<RunEnd>,
+    /// Where the tread lost its usable depth \[km\] (NaN where it did not).
+    pub worn_out_km: f64,
+    /// The tread height at the end \[mm\].
+    pub tread_height_end_mm: f64,
+    /// The tread's linear frequency (step 8) of the new tyre at the point's speed \[Hz\].
+    pub tread_freq_start_hz: f64,
+    /// The same at the end's tread height, the worn tread block of MODEL.md#the-ageing-tread
+    /// \[Hz\].
+    pub tread_freq_end_hz: f64,
 }
 
 impl WheelLongTerm {
@@ -41,6 +55,11 @@ impl WheelLongTerm {
                 growth_rate_per_1000km: nan,
                 saturation_depth_mm: nan,
                 distance_to_visible_km: nan,
+                ended: None,
+                worn_out_km: nan,
+                tread_height_end_mm: nan,
+                tread_freq_start_hz: nan,
+                tread_freq_end_hz: nan,
             };
         };
         let n = run.dominant_order();
@@ -50,6 +69,13 @@ impl WheelLongTerm {
         let lock_halfwidth_hz = match &self.tongue {
             Ok(Some(t)) => t.halfwidth_hz,
             _ => nan,
+        };
+        let freq_at = |height_m: f64| {
+            let Ok(m) = &self.solution.model else {
+                return nan;
+            };
+            WheelModel::build_worn(p, height_m, self.wheel, m.variant)
+                .map_or(nan, |m| m.ode.linear_stability().eig_freq_hz)
         };
         LongTermFigures {
             dominant_order: n as f64,
@@ -61,6 +87,11 @@ impl WheelLongTerm {
             growth_rate_per_1000km: run.linear_growth_per_m(n) * 1e6,
             saturation_depth_mm: run.saturation_depth_m() * 1e3,
             distance_to_visible_km: run.distance_to_visible_km(p.visible_depth_mm * 1e-3),
+            ended: Some(run.ended()),
+            worn_out_km: run.worn_out_km.unwrap_or(nan),
+            tread_height_end_mm: e.tread_height_m * 1e3,
+            tread_freq_start_hz: freq_at(p.tread_height),
+            tread_freq_end_hz: freq_at(e.tread_height_m),
         }
     }
 }

@@ -125,8 +125,32 @@ impl fmt::Display for ModelFailure {
 impl WheelModel {
     /// Evaluates steps 1–5 of MODEL.md#the-physics-step-by-step and assembles the step-6 ODE.
     pub fn build(p: &Params, wheel: Wheel, variant: Variant) -> Result<Self, ModelFailure> {
+        Self::assemble(p, wheel, variant, |patch| tire::tread_block(p, patch))
+    }
+
+    /// [`WheelModel::build`] for a worn tyre whose tread is `height_m` high, `p.tread_height`
+    /// being the new tyre's (MODEL.md#the-ageing-tread): the tread block of
+    /// [`tire::worn_tread_block`], everything else as the new tyre's. At `height_m` =
+    /// `p.tread_height` it is [`WheelModel::build`] exactly.
+    pub fn build_worn(
+        p: &Params,
+        height_m: f64,
+        wheel: Wheel,
+        variant: Variant,
+    ) -> Result<Self, ModelFailure> {
+        Self::assemble(p, wheel, variant, |patch| {
+            tire::worn_tread_block(p, patch, height_m)
+        })
+    }
+
+    fn assemble(
+        p: &Params,
+        wheel: Wheel,
+        variant: Variant,
+        tread_of: impl Fn(&ContactPatch) -> TreadBlock,
+    ) -> Result<Self, ModelFailure> {
         let patch = tire::contact_patch(p).map_err(|e| ModelFailure::Invalid(e.to_string()))?;
-        let tread = tire::tread_block(p, &patch);
+        let tread = tread_of(&patch);
         let slip_ratio = match wheel {
             Wheel::Follower => 0.0,
             Wheel::Driving => brush::slip_ratio_for_force(p, &patch, brush::drive_force_n(p))

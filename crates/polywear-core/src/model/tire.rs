@@ -56,12 +56,113 @@ pub struct TreadBlock {
 
 /// Tread block shear stiffness with the bending correction of Eq. 16 (reconstructed form).
 pub(crate) fn tread_block(p: &Params, patch: &ContactPatch) -> TreadBlock {
-    let beta = patch.length_m / p.tread_height;
+    TreadBlock {
+        stiffness_n_per_m: block_stiffness_n_per_m(p, patch, p.tread_height),
+        mass_kg: p.rho * patch.length_m * patch.width_m * p.tread_height,
+    }
+}
+
+/// Eq. 16 for a block of height `height_m`: K = G b β (1 − 6/(6 + π²β²)), β = a/h.
+fn block_stiffness_n_per_m(p: &Params, patch: &ContactPatch, height_m: f64) -> f64 {
+    let beta = patch.length_m / height_m;
     let pi2 = std::f64::consts::PI * std::f64::consts::PI;
-    let stiffness_n_per_m =
-        p.g_mod * patch.width_m * beta * (1.0 - 6.0 / (6.0 + pi2 * beta * beta));
+    p.g_mod * patch.width_m * beta * (1.0 - 6.0 / (6.0 + pi2 * beta * beta))
+}
+
+/// The tread block of a worn tyre whose tread is `height_m` high (MODEL.md#the-ageing-tread),
+/// `p.tread_height` being the new tyre's h₀. The new tyre's contact lateral compliance 1/K_s0
+/// (Eq. 16 at h₀, the paper's) is the carcass and belt's share c = `carcass_share` in series
+/// with the tread block's 1 − c; only the block's part follows the height, as Eq. 16 does:
+/// 1/K_s(h) = c/K_s0 + (1 − c)/K_t(h), K_t(h) being Eq. 16 at h, so K_s(h₀) = K_s0. The mass is
+/// the tread rubber that is left, m = ρ a b h. At h = h₀ this is the new tyre's tread block
+/// exactly, and with c = 0 it is Eq. 16 at h exactly (the tread alone).
+pub fn worn_tread_block(p: &Params, patch: &ContactPatch, height_m: f64) -> TreadBlock {
+    if height_m == p.tread_height {
+        return tread_block(p, patch);
+    }
+    let block = block_stiffness_n_per_m(p, patch, height_m);
+    let c = p.carcass_share;
+    let stiffness_n_per_m = if c == 0.0 {
+        block
+    } else {
+        let new = block_stiffness_n_per_m(p, patch, p.tread_height);
+        1.0 / (c / new + (1.0 - c) / block)
+    };
     TreadBlock {
         stiffness_n_per_m,
-        mass_kg: p.rho * patch.length_m * patch.width_m * p.tread_height,
+        mass_kg: p.rho * patch.length_m * patch.width_m * height_m,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn patch(p: &Params) -> ContactPatch {
+        contact_patch(p).unwrap()
+    }
+
+    #[test]
+    fn the_new_tyre_is_the_papers_tread_block_bit_for_bit() {
+        for c in [0.0, 0.3, 0.5, 0.7, 1.0] {
+            let p = Params {
+                carcass_share: c,
+                ..Params::default()
+            };
+            let a = patch(&p);
+            assert_eq!(
+                worn_tread_block(&p, &a, p.tread_height),
+                tread_block(&p, &a)
+            );
+        }
+    }
+
+    #[test]
+    fn no_carcass_share_is_the_block_alone_at_the_worn_height() {
+        let p = Params {
+            carcass_share: 0.0,
+            ..Params::default()
+        };
+        let a = patch(&p);
+        let h = 0.0086;
+        let at_h = Params {
+            tread_height: h,
+            ..p
+        };
+        assert_eq!(worn_tread_block(&p, &a, h), tread_block(&at_h, &a));
+    }
+
+    #[test]
+    fn the_carcass_is_in_series_with_the_worn_block() {
+        let p = Params::default();
+        let a = patch(&p);
+        let h = 0.0086;
+        let k0 = tread_block(&p, &a).stiffness_n_per_m;
+        let kt = tread_block(
+            &Params {
+                tread_height: h,
+                ..p
+            },
+            &a,
+        )
+        .stiffness_n_per_m;
+        let worn = worn_tread_block(&p, &a, h);
+        let c = p.carcass_share;
+        let want = 1.0 / (c / k0 + (1.0 - c) / kt);
+        assert!((worn.stiffness_n_per_m / want - 1.0).abs() < 1e-14);
+        // Stiffer than new, softer than the block alone; the mass is the rubber left.
+        assert!(k0 < worn.stiffness_n_per_m && worn.stiffness_n_per_m < kt);
+        let m0 = tread_block(&p, &a).mass_kg;
+        assert!((worn.mass_kg / m0 - h / p.tread_height).abs() < 1e-14);
+        // A carcass that takes all the compliance keeps K_s0.
+        let rigid = worn_tread_block(
+            &Params {
+                carcass_share: 1.0,
+                ..p
+            },
+            &a,
+            h,
+        );
+        assert!((rigid.stiffness_n_per_m / k0 - 1.0).abs() < 1e-14);
     }
 }

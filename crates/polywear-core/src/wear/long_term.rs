@@ -14,8 +14,13 @@
 //!    of the print, which the scaling would multiply by thousands of revolutions;
 //! 3. lays that revolution's energy onto the cells, each element by its own pressure
 //!    ([`DepositPlan`], one energy sample per cell), adds the wear that is not straight running,
-//!    (1 − φ_s)w′₀ per element by its pressure, and scales both by chunk/(2π r_B) revolutions;
-//! 4. lowers h by the mean of all the wear (the tread's real height loss).
+//!    (1 − φ_s)w′_pos per element by its pressure (w′_pos the position's even-wear rate), and
+//!    scales both by chunk/(2π r_B) revolutions;
+//! 4. lowers h by the mean of all the wear (the tread's real height loss); the tread block is
+//!    rebuilt at the worn height with the carcass in series ([`WheelModel::build_worn`]).
+//!
+//! The run ends where a polygon is visible, where the tread has lost its usable depth
+//! ([`Params::usable_wear_m`]: the tyre is worn out before a polygon), or at the distance asked.
 //!
 //! The step is the smallest of Δs_max, a tenth of the time in which the fastest harmonic doubles
 //! (0.1 |R|/|dR/ds| and 0.2/|β|) and 1 µm of profile change, never below Δs_min; a step after
@@ -37,7 +42,7 @@ use super::lock::{is_locked, revolution_weights, rotation_number, window_revs, W
 use super::profile::{harmonics_of, Profile};
 use super::slip::SlipPower;
 pub use super::wheel_wear::{
-    measured_growth_per_m, profile_harmonics, HistoryPoint, WheelWear, LINEAR_REGIME_SEEDS,
+    measured_growth_per_m, profile_harmonics, HistoryPoint, RunEnd, WheelWear, LINEAR_REGIME_SEEDS,
 };
 use super::window::{integrate_window, EpsilonTable, WindowRequest};
 use super::zone::WearZone;
@@ -80,7 +85,8 @@ pub struct LoopSettings {
     pub min_step_km: f64,
     /// Revolutions integrated and not measured after each profile update, N_skip.
     pub skip_revs: usize,
-    /// Whether the tread height falls with the wear (f rises roughly as 1/h).
+    /// Whether the tread height falls with the wear (the tread block stiffens and lightens,
+    /// MODEL.md#the-ageing-tread); the worn depth that ends the tyre's life is counted either way.
     pub update_tread_height: bool,
     /// Relative tolerance of the windows' integration.
     pub rtol: f64,
@@ -90,7 +96,8 @@ pub struct LoopSettings {
     pub zone: WearZone,
     /// Which friction power wears it (the driving wheel's slip power counted or not).
     pub power: WearPower,
-    /// Stop once a polygon is visible (else run the whole distance).
+    /// Stop once a polygon is visible (else run the whole distance, or until the tyre is worn
+    /// out).
     pub stop_at_visible: bool,
 }
 
@@ -116,7 +123,8 @@ impl Default for LoopSettings {
 /// What the loop needs about one wheel.
 #[derive(Debug, Clone, Copy)]
 pub struct LoopInputs<'a> {
-    /// The wheel's parameters (the speed is each leg's; the tread height is the new tyre's).
+    /// The wheel's parameters (the speed is each leg's; the tread height is the new tyre's, and
+    /// its usable depth ends the run).
     pub params: &'a Params,
     /// Which wheel.
     pub wheel: Wheel,
@@ -147,6 +155,8 @@ struct LegModel {
 struct RunState {
     profile: Profile,
     height_m: f64,
+    /// The mean depth worn off the tread so far \[m\] (whether or not h follows it).
+    worn_m: f64,
     /// The ODE state each leg's last window ended in (`None`: not visited yet).
     x: Vec<Option<[f64; 3]>>,
     /// The state the last window ended in, whichever leg it was.
@@ -201,12 +211,16 @@ impl<'a> Run<'a> {
         };
         if stale {
             let speed_kmh = self.inputs.legs[i].speed_kmh;
-            let params = Params {
+            let new = Params {
                 speed_kmh,
-                tread_height: h,
                 ..*self.inputs.params
             };
-            let model = WheelModel::build(&params, self.inputs.wheel, self.inputs.variant)
+            // The worn tread block (its carcass in series), and the feedback at the worn height.
+            let params = Params {
+                tread_height: h,
+                ..new
+            };
+            let model = WheelModel::build_worn(&new, h, self.inputs.wheel, self.inputs.variant)
                 .map_err(|e| self.failure(speed_kmh, e.to_string()))?;
             let feedback = Feedback::new(&params, &model, self.settings.zone);
             let period_s = 1.0 / model.ode.linear_stability().eig_freq_hz;
@@ -250,9 +264,11 @@ impl<'a> Run<'a> {
         for (d, r) in self.state.profile.depth_m.iter_mut().zip(&m.rate_m_per_m) {
             *d += r * chunk_m;
         }
+        let rate = &m.rate_m_per_m;
+        let worn_m = rate.iter().sum::<f64>() / rate.len() as f64 * chunk_m;
+        self.state.worn_m += worn_m;
         if self.settings.update_tread_height {
-            let rate = &m.rate_m_per_m;
-            self.state.height_m -= rate.iter().sum::<f64>() / rate.len() as f64 * chunk_m;
+            self.state.height_m -= worn_m;
         }
         self.state.x[i] = Some(m.end);
         self.state.last_x = m.end;
@@ -455,6 +471,7 @@ impl<'a> Run<'a> {
             state: RunState {
                 profile,
                 height_m: p.tread_height,
+                worn_m: 0.0,
                 x: vec![None; inputs.legs.len()],
                 last_x: [0.0; 3],
                 distance_m: 0.0,
@@ -544,9 +561,19 @@ pub fn run_wheel(
     let shares: Vec<f64> = inputs.legs.iter().map(|l| l.share).collect();
     let (mut steps, mut redone) = (0usize, 0usize);
     let mut visible = None;
+    let usable_m = p.usable_wear_m();
+    let mut worn_out_km = None;
+    // The mean wear rate of the last accepted step \[m/m\].
+    let mut wear_rate_m_per_m = 0.0f64;
     while run.state.distance_m < total_m * (1.0 - 1e-12) && steps < MAX_STEPS {
-        let this_m = bracketed_step_m(step_m, run.state.distance_m, &mut edge)
+        let mut this_m = bracketed_step_m(step_m, run.state.distance_m, &mut edge)
             .min(total_m - run.state.distance_m);
+        if wear_rate_m_per_m > 0.0 {
+            // The tyre's last step ends where its usable tread runs out (1% and 1 m past at the
+            // last step's rate, so that it does).
+            let to_out_m = (usable_m - run.state.worn_m) / wear_rate_m_per_m;
+            this_m = this_m.min(1.01 * to_out_m + 1.0);
+        }
         let before = run.state.clone();
         let (rate, rho, locked, measured) = run.step(this_m, remeasured.take().as_deref())?;
         let sig = signature(&rho, &locked);
@@ -582,10 +609,19 @@ pub fn run_wheel(
         let prev_depths = history.last().expect("the start").depths_m.clone();
         let point = history_point(&before, &run.state, &rate, orders, rho, locked);
         let mean = rate.iter().sum::<f64>() / rate.len() as f64;
+        wear_rate_m_per_m = mean;
         let spread = rate.iter().fold(0.0f64, |m, r| m.max((r - mean).abs()));
         step_m = next_step_m(settings, &point, spread);
         if visible.is_none() {
             visible = crossing(&prev_depths, &point.depths_m, visible_m, &before, this_m);
+        }
+        if run.state.worn_m >= usable_m {
+            worn_out_km = Some(worn_out_at_km(&before, &run.state, usable_m));
+            // A polygon that would be visible only later in this step comes after the tyre's
+            // end: the tyre is worn out before it.
+            if matches!(visible, Some((_, km)) if km > worn_out_km.unwrap_or(f64::INFINITY)) {
+                visible = None;
+            }
         }
         history.push(point);
         run.state.history_len = history.len();
@@ -595,7 +631,7 @@ pub fn run_wheel(
         ));
         progress(this_m / 1e3);
         last = Some((before, this_m, sig, measured));
-        if visible.is_some() && settings.stop_at_visible {
+        if (visible.is_some() && settings.stop_at_visible) || worn_out_km.is_some() {
             break;
         }
     }
@@ -605,6 +641,7 @@ pub fn run_wheel(
         legs: inputs.legs.to_vec(),
         profiles: pick_profiles(profiles, 5),
         visible,
+        worn_out_km,
         energy_j: run.state.energy_j,
         straight_volume_m3: run.state.straight_volume_m3,
         band_area_m2,
@@ -616,6 +653,18 @@ pub fn run_wheel(
         end_states: run.state.x.clone(),
         history,
     })
+}
+
+/// Where in the step from `before` to `after` the worn depth reached `usable_m` \[km\] (linear
+/// within the step: the even wear's rate moves little over one).
+fn worn_out_at_km(before: &RunState, after: &RunState, usable_m: f64) -> f64 {
+    let (w0, w1) = (before.worn_m, after.worn_m);
+    let share = if w1 > w0 {
+        ((usable_m - w0) / (w1 - w0)).clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
+    (before.distance_m + share * (after.distance_m - before.distance_m)) / 1e3
 }
 
 /// The first order whose depth crossed `visible_m` in a step of `step_m` from `before`, and

@@ -26,7 +26,7 @@ const BISECTIONS: usize = 4;
 /// What the measurement needs.
 #[derive(Debug, Clone, Copy)]
 pub struct TongueRequest<'a> {
-    /// The run's parameters (the speed is replaced by each probe's).
+    /// The run's parameters, the new tyre's (the speed is replaced by each probe's).
     pub params: &'a Params,
     /// Which wheel.
     pub wheel: Wheel,
@@ -71,18 +71,22 @@ pub fn measure(req: &TongueRequest<'_>) -> Result<Option<Tongue>, WearError> {
     let (centre_kmh, order) = req.locked;
     let mut rhs_evals = 0u64;
     let mut locked_at = |speed_kmh: f64| -> Result<bool, WearError> {
-        let p = Params {
+        let new = Params {
             speed_kmh,
-            tread_height: req.tread_height_m,
             ..*req.params
+        };
+        let p = Params {
+            tread_height: req.tread_height_m,
+            ..new
         };
         let fail = |reason: String| WearError::Loop {
             speed_kmh,
             distance_km: f64::NAN,
             reason: format!("measuring the tongue: {reason}"),
         };
-        let model =
-            WheelModel::build(&p, req.wheel, req.variant).map_err(|e| fail(e.to_string()))?;
+        // The worn tread block, as the loop built it (MODEL.md#the-ageing-tread).
+        let model = WheelModel::build_worn(&new, req.tread_height_m, req.wheel, req.variant)
+            .map_err(|e| fail(e.to_string()))?;
         let fb = Feedback::new(&p, &model, req.zone);
         let table = EpsilonTable::new(&fb, &harmonics, 8 * req.orders);
         let rotation_hz = WheelModel::rotation_hz(&p);

@@ -41,6 +41,10 @@ pub struct WheelWear {
     /// The first order to reach d_visible and the distance \[km\] at which it did (interpolated
     /// exponentially within its step).
     pub visible: Option<(u32, f64)>,
+    /// The distance \[km\] at which the tread lost its usable depth, `tread_depth_new_mm` −
+    /// `tread_depth_worn_out_mm` (interpolated linearly within its step), where it did: the run
+    /// ends there, the tyre worn out before a polygon became visible.
+    pub worn_out_km: Option<f64>,
     /// Straight-running friction energy laid onto the tread over the run \[J\].
     pub energy_j: f64,
     /// The volume that energy wore \[m³\] (γ times the energy, to rounding).
@@ -65,7 +69,46 @@ pub struct WheelWear {
 /// extrapolated to a visible polygon ([`WheelWear::distance_to_visible_km`]).
 const EXTRAPOLATION_FLOOR_SEEDS: f64 = 1e-3;
 
+/// How a run ended (MODEL.md#the-long-term-loop).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RunEnd {
+    /// A polygon of `order` sides became visible after `km`.
+    Visible {
+        /// Its sides.
+        order: u32,
+        /// Where \[km\].
+        km: f64,
+    },
+    /// The tread lost its usable depth after `km`, before any polygon became visible.
+    WornOut {
+        /// Where \[km\].
+        km: f64,
+    },
+    /// The distance asked was run with no visible polygon and tread left.
+    Distance,
+}
+
+impl RunEnd {
+    /// The summary's word for it: `visible`, `worn_out`, `distance`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RunEnd::Visible { .. } => "visible",
+            RunEnd::WornOut { .. } => "worn_out",
+            RunEnd::Distance => "distance",
+        }
+    }
+}
+
 impl WheelWear {
+    /// How the run ended: a visible polygon first, else the tyre worn out, else the distance.
+    pub fn ended(&self) -> RunEnd {
+        match (self.visible, self.worn_out_km) {
+            (Some((order, km)), _) => RunEnd::Visible { order, km },
+            (None, Some(km)) => RunEnd::WornOut { km },
+            (None, None) => RunEnd::Distance,
+        }
+    }
+
     /// The last history point.
     pub fn end(&self) -> &HistoryPoint {
         self.history.last().expect("the start is always there")
@@ -100,12 +143,16 @@ impl WheelWear {
             && e.growth_per_m.iter().all(|b| *b <= 0.0)
     }
 
-    /// The distance to a visible polygon \[km\]: where one became visible; else, if the
-    /// dominant order still grows, the end of the run plus its exponential extrapolation;
-    /// else +inf.
+    /// The distance to a visible polygon \[km\]: where one became visible; else +inf where the
+    /// tyre wore out first; else, if the dominant order still grows, the end of the run plus its
+    /// exponential extrapolation; else +inf.
     pub fn distance_to_visible_km(&self, visible_m: f64) -> f64 {
         if let Some((_, km)) = self.visible {
             return km;
+        }
+        if self.worn_out_km.is_some() {
+            // The tyre is worn out first: no polygon on this tyre.
+            return f64::INFINITY;
         }
         let n = self.dominant_order() as usize - 1;
         let e = self.end();

@@ -80,10 +80,11 @@ fn check_rows_against_draws(
                 .expect("an operating-point column is a parameter");
             p[id] = *v;
         }
-        for (small, large, why) in ORDERED_PAIRS {
+        for rule in &ORDERED_PAIRS {
+            let (small, large, why) = (rule.small, rule.large, rule.why);
             let ((_, small_max), small_drawn) = value_range(&p, drawn, small);
             let ((large_min, _), large_drawn) = value_range(&p, drawn, large);
-            if (small_drawn || large_drawn) && small_max > large_min {
+            if (small_drawn || large_drawn) && rule.broken(small_max, large_min) {
                 return Err(StudyError::OperatingPoints(format!(
                     "{}, row {}: with the draws of [params], {small} reaches {} and {large} falls to {}: samples drawing this row would fail ({why})",
                     op.path.display(),

@@ -348,24 +348,86 @@ impl StudyFile {
     }
 }
 
-/// The cross-parameter rules of [`Params::validate`] that order two parameters, as (the one
-/// that must not exceed, the other, why): μ_s ≤ μ_m, n_d ≤ n_w and d_visible ≤ d_limit.
-pub(super) const ORDERED_PAIRS: [(ParamId, ParamId, &str); 3] = [
-    (
+/// A cross-parameter rule of [`Params::validate`] that orders two parameters: `small` must not
+/// exceed (or, `strict`, must stay below) `large`, read in `small`'s unit.
+pub(super) struct OrderedPair {
+    /// The one that must not exceed.
+    pub small: ParamId,
+    /// The other.
+    pub large: ParamId,
+    /// `large`'s unit in `small`'s (1e3 for a depth in mm against a height in m).
+    pub large_in_small_units: f64,
+    /// Whether `small` must stay strictly below `large`.
+    pub strict: bool,
+    /// Why, in words.
+    pub why: &'static str,
+}
+
+impl OrderedPair {
+    /// Whether `small` at `small_max` breaks the rule against `large` at `large_min`.
+    pub fn broken(&self, small_max: f64, large_min: f64) -> bool {
+        let large = large_min * self.large_in_small_units;
+        if self.strict {
+            small_max >= large
+        } else {
+            small_max > large
+        }
+    }
+
+    /// "at most" or "below", as the rule reads.
+    pub fn bound_words(&self) -> &'static str {
+        if self.strict {
+            "below"
+        } else {
+            "at most"
+        }
+    }
+}
+
+const fn pair(small: ParamId, large: ParamId, why: &'static str) -> OrderedPair {
+    OrderedPair {
+        small,
+        large,
+        large_in_small_units: 1.0,
+        strict: false,
+        why,
+    }
+}
+
+/// The cross-parameter rules of [`Params::validate`] that order two parameters: μ_s ≤ μ_m,
+/// n_d ≤ n_w, d_visible ≤ d_limit, d_new ≤ h and d_out < d_new.
+pub(super) const ORDERED_PAIRS: [OrderedPair; 5] = [
+    pair(
         ParamId::MuS,
         ParamId::MuM,
         "sliding friction is at most the static maximum",
     ),
-    (
+    pair(
         ParamId::NDriven,
         ParamId::NWheels,
         "a vehicle drives at most all its wheels",
     ),
-    (
+    pair(
         ParamId::VisibleDepthMm,
         ParamId::LimitDepthMm,
         "a polygon is visible before it reaches the service limit",
     ),
+    OrderedPair {
+        large_in_small_units: 1e3,
+        ..pair(
+            ParamId::TreadDepthNewMm,
+            ParamId::TreadHeight,
+            "the usable groove depth is part of the tread",
+        )
+    },
+    OrderedPair {
+        strict: true,
+        ..pair(
+            ParamId::TreadDepthWornOutMm,
+            ParamId::TreadDepthNewMm,
+            "a tire is worn out before its usable tread is gone",
+        )
+    },
 ];
 
 /// The smallest and largest value parameter `p` takes in a study: its draws' extremes (the
@@ -382,10 +444,11 @@ pub(super) fn value_range(base: &Params, drawn: &[DrawnParam], p: ParamId) -> ((
 /// Checked on the bounds, before any work, rather than found as failed rows afterwards.
 fn check_drawn_rules(base: &Params, drawn: &[DrawnParam]) -> Result<(), StudyError> {
     use polywear_core::wording::plain;
-    for (small, large, why) in ORDERED_PAIRS {
+    for rule in &ORDERED_PAIRS {
+        let (small, large, why) = (rule.small, rule.large, rule.why);
         let ((_, small_max), small_drawn) = value_range(base, drawn, small);
         let ((large_min, _), large_drawn) = value_range(base, drawn, large);
-        if !(small_drawn || large_drawn) || small_max <= large_min {
+        if !(small_drawn || large_drawn) || !rule.broken(small_max, large_min) {
             continue;
         }
         let side = |p: ParamId, drawn: bool, bound: &str, x: f64| {
@@ -396,9 +459,10 @@ fn check_drawn_rules(base: &Params, drawn: &[DrawnParam]) -> Result<(), StudyErr
             }
         };
         return Err(StudyError::DrawnRule(format!(
-            "{} and {}: samples with {small} above {large} would fail ({why}); draw them so that {small} stays at most {large}",
+            "{} and {}: samples with {small} above {large} would fail ({why}); draw them so that {small} stays {} {large}",
             side(small, small_drawn, "up to", small_max),
             side(large, large_drawn, "down to", large_min),
+            rule.bound_words(),
         )));
     }
     Ok(())
