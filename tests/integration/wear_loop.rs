@@ -749,3 +749,88 @@ fn the_first_order_tongue_is_the_forced_cycles_lock_band_at_small_depth() {
         assert!(!locked, "R 2 um, delta {x} delta_L ({seed}): rho {rho}");
     }
 }
+
+/// `--out` is checked before any work (a path through a file, a link to nothing), `wear` runs
+/// without it for a quick look (the verdict only, no file), and a run whose wheels have no
+/// wear figures leaves no figure of an earlier run in its folder.
+#[test]
+fn wear_checks_its_folder_first_runs_without_one_and_leaves_no_stale_figure() {
+    let dir = crate::common::fresh_dir("wear-out");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("afile");
+    std::fs::write(&file, "x").unwrap();
+    let through = file.join("sub");
+    let (code, _, stderr) = crate::common::polywear(&["wear", "--out", through.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(
+        stderr.contains("cannot be a folder") && stderr.contains("is a file"),
+        "{stderr}"
+    );
+    #[cfg(unix)]
+    {
+        let dangling = dir.join("dangling");
+        std::os::unix::fs::symlink(dir.join("nowhere"), &dangling).unwrap();
+        let (code, _, stderr) =
+            crate::common::polywear(&["wear", "--out", dangling.to_str().unwrap()]);
+        assert_eq!(code, 2);
+        assert!(stderr.contains("symbolic link to nothing"), "{stderr}");
+    }
+    let (code, stdout, stderr) =
+        crate::common::polywear(&["wear", "--quiet", "--speed", "60", "--distance-km", "200"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("follower:") && stdout.contains("driving:"),
+        "{stdout}"
+    );
+    let stale = dir.join("stale");
+    std::fs::create_dir_all(&stale).unwrap();
+    std::fs::write(stale.join("wear.png"), "an earlier run's figure").unwrap();
+    let (code, stdout, stderr) = crate::common::polywear(&[
+        "wear",
+        "--quiet",
+        "--accept-implausible",
+        "--set",
+        "load_n=50000",
+        "--set",
+        "pressure_kpa=10",
+        "--distance-km",
+        "100",
+        "--out",
+        stale.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("no wear figures"), "{stdout}");
+    assert!(!stale.join("wear.png").exists());
+    // A wheel without a model has no polygon order and no lock: NaN, not 0.
+    let csv = std::fs::read_to_string(stale.join("wear_summary.csv")).unwrap();
+    let mut lines = csv.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    for line in lines {
+        let cells: Vec<&str> = line.split(',').collect();
+        assert_eq!(cells[col("class")], "failed", "{line}");
+        for name in ["polygon_order", "locked", "dominant_order", "detuning_rev"] {
+            assert_eq!(cells[col(name)], "NaN", "{name}: {line}");
+        }
+    }
+}
+
+/// `wear --cycle` refuses a speed given as well, as `cycle` does, instead of dropping it.
+#[test]
+fn wear_with_a_cycle_refuses_a_speed() {
+    let cycle = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/cycles/hwfet.csv");
+    for speed in [["--speed", "80"], ["--set", "speed_kmh=80"]] {
+        let (code, _, stderr) = crate::common::polywear(&[
+            "wear",
+            "--cycle",
+            cycle.to_str().unwrap(),
+            speed[0],
+            speed[1],
+        ]);
+        assert_eq!(code, 2, "{stderr}");
+        assert!(
+            stderr.contains("the cycle gives the speeds driven"),
+            "{stderr}"
+        );
+    }
+}

@@ -72,9 +72,10 @@ pub struct WearArgs {
     pub quiet: bool,
     #[command(flatten)]
     pub budget: BudgetArgs,
-    /// Output folder (created if missing)
+    /// Output folder (created if missing, checked before any work) for the summary, history and
+    /// profile tables and the figure; without it only the verdict is printed
     #[arg(long, value_name = "DIR")]
-    pub out: PathBuf,
+    pub out: Option<PathBuf>,
 }
 
 /// Most speeds `--speed-nodes` accepts.
@@ -93,6 +94,12 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
     let mut p = resolved.params;
     long_term::check_distance_km(args.distance_km).map_err(refusal)?;
     let reading = args.wear.settings();
+    // The cycle gives the speeds driven: a speed given as well would be dropped unseen.
+    if let (Some(_), Some(by)) = (&args.cycle, resolved.given_by(ParamId::SpeedKmh)) {
+        return Err(CliError(format!(
+            "{by}: the cycle gives the speeds driven (its `speed_kmh` column); leave the speed out with --cycle"
+        )));
+    }
     if let Some(s) = args.speed_spread_kmh {
         if let Some(by) = resolved.given_by(ParamId::SpeedSpreadKmh) {
             return Err(CliError(format!(
@@ -107,10 +114,10 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
         p.try_set(ParamId::SpeedSpreadKmh, s)
             .map_err(|e| CliError(format!("--speed-spread-kmh: {e}")))?;
     }
-    if args.out.is_file() {
+    if let Some(out) = args.out.as_ref().filter(|o| o.is_file()) {
         return Err(CliError(format!(
             "--out {}: is a file; give a directory",
-            args.out.display()
+            out.display()
         )));
     }
     let nodes = match args.speed_nodes {
@@ -224,24 +231,29 @@ fn read_cycle(
 
 pub fn run(args: &WearArgs) -> CliResult {
     let plan = plan(args)?;
+    if let Some(out) = &args.out {
+        LongTermFiles::prepare(out).map_err(|e| CliError(format!("--out {e}")))?;
+    }
     let bar = progress_bar(args.quiet, 2.0 * plan.problem.settings.distance_km);
     let started = std::time::Instant::now();
     let solution = long_term::solve(&plan.problem, &|km| bar.inc(km.round() as u64))
         .map_err(|e| CliError(e.to_string()))?;
     bar.finish_and_clear();
     let secs = started.elapsed().as_secs_f64();
-    LongTermFiles {
-        solution: &solution,
-        metadata: &plan.metadata,
-        estimate: args.estimate,
-        format: args.format,
-        title: format!("polywear wear: {}", plan.usage),
+    if let Some(out) = &args.out {
+        LongTermFiles {
+            solution: &solution,
+            metadata: &plan.metadata,
+            estimate: args.estimate,
+            format: args.format,
+            title: format!("polywear wear: {}", plan.usage),
+        }
+        .write(out)
+        .map_err(|e| match e {
+            FilesError::CreateDir { .. } => CliError(format!("--out {e}")),
+            e => CliError(e.to_string()),
+        })?;
     }
-    .write(&args.out)
-    .map_err(|e| match e {
-        FilesError::CreateDir { .. } => CliError(format!("--out {e}")),
-        e => CliError(e.to_string()),
-    })?;
     let head = polywear_analysis::render::long_term::Header {
         usage: &plan.usage,
         secs,

@@ -46,6 +46,43 @@ fn explain(path: &Path, e: io::Error) -> io::Error {
 /// read-only or out of space.
 fn explain_dir(path: &Path, e: io::Error) -> io::Error {
     let dir = parent(path);
+    // A path that exists but is no folder, or that runs through a file: say which, not the bare
+    // "File exists" / "Not a directory" of the system call.
+    if let Ok(m) = std::fs::symlink_metadata(path) {
+        if m.file_type().is_symlink() && std::fs::metadata(path).is_err() {
+            return io::Error::new(
+                e.kind(),
+                format!(
+                    "{} is a symbolic link to nothing: give a folder",
+                    path.display()
+                ),
+            );
+        }
+        if !path.is_dir() {
+            return io::Error::new(
+                e.kind(),
+                format!(
+                    "{} exists and is not a folder: give a folder",
+                    path.display()
+                ),
+            );
+        }
+    }
+    if e.kind() == io::ErrorKind::NotADirectory {
+        let file = path
+            .ancestors()
+            .skip(1)
+            .find(|a| a.is_file())
+            .unwrap_or(dir);
+        return io::Error::new(
+            e.kind(),
+            format!(
+                "{} cannot be a folder: {} is a file",
+                path.display(),
+                file.display()
+            ),
+        );
+    }
     let why = match e.kind() {
         io::ErrorKind::PermissionDenied | io::ErrorKind::ReadOnlyFilesystem => "is read-only",
         io::ErrorKind::StorageFull => "is on a full disk",

@@ -30,11 +30,18 @@ pub struct LongTermFiles<'a> {
 
 impl LongTermFiles<'_> {
     /// Writes the tables and, where a wheel has a run, the figure into `dir`.
-    pub fn write(&self, dir: &Path) -> Result<(), FilesError> {
+    /// Creates the output folder, refused with the reason where it cannot be one: a caller
+    /// calls this before the work, so that a bad `--out` costs no run.
+    pub fn prepare(dir: &Path) -> Result<(), FilesError> {
         polywear_study::safe_write::create_dir(dir).map_err(|source| FilesError::CreateDir {
             dir: dir.to_path_buf(),
             source,
-        })?;
+        })
+    }
+
+    /// Writes the three tables and the figure into `dir` (created if missing).
+    pub fn write(&self, dir: &Path) -> Result<(), FilesError> {
+        Self::prepare(dir)?;
         let mut meta = self.metadata.to_vec();
         meta.push((
             "profile".into(),
@@ -67,6 +74,17 @@ impl LongTermFiles<'_> {
                 visible_mm,
             })
             .collect();
+        // An earlier run's figure in this folder is not this run's: remove it first, so a run
+        // whose wheels have no wear figures leaves none.
+        for format in [FigureFormat::Png, FigureFormat::Svg] {
+            let old = FigureFile::named(dir, "wear", format).path;
+            if old.is_file() {
+                std::fs::remove_file(&old).map_err(|source| FilesError::CreateDir {
+                    dir: old.clone(),
+                    source,
+                })?;
+            }
+        }
         if !traces.is_empty() {
             let figure = FigureFile::named(dir, "wear", self.format);
             wear_figure(&figure, &self.title, &traces)?;

@@ -39,12 +39,23 @@ impl LongTermSolution {
                 "",
                 wheels
                     .iter()
-                    .map(|w| w.solution.verdict.polygon_order)
+                    .map(|w| w.solution.record.polygon_order)
                     .collect(),
             ),
             col("dominant_order", "", &|x| x.dominant_order),
             col("detuning_rev", "", &|x| x.detuning_rev),
-            Column::i64("locked", "", f.iter().map(|x| x.locked as i64).collect()),
+            // 1 or 0, NaN where the wheel has no run (as every figure of a wheel without one).
+            Column::f64(
+                "locked",
+                "",
+                f.iter()
+                    .zip(wheels)
+                    .map(|(x, w)| match w.run {
+                        Ok(_) => f64::from(u8::from(x.locked)),
+                        Err(_) => f64::NAN,
+                    })
+                    .collect(),
+            ),
             col("lock_halfwidth_hz", "Hz", &|x| x.lock_halfwidth_hz),
             col("wear_even_mm_per_1000km", "mm/1000 km", &|x| {
                 x.even_mm_per_1000km

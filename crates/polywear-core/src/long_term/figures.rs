@@ -1,6 +1,7 @@
 //! The figures of one wheel's run that the summary table and the verdict quote.
 
 use super::WheelLongTerm;
+use crate::classify::Class;
 use crate::model::WheelModel;
 use crate::params::Params;
 use crate::wear::long_term::RunEnd;
@@ -65,7 +66,13 @@ impl WheelLongTerm {
         let n = run.dominant_order();
         let e = run.end();
         let i = n as usize - 1;
-        let nu = self.solution.verdict.polygon_order;
+        // ν = f/f_rot: the cycle's frequency where the wheel vibrates, else the linear one (a
+        // stable tread grows the orders next to its resonance; MODEL.md#growth-of-a-stable-wheel).
+        let v = &self.solution.verdict;
+        let nu = match v.class {
+            Class::LimitCycle | Class::Bistable => v.polygon_order,
+            _ => v.eig_freq_hz / WheelModel::rotation_hz(p),
+        };
         let lock_halfwidth_hz = match &self.tongue {
             Ok(Some(t)) => t.halfwidth_hz,
             _ => nan,
