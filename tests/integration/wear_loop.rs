@@ -834,3 +834,29 @@ fn wear_with_a_cycle_refuses_a_speed() {
         );
     }
 }
+
+/// A speed spread too wide for the speed would drive legs outside the speed's accepted range
+/// (442 km/h from 390 ± 100, −118 km/h from 10 ± 100, which were clamped to 1 km/h unseen): it is
+/// refused before any work, naming the leg's speed and the range.
+#[test]
+fn a_spread_that_leaves_the_speed_range_is_refused() {
+    for (speed, spread, leg) in [("390", "100", "442.44"), ("10", "100", "-118.155")] {
+        let (code, _, stderr) = crate::common::polywear(&[
+            "wear",
+            "--speed",
+            speed,
+            "--speed-spread-kmh",
+            spread,
+            "--distance-km",
+            "100",
+        ]);
+        assert_eq!(code, 2, "{stderr}");
+        assert!(
+            stderr.contains(&format!("drives a leg at {leg} km/h"))
+                && stderr.contains("(0, 400] km/h"),
+            "{stderr}"
+        );
+    }
+    let legs = cruise_legs(10.0, 100.0, SPEED_NODES);
+    assert!(legs[0].speed_kmh < 0.0, "no clamp: {legs:?}");
+}

@@ -187,6 +187,10 @@ fn refusal(e: LongTermError) -> CliError {
             "--distance-km = {} is outside its accepted range (0, 1e6] km",
             plain(km, 12)
         )),
+        LongTermError::LegSpeed { speed_kmh, range } => CliError(format!(
+            "the speed spread drives a leg at {} km/h, outside the accepted range of the speed {range} km/h: give a narrower --speed-spread-kmh (or speed_spread_kmh), or fewer --speed-nodes",
+            plain(speed_kmh, 6)
+        )),
         e => CliError(e.to_string()),
     }
 }

@@ -7,7 +7,7 @@ use crate::classify::{Class, ClassifierOptions};
 use crate::ensemble::{self, Control};
 use crate::evaluate::{self, PointProblem, WearStage, WheelSolution};
 use crate::model::{ModelFailure, Variant, Wheel};
-use crate::params::Params;
+use crate::params::{ParamId, Params};
 use crate::wear::long_term::{
     run_wheel, Leg, LoopInputs, LoopSettings, WheelWear, FEEDBACK_ORDERS,
 };
@@ -31,6 +31,17 @@ pub enum LongTermError {
     /// No leg to drive, or a leg whose speed or share is not positive and finite.
     #[error("the usage has no legs, or a leg without a positive speed and share")]
     Legs,
+    /// A leg's speed outside the accepted range of `speed_kmh` (a speed spread too wide for
+    /// the speed).
+    #[error(
+        "a leg drives at {speed_kmh} km/h, outside the accepted range of speed_kmh {range} km/h"
+    )]
+    LegSpeed {
+        /// The leg's speed \[km/h\].
+        speed_kmh: f64,
+        /// The accepted range, as `polywear params` writes it.
+        range: String,
+    },
     /// The wear stage could not be calibrated (MODEL.md#step-10-wear-law).
     #[error(transparent)]
     Stage(#[from] WearError),
@@ -63,8 +74,15 @@ impl LongTermProblem {
     ) -> Result<Self, LongTermError> {
         check_distance_km(settings.distance_km)?;
         let good = |x: f64| x.is_finite() && x > 0.0;
-        if legs.is_empty() || !legs.iter().all(|l| good(l.speed_kmh) && good(l.share)) {
+        if legs.is_empty() || !legs.iter().all(|l| good(l.share)) {
             return Err(LongTermError::Legs);
+        }
+        let spec = ParamId::SpeedKmh.spec();
+        if let Some(l) = legs.iter().find(|l| spec.check(l.speed_kmh).is_err()) {
+            return Err(LongTermError::LegSpeed {
+                speed_kmh: l.speed_kmh,
+                range: spec.range_text(),
+            });
         }
         Ok(LongTermProblem {
             params,
@@ -271,8 +289,14 @@ mod tests {
             assert!(matches!(e, LongTermError::Distance(_)), "{km}: {e}");
             assert!(e.to_string().contains("(0, 1e6]"), "{e}");
         }
-        for legs in [vec![], vec![leg(0.0, 1.0)], vec![leg(110.0, f64::NAN)]] {
+        for legs in [vec![], vec![leg(110.0, f64::NAN)], vec![leg(110.0, 0.0)]] {
             assert_eq!(new(1e3, legs).unwrap_err(), LongTermError::Legs);
+        }
+        // A leg outside the speed's accepted range, as a too wide spread gives.
+        for speed in [0.0, -5.0, 401.0, f64::NAN] {
+            let e = new(1e3, vec![leg(100.0, 0.5), leg(speed, 0.5)]).unwrap_err();
+            assert!(matches!(e, LongTermError::LegSpeed { .. }), "{speed}: {e}");
+            assert!(e.to_string().contains("(0, 400]"), "{e}");
         }
     }
 }

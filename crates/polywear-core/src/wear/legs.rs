@@ -18,7 +18,10 @@ pub struct Leg {
 }
 
 /// Cruising at `speed_kmh` with a normal spread of `spread_kmh`: the speed itself without a
-/// spread, else `nodes` equal shares at the spread's quantiles (k + ½)/K (kept above 1 km/h).
+/// spread, else `nodes` equal shares at the spread's quantiles (k + ½)/K. A spread too wide for
+/// the speed gives legs outside the speed's accepted range, which `LongTermProblem::new`
+/// refuses (they are not clamped: a leg driven at another speed than the spread's would be
+/// an answer to another question).
 pub fn cruise_legs(speed_kmh: f64, spread_kmh: f64, nodes: usize) -> Vec<Leg> {
     if spread_kmh <= 0.0 || nodes <= 1 {
         return vec![Leg {
@@ -28,8 +31,7 @@ pub fn cruise_legs(speed_kmh: f64, spread_kmh: f64, nodes: usize) -> Vec<Leg> {
     }
     (0..nodes)
         .map(|i| Leg {
-            speed_kmh: (speed_kmh + spread_kmh * normal_quantile((i as f64 + 0.5) / nodes as f64))
-                .max(1.0),
+            speed_kmh: speed_kmh + spread_kmh * normal_quantile((i as f64 + 0.5) / nodes as f64),
             share: 1.0 / nodes as f64,
         })
         .collect()
