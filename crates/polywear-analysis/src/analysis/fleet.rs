@@ -15,10 +15,6 @@ use super::inputs::RunInfo;
 use super::outcome::RowCounts;
 use polywear_core::model::{Variant, Wheel};
 
-/// The column of the chunk files that says which row of the operating-point file a sample
-/// drew (1-based; 0 for none).
-pub(crate) const ROW_COLUMN: &str = "operating_point_row";
-
 /// What the weight of an operating point measures, from the study's `weight`.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum WeightKind {

@@ -171,10 +171,7 @@ pub struct Analysis {
 impl Analysis {
     /// Whether the map is drawn: not one of [`Analysis::sparse_maps`].
     pub fn is_drawn<C>(&self, map: &RiskMap<C>) -> bool {
-        !self
-            .sparse_maps
-            .iter()
-            .any(|s| (s.variant, s.x, s.y) == (map.variant, map.x, map.y))
+        !is_sparse(&self.sparse_maps, map)
     }
 
     /// Class counts over every variant and wheel.
@@ -556,7 +553,7 @@ fn sparse_maps(maps: &[RiskMap], min_count: u64) -> Vec<SparseMap> {
 }
 
 /// Whether `map` is one of `sparse`.
-fn is_sparse(sparse: &[SparseMap], map: &RiskMap) -> bool {
+fn is_sparse<C>(sparse: &[SparseMap], map: &RiskMap<C>) -> bool {
     sparse
         .iter()
         .any(|s| (s.variant, s.x, s.y) == (map.variant, map.x, map.y))

@@ -12,14 +12,13 @@ use std::collections::BTreeMap;
 use super::bins::Bins;
 use super::conditional::{self, BinStat};
 use super::counts::{ClassCounts, RiskCounts, WithinCounts};
-use super::fleet::ROW_COLUMN;
 use super::paired::{self, Paired};
 use super::risk_map::{self, RiskMap};
 use super::rows::{Group, GroupKey, OutcomeColumn, Rows, SampleWeight};
 use super::{AnalysisError, RunInfo, Step};
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::ParamId;
-use polywear_core::records::WearColumn;
+use polywear_core::records::{WearColumn, OPERATING_POINT_ROW};
 use polywear_core::wording::km;
 
 /// An outcome of a wheel that an analysis estimates the probability of.
@@ -291,7 +290,7 @@ fn row_counts<O: Outcome>(
     rows: &Rows,
 ) -> Result<Vec<RowCounts<O::Counts>>, AnalysisError> {
     let mut per_row: BTreeMap<(Variant, u64), [O::Counts; 2]> = BTreeMap::new();
-    for g in outcome.counts(rows, &[GroupKey::Value(ROW_COLUMN)])? {
+    for g in outcome.counts(rows, &[GroupKey::Value(OPERATING_POINT_ROW.name)])? {
         let row = g.values[0];
         if row.is_nan() || row < 1.0 {
             continue;

@@ -138,7 +138,9 @@ fn fleet_columns(fleet: &Fleet) -> Vec<Column> {
     let r = &fleet.rows;
     let mut cols = vec![
         str_col("variant", r, |x| x.variant.to_string()),
-        count_col(crate::analysis::fleet::ROW_COLUMN, r, |x| x.row),
+        count_col(polywear_core::records::OPERATING_POINT_ROW.name, r, |x| {
+            x.row
+        }),
     ];
     for (j, c) in fleet.columns.iter().enumerate() {
         let unit = polywear_core::params::spec(c).map_or("", |s| s.unit);

@@ -11,10 +11,10 @@
 
 use super::calibration::position_rate_m_per_m;
 use super::deposit::{check_samples, other_wear_m_per_m, DepositPlan};
-use super::estimator::WearPower;
 use super::feedback::Feedback;
 use super::profile::{harmonics_of, Profile};
 use super::slip::SlipPower;
+use super::slip::WearPower;
 use super::window::{integrate_window, EpsilonTable, WindowRequest};
 use super::zone::WearZone;
 use super::{Complex64, WearError};
@@ -112,7 +112,6 @@ pub fn run_oracle(
         * rev_m
         * s.acceleration;
     let slip = SlipPower::of(p, &model, s.power);
-    let dt = 1.0 / rotation_hz / s.samples_per_rev as f64;
     let mut profile = Profile::seeded(s.cells, p.seed_runout_um * 1e-6, s.seed);
     let mut x = start.unwrap_or_else(|| model.ode.equilibrium());
     let depths = |pr: &Profile| pr.harmonics(s.orders);
@@ -147,14 +146,8 @@ pub fn run_oracle(
             0.5,
         );
         // The driving wheel's slip power, as the loop lays it.
-        let energy: Vec<f64> = w.energy_j[0]
-            .iter()
-            .enumerate()
-            .map(|(k, e)| {
-                let angle = std::f64::consts::TAU * (k as f64 + 0.5) / s.samples_per_rev as f64;
-                e + slip.power_w * (1.0 + slip.gain * table.at(angle)) * dt
-            })
-            .collect();
+        let mut energy = w.energy_j[0].clone();
+        slip.add_to_revolution(&mut energy, &table, 1.0 / rotation_hz);
         let worn = plan.lay(gamma_m3_per_j * s.acceleration, &energy);
         let other = other_wear_m_per_m(&radius, fb.local_per_m, other_m_per_rev);
         for ((d, a), b) in profile.depth_m.iter_mut().zip(&worn).zip(&other) {

@@ -14,8 +14,8 @@
 
 use super::cycle::{SampledCycle, SAMPLES_PER_PERIOD};
 use super::error::WearError;
-use super::estimator::WearPower;
 use super::law::equilibrium_power_w;
+use super::slip::WearPower;
 use crate::classify::budget::Meter;
 use crate::classify::{Class, WheelBudget, WheelVerdict};
 use crate::model::{ModelFailure, Wheel, WheelModel};

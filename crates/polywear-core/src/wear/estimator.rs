@@ -25,7 +25,7 @@ use super::cycle::{SampledCycle, SAMPLES_PER_PERIOD};
 use super::feedback::Feedback;
 use super::law::{even_wear_m_per_m, MM_PER_1000KM_PER_M_PER_M, PER_1000KM_PER_PER_M};
 use super::periodic::CycleResponse;
-use super::slip::SlipPower;
+use super::slip::{SlipPower, WearPower};
 use super::transfer::{equilibrium_expansion, Linearisation, PoleExpansion};
 use super::zone::WearZone;
 use super::{Complex64, WearError};
@@ -50,45 +50,6 @@ pub struct WearSettings {
     /// Which friction power wears it: the lateral alone, or with the driving wheel's slip.
     #[serde(rename = "wear_power")]
     pub power: WearPower,
-}
-
-named_enum! {
-    /// Which friction power wears the tread (the `wear_power` setting;
-    /// MODEL.md#the-driving-wheels-slip-power).
-    pub enum WearPower: "wear power" {
-        /// The tread's lateral power, and the driving wheel's longitudinal slip power
-        /// F_X·V cos α·S/(1 + S) in the same zone; the driven position's other wear at
-        /// `wear_rate_driven_factor` times w′₀. The shipped default.
-        WithSlip,
-        /// The tread's lateral power alone, both wheels at w′₀: the reading before the slip
-        /// power was counted, on which the worst-case checks at φ_s = 1 run.
-        LateralOnly,
-    }
-}
-
-impl WearPower {
-    /// Every reading, in the order of the declaration.
-    pub const ALL: [WearPower; 2] = [WearPower::WithSlip, WearPower::LateralOnly];
-    /// The reading every command uses unless told otherwise.
-    pub const DEFAULT: WearPower = WearPower::WithSlip;
-
-    /// What the reading is, in a sentence (for `polywear params`).
-    pub fn description(self) -> &'static str {
-        match self {
-            WearPower::WithSlip => {
-                "the lateral friction power and the driving wheel's longitudinal slip power; the driven position's other wear scaled by wear_rate_driven_factor"
-            }
-            WearPower::LateralOnly => {
-                "the lateral friction power alone, the same even-wear rate on both wheels"
-            }
-        }
-    }
-}
-
-impl Default for WearPower {
-    fn default() -> Self {
-        WearPower::DEFAULT
-    }
 }
 
 impl Default for WearZone {

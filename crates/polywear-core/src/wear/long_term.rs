@@ -35,12 +35,12 @@
 use super::calibration::position_rate_m_per_m;
 use super::deposit::{check_samples, other_wear_m_per_m, DepositPlan};
 use super::edge::{bracketed_step_m, signature, EdgeSides, Signature};
-use super::estimator::WearPower;
 use super::feedback::Feedback;
 pub use super::legs::{cruise_legs, cycle_legs, Leg, SPEED_NODES};
 use super::lock::{is_locked, revolution_weights, rotation_number, window_revs, WINDOW_REVS};
 use super::profile::{harmonics_of, Profile};
 use super::slip::SlipPower;
+use super::slip::WearPower;
 pub use super::wheel_wear::{
     measured_growth_per_m, profile_harmonics, HistoryPoint, RunEnd, WheelWear, LINEAR_REGIME_SEEDS,
 };
@@ -333,16 +333,8 @@ impl<'a> Run<'a> {
                 *m += w * e;
             }
         }
-        // The driving wheel's slip power in the same zone, its zone total following the
-        // profile's ε quasi-statically (MODEL.md#the-driving-wheels-slip-power); sample k's
-        // interval is centred on the angle 2π(k + ½)/N, as the plan lays it.
-        if slip.power_w > 0.0 {
-            let dt = t_rev / samples as f64;
-            for (k, m) in mean_j.iter_mut().enumerate() {
-                let angle = std::f64::consts::TAU * (k as f64 + 0.5) / samples as f64;
-                *m += slip.power_w * (1.0 + slip.gain * table.at(angle)) * dt;
-            }
-        }
+        // The driving wheel's slip power in the same zone (MODEL.md#the-driving-wheels-slip-power).
+        slip.add_to_revolution(&mut mean_j, &table, t_rev);
         let plan = DepositPlan::new(
             &fb.zone,
             p.r_b,

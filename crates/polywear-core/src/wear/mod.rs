@@ -60,8 +60,9 @@ pub mod zone;
 
 pub use calibration::Calibration;
 pub use error::WearError;
-pub use estimator::{estimate, WearEstimate, WearInputs, WearPower, WearSettings, WheelGrowth};
+pub use estimator::{estimate, WearEstimate, WearInputs, WearSettings, WheelGrowth};
 pub use feedback::Feedback;
+pub use slip::WearPower;
 pub use zone::{WearZone, ZoneGeometry};
 
 /// The wear stage's category settings as rows of `polywear params`: name, default,

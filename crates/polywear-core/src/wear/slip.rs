@@ -16,10 +16,49 @@
 //! point). F_X is mostly the adhesion zone's elastic force, so G_x is small: a tenth of the
 //! lateral tread's G(0) = 1.
 
-use super::estimator::WearPower;
+use super::window::EpsilonTable;
 use crate::model::brush::{drive_force_n, longitudinal_force_n};
 use crate::model::{Wheel, WheelModel};
 use crate::params::Params;
+
+named_enum! {
+    /// Which friction power wears the tread (the `wear_power` setting;
+    /// MODEL.md#the-driving-wheels-slip-power).
+    pub enum WearPower: "wear power" {
+        /// The tread's lateral power, and the driving wheel's longitudinal slip power
+        /// F_X·V cos α·S/(1 + S) in the same zone; the driven position's other wear at
+        /// `wear_rate_driven_factor` times w′₀. The shipped default.
+        WithSlip,
+        /// The tread's lateral power alone, both wheels at w′₀: the reading before the slip
+        /// power was counted, on which the worst-case checks at φ_s = 1 run.
+        LateralOnly,
+    }
+}
+
+impl WearPower {
+    /// Every reading, in the order of the declaration.
+    pub const ALL: [WearPower; 2] = [WearPower::WithSlip, WearPower::LateralOnly];
+    /// The reading every command uses unless told otherwise.
+    pub const DEFAULT: WearPower = WearPower::WithSlip;
+
+    /// What the reading is, in a sentence (for `polywear params`).
+    pub fn description(self) -> &'static str {
+        match self {
+            WearPower::WithSlip => {
+                "the lateral friction power and the driving wheel's longitudinal slip power; the driven position's other wear scaled by wear_rate_driven_factor"
+            }
+            WearPower::LateralOnly => {
+                "the lateral friction power alone, the same even-wear rate on both wheels"
+            }
+        }
+    }
+}
+
+impl Default for WearPower {
+    fn default() -> Self {
+        WearPower::DEFAULT
+    }
+}
 
 /// The slip power of one wheel and its response to a relative change ε of the friction levels.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -42,6 +81,24 @@ impl SlipPower {
         SlipPower {
             power_w,
             gain: gain(p, model),
+        }
+    }
+}
+
+impl SlipPower {
+    /// Adds the slip power's energy to one revolution's energy samples \[J\] (`energy_j[k]` the
+    /// interval k of N, centred on the angle 2π(k + ½)/N, as a `DepositPlan` with offset ½ lays
+    /// it), the zone total following the profile's `epsilon` at that angle, for a revolution
+    /// of `t_rev_s` seconds. Nothing for a wheel without slip power.
+    pub fn add_to_revolution(&self, energy_j: &mut [f64], epsilon: &EpsilonTable, t_rev_s: f64) {
+        if self.power_w <= 0.0 {
+            return;
+        }
+        let n = energy_j.len() as f64;
+        let dt = t_rev_s / n;
+        for (k, e) in energy_j.iter_mut().enumerate() {
+            let angle = std::f64::consts::TAU * (k as f64 + 0.5) / n;
+            *e += self.power_w * (1.0 + self.gain * epsilon.at(angle)) * dt;
         }
     }
 }
