@@ -74,8 +74,8 @@ pub use polywear_core::{
 };
 #[doc(hidden)]
 pub use polywear_study::{
-    bifurcation, calibrate, chart, cycle, operating_points, optimize, output_dir, parquet_out,
-    safe_read, safe_write, stats, table_input, trajectory, validation,
+    bifurcation, calibrate, chart, cycle, field_facts, operating_points, optimize, output_dir,
+    parquet_out, safe_read, safe_write, stats, table_input, trajectory, validation,
 };
 
 /// What a user of the engine needs: one point (problem → solve → solution), a study (in memory

@@ -717,9 +717,11 @@ fn field_calibration_holds() {
             highway.push(estimate_at(&p, Wheel::Follower).distance_to_visible_km);
         }
     }
+    let facts = polywear::field_facts::FieldFacts::shipped();
+    let target = |id: &str| facts.get(id).unwrap_or_else(|| panic!("no fact {id}"));
     let m = median(highway.clone());
     assert!(
-        (25_000.0..=40_000.0).contains(&m),
+        target("highway_follower_distance").holds_for(m),
         "highway median {m} km: {highway:?}"
     );
     let study = Study::parse_with_base(DEFAULT_STUDY, base).unwrap();
@@ -734,16 +736,21 @@ fn field_calibration_holds() {
             }
         }
     }
+    let never = target("fleet_median_never");
+    let life_km = never.min.unwrap();
     let m = median(fleet.iter().map(|x| x.0).collect());
-    assert!(m > 60_000.0, "default study median {m} km");
+    assert!(
+        never.holds_for(m) && m > life_km,
+        "default study median {m} km"
+    );
     let visible: Vec<f64> = fleet
         .iter()
-        .filter(|x| x.0 <= 60_000.0)
+        .filter(|x| x.0 <= life_km)
         .map(|x| x.1)
         .collect();
     let sides = visible
         .iter()
-        .filter(|n| (10.0..=20.0).contains(*n))
+        .filter(|n| target("polygon_sides").holds_for(**n))
         .count();
     assert!(
         !visible.is_empty() && sides as f64 >= 0.8 * visible.len() as f64,

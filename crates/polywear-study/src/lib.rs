@@ -10,6 +10,7 @@ pub mod calibrate;
 pub mod chart;
 pub mod cycle;
 pub mod explore;
+pub mod field_facts;
 pub(crate) mod key_value;
 pub mod operating_points;
 pub mod optimize;
