@@ -22,6 +22,7 @@ mod plausible;
 mod points;
 mod sampler;
 mod scenario;
+mod scenario_rules;
 mod schema;
 pub use error::{ChangeOutOfRange, StudyError};
 use points::operating_points;
