@@ -1,24 +1,73 @@
-//! A scenario's changed values through the checks every direct input gets: the plausible ranges
+//! Changed values through the checks every direct input gets: the plausible ranges
 //! (MODEL.md#parameter-table) and the cross-parameter rules of `Params::validate`, before any
-//! work. A change is applied to the values that judge the baseline (its fixed values, its
-//! distributions' bounds or centres, its operating points' extremes); every change is monotone
-//! (set, shift, positive scale, cap), so the changed extremes bound the changed samples.
+//! work, for a scenario's changes and for `optimize`'s settings alike. A change is applied to
+//! the values that judge the baseline (its fixed values, its distributions' bounds or centres,
+//! its operating points' extremes); every change is monotone (set, shift, positive scale, cap),
+//! so the changed extremes bound the changed samples.
 
 use super::schema::ORDERED_PAIRS;
-use super::{Scenario, Study, StudyError};
-use polywear_core::params::ParamId;
+use super::{ParamChange, Study, StudyError};
+use polywear_core::params::{ParamError, ParamId};
 use polywear_core::wording::plain;
 
+/// A cross-parameter rule that a set of changes breaks for some sample.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BrokenRule {
+    /// The change that takes part in the rule (the first of the two parameters changed).
+    pub change: ParamChange,
+    /// The parameter that must not exceed the other.
+    pub small: ParamId,
+    /// The other.
+    pub large: ParamId,
+    /// The largest value `small` takes with the changes.
+    pub small_max: f64,
+    /// The smallest value `large` takes with them.
+    pub large_min: f64,
+    /// Why the rule holds, in words.
+    pub why: &'static str,
+    /// "at most" or "below".
+    pub bound: &'static str,
+}
+
+impl BrokenRule {
+    /// The rule and how it is broken, in words:
+    /// `gives mu_s up to 0.9 and mu_m down to 0.76, and samples with ...`.
+    pub fn words(&self) -> String {
+        let (small, large) = (self.small, self.large);
+        format!(
+            "gives {small} up to {} and {large} down to {}, and samples with {small} above {large} would fail ({}); accepted: {small} {} {large} in every sample",
+            plain(self.small_max, 6),
+            plain(self.large_min, 6),
+            self.why,
+            self.bound,
+        )
+    }
+}
+
 impl Study {
-    /// Refuses the first scenario whose changed values are implausible (unless `accept_implausible`
-    /// or the study's `accept_implausible`) or break a cross-parameter rule for some sample,
-    /// naming the scenario's key and what is accepted.
+    /// Refuses the first scenario whose changed values are implausible (unless
+    /// `accept_implausible` or the study's `accept_implausible`) or break a cross-parameter rule
+    /// for some sample, naming the scenario's key and what is accepted.
     pub fn check_scenario_rules(&self, accept_implausible: bool) -> Result<(), StudyError> {
         for s in &self.scenarios {
             if !(accept_implausible || self.accept_implausible) {
-                self.check_scenario_plausible(s)?;
+                for c in &s.changes {
+                    if let Err(source) = self.check_change_plausible(*c) {
+                        return Err(StudyError::Param {
+                            key: format!("{}.{}", s.key(c.param), c.change.kind()),
+                            source,
+                        });
+                    }
+                }
             }
-            self.check_scenario_cross_rules(s)?;
+            if let Some(b) = self.broken_rule(&s.changes) {
+                return Err(StudyError::DrawnRule(format!(
+                    "`{}` = {}: the scenario {}",
+                    s.key(b.change.param),
+                    b.change.change.text(),
+                    b.words()
+                )));
+            }
         }
         Ok(())
     }
@@ -34,27 +83,21 @@ impl Study {
         vec![range.lo, range.hi]
     }
 
-    fn check_scenario_plausible(&self, s: &Scenario) -> Result<(), StudyError> {
-        for c in &s.changes {
-            for x in self.judged_values(c.param) {
-                let changed = c.change.apply(x);
-                c.param
-                    .spec()
-                    .check_plausible(changed)
-                    .map_err(|source| StudyError::Param {
-                        key: format!("{}.{}", s.key(c.param), c.change.kind()),
-                        source,
-                    })?;
-            }
+    /// Refuses `change` when it makes a value that judges its parameter implausible.
+    pub fn check_change_plausible(&self, change: ParamChange) -> Result<(), ParamError> {
+        for x in self.judged_values(change.param) {
+            change
+                .param
+                .spec()
+                .check_plausible(change.change.apply(x))?;
         }
         Ok(())
     }
 
-    /// The scenario's values of `param` over the samples: the baseline's, changed.
-    fn scenario_range(&self, s: &Scenario, param: ParamId) -> (f64, f64) {
+    /// The values of `param` over the samples with `changes` applied.
+    fn changed_range(&self, changes: &[ParamChange], param: ParamId) -> (f64, f64) {
         let range = self.value_range(param);
-        let (lo, hi) = s
-            .changes
+        let (lo, hi) = changes
             .iter()
             .filter(|c| c.param == param)
             .fold((range.lo, range.hi), |(lo, hi), c| {
@@ -63,31 +106,24 @@ impl Study {
         (lo.min(hi), lo.max(hi))
     }
 
-    fn check_scenario_cross_rules(&self, s: &Scenario) -> Result<(), StudyError> {
-        // The rules of `Params::validate` that order two parameters, on the scenario's extremes
-        // (the baseline's own are checked when the study is read).
-        let changes = |p: ParamId| s.changes.iter().find(|c| c.param == p);
-        for rule in &ORDERED_PAIRS {
-            let (small, large) = (rule.small, rule.large);
-            let change = match (changes(small), changes(large)) {
-                (Some(c), _) | (None, Some(c)) => c,
-                (None, None) => continue,
-            };
-            let (_, small_max) = self.scenario_range(s, small);
-            let (large_min, _) = self.scenario_range(s, large);
-            if !rule.broken(small_max, large_min) {
-                continue;
-            }
-            return Err(StudyError::DrawnRule(format!(
-                "`{}` = {}: the scenario gives {small} up to {} and {large} down to {}, and samples with {small} above {large} would fail ({}); accepted: {small} {} {large} in every sample",
-                s.key(change.param),
-                change.change.text(),
-                plain(small_max, 6),
-                plain(large_min, 6),
-                rule.why,
-                rule.bound_words(),
-            )));
-        }
-        Ok(())
+    /// The first rule of `Params::validate` that orders two parameters which `changes` break
+    /// for some sample; rules neither of whose parameters is changed are the baseline's, checked
+    /// when the study is read.
+    pub fn broken_rule(&self, changes: &[ParamChange]) -> Option<BrokenRule> {
+        let changed = |p: ParamId| changes.iter().find(|c| c.param == p).copied();
+        ORDERED_PAIRS.iter().find_map(|rule| {
+            let change = changed(rule.small).or_else(|| changed(rule.large))?;
+            let (_, small_max) = self.changed_range(changes, rule.small);
+            let (large_min, _) = self.changed_range(changes, rule.large);
+            rule.broken(small_max, large_min).then_some(BrokenRule {
+                change,
+                small: rule.small,
+                large: rule.large,
+                small_max,
+                large_min,
+                why: rule.why,
+                bound: rule.bound_words(),
+            })
+        })
     }
 }
