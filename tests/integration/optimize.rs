@@ -398,3 +398,40 @@ fn optimize_checks_its_folder_before_any_work() {
         );
     }
 }
+
+/// No feasible setting is an answer, not an error: a NaN optimum, the words saying so, and the
+/// files written (over one parameter the curve shows every setting), exit 0.
+#[test]
+fn no_feasible_setting_ends_normally_with_a_nan_optimum() {
+    let dir = tmp("infeasible");
+    {
+        let out = dir.join("out");
+        let mut args = vec![
+            "optimize",
+            STUDY,
+            "--samples",
+            "30",
+            "--vary",
+            "toe_deg=0.2..0.4",
+        ];
+        args.extend([
+            "--objective",
+            "vibration",
+            "--constraint",
+            "vibration<=0",
+            "--grid",
+            "3",
+            "--levels",
+            "0",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let (code, stdout, stderr) = polywear(&args);
+        assert_eq!(code, 0, "{stderr}");
+        assert!(stdout.contains("no setting of the 3"), "{stdout}");
+        let optimum = csv(&out.join("optimum.csv"));
+        assert!(optimum[0]["objective"] == "NaN", "{optimum:?}");
+        assert!(out.join("report.md").is_file() && out.join("surface.png").is_file());
+    }
+}
