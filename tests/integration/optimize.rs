@@ -195,6 +195,15 @@ fn bad_optimize_input_is_refused_before_any_work() {
             ],
         ),
         (
+            vec![
+                "--vary",
+                "toe_deg=0.05..0.4",
+                "--objective",
+                "1e308*wear+1e308*vibration",
+            ],
+            vec!["--objective", "weights adding up to at most 1e100"],
+        ),
+        (
             vec!["--vary", "toe_deg=0.05..0.4", "--wheel", "worse"],
             vec!["unknown wheel `worse`", "worst"],
         ),

@@ -197,12 +197,15 @@ fn centre(dist: &Distribution) -> f64 {
 fn column_mean(study: &Study, param: ParamId) -> Option<f64> {
     let op = study.operating_points.as_ref()?;
     let j = op.names.iter().position(|n| *n == param.name())?;
-    let total: f64 = op.weights.iter().sum();
+    // Relative to the largest weight, so that weights near the largest float sum without
+    // overflow.
+    let largest = op.weights.iter().fold(0.0f64, |m, w| m.max(*w));
+    let total: f64 = op.weights.iter().map(|w| w / largest).sum();
     Some(
         op.values
             .iter()
             .zip(&op.weights)
-            .map(|(row, w)| row[j] * w)
+            .map(|(row, w)| row[j] * (w / largest))
             .sum::<f64>()
             / total,
     )
