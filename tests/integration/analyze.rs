@@ -276,6 +276,57 @@ fn inputs_that_do_not_belong_together_are_refused_naming_files_and_key() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// Shards that differ in a parameter value or a stage setting recorded in their footers (a
+/// `--params` file, the wear zone) are refused naming the first differing key and both values,
+/// not merged into one answer.
+#[test]
+fn shards_with_other_parameters_or_stage_settings_are_refused_naming_the_key() {
+    let dir = tmp("differ");
+    let s0 = explore_study(&dir, "s0", SMALL, &["--shard", "0/3"]);
+    let params = dir.join("p.toml");
+    std::fs::write(&params, "[params]\nwear_share_straight = 1\n").unwrap();
+    let p = params.to_str().unwrap();
+    let with_params = explore_study(&dir, "s1p", SMALL, &["--shard", "1/3", "--params", p]);
+    let zone = explore_study(
+        &dir,
+        "s1z",
+        SMALL,
+        &["--shard", "1/3", "--wear-zone", "whole_patch"],
+    );
+    let same = explore_study(&dir, "s1", SMALL, &["--shard", "1/3"]);
+    for (other, words) in [
+        (
+            &with_params,
+            ["`params.wear_share_straight`", "(0.12 vs 1.0)"],
+        ),
+        (&zone, ["`wear.wear_zone`", "(trailing vs whole_patch)"]),
+    ] {
+        let report = dir.join("report");
+        let (code, _, stderr) = polywear(&[
+            "analyze",
+            s0.to_str().unwrap(),
+            other.to_str().unwrap(),
+            "--out",
+            report.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{words:?}: {stderr}");
+        for w in words {
+            assert!(stderr.contains(w), "`{w}` not in {stderr}");
+        }
+        assert!(!report.exists(), "refused before any work");
+    }
+    // Shards of one run still merge.
+    let (code, _, stderr) = polywear(&[
+        "analyze",
+        s0.to_str().unwrap(),
+        same.to_str().unwrap(),
+        "--out",
+        dir.join("ok").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// (samples, vibrating, no_traction, failed) of a variant and wheel in occurrence.csv.
 fn occurrence_row(csv: &str, variant: &str, wheel: &str) -> (u64, u64, u64, u64) {
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();

@@ -39,6 +39,7 @@ pub mod quantities;
 pub mod risk_map;
 pub mod robustness;
 pub mod rows;
+mod same_run;
 pub mod scenarios;
 pub mod sensitivity;
 pub mod severity;
@@ -268,8 +269,8 @@ pub enum AnalysisError {
         first: PathBuf,
         /// The file that differs from it.
         other: PathBuf,
-        /// The metadata key that differs.
-        key: &'static str,
+        /// The metadata key that differs (a field of a JSON value as `params.phi_s`).
+        key: String,
         /// The first file's value (shortened).
         ours: String,
         /// The other file's value (shortened).
@@ -590,7 +591,7 @@ mod tests {
         let e = AnalysisError::Mismatch {
             first: "a.parquet".into(),
             other: "b.parquet".into(),
-            key: "seed",
+            key: "seed".into(),
             ours: "1".into(),
             theirs: "2".into(),
         };
