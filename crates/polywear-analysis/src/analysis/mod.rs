@@ -354,6 +354,20 @@ pub enum AnalysisError {
         /// Rows with such a value.
         rows: u64,
     },
+    /// A wear column's value that the wear stage never writes.
+    #[error("{}: column `{column}` holds {what} in {rows} rows; accepted: {accepted}; the file was changed after the run", path.display())]
+    WearValue {
+        /// The file.
+        path: PathBuf,
+        /// The column.
+        column: &'static str,
+        /// Rows with such a value.
+        rows: u64,
+        /// What they hold.
+        what: &'static str,
+        /// What the column accepts.
+        accepted: &'static str,
+    },
     /// Rows of a class this version does not know.
     #[error("{rows} rows have a `class` this version does not know; accepted: {}", Class::ALL.map(|c| c.as_str()).join(", "))]
     UnknownClass {
@@ -472,6 +486,7 @@ pub fn run_with_progress(
     )?;
     progress(Step::Scenarios);
     let wear = if wear_risk::has_wear(&rows)? {
+        rows::check_wear_values(&info.files)?;
         let drawn: Vec<&RiskMap> = vibration
             .maps
             .iter()
