@@ -276,6 +276,57 @@ fn inputs_that_do_not_belong_together_are_refused_naming_files_and_key() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// Shards that differ in a parameter value or a stage setting recorded in their footers (a
+/// `--params` file, the wear zone) are refused naming the first differing key and both values,
+/// not merged into one answer.
+#[test]
+fn shards_with_other_parameters_or_stage_settings_are_refused_naming_the_key() {
+    let dir = tmp("differ");
+    let s0 = explore_study(&dir, "s0", SMALL, &["--shard", "0/3"]);
+    let params = dir.join("p.toml");
+    std::fs::write(&params, "[params]\nwear_share_straight = 1\n").unwrap();
+    let p = params.to_str().unwrap();
+    let with_params = explore_study(&dir, "s1p", SMALL, &["--shard", "1/3", "--params", p]);
+    let zone = explore_study(
+        &dir,
+        "s1z",
+        SMALL,
+        &["--shard", "1/3", "--wear-zone", "whole_patch"],
+    );
+    let same = explore_study(&dir, "s1", SMALL, &["--shard", "1/3"]);
+    for (other, words) in [
+        (
+            &with_params,
+            ["`params.wear_share_straight`", "(0.12 vs 1.0)"],
+        ),
+        (&zone, ["`wear.wear_zone`", "(trailing vs whole_patch)"]),
+    ] {
+        let report = dir.join("report");
+        let (code, _, stderr) = polywear(&[
+            "analyze",
+            s0.to_str().unwrap(),
+            other.to_str().unwrap(),
+            "--out",
+            report.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{words:?}: {stderr}");
+        for w in words {
+            assert!(stderr.contains(w), "`{w}` not in {stderr}");
+        }
+        assert!(!report.exists(), "refused before any work");
+    }
+    // Shards of one run still merge.
+    let (code, _, stderr) = polywear(&[
+        "analyze",
+        s0.to_str().unwrap(),
+        same.to_str().unwrap(),
+        "--out",
+        dir.join("ok").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// (samples, vibrating, no_traction, failed) of a variant and wheel in occurrence.csv.
 fn occurrence_row(csv: &str, variant: &str, wheel: &str) -> (u64, u64, u64, u64) {
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
@@ -769,5 +820,85 @@ fn a_fleet_report_answers_per_operating_point() {
         .join("riskmap_speed_kmh_toe_deg_sliding_share.png")
         .exists());
     assert!(report.join("riskmap_speed_kmh_toe_deg.csv").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A chunk whose wear columns were edited after the run (a negative distance, +inf growth, NaN
+/// distances on rows with a verdict and no `wear_reason`) is refused naming the file, the column
+/// and what is accepted, instead of being counted.
+#[test]
+fn edited_wear_values_are_refused_naming_file_column_and_range() {
+    if !crate::common::python_has(&["pyarrow"]) {
+        return;
+    }
+    let dir = tmp("wearvalues");
+    let run = explore_study(
+        &dir,
+        "run",
+        &SMALL.replace("samples = 300", "samples = 100"),
+        &[],
+    );
+    let chunk = run.join("chunk-0000000.parquet");
+    let edit = r#"
+import sys, math, pyarrow as pa, pyarrow.parquet as pq
+src, dst, how = sys.argv[1], sys.argv[2], sys.argv[3]
+t = pq.read_table(src)
+col = "growth_rate_per_1000km" if how == "inf" else "distance_to_visible_km"
+v = t.column(col).to_pylist()
+cls = t.column("class").to_pylist()
+if how == "negative":
+    v[0] = -5000.0
+elif how == "inf":
+    v[0] = math.inf
+else:
+    reason = t.column("wear_reason").to_pylist()
+    i = next(i for i, c in enumerate(cls) if c in ("stable", "limit_cycle", "bistable"))
+    v[i] = math.nan
+    reason[i] = ""
+    t = t.set_column(t.schema.get_field_index("wear_reason"), "wear_reason", pa.array(reason, pa.string()))
+t = t.set_column(t.schema.get_field_index(col), col, pa.array(v, pa.float64()))
+pq.write_table(t, dst)
+"#;
+    for (how, words) in [
+        (
+            "negative",
+            ["`distance_to_visible_km`", "values below 0", "[0, inf] km"],
+        ),
+        ("inf", ["`growth_rate_per_1000km`", "+inf", "a finite rate"]),
+        (
+            "nan",
+            [
+                "`distance_to_visible_km`",
+                "NaN on rows with a verdict and no `wear_reason`",
+                "accepted: a distance",
+            ],
+        ),
+    ] {
+        let edited = dir.join(format!("{how}.parquet"));
+        crate::common::python(
+            edit,
+            &[chunk.to_str().unwrap(), edited.to_str().unwrap(), how],
+        );
+        let report = dir.join(format!("report-{how}"));
+        let (code, _, stderr) = polywear(&[
+            "analyze",
+            edited.to_str().unwrap(),
+            "--out",
+            report.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{how}: {stderr}");
+        assert!(stderr.contains(edited.to_str().unwrap()), "{stderr}");
+        for w in words {
+            assert!(stderr.contains(w), "{how}: `{w}` not in {stderr}");
+        }
+    }
+    // The unedited chunk, given as a file, is analysed.
+    let (code, _, stderr) = polywear(&[
+        "analyze",
+        chunk.to_str().unwrap(),
+        "--out",
+        dir.join("ok").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -481,3 +481,70 @@ fn the_analysis_bins_a_files_column_by_its_values_that_can_be_drawn() {
     assert_eq!(mids, ["80", "110", "120", "140"], "{csv}");
     std::fs::remove_dir_all(&d).ok();
 }
+
+/// Weights near the largest float are drawn in their proportion, not through an overflowed
+/// total (two rows of 1e308 were drawn 487:13), and analyze's fleet table gives each its share;
+/// a `km` weight computed from hours × speed that is not finite is refused naming the row.
+#[test]
+fn huge_weights_are_drawn_and_shared_without_overflow() {
+    let d = dir("huge");
+    let points = "speed_kmh,load_n,hours\n90,3500,1e308\n120,4000,1e308\n";
+    let study = parse(&d, points, "file = \"points.csv\"\nweight = \"hours\"").unwrap();
+    let op = study.operating_points.as_ref().unwrap();
+    assert_eq!((op.probability(0), op.probability(1)), (0.5, 0.5));
+    let n = 10_000u64;
+    let sampler = study.sampler(study.seed, n);
+    let first = (0..n)
+        .filter(|&i| sampler.sample_with_row(i).2 == Some(0))
+        .count() as f64;
+    // Binomial(10000, 1/2): sd 50; 4.5 sd either side.
+    assert!((first - 5000.0).abs() < 225.0, "{first} of {n}");
+    // The fleet table's weight shares.
+    let toml = d.join("huge.toml");
+    std::fs::write(
+        &toml,
+        study_text("file = \"points.csv\"\nweight = \"hours\"", "random")
+            .replace("samples = 300", "samples = 40"),
+    )
+    .unwrap();
+    let out = d.join("run");
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        toml.to_str().unwrap(),
+        "--quiet",
+        "--no-report",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let report = d.join("report");
+    let (code, stdout, stderr) = polywear(&[
+        "analyze",
+        out.to_str().unwrap(),
+        "--out",
+        report.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let fleet = std::fs::read_to_string(report.join("fleet_rows.csv")).expect(&stdout);
+    let header: Vec<&str> = fleet.lines().next().unwrap().split(',').collect();
+    let j = header.iter().position(|c| *c == "weight_share").unwrap();
+    for line in fleet.lines().skip(1) {
+        let share: f64 = line.split(',').nth(j).unwrap().parse().unwrap();
+        assert!((share - 0.5).abs() < 1e-12, "{fleet}");
+    }
+    // hours 1e307 at 120 km/h: a km weight of 1.2e309.
+    let e = parse(
+        &d,
+        "speed_kmh,load_n,hours\n90,3500,1\n120,4000,1e307\n",
+        "file = \"points.csv\"\nweight = \"km\"",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains(
+            "weight `km` computed as hours × speed_kmh = 1e307 × 120 is not a finite number"
+        ) && e.contains("accepted: hours × speed_kmh below 1.8e308"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&d).ok();
+}

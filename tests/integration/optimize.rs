@@ -195,6 +195,15 @@ fn bad_optimize_input_is_refused_before_any_work() {
             ],
         ),
         (
+            vec![
+                "--vary",
+                "toe_deg=0.05..0.4",
+                "--objective",
+                "1e308*wear+1e308*vibration",
+            ],
+            vec!["--objective", "weights adding up to at most 1e100"],
+        ),
+        (
             vec!["--vary", "toe_deg=0.05..0.4", "--wheel", "worse"],
             vec!["unknown wheel `worse`", "worst"],
         ),
@@ -263,5 +272,175 @@ fn bad_optimize_input_is_refused_before_any_work() {
             assert!(stderr.contains(w), "{flags:?}: `{w}` not in {stderr}");
         }
         assert!(!out.exists(), "{flags:?}: work started");
+    }
+}
+
+/// Every setting the search can evaluate goes through the checks of a direct input: a count of
+/// wheels takes whole values only (no 3.75 wheels), a box that breaks a cross-parameter rule is
+/// refused before any work naming the rule, and a box whose settings move a drawn parameter's
+/// samples out of their plausible range is refused with the setting that does.
+#[test]
+fn optimize_settings_are_checked_like_direct_inputs() {
+    let dir = tmp("settings");
+    let out = dir.join("wheels");
+    let (code, _, stderr) = polywear(&[
+        "optimize",
+        STUDY,
+        "--samples",
+        "10",
+        "--vary",
+        "n_wheels=2..9",
+        "--objective",
+        "vibration",
+        "--grid",
+        "3",
+        "--levels",
+        "1",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let wheels: Vec<f64> = rows(&out.join("surface.parquet"))
+        .iter()
+        .map(|r| number(&r["n_wheels"]))
+        .collect();
+    assert!(wheels.len() >= 5, "{wheels:?}");
+    assert!(wheels.iter().all(|w| w.fract() == 0.0), "{wheels:?}");
+    let mut distinct = wheels.clone();
+    distinct.sort_by(f64::total_cmp);
+    distinct.dedup();
+    assert_eq!(
+        distinct.len(),
+        wheels.len(),
+        "each setting once: {wheels:?}"
+    );
+    let refused: [(&str, &[&str]); 4] = [
+        (
+            "mu_s=0.5..0.95",
+            &[
+                "--vary mu_s=0.5..0.95",
+                "mu_m down to 0.76",
+                "accepted: mu_s at most mu_m",
+            ],
+        ),
+        (
+            "n_driven=1..8",
+            &[
+                "--vary n_driven=1..8",
+                "n_wheels down to 4",
+                "accepted: n_driven at most n_wheels",
+            ],
+        ),
+        (
+            "n_wheels=2.5..9",
+            &["--vary n_wheels=2.5..9", "(whole number)"],
+        ),
+        (
+            "toe_deg=0.05..1.98",
+            &[
+                "--vary toe_deg=0.05..1.98",
+                "the setting toe_deg = ",
+                "implausible",
+            ],
+        ),
+    ];
+    for (k, (vary, words)) in refused.iter().enumerate() {
+        let out = dir.join(format!("out{k}"));
+        let (code, _, stderr) = polywear(&[
+            "optimize",
+            STUDY,
+            "--samples",
+            "10",
+            "--vary",
+            vary,
+            "--objective",
+            "vibration",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{vary}: {stderr}");
+        for w in *words {
+            assert!(stderr.contains(w), "{vary}: `{w}` not in {stderr}");
+        }
+        assert!(!out.exists(), "{vary}: work started");
+    }
+}
+
+/// `optimize --out` is resolved before any work: a path through a file or a link to nothing is
+/// refused at once in the words `wear` and `explore` use.
+#[test]
+fn optimize_checks_its_folder_before_any_work() {
+    let dir = tmp("out");
+    let file = dir.join("afile");
+    std::fs::write(&file, "x").unwrap();
+    let through = file.join("sub");
+    let mut outs = vec![(through, "is a file")];
+    #[cfg(unix)]
+    {
+        let dangling = dir.join("dangling");
+        std::os::unix::fs::symlink(dir.join("nowhere"), &dangling).unwrap();
+        outs.push((dangling, "symbolic link to nothing"));
+    }
+    for (out, said) in outs {
+        let (code, _, stderr) = crate::common::polywear_within(
+            std::time::Duration::from_secs(20),
+            &[
+                "optimize",
+                STUDY,
+                "--samples",
+                "2000",
+                "--vary",
+                "toe_deg=0.05..0.4",
+                "--objective",
+                "vibration",
+                "--quiet",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        );
+        assert_eq!(code, 2, "{stderr}");
+        assert!(
+            stderr.contains("--out") && stderr.contains(said),
+            "{stderr}"
+        );
+    }
+}
+
+/// No feasible setting is an answer, not an error: a NaN optimum, the words saying so, and the
+/// files written (over one parameter the curve shows every setting), exit 0.
+#[test]
+fn no_feasible_setting_ends_normally_with_a_nan_optimum() {
+    let dir = tmp("infeasible");
+    {
+        let out = dir.join("out");
+        let mut args = vec![
+            "optimize",
+            STUDY,
+            "--samples",
+            "30",
+            "--vary",
+            "toe_deg=0.2..0.4",
+        ];
+        args.extend([
+            "--objective",
+            "vibration",
+            "--constraint",
+            "vibration<=0",
+            "--grid",
+            "3",
+            "--levels",
+            "0",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let (code, stdout, stderr) = polywear(&args);
+        assert_eq!(code, 0, "{stderr}");
+        assert!(stdout.contains("no setting of the 3"), "{stdout}");
+        let optimum = csv(&out.join("optimum.csv"));
+        assert!(optimum[0]["objective"] == "NaN", "{optimum:?}");
+        assert!(out.join("report.md").is_file() && out.join("surface.png").is_file());
     }
 }

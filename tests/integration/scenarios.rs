@@ -297,7 +297,11 @@ fn pairing_narrows_a_small_changes_interval_at_least_threefold() {
 }
 
 /// A scenario study that must be refused: (what is changed, words the message must hold).
-const REFUSED: [(&str, &[&str]); 10] = [
+const REFUSED: [(&str, &[&str]); 11] = [
+    (
+        "[scenarios.a]\ntoe_deg = { shift = -0.01 }\n[scenarios.\"a \"]\nload_n = { set = 3000 }\n",
+        &["scenario `a ` is used twice", "differ only in the spaces"],
+    ),
     (
         "[scenarios.a]\ntoe = { shift = -0.1 }\n",
         &["scenarios.a.toe", "did you mean `toe_deg`"],
@@ -371,6 +375,91 @@ fn bad_scenarios_are_refused_before_any_work_naming_the_key_and_range() {
         }
         assert!(!out.exists(), "{scenarios}: work started");
     }
+}
+
+/// A scenario's changed values go through the plausibility and cross-parameter checks every
+/// direct input gets: refused before any work, naming the scenario's key and what is accepted
+/// (they ran, and every scenario row failed).
+#[test]
+fn scenario_values_are_checked_like_direct_inputs() {
+    let dir = tmp("rules");
+    let base = BASE.replace("samples = 240", "samples = 50");
+    let cases: [(&str, &[&str]); 6] = [
+        (
+            "pressure_kpa = { scale = 0.01 }",
+            &[
+                "`scenarios.a.pressure_kpa.scale`",
+                "2.4 kPa is implausible",
+                "plausible [50, 1000] kPa",
+            ],
+        ),
+        (
+            "pressure_kpa = { set = 2.4 }",
+            &["`scenarios.a.pressure_kpa.set`", "plausible [50, 1000] kPa"],
+        ),
+        (
+            "load_n = { cap = 400 }",
+            &["`scenarios.a.load_n.cap`", "plausible [500, 50000] N"],
+        ),
+        (
+            "mu_s = { set = 0.9 }",
+            &[
+                "`scenarios.a.mu_s` = { set = 0.9 }",
+                "mu_m down to 0.76",
+                "accepted: mu_s at most mu_m",
+            ],
+        ),
+        (
+            "n_driven = { set = 6 }",
+            &[
+                "`scenarios.a.n_driven` = { set = 6 }",
+                "n_wheels down to 4",
+                "accepted: n_driven at most n_wheels",
+            ],
+        ),
+        (
+            "visible_depth_mm = { set = 5 }",
+            &[
+                "`scenarios.a.visible_depth_mm`",
+                "accepted: visible_depth_mm at most limit_depth_mm",
+            ],
+        ),
+    ];
+    for (k, (change, words)) in cases.iter().enumerate() {
+        let path = dir.join(format!("rule{k}.toml"));
+        std::fs::write(&path, format!("{base}[scenarios.a]\n{change}\n")).unwrap();
+        let out = dir.join(format!("out{k}"));
+        let (code, _, stderr) = polywear(&[
+            "explore",
+            "--quiet",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{change}: {stderr}");
+        for w in *words {
+            assert!(stderr.contains(w), "{change}: `{w}` not in {stderr}");
+        }
+        assert!(!out.exists(), "{change}: work started");
+    }
+    // An implausible change that is meant runs with --accept-implausible.
+    let path = dir.join("meant.toml");
+    std::fs::write(
+        &path,
+        format!("{base}[scenarios.a]\nload_n = {{ cap = 400 }}\n"),
+    )
+    .unwrap();
+    let out = dir.join("meant");
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        "--quiet",
+        "--no-report",
+        "--accept-implausible",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
 }
 
 /// The wear comparison counts a visible polygon within the distance, from the rows' distance

@@ -10,7 +10,8 @@ use crate::common::{self, explore_default, polywear, python, python_has};
 
 /// Rewrites the chunks of `run` into `out` with distances set per sample: the follower at
 /// 1,000 km where `sample_id % 5 == 0`, the driving wheel where `% 11 == 0`, +inf elsewhere,
-/// and NaN on the follower where `% 13 == 0` (its metadata kept).
+/// and NaN on the follower where `% 13 == 0`, with a `wear_reason` as the wear stage writes
+/// one (its metadata kept).
 fn constructed(run: &Path, out: &Path) {
     python(
         r#"
@@ -26,6 +27,10 @@ for f in sorted(glob.glob(run + "/chunk-*.parquet")):
     d = np.where(fol & (s % 13 == 0), np.nan, d)
     i = t.schema.get_field_index("distance_to_visible_km")
     t = t.set_column(i, "distance_to_visible_km", pa.array(d, pa.float64()))
+    r = t.column("wear_reason").to_pylist()
+    r = [x if not (f and k % 13 == 0) else (x or "constructed: no distance") for x, f, k in zip(r, fol, s)]
+    j = t.schema.get_field_index("wear_reason")
+    t = t.set_column(j, "wear_reason", pa.array(r, pa.string()))
     t = t.replace_schema_metadata(md)
     pq.write_table(t, os.path.join(out, os.path.basename(f)))
 print("ok")

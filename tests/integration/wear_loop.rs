@@ -860,3 +860,70 @@ fn a_spread_that_leaves_the_speed_range_is_refused() {
     let legs = cruise_legs(10.0, 100.0, SPEED_NODES);
     assert!(legs[0].speed_kmh < 0.0, "no clamp: {legs:?}");
 }
+
+/// A speed so slow that the loop's first step alone would integrate hours of tread time (0.01
+/// km/h: 70 revolutions of 717 s; 1e-300 km/h; a cycle of such speeds) is refused before any
+/// work with the speed, the tread time and the slowest speed accepted, instead of running for
+/// minutes.
+#[test]
+fn a_too_slow_usage_is_refused_before_any_work() {
+    let limit = std::time::Duration::from_secs(20);
+    let dir = fresh_dir("wear_too_slow");
+    std::fs::create_dir_all(&dir).unwrap();
+    let cycle = dir.join("crawl.csv");
+    std::fs::write(&cycle, "time_s,speed_kmh\n0,0.01\n10,0.01\n20,0.01\n").unwrap();
+    let out = dir.join("out");
+    let cases: [(&[&str], &str); 3] = [
+        (&["--speed", "0.01"], "--speed = 0.01 km/h is too slow"),
+        (&["--speed", "1e-300"], "--speed = 1e-300 km/h is too slow"),
+        (
+            &["--cycle", cycle.to_str().unwrap()],
+            "crawl.csv: the slowest leg drives at 0.01 km/h",
+        ),
+    ];
+    for (flags, said) in cases {
+        let mut args = vec!["wear", "--distance-km", "1", "--quiet", "--out"];
+        args.push(out.to_str().unwrap());
+        args.extend(flags);
+        if flags[0] == "--speed" {
+            args.extend(["--speed-spread-kmh", "0"]);
+        }
+        let (code, _, stderr) = crate::common::polywear_within(limit, &args);
+        assert_eq!(code, 2, "{flags:?}: {stderr}");
+        assert!(stderr.contains(said), "{flags:?}: {stderr}");
+        assert!(stderr.contains("over the 3600 s it accepts"), "{stderr}");
+        assert!(stderr.contains("at least 0.139 km/h"), "{stderr}");
+        assert!(!out.exists(), "nothing written: {flags:?}");
+    }
+}
+
+/// The loop's work budget covers every window: a run over it fails its wheel with `budget
+/// exceeded` instead of running on.
+#[test]
+fn the_loop_stops_at_its_work_budget() {
+    let p = worst(60.0);
+    let cal = calibration(&p);
+    let legs = cruise_legs(p.speed_kmh, 0.0, 1);
+    let e = run_wheel(
+        &LoopInputs {
+            params: &p,
+            wheel: Wheel::Follower,
+            variant: V,
+            gamma_m3_per_j: cal.gamma_m3_per_j(&p),
+            legs: &legs,
+            start: None,
+        },
+        &LoopSettings {
+            distance_km: 1000.0,
+            max_rhs_evals: 50_000,
+            ..LoopSettings::default()
+        },
+        &|_| {},
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("budget exceeded (max_rhs_evals = 50000 for the loop"),
+        "{e}"
+    );
+}

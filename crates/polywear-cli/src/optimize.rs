@@ -166,12 +166,10 @@ pub fn run(args: &OptimizeArgs) -> CliResult {
             problem.study.name, problem.seed
         ))
     });
-    if out_dir.is_file() {
-        return Err(CliError(format!(
-            "--out {}: is a file; accepted: a directory",
-            out_dir.display()
-        )));
-    }
+    // The folder is resolved before any work: a path through a file or a link to nothing is
+    // refused in safe_write's words, not after the search.
+    polywear_study::safe_write::create_dir(&out_dir)
+        .map_err(|e| CliError(format!("--out {}: {e}", out_dir.display())))?;
     if !args.quiet {
         eprintln!(
             "{}: {} of {} samples (seed {}, variant {}), {}, {} threads -> {}",

@@ -16,7 +16,9 @@ use polywear_core::classify::ClassifierOptions;
 use polywear_core::long_term::{self, LongTermError, LongTermProblem};
 use polywear_core::model::Variant;
 use polywear_core::params::{ParamId, Params};
-use polywear_core::wear::long_term::{cruise_legs, Leg, LoopSettings, SPEED_NODES};
+use polywear_core::wear::long_term::{
+    cruise_legs, Leg, LoopSettings, FIRST_STEP_REVS, MAX_FIRST_STEP_TREAD_S, SPEED_NODES,
+};
 use polywear_core::wording::plain;
 use polywear_study::cycle::DriveCycle;
 
@@ -172,7 +174,32 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
         budget: args.budget.apply(Default::default())?,
         ..ClassifierOptions::default()
     };
-    let problem = LongTermProblem::new(p, variant, legs, settings, classifier).map_err(refusal)?;
+    let problem = LongTermProblem::new(p, variant, legs, settings, classifier).map_err(|e| {
+        match (e, &args.cycle) {
+            (e @ LongTermError::TooSlow { .. }, Some(path)) => {
+                CliError(format!("--cycle {}: {e}", path.display()))
+            }
+            (
+                LongTermError::TooSlow {
+                    tread_s,
+                    min_kmh,
+                    legs: 1,
+                    ..
+                },
+                None,
+            ) => CliError(format!(
+                "--speed = {} km/h is too slow for the wear loop: its first step integrates {FIRST_STEP_REVS} revolutions at each speed driven, {tread_s:.3e} s of tread time, over the {MAX_FIRST_STEP_TREAD_S} s it accepts; accepted: speed_kmh of at least {} km/h without a speed spread",
+                plain(p.speed_kmh, 6),
+                plain(min_kmh, 3)
+            )),
+            (e @ LongTermError::TooSlow { .. }, None) => CliError(format!(
+                "--speed-spread-kmh = {} at --speed {} km/h: {e}; give a higher speed, a narrower spread or fewer --speed-nodes",
+                plain(p.speed_spread_kmh, 6),
+                plain(p.speed_kmh, 6)
+            )),
+            (e, _) => refusal(e),
+        }
+    })?;
     Ok(Plan {
         problem,
         usage,

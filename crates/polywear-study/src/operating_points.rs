@@ -91,6 +91,16 @@ pub enum OperatingPointsError {
         /// The weight given.
         weight: f64,
     },
+    /// A weight computed as hours × speed that is not a finite number.
+    #[error("{at}: weight `km` computed as hours × speed_kmh = {} × {} is not a finite number; accepted: hours × speed_kmh below 1.8e308 km (give the distance as a `km` column, or hours in a smaller unit of the same ratio)", polywear_core::wording::plain(*hours, 6), polywear_core::wording::plain(*speed_kmh, 6))]
+    ComputedWeightNotFinite {
+        /// File, row and column.
+        at: String,
+        /// The row's hours.
+        hours: f64,
+        /// Its speed \[km/h\].
+        speed_kmh: f64,
+    },
     /// No row can be drawn.
     #[error("{}, column `{weight}`: every weight is zero; at least one row needs a positive weight", path.display())]
     AllWeightsZero {
@@ -467,10 +477,18 @@ fn weights(
                 weight: x,
             });
         }
-        out.push(match computed {
+        let w = match computed {
             Some((_, v)) => x * row[v],
             None => x,
-        });
+        };
+        if !w.is_finite() {
+            return Err(OperatingPointsError::ComputedWeightNotFinite {
+                at: t.at(i, j),
+                hours: x,
+                speed_kmh: computed.map_or(f64::NAN, |(_, v)| row[v]),
+            });
+        }
+        out.push(w);
     }
     Ok(out)
 }

@@ -22,6 +22,7 @@ mod plausible;
 mod points;
 mod sampler;
 mod scenario;
+mod scenario_rules;
 mod schema;
 pub use error::{ChangeOutOfRange, StudyError};
 use points::operating_points;
@@ -29,6 +30,7 @@ pub use sampler::Sampler;
 pub use scenario::{
     scenario_key, Change, ParamChange, Scenario, ValueRange, BASELINE, CHANGE_KINDS, COUNT_LIMIT,
 };
+pub use scenario_rules::BrokenRule;
 use schema::ParamFile;
 
 /// Largest accepted seed (in study files and on the command line).

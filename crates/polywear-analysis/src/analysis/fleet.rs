@@ -125,7 +125,12 @@ pub fn fleet(per_row: &[RowCounts], info: &RunInfo) -> Option<Fleet> {
         .study
         .as_ref()
         .and_then(|s| s.operating_points.as_ref());
-    let total_weight: f64 = op.map_or(f64::NAN, |o| o.weights.iter().sum());
+    // Shares relative to the largest weight, so that weights near the largest float sum
+    // without overflow.
+    let largest = op.map_or(f64::NAN, |o| {
+        o.weights.iter().fold(0.0f64, |m, w| m.max(*w))
+    });
+    let total_weight: f64 = op.map_or(f64::NAN, |o| o.weights.iter().map(|w| w / largest).sum());
     let mut out: Vec<FleetRow> = per_row
         .iter()
         .map(
@@ -140,7 +145,7 @@ pub fn fleet(per_row: &[RowCounts], info: &RunInfo) -> Option<Fleet> {
                     .unwrap_or_default();
                 let weight_share = op
                     .and_then(|o| o.weights.get(i))
-                    .map_or(f64::NAN, |w| w / total_weight);
+                    .map_or(f64::NAN, |w| w / largest / total_weight);
                 FleetRow {
                     variant,
                     row,

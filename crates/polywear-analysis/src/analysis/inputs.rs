@@ -222,6 +222,16 @@ fn check_same_run(first: &FileFooter, others: &[FileFooter]) -> Result<(), Analy
         for (key, ours, theirs) in pairs {
             mismatch(first, &f.path, key, ours, theirs)?;
         }
+        // Every other parameter value and stage setting the footers record.
+        if let Some((key, ours, theirs)) = super::same_run::first_difference(first, f) {
+            return Err(AnalysisError::Mismatch {
+                first: first.path.clone(),
+                other: f.path.clone(),
+                key,
+                ours: short(&ours),
+                theirs: short(&theirs),
+            });
+        }
     }
     Ok(())
 }
@@ -281,7 +291,7 @@ fn mismatch(
     Err(AnalysisError::Mismatch {
         first: first.path.clone(),
         other: other.to_path_buf(),
-        key,
+        key: key.to_string(),
         ours: short(&ours),
         theirs: short(&theirs),
     })

@@ -39,6 +39,7 @@ pub mod quantities;
 pub mod risk_map;
 pub mod robustness;
 pub mod rows;
+mod same_run;
 pub mod scenarios;
 pub mod sensitivity;
 pub mod severity;
@@ -268,8 +269,8 @@ pub enum AnalysisError {
         first: PathBuf,
         /// The file that differs from it.
         other: PathBuf,
-        /// The metadata key that differs.
-        key: &'static str,
+        /// The metadata key that differs (a field of a JSON value as `params.phi_s`).
+        key: String,
         /// The first file's value (shortened).
         ours: String,
         /// The other file's value (shortened).
@@ -352,6 +353,20 @@ pub enum AnalysisError {
         column: String,
         /// Rows with such a value.
         rows: u64,
+    },
+    /// A wear column's value that the wear stage never writes.
+    #[error("{}: column `{column}` holds {what} in {rows} rows; accepted: {accepted}; the file was changed after the run", path.display())]
+    WearValue {
+        /// The file.
+        path: PathBuf,
+        /// The column.
+        column: &'static str,
+        /// Rows with such a value.
+        rows: u64,
+        /// What they hold.
+        what: &'static str,
+        /// What the column accepts.
+        accepted: &'static str,
     },
     /// Rows of a class this version does not know.
     #[error("{rows} rows have a `class` this version does not know; accepted: {}", Class::ALL.map(|c| c.as_str()).join(", "))]
@@ -471,6 +486,7 @@ pub fn run_with_progress(
     )?;
     progress(Step::Scenarios);
     let wear = if wear_risk::has_wear(&rows)? {
+        rows::check_wear_values(&info.files)?;
         let drawn: Vec<&RiskMap> = vibration
             .maps
             .iter()
@@ -590,7 +606,7 @@ mod tests {
         let e = AnalysisError::Mismatch {
             first: "a.parquet".into(),
             other: "b.parquet".into(),
-            key: "seed",
+            key: "seed".into(),
             ours: "1".into(),
             theirs: "2".into(),
         };

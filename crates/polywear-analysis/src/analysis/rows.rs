@@ -25,12 +25,14 @@ use polywear_study::study::BASELINE;
 
 mod scenario_pairs;
 mod wear_counts;
+mod wear_values;
 use scenario_pairs::code_expr;
 pub use scenario_pairs::{scenario_pairs, OutcomeColumn, ScenarioPairCounts};
 pub use wear_counts::{
     decade_bins, decades, OrderCount, SampleWeight, WearGroup, WearSpread, BINS_PER_DECADE,
     WEIGHT_UNITS_PER_KMH,
 };
+pub use wear_values::check_wear_values;
 
 /// The columns the queries name, from the one column table ([`polywear_core::records`]).
 const VARIANT: &str = RecordColumn::Variant.name();

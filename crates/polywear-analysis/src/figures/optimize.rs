@@ -149,9 +149,14 @@ pub fn write(
     write_table(&surface, &surface_columns(problem, solution), metadata)?;
     written.push(surface);
     let picture = FigureFile::named(dir, "surface", format);
-    draw(problem, solution, &picture)?;
-    let text = page(problem, solution, &picture.path);
-    written.push(picture.path);
+    let drawn = draw(problem, solution, &picture)?;
+    let text = page(problem, solution, drawn.then_some(picture.path.as_path()));
+    if drawn {
+        written.push(picture.path);
+    } else {
+        // No objective to draw (no verdict anywhere): no figure, and none of an earlier run.
+        std::fs::remove_file(&picture.path).ok();
+    }
     let report = dir.join("report.md");
     polywear_study::safe_write::write_file(&report, text.as_bytes()).map_err(|e| {
         OutputError::Io {
@@ -238,7 +243,8 @@ fn surface_columns(problem: &Problem, solution: &Solution) -> Vec<Column> {
 
 /// The picture: a map over two parameters with the nominal tire's Hopf curves, or a curve over
 /// one with its Hopf points.
-fn draw(problem: &Problem, solution: &Solution, file: &FigureFile) -> Result<(), OutputError> {
+/// Draws the figure; false where no setting has an objective to draw.
+fn draw(problem: &Problem, solution: &Solution, file: &FigureFile) -> Result<bool, OutputError> {
     let axes = &problem.axes;
     let label = |k: usize| {
         polywear_core::params::axis_label(axes[k].param.name(), axes[k].param.spec().unit)
@@ -250,10 +256,16 @@ fn draw(problem: &Problem, solution: &Solution, file: &FigureFile) -> Result<(),
     );
     let best = solution.best.map(|b| &solution.settings[b]);
     if axes.len() == 1 {
+        // Where no setting meets the constraints, the curve shows them all: the answer is a NaN
+        // optimum, and the picture says how far the box is from meeting them.
+        let any_feasible = solution
+            .settings
+            .iter()
+            .any(|s| s.feasible && s.objective.value.is_finite());
         let mut pts: Vec<(f64, f64, f64, f64)> = solution
             .settings
             .iter()
-            .filter(|s| s.feasible)
+            .filter(|s| (s.feasible || !any_feasible) && s.objective.value.is_finite())
             .map(|s| {
                 (
                     s.values[0],
@@ -264,6 +276,9 @@ fn draw(problem: &Problem, solution: &Solution, file: &FigureFile) -> Result<(),
             })
             .collect();
         pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        if pts.is_empty() {
+            return Ok(false);
+        }
         let lines = nominal_points(problem);
         surface_curve(
             file,
@@ -273,7 +288,7 @@ fn draw(problem: &Problem, solution: &Solution, file: &FigureFile) -> Result<(),
             best.map(|s| (s.values[0], s.objective.value)),
             &lines,
         )?;
-        return Ok(());
+        return Ok(true);
     }
     let (xb, yb) = ((axes[0].lo, axes[0].hi), (axes[1].lo, axes[1].hi));
     let points: Vec<MapPoint> = solution
@@ -320,7 +335,7 @@ fn draw(problem: &Problem, solution: &Solution, file: &FigureFile) -> Result<(),
         &overlay,
         &problem.objective.text(),
     )?;
-    Ok(())
+    Ok(true)
 }
 
 /// The nominal tire's Hopf curves over the box (white: follower, black: driving wheel).
@@ -367,7 +382,7 @@ fn nominal_points(problem: &Problem) -> Vec<VLine> {
 }
 
 /// `report.md`: the question, the answer in words, the picture and the files.
-fn page(problem: &Problem, solution: &Solution, picture: &Path) -> String {
+fn page(problem: &Problem, solution: &Solution, picture: Option<&Path>) -> String {
     use std::fmt::Write as _;
     let mut s = String::new();
     let _ = writeln!(s, "# Optimum of study `{}`\n", problem.study.name);
@@ -409,10 +424,14 @@ fn page(problem: &Problem, solution: &Solution, picture: &Path) -> String {
     for line in summary(problem, solution) {
         let _ = writeln!(s, "- {}.", capitalise(&line));
     }
-    let name = picture
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned());
-    let _ = writeln!(s, "\n![]({})\n", name.unwrap_or_default());
+    match picture.and_then(|p| p.file_name()) {
+        Some(name) => {
+            let _ = writeln!(s, "\n![]({})\n", name.to_string_lossy());
+        }
+        None => {
+            let _ = writeln!(s, "\nNo figure: no setting has an objective to draw.\n");
+        }
+    }
     let _ = writeln!(
         s,
         "The search: a {}-point grid per axis, refined {} times (each halving the step) around \

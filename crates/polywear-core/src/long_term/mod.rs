@@ -9,7 +9,8 @@ use crate::evaluate::{self, PointProblem, WearStage, WheelSolution};
 use crate::model::{ModelFailure, Variant, Wheel};
 use crate::params::{ParamId, Params};
 use crate::wear::long_term::{
-    run_wheel, Leg, LoopInputs, LoopSettings, WheelWear, FEEDBACK_ORDERS,
+    first_step_tread_s, run_wheel, slowest_cruise_kmh, Leg, LoopInputs, LoopSettings, WheelWear,
+    FEEDBACK_ORDERS, FIRST_STEP_REVS, MAX_FIRST_STEP_TREAD_S,
 };
 use crate::wear::tongue::{self, Tongue, TongueRequest};
 use crate::wear::{WearError, WearSettings};
@@ -41,6 +42,26 @@ pub enum LongTermError {
         speed_kmh: f64,
         /// The accepted range, as `polywear params` writes it.
         range: String,
+    },
+    /// A usage so slow that the loop's first step alone would integrate more tread time than
+    /// [`MAX_FIRST_STEP_TREAD_S`] (each revolution of 2π r_B / V is integrated, at any
+    /// distance).
+    #[error(
+        "the slowest leg drives at {slowest} km/h: the wear loop's first step integrates {revs} revolutions at each of its {legs} legs, {tread_s:.3e} s of tread time, over the {limit_s} s it accepts; accepted: speeds whose first step fits, a single speed of at least {min} km/h",
+        slowest = crate::wording::plain(*slowest_kmh, 6),
+        min = crate::wording::plain(*min_kmh, 3),
+        revs = FIRST_STEP_REVS,
+        limit_s = MAX_FIRST_STEP_TREAD_S
+    )]
+    TooSlow {
+        /// The slowest leg's speed \[km/h\].
+        slowest_kmh: f64,
+        /// The number of legs.
+        legs: usize,
+        /// The tread time the first step integrates \[s\].
+        tread_s: f64,
+        /// The slowest speed a cruise with one leg is accepted at \[km/h\].
+        min_kmh: f64,
     },
     /// The wear stage could not be calibrated (MODEL.md#step-10-wear-law).
     #[error(transparent)]
@@ -82,6 +103,17 @@ impl LongTermProblem {
             return Err(LongTermError::LegSpeed {
                 speed_kmh: l.speed_kmh,
                 range: spec.range_text(),
+            });
+        }
+        // The work the first step needs is known from the speeds alone: refused before any work
+        // (MODEL.md#the-long-term-loop).
+        let tread_s = first_step_tread_s(&legs, params.r_b);
+        if tread_s.is_nan() || tread_s > MAX_FIRST_STEP_TREAD_S {
+            return Err(LongTermError::TooSlow {
+                slowest_kmh: legs.iter().fold(f64::INFINITY, |m, l| m.min(l.speed_kmh)),
+                legs: legs.len(),
+                tread_s,
+                min_kmh: slowest_cruise_kmh(1, params.r_b),
             });
         }
         Ok(LongTermProblem {
@@ -298,5 +330,14 @@ mod tests {
             assert!(matches!(e, LongTermError::LegSpeed { .. }), "{speed}: {e}");
             assert!(e.to_string().contains("(0, 400]"), "{e}");
         }
+        // A usage whose first step alone integrates over an hour of tread time.
+        for speed in [0.01, 1e-300] {
+            let e = new(1.0, vec![leg(speed, 1.0)]).unwrap_err();
+            assert!(matches!(e, LongTermError::TooSlow { .. }), "{speed}: {e}");
+            assert!(e.to_string().contains("3600 s"), "{e}");
+        }
+        let min = slowest_cruise_kmh(1, Params::default().r_b);
+        assert!(new(1.0, vec![leg(min * 1.001, 1.0)]).is_ok());
+        assert!(new(1.0, vec![leg(min * 0.999, 1.0)]).is_err());
     }
 }

@@ -30,11 +30,15 @@ impl AliasTable {
         if n == 0 {
             return None;
         }
-        let total: f64 = rows.iter().map(|&r| weights[r as usize]).sum();
+        // Relative to the largest first, so that weights near the largest float (1e308 each)
+        // sum without overflow.
+        let largest = rows.iter().fold(0.0f64, |m, &r| m.max(weights[r as usize]));
+        let relative = |r: u32| weights[r as usize] / largest;
+        let total: f64 = rows.iter().map(|&r| relative(r)).sum();
         // Scaled so that the mean is 1: a slot holds exactly one unit of probability.
         let mut scaled: Vec<f64> = rows
             .iter()
-            .map(|&r| weights[r as usize] * n as f64 / total)
+            .map(|&r| relative(r) * n as f64 / total)
             .collect();
         let mut prob = vec![1.0; n];
         let mut alias: Vec<u32> = (0..n as u32).collect();
@@ -113,6 +117,15 @@ mod tests {
     #[test]
     fn zero_weight_rows_are_never_drawn_and_all_zero_has_no_table() {
         assert!(AliasTable::new(&[0.0, 0.0]).is_none());
+        // Weights near the largest float: half and half, not an overflowed total.
+        let t = AliasTable::new(&[1e308, 1e308]).unwrap();
+        assert_eq!((t.probability(0), t.probability(1)), (0.5, 0.5));
+        let t = AliasTable::new(&[f64::MAX, 1e-300, f64::MAX]).unwrap();
+        assert!(
+            (t.probability(0) - 0.5).abs() < 1e-15,
+            "{}",
+            t.probability(0)
+        );
         assert!(AliasTable::new(&[]).is_none());
         let w = [0.0, 1e-300, 0.0, 1.0, 0.0];
         let t = AliasTable::new(&w).unwrap();

@@ -36,11 +36,16 @@ use super::calibration::position_rate_m_per_m;
 use super::deposit::{check_samples, other_wear_m_per_m, DepositPlan};
 use super::edge::{bracketed_step_m, signature, EdgeSides, Signature};
 use super::feedback::Feedback;
-pub use super::legs::{cruise_legs, cycle_legs, Leg, SPEED_NODES};
+use super::legs::FIRST_SKIP_REVS;
+pub use super::legs::{
+    cruise_legs, cycle_legs, first_step_tread_s, slowest_cruise_kmh, Leg, FIRST_STEP_REVS,
+    MAX_FIRST_STEP_TREAD_S, SPEED_NODES,
+};
 use super::lock::{is_locked, revolution_weights, rotation_number, window_revs, WINDOW_REVS};
 use super::profile::{harmonics_of, Profile};
-use super::slip::SlipPower;
-use super::slip::WearPower;
+use super::slip::{SlipPower, WearPower};
+use super::step_rule::{harmonic_rates, next_step_m};
+use super::wheel_wear::pick_profiles;
 pub use super::wheel_wear::{
     measured_growth_per_m, profile_harmonics, HistoryPoint, RunEnd, WheelWear, LINEAR_REGIME_SEEDS,
 };
@@ -49,6 +54,7 @@ use super::zone::WearZone;
 use super::WearError;
 use crate::model::{Variant, Wheel, WheelModel};
 use crate::params::Params;
+use crate::solver::IntegrationError;
 
 /// Profile cells M of the shipped loop (1.95 mm each at r_B = 0.317 m, under a quarter of the
 /// trailing zone's length).
@@ -56,8 +62,6 @@ pub const CELLS: usize = 1024;
 /// Profile orders that act back through ε and that the history records, 1 ..= this (the seed's
 /// band is 1..=64; the zone filters what lies beyond).
 pub const FEEDBACK_ORDERS: usize = 128;
-/// Revolutions integrated before a leg's first measured window (onto its cycle).
-const FIRST_SKIP_REVS: usize = 30;
 /// A window cycles (has a rotation number) when |v| reaches this share of U = V sin α.
 const CYCLING_SHARE_OF_U: f64 = 0.1;
 /// The tread model is rebuilt at a speed once h has moved this much since \[m\].
@@ -66,6 +70,8 @@ const HEIGHT_REBUILD_M: f64 = 1e-5;
 const TABLE_POINTS_PER_ORDER: usize = 8;
 /// Most steps a run may take (a guard against a step rule that stalls).
 const MAX_STEPS: usize = 20_000;
+/// Most integration steps one window may take.
+const MAX_WINDOW_STEPS: usize = 50_000_000;
 
 /// How the loop runs (the physics constants are parameters; these are the numerics and the
 /// run's length).
@@ -99,6 +105,11 @@ pub struct LoopSettings {
     /// Stop once a polygon is visible (else run the whole distance, or until the tyre is worn
     /// out).
     pub stop_at_visible: bool,
+    /// Most RHS evaluations one wheel's run may take over all its windows: a backstop beside
+    /// the refusal of a too slow usage before any work ([`MAX_FIRST_STEP_TREAD_S`]); a run
+    /// over it fails its wheel with reason `budget exceeded`. The default is 30 times what
+    /// the default point's 60,000 km take (33 million on the follower).
+    pub max_rhs_evals: u64,
 }
 
 impl Default for LoopSettings {
@@ -116,6 +127,7 @@ impl Default for LoopSettings {
             zone: WearZone::DEFAULT,
             power: WearPower::DEFAULT,
             stop_at_visible: true,
+            max_rhs_evals: 1_000_000_000,
         }
     }
 }
@@ -237,6 +249,13 @@ impl<'a> Run<'a> {
         Ok(self.models[i].as_ref().expect("built above"))
     }
 
+    fn over_budget(&self) -> String {
+        format!(
+            "budget exceeded (max_rhs_evals = {} for the loop; {} RHS evaluations spent)",
+            self.settings.max_rhs_evals, self.rhs_evals
+        )
+    }
+
     fn failure(&self, speed_kmh: f64, reason: String) -> WearError {
         WearError::Loop {
             speed_kmh,
@@ -295,6 +314,13 @@ impl<'a> Run<'a> {
             (lm.params, lm.feedback, lm.model.ode, lm.period_s, lm.slip);
         let width_m = lm.model.patch.width_m;
         let table = EpsilonTable::new(&fb, &harmonics, TABLE_POINTS_PER_ORDER * orders);
+        // The run's work budget covers every window: the last one gets what is left of it
+        // (12 RHS evaluations a DOP853 step).
+        let left = settings.max_rhs_evals.saturating_sub(self.rhs_evals);
+        if left == 0 {
+            return Err(self.failure(p.speed_kmh, self.over_budget()));
+        }
+        let max_steps = MAX_WINDOW_STEPS.min((left / 12).max(1) as usize);
         let revs = if first {
             WINDOW_REVS.1
         } else {
@@ -314,9 +340,14 @@ impl<'a> Run<'a> {
             samples_per_rev: settings.samples_per_rev,
             rtol: settings.rtol,
             period_s,
-            max_steps: 50_000_000,
+            max_steps,
         })
-        .map_err(|e| self.failure(p.speed_kmh, e.to_string()))?;
+        .map_err(|e| match e {
+            IntegrationError::TooManySteps { .. } if max_steps < MAX_WINDOW_STEPS => {
+                self.failure(p.speed_kmh, self.over_budget())
+            }
+            e => self.failure(p.speed_kmh, e.to_string()),
+        })?;
         self.rhs_evals += window.rhs_evals as u64;
         let cycling = window.peak_v_mps > CYCLING_SHARE_OF_U * ode.u_mps;
         let t_rev = 1.0 / WheelModel::rotation_hz(&p);
@@ -386,63 +417,6 @@ impl<'a> Run<'a> {
         self.state.distance_m += step_m;
         Ok((rate, rho, locked, kept))
     }
-}
-
-/// D_n, dD_n/ds and β_n of orders 1..=`orders` for the profile `profile` under the wear rate
-/// `rate_m_per_m` per cell.
-fn harmonic_rates(
-    profile: &Profile,
-    rate_m_per_m: &[f64],
-    orders: usize,
-) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-    let r = profile.harmonics(orders);
-    let mean = rate_m_per_m.iter().sum::<f64>() / rate_m_per_m.len() as f64;
-    let dr_rate: Vec<f64> = rate_m_per_m.iter().map(|x| -(x - mean)).collect();
-    let dr = harmonics_of(&dr_rate, orders);
-    let mut depth = Vec::with_capacity(orders);
-    let mut d_rate = Vec::with_capacity(orders);
-    let mut beta = Vec::with_capacity(orders);
-    for (rn, drn) in r.iter().zip(&dr) {
-        let a = rn.norm();
-        let along = (drn * rn.conj()).re;
-        depth.push(2.0 * a);
-        d_rate.push(if a > 0.0 {
-            2.0 * along / a
-        } else {
-            2.0 * drn.norm()
-        });
-        beta.push(if a > 0.0 { along / (a * a) } else { 0.0 });
-    }
-    (depth, d_rate, beta)
-}
-
-/// Orders shallower than this share of the deepest take no part in the step rule: their β is
-/// the ratio of two roundings.
-const STEP_RULE_DEPTH_SHARE: f64 = 0.01;
-
-/// The next step \[m\]: Δs_max, 0.1 |R|max/|dR/ds|max, 0.2/|β|max (over the orders at least
-/// [`STEP_RULE_DEPTH_SHARE`] of the deepest) and 1 µm of profile change, never below Δs_min.
-fn next_step_m(settings: &LoopSettings, point: &HistoryPoint, rate_spread_m_per_m: f64) -> f64 {
-    let depth = point.depths_m.iter().fold(0.0f64, |m, d| m.max(*d));
-    let significant = |i: &usize| point.depths_m[*i] >= STEP_RULE_DEPTH_SHARE * depth;
-    let max_abs = |v: &[f64]| {
-        (0..v.len())
-            .filter(significant)
-            .fold(0.0f64, |m, i| m.max(v[i].abs()))
-    };
-    let d_rate = max_abs(&point.depth_rate_m_per_m);
-    let beta = max_abs(&point.growth_per_m);
-    let mut step = settings.max_step_km * 1e3;
-    if d_rate > 0.0 {
-        step = step.min(0.1 * depth / d_rate);
-    }
-    if beta > 0.0 {
-        step = step.min(0.2 / beta);
-    }
-    if rate_spread_m_per_m > 0.0 {
-        step = step.min(1e-6 / rate_spread_m_per_m);
-    }
-    step.max(settings.min_step_km * 1e3)
 }
 
 impl<'a> Run<'a> {
@@ -680,27 +654,4 @@ fn crossing(
         1.0
     };
     Some(((n + 1) as u32, (before.distance_m + share * step_m) / 1e3))
-}
-
-/// At most `count` of `profiles`: the first, the last and those nearest to evenly spaced
-/// distances between.
-fn pick_profiles(profiles: Vec<(f64, Vec<f64>)>, count: usize) -> Vec<(f64, Vec<f64>)> {
-    if profiles.len() <= count {
-        return profiles;
-    }
-    let last = profiles.last().map(|p| p.0).unwrap_or(0.0);
-    let mut picked: Vec<usize> = (0..count)
-        .map(|k| {
-            let target = last * k as f64 / (count - 1) as f64;
-            (0..profiles.len())
-                .min_by(|a, b| {
-                    (profiles[*a].0 - target)
-                        .abs()
-                        .total_cmp(&(profiles[*b].0 - target).abs())
-                })
-                .expect("not empty")
-        })
-        .collect();
-    picked.dedup();
-    picked.into_iter().map(|i| profiles[i].clone()).collect()
 }

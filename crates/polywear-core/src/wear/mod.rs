@@ -52,6 +52,7 @@ pub mod periodic;
 pub mod profile;
 pub mod slip;
 pub mod spread;
+mod step_rule;
 pub mod tongue;
 pub mod transfer;
 pub mod wheel_wear;

@@ -254,3 +254,26 @@ pub fn profile_harmonics(depth_m: &[f64], orders: usize) -> Vec<Complex64> {
     }
     .harmonics(orders)
 }
+
+/// At most `count` of `profiles`: the first, the last and those nearest to evenly spaced
+/// distances between.
+pub(super) fn pick_profiles(profiles: Vec<(f64, Vec<f64>)>, count: usize) -> Vec<(f64, Vec<f64>)> {
+    if profiles.len() <= count {
+        return profiles;
+    }
+    let last = profiles.last().map(|p| p.0).unwrap_or(0.0);
+    let mut picked: Vec<usize> = (0..count)
+        .map(|k| {
+            let target = last * k as f64 / (count - 1) as f64;
+            (0..profiles.len())
+                .min_by(|a, b| {
+                    (profiles[*a].0 - target)
+                        .abs()
+                        .total_cmp(&(profiles[*b].0 - target).abs())
+                })
+                .expect("not empty")
+        })
+        .collect();
+    picked.dedup();
+    picked.into_iter().map(|i| profiles[i].clone()).collect()
+}

@@ -120,6 +120,7 @@ impl ExploreRequest {
             .unwrap_or(study.seed);
         study
             .check_scenarios(seed, samples)
+            .and_then(|()| study.check_scenario_rules(accept))
             .map_err(|e| Refusal(format!("{origin}: {e}")))?;
         let out_dir = args
             .out

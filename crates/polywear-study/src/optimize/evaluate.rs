@@ -110,7 +110,16 @@ pub fn solve(problem: &Problem, progress: &Progress<'_>) -> Solution {
         }
         out
     };
-    let points = search(problem.axes.len(), problem.search, &mut eval);
+    let m = problem.search.lattice() as i64;
+    let canonical = |k: &[i64]| -> Vec<i64> {
+        problem
+            .axes
+            .iter()
+            .zip(k)
+            .map(|(a, &k)| a.canonical_index(k, m))
+            .collect()
+    };
+    let points = search(problem.axes.len(), problem.search, &mut eval, &canonical);
     collect(&points, settings, &problem.objective)
 }
 

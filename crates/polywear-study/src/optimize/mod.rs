@@ -79,13 +79,62 @@ impl Axis {
         }
     }
 
-    /// The setting at unit coordinate `u`.
+    /// The setting at unit coordinate `u`. A whole-number parameter (a count of wheels) takes
+    /// whole values only, or, drawn, moves its samples by whole steps: the nearest such setting
+    /// inside the box, so that no setting evaluates 3.75 wheels.
     pub fn value(&self, u: f64) -> f64 {
-        if u >= 1.0 {
+        let raw = if u >= 1.0 {
             self.hi
         } else {
             self.lo + u * (self.hi - self.lo)
+        };
+        if !self.param.spec().integer {
+            return raw;
         }
+        let offset = match self.kind {
+            SettingKind::Set => 0.0,
+            SettingKind::Shift { centre } => centre,
+            SettingKind::Scale { .. } => return raw,
+        };
+        let mut v = offset + (raw - offset).round();
+        if v < self.lo {
+            v += 1.0;
+        }
+        if v > self.hi {
+            v -= 1.0;
+        }
+        v
+    }
+
+    /// Whether every setting of the box is a whole step of a whole-number parameter: the box
+    /// holds at least one, and a fixed one's ends are whole.
+    pub fn whole_steps_fit(&self) -> bool {
+        if !self.param.spec().integer {
+            return true;
+        }
+        let (lo, hi) = (self.value(0.0), self.value(1.0));
+        let inside = (self.lo..=self.hi).contains(&lo) && (self.lo..=self.hi).contains(&hi);
+        match self.kind {
+            SettingKind::Set => inside && self.lo.fract() == 0.0 && self.hi.fract() == 0.0,
+            _ => inside,
+        }
+    }
+
+    /// The first lattice index of `lattice` steps whose setting equals index `k`'s (a whole-number
+    /// parameter has fewer settings than lattice points: each is evaluated once).
+    pub fn canonical_index(&self, k: i64, lattice: i64) -> i64 {
+        let at = |k: i64| self.value(k as f64 / lattice as f64);
+        let v = at(k);
+        let (mut lo, mut hi) = (0, k);
+        while lo < hi {
+            let mid = (lo + hi) / 2;
+            if at(mid) < v {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
     }
 
     /// The change a setting makes to every sample.
@@ -148,12 +197,15 @@ fn centre(dist: &Distribution) -> f64 {
 fn column_mean(study: &Study, param: ParamId) -> Option<f64> {
     let op = study.operating_points.as_ref()?;
     let j = op.names.iter().position(|n| *n == param.name())?;
-    let total: f64 = op.weights.iter().sum();
+    // Relative to the largest weight, so that weights near the largest float sum without
+    // overflow.
+    let largest = op.weights.iter().fold(0.0f64, |m, w| m.max(*w));
+    let total: f64 = op.weights.iter().map(|w| w / largest).sum();
     Some(
         op.values
             .iter()
             .zip(&op.weights)
-            .map(|(row, w)| row[j] * w)
+            .map(|(row, w)| row[j] * (w / largest))
             .sum::<f64>()
             / total,
     )

@@ -184,8 +184,20 @@ pub fn parse_terms(s: &str) -> Result<Vec<(f64, Term)>, Refusal> {
         }
         terms.push((w, term));
     }
+    // A sample's score sums the weights and the interval squares it: a total above this would
+    // overflow, and only the weights' ratios move the optimum.
+    let total: f64 = terms.iter().map(|t| t.0).sum();
+    if total > MAX_WEIGHT_SUM {
+        return Err(Refusal(format!(
+            "`{s}`: the weights add up to more than 1e100; accepted: weights adding up to at most 1e100 (only their ratios matter: 1*wear+1*vibration has the same optimum as 1e308*wear+1e308*vibration)"
+        )));
+    }
     Ok(terms)
 }
+
+/// The largest sum of an objective's weights: its square, the scale of the interval's
+/// variance, stays far from overflow.
+pub const MAX_WEIGHT_SUM: f64 = 1e100;
 
 impl Objective {
     /// Whether the objective needs the wear stage's distance.
@@ -346,6 +358,9 @@ mod tests {
             "{e}"
         );
         assert!(parse_terms("-1*wear").is_err());
+        let e = parse_terms("1e308*wear+1e308*vibration").unwrap_err().0;
+        assert!(e.contains("at most 1e100"), "{e}");
+        assert!(parse_terms("1e99*wear+1e99*vibration").is_ok());
         assert!(parse_terms("wear+wear").is_err());
         assert!(parse_terms("x*wear").is_err());
         assert!("worse"

@@ -83,6 +83,8 @@ impl Problem {
         for (a, given) in axes.iter().zip(&spec.vary) {
             check_axis(a, &study, seed, spec.samples, given)?;
         }
+        let accept = spec.accept_implausible || study.accept_implausible;
+        check_settings(&axes, &study, &spec.search, accept, &spec.vary)?;
         let classifier = ClassifierOptions {
             budget: study.budget,
             ..ClassifierOptions::default()
@@ -258,6 +260,80 @@ fn narrow(
     Ok(())
 }
 
+/// `--vary NAME=LO..HI` as given.
+fn vary_key(given: &(ParamId, f64, f64)) -> String {
+    format!(
+        "--vary {}={}..{}",
+        given.0,
+        plain(given.1, 12),
+        plain(given.2, 12)
+    )
+}
+
+/// Every setting the search can evaluate through the checks of a direct input, before any
+/// work: a whole-number parameter on whole steps, each lattice point's values plausible
+/// (unless `accept`), and no corner of the box breaking a cross-parameter rule (the changes
+/// are monotone in the setting, so the corners decide for every point between).
+fn check_settings(
+    axes: &[Axis],
+    study: &Study,
+    search: &SearchOptions,
+    accept: bool,
+    given: &[(ParamId, f64, f64)],
+) -> Result<(), Refusal> {
+    let m = search.lattice();
+    for (a, given) in axes.iter().zip(given) {
+        let key = vary_key(given);
+        if !a.whole_steps_fit() {
+            return Err(Refusal(format!(
+                "{key}: {} is a whole number and the box holds no whole setting between its ends; accepted: whole ends LO < HI, e.g. {}=2..8",
+                a.param, a.param
+            )));
+        }
+        if accept {
+            continue;
+        }
+        let mut last = f64::NAN;
+        for k in 0..=m {
+            let v = a.value(k as f64 / m as f64);
+            if v == last {
+                continue;
+            }
+            last = v;
+            study.check_change_plausible(a.change(v)).map_err(|e| {
+                Refusal(format!(
+                    "{key}: the setting {} = {}: {e}",
+                    a.param,
+                    plain(v, 12)
+                ))
+            })?;
+        }
+    }
+    let corners = 1usize << axes.len();
+    for corner in 0..corners {
+        let changes: Vec<_> = axes
+            .iter()
+            .enumerate()
+            .map(|(i, a)| a.change(a.value(((corner >> i) & 1) as f64)))
+            .collect();
+        if let Some(b) = study.broken_rule(&changes) {
+            let i = axes
+                .iter()
+                .position(|a| a.param == b.change.param)
+                .unwrap_or(0);
+            let setting = axes[i].value(((corner >> i) & 1) as f64);
+            return Err(Refusal(format!(
+                "{}: the setting {} = {} {}",
+                vary_key(&given[i]),
+                axes[i].param,
+                plain(setting, 12),
+                b.words()
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Refuses a box whose ends take any sample outside the parameter's accepted range.
 fn check_axis(
     a: &Axis,
@@ -266,12 +342,7 @@ fn check_axis(
     samples: u64,
     given: &(ParamId, f64, f64),
 ) -> Result<(), Refusal> {
-    let key = format!(
-        "--vary {}={}..{}",
-        given.0,
-        plain(given.1, 12),
-        plain(given.2, 12)
-    );
+    let key = vary_key(given);
     if let SettingKind::Set = a.kind {
         for end in [a.lo, a.hi] {
             a.param.spec().check(end).map_err(|e| {

@@ -67,10 +67,20 @@ pub struct Evaluated {
 /// order.
 pub type Evaluate<'a> = dyn FnMut(&[Vec<f64>], usize) -> Vec<Value> + 'a;
 
+/// Maps a lattice key to the first key with the same setting (the identity where every lattice
+/// point is a setting of its own).
+pub type Canonical<'a> = dyn Fn(&[i64]) -> Vec<i64> + 'a;
+
 /// Runs the search in `dims` dimensions; `eval` evaluates a batch of settings (unit
-/// coordinates) of one level and returns their values in order. Returns every setting
-/// evaluated, in order of evaluation.
-pub fn search(dims: usize, opts: SearchOptions, eval: &mut Evaluate<'_>) -> Vec<Evaluated> {
+/// coordinates) of one level and returns their values in order; `canonical` names the lattice
+/// points that are one setting (a whole-number axis), so that each is evaluated once. Returns
+/// every setting evaluated, in order of evaluation.
+pub fn search(
+    dims: usize,
+    opts: SearchOptions,
+    eval: &mut Evaluate<'_>,
+    canonical: &Canonical<'_>,
+) -> Vec<Evaluated> {
     let m = opts.lattice() as i64;
     let to_unit = |k: &[i64]| k.iter().map(|&k| k as f64 / m as f64).collect::<Vec<f64>>();
     let mut seen: BTreeSet<Vec<i64>> = BTreeSet::new();
@@ -79,6 +89,11 @@ pub fn search(dims: usize, opts: SearchOptions, eval: &mut Evaluate<'_>) -> Vec<
     let coarse = m / (opts.grid as i64 - 1);
     let mut batch: Vec<Vec<i64>> = grid_keys(dims, opts.grid, coarse);
     for level in 0..=opts.levels {
+        for k in batch.iter_mut() {
+            *k = canonical(k);
+        }
+        batch.sort();
+        batch.dedup();
         batch.retain(|k| seen.insert(k.clone()));
         if batch.is_empty() {
             break;
@@ -100,8 +115,11 @@ pub fn search(dims: usize, opts: SearchOptions, eval: &mut Evaluate<'_>) -> Vec<
                     .zip(&offset)
                     .map(|(k, o)| k + o * step)
                     .collect();
-                if k.iter().all(|&x| (0..=m).contains(&x)) && !seen.contains(&k) {
-                    batch.push(k);
+                if k.iter().all(|&x| (0..=m).contains(&x)) {
+                    let k = canonical(&k);
+                    if !seen.contains(&k) {
+                        batch.push(k);
+                    }
                 }
             }
         }
@@ -202,7 +220,7 @@ mod tests {
     fn the_search_finds_a_hidden_minimum_to_the_finest_step() {
         let opts = SearchOptions::DEFAULT;
         for at in [[0.37, 0.71], [0.05, 0.93], [0.0, 0.5], [0.62, 1.0]] {
-            let points = search(2, opts, &mut bowl(at));
+            let points = search(2, opts, &mut bowl(at), &|k| k.to_vec());
             let b = &points[best(&points).unwrap()];
             let err = (b.unit[0] - at[0]).abs().max((b.unit[1] - at[1]).abs());
             assert!(
@@ -232,7 +250,7 @@ mod tests {
             }
             v
         };
-        let points = search(2, SearchOptions::DEFAULT, &mut eval);
+        let points = search(2, SearchOptions::DEFAULT, &mut eval, &|k| k.to_vec());
         let b = &points[best(&points).unwrap()];
         assert!((b.unit[0] - 0.75).abs() < 1e-12, "{:?}", b.unit);
         assert!((b.unit[1] - 0.5).abs() <= SearchOptions::DEFAULT.finest_step());
@@ -249,7 +267,7 @@ mod tests {
                 })
                 .collect()
         };
-        let points = search(1, SearchOptions::DEFAULT, &mut eval);
+        let points = search(1, SearchOptions::DEFAULT, &mut eval, &|k| k.to_vec());
         let b = &points[best(&points).unwrap()];
         assert!((b.unit[0] - 0.123).abs() <= SearchOptions::DEFAULT.finest_step());
     }

@@ -38,7 +38,7 @@ impl Study {
 
 impl DrawnParam {
     /// The values that judge the distribution, each with the key it is written under.
-    fn judged_values(&self) -> Vec<(String, f64)> {
+    pub(super) fn judged_values(&self) -> Vec<(String, f64)> {
         let key = |field: &str| format!("params.{}.{field}", self.param);
         match &self.dist {
             Distribution::Uniform { min, max, .. }

@@ -239,6 +239,19 @@ pub(super) fn scenarios(tables: &ScenarioTables) -> Result<Vec<Scenario>, StudyE
             check_value(param, change, &key)?;
             scenario.changes.push(ParamChange { param, change });
         }
+        // Names that differ only in the spaces around them read as one in the report.
+        if let Some(other) = out
+            .iter()
+            .find(|o: &&Scenario| o.name.trim() == name.trim())
+        {
+            return Err(StudyError::RepeatedScenario {
+                name: name.clone(),
+                why: format!(
+                    "{:?} and {name:?} differ only in the spaces around them",
+                    other.name
+                ),
+            });
+        }
         out.push(scenario);
     }
     Ok(out)
