@@ -4,15 +4,10 @@
 
 use super::footer::FileFooter;
 
-/// Keys that differ between the files of one run: which shard and chunk a file is, the command
-/// line that wrote it (a resume, a shard of a job array) and the version that wrote it.
-const PER_FILE_KEYS: [&str; 5] = [
-    "shard",
-    "chunk",
-    "command",
-    "polywear_version",
-    "ARROW:schema",
-];
+/// Keys that differ between the files of one run: which shard and chunk a file is and the
+/// command line that wrote it (a resume, a shard of a job array). The program version is not
+/// among them: rows that two versions wrote are not one run's.
+const PER_FILE_KEYS: [&str; 4] = ["shard", "chunk", "command", "ARROW:schema"];
 
 /// Fields inside a value that differ between the files of one run: where the operating-point
 /// file was found from the working directory of each shard.
