@@ -176,7 +176,9 @@ define_record! {
     AmpYM amp_y_m: f64, F64, "m", "Half peak-to-peak of y over the cycle; 0 without a cycle, NaN when failed.";
     AmpVMps amp_v_mps: f64, F64, "m/s", "Half peak-to-peak of v over the cycle; 0 without a cycle, NaN when failed.";
     FreqHz freq_hz: f64, F64, "Hz", "The cycle's frequency 1/T.";
-    PolygonOrder polygon_order: f64, F64, "-", "Wear facets n = f / f_rot (MODEL.md#step-9-attractor).";
+    PolygonOrder polygon_order: f64, F64, "-", "Wear facets n = f / f_rot of the vibration (MODEL.md#step-9-attractor); the wear's own order is polygon_order_dominant.";
+    ToeMm toe_mm: f64, F64, "mm", "The toe-in toe_deg in mm at the rim's edge across rim_diameter_mm: D_rim tan(alpha).";
+    ToeTotalDeg toe_total_deg: f64, F64, "deg", "The toe-in as the axle's total toe, both wheels: 2 alpha.";
     EnergyPerCycleJ energy_per_cycle_j: f64, F64, "J", "Energy friction feeds into the tread per cycle.";
     FloquetMax floquet_max: f64, F64, "-", "Modulus of the largest non-trivial Floquet multiplier (NaN if none).";
     RhsEvals rhs_evals: u64, I64, "", "Right-hand-side evaluations spent on the verdict.";
@@ -330,6 +332,8 @@ impl WheelRecord {
             amp_v_mps: cycle(verdict.amp_v_mps),
             freq_hz: cycle(verdict.freq_hz),
             polygon_order: cycle(verdict.polygon_order),
+            toe_mm: crate::params::toe::toe_mm(p.toe_deg, p.rim_diameter_mm),
+            toe_total_deg: crate::params::toe::toe_total_deg(p.toe_deg),
             energy_per_cycle_j: cycle(verdict.energy_per_cycle_j),
             floquet_max: cycle(verdict.floquet_max),
             rhs_evals: verdict.rhs_evals,

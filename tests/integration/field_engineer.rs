@@ -1,0 +1,163 @@
+//! What a tire engineer meets on a first try: toe-in in the units of an alignment sheet (mm at
+//! the rim, total toe) converted and recorded beside the angle, a per-wheel angle typed as one
+//! of those refused with the reading named, outcomes in words, names that say their unit and
+//! which order they are, and optimize's words.
+
+use std::path::PathBuf;
+
+use crate::common::{fresh_dir, polywear};
+
+fn tmp(name: &str) -> PathBuf {
+    let d = fresh_dir(&format!("engineer-{name}"));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The first JSON row of `simulate --json` with `args`.
+fn first_row(args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["simulate", "--wheel", "follower", "--json"];
+    all.extend_from_slice(args);
+    let (code, out, err) = polywear(&all);
+    assert_eq!(code, 0, "{args:?}: {err}");
+    serde_json::from_str(out.lines().next().unwrap()).unwrap()
+}
+
+#[test]
+fn a_toe_typed_as_mm_or_total_toe_is_refused_as_a_per_wheel_angle_and_converted_when_said_so() {
+    // `--toe 2` is neither a service nor a misaligned wheel's angle: refused, naming both
+    // likely readings and the inputs that take them, before any work (exit 2).
+    let d = tmp("toe");
+    let out = d.join("wear_out");
+    let (code, stdout, err) = polywear(&["wear", "--toe", "2", "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(stdout.is_empty() && !out.exists(), "{stdout}");
+    for words in [
+        "`toe_deg` = 2 deg is implausible for a road tire (plausible (0, 1] deg)",
+        "2 mm at a 15-inch (381 mm) rim = 0.3008 deg (toe_mm, --toe-mm)?",
+        "2 deg total toe (both wheels) = 1 deg (toe_total_deg, --toe-total)?",
+        "--accept-implausible",
+    ] {
+        assert!(err.contains(words), "{words}: {err}");
+    }
+    for cmd in ["simulate", "wear"] {
+        let (code, _, err) = polywear(&[cmd, "--toe", "2"]);
+        assert_eq!(code, 2, "{cmd}: {err}");
+    }
+    // Said to be meant, it runs.
+    let row = first_row(&["--toe", "2", "--accept-implausible"]);
+    assert_eq!(row["toe_deg"], 2.0);
+    // The default study's upper toe bound, and the paper's sweep end, stay plausible.
+    assert_eq!(first_row(&["--toe", "0.8"])["toe_deg"], 0.8);
+    assert_eq!(first_row(&["--toe", "1"])["toe_deg"], 1.0);
+
+    // In mm at the rim: toe_deg = atan(mm / D_rim), D_rim = rim_diameter_mm (381 mm default).
+    let row = first_row(&["--toe-mm", "2"]);
+    let deg = |mm: f64, rim: f64| (mm / rim).atan().to_degrees();
+    assert!(
+        (row["toe_deg"].as_f64().unwrap() - deg(2.0, 381.0)).abs() < 1e-13,
+        "{row}"
+    );
+    assert!(
+        (row["toe_mm"].as_f64().unwrap() - 2.0).abs() < 1e-12,
+        "{row}"
+    );
+    let total = row["toe_total_deg"].as_f64().unwrap();
+    assert!((total - 2.0 * deg(2.0, 381.0)).abs() < 1e-13, "{row}");
+    let row = first_row(&["--toe-mm", "2", "--set", "rim_diameter_mm=406.4"]);
+    assert!(
+        (row["toe_deg"].as_f64().unwrap() - deg(2.0, 406.4)).abs() < 1e-13,
+        "{row}"
+    );
+    let row = first_row(&["--set", "toe_mm=1.5"]);
+    assert!(
+        (row["toe_deg"].as_f64().unwrap() - deg(1.5, 381.0)).abs() < 1e-13,
+        "{row}"
+    );
+    // As total toe: half per wheel; every row carries the three forms.
+    let row = first_row(&["--toe-total", "0.5"]);
+    assert_eq!(row["toe_deg"], 0.25);
+    assert_eq!(row["toe_total_deg"], 0.5);
+    let row = first_row(&[]);
+    assert!((row["toe_mm"].as_f64().unwrap() - 381.0 * 0.3f64.to_radians().tan()).abs() < 1e-12);
+
+    // A converted toe outside the plausible angle is refused in the words typed.
+    let (code, _, err) = polywear(&["simulate", "--toe-mm", "30"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--toe-mm 30 (30 mm at the 381 mm rim (rim_diameter_mm) = 4.502 deg per wheel): implausible"),
+        "{err}"
+    );
+    // Two ways of one toe are refused as given twice, or by clap as conflicting (exit 2).
+    for args in [
+        &["simulate", "--toe", "0.2", "--toe-mm", "1"][..],
+        &["simulate", "--toe-total", "0.4", "--set", "toe_mm=1"][..],
+    ] {
+        let (code, _, err) = polywear(args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+    }
+    // The cycle's --set takes the same names.
+    let cycle = d.join("cycle.csv");
+    std::fs::write(&cycle, "time_s,speed_kmh\n0,100\n1,100\n").unwrap();
+    let (code, _, err) = polywear(&[
+        "cycle",
+        cycle.to_str().unwrap(),
+        "--set",
+        "toe_mm=30",
+        "--out",
+        d.join("c").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--set toe_mm=30 (30 mm at the 381 mm rim"),
+        "{err}"
+    );
+    assert!(!d.join("c").exists());
+}
+
+#[test]
+fn a_study_takes_the_toe_as_total_toe_or_in_mm_at_its_rim() {
+    let study = |params: &str| {
+        polywear::study::Study::parse(&format!(
+            "name = \"t\"\nsamples = 4\n[params]\nspeed_kmh = {{ dist = \"uniform\", min = 80, max = 120 }}\n{params}\n"
+        ))
+    };
+    use polywear::params::ParamId;
+    use polywear::sampling::distribution::Distribution;
+    let s = study("toe_total_deg = { dist = \"uniform\", min = 0.2, max = 0.6 }").unwrap();
+    let toe = s.drawn.iter().find(|d| d.param == ParamId::ToeDeg).unwrap();
+    assert_eq!(
+        toe.dist,
+        Distribution::Uniform {
+            min: 0.1,
+            max: 0.3,
+            count: None
+        }
+    );
+    let s =
+        study("rim_diameter_mm = 406.4\ntoe_mm = { dist = \"levels\", levels = [1, 2] }").unwrap();
+    let toe = s.drawn.iter().find(|d| d.param == ParamId::ToeDeg).unwrap();
+    let Distribution::Levels(l) = &toe.dist else {
+        panic!("{:?}", toe.dist)
+    };
+    assert!((l[1] - (2.0f64 / 406.4).atan().to_degrees()).abs() < 1e-15);
+    let s = study("toe_mm = 1.5").unwrap();
+    assert!((s.base.toe_deg - (1.5f64 / 381.0).atan().to_degrees()).abs() < 1e-15);
+    assert!(s.fixed.contains(&ParamId::ToeDeg));
+    for (params, words) in [
+        (
+            "toe_mm = { dist = \"uniform\", min = 0.5, max = 2 }",
+            "only a number or `levels` convert",
+        ),
+        (
+            "toe_mm = 1\ntoe_deg = 0.2",
+            "both give the toe-in; give one",
+        ),
+        (
+            "toe_total_deg = { dist = \"uniform\", min = 0, max = 0.6 }",
+            "params.toe_deg",
+        ),
+    ] {
+        let e = study(params).unwrap_err().to_string();
+        assert!(e.contains(words), "{params}: {e}");
+    }
+}
