@@ -161,3 +161,152 @@ fn a_study_takes_the_toe_as_total_toe_or_in_mm_at_its_rim() {
         assert!(e.contains(words), "{params}: {e}");
     }
 }
+
+/// A small wear study drawing the tread height, run into `dir`.
+fn wear_run(dir: &std::path::Path) -> PathBuf {
+    let study = dir.join("t3.toml");
+    std::fs::write(
+        &study,
+        "name = \"t3\"\nseed = 3\nsamples = 24\nwear = true\n[params]\n\
+         speed_kmh = { dist = \"uniform\", min = 80, max = 160 }\n\
+         toe_deg = { dist = \"uniform\", min = 0.1, max = 0.6 }\n\
+         tread_height = { dist = \"uniform\", min = 0.012, max = 0.016 }\n",
+    )
+    .unwrap();
+    let out = dir.join("run");
+    let (code, _, err) = polywear(&[
+        "explore",
+        study.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    out
+}
+
+fn chunk_files(dir: &std::path::Path) -> Vec<PathBuf> {
+    let mut f: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "parquet"))
+        .collect();
+    f.sort();
+    f
+}
+
+#[test]
+fn the_rows_say_the_wear_outcome_in_words_and_renamed_columns_keep_their_old_names_a_version() {
+    use parquet::file::reader::{FileReader, SerializedFileReader};
+    use parquet::record::Field;
+    let d = tmp("outcome");
+    let run = wear_run(&d);
+    let f64_of = |f: &Field| match f {
+        Field::Double(x) => *x,
+        other => panic!("{other:?}"),
+    };
+    let str_of = |f: &Field| match f {
+        Field::Str(s) => s.clone(),
+        other => panic!("{other:?}"),
+    };
+    let mut seen = std::collections::BTreeSet::new();
+    for file in chunk_files(&run) {
+        for r in crate::parquet_rows::rows(&file) {
+            let distance = f64_of(&r["distance_to_visible_km"]);
+            let even = f64_of(&r["wear_even_mm_per_1000km"]);
+            let life = f64_of(&r["tread_life_km"]);
+            // The shipped usable tread: 8 mm new, worn out at 1.6 mm.
+            assert!(
+                (life - (8.0 - 1.6) / even * 1000.0).abs() <= 1e-9 * life,
+                "{life}"
+            );
+            let outcome = str_of(&r["wear_outcome"]);
+            let expected = if distance.is_nan() {
+                assert!(!str_of(&r["wear_reason"]).is_empty());
+                "unknown"
+            } else if distance <= life {
+                "visible"
+            } else {
+                "not_within_life"
+            };
+            assert_eq!(outcome, expected, "{distance} {life}");
+            seen.insert(outcome);
+            // New names beside the old ones, equal (NaN equal to NaN).
+            for (old, new) in [
+                ("polygon_order_dominant", "polygon_order_wear"),
+                ("wear_calibration_share", "wear_share_straight"),
+                ("tread_height", "tread_height_m"),
+            ] {
+                let (a, b) = (f64_of(&r[old]), f64_of(&r[new]));
+                assert!(a == b || (a.is_nan() && b.is_nan()), "{old} {a} {new} {b}");
+            }
+            assert_eq!(f64_of(&r["wear_share_straight"]), 0.12);
+        }
+        let reader = SerializedFileReader::new(std::fs::File::open(&file).unwrap()).unwrap();
+        let kv = reader
+            .metadata()
+            .file_metadata()
+            .key_value_metadata()
+            .unwrap();
+        let deprecated = kv.iter().find(|k| k.key == "deprecated").unwrap();
+        let map: serde_json::Value =
+            serde_json::from_str(deprecated.value.as_deref().unwrap()).unwrap();
+        assert_eq!(map["polygon_order_dominant"], "polygon_order_wear");
+        assert_eq!(map["wear_calibration_share"], "wear_share_straight");
+        assert_eq!(map["tread_height"], "tread_height_m");
+    }
+    assert!(
+        seen.contains("visible") && seen.contains("not_within_life"),
+        "{seen:?}"
+    );
+    // Both outcome words, and unknown, from one rule.
+    use polywear::records::WearOutcome;
+    assert_eq!(WearOutcome::of(f64::NAN, 5e4), WearOutcome::Unknown);
+    assert_eq!(
+        WearOutcome::of(f64::INFINITY, 5e4).as_str(),
+        "not_within_life"
+    );
+    assert_eq!(WearOutcome::of(4e4, 5e4).as_str(), "visible");
+
+    // This version's rows read without a deprecation line; rows written before the rename
+    // (only the old names) read the same, with one.
+    let (code, fresh, err) = polywear(&["analyze", run.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!fresh.contains("deprecated"), "{fresh}");
+    if !crate::common::python_has(&["pyarrow"]) {
+        return;
+    }
+    let drop_new = "import sys, pyarrow.parquet as pq\n\
+        for f in sys.argv[1:]:\n    t = pq.read_table(f)\n    \
+        t = t.drop_columns(['polygon_order_wear', 'wear_share_straight'])\n    \
+        pq.write_table(t, f)\n";
+    // Copied apart from the run's manifest, which records each chunk's size.
+    let old_run = d.join("old");
+    std::fs::create_dir_all(&old_run).unwrap();
+    let mut files = Vec::new();
+    for f in chunk_files(&run) {
+        let to = old_run.join(f.file_name().unwrap());
+        std::fs::copy(&f, &to).unwrap();
+        files.push(to.display().to_string());
+    }
+    let args: Vec<&str> = files.iter().map(String::as_str).collect();
+    crate::common::python(drop_new, &args);
+    let (code, old, err) = polywear(&["analyze", old_run.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    for name in [
+        "polygon_order_dominant` is read as `polygon_order_wear",
+        "wear_calibration_share` is read as `wear_share_straight",
+    ] {
+        assert!(
+            old.contains(&format!("note: deprecated: column `{name}`")),
+            "{old}"
+        );
+    }
+    let answer = |s: &str| -> Vec<String> {
+        s.lines()
+            .filter(|l| !l.contains("deprecated") && !l.contains("report:"))
+            .map(str::to_string)
+            .collect()
+    };
+    assert_eq!(answer(&old), answer(&fresh));
+}

@@ -423,7 +423,7 @@ pub fn run_with_progress(
     opts: &AnalysisOptions,
     progress: &mut dyn FnMut(Step),
 ) -> Result<Analysis, AnalysisError> {
-    let mut notes = Vec::new();
+    let mut notes = rows::deprecation_notes(&info.files)?;
     let has_scenarios = !info.scenarios.is_empty();
     let rows = Rows::scan_baseline(&info.files, has_scenarios)?;
     let quantities: Vec<&str> = SEVERITY_QUANTITIES.iter().map(|q| q.name()).collect();
