@@ -310,3 +310,116 @@ fn the_rows_say_the_wear_outcome_in_words_and_renamed_columns_keep_their_old_nam
     };
     assert_eq!(answer(&old), answer(&fresh));
 }
+
+#[test]
+fn optimize_says_did_you_mean_the_next_box_and_its_figure_in_percent() {
+    let (code, _, err) = polywear(&[
+        "optimize",
+        "--objective",
+        "waer",
+        "--vary",
+        "toe_deg=0.05..0.4",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("unknown objective `waer`; did you mean `wear`?"),
+        "{err}"
+    );
+    let d = tmp("optimize");
+    let study = "studies/toe_and_pressure.toml";
+    let run = |name: &str, vary: &[&str]| {
+        let out = d.join(name);
+        let mut args = vec!["optimize", study];
+        for v in vary {
+            args.extend(["--vary", v]);
+        }
+        args.extend([
+            "--objective",
+            "vibration",
+            "--samples",
+            "100",
+            "--grid",
+            "3",
+            "--levels",
+            "1",
+            "--format",
+            "svg",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let (code, stdout, err) = polywear(&args);
+        assert_eq!(code, 0, "{err}");
+        (stdout, out)
+    };
+    // Less toe-in vibrates less: the optimum is the box's lower edge, and the next box to try is
+    // said as a --vary that runs.
+    let (stdout, _) = run("edge", &["toe_deg=0.05..0.40"]);
+    let said = "next step: widen the box there, `--vary ";
+    let at = stdout.find(said).unwrap_or_else(|| panic!("{stdout}")) + said.len();
+    let next = &stdout[at..at + stdout[at..].find('`').unwrap()];
+    let (lo, hi) = next
+        .trim_start_matches("toe_deg=")
+        .split_once("..")
+        .unwrap();
+    let (lo, hi): (f64, f64) = (lo.parse().unwrap(), hi.parse().unwrap());
+    assert!(lo < 0.05 && lo > 0.0 && hi == 0.4, "{next}");
+    let (again, _) = run("next", &[next]);
+    assert!(again.contains("optimum: toe_deg = "), "{again}");
+    // The surface's colour bar is in %, as the text says.
+    let (_, out) = run("map", &["toe_deg=0.05..0.40", "pressure_kpa=200..300"]);
+    let svg = std::fs::read_to_string(out.join("surface.svg")).unwrap();
+    let texts: Vec<String> = crate::common::svg::texts(&svg)
+        .into_iter()
+        .map(|t| t.text)
+        .collect();
+    assert!(
+        texts.iter().any(|t| t == "vibration (worst wheel) [%]"),
+        "{texts:?}"
+    );
+    let ticks: Vec<f64> = texts.iter().filter_map(|t| t.parse().ok()).collect();
+    assert!(
+        ticks
+            .iter()
+            .any(|&t| t >= 10.0 && t <= 100.0 && t.fract() == 0.0),
+        "{ticks:?}"
+    );
+    // The book says which objective answers which question.
+    let page = std::fs::read_to_string("docs/book/src/reference/optimize.md").unwrap();
+    assert!(page.contains("**Which objective answers which question.**"));
+}
+
+#[test]
+fn the_wear_figure_gives_every_legend_entry_its_own_colour() {
+    let d = tmp("wear-figure");
+    let out = d.join("w");
+    let (code, _, err) = polywear(&["wear", "--format", "svg", "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let svg = std::fs::read_to_string(out.join("wear.svg")).unwrap();
+    let texts: Vec<String> = crate::common::svg::texts(&svg)
+        .into_iter()
+        .map(|t| t.text)
+        .collect();
+    // One wheel's legend: its distances and its orders (the visible depth is black).
+    let per_wheel = texts
+        .iter()
+        .filter(|t| {
+            t.ends_with(" km") && t.chars().next().unwrap().is_ascii_digit()
+                || t.starts_with("order ")
+        })
+        .count()
+        / 2;
+    assert!(per_wheel >= 6, "{texts:?}");
+    let mut colours = std::collections::BTreeSet::new();
+    let mut rest = svg.as_str();
+    while let Some(i) = rest.find("<polyline ") {
+        let tag = &rest[i..i + rest[i..].find('>').unwrap()];
+        if let Some(j) = tag.find("stroke=\"#") {
+            colours.insert(tag[j + 9..j + 15].to_string());
+        }
+        rest = &rest[i + 1..];
+    }
+    colours.remove("000000");
+    assert_eq!(colours.len(), per_wheel, "{colours:?}");
+    assert!(texts.iter().any(|t| t == "visible depth"));
+}
