@@ -423,3 +423,34 @@ fn the_wear_figure_gives_every_legend_entry_its_own_colour() {
     assert_eq!(colours.len(), per_wheel, "{colours:?}");
     assert!(texts.iter().any(|t| t == "visible depth"));
 }
+
+#[test]
+fn the_report_ranks_the_parameters_for_the_wear_outcome_and_never_calls_vibration_the_cause() {
+    let d = tmp("report");
+    let run = wear_run(&d);
+    let report = std::fs::read_to_string(run.join("_report/report.md")).unwrap();
+    let drivers = &report[report.find("## Which parameters drive it?").unwrap()..];
+    let wear = drivers
+        .find("### The wear outcome")
+        .expect("a wear section");
+    let vibration = drivers.find("### Vibration").expect("a vibration section");
+    assert!(wear < vibration, "{drivers}");
+    let table = &drivers[wear..vibration];
+    assert!(table.contains("visible within 40,000 km"), "{table}");
+    // Toe-in drives the wear outcome of this run; every drawn parameter has a row per wheel.
+    for p in ["Toe-in", "Speed", "Tread height h"] {
+        assert_eq!(
+            table.matches(&format!("| {p} |")).count(),
+            2,
+            "{p}: {table}"
+        );
+    }
+    let (_, help, _) = polywear(&["--help"]);
+    for text in [&report, &help] {
+        assert!(!text.contains("the cause of polygonal wear"), "{text}");
+    }
+    assert!(
+        help.contains("the mechanism the wear model builds on"),
+        "{help}"
+    );
+}

@@ -154,6 +154,9 @@ pub struct Analysis {
     pub severity: Vec<Severity>,
     /// First-order indices of the vibration indicator from the rows (every design).
     pub first_order: Vec<FirstOrder>,
+    /// The same indices for the wear outcome, a visible polygon within
+    /// [`AnalysisOptions::scenario_within_km`] (empty without the wear stage's columns).
+    pub first_order_wear: Vec<FirstOrder>,
     /// Sobol indices (only for a Saltelli design).
     pub sensitivity: Option<Vec<Sensitivity>>,
     /// P(vibration) per lost-digit decoding (only when the study draws decodings).
@@ -470,7 +473,14 @@ pub fn run_with_progress(
         &mut notes,
     )?;
     progress(Step::Scenarios);
-    let wear = if wear_risk::has_wear(&rows)? {
+    let has_wear = wear_risk::has_wear(&rows)?;
+    let first_order_wear = if has_wear {
+        let km = opts.scenario_within_km;
+        given_data::first_order_wear_indices(&rows, &info, &ranges, opts.bootstrap, km)?
+    } else {
+        Vec::new()
+    };
+    let wear = if has_wear {
         let drawn: Vec<&RiskMap> = vibration
             .maps
             .iter()
@@ -501,6 +511,7 @@ pub fn run_with_progress(
         sparse_maps,
         severity,
         first_order,
+        first_order_wear,
         sensitivity,
         robustness,
         robustness_summary,
