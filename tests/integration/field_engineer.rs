@@ -381,7 +381,7 @@ fn optimize_says_did_you_mean_the_next_box_and_its_figure_in_percent() {
     assert!(
         ticks
             .iter()
-            .any(|&t| t >= 10.0 && t <= 100.0 && t.fract() == 0.0),
+            .any(|&t| (10.0..=100.0).contains(&t) && t.fract() == 0.0),
         "{ticks:?}"
     );
     // The book says which objective answers which question.

@@ -47,7 +47,7 @@ pub fn typed_toe(
     let by = format!("{typed_as} ({})", input.words(x, rim_mm));
     let deg = input.to_deg(x, rim_mm);
     let spec = ParamId::ToeDeg.spec();
-    let plausible = spec.plausible.map_or(true, |q| q.contains(deg));
+    let plausible = spec.plausible.is_none_or(|q| q.contains(deg));
     if !accept_implausible && spec.check(deg).is_ok() && !plausible {
         return Err(Refusal(format!(
             "{by}: implausible for a road tire (plausible toe_deg {} deg per wheel) (if it is meant, --accept-implausible runs it anyway)",
@@ -57,6 +57,9 @@ pub fn typed_toe(
     Ok((deg, by))
 }
 
+/// `--set` pairs: (name, value).
+pub type SetPairs = Vec<(String, f64)>;
+
 /// `--set` pairs with every toe input (`toe_mm`, `toe_total_deg`) replaced by `toe_deg` at its
 /// converted value, and a note for each ("note: --set toe_mm=2 is toe_deg = 0.3008 (...)").
 /// An implausible toe is refused as [`typed_toe`] refuses it.
@@ -64,7 +67,7 @@ pub fn set_as_angles(
     set: &[(String, f64)],
     rim_mm: f64,
     accept_implausible: bool,
-) -> Result<(Vec<(String, f64)>, Vec<String>), Refusal> {
+) -> Result<(SetPairs, Vec<String>), Refusal> {
     let mut notes = Vec::new();
     let mut pairs = Vec::new();
     for (name, x) in set {
