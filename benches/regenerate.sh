@@ -47,6 +47,8 @@ say() { printf '%s\n' "$*" | tee -a "$report"; }
 block() { say '```'; tee -a "$report"; say '```'; say ""; }
 section() { say ""; say "## $1"; say ""; }
 timed() { /usr/bin/time -f "%e s %M KB" "$@"; }
+# Wall, CPU (user + system) and peak memory: README quotes the explore run's three.
+timed_cpu() { /usr/bin/time -f "%e s wall, %U s user + %S s system CPU, %M KB peak" "$@"; }
 want() { [ -z "$only" ] || [[ ",$only," == *",$1,"* ]]; }
 peers_ok() { python3 -c "import scipy, numba, pandas" >/dev/null 2>&1; }
 # Criterion's result lines, one per benchmark: a long name stands on a line of its own, with
@@ -68,8 +70,8 @@ if want explore; then
   section "explore"
   say "Command: \`polywear explore --samples $EXPLORE_N\` (the built-in study, with the closing report)."
   say ""
-  timed "$bin" explore --samples "$EXPLORE_N" --out "$work/explore" > "$work/explore.out" 2> "$work/explore.err"
-  { grep -E "samples evaluated|analysed" "$work/explore.out" || true; echo "wall and peak RSS of the whole command: $(tail -1 "$work/explore.err")"; } | block
+  timed_cpu "$bin" explore --samples "$EXPLORE_N" --out "$work/explore" > "$work/explore.out" 2> "$work/explore.err"
+  { grep -E "samples evaluated|analysed" "$work/explore.out" || true; echo "the whole command: $(tail -1 "$work/explore.err")"; } | block
   { grep -A3 "^P(vibration)" "$work/explore.out" || true; } | block
 fi
 

@@ -155,7 +155,7 @@ fn an_implausible_flag_set_or_parameter_file_is_refused_before_any_work() {
             &["simulate", "--toe", "6", "--plot", p],
             &[
                 "--toe 6",
-                "plausible (0, 2] deg",
+                "plausible (0, 1] deg",
                 "6 arc minutes = 0.1 deg?",
             ],
         ),

@@ -19,6 +19,7 @@ mod cycles;
 mod docs;
 mod explore;
 mod fault_injection;
+mod field_engineer;
 mod figures;
 mod fuzz_inputs;
 mod inputs;

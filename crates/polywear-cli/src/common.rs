@@ -65,6 +65,21 @@ pub struct PointArgs {
     pub speed: Option<f64>,
     #[arg(long, value_name = "DEG", allow_hyphen_values = true, help = flag_help(ParamId::ToeDeg))]
     pub toe: Option<f64>,
+    /// Toe-in in mm at the rim's edge across rim_diameter_mm (default 381 mm, a 15-inch rim;
+    /// `--set rim_diameter_mm=406.4` for 16 inch), converted to the per-wheel angle
+    /// atan(mm / D_rim)
+    #[arg(long = "toe-mm", value_name = "MM", allow_hyphen_values = true,
+          conflicts_with_all = ["toe", "toe_total"])]
+    pub toe_mm: Option<f64>,
+    /// Toe-in as the axle's total toe (both wheels) [deg], converted to the per-wheel angle
+    /// (half of it)
+    #[arg(
+        long = "toe-total",
+        value_name = "DEG",
+        allow_hyphen_values = true,
+        conflicts_with = "toe"
+    )]
+    pub toe_total: Option<f64>,
     #[arg(long, value_name = "N", allow_hyphen_values = true, help = flag_help(ParamId::LoadN))]
     pub load: Option<f64>,
     #[arg(long, value_name = "KPA", allow_hyphen_values = true, help = flag_help(ParamId::PressureKpa))]
@@ -172,17 +187,51 @@ impl PointArgs {
     /// The parameters with their sources ([`Resolved::resolve`]: the one-place rule), the
     /// notes printed on stderr.
     pub fn resolve(&self) -> CliResult<Resolved> {
+        use polywear_core::params::toe::ToeInput;
+        let plain = |x: f64| polywear_core::wording::plain(x, 12);
+        let rim = polywear_study::toe_input::rim_diameter_mm(
+            self.params.as_deref(),
+            &self.set,
+            self.accept_implausible,
+        )?;
+        let toe = |typed_as: String, input: ToeInput, x: f64| -> CliResult<Typed> {
+            let (value, by) = polywear_study::toe_input::typed_toe(
+                &typed_as,
+                input,
+                x,
+                rim,
+                self.accept_implausible,
+            )?;
+            let id = ParamId::ToeDeg;
+            Ok(Typed { id, by, value })
+        };
         let mut typed = Vec::new();
         for (name, value) in &self.set {
+            if let Some(input) = ToeInput::parse(name) {
+                typed.push(toe(
+                    format!("--set {name}={}", plain(*value)),
+                    input,
+                    *value,
+                )?);
+                continue;
+            }
             let id: ParamId = name
                 .parse()
                 .map_err(|e: ParamError| CliError(format!("--set {name}={value}: {e}")))?;
-            let by = format!("--set {name}={}", polywear_core::wording::plain(*value, 12));
+            let by = format!("--set {name}={}", plain(*value));
             typed.push(Typed {
                 id,
                 by,
                 value: *value,
             });
+        }
+        for (input, value) in [
+            (ToeInput::Mm, self.toe_mm),
+            (ToeInput::TotalDeg, self.toe_total),
+        ] {
+            if let Some(x) = value {
+                typed.push(toe(format!("{} {}", input.flag(), plain(x)), input, x)?);
+            }
         }
         for (flag, id, value) in [
             ("--speed", ParamId::SpeedKmh, self.speed),

@@ -45,7 +45,8 @@ pub struct CycleArgs {
     #[arg(long, value_enum, default_value_t = VariantArg::SlidingShare)]
     pub variant: VariantArg,
     /// Any model parameter for the whole cycle, e.g. `--set toe_deg=0.3` (repeatable); one the
-    /// cycle file gives per step is refused
+    /// cycle file gives per step is refused. The toe-in may also be given in mm at the rim
+    /// (`--set toe_mm=2`, across rim_diameter_mm) or as total toe (`--set toe_total_deg=0.6`)
     #[arg(long = "set", value_name = "NAME=VALUE", value_parser = super::common::parse_assignment)]
     pub set: Vec<(String, f64)>,
     /// Parameter file (TOML `[params]`, e.g. from `polywear calibrate`), applied first; a
@@ -143,9 +144,19 @@ fn resolve(args: &CycleArgs) -> CliResult<CycleRequest> {
             .check_plausible()
             .map_err(|e| CliError(e.to_string()))?;
     }
-    let (line, notes) = CommandLine::read(
+    let rim = polywear_study::toe_input::rim_diameter_mm(
         args.params.as_deref(),
         &args.set,
+        args.accept_implausible,
+    )?;
+    let (set, toe_notes) =
+        polywear_study::toe_input::set_as_angles(&args.set, rim, args.accept_implausible)?;
+    for note in toe_notes {
+        eprintln!("{note}");
+    }
+    let (line, notes) = CommandLine::read(
+        args.params.as_deref(),
+        &set,
         args.accept_implausible,
         &cycle,
     )?;

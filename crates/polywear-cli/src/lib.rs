@@ -33,7 +33,8 @@ use clap::{Parser, Subcommand};
 ///
 /// A brush tire model gives the contact patch and friction levels, a LuGre friction law drives a
 /// 3-state ODE of the tread's lateral motion, and each wheel either settles (stable) or falls
-/// into a limit cycle (self-excited vibration, the cause of polygonal wear). Driving and follower
+/// into a limit cycle (self-excited vibration, the mechanism the wear model builds on; whether it
+/// wears a visible polygon is the wear stage's answer). Driving and follower
 /// wheels differ by their slip ratio.
 #[derive(Debug, Parser)]
 #[command(name = "polywear", version, about, long_about, max_term_width = 100)]

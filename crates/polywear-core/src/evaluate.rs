@@ -287,7 +287,7 @@ impl WheelSolution {
             };
             wear::estimate(&inputs, &meter)
         };
-        self.record.wear = Some(WearRecord::of(&estimate, meter.used()));
+        self.record.wear = Some(WearRecord::of(&estimate, p, meter.used()));
         self.wear = Some(estimate);
         self
     }

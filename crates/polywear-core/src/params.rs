@@ -7,9 +7,11 @@ use std::fmt;
 use crate::wording::plain;
 
 mod plausible;
+pub mod toe;
 pub use plausible::{Plausible, UnitMistake};
 use plausible::{
-    CROWN_WIDTH, DENSITY, LOAD, PRESSURE, SHEAR_MODULUS, TIRE_RADIUS, TOE, TREAD_HEIGHT,
+    CROWN_WIDTH, DENSITY, LOAD, PRESSURE, RIM_DIAMETER, SHEAR_MODULUS, TIRE_RADIUS, TOE,
+    TREAD_HEIGHT,
 };
 
 /// Where a default value comes from (MODEL.md#sources-and-the-lost-digits).
@@ -261,6 +263,8 @@ define_params! {
         None, "Tangential elastic constant of rubber (brush stiffness per area; reconstructed; R0 3.6e7).";
     Alpha2 alpha2: "alpha2", "m^2/N", 8.68e-9, Fitted, TireStructure, 0.0, false, 1.0e-3, false,
         None, "Carcass deflection constant (digits all lost in the paper; R0 4.0e-8).";
+    RimDiameterMm rim_diameter_mm: "D_rim", "mm", toe::RIM_DIAMETER_15_IN_MM, Published, TireStructure, 0.0, true, 2000.0, false,
+        Some(RIM_DIAMETER), "Rim diameter, across which a toe-in given as toe_mm is measured (toe_deg = atan(toe_mm / D_rim)); 381 mm = the 15-inch rim of the 195/65 R15 tire of r_b. No other use in the model.";
     MuM mu_m: "mu_m", "-", 0.76, Decoded, Friction, 0.0, true, 5.0, false,
         None, "Maximum static friction coefficient.";
     MuS mu_s: "mu_s", "-", 0.63, Decoded, Friction, 0.0, true, 5.0, false,
@@ -598,7 +602,7 @@ mod tests {
         for s in SPECS {
             assert_eq!(p.get(s.name), Some(s.default), "{}", s.name);
         }
-        assert_eq!(SPECS.len(), 38);
+        assert_eq!(SPECS.len(), 39);
         assert_eq!(ParamId::ALL.len(), SPECS.len());
     }
 
@@ -617,8 +621,8 @@ mod tests {
             assert_eq!(p.pairs()[k], (id.name(), k as f64 + 0.5));
         }
         assert_eq!(p.speed_kmh, 0.5);
-        assert_eq!(p.n_driven, 25.5);
-        assert_eq!(p.speed_spread_kmh, 34.5);
+        assert_eq!(p.n_driven, 26.5);
+        assert_eq!(p.speed_spread_kmh, 35.5);
         assert_eq!(p[ParamId::GMod], p.g_mod);
     }
 

@@ -176,7 +176,9 @@ define_record! {
     AmpYM amp_y_m: f64, F64, "m", "Half peak-to-peak of y over the cycle; 0 without a cycle, NaN when failed.";
     AmpVMps amp_v_mps: f64, F64, "m/s", "Half peak-to-peak of v over the cycle; 0 without a cycle, NaN when failed.";
     FreqHz freq_hz: f64, F64, "Hz", "The cycle's frequency 1/T.";
-    PolygonOrder polygon_order: f64, F64, "-", "Wear facets n = f / f_rot (MODEL.md#step-9-attractor).";
+    PolygonOrder polygon_order: f64, F64, "-", "Wear facets n = f / f_rot of the vibration (MODEL.md#step-9-attractor); the wear's own order is polygon_order_wear.";
+    ToeMm toe_mm: f64, F64, "mm", "The toe-in toe_deg in mm at the rim's edge across rim_diameter_mm: D_rim tan(alpha).";
+    ToeTotalDeg toe_total_deg: f64, F64, "deg", "The toe-in as the axle's total toe, both wheels: 2 alpha.";
     EnergyPerCycleJ energy_per_cycle_j: f64, F64, "J", "Energy friction feeds into the tread per cycle.";
     FloquetMax floquet_max: f64, F64, "-", "Modulus of the largest non-trivial Floquet multiplier (NaN if none).";
     RhsEvals rhs_evals: u64, I64, "", "Right-hand-side evaluations spent on the verdict.";
@@ -196,33 +198,109 @@ define_record! {
     fn wear_columns;
     extra {}
     WearEvenMmPer1000km wear_even_mm_per_1000km: f64, F64, "mm/1000km", "Even wear rate w' at the point (MODEL.md#step-10-wear-law).";
-    PolygonOrderDominant polygon_order_dominant: f64, F64, "-", "The profile order that grows fastest over the speed spread (NaN where undefined).";
+    PolygonOrderWear polygon_order_wear: f64, F64, "-", "The wear's polygon order: the profile order that grows fastest over the speed spread (NaN where undefined); the vibration's is polygon_order.";
     DetuningRev detuning_rev: f64, F64, "-", "Its detuning nu - n from the tread frequency, in orders per revolution.";
     GrowthRatePer1000km growth_rate_per_1000km: f64, F64, "1/1000km", "Its closed-loop growth rate beta (> 0: the polygon grows; < 0: it levels out).";
     DistanceToVisibleKm distance_to_visible_km: f64, F64, "km", "Cruising distance at the point, with the speed spread, until the polygon is visible_depth_mm deep; inf when every order levels out.";
+    TreadLifeKm tread_life_km: f64, F64, "km", "Cruising distance at the point until the position's whole even wear leaves tread_depth_worn_out_mm: (tread_depth_new_mm - tread_depth_worn_out_mm) / (w' + (1 - phi_s) w'_pos).";
+    WearOutcome wear_outcome: String, Str, "", "The wear answer in words: visible (distance_to_visible_km within tread_life_km), not_within_life (later, or never), unknown (no figures; wear_reason says why).";
     WearLockedShare wear_locked_share: f64, F64, "-", "Share of the speed spread inside the dominant order's lock-in band (0 for a stable wheel).";
-    WearCalibrationShare wear_calibration_share: f64, F64, "-", "phi_s, the share of the reference wear that straight running couples to (field-fitted).";
+    WearShareStraight wear_share_straight: f64, F64, "-", "phi_s, the parameter wear_share_straight: the share of the reference wear that straight running couples to (field-fitted).";
     WearRhsEvals wear_rhs_evals: u64, I64, "", "Right-hand-side evaluations the wear stage spent on the wheel (0 for a stable one).";
     WearReason wear_reason: String, Str, "", "Why the wear figures are NaN; empty otherwise.";
+    PolygonOrderDominant polygon_order_dominant: f64, F64, "-", "Deprecated: polygon_order_wear under its old name, kept for one version (the `deprecated` metadata lists it).";
+    WearCalibrationShare wear_calibration_share: f64, F64, "-", "Deprecated: wear_share_straight under its old name, kept for one version (the `deprecated` metadata lists it).";
+}
+
+/// The wear outcome of a wheel in words ([`WearOutcome::as_str`]), so that a reader never
+/// counts an unknown distance (NaN) as "no polygon" by comparing numbers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WearOutcome {
+    /// The polygon is visible before the tread is worn out.
+    Visible,
+    /// The tread is worn out first, or every order levels out.
+    NotWithinLife,
+    /// No wear figures (failed, no traction, standstill, the stage did not run).
+    Unknown,
+}
+
+impl WearOutcome {
+    /// The outcome of a distance to a visible polygon against the tread's life \[km\].
+    pub fn of(distance_to_visible_km: f64, tread_life_km: f64) -> Self {
+        if distance_to_visible_km.is_nan() || tread_life_km.is_nan() {
+            WearOutcome::Unknown
+        } else if distance_to_visible_km <= tread_life_km {
+            WearOutcome::Visible
+        } else {
+            WearOutcome::NotWithinLife
+        }
+    }
+
+    /// The name in the rows.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            WearOutcome::Visible => "visible",
+            WearOutcome::NotWithinLife => "not_within_life",
+            WearOutcome::Unknown => "unknown",
+        }
+    }
+}
+
+/// Output columns renamed, as (old, new): the rows carry both for one version, the files'
+/// `deprecated` metadata lists the pairs, and `analyze` reads a file with only the old name
+/// under the new one, saying so.
+pub const RENAMED_COLUMNS: &[(&str, &str)] = &[
+    ("polygon_order_dominant", "polygon_order_wear"),
+    ("wear_calibration_share", "wear_share_straight"),
+];
+
+/// The column of a drawn parameter that is a length in m with no unit in its name (`tread_height`
+/// → `tread_height_m`), so that no length in the rows is read in mm by mistake; None for any
+/// other parameter.
+pub fn unit_named_column(id: crate::params::ParamId) -> Option<String> {
+    let s = id.spec();
+    (s.unit == "m" && !s.name.ends_with("_m")).then(|| format!("{}_m", s.name))
+}
+
+/// The (old, new) pairs of [`RENAMED_COLUMNS`] and [`unit_named_column`] among `names`: what a
+/// file's `deprecated` metadata lists.
+pub fn deprecated_columns<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<(String, String)> {
+    let names: Vec<&str> = names.into_iter().collect();
+    let lengths = crate::params::ParamId::ALL
+        .iter()
+        .filter_map(|&id| unit_named_column(id).map(|new| (id.name().to_string(), new)));
+    RENAMED_COLUMNS
+        .iter()
+        .map(|(o, n)| (o.to_string(), n.to_string()))
+        .chain(lengths)
+        .filter(|(old, new)| names.contains(&old.as_str()) && names.contains(&new.as_str()))
+        .collect()
 }
 
 impl WearRecord {
-    /// The row of an estimate that spent `rhs_evals` evaluations.
-    pub fn of(e: &WearEstimate, rhs_evals: u64) -> Self {
+    /// The row of an estimate at parameters `p` that spent `rhs_evals` evaluations.
+    pub fn of(e: &WearEstimate, p: &Params, rhs_evals: u64) -> Self {
         let dominant = e
             .orders
             .iter()
             .find(|o| o.order as f64 == e.polygon_order_dominant);
+        let usable_mm = p.tread_depth_new_mm - p.tread_depth_worn_out_mm;
+        let tread_life_km = usable_mm / e.tread_wear_mm_per_1000km * 1000.0;
+        let outcome = WearOutcome::of(e.distance_to_visible_km, tread_life_km);
         WearRecord {
             wear_even_mm_per_1000km: e.wear_even_mm_per_1000km,
-            polygon_order_dominant: e.polygon_order_dominant,
+            polygon_order_wear: e.polygon_order_dominant,
             detuning_rev: e.detuning_rev,
             growth_rate_per_1000km: e.growth_rate_per_1000km,
             distance_to_visible_km: e.distance_to_visible_km,
+            tread_life_km,
+            wear_outcome: outcome.as_str().to_string(),
             wear_locked_share: dominant.map_or(f64::NAN, |o| o.locked_share),
-            wear_calibration_share: e.wear_calibration_share,
+            wear_share_straight: e.wear_calibration_share,
             wear_rhs_evals: rhs_evals,
             wear_reason: e.reason.clone(),
+            polygon_order_dominant: e.polygon_order_dominant,
+            wear_calibration_share: e.wear_calibration_share,
         }
     }
 
@@ -231,6 +309,7 @@ impl WearRecord {
     fn missing() -> Self {
         WearRecord::of(
             &WearEstimate::undefined(f64::NAN, "the wear stage did not run".into()),
+            &Params::default(),
             0,
         )
     }
@@ -330,6 +409,8 @@ impl WheelRecord {
             amp_v_mps: cycle(verdict.amp_v_mps),
             freq_hz: cycle(verdict.freq_hz),
             polygon_order: cycle(verdict.polygon_order),
+            toe_mm: crate::params::toe::toe_mm(p.toe_deg, p.rim_diameter_mm),
+            toe_total_deg: crate::params::toe::toe_total_deg(p.toe_deg),
             energy_per_cycle_j: cycle(verdict.energy_per_cycle_j),
             floquet_max: cycle(verdict.floquet_max),
             rhs_evals: verdict.rhs_evals,

@@ -43,8 +43,9 @@ pub fn snippet(s: &str) -> String {
     format!("`{escaped}{}`", if cut { "…" } else { "" })
 }
 
-/// The candidate closest to `typed` by edit distance (Levenshtein), if it is close enough to be
-/// a likely misspelling: at most a third of the name's letters changed (one in a name of three
+/// The candidate closest to `typed` by edit distance (Levenshtein with a swap of two neighbouring
+/// letters as one edit, the commonest typing slip: `waer` for `wear`), if it is close enough to
+/// be a likely misspelling: at most a third of the name's letters changed (one in a name of three
 /// or four letters, two or more in a longer one, none in a shorter one), or
 /// `typed` a prefix of it (`speed` for `speed_kmh`), or it a prefix of `typed`. Case is ignored.
 pub fn closest<'a>(typed: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
@@ -61,7 +62,7 @@ pub fn closest<'a>(typed: &str, candidates: impl IntoIterator<Item = &'a str>) -
         .into_iter()
         .filter_map(|c| {
             let lc = c.to_lowercase();
-            let d = strsim::levenshtein(&t, &lc);
+            let d = strsim::osa_distance(&t, &lc);
             let prefix = t.len() >= 3 && (lc.starts_with(&t) || t.starts_with(&lc));
             (d <= limit || prefix).then_some((d, c))
         })
@@ -149,6 +150,8 @@ mod tests {
         assert_eq!(closest("gmod", names), Some("g_mod"));
         assert_eq!(closest("Toe_Deg", names), Some("toe_deg"));
         assert_eq!(closest("wheelbase", names), None);
+        // A swap of two neighbouring letters is one slip.
+        assert_eq!(closest("waer", ["wear", "vibration"]), Some("wear"));
         assert_eq!(did_you_mean("xyz", names), "");
     }
 }

@@ -24,6 +24,7 @@ pub mod safe_write;
 pub mod stats;
 pub mod study;
 pub mod table_input;
+pub mod toe_input;
 pub(crate) mod toml_input;
 pub mod trajectory;
 pub mod validation;

@@ -158,6 +158,19 @@ impl TableWriter {
             "units".to_string(),
             serde_json::Value::Object(units).to_string(),
         ));
+        // Columns kept under an old name for one version: {"old": "new", ...}.
+        let deprecated =
+            polywear_core::records::deprecated_columns(template.iter().map(|c| c.name.as_str()));
+        if !deprecated.is_empty() {
+            let map: serde_json::Map<String, serde_json::Value> = deprecated
+                .into_iter()
+                .map(|(old, new)| (old, serde_json::Value::from(new)))
+                .collect();
+            kv.push(KeyValue::new(
+                "deprecated".to_string(),
+                serde_json::Value::Object(map).to_string(),
+            ));
+        }
         let mut props = WriterProperties::builder()
             .set_compression(Compression::ZSTD(
                 ZstdLevel::try_new(ZSTD_LEVEL).expect("valid level"),

@@ -88,7 +88,19 @@ impl FileFooter {
             path: path.to_path_buf(),
             message: e.reason(),
         })?;
-        let r = SerializedFileReader::new(f).map_err(|e| AnalysisError::io(path, e))?;
+        // The parquet crate's metadata decoder can panic on a damaged footer (an unwrap on a
+        // missing thrift field) instead of returning an error: such a file is refused as
+        // damaged, without the panic's words on stderr.
+        let quiet = std::panic::take_hook();
+        std::panic::set_hook(Box::new(|_| {}));
+        let decoded = std::panic::catch_unwind(|| SerializedFileReader::new(f));
+        std::panic::set_hook(quiet);
+        let r = decoded
+            .map_err(|_| AnalysisError::Io {
+                path: path.to_path_buf(),
+                message: "damaged Parquet footer: its metadata cannot be decoded".into(),
+            })?
+            .map_err(|e| AnalysisError::io(path, e))?;
         let md = r.metadata();
         let meta: Vec<(String, String)> = md
             .file_metadata()

@@ -24,7 +24,7 @@ use rand_distr::Distribution as _;
 
 use super::bins::axis_bins;
 use super::inputs::RunInfo;
-use super::rows::{GroupKey, Rows};
+use super::rows::{GroupKey, Rows, SampleWeight};
 use super::stats::Z95;
 use super::AnalysisError;
 use polywear_core::model::{Variant, Wheel};
@@ -192,6 +192,46 @@ pub(crate) fn first_order_indices(
                 resamples,
                 17 + m as u64,
             ));
+        }
+    }
+    out.sort_by_key(|f| (f.variant, f.wheel));
+    Ok(out)
+}
+
+/// [`first_order_indices`] of the wear outcome: the indicator is 1 when the wheel's polygon is
+/// visible within `within_km`, 0 when it is not (later, or never); rows without wear figures are
+/// left out, as the vibration's unclassified rows are.
+pub(crate) fn first_order_wear_indices(
+    rows: &Rows,
+    info: &RunInfo,
+    ranges: &BTreeMap<String, (f64, f64)>,
+    resamples: usize,
+    within_km: f64,
+) -> Result<Vec<FirstOrder>, AnalysisError> {
+    let base;
+    let rows = if info.design == Design::Saltelli {
+        base = rows.sample_blocks_below(info.drawn_names.len() as i64 + 2, 2);
+        &base
+    } else {
+        rows
+    };
+    let mut out = Vec::new();
+    for (m, &param) in info.drawn_names.iter().enumerate() {
+        let bins = axis_bins(info, ranges, param, FINE_BINS);
+        let mut fine: BTreeMap<(Variant, Wheel), Vec<ClassRows>> = BTreeMap::new();
+        let key = [GroupKey::Bin(param.name(), &bins)];
+        for g in rows.within_counts(&key, &[within_km], SampleWeight::Equal)? {
+            let per = fine
+                .entry((g.variant, g.wheel))
+                .or_insert_with(|| vec![(0.0, 0.0); bins.count()]);
+            if let Some(b) = usize::try_from(g.bins[0]).ok().and_then(|b| per.get_mut(b)) {
+                b.0 += g.counts[0].known as f64;
+                b.1 += g.counts[0].within as f64;
+            }
+        }
+        for ((variant, wheel), per) in fine {
+            let seed = 71 + m as u64;
+            out.push(index_of(variant, wheel, param, &per, resamples, seed));
         }
     }
     out.sort_by_key(|f| (f.variant, f.wheel));

@@ -155,6 +155,9 @@ pub struct Analysis {
     pub severity: Vec<Severity>,
     /// First-order indices of the vibration indicator from the rows (every design).
     pub first_order: Vec<FirstOrder>,
+    /// The same indices for the wear outcome, a visible polygon within
+    /// [`AnalysisOptions::scenario_within_km`] (empty without the wear stage's columns).
+    pub first_order_wear: Vec<FirstOrder>,
     /// Sobol indices (only for a Saltelli design).
     pub sensitivity: Option<Vec<Sensitivity>>,
     /// P(vibration) per lost-digit decoding (only when the study draws decodings).
@@ -438,7 +441,7 @@ pub fn run_with_progress(
     opts: &AnalysisOptions,
     progress: &mut dyn FnMut(Step),
 ) -> Result<Analysis, AnalysisError> {
-    let mut notes = Vec::new();
+    let mut notes = rows::deprecation_notes(&info.files)?;
     let has_scenarios = !info.scenarios.is_empty();
     let rows = Rows::scan_baseline(&info.files, has_scenarios)?;
     let quantities: Vec<&str> = SEVERITY_QUANTITIES.iter().map(|q| q.name()).collect();
@@ -485,8 +488,17 @@ pub fn run_with_progress(
         &mut notes,
     )?;
     progress(Step::Scenarios);
-    let wear = if wear_risk::has_wear(&rows)? {
+    let has_wear = wear_risk::has_wear(&rows)?;
+    if has_wear {
         rows::check_wear_values(&info.files)?;
+    }
+    let first_order_wear = if has_wear {
+        let km = opts.scenario_within_km;
+        given_data::first_order_wear_indices(&rows, &info, &ranges, opts.bootstrap, km)?
+    } else {
+        Vec::new()
+    };
+    let wear = if has_wear {
         let drawn: Vec<&RiskMap> = vibration
             .maps
             .iter()
@@ -517,6 +529,7 @@ pub fn run_with_progress(
         sparse_maps,
         severity,
         first_order,
+        first_order_wear,
         sensitivity,
         robustness,
         robustness_summary,

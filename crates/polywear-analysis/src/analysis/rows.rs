@@ -23,9 +23,11 @@ use polywear_core::records::{RecordColumn, SAMPLE_ID};
 use polywear_core::text_enum::UnknownName;
 use polywear_study::study::BASELINE;
 
+mod renamed;
 mod scenario_pairs;
 mod wear_counts;
 mod wear_values;
+pub use renamed::deprecation_notes;
 use scenario_pairs::code_expr;
 pub use scenario_pairs::{scenario_pairs, OutcomeColumn, ScenarioPairCounts};
 pub use wear_counts::{
@@ -121,20 +123,26 @@ pub struct RowOutcome {
 
 impl Rows {
     /// The chunk files as one lazy frame.
+    /// Columns renamed for one version are read under their new names ([`deprecation_notes`]).
     pub fn scan(files: &[PathBuf]) -> Result<Rows, AnalysisError> {
+        let lf = renamed::with_new_names(Rows::scan_raw(files)?)?;
+        Ok(Rows { lf })
+    }
+
+    /// The chunk files as they are.
+    fn scan_raw(files: &[PathBuf]) -> Result<LazyFrame, AnalysisError> {
         let paths: Vec<PlRefPath> = files
             .iter()
             .map(|p| PlRefPath::new(p.to_string_lossy().as_ref()))
             .collect();
-        let lf = LazyFrame::scan_parquet_files(
+        LazyFrame::scan_parquet_files(
             paths.into_iter().collect(),
             ScanArgsParquet {
                 low_memory: true,
                 ..ScanArgsParquet::default()
             },
         )
-        .map_err(pl_err)?;
-        Ok(Rows { lf })
+        .map_err(pl_err)
     }
 
     /// The rows whose `sample_id` modulo `stride` is below `blocks` (of a Saltelli design,

@@ -33,6 +33,9 @@ pub enum OutputError {
     Figure(#[from] PlotError),
 }
 
+/// The figure shows the objective in %, as the text says it ([`pct`]).
+const PERCENT: f64 = 100.0;
+
 /// A probability or objective as people read it: 12.3%.
 fn pct(x: f64) -> String {
     if x.is_finite() {
@@ -114,9 +117,22 @@ pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
     ));
     for (k, side) in solution.on_edge() {
         let a = &axes[k];
-        let end = if side == "lower" { a.lo } else { a.hi };
+        let lower = side == "lower";
+        let end = if lower { a.lo } else { a.hi };
+        let next = match problem.widened(k, lower) {
+            Some((lo, hi)) => format!(
+                "next step: widen the box there, `--vary {}={}..{}` (the other --vary as they were)",
+                a.param,
+                plain(lo, 4),
+                plain(hi, 4)
+            ),
+            None => format!(
+                "the box already reaches {}'s plausible limit there, so that limit is the answer",
+                a.param
+            ),
+        };
         lines.push(format!(
-            "the optimum sits on the box's {side} edge of {} ({}): the minimum may lie beyond the box; widen it there if the parameter's accepted range allows",
+            "the optimum sits on the box's {side} edge of {} ({}): the minimum may lie beyond the box; {next}",
             a.param,
             plain(end, 6)
         ));
@@ -269,9 +285,9 @@ fn draw(problem: &Problem, solution: &Solution, file: &FigureFile) -> Result<boo
             .map(|s| {
                 (
                     s.values[0],
-                    s.objective.value,
-                    s.objective.low,
-                    s.objective.high,
+                    PERCENT * s.objective.value,
+                    PERCENT * s.objective.low,
+                    PERCENT * s.objective.high,
                 )
             })
             .collect();
@@ -283,9 +299,9 @@ fn draw(problem: &Problem, solution: &Solution, file: &FigureFile) -> Result<boo
         surface_curve(
             file,
             &title,
-            (&label(0), "objective"),
+            (&label(0), "objective [%]"),
             &pts,
-            best.map(|s| (s.values[0], s.objective.value)),
+            best.map(|s| (s.values[0], PERCENT * s.objective.value)),
             &lines,
         )?;
         return Ok(true);
@@ -298,7 +314,7 @@ fn draw(problem: &Problem, solution: &Solution, file: &FigureFile) -> Result<boo
             x: s.values[0],
             y: s.values[1],
             value: if s.feasible {
-                s.objective.value
+                PERCENT * s.objective.value
             } else {
                 f64::NAN
             },
@@ -333,7 +349,7 @@ fn draw(problem: &Problem, solution: &Solution, file: &FigureFile) -> Result<boo
         yb,
         &points,
         &overlay,
-        &problem.objective.text(),
+        &format!("{} [%]", problem.objective.text()),
     )?;
     Ok(true)
 }

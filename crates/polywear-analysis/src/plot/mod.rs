@@ -132,6 +132,22 @@ pub(crate) fn line_panel<DB: DrawingBackend>(
     )
 }
 
+/// [`line_panel`] with a colour per series, given by the caller (one colour per legend entry
+/// across a figure's panels, where the palette's cycle would repeat one).
+pub(crate) fn line_panel_coloured<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    labels: (&str, &str),
+    series: &[Series<'_>],
+    colours: &[RGBColor],
+) -> Result<(), PlotError> {
+    let colour = |i: usize| colours[i % colours.len()];
+    let (x_label, y_label) = labels;
+    draw_lines(
+        area, title, x_label, y_label, series, false, None, false, &colour,
+    )
+}
+
 /// [`line_panel`] with a fixed y range (points outside it are clipped) and, when `zero_line`,
 /// a dashed line at y = 0 (where an eigenvalue's real part changes sign).
 #[allow(clippy::too_many_arguments)]
@@ -144,6 +160,34 @@ pub(crate) fn line_panel_with<DB: DrawingBackend>(
     points_only: bool,
     y_range: Option<(f64, f64)>,
     zero_line: bool,
+) -> Result<(), PlotError> {
+    let colour = |i: usize| PALETTE[i % PALETTE.len()];
+    let (range, zero) = (y_range, zero_line);
+    draw_lines(
+        area,
+        title,
+        x_label,
+        y_label,
+        series,
+        points_only,
+        range,
+        zero,
+        &colour,
+    )
+}
+
+/// The drawing of [`line_panel_with`], series `i` in `colour(i)`.
+#[allow(clippy::too_many_arguments)]
+fn draw_lines<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series<'_>],
+    points_only: bool,
+    y_range: Option<(f64, f64)>,
+    zero_line: bool,
+    colour: &dyn Fn(usize) -> RGBColor,
 ) -> Result<(), PlotError> {
     let ((x0, x1), (mut y0, mut y1)) = bounds(series.iter().flat_map(|s| s.points.iter()));
     if let Some(r) = y_range {
@@ -180,7 +224,7 @@ pub(crate) fn line_panel_with<DB: DrawingBackend>(
     // Clipped to the panel: a fixed y range may leave points outside it.
     let inside = |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite() && p.1 >= y0 && p.1 <= y1;
     for (i, s) in series.iter().enumerate() {
-        let color = PALETTE[i % PALETTE.len()];
+        let color = colour(i);
         let anno = if points_only {
             chart
                 .draw_series(

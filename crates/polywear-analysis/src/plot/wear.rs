@@ -2,7 +2,10 @@
 //! at a few distances, beside every harmonic's depth against distance with the visible depth
 //! marked.
 
-use super::{line_panel, panels, FigureFile, PlotError, Series};
+use plotters::style::{RGBColor, BLACK};
+
+use super::maps::viridis;
+use super::{line_panel_coloured, panels, FigureFile, PlotError, Series};
 
 /// One wheel of the figure.
 pub struct WearTrace<'a> {
@@ -33,6 +36,15 @@ fn polar_points(depth_m: &[f64], scale: f64) -> Vec<(f64, f64)> {
         })
         .collect()
 }
+
+/// The orders' colours: warm ones, none on the profiles' dark-to-light sequence
+/// ([`viridis`]), so that no legend entry of the figure shares a colour with another.
+const ORDER_COLOURS: [RGBColor; 4] = [
+    RGBColor(255, 127, 14),
+    RGBColor(214, 39, 40),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+];
 
 /// Draws the figure into `path` (PNG or SVG, as it says).
 pub fn wear_figure(
@@ -80,7 +92,12 @@ pub fn wear_figure(
                     w.wheel,
                     deepest * 1e6
                 );
-                line_panel(area, &caption, "x", "y", &series, false)
+                // A sequence by distance, dark to light, in colours the depth panel never uses.
+                let last = (series.len().max(2) - 1) as f64;
+                let colours: Vec<RGBColor> = (0..series.len())
+                    .map(|k| viridis(0.85 * k as f64 / last))
+                    .collect();
+                line_panel_coloured(area, &caption, ("x", "y"), &series, &colours)
             } else {
                 let labels: Vec<String> =
                     w.depths.iter().map(|(n, _)| format!("order {n}")).collect();
@@ -103,13 +120,17 @@ pub fn wear_figure(
                     points: vec![(0.0, w.visible_mm), (end, w.visible_mm)],
                 });
                 let caption = format!("{}: depth peak-to-valley", w.wheel);
-                line_panel(
+                // The orders in warm colours, the visible depth black after them.
+                let mut colours: Vec<RGBColor> = (0..series.len() - 1)
+                    .map(|k| ORDER_COLOURS[k % ORDER_COLOURS.len()])
+                    .collect();
+                colours.push(BLACK);
+                line_panel_coloured(
                     area,
                     &caption,
-                    "distance [km]",
-                    "depth [mm]",
+                    ("distance [km]", "depth [mm]"),
                     &series,
-                    false,
+                    &colours,
                 )
             }
         },

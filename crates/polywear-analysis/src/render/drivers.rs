@@ -54,6 +54,18 @@ pub(crate) fn severity_section(s: &mut String, a: &Analysis, figures: &Figures) 
 /// the design is Saltelli's.
 pub(crate) fn drivers_section(s: &mut String, a: &Analysis) {
     let _ = writeln!(s, "\n## Which parameters drive it?\n");
+    if !a.first_order_wear.is_empty() {
+        let _ = writeln!(s, "### The wear outcome\n");
+        let _ = writeln!(
+            s,
+            "The same first-order indices for the wear outcome: the indicator is 1 when the \
+             wheel's polygon is visible within {} km, 0 when it is not (later, or never); rows \
+             without wear figures are left out.\n",
+            polywear_core::wording::thousands(a.options.scenario_within_km)
+        );
+        index_table(s, &a.first_order_wear);
+        let _ = writeln!(s, "\n### Vibration\n");
+    }
     first_order_section(s, a);
     match &a.sensitivity {
         Some(sens) if !sens.is_empty() => {
@@ -121,12 +133,17 @@ fn first_order_section(s: &mut String, a: &Analysis) {
              carries the effect of the columns correlated with it.\n"
         );
     }
+    index_table(s, &a.first_order);
+}
+
+/// The table of first-order indices, each variant and wheel's largest first.
+fn index_table(s: &mut String, indices: &[FirstOrder]) {
     let _ = writeln!(
         s,
         "| variant | wheel | parameter | S | 95% interval | noise | rows |"
     );
     let _ = writeln!(s, "|---|---|---|---:|---|---:|---:|");
-    let mut sorted: Vec<&FirstOrder> = a.first_order.iter().collect();
+    let mut sorted: Vec<&FirstOrder> = indices.iter().collect();
     sorted.sort_by(|x, y| {
         (x.variant, x.wheel)
             .cmp(&(y.variant, y.wheel))

@@ -16,7 +16,8 @@ use polywear_core::model::Variant;
 /// What P(vibration) is, said once at the top of the page and the printed summary.
 pub const VIBRATION_DEFINITION: &str = "**P(vibration)** is the share of classified rows \
     (stable, limit cycle or bistable) in which the wheel vibrates: its tread settles on a limit \
-    cycle (self-excited vibration, the cause of polygonal wear) or is bistable (a kick puts it \
+    cycle (self-excited vibration, the mechanism the wear model builds on: whether a vibrating \
+    wheel wears a visible polygon is the wear answer's question) or is bistable (a kick puts it \
     on one). Rows that failed or have no traction are counted apart and left out.";
 
 /// The report page, showing `figures`.

@@ -133,8 +133,8 @@ pub fn section(a: &Analysis, figure: Option<&Path>) -> String {
         {
             let _ = writeln!(
                 s,
-                "- Pairing: the follower's interval is {:.1} times narrower than two separate runs of {} samples would give.",
-                e.narrowing(),
+                "- Pairing: the follower's interval is {} two separate runs of {} samples would give.",
+                narrowing_words(e.narrowing()),
                 e.pairs
             );
         }
@@ -289,5 +289,34 @@ mod tests {
         assert!(none.contains("stays at 6.0% (no sample changes)"), "{none}");
         let even = sentence(&effect(20, 21));
         assert!(even.contains("does not change significantly"), "{even}");
+    }
+}
+
+/// How the paired interval's width compares with the unpaired one's, `ratio` = unpaired /
+/// paired: "2.3 times narrower than", "about as wide as" (within 15%, where "1.0 times
+/// narrower" would say nothing true), "1.4 times wider than".
+fn narrowing_words(ratio: f64) -> String {
+    if ratio >= 1.15 {
+        format!("{ratio:.1} times narrower than")
+    } else if ratio > 1.0 / 1.15 {
+        "about as wide as".to_string()
+    } else {
+        format!("{:.1} times wider than", 1.0 / ratio)
+    }
+}
+
+#[cfg(test)]
+mod narrowing_tests {
+    use super::narrowing_words;
+
+    #[test]
+    fn a_ratio_near_one_is_about_as_wide() {
+        assert_eq!(narrowing_words(2.34), "2.3 times narrower than");
+        assert_eq!(narrowing_words(1.04), "about as wide as");
+        assert_eq!(narrowing_words(0.96), "about as wide as");
+        assert_eq!(narrowing_words(0.7), "1.4 times wider than");
+        for r in [1.0, 1.049, 0.951] {
+            assert!(!narrowing_words(r).contains("1.0 times"), "{r}");
+        }
     }
 }

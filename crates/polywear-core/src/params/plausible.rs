@@ -9,7 +9,7 @@ use super::{ParamError, ParamSpec};
 use crate::wording::plain;
 
 /// A unit a value is often given in by mistake, and how it converts to the parameter's unit.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy)]
 pub struct UnitMistake {
     /// The unit the value may have been written in, e.g. `bar`.
     pub unit: &'static str,
@@ -17,11 +17,23 @@ pub struct UnitMistake {
     pub factor: f64,
     /// How the conversion is said: `=`, or `carry` for a mass read as a weight.
     pub verb: &'static str,
+    /// The conversion where it is not a factor (a toe-in in mm at the rim is an angle through
+    /// the arc tangent): the parameter's value of `x` given in `unit`.
+    pub convert: Option<fn(f64) -> f64>,
+    /// The input that takes the value in `unit` as it is (`toe_mm`), where one does.
+    pub input: Option<&'static str>,
+}
+
+impl UnitMistake {
+    /// `x`, read as given in [`UnitMistake::unit`], in the parameter's unit.
+    pub fn apply(&self, x: f64) -> f64 {
+        self.convert.map_or(x * self.factor, |f| f(x))
+    }
 }
 
 /// The range of values plausible for a road tire, and the unit mix-ups that most likely
 /// produced a value outside it, tried in order.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy)]
 pub struct Plausible {
     /// Smallest plausible value (included, unless it is the accepted range's excluded minimum).
     pub min: f64,
@@ -36,6 +48,8 @@ const fn mistake(unit: &'static str, factor: f64) -> UnitMistake {
         unit,
         factor,
         verb: "=",
+        convert: None,
+        input: None,
     }
 }
 
@@ -64,16 +78,44 @@ pub(super) const LOAD: Plausible = Plausible {
             unit: "kg",
             factor: STANDARD_GRAVITY,
             verb: "carry",
+            convert: None,
+            input: None,
         },
         mistake("kN", 1000.0),
     ],
 };
 
-/// A toe-in angle in arc minutes (alignment sheets give toe as 0°10') instead of degrees.
+/// A per-wheel toe-in angle: a service value is 0.05° to 0.3°, a misaligned wheel's 0.5°, and
+/// the paper's sweeps end at 1° (MODEL.md#parameter-table). Above that the value is most likely
+/// a toe in mm at the rim, a total toe (both wheels) or arc minutes (alignment sheets give toe
+/// as 0°10'); every reading that lands in range is named.
 pub(super) const TOE: Plausible = Plausible {
     min: 0.0,
-    max: 2.0,
-    mistakes: &[mistake("arc minutes", 1.0 / 60.0)],
+    max: 1.0,
+    mistakes: &[
+        UnitMistake {
+            unit: "mm at a 15-inch (381 mm) rim",
+            factor: 1.0 / super::toe::RIM_DIAMETER_15_IN_MM,
+            verb: "=",
+            convert: Some(super::toe::toe_deg_at_15_inch_rim),
+            input: Some("toe_mm, --toe-mm"),
+        },
+        UnitMistake {
+            unit: "deg total toe (both wheels)",
+            factor: 0.5,
+            verb: "=",
+            convert: None,
+            input: Some("toe_total_deg, --toe-total"),
+        },
+        mistake("arc minutes", 1.0 / 60.0),
+    ],
+};
+
+/// A rim diameter in inches or m instead of mm.
+pub(super) const RIM_DIAMETER: Plausible = Plausible {
+    min: 250.0,
+    max: 700.0,
+    mistakes: &[mistake("in", 25.4), mistake("m", 1000.0)],
 };
 
 /// A tread height in mm or cm instead of m.
@@ -125,21 +167,23 @@ impl Plausible {
         x >= self.min && x <= self.max
     }
 
-    /// The first mix-up that turns `x` into a plausible value, said for people:
-    /// `2.4 bar = 240 kPa`.
-    pub fn likely_mistake(&self, x: f64, unit: &str) -> Option<String> {
+    /// Every mix-up that turns `x` into a plausible value, most likely first, said for people:
+    /// `2.4 bar = 240 kPa`, with the input that takes it as given where one does.
+    pub fn likely_mistakes(&self, x: f64, unit: &str) -> Vec<String> {
         self.mistakes
             .iter()
-            .find(|m| self.contains(x * m.factor) && x * m.factor != x)
+            .filter(|m| self.contains(m.apply(x)) && m.apply(x) != x)
             .map(|m| {
+                let input = m.input.map(|i| format!(" ({i})")).unwrap_or_default();
                 format!(
-                    "{} {} {} {} {unit}",
+                    "{} {} {} {} {unit}{input}",
                     plain(x, 6),
                     m.unit,
                     m.verb,
-                    plain(x * m.factor, 4)
+                    plain(m.apply(x), 4)
                 )
             })
+            .collect()
     }
 }
 
@@ -158,14 +202,19 @@ impl ParamSpec {
         format!("{open}{}, {}]", plain(q.min, 6), plain(q.max, 6))
     }
 
-    /// " (2.4 bar = 240 kPa?)"-style hint for any value outside the plausible range, or "".
+    /// "; 2.4 bar = 240 kPa?"-style hint for any value outside the plausible range (each
+    /// reading that lands in range, "; A? B?"), or "".
     pub(super) fn mistake_hint(&self, value: f64) -> String {
-        self.plausible
+        let readings = self
+            .plausible
             .as_ref()
             .filter(|q| value.is_finite() && !q.contains(value))
-            .and_then(|q| q.likely_mistake(value, self.unit))
-            .map(|m| format!("; {m}?"))
-            .unwrap_or_default()
+            .map(|q| q.likely_mistakes(value, self.unit))
+            .unwrap_or_default();
+        if readings.is_empty() {
+            return String::new();
+        }
+        format!("; {}?", readings.join("? "))
     }
 
     /// Checks a value that is in its accepted range against the plausible range: a value
@@ -202,7 +251,15 @@ mod tests {
         assert!(e.to_string().contains("4 kN = 4000 N?"), "{e}");
         let e = ParamId::ToeDeg.spec().check_plausible(6.0).unwrap_err();
         assert!(e.to_string().contains("6 arc minutes = 0.1 deg?"), "{e}");
-        assert!(e.to_string().contains("plausible (0, 2] deg"), "{e}");
+        assert!(e.to_string().contains("plausible (0, 1] deg"), "{e}");
+        // A toe typed in mm at the rim or as total toe: both readings named, with their inputs.
+        let e = ParamId::ToeDeg.spec().check_plausible(2.0).unwrap_err();
+        assert!(e.to_string().contains("; 2 mm at a 15-inch (381 mm) rim = 0.3008 deg (toe_mm, --toe-mm)? 2 deg total toe (both wheels) = 1 deg (toe_total_deg, --toe-total)?"), "{e}");
+        let e = ParamId::RimDiameterMm
+            .spec()
+            .check_plausible(15.0)
+            .unwrap_err();
+        assert!(e.to_string().contains("15 in = 381 mm?"), "{e}");
         let e = ParamId::Rho.spec().check_plausible(1.25).unwrap_err();
         assert!(e.to_string().contains("1.25 g/cm^3 = 1250 kg/m^3?"), "{e}");
         let e = ParamId::RB.spec().check_plausible(12.5).unwrap_err();
@@ -252,7 +309,7 @@ mod tests {
             );
             assert!(s.check_plausible(s.default).is_ok(), "{}", s.name);
             // Every mix-up named converts to a different value.
-            assert!(q.mistakes.iter().all(|m| m.factor != 1.0), "{}", s.name);
+            assert!(q.mistakes.iter().all(|m| m.apply(3.0) != 3.0), "{}", s.name);
         }
         assert!(d.check_plausible().is_ok());
         assert!(Params::r0().check_plausible().is_ok());

@@ -113,6 +113,10 @@ pub struct WearEstimate {
     pub levelling_per_1000km: f64,
     /// λ_other = (1 − φ_s) w′₀ κ, the levelling of all other wear \[1/1000 km\].
     pub levelling_other_per_1000km: f64,
+    /// The position's whole even wear at the point \[mm/1000 km\]: w′ and the rest of the
+    /// position's wear, (1 − φ_s) w′_pos; the tread's mean depth falls at this rate
+    /// (MODEL.md#the-ageing-tread).
+    pub tread_wear_mm_per_1000km: f64,
     /// Every order evaluated, lowest first.
     pub orders: Vec<OrderGrowth>,
     /// Why the figures are NaN; empty otherwise.
@@ -132,6 +136,7 @@ impl WearEstimate {
             wear_calibration_share: share,
             levelling_per_1000km: nan,
             levelling_other_per_1000km: nan,
+            tread_wear_mm_per_1000km: nan,
             orders: Vec::new(),
             reason,
         }
@@ -213,6 +218,8 @@ pub struct WheelGrowth {
     slip_gain: f64,
     /// w′_pos κ \[1/m\]: λ_other per unit (1 − φ_s), w′_pos the position's even-wear rate.
     other_per_share: f64,
+    /// w′_pos \[m/m\], the position's even-wear rate.
+    position_rate_m_per_m: f64,
     speed_mps: f64,
     r_b: f64,
     seed_m: f64,
@@ -253,6 +260,7 @@ impl WheelGrowth {
         let position_rate = position_rate_m_per_m(p, model.wheel, inputs.settings.power);
         Ok(WheelGrowth {
             other_per_share: position_rate * feedback.local_per_m,
+            position_rate_m_per_m: position_rate,
             response,
             feedback,
             even_per_share,
@@ -442,6 +450,8 @@ pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
         wear_calibration_share: share,
         levelling_per_1000km: even * growth.local_per_m() * PER_1000KM_PER_PER_M,
         levelling_other_per_1000km: (1.0 - share) * growth.other_per_share * PER_1000KM_PER_PER_M,
+        tread_wear_mm_per_1000km: (even + (1.0 - share) * growth.position_rate_m_per_m)
+            * MM_PER_1000KM_PER_M_PER_M,
         orders,
         reason: String::new(),
     }

@@ -235,10 +235,14 @@ pub fn chunk_columns(study: &Study, rows: &[SampleRows]) -> Vec<Column> {
         }
     };
     let changed: Vec<Vec<f64>> = flat.iter().map(|(s, b, _)| values(s, *b)).collect();
-    // The operating axes are record columns already.
+    // The operating axes are record columns already. A length in m gets a column whose name
+    // says so, its parameter's name kept beside it for one version (`deprecated` metadata).
     for (k, id) in names.iter().enumerate() {
         if !id.is_operating_axis() {
-            let v = changed.iter().map(|row| row[k]).collect();
+            let v: Vec<f64> = changed.iter().map(|row| row[k]).collect();
+            if let Some(name) = polywear_core::records::unit_named_column(*id) {
+                cols.push(Column::f64(name, id.spec().unit, v.clone()));
+            }
             cols.push(Column::f64(id.name(), id.spec().unit, v));
         }
     }

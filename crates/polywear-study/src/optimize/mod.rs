@@ -277,6 +277,56 @@ pub struct Problem {
 }
 
 impl Problem {
+    /// The box of axis `k` widened on its `lower` (or upper) side, for an optimum on that edge:
+    /// by the box's own width, halved until every sample stays in the parameter's accepted
+    /// range and the setting in its plausible one (unless the study accepts implausible
+    /// values), the new end rounded to 3 digits where that still fits; None where that side
+    /// cannot move.
+    pub fn widened(&self, k: usize, lower: bool) -> Option<(f64, f64)> {
+        let a = self.axes[k];
+        let s = a.param.spec();
+        let fits = |lo: f64, hi: f64| {
+            let end = if lower { lo } else { hi };
+            let plausible = self.study.accept_implausible || s.check_plausible(end).is_ok();
+            let wider = Axis { lo, hi, ..a };
+            let in_range = match a.kind {
+                SettingKind::Set => s.check(end).is_ok(),
+                _ => wider
+                    .check(&self.study, self.seed, self.samples, "")
+                    .is_ok(),
+            };
+            plausible && in_range && s.check(end).is_ok()
+        };
+        let mut step = a.hi - a.lo;
+        for _ in 0..30 {
+            let (lo, hi) = if lower {
+                (a.lo - step, a.hi)
+            } else {
+                (a.lo, a.hi + step)
+            };
+            if fits(lo, hi) {
+                let end = if lower { lo } else { hi };
+                // Three digits, rounded into the box so that the rounding cannot leave it.
+                let unit = 10f64.powf(end.abs().log10().floor() - 2.0);
+                let rounded = if lower {
+                    (end / unit).ceil() * unit
+                } else {
+                    (end / unit).floor() * unit
+                };
+                let inward = rounded.is_finite() && (rounded >= end) == lower;
+                let (rlo, rhi) = if lower { (rounded, hi) } else { (lo, rounded) };
+                let moved = if lower { rlo < a.lo } else { rhi > a.hi };
+                return Some(if inward && moved && fits(rlo, rhi) {
+                    (rlo, rhi)
+                } else {
+                    (lo, hi)
+                });
+            }
+            step /= 2.0;
+        }
+        None
+    }
+
     /// Where the nominal tire (the study's median values) changes stability along the first
     /// axis, per wheel: the sign changes of max Re λ (MODEL.md#step-8-linear-stability) on a
     /// scan of 400 steps, each placed by linear interpolation.

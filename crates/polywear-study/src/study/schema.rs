@@ -17,6 +17,10 @@ use polywear_core::sampling::design::Design;
 use polywear_core::sampling::distribution::Distribution;
 use polywear_core::wear::{WearPower, WearSettings, WearZone};
 
+mod toe;
+use toe::toe_as_angle;
+use toe::ParamKey;
+
 /// The distributions a drawn parameter may take, as the study file names them.
 pub(super) const DISTS: &str = "uniform, normal, truncated_normal, lognormal, levels";
 
@@ -37,7 +41,7 @@ pub(super) struct StudyFile {
     wear: Option<bool>,
     wear_zone: Option<WearZone>,
     wear_power: Option<WearPower>,
-    pub(super) params: Option<BTreeMap<ParamId, ParamEntry>>,
+    pub(super) params: Option<BTreeMap<ParamKey, ParamEntry>>,
     pub(super) operating_points: Option<OperatingPointsSection>,
     pub(super) scenarios: Option<ScenarioTables>,
 }
@@ -317,7 +321,15 @@ impl StudyFile {
     ) -> Result<(Params, Vec<DrawnParam>, Vec<ParamId>), StudyError> {
         let mut drawn = Vec::new();
         let mut fixed = Vec::new();
-        for (&param, entry) in self.params.iter().flatten() {
+        let mut toe_inputs = Vec::new();
+        for (&key, entry) in self.params.iter().flatten() {
+            let param = match key {
+                ParamKey::Param(id) => id,
+                ParamKey::Toe(input) => {
+                    toe_inputs.push((input, entry));
+                    continue;
+                }
+            };
             let key = format!("params.{param}");
             let set = |base: &mut Params, x: f64| {
                 base.try_set(param, x).map_err(|source| StudyError::Param {
@@ -341,6 +353,10 @@ impl StudyFile {
                 }
             }
         }
+        for (input, entry) in toe_inputs {
+            toe_as_angle(input, entry, &mut base, &mut drawn, &mut fixed)?;
+        }
+        fixed.sort();
         drawn.sort_by_key(|d| d.param);
         base.validate().map_err(StudyError::FixedParams)?;
         check_drawn_rules(&base, &drawn)?;

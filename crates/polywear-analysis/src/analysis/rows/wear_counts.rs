@@ -255,7 +255,7 @@ impl Rows {
 
     /// Wheels per dominant order among those with a visible polygon within `within_km`.
     pub fn dominant_orders(&self, within_km: f64) -> Result<Vec<OrderCount>, AnalysisError> {
-        let order = WearColumn::PolygonOrderDominant.name();
+        let order = WearColumn::PolygonOrderWear.name();
         let df = collect(
             self.lf
                 .clone()
