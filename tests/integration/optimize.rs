@@ -337,9 +337,9 @@ fn optimize_settings_are_checked_like_direct_inputs() {
             &["--vary n_wheels=2.5..9", "(whole number)"],
         ),
         (
-            "toe_deg=0.05..1.98",
+            "toe_deg=0.3..0.98",
             &[
-                "--vary toe_deg=0.05..1.98",
+                "--vary toe_deg=0.3..0.98",
                 "the setting toe_deg = ",
                 "implausible",
             ],
