@@ -72,7 +72,7 @@ if want explore; then
   say ""
   timed_cpu "$bin" explore --samples "$EXPLORE_N" --out "$work/explore" > "$work/explore.out" 2> "$work/explore.err"
   { grep -E "samples evaluated|analysed" "$work/explore.out" || true; echo "the whole command: $(tail -1 "$work/explore.err")"; } | block
-  { grep -A3 "^P(vibration)" "$work/explore.out" || true; } | block
+  { grep -E "^P\(|within +[0-9,]+ km:|paired|classified" "$work/explore.out" || true; } | block
 fi
 
 if want output-size; then
