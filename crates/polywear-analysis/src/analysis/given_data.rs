@@ -161,6 +161,53 @@ pub(crate) fn first_order_indices(
     ranges: &BTreeMap<String, (f64, f64)>,
     resamples: usize,
 ) -> Result<Vec<FirstOrder>, AnalysisError> {
+    indices_of_outcome(rows, info, ranges, resamples, 17, |rows, key| {
+        Ok(rows
+            .class_counts(key)?
+            .into_iter()
+            .map(|g| {
+                let c = (g.counts.classified() as f64, g.counts.vibrating() as f64);
+                (g.variant, g.wheel, g.bins[0], c)
+            })
+            .collect())
+    })
+}
+
+/// [`first_order_indices`] of the wear outcome: the indicator is 1 when the wheel's polygon is
+/// visible within `within_km`, 0 when it is not (later, or never); rows without wear figures are
+/// left out, as the vibration's unclassified rows are.
+pub(crate) fn first_order_wear_indices(
+    rows: &Rows,
+    info: &RunInfo,
+    ranges: &BTreeMap<String, (f64, f64)>,
+    resamples: usize,
+    within_km: f64,
+) -> Result<Vec<FirstOrder>, AnalysisError> {
+    indices_of_outcome(rows, info, ranges, resamples, 71, |rows, key| {
+        Ok(rows
+            .within_counts(key, &[within_km], SampleWeight::Equal)?
+            .into_iter()
+            .map(|g| {
+                let c = (g.counts[0].known as f64, g.counts[0].within as f64);
+                (g.variant, g.wheel, g.bins[0], c)
+            })
+            .collect())
+    })
+}
+
+/// Per-bin (rows, rows with the outcome) of one variant and wheel, bin index first.
+type BinCounts = Vec<(Variant, Wheel, i64, ClassRows)>;
+
+/// The first-order indices of the outcome whose per-bin counts `counts` gives for a grouping
+/// key; the bootstrap of parameter m is seeded with `seed_base + m`.
+fn indices_of_outcome(
+    rows: &Rows,
+    info: &RunInfo,
+    ranges: &BTreeMap<String, (f64, f64)>,
+    resamples: usize,
+    seed_base: u64,
+    counts: impl Fn(&Rows, &[GroupKey]) -> Result<BinCounts, AnalysisError>,
+) -> Result<Vec<FirstOrder>, AnalysisError> {
     // A Saltelli design's rows share values between blocks (AB_i takes every column but the
     // i-th from A): only its base matrices A and B are independent draws.
     let base;
@@ -174,63 +221,19 @@ pub(crate) fn first_order_indices(
     for (m, &param) in info.drawn_names.iter().enumerate() {
         let bins = axis_bins(info, ranges, param, FINE_BINS);
         let mut fine: BTreeMap<(Variant, Wheel), Vec<ClassRows>> = BTreeMap::new();
-        for g in rows.class_counts(&[GroupKey::Bin(param.name(), &bins)])? {
+        for (variant, wheel, bin, (total, hits)) in
+            counts(rows, &[GroupKey::Bin(param.name(), &bins)])?
+        {
             let per = fine
-                .entry((g.variant, g.wheel))
+                .entry((variant, wheel))
                 .or_insert_with(|| vec![(0.0, 0.0); bins.count()]);
-            if let Some(b) = usize::try_from(g.bins[0]).ok().and_then(|b| per.get_mut(b)) {
-                b.0 += g.counts.classified() as f64;
-                b.1 += g.counts.vibrating() as f64;
+            if let Some(b) = usize::try_from(bin).ok().and_then(|b| per.get_mut(b)) {
+                b.0 += total;
+                b.1 += hits;
             }
         }
         for ((variant, wheel), per) in fine {
-            out.push(index_of(
-                variant,
-                wheel,
-                param,
-                &per,
-                resamples,
-                17 + m as u64,
-            ));
-        }
-    }
-    out.sort_by_key(|f| (f.variant, f.wheel));
-    Ok(out)
-}
-
-/// [`first_order_indices`] of the wear outcome: the indicator is 1 when the wheel's polygon is
-/// visible within `within_km`, 0 when it is not (later, or never); rows without wear figures are
-/// left out, as the vibration's unclassified rows are.
-pub(crate) fn first_order_wear_indices(
-    rows: &Rows,
-    info: &RunInfo,
-    ranges: &BTreeMap<String, (f64, f64)>,
-    resamples: usize,
-    within_km: f64,
-) -> Result<Vec<FirstOrder>, AnalysisError> {
-    let base;
-    let rows = if info.design == Design::Saltelli {
-        base = rows.sample_blocks_below(info.drawn_names.len() as i64 + 2, 2);
-        &base
-    } else {
-        rows
-    };
-    let mut out = Vec::new();
-    for (m, &param) in info.drawn_names.iter().enumerate() {
-        let bins = axis_bins(info, ranges, param, FINE_BINS);
-        let mut fine: BTreeMap<(Variant, Wheel), Vec<ClassRows>> = BTreeMap::new();
-        let key = [GroupKey::Bin(param.name(), &bins)];
-        for g in rows.within_counts(&key, &[within_km], SampleWeight::Equal)? {
-            let per = fine
-                .entry((g.variant, g.wheel))
-                .or_insert_with(|| vec![(0.0, 0.0); bins.count()]);
-            if let Some(b) = usize::try_from(g.bins[0]).ok().and_then(|b| per.get_mut(b)) {
-                b.0 += g.counts[0].known as f64;
-                b.1 += g.counts[0].within as f64;
-            }
-        }
-        for ((variant, wheel), per) in fine {
-            let seed = 71 + m as u64;
+            let seed = seed_base + m as u64;
             out.push(index_of(variant, wheel, param, &per, resamples, seed));
         }
     }
