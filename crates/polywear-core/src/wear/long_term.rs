@@ -577,7 +577,15 @@ pub fn run_wheel(
         let mean = rate.iter().sum::<f64>() / rate.len() as f64;
         wear_rate_m_per_m = mean;
         let spread = rate.iter().fold(0.0f64, |m, r| m.max((r - mean).abs()));
-        step_m = next_step_m(settings, &point, spread);
+        step_m = next_step_m(
+            (settings.min_step_km, settings.max_step_km),
+            (
+                &point.depths_m,
+                &point.depth_rate_m_per_m,
+                &point.growth_per_m,
+            ),
+            spread,
+        );
         if visible.is_none() {
             visible = crossing(&prev_depths, &point.depths_m, visible_m, &before, this_m);
         }
