@@ -336,6 +336,19 @@ fn optimize_says_did_you_mean_the_next_box_and_its_figure_in_percent() {
         err.contains("unknown objective `waer`; did you mean `wear`?"),
         "{err}"
     );
+    // A negative weight reaches the objective's own words, not clap's "unexpected argument".
+    let (code, _, err) = polywear(&[
+        "optimize",
+        "--objective",
+        "-1*vibration",
+        "--vary",
+        "toe_deg=0.05..0.4",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("the weight must be a positive number"),
+        "{err}"
+    );
     let d = tmp("optimize");
     let study = "studies/toe_and_pressure.toml";
     let run = |name: &str, vary: &[&str]| {

@@ -508,6 +508,14 @@ fn wear_refuses_bad_input() {
         (vec!["--cycle", "no/such/cycle.csv"], "cycle.csv"),
         (vec!["--speed-nodes", "0"], "[1, 64]"),
         (vec!["--speed-nodes", "65"], "--speed-nodes"),
+        (
+            vec!["--speed-nodes", "2.5"],
+            "--speed-nodes `2.5` must be a whole number in [1, 64]",
+        ),
+        (
+            vec!["--seed", "-1"],
+            "--seed `-1` must be a whole number in [0, 4398046510080]",
+        ),
     ] {
         let mut a = vec!["wear", "--quiet", "--out", o];
         a.extend(args.iter());

@@ -41,7 +41,7 @@ pub struct OptimizeArgs {
     pub vary: Vec<(ParamId, f64, f64)>,
     /// What is minimised: `wear` (a visible polygon within --within-km), `vibration`, or a
     /// weighted sum such as `0.7*wear+0.3*vibration`
-    #[arg(long, default_value = "wear", value_parser = parse_objective)]
+    #[arg(long, default_value = "wear", allow_hyphen_values = true, value_parser = parse_objective)]
     pub objective: Terms,
     /// Which wheel: `follower`, `driving`, `both` (the mean of the two) or `worst` (a sample
     /// counts when either wheel has it)
@@ -112,7 +112,15 @@ fn parse_wheel(s: &str) -> Result<WheelChoice, String> {
 
 /// Parses `--samples` within [1, 1e7].
 fn parse_samples(s: &str) -> Result<u64, String> {
-    let n = super::explore::parse_samples(s)?;
+    // explore's parser reads 1e6 and 1_000_000; its range is explore's, so the refusal is
+    // worded here with optimize's own.
+    let n = super::explore::parse_samples(s).map_err(|e| {
+        if e.contains("must be a whole number") {
+            format!("--samples `{s}` must be a whole number in [1, 1e7]")
+        } else {
+            e
+        }
+    })?;
     if n > 10_000_000 {
         return Err(format!(
             "--samples `{s}` must be a whole number in [1, 1e7]"

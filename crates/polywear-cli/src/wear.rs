@@ -52,16 +52,16 @@ pub struct WearArgs {
     /// quantiles, or the cycle's distance-weighted ones; accepted [1, 64]. The distance to a
     /// visible polygon settles with 5 (within 15% of 40 at the reference point); more
     /// cost that many times the time
-    #[arg(long, value_name = "K", default_value_t = SPEED_NODES as i64, allow_negative_numbers = true)]
-    pub speed_nodes: i64,
+    #[arg(long, value_name = "K", default_value_t = SPEED_NODES, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--speed-nodes", 1, MAX_SPEED_NODES as u64))]
+    pub speed_nodes: usize,
     #[command(flatten)]
     pub wear: WearReadingArgs,
     /// Drive this cycle (CSV or Parquet: time_s, speed_kmh, as `polywear cycle` reads it) again
     /// and again instead of cruising at --speed
     #[arg(long, value_name = "CYCLE")]
     pub cycle: Option<PathBuf>,
-    /// Seed of the new tyre's run-out phases
-    #[arg(long, default_value_t = 1)]
+    /// Seed of the new tyre's run-out phases, accepted [0, 4398046510080]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = super::common::whole_in::<u64>("--seed", 0, polywear_study::study::SEED_MAX))]
     pub seed: u64,
     /// Also print the per-sample estimator's figures and add `estimate_*` columns
     #[arg(long)]
@@ -122,14 +122,7 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
             out.display()
         )));
     }
-    let nodes = match args.speed_nodes {
-        k if (1..=MAX_SPEED_NODES as i64).contains(&k) => k as usize,
-        k => {
-            return Err(CliError(format!(
-                "--speed-nodes = {k} is outside its accepted range [1, {MAX_SPEED_NODES}]"
-            )))
-        }
-    };
+    let nodes = args.speed_nodes;
     let variant: Variant = args.point.variant.into();
     let mut metadata = base_metadata(&p, variant);
     let (legs, usage) = match &args.cycle {
