@@ -444,3 +444,49 @@ fn no_feasible_setting_ends_normally_with_a_nan_optimum() {
         assert!(out.join("report.md").is_file() && out.join("surface.png").is_file());
     }
 }
+
+/// Ctrl-C during the search ends optimize with 130 and a word on what is (not) saved, where it
+/// used to end it in silence.
+#[test]
+fn ctrl_c_during_the_search_says_what_is_left() {
+    use std::process::{Command, Stdio};
+    use std::time::{Duration, Instant};
+    let dir = tmp("sigint");
+    let out = dir.join("out");
+    let child = Command::new(env!("CARGO_BIN_EXE_polywear"))
+        .args([
+            "optimize",
+            STUDY,
+            "--samples",
+            "200000",
+            "--vary",
+            "toe_deg=0.05..0.4",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The folder is made, and the handler set, before the search starts.
+    let t0 = Instant::now();
+    while !out.exists() && t0.elapsed() < Duration::from_secs(60) {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    // SAFETY: kill(2) on the PID of our own child, which has not been waited for yet.
+    unsafe {
+        libc::kill(child.id() as i32, libc::SIGINT);
+    }
+    let done = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&done.stderr);
+    assert_eq!(done.status.code(), Some(130), "{stderr}");
+    assert!(
+        stderr.contains("optimize: stopped by SIGINT (Ctrl-C)")
+            && stderr.contains("its files are written only at its end"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -109,6 +109,28 @@ impl Interrupt {
     }
 }
 
+/// For a command that cannot stop midway and resume (optimize's search): the first SIGINT or
+/// SIGTERM prints "COMMAND: stopped by SIGNAL; WORDS" and ends the program with 128 + the signal
+/// number, as the default action would, but not without a word. A watcher thread reads the flag
+/// the handler sets (a handler itself must not print).
+pub fn say_and_exit_on_signal(command: &'static str, words: String) -> CliResult {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let signal = Arc::new(AtomicUsize::new(0));
+    for sig in [SIGINT, SIGTERM] {
+        signal_hook::flag::register_usize(sig, Arc::clone(&signal), sig as usize)
+            .map_err(|e| CliError(format!("cannot handle signal {sig}: {e}")))?;
+    }
+    std::thread::spawn(move || loop {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        let sig = signal.load(Ordering::SeqCst) as i32;
+        if sig != 0 {
+            eprintln!("\n{command}: stopped by {}; {words}", signal_name(sig));
+            std::process::exit(128 + sig);
+        }
+    });
+    Ok(())
+}
+
 /// `SIGINT (Ctrl-C)` or `SIGTERM`.
 pub fn signal_name(sig: i32) -> &'static str {
     match sig {

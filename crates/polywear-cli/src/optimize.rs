@@ -178,6 +178,14 @@ pub fn run(args: &OptimizeArgs) -> CliResult {
     // refused in safe_write's words, not after the search.
     polywear_study::safe_write::create_dir(&out_dir)
         .map_err(|e| CliError(format!("--out {}: {e}", out_dir.display())))?;
+    super::batch::say_and_exit_on_signal(
+        "optimize",
+        format!(
+            "the search does not resume, and its files are written only at its end: nothing \
+             new is in {}; run it again (fewer --samples or a coarser --grid for a quicker answer)",
+            out_dir.display()
+        ),
+    )?;
     if !args.quiet {
         eprintln!(
             "{}: {} of {} samples (seed {}, variant {}), {}, {} threads -> {}",
