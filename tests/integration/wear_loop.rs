@@ -516,6 +516,7 @@ fn wear_refuses_bad_input() {
             vec!["--seed", "-1"],
             "--seed `-1` must be a whole number in [0, 4398046510080]",
         ),
+        (vec!["--wear-zone", "patch"], "did you mean `whole_patch`?"),
     ] {
         let mut a = vec!["wear", "--quiet", "--out", o];
         a.extend(args.iter());

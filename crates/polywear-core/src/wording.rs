@@ -47,7 +47,8 @@ pub fn snippet(s: &str) -> String {
 /// letters as one edit, the commonest typing slip: `waer` for `wear`), if it is close enough to
 /// be a likely misspelling: at most a third of the name's letters changed (one in a name of three
 /// or four letters, two or more in a longer one, none in a shorter one), or
-/// `typed` a prefix of it (`speed` for `speed_kmh`), or it a prefix of `typed`. Case is ignored.
+/// `typed` a prefix of it (`speed` for `speed_kmh`), or it a prefix of `typed`, or `typed` its
+/// last word of four letters or more (`patch` for `whole_patch`). Case is ignored.
 pub fn closest<'a>(typed: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
     let t = typed.trim().to_lowercase();
     if t.is_empty() {
@@ -64,7 +65,8 @@ pub fn closest<'a>(typed: &str, candidates: impl IntoIterator<Item = &'a str>) -
             let lc = c.to_lowercase();
             let d = strsim::osa_distance(&t, &lc);
             let prefix = t.len() >= 3 && (lc.starts_with(&t) || t.starts_with(&lc));
-            (d <= limit || prefix).then_some((d, c))
+            let last_word = t.len() >= 4 && lc.ends_with(&format!("_{t}"));
+            (d <= limit || prefix || last_word).then_some((d, c))
         })
         .min_by_key(|(d, _)| *d)
         .map(|(_, c)| c)
@@ -152,6 +154,12 @@ mod tests {
         assert_eq!(closest("wheelbase", names), None);
         // A swap of two neighbouring letters is one slip.
         assert_eq!(closest("waer", ["wear", "vibration"]), Some("wear"));
+        // The last word of a name.
+        assert_eq!(
+            closest("patch", ["trailing", "whole_patch", "leading"]),
+            Some("whole_patch")
+        );
+        assert_eq!(closest("kmh", names), None);
         assert_eq!(did_you_mean("xyz", names), "");
     }
 }
