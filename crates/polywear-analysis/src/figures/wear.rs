@@ -42,6 +42,18 @@ impl LongTermFiles<'_> {
     /// Writes the three tables and the figure into `dir` (created if missing).
     pub fn write(&self, dir: &Path) -> Result<(), FilesError> {
         Self::prepare(dir)?;
+        // An earlier run's figure in this folder is not this run's: remove it before any new
+        // table is written, so that neither a run whose wheels have no wear figures nor one
+        // killed while drawing leaves it beside the new tables.
+        for format in [FigureFormat::Png, FigureFormat::Svg] {
+            let old = FigureFile::named(dir, "wear", format).path;
+            if old.is_file() {
+                std::fs::remove_file(&old).map_err(|source| FilesError::CreateDir {
+                    dir: old.clone(),
+                    source,
+                })?;
+            }
+        }
         let mut meta = self.metadata.to_vec();
         meta.push((
             "profile".into(),
@@ -74,17 +86,6 @@ impl LongTermFiles<'_> {
                 visible_mm,
             })
             .collect();
-        // An earlier run's figure in this folder is not this run's: remove it first, so a run
-        // whose wheels have no wear figures leaves none.
-        for format in [FigureFormat::Png, FigureFormat::Svg] {
-            let old = FigureFile::named(dir, "wear", format).path;
-            if old.is_file() {
-                std::fs::remove_file(&old).map_err(|source| FilesError::CreateDir {
-                    dir: old.clone(),
-                    source,
-                })?;
-            }
-        }
         if !traces.is_empty() {
             let figure = FigureFile::named(dir, "wear", self.format);
             wear_figure(&figure, &self.title, &traces)?;
