@@ -57,7 +57,7 @@ pub struct Fact {
 impl Fact {
     /// The figure as written in the table: "25,000–40,000 km", "≥ 60,000 km", "a sign".
     pub fn figure(&self) -> String {
-        let n = |x: f64| crate::field_facts::number(x);
+        let n = number;
         match (self.min, self.max) {
             (Some(a), Some(b)) if a == b => format!("{} {}", n(a), self.unit),
             (Some(a), Some(b)) => format!("{}–{} {}", n(a), n(b), self.unit),
@@ -179,22 +179,11 @@ impl FieldFacts {
     }
 }
 
-/// A figure with thousands separated by commas and no trailing zeros.
+/// A figure as the table writes it: a whole number with thousands separators (25,000), any
+/// other as it is (1.6).
 fn number(x: f64) -> String {
     if x.fract() == 0.0 && x.abs() < 1e15 {
-        let digits = format!("{}", x.abs() as u64);
-        let mut out = String::new();
-        for (i, c) in digits.chars().enumerate() {
-            if i > 0 && (digits.len() - i) % 3 == 0 {
-                out.push(',');
-            }
-            out.push(c);
-        }
-        if x < 0.0 {
-            format!("-{out}")
-        } else {
-            out
-        }
+        polywear_core::wording::thousands(x)
     } else {
         format!("{x}")
     }
