@@ -528,3 +528,63 @@ fn a_small_chunk_size_is_warned_about_with_its_measured_cost() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A cycle too long to hold is refused in a second, before its cells are read (a 10-million-row
+/// file took 2.5 GB and 30 s without a word); so is one that, over many tire structures,
+/// would be; a cycle that is run says its progress in steps.
+#[test]
+fn a_cycle_too_long_to_hold_is_refused_at_once_and_a_long_one_says_its_progress() {
+    let dir = fresh_dir("long_cycle");
+    std::fs::create_dir_all(&dir).unwrap();
+    let cycle = dir.join("long.csv");
+    let mut text = String::from("time_s,speed_kmh\n");
+    for i in 0..1_000_001u32 {
+        text.push_str(&format!("{i},100\n"));
+    }
+    std::fs::write(&cycle, text).unwrap();
+    let out = dir.join("out");
+    let (code, _, stderr) = polywear_within(
+        Duration::from_secs(20),
+        &["cycle", &s(&cycle), "--out", &s(&out)],
+    );
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("1,000,001 rows; accepted at most 1,000,000")
+            && stderr.contains("resample"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    let wltc = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/cycles/wltc_class3b.csv");
+    let study = Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/default.toml");
+    let (code, _, stderr) = polywear_within(
+        Duration::from_secs(20),
+        &[
+            "cycle",
+            &s(&wltc),
+            "--study",
+            &s(&study),
+            "--structure-samples",
+            "600",
+            "--out",
+            &s(&out),
+        ],
+    );
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("1,801 steps x 600 tire structure(s) = 1,080,600 step evaluations")
+            && stderr.contains("fewer --structure-samples"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    // Run, its stderr is a log: progress lines in steps (the first comes after 10 s, so a
+    // short cycle shows none; the line's form is held by the unit test of ProgressLog).
+    let short = dir.join("short.csv");
+    std::fs::write(&short, "time_s,speed_kmh\n0,100\n1,100\n").unwrap();
+    let (code, stdout, stderr) = polywear_within(
+        Duration::from_secs(60),
+        &["cycle", &s(&short), "--no-wear", "--out", &s(&out)],
+    );
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("2 steps"), "{stdout}");
+    std::fs::remove_dir_all(&dir).ok();
+}

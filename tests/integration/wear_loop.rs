@@ -569,7 +569,42 @@ fn wear_writes_summary_history_profile_and_figure() {
     assert!(stdout.contains("estimate  dominant order"), "{stdout}");
     let csv = std::fs::read_to_string(out.join("wear_summary.csv")).unwrap();
     let header = csv.lines().next().unwrap();
-    assert!(header.starts_with("wheel,class,polygon_order,dominant_order,detuning_rev,locked,lock_halfwidth_hz,wear_even_mm_per_1000km,growth_mm_per_1000km,growth_rate_per_1000km,saturation_depth_mm,distance_to_visible_km,run_end,worn_out_km,tread_height_end_mm,tread_freq_start_hz,tread_freq_end_hz,wear_calibration_share,estimate_"), "{header}");
+    assert!(header.starts_with("wheel,class,polygon_order,polygon_order_wear,detuning_rev,locked,lock_halfwidth_hz,wear_even_mm_per_1000km,growth_mm_per_1000km,growth_rate_per_1000km,saturation_depth_mm,distance_to_visible_km,run_end,worn_out_km,tread_height_end_mm,tread_freq_start_hz,tread_freq_end_hz,wear_share_straight,estimate_polygon_order_wear,"), "{header}");
+    // The old names stay for one version, at the end, as copies.
+    assert!(
+        header.ends_with(",wear_calibration_share,dominant_order,estimate_dominant_order"),
+        "{header}"
+    );
+    let cells: Vec<Vec<&str>> = csv.lines().map(|l| l.split(',').collect()).collect();
+    let at = |name: &str| cells[0].iter().position(|h| *h == name).unwrap();
+    for row in &cells[1..] {
+        for (old, new) in [
+            ("dominant_order", "polygon_order_wear"),
+            ("wear_calibration_share", "wear_share_straight"),
+            ("estimate_dominant_order", "estimate_polygon_order_wear"),
+        ] {
+            assert_eq!(row[at(old)], row[at(new)], "{old}");
+        }
+    }
+    {
+        use parquet::file::reader::{FileReader, SerializedFileReader};
+        let file = std::fs::File::open(out.join("wear_summary.parquet")).unwrap();
+        let reader = SerializedFileReader::new(file).unwrap();
+        let kv = reader
+            .metadata()
+            .file_metadata()
+            .key_value_metadata()
+            .unwrap();
+        let deprecated = kv.iter().find(|k| k.key == "deprecated").unwrap();
+        let map: serde_json::Value =
+            serde_json::from_str(deprecated.value.as_deref().unwrap()).unwrap();
+        assert_eq!(map["dominant_order"], "polygon_order_wear");
+        assert_eq!(map["wear_calibration_share"], "wear_share_straight");
+        assert_eq!(
+            map["estimate_dominant_order"],
+            "estimate_polygon_order_wear"
+        );
+    }
     assert!(csv.lines().nth(1).unwrap().contains(",distance,"), "{csv}");
     assert_eq!(csv.lines().count(), 3);
     for f in [
@@ -818,7 +853,12 @@ fn wear_checks_its_folder_first_runs_without_one_and_leaves_no_stale_figure() {
     for line in lines {
         let cells: Vec<&str> = line.split(',').collect();
         assert_eq!(cells[col("class")], "failed", "{line}");
-        for name in ["polygon_order", "locked", "dominant_order", "detuning_rev"] {
+        for name in [
+            "polygon_order",
+            "locked",
+            "polygon_order_wear",
+            "detuning_rev",
+        ] {
             assert_eq!(cells[col(name)], "NaN", "{name}: {line}");
         }
     }

@@ -1,9 +1,12 @@
 //! What a long run says and hears: a progress line every few seconds for batch logs (stderr not
 //! a terminal, e.g. a Slurm job), and SIGINT/SIGTERM turned into a clean stop.
 
+use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::common::{CliError, CliResult};
 use polywear_core::wording::plain;
@@ -11,6 +14,8 @@ use polywear_core::wording::plain;
 /// Progress lines on stderr: `progress: 1216 of 6000 samples (20.3%), 412 samples/s, ETA 12 s`.
 pub struct ProgressLog {
     total: u64,
+    /// What is counted, plural: `samples`, `steps`.
+    unit: &'static str,
     every: Duration,
     start: Instant,
     done: AtomicU64,
@@ -22,11 +27,18 @@ impl ProgressLog {
         let start = Instant::now();
         ProgressLog {
             total,
+            unit: "samples",
             every,
             start,
             done: AtomicU64::new(0),
             next: Mutex::new(start + every),
         }
+    }
+
+    /// The same log counting `unit` (plural) instead of samples.
+    pub fn counting(mut self, unit: &'static str) -> ProgressLog {
+        self.unit = unit;
+        self
     }
 
     /// Counts `n` more samples; prints a line when the interval has passed (one worker prints,
@@ -51,12 +63,59 @@ impl ProgressLog {
         } else {
             "unknown".into()
         };
+        let unit = self.unit;
         format!(
-            "progress: {done} of {} samples ({}%), {} samples/s, ETA {eta}",
+            "progress: {done} of {} {unit} ({}%), {} {unit}/s, ETA {eta}",
             self.total,
             plain(100.0 * done as f64 / self.total.max(1) as f64, 3),
             plain(rate, 3)
         )
+    }
+}
+
+/// Progress of a long run counted in `unit`s: a bar with rate and ETA on a terminal, a
+/// [`ProgressLog`] line every `every` in a log (stderr not a terminal), nothing when quiet.
+pub struct Progress {
+    bar: ProgressBar,
+    log: Option<ProgressLog>,
+}
+
+impl Progress {
+    pub fn new(quiet: bool, total: u64, unit: &'static str, every: Duration) -> Progress {
+        let log = (!quiet && !std::io::stderr().is_terminal())
+            .then(|| ProgressLog::new(total, every).counting(unit));
+        let bar = if quiet || log.is_some() {
+            ProgressBar::hidden()
+        } else {
+            ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr())
+        };
+        let template = format!(
+            "{{spinner}} [{{elapsed_precise}}] {{wide_bar}} {{pos}}/{{len}} {unit}  {{rate}}  ETA {{eta}}"
+        );
+        bar.set_style(
+            ProgressStyle::with_template(&template)
+                .expect("valid template")
+                .with_key(
+                    "rate",
+                    move |s: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                        let _ = write!(w, "{:.0} {unit}/s", s.per_sec());
+                    },
+                ),
+        );
+        Progress { bar, log }
+    }
+
+    /// Counts `n` more (from any thread).
+    pub fn add(&self, n: u64) {
+        self.bar.inc(n);
+        if let Some(log) = &self.log {
+            log.add(n);
+        }
+    }
+
+    /// Clears the bar before the results are printed.
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
     }
 }
 
@@ -153,6 +212,11 @@ mod tests {
         assert_eq!(
             log.line(1500, Duration::from_secs(3)),
             "progress: 1500 of 6000 samples (25%), 500 samples/s, ETA 9 s"
+        );
+        let log = ProgressLog::new(1800, Duration::from_secs(5)).counting("steps");
+        assert_eq!(
+            log.line(900, Duration::from_secs(3)),
+            "progress: 900 of 1800 steps (50%), 300 steps/s, ETA 3 s"
         );
     }
 }

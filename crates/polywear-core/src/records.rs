@@ -252,6 +252,11 @@ impl WearOutcome {
 pub const RENAMED_COLUMNS: &[(&str, &str)] = &[
     ("polygon_order_dominant", "polygon_order_wear"),
     ("wear_calibration_share", "wear_share_straight"),
+    // `polywear wear`'s wear_summary.
+    ("dominant_order", "polygon_order_wear"),
+    ("estimate_dominant_order", "estimate_polygon_order_wear"),
+    // `polywear cycle`'s cycle_summary.
+    ("wear_dominant_order", "polygon_order_wear"),
 ];
 
 /// The column of a drawn parameter that is a length in m with no unit in its name (`tread_height`

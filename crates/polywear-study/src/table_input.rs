@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::safe_read::{self, Limit, ReadError};
-use polywear_core::wording::snippet;
+use polywear_core::wording::{snippet, thousands};
 
 /// A table of finite numbers with named columns.
 #[derive(Debug, Clone, PartialEq)]
@@ -158,6 +158,18 @@ pub enum TableError {
         /// The cell as Parquet prints it.
         value: String,
     },
+    /// More data rows than the reader accepts (counted before any cell is read).
+    #[error("{}: {} rows; accepted at most {} ({what})", path.display(), thousands(*rows as f64), thousands(*max as f64))]
+    TooManyRows {
+        /// The file.
+        path: PathBuf,
+        /// Its data rows (for a CSV file, its non-blank lines after the header).
+        rows: u64,
+        /// The most accepted.
+        max: u64,
+        /// Why, in the caller's words.
+        what: &'static str,
+    },
     /// A nested or repeated Parquet column.
     #[error("{row}: nested or repeated columns are not supported")]
     Nested {
@@ -180,12 +192,38 @@ impl NumericTable {
         path: &Path,
         text: &dyn Fn(&str) -> bool,
     ) -> Result<NumericTable, TableError> {
+        Self::read_at_most(path, text, None)
+    }
+
+    /// [`NumericTable::read_with_text`], refusing a file of more than `max.0` data rows before
+    /// any cell is read (so a huge file costs a scan, not its cells' memory); `max.1` says why
+    /// in the refusal.
+    pub fn read_at_most(
+        path: &Path,
+        text: &dyn Fn(&str) -> bool,
+        max: Option<(u64, &'static str)>,
+    ) -> Result<NumericTable, TableError> {
         let bytes = safe_read::read_bytes(path, Limit::Table)?;
         let hash = bytes_hash(&bytes);
         let n = bytes.len() as u64;
         let is_parquet = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("parquet"));
+        if let Some((max, what)) = max {
+            let rows = if is_parquet {
+                parquet_rows(path)?
+            } else {
+                csv_data_lines(&bytes)
+            };
+            if rows > max {
+                return Err(TableError::TooManyRows {
+                    path: path.to_path_buf(),
+                    rows,
+                    max,
+                    what,
+                });
+            }
+        }
         let mut t = if is_parquet {
             read_parquet(path, text)?
         } else {
@@ -254,6 +292,27 @@ fn number_of(field: &parquet::record::Field) -> Option<f64> {
         Field::ULong(x) => *x as f64,
         _ => return None,
     })
+}
+
+/// A CSV file's non-blank lines after the first: its data rows, or more where a quoted field
+/// holds a line break (an upper bound is what a row limit needs).
+fn csv_data_lines(bytes: &[u8]) -> u64 {
+    let lines = bytes
+        .split(|b| *b == b'\n')
+        .filter(|l| l.iter().any(|b| !b.is_ascii_whitespace()))
+        .count() as u64;
+    lines.saturating_sub(1)
+}
+
+/// A Parquet file's row count, from its footer.
+fn parquet_rows(path: &Path) -> Result<u64, TableError> {
+    use parquet::file::reader::{FileReader, SerializedFileReader};
+    let (f, _) = safe_read::open(path, Limit::Table)?;
+    let reader = SerializedFileReader::new(f).map_err(|err| TableError::Parquet {
+        path: path.to_path_buf(),
+        message: err.to_string(),
+    })?;
+    Ok(reader.metadata().file_metadata().num_rows().max(0) as u64)
 }
 
 /// A text cell's number, where it is a finite one (NaN otherwise).

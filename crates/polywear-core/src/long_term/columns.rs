@@ -42,7 +42,7 @@ impl LongTermSolution {
                     .map(|w| w.solution.record.polygon_order)
                     .collect(),
             ),
-            col("dominant_order", "", &|x| x.dominant_order),
+            col("polygon_order_wear", "", &|x| x.dominant_order),
             col("detuning_rev", "", &|x| x.detuning_rev),
             // 1 or 0, NaN where the wheel has no run (as every figure of a wheel without one).
             Column::f64(
@@ -81,7 +81,7 @@ impl LongTermSolution {
             col("tread_freq_start_hz", "Hz", &|x| x.tread_freq_start_hz),
             col("tread_freq_end_hz", "Hz", &|x| x.tread_freq_end_hz),
             Column::f64(
-                "wear_calibration_share",
+                "wear_share_straight",
                 "",
                 vec![p.wear_share_straight; wheels.len()],
             ),
@@ -94,7 +94,9 @@ impl LongTermSolution {
                     .collect()
             };
             let columns: [EstimateColumn; 4] = [
-                ("estimate_dominant_order", "", |e| e.polygon_order_dominant),
+                ("estimate_polygon_order_wear", "", |e| {
+                    e.polygon_order_dominant
+                }),
                 ("estimate_detuning_rev", "", |e| e.detuning_rev),
                 ("estimate_growth_rate_per_1000km", "1/1000 km", |e| {
                     e.growth_rate_per_1000km
@@ -105,6 +107,20 @@ impl LongTermSolution {
             ];
             for (name, unit, get) in columns {
                 cols.push(Column::f64(name, unit, est(&get)));
+            }
+        }
+        // The summary's old names, copies kept for one version (in RENAMED_COLUMNS, so the
+        // Parquet footer's `deprecated` lists them), at the end so the new names keep their
+        // places.
+        for (old, new) in [
+            ("wear_calibration_share", "wear_share_straight"),
+            ("dominant_order", "polygon_order_wear"),
+            ("estimate_dominant_order", "estimate_polygon_order_wear"),
+        ] {
+            if let Some(c) = cols.iter().find(|c| c.name == new) {
+                let mut alias = c.clone();
+                alias.name = old.to_string();
+                cols.push(alias);
             }
         }
         cols

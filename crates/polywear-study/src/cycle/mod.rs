@@ -27,7 +27,7 @@ use polywear_core::evaluate::{self, PointProblem, WearStage};
 use polywear_core::model::Variant;
 use polywear_core::params::{ParamError, ParamId, Params};
 use polywear_core::records::WheelRecord;
-use polywear_core::wording::plain;
+use polywear_core::wording::{plain, thousands};
 
 /// Why a drive cycle is refused (before any work, naming the file, row and column) or its
 /// outputs are not written.
@@ -93,6 +93,16 @@ pub enum CycleError {
         /// Its value (inf).
         value: f64,
     },
+    /// More steps × tire structures than [`STEP_EVALUATIONS_MAX`].
+    #[error("{}: {} steps x {} tire structure(s) = {} step evaluations; accepted at most {} (every step's records stay in memory until the files are written: about 3 KB a step, 5 KB with the wear stage): draw fewer --structure-samples, or resample the cycle to fewer steps", path.display(), thousands(*steps as f64), thousands(*structures as f64), thousands(*steps as f64 * *structures as f64), thousands(STEP_EVALUATIONS_MAX as f64))]
+    TooMuchWork {
+        /// The cycle file.
+        path: PathBuf,
+        /// Its steps.
+        steps: u64,
+        /// The tire structures asked for.
+        structures: u64,
+    },
     /// A value outside its parameter's range, or a step whose parameters do not fit together.
     #[error("{at}: {source}")]
     Param {
@@ -114,6 +124,12 @@ fn did_you_mean(name: &str) -> String {
 /// previous step's cycle (the neighbouring step's cycle is close: the speed changes little in
 /// one step). Blocks are fixed, so the rows do not depend on the number of threads.
 pub const BLOCK_STEPS: usize = 32;
+
+/// Most step evaluations (steps × tire structures) one run accepts. Every step's two records stay
+/// in memory until the files are written (2.9 GB measured at a million steps, 5.3 GB with the
+/// wear stage and its growth of each order), so a larger run is refused before any work instead
+/// of exhausting the memory hours in. A million steps is 11.6 days of driving logged at 1 Hz.
+pub const STEP_EVALUATIONS_MAX: u64 = 1_000_000;
 
 /// A checked drive cycle.
 #[derive(Debug, Clone)]
@@ -140,9 +156,15 @@ impl DriveCycle {
     pub fn read(path: &Path) -> Result<DriveCycle, CycleError> {
         // A column that is neither `time_s` nor a parameter is refused by its name, before its
         // cells are read as numbers.
-        let t = NumericTable::read_with_text(path, &|c| {
-            c != "time_s" && c.parse::<ParamId>().is_err()
-        })?;
+        let t = NumericTable::read_at_most(
+            path,
+            &|c| c != "time_s" && c.parse::<ParamId>().is_err(),
+            Some((
+                STEP_EVALUATIONS_MAX,
+                "a drive cycle's steps, each kept in memory with its records: about 3 KB a step, \
+                 5 KB with the wear stage; resample it to fewer steps, e.g. 1 Hz",
+            )),
+        )?;
         let need = |name: &'static str| {
             t.column(name).ok_or_else(|| CycleError::MissingColumn {
                 path: path.to_path_buf(),
@@ -242,6 +264,20 @@ impl DriveCycle {
             .sum();
         if !distance.is_finite() {
             return Err(bad("distance", distance));
+        }
+        Ok(())
+    }
+
+    /// Refuses a run over `structures` tire structures whose step evaluations exceed
+    /// [`STEP_EVALUATIONS_MAX`], before any work.
+    pub fn check_work(&self, structures: u64) -> Result<(), CycleError> {
+        let steps = self.len() as u64;
+        if steps.saturating_mul(structures) > STEP_EVALUATIONS_MAX {
+            return Err(CycleError::TooMuchWork {
+                path: self.path.clone(),
+                steps,
+                structures,
+            });
         }
         Ok(())
     }
@@ -380,9 +416,16 @@ pub fn classify_cycle(
     opts: &ClassifierOptions,
     wear: Option<&WearStage>,
 ) -> Vec<[StepWheel; 2]> {
-    classify_cycles(cycle, std::slice::from_ref(base), variant, opts, wear)
-        .pop()
-        .expect("one base")
+    classify_cycles(
+        cycle,
+        std::slice::from_ref(base),
+        variant,
+        opts,
+        wear,
+        &|_| {},
+    )
+    .pop()
+    .expect("one base")
 }
 
 /// [`classify_cycle`] for each of several parameter bases (tire structures), `[base][step]`.
@@ -390,12 +433,14 @@ pub fn classify_cycle(
 /// within a block each wheel starts from its own cycle at the previous step, and a step with
 /// the same parameters as the previous one takes its verdict. With `wear`, every step also runs
 /// the wear stage (its columns in the records, and each order's growth for [`wear::cycle_wear`]).
+/// `progress` hears the steps of each block as it finishes (from the worker threads).
 pub fn classify_cycles(
     cycle: &DriveCycle,
     bases: &[Params],
     variant: Variant,
     opts: &ClassifierOptions,
     wear: Option<&WearStage>,
+    progress: &(dyn Fn(u64) + Sync),
 ) -> Vec<Vec<[StepWheel; 2]>> {
     let n = cycle.len();
     let per_base = n.div_ceil(BLOCK_STEPS);
@@ -404,7 +449,9 @@ pub fn classify_cycles(
         .collect();
     let block = |j: usize| {
         let (k, b) = jobs[j];
-        classify_block(cycle, &bases[k], variant, opts, wear, b)
+        let block = classify_block(cycle, &bases[k], variant, opts, wear, b);
+        progress(block.len() as u64);
+        block
     };
     let mut records: Vec<[(WheelRecord, Vec<f64>); 2]> =
         ensemble::solve(jobs.len(), block, &Control::QUIET)

@@ -112,13 +112,15 @@ fn named(s: &WheelSummary, orders: &[i64]) -> Vec<(String, f64)> {
     }
     if let Some(w) = &s.wear {
         v.extend([
-            ("wear_dominant_order".to_string(), w.dominant_order),
+            ("polygon_order_wear".to_string(), w.dominant_order),
             ("growth_rate_per_1000km".into(), w.growth_rate_per_1000km),
             ("distance_to_visible_km".into(), w.distance_to_visible_km),
             (
                 "wear_unknown_distance_share".into(),
                 w.unknown_distance_share,
             ),
+            // Its old name, a copy kept for one version (RENAMED_COLUMNS).
+            ("wear_dominant_order".into(), w.dominant_order),
         ]);
     }
     v
