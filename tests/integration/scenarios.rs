@@ -175,14 +175,10 @@ fn threads_shards_and_resume_give_the_same_rows_with_scenarios() {
 fn effects(report: &Path) -> BTreeMap<(String, String, String), BTreeMap<String, String>> {
     let text = std::fs::read_to_string(report.join("scenarios.csv")).unwrap();
     let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let header = fields(lines.next().unwrap());
     lines
         .map(|l| {
-            let m: BTreeMap<String, String> = header
-                .iter()
-                .zip(l.split(','))
-                .map(|(k, v)| (k.to_string(), v.to_string()))
-                .collect();
+            let m: BTreeMap<String, String> = header.iter().cloned().zip(fields(l)).collect();
             let key = (
                 m["scenario"].clone(),
                 m["wheel"].clone(),
@@ -191,6 +187,25 @@ fn effects(report: &Path) -> BTreeMap<(String, String, String), BTreeMap<String,
             (key, m)
         })
         .collect()
+}
+
+/// The fields of one CSV line (RFC 4180 quoting: the changes of a scenario hold commas).
+fn fields(line: &str) -> Vec<String> {
+    let (mut out, mut field, mut quoted) = (Vec::new(), String::new(), false);
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                field.push('"');
+                chars.next();
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => out.push(std::mem::take(&mut field)),
+            (c, _) => field.push(c),
+        }
+    }
+    out.push(field);
+    out
 }
 
 fn analyze(dir: &Path, extra: &[&str]) -> PathBuf {
@@ -261,6 +276,12 @@ fn a_set_equals_a_separate_run_and_nothing_differs_by_exactly_zero() {
     let page = std::fs::read_to_string(report.join("report.md")).unwrap();
     assert!(page.contains("## What the changes do"), "{page}");
     assert!(page.contains("(no sample changes)"), "{page}");
+    // Without `compare_to` nothing names a reference: the table keeps its columns.
+    assert!(
+        !page.contains("against `") && !page.contains("compare_to"),
+        "{page}"
+    );
+    assert!(e.values().all(|row| !row.contains_key("reference")));
     assert!(report.join("scenarios.png").is_file());
 }
 
@@ -296,8 +317,116 @@ fn pairing_narrows_a_small_changes_interval_at_least_threefold() {
     );
 }
 
+/// `compare_to` end to end: explore a small study whose scenario names another as its
+/// reference, then analyze the chunk files alone (the study file removed). Each effect against
+/// the reference is the paired count of the two scenarios' rows; the footers, the table, the
+/// report and the printed summary name the reference.
+#[test]
+fn a_scenario_is_compared_with_the_scenario_it_names() {
+    let dir = tmp("compare-to");
+    let one_variant = BASE
+        .replace(r#"["sliding_share", "paper"]"#, r#"["sliding_share"]"#)
+        .replace("samples = 240", "samples = 40");
+    let study = format!(
+        "{one_variant}\n[scenarios.toe_in]\ntoe_deg = {{ shift = -0.05 }}\n\
+         [scenarios.toe_in_soft]\ncompare_to = \"toe_in\"\ntoe_deg = {{ shift = -0.05 }}\n\
+         g_mod = {{ scale = 0.8 }}\n"
+    );
+    let run = explore(&dir, "run", &study, &[]);
+    std::fs::remove_file(dir.join("run.toml")).unwrap();
+    let rows = table(&run);
+    // (scenario, wheel, sample) → outcome code: 1 vibrates, 0 stable, None no verdict.
+    let mut code = BTreeMap::new();
+    for r in &rows {
+        let class = value(r, "class").trim_matches('"');
+        let c = match class {
+            "limit_cycle" | "bistable" => Some(1),
+            "stable" => Some(0),
+            _ => None,
+        };
+        let key = (
+            value(r, "scenario").trim_matches('"').to_string(),
+            value(r, "wheel").trim_matches('"').to_string(),
+            value(r, "sample_id").to_string(),
+        );
+        code.insert(key, c);
+    }
+    let out = dir.join("_report");
+    let (status, stdout, stderr) = polywear(&[
+        "analyze",
+        run.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(status, 0, "{stderr}");
+    let e = effects(&out);
+    let mut compared = 0;
+    for wheel in ["follower", "driving"] {
+        let row = &e[&(
+            "toe_in_soft".to_string(),
+            wheel.to_string(),
+            "vibration".into(),
+        )];
+        assert_eq!(row["reference"], "toe_in", "{row:?}");
+        let base_row = &e[&("toe_in".to_string(), wheel.to_string(), "vibration".into())];
+        assert_eq!(base_row["reference"], "baseline", "{base_row:?}");
+        // The paired counts of toe_in_soft's rows against toe_in's, sample by sample.
+        let mut t = [[0u64; 2]; 2];
+        for sample in 0..40 {
+            let get = |s: &str| code[&(s.to_string(), wheel.to_string(), sample.to_string())];
+            if let (Some(r), Some(s)) = (get("toe_in"), get("toe_in_soft")) {
+                t[r][s] += 1;
+            }
+        }
+        let n = |k: &str| row[k].parse::<u64>().unwrap();
+        assert_eq!(
+            (
+                n("both"),
+                n("only_baseline"),
+                n("only_scenario"),
+                n("neither")
+            ),
+            (t[1][1], t[1][0], t[0][1], t[0][0]),
+            "{wheel}: {row:?}"
+        );
+        let pairs = (t[0][0] + t[0][1] + t[1][0] + t[1][1]) as f64;
+        let direct = (t[0][1] as f64 - t[1][0] as f64) / pairs;
+        let difference = row["difference"].parse::<f64>().unwrap();
+        assert!((difference - direct).abs() < 1e-15, "{wheel}: {row:?}");
+        compared += t[0][1] + t[1][0];
+    }
+    // Softer rubber changes some verdicts: the comparison is not of two equal blocks.
+    assert!(compared > 0, "{e:?}");
+    // The reference travels in the footers, so the analysis above needed no study file.
+    let footer = std::fs::read(run.join("chunk-0000000.parquet")).unwrap();
+    let footer = String::from_utf8_lossy(&footer);
+    assert!(footer.contains(r#""compare_to":"toe_in""#));
+    let page = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        page.contains("**toe_in_soft** (toe_deg shifted by -0.05 deg, g_mod scaled by 0.8), against **toe_in** (toe_deg shifted by -0.05 deg):"),
+        "{page}"
+    );
+    assert!(page.contains("against `toe_in`"), "{page}");
+    let against: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.trim_start().starts_with("toe_in_soft ("))
+        .collect();
+    assert_eq!(against.len(), 4, "{stdout}");
+    assert!(
+        against.iter().all(|l| l.contains("against `toe_in`")),
+        "{stdout}"
+    );
+    assert!(
+        stdout
+            .lines()
+            .filter(|l| l.trim_start().starts_with("toe_in ("))
+            .all(|l| !l.contains("against `")),
+        "{stdout}"
+    );
+}
+
 /// A scenario study that must be refused: (what is changed, words the message must hold).
-const REFUSED: [(&str, &[&str]); 11] = [
+const REFUSED: [(&str, &[&str]); 13] = [
     (
         "[scenarios.a]\ntoe_deg = { shift = -0.01 }\n[scenarios.\"a \"]\nload_n = { set = 3000 }\n",
         &["scenario `a ` is used twice", "differ only in the spaces"],
@@ -343,6 +472,21 @@ const REFUSED: [(&str, &[&str]); 11] = [
     (
         "[scenarios.a]\npressure_kpa = { set = 5000 }\n",
         &["scenarios.a.pressure_kpa.set", "(0, 2000]"],
+    ),
+    (
+        "[scenarios.toe_a]\ntoe_deg = { shift = -0.01 }\n[scenarios.toe_b]\ntoe_deg = { shift = -0.02 }\ncompare_to = \"toe_c\"\n",
+        &[
+            ".toml: `scenarios.toe_b.compare_to` = \"toe_c\" names no scenario of this study",
+            "did you mean `toe_a`?",
+            "accepted: \"baseline\", \"toe_a\"",
+        ],
+    ),
+    (
+        "[scenarios.toe_a]\ntoe_deg = { shift = -0.01 }\ncompare_to = \"toe_a\"\n",
+        &[
+            "`scenarios.toe_a.compare_to` = \"toe_a\" compares the scenario with itself",
+            "accepted: \"baseline\"",
+        ],
     ),
     (
         "[scenarios.a]\ng_mod = { scale = 1e5 }\n",
@@ -502,7 +646,7 @@ fn the_wear_comparison_reads_the_distance_column() {
         column: "distance_to_visible_km",
         km: 40_000.0,
     };
-    let counts = scenario_pairs(&[file], 1000, &["s"], outcome).unwrap();
+    let counts = scenario_pairs(&[file], 1000, &["s"], &[0], outcome).unwrap();
     let key = |b, s| (0usize, Variant::SlidingShare, Wheel::Follower, b, s);
     let expected: BTreeMap<_, u64> = [
         (key(1, 0), 1),

@@ -47,9 +47,10 @@ pub struct AnalyzeArgs {
     /// Bootstrap resamples for the Sobol indices' intervals, accepted [10, 100000]
     #[arg(long, default_value_t = AnalysisOptions::DEFAULT_BOOTSTRAP, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--bootstrap", 10, 100_000))]
     pub bootstrap: usize,
-    /// A run with scenarios compares each with the baseline on the risk of a visible polygon
-    /// within this distance [km] (and on vibration); the report's first-order indices of the
-    /// wear outcome use it too. Accepted (0, 1e6]
+    /// A run with scenarios compares each with its reference (the baseline, or its
+    /// `compare_to`) on the risk of a visible polygon within this distance [km] (and on
+    /// vibration); the report's first-order indices of the wear outcome use it too. Accepted
+    /// (0, 1e6]
     #[arg(long, value_name = "KM", default_value_t = AnalysisOptions::DEFAULT_SCENARIO_WITHIN_KM, allow_negative_numbers = true, value_parser = parse_km)]
     pub scenario_within_km: f64,
     /// P(visible polygonal wear within each distance) per wheel [km], comma-separated, each

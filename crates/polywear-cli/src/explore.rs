@@ -297,7 +297,10 @@ fn print_scenarios(study: &Study) {
     let each: Vec<String> = study
         .scenarios
         .iter()
-        .map(|s| format!("{} ({})", s.name, s.words()))
+        .map(|s| match &s.compare_to {
+            None => format!("{} ({})", s.name, s.words()),
+            Some(r) => format!("{} ({}; compared with `{r}`)", s.name, s.words()),
+        })
         .collect();
     eprintln!(
         "  each sample also under {} scenario(s): {}",

@@ -374,21 +374,26 @@ fn drawn_names(first: &FileFooter) -> Result<Vec<ParamId>, AnalysisError> {
         .collect()
 }
 
-/// The scenarios a chunk footer records (none without the key).
+/// The scenarios a chunk footer records (none without the key), each `compare_to` naming
+/// another of them.
 fn scenarios_of(run: &RunManifest, path: &Path) -> Result<Vec<Scenario>, AnalysisError> {
     let Some(v) = &run.scenarios else {
         return Ok(Vec::new());
     };
-    v.as_array()
+    let bad = |message: String| AnalysisError::Metadata {
+        path: path.to_path_buf(),
+        message,
+    };
+    let scenarios = v
+        .as_array()
         .and_then(|a| {
             a.iter()
                 .map(Scenario::from_json)
                 .collect::<Option<Vec<_>>>()
         })
-        .ok_or_else(|| AnalysisError::Metadata {
-            path: path.to_path_buf(),
-            message: "`scenarios` is not a list of scenarios".into(),
-        })
+        .ok_or_else(|| bad("`scenarios` is not a list of scenarios".into()))?;
+    super::scenarios::reference_blocks(&scenarios).map_err(|e| bad(format!("`scenarios`: {e}")))?;
+    Ok(scenarios)
 }
 
 fn short(s: &str) -> String {

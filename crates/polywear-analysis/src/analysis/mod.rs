@@ -17,9 +17,10 @@
 //! The rest is one module per question: [`failures`] (why rows have no verdict), [`fleet`]
 //! (each row's values, weight and share of the risk), [`severity`], [`given_data`]
 //! (first-order indices from any design), [`sensitivity`] (Sobol indices of a Saltelli
-//! design), [`robustness`], [`scenarios`] (each scenario against the baseline on the same
-//! samples); [`rows`] alone speaks to polars, and [`stats`] holds the intervals and tests. In a
-//! run with scenarios every question but the last is answered on the baseline's rows.
+//! design), [`robustness`], [`scenarios`] (each scenario against its reference, the baseline
+//! or its `compare_to`, on the same samples); [`rows`] alone speaks to polars, and [`stats`]
+//! holds the intervals and tests. In a run with scenarios every question but the last is
+//! answered on the baseline's rows.
 //!
 //! P(vibration), the probability every table gives, is the share of classified rows (stable,
 //! limit cycle, bistable) whose wheel vibrates: settles on a limit cycle, or is bistable (can be
@@ -164,7 +165,7 @@ pub struct Analysis {
     pub robustness: Option<Robustness>,
     /// How often the driving wheel is less exposed, per variant.
     pub robustness_summary: Vec<RobustnessSummary>,
-    /// Each scenario against the baseline (empty without scenarios).
+    /// Each scenario against its reference (empty without scenarios).
     pub scenarios: Vec<ScenarioEffect>,
     /// The wear answer (None for a run without the wear stage's columns).
     pub wear: Option<WearAnalysis>,
@@ -422,7 +423,7 @@ pub enum Step {
     Sensitivity,
     /// The lost-digit decodings.
     Robustness,
-    /// The scenarios against the baseline.
+    /// The scenarios against their references.
     Scenarios,
     /// The wear answer.
     Wear,

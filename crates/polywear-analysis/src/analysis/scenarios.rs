@@ -1,15 +1,17 @@
-//! What each scenario changes, against the baseline on the same samples: per scenario, variant
-//! and wheel, the probability of an outcome (vibration; a visible polygon within a distance)
-//! under both, the paired difference with its 95% interval (Newcombe's square-and-add interval
-//! for paired proportions, [`newcombe_paired`]), McNemar's test, and how many samples change
-//! outcome in each direction. Beside it, the interval two independent runs of the same size
-//! would give ([`newcombe_independent`]), which is what pairing saves.
+//! What each scenario changes, against its reference on the same samples (the baseline, or the
+//! scenario its `compare_to` names): per scenario, variant and wheel, the probability of an
+//! outcome (vibration; a visible polygon within a distance) under both, the paired difference
+//! with its 95% interval (Newcombe's square-and-add interval for paired proportions,
+//! [`newcombe_paired`]), McNemar's test, and how many samples change outcome in each direction.
+//! Beside it, the interval two independent runs of the same size would give
+//! ([`newcombe_independent`]), which is what pairing saves.
 
 use super::outcome::{Outcome as _, Vibrates, VisibleWithin};
 use super::rows::{scenario_pairs, OutcomeColumn, Rows, ScenarioPairCounts};
 use super::stats::{mcnemar, newcombe_independent, newcombe_paired};
 use super::{AnalysisError, RunInfo};
 use polywear_core::model::{Variant, Wheel};
+use polywear_study::study::{Scenario, BASELINE};
 
 pub use polywear_core::records::DISTANCE_COLUMN;
 
@@ -24,17 +26,20 @@ pub struct ScenarioEffect {
     pub scenario: String,
     /// Its changes in words.
     pub changes: String,
+    /// What it is compared with: `baseline`, or the scenario its `compare_to` names. The
+    /// `baseline` of the counts and probabilities below is this reference.
+    pub reference: String,
     /// The friction variant.
     pub variant: Variant,
     /// The wheel.
     pub wheel: Wheel,
     /// What is compared.
     pub outcome: Outcome,
-    /// Samples with a verdict under both the baseline and the scenario.
+    /// Samples with a verdict under both the reference and the scenario.
     pub pairs: u64,
     /// Samples with the outcome under both.
     pub both: u64,
-    /// Samples with the outcome under the baseline only (the scenario removes it).
+    /// Samples with the outcome under the reference only (the scenario removes it).
     pub only_baseline: u64,
     /// Samples with the outcome under the scenario only (the scenario brings it).
     pub only_scenario: u64,
@@ -51,7 +56,11 @@ pub struct ScenarioEffect {
 }
 
 impl ScenarioEffect {
-    /// The probability under the baseline, over the paired samples.
+    /// Whether the scenario is compared with the baseline (no `compare_to`).
+    pub fn against_baseline(&self) -> bool {
+        self.reference == BASELINE
+    }
+    /// The probability under the reference, over the paired samples.
     pub fn p_baseline(&self) -> f64 {
         (self.both + self.only_baseline) as f64 / self.pairs as f64
     }
@@ -59,7 +68,7 @@ impl ScenarioEffect {
     pub fn p_scenario(&self) -> f64 {
         (self.both + self.only_scenario) as f64 / self.pairs as f64
     }
-    /// Scenario minus baseline.
+    /// Scenario minus reference.
     pub fn difference(&self) -> f64 {
         (self.only_scenario as f64 - self.only_baseline as f64) / self.pairs as f64
     }
@@ -91,9 +100,9 @@ impl ScenarioEffect {
     }
 }
 
-/// The effect of every scenario of the run, per variant, wheel and outcome: a visible polygon
-/// within `within_km` first when the rows have [`DISTANCE_COLUMN`] (else a note says why not),
-/// then vibration. Empty for a run without scenarios.
+/// The effect of every scenario of the run against its reference, per variant, wheel and
+/// outcome: a visible polygon within `within_km` first when the rows have [`DISTANCE_COLUMN`]
+/// (else a note says why not), then vibration. Empty for a run without scenarios.
 pub fn compare(
     info: &RunInfo,
     within_km: f64,
@@ -104,6 +113,7 @@ pub fn compare(
         return Ok(Vec::new());
     }
     let names: Vec<&str> = info.scenarios.iter().map(|s| s.name.as_str()).collect();
+    let references = reference_blocks(&info.scenarios)?;
     let mut outcomes = Vec::new();
     if Rows::scan(&info.files)?.has_column(DISTANCE_COLUMN)? {
         let weight = super::rows::SampleWeight::Equal;
@@ -122,21 +132,44 @@ pub fn compare(
     outcomes.push(Vibrates.column());
     let mut out = Vec::new();
     for outcome in outcomes {
-        let counts = scenario_pairs(&info.files, batch_rows, &names, outcome)?;
-        out.extend(effects(info, outcome, &counts));
+        let counts = scenario_pairs(&info.files, batch_rows, &names, &references, outcome)?;
+        out.extend(effects(&info.scenarios, &info.variants, outcome, &counts));
     }
     Ok(out)
 }
 
+/// The row block each scenario is compared with, as [`scenario_pairs`] takes it: 0 for the
+/// baseline, j + 1 for the scenario j (in row order) that its `compare_to` names. A name the
+/// run does not hold is refused: the footers were written by a study that checked it.
+pub fn reference_blocks(scenarios: &[Scenario]) -> Result<Vec<usize>, AnalysisError> {
+    scenarios
+        .iter()
+        .map(|s| match &s.compare_to {
+            None => Ok(0),
+            Some(r) => scenarios
+                .iter()
+                .position(|o| o.name == *r && o.name != s.name)
+                .map(|j| j + 1)
+                .ok_or_else(|| {
+                    AnalysisError::Row(format!(
+                        "scenario `{}` is compared with `{r}`, which is not a scenario of the run",
+                        s.name
+                    ))
+                }),
+        })
+        .collect()
+}
+
 /// The effects of one outcome from its pair counts, in scenario, variant and wheel order.
 pub fn effects(
-    info: &RunInfo,
+    scenarios: &[Scenario],
+    variants: &[Variant],
     outcome: Outcome,
     counts: &ScenarioPairCounts,
 ) -> Vec<ScenarioEffect> {
     let mut out = Vec::new();
-    for (k, s) in info.scenarios.iter().enumerate() {
-        for &variant in &info.variants {
+    for (k, s) in scenarios.iter().enumerate() {
+        for &variant in variants {
             for wheel in Wheel::BOTH {
                 let get =
                     |b: i64, c: i64| counts.get(&(k, variant, wheel, b, c)).copied().unwrap_or(0);
@@ -155,6 +188,7 @@ pub fn effects(
                 out.push(ScenarioEffect {
                     scenario: s.name.clone(),
                     changes: s.words(),
+                    reference: s.reference().to_string(),
                     variant,
                     wheel,
                     outcome,
@@ -172,4 +206,162 @@ pub fn effects(
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use polywear_core::classify::Class;
+    use polywear_study::parquet_out::{write_table, Column};
+    use polywear_study::study::{Change, ParamChange};
+
+    /// A scenario of toe-in changes compared with `compare_to`.
+    fn scenario(name: &str, compare_to: Option<&str>) -> Scenario {
+        Scenario {
+            name: name.into(),
+            changes: vec![ParamChange {
+                param: polywear_core::params::ParamId::ToeDeg,
+                change: Change::Shift(-0.01),
+            }],
+            compare_to: compare_to.map(str::to_string),
+        }
+    }
+
+    /// A row's class and distance from its sample, block and wheel: a fixed scramble, so that
+    /// the blocks disagree on many samples in both directions, with a few failures.
+    fn outcome(sample: u64, block: u64, wheel: u64) -> (Class, f64) {
+        let mut x = sample.wrapping_mul(0x9e37_79b9_7f4a_7c15)
+            ^ block.wrapping_mul(0xbf58_476d_1ce4_e5b9)
+            ^ wheel.wrapping_mul(0x94d0_49bb_1331_11eb);
+        x ^= x >> 31;
+        x = x.wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        x ^= x >> 29;
+        let h = x % 1009;
+        let class = match h % 7 {
+            0 => Class::Failed,
+            1..=3 => Class::LimitCycle,
+            _ => Class::Stable,
+        };
+        (class, (h as f64) * 100.0)
+    }
+
+    /// The effect of a scenario against a named reference is its rows' paired difference with
+    /// the reference's rows, counted here sample by sample: the same counts, difference and
+    /// interval as against the baseline, with the reference's rows in the baseline's place.
+    #[test]
+    fn an_effect_against_a_named_reference_is_the_paired_difference_of_their_rows() {
+        let dir = std::env::temp_dir().join(format!("polywear-compare-to-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("chunk-0000000.parquet");
+        let names = ["baseline", "a", "b", "c"];
+        let samples = 60u64;
+        let mut cols = (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for sample in 0..samples {
+            for (block, name) in names.iter().enumerate() {
+                for (w, wheel) in Wheel::BOTH.iter().enumerate() {
+                    let (class, km) = outcome(sample, block as u64, w as u64);
+                    cols.0.push(sample as i64);
+                    cols.1.push(name.to_string());
+                    cols.2.push(wheel.to_string());
+                    cols.3.push(class.as_str().to_string());
+                    cols.4.push(km);
+                }
+            }
+        }
+        let n = cols.0.len();
+        let columns = [
+            Column::i64("sample_id", "", cols.0),
+            Column::str("scenario", cols.1),
+            Column::str("variant", vec!["sliding_share".into(); n]),
+            Column::str("wheel", cols.2),
+            Column::str("class", cols.3),
+            Column::f64(DISTANCE_COLUMN, "km", cols.4),
+        ];
+        write_table(&file, &columns, &[]).unwrap();
+        // b against a, c against b (a reference compared with a third), a against the baseline.
+        let scenarios = [
+            scenario("a", None),
+            scenario("b", Some("a")),
+            scenario("c", Some("b")),
+        ];
+        let references = reference_blocks(&scenarios).unwrap();
+        assert_eq!(references, [0, 1, 2]);
+        let scenario_names = ["a", "b", "c"];
+        let variants = [Variant::SlidingShare];
+        for outcome_column in [
+            Outcome::Vibration,
+            Outcome::WithinKm {
+                column: DISTANCE_COLUMN,
+                km: 50_000.0,
+            },
+        ] {
+            let counts = scenario_pairs(
+                std::slice::from_ref(&file),
+                1,
+                &scenario_names,
+                &references,
+                outcome_column,
+            )
+            .unwrap();
+            let got = effects(&scenarios, &variants, outcome_column, &counts);
+            assert_eq!(got.len(), 3 * 2);
+            for e in &got {
+                let k = scenario_names
+                    .iter()
+                    .position(|s| *s == e.scenario)
+                    .unwrap();
+                let (scen, refb) = (k as u64 + 1, references[k] as u64);
+                assert_eq!(e.reference, names[refb as usize]);
+                let w = Wheel::BOTH.iter().position(|w| *w == e.wheel).unwrap() as u64;
+                let yes = |block: u64, sample: u64| -> Option<bool> {
+                    let (class, km) = outcome(sample, block, w);
+                    match (class, outcome_column) {
+                        (Class::Failed, _) => None,
+                        (c, Outcome::Vibration) => Some(c != Class::Stable),
+                        (_, Outcome::WithinKm { km: within, .. }) => Some(km <= within),
+                    }
+                };
+                let (mut t, mut pairs) = ([[0u64; 2]; 2], 0u64);
+                for sample in 0..samples {
+                    if let (Some(r), Some(s)) = (yes(refb, sample), yes(scen, sample)) {
+                        t[usize::from(r)][usize::from(s)] += 1;
+                        pairs += 1;
+                    }
+                }
+                let (both, only_ref, only_scen, neither) = (t[1][1], t[1][0], t[0][1], t[0][0]);
+                assert_eq!(
+                    (e.pairs, e.both, e.only_baseline, e.only_scenario, e.neither),
+                    (pairs, both, only_ref, only_scen, neither),
+                    "{} {}",
+                    e.scenario,
+                    e.wheel
+                );
+                assert_eq!(e.unclassified, samples - pairs);
+                let p = |x: u64| x as f64 / pairs as f64;
+                assert_eq!(e.p_baseline(), p(both + only_ref));
+                assert_eq!(e.p_scenario(), p(both + only_scen));
+                let direct = p(both + only_scen) - p(both + only_ref);
+                assert!((e.difference() - direct).abs() < 1e-15, "{e:?}");
+                assert_eq!(
+                    e.interval(),
+                    newcombe_paired(both, only_scen, only_ref, neither)
+                );
+                assert_eq!((e.chi2, e.p_value, e.method), mcnemar(only_ref, only_scen));
+            }
+            // The scrambled blocks do differ: the test compares something.
+            assert!(
+                got.iter()
+                    .all(|e| e.only_baseline > 0 && e.only_scenario > 0),
+                "{got:#?}"
+            );
+        }
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn a_reference_the_run_does_not_hold_is_refused() {
+        let e = reference_blocks(&[scenario("a", Some("z"))]).unwrap_err();
+        assert!(e.to_string().contains("compared with `z`"), "{e}");
+        assert!(reference_blocks(&[scenario("a", Some("a"))]).is_err());
+    }
 }

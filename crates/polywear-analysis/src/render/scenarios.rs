@@ -1,5 +1,7 @@
-//! "What the changes do": each scenario against the baseline in words, as a table
-//! (`scenarios.csv`, `.parquet`) and as one picture of every effect with its interval.
+//! "What the changes do": each scenario against its reference (the baseline, or the scenario
+//! its `compare_to` names) in words, as a table (`scenarios.csv`, `.parquet`) and as one picture
+//! of every effect with its interval. A run whose scenarios all compare with the baseline reads
+//! as it did before `compare_to` existed: the reference is named only where it is another.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -47,7 +49,8 @@ fn risk(outcome: Outcome) -> String {
 }
 
 /// One effect in words: "the follower's risk of vibration falls from 84.1% to 45.2% (−38.9
-/// points, 95% interval −40.9 to −36.9; 790 samples lose it, 12 gain it)".
+/// points, 95% interval −40.9 to −36.9; 790 samples lose it, 12 gain it)"; against another
+/// scenario, the points say which: "(−4.1 points against `phi_014`, ...)".
 pub fn sentence(e: &ScenarioEffect) -> String {
     let (lo, hi) = e.interval();
     let width = hi - lo;
@@ -56,9 +59,14 @@ pub fn sentence(e: &ScenarioEffect) -> String {
         Wheel::Driving => "the driving wheel's",
     };
     let (from, to) = (e.p_baseline(), e.p_scenario());
+    let against = if e.against_baseline() {
+        String::new()
+    } else {
+        format!(" against `{}`", e.reference)
+    };
     let moves = if e.only_baseline == 0 && e.only_scenario == 0 {
         return format!(
-            "{whose} {} stays at {} (no sample changes)",
+            "{whose} {} stays at {}{against} (no sample changes)",
             risk(e.outcome),
             pct(from)
         );
@@ -74,7 +82,7 @@ pub fn sentence(e: &ScenarioEffect) -> String {
         Outcome::WithinKm { .. } => ("lose it", "gain it"),
     };
     format!(
-        "{whose} {} {moves} from {} to {} ({} points, 95% interval {} to {}; {} samples {}, {} {}; McNemar p {})",
+        "{whose} {} {moves} from {} to {} ({} points{against}, 95% interval {} to {}; {} samples {}, {} {}; McNemar p {})",
         risk(e.outcome),
         pct(from),
         pct(to),
@@ -113,12 +121,33 @@ pub fn section(a: &Analysis, figure: Option<&Path>) -> String {
          only the change differs. Intervals are Newcombe's square-and-add 95% intervals for the \
          difference of paired proportions (Newcombe 1998, method 10); McNemar's test asks whether \
          the samples that change go one way more than the other. Probabilities are over the \
-         samples with a verdict under both. Every other section of this report is the baseline's.\n"
+         samples with a verdict under both. Every other section of this report is the baseline's."
     );
+    if a.scenarios.iter().any(|e| !e.against_baseline()) {
+        let _ = writeln!(
+            s,
+            "A scenario with `compare_to` is compared with the scenario it names instead of the \
+             baseline, on the same samples: its figures are its own rows against that \
+             scenario's, what it changes beyond it."
+        );
+    }
+    let _ = writeln!(s);
     let variants = a.variants();
     for effect_group in group_by_scenario(&a.scenarios) {
         let first = effect_group[0];
-        let _ = writeln!(s, "**{}** ({}):", first.scenario, first.changes);
+        if first.against_baseline() {
+            let _ = writeln!(s, "**{}** ({}):", first.scenario, first.changes);
+        } else {
+            let reference = a.info.scenarios.iter().find(|r| r.name == first.reference);
+            let _ = writeln!(
+                s,
+                "**{}** ({}), against **{}** ({}):",
+                first.scenario,
+                first.changes,
+                first.reference,
+                reference.map(|r| r.words()).unwrap_or_default()
+            );
+        }
         for e in &effect_group {
             let variant = if variants.len() > 1 {
                 format!(" [{}]", e.variant)
@@ -185,9 +214,16 @@ pub fn columns(effects: &[ScenarioEffect]) -> Vec<Column> {
     let t = |name: &str, g: &dyn Fn(&ScenarioEffect) -> String| {
         Column::str(name, effects.iter().map(g).collect())
     };
-    vec![
+    let mut cols = vec![
         t("scenario", &|e| e.scenario.clone()),
         t("changes", &|e| e.changes.clone()),
+    ];
+    // The table of a run without `compare_to` keeps its columns; with one, every row says what
+    // `p_baseline` and `only_baseline` are of.
+    if effects.iter().any(|e| !e.against_baseline()) {
+        cols.push(t("reference", &|e| e.reference.clone()));
+    }
+    cols.extend([
         t("variant", &|e| e.variant.to_string()),
         t("wheel", &|e| e.wheel.to_string()),
         t("outcome", &|e| e.outcome.name()),
@@ -207,7 +243,8 @@ pub fn columns(effects: &[ScenarioEffect]) -> Vec<Column> {
         f("mcnemar_chi2", &|e| e.chi2),
         f("mcnemar_p", &|e| e.p_value),
         t("mcnemar_method", &|e| e.method.to_string()),
-    ]
+    ]);
+    cols
 }
 
 /// The picture: every scenario's effect on each wheel with its interval, in percentage points,
@@ -219,18 +256,29 @@ pub fn figure(file: &FigureFile, effects: &[ScenarioEffect]) -> Result<(), Rende
             keys.push((e.outcome, e.variant));
         }
     }
+    let all_baseline = effects.iter().all(ScenarioEffect::against_baseline);
+    let minus = if all_baseline {
+        "scenario minus baseline"
+    } else {
+        "scenario minus its reference"
+    };
     let panels: Vec<EffectPanel> = keys
         .iter()
         .map(|&(outcome, variant)| EffectPanel {
             title: format!("{} ({variant} variant)", capitalise(&risk(outcome))),
-            x_label: "scenario minus baseline [percentage points]".into(),
+            x_label: format!("{minus} [percentage points]"),
             effects: effects
                 .iter()
                 .filter(|e| e.outcome == outcome && e.variant == variant)
                 .map(|e| {
                     let (lo, hi) = e.interval();
+                    let label = if e.against_baseline() {
+                        format!("{} · {}", e.scenario, e.wheel)
+                    } else {
+                        format!("{} vs {} · {}", e.scenario, e.reference, e.wheel)
+                    };
                     Effect {
-                        label: format!("{} · {}", e.scenario, e.wheel),
+                        label,
                         color: usize::from(e.wheel == Wheel::Driving),
                         estimate: 100.0 * e.difference(),
                         lo: 100.0 * lo,
@@ -242,7 +290,7 @@ pub fn figure(file: &FigureFile, effects: &[ScenarioEffect]) -> Result<(), Rende
         .collect();
     effects_figure(
         file,
-        "What the changes do: scenario minus baseline, 95% interval (blue: follower, red: driving wheel)",
+        &format!("What the changes do: {minus}, 95% interval (blue: follower, red: driving wheel)"),
         &panels,
     )
     .map_err(RenderError::Figure)
@@ -257,6 +305,7 @@ mod tests {
         ScenarioEffect {
             scenario: "toe-in -0.15°".into(),
             changes: "toe_deg shifted by -0.15 deg".into(),
+            reference: "baseline".into(),
             variant: Variant::SlidingShare,
             wheel: Wheel::Follower,
             outcome: Outcome::WithinKm {
@@ -289,6 +338,35 @@ mod tests {
         assert!(none.contains("stays at 6.0% (no sample changes)"), "{none}");
         let even = sentence(&effect(20, 21));
         assert!(even.contains("does not change significantly"), "{even}");
+    }
+
+    #[test]
+    fn an_effect_against_another_scenario_names_it() {
+        let e = ScenarioEffect {
+            reference: "phi_014".into(),
+            ..effect(1500, 10)
+        };
+        let text = sentence(&e);
+        assert!(
+            text.starts_with(
+                "the follower's risk of a visible polygon within 40,000 km falls from 21.0% to 6.1% (−14.9 points against `phi_014`, 95% interval"
+            ),
+            "{text}"
+        );
+        let none = sentence(&ScenarioEffect {
+            reference: "phi_014".into(),
+            ..effect(0, 0)
+        });
+        assert!(
+            none.contains("stays at 6.0% against `phi_014` (no sample changes)"),
+            "{none}"
+        );
+        let names = |effects: &[ScenarioEffect]| -> Vec<String> {
+            columns(effects).iter().map(|c| c.name.clone()).collect()
+        };
+        // The reference is a column only where a scenario names one.
+        assert!(!names(&[effect(1, 2)]).contains(&"reference".to_string()));
+        assert_eq!(names(&[effect(1, 2), e])[2], "reference");
     }
 }
 

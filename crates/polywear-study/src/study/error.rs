@@ -207,6 +207,38 @@ pub enum StudyError {
     /// A scenario change that takes samples outside the parameter's accepted range.
     #[error("{0}")]
     ScenarioOutOfRange(Box<ChangeOutOfRange>),
+    /// A `compare_to` that names no scenario of the study.
+    #[error("`{key}` = {name:?} names no scenario of this study;{hint} accepted: {}", names_text(accepted), hint = did_you_mean(name, accepted.iter().map(String::as_str)))]
+    UnknownReference {
+        /// The scenario's `compare_to` key.
+        key: String,
+        /// The name given.
+        name: String,
+        /// The names it may take: `baseline` and the study's other scenarios.
+        accepted: Vec<String>,
+    },
+    /// A scenario whose `compare_to` names itself: it would differ from itself by zero.
+    #[error(
+        "`{key}` = {name:?} compares the scenario with itself; accepted: {}",
+        names_text(accepted)
+    )]
+    SelfReference {
+        /// The scenario's `compare_to` key.
+        key: String,
+        /// The name given (the scenario's own).
+        name: String,
+        /// The names it may take: `baseline` and the study's other scenarios.
+        accepted: Vec<String>,
+    },
+}
+
+/// Scenario names as the study file writes them, quoted: `"baseline", "+20 kPa"`.
+fn names_text(names: &[String]) -> String {
+    names
+        .iter()
+        .map(|n| format!("{n:?}"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// A change that takes samples outside its parameter's accepted range, and how many.

@@ -6,12 +6,13 @@
 //!
 //! The checks are in two steps: reading the file refuses what is wrong whatever the run (an
 //! unknown parameter, a change with no or two kinds, a value outside its parameter's range, a
-//! name used twice, an empty scenario); [`Study::check_scenarios`] refuses, before a run starts,
+//! name used twice, an empty scenario, a `compare_to` that names the scenario itself or no
+//! scenario of the study); [`Study::check_scenarios`] refuses, before a run starts,
 //! a change that takes any of the run's samples outside its parameter's accepted range, and says
 //! for how many.
 
 use super::error::ChangeOutOfRange;
-use super::schema::{ChangeSpec, ScenarioTables};
+use super::schema::{ChangeSpec, ScenarioTables, COMPARE_TO};
 use super::{Study, StudyError};
 use crate::toml_input::finite_at;
 use polywear_core::params::{ParamId, Params};
@@ -124,9 +125,18 @@ pub struct Scenario {
     pub name: String,
     /// The changes, in parameter order.
     pub changes: Vec<ParamChange>,
+    /// The scenario its effects are measured against (`compare_to`), on the same samples; None
+    /// for the baseline, the default. Its changes are still made to the baseline's values: the
+    /// reference only says which rows the report subtracts.
+    pub compare_to: Option<String>,
 }
 
 impl Scenario {
+    /// The name of the rows this scenario is compared with: its `compare_to`, or `baseline`.
+    pub fn reference(&self) -> &str {
+        self.compare_to.as_deref().unwrap_or(BASELINE)
+    }
+
     /// `p` with the scenario's changes applied.
     pub fn apply(&self, p: &Params) -> Params {
         let mut q = *p;
@@ -160,7 +170,8 @@ impl Scenario {
     }
 
     /// The scenario as JSON, in the study file's terms:
-    /// `{"name":"toe-in","changes":{"toe_deg":{"shift":-0.15}}}`.
+    /// `{"name":"toe-in","changes":{"toe_deg":{"shift":-0.15}}}`, with `"compare_to"` where the
+    /// scenario names its reference.
     pub fn to_json(&self) -> serde_json::Value {
         let changes: serde_json::Map<String, serde_json::Value> = self
             .changes
@@ -171,7 +182,12 @@ impl Scenario {
                 (c.param.name().to_string(), m.into())
             })
             .collect();
-        serde_json::json!({ "name": self.name, "changes": changes })
+        let mut v = serde_json::json!({ "name": self.name, "changes": changes });
+        // Only where named: a baseline-compared scenario is recorded as it always was.
+        if let Some(r) = &self.compare_to {
+            v["compare_to"] = r.as_str().into();
+        }
+        v
     }
 
     /// A scenario read back from [`Scenario::to_json`]'s form (a chunk's `scenarios` metadata);
@@ -196,7 +212,15 @@ impl Scenario {
         }
         // In parameter order, as the study file's changes are.
         changes.sort_by_key(|c| c.param);
-        Some(Scenario { name, changes })
+        let compare_to = match v.get("compare_to") {
+            Some(r) => Some(r.as_str()?.to_string()),
+            None => None,
+        };
+        Some(Scenario {
+            name,
+            changes,
+            compare_to,
+        })
     }
 
     /// The key of `param`'s change in the study file: `scenarios.NAME.param`, the name quoted
@@ -222,7 +246,8 @@ pub fn scenario_key(name: &str) -> String {
 /// The scenarios of a study file, checked (in name order, as TOML tables keep their keys).
 pub(super) fn scenarios(tables: &ScenarioTables) -> Result<Vec<Scenario>, StudyError> {
     let mut out = Vec::new();
-    for (name, changes) in tables {
+    for (name, table) in tables {
+        let changes = &table.changes;
         check_name(name)?;
         if changes.is_empty() {
             return Err(StudyError::EmptyScenario {
@@ -232,6 +257,7 @@ pub(super) fn scenarios(tables: &ScenarioTables) -> Result<Vec<Scenario>, StudyE
         let mut scenario = Scenario {
             name: name.clone(),
             changes: Vec::new(),
+            compare_to: table.compare_to.clone().filter(|r| r != BASELINE),
         };
         for (&param, spec) in changes {
             let key = scenario.key(param);
@@ -254,7 +280,40 @@ pub(super) fn scenarios(tables: &ScenarioTables) -> Result<Vec<Scenario>, StudyE
         }
         out.push(scenario);
     }
+    for s in &out {
+        check_reference(s, &out)?;
+    }
     Ok(out)
+}
+
+/// Refuses a `compare_to` that names the scenario itself or no scenario of the study. A
+/// reference that is itself compared with another is accepted: each comparison is one level,
+/// the scenario's rows minus its reference's, on the same samples.
+fn check_reference(s: &Scenario, all: &[Scenario]) -> Result<(), StudyError> {
+    let Some(name) = &s.compare_to else {
+        return Ok(());
+    };
+    let accepted: Vec<String> = std::iter::once(BASELINE)
+        .chain(all.iter().map(|o| o.name.as_str()))
+        .filter(|o| *o != s.name)
+        .map(str::to_string)
+        .collect();
+    let key = format!("{}.{COMPARE_TO}", scenario_key(&s.name));
+    if *name == s.name {
+        return Err(StudyError::SelfReference {
+            key,
+            name: name.clone(),
+            accepted,
+        });
+    }
+    if !accepted.contains(name) {
+        return Err(StudyError::UnknownReference {
+            key,
+            name: name.clone(),
+            accepted,
+        });
+    }
+    Ok(())
 }
 
 /// Refuses a name that is empty, too long, holds control characters, or is the baseline's.
@@ -500,6 +559,7 @@ mod tests {
                     change: Change::Scale(2.0),
                 },
             ],
+            compare_to: None,
         };
         let p = Params::default();
         let q = s.apply(&p);
@@ -509,5 +569,82 @@ mod tests {
         let names = [ParamId::SpeedKmh, ParamId::GMod];
         assert_eq!(s.apply_values(&names, &[100.0, 1.0]), vec![100.0, 2.0]);
         assert_eq!(Scenario::from_json(&s.to_json()), Some(s));
+    }
+
+    /// A study drawing toe-in with `scenarios` appended.
+    fn study(scenarios: &str) -> Result<Study, StudyError> {
+        Study::parse(&format!(
+            "[params]\ntoe_deg = {{ dist = \"uniform\", min = 0.2, max = 0.4 }}\n{scenarios}"
+        ))
+    }
+
+    #[test]
+    fn a_scenario_names_its_reference_and_records_it() {
+        let s = study(
+            "[scenarios.phi_014]\nwear_share_straight = { set = 0.14 }\n\
+             [scenarios.phi_014_toe]\ncompare_to = \"phi_014\"\n\
+             wear_share_straight = { set = 0.14 }\ntoe_deg = { shift = -0.1 }\n\
+             [scenarios.toe_only]\ncompare_to = \"phi_014_toe\"\ntoe_deg = { shift = -0.1 }\n\
+             [scenarios.z]\ncompare_to = \"baseline\"\ntoe_deg = { shift = 0.1 }\n",
+        )
+        .unwrap();
+        let refs: Vec<(&str, &str)> = s
+            .scenarios
+            .iter()
+            .map(|s| (s.name.as_str(), s.reference()))
+            .collect();
+        // A reference compared with a third scenario is accepted; `baseline` is the default.
+        assert_eq!(
+            refs,
+            [
+                ("phi_014", "baseline"),
+                ("phi_014_toe", "phi_014"),
+                ("toe_only", "phi_014_toe"),
+                ("z", "baseline")
+            ]
+        );
+        assert_eq!(s.scenarios[3].compare_to, None);
+        // The reference travels with the footers' `scenarios`; a baseline one is not written.
+        let json = s.scenarios_json();
+        assert_eq!(json[1]["compare_to"], "phi_014");
+        assert!(json[0].get("compare_to").is_none() && json[3].get("compare_to").is_none());
+        for sc in &s.scenarios {
+            assert_eq!(Scenario::from_json(&sc.to_json()).as_ref(), Some(sc));
+        }
+    }
+
+    #[test]
+    fn an_unknown_or_own_reference_is_refused_naming_the_key() {
+        let two = "[scenarios.phi_014]\nwear_share_straight = { set = 0.14 }\n\
+                   [scenarios.\"toe -0.1\"]\ntoe_deg = { shift = -0.1 }\n";
+        let e = study(&format!("{two}compare_to = \"phi_14\"\n"))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "`scenarios.\"toe -0.1\".compare_to` = \"phi_14\" names no scenario of this study; \
+             did you mean `phi_014`? accepted: \"baseline\", \"phi_014\""
+        );
+        let e = study(&format!("{two}compare_to = \"toe -0.1\"\n"))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "`scenarios.\"toe -0.1\".compare_to` = \"toe -0.1\" compares the scenario with itself; \
+             accepted: \"baseline\", \"phi_014\""
+        );
+        let e = study(&format!("{two}compare_to = \"Baseline\"\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("did you mean `baseline`?"), "{e}");
+        let e = study(&format!("{two}compare = \"phi_014\"\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(".compare`; did you mean `compare_to`?"), "{e}");
+        // A reference alone changes nothing.
+        let e = study("[scenarios.a]\ncompare_to = \"baseline\"\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`scenarios.a` changes nothing"), "{e}");
     }
 }

@@ -17,7 +17,9 @@ use polywear_core::sampling::design::Design;
 use polywear_core::sampling::distribution::Distribution;
 use polywear_core::wear::{WearPower, WearSettings, WearZone};
 
+mod scenario_table;
 mod toe;
+pub(super) use scenario_table::{ChangeSpec, ScenarioTables, COMPARE_TO};
 use toe::toe_as_angle;
 use toe::ParamKey;
 
@@ -620,17 +622,3 @@ mod tests {
         }
     }
 }
-
-/// One change of a scenario as written (`[scenarios.NAME]`): exactly one of the four keys.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct ChangeSpec {
-    pub(super) set: Option<f64>,
-    pub(super) shift: Option<f64>,
-    pub(super) scale: Option<f64>,
-    pub(super) cap: Option<f64>,
-}
-
-/// `[scenarios]` as written: scenario name → parameter → change.
-pub(super) type ScenarioTables =
-    std::collections::BTreeMap<String, std::collections::BTreeMap<ParamId, ChangeSpec>>;

@@ -1,5 +1,6 @@
 //! The paired outcomes of a run with scenarios: per sample, variant and wheel, the outcome under
-//! the baseline beside the outcome under each scenario, counted by pair of outcomes.
+//! each scenario's reference (the baseline, or the scenario its `compare_to` names) beside the
+//! outcome under the scenario, counted by pair of outcomes.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -12,9 +13,10 @@ use polywear_core::model::{Variant, Wheel};
 use polywear_core::text_enum::UnknownName;
 use polywear_study::study::BASELINE;
 
-/// Samples per (scenario index, variant, wheel, baseline code, scenario code), the codes those
+/// Samples per (scenario index, variant, wheel, reference code, scenario code), the codes those
 /// of [`crate::analysis::counts::outcome_code`]: 0 no, 1 yes, 2 unclassified; the scenario
-/// index counts the scenarios from 0, the baseline not included.
+/// index counts the scenarios from 0, the baseline not included. The reference is the baseline
+/// unless [`scenario_pairs`] is given another.
 pub type ScenarioPairCounts = BTreeMap<(usize, Variant, Wheel, i64, i64), u64>;
 
 /// What a row's outcome is.
@@ -61,17 +63,29 @@ pub(super) fn code_expr(outcome: OutcomeColumn<'_>) -> Expr {
     }
 }
 
-/// Counts every sample's pair of outcomes (baseline, scenario) for each of `scenarios` (the
-/// names after the baseline, in row order), variant and wheel. A sample's rows all lie in one
-/// chunk file, so the files are grouped in batches of about `batch_rows` rows and the group-by
-/// never holds more than one batch's samples. A sample missing a scenario's row counts as
-/// unclassified under it.
+/// Counts every sample's pair of outcomes (reference, scenario) for each of `scenarios` (the
+/// names after the baseline, in row order), variant and wheel: `references[k]` is the row block
+/// scenario k is compared with (0 the baseline, j + 1 scenario j). A sample's rows all lie in
+/// one chunk file, so the files are grouped in batches of about `batch_rows` rows and the
+/// group-by never holds more than one batch's samples; each sample's blocks are then in one
+/// group, so any reference costs the same query. A sample missing a row counts as unclassified
+/// under its block.
 pub fn scenario_pairs(
     files: &[PathBuf],
     batch_rows: u64,
     scenarios: &[&str],
+    references: &[usize],
     outcome: OutcomeColumn<'_>,
 ) -> Result<ScenarioPairCounts, AnalysisError> {
+    assert_eq!(
+        scenarios.len(),
+        references.len(),
+        "one reference per scenario"
+    );
+    assert!(
+        references.iter().all(|&r| r <= scenarios.len()),
+        "a reference names a block of the rows"
+    );
     let names: Vec<&str> = std::iter::once(BASELINE)
         .chain(scenarios.iter().copied())
         .collect();
@@ -123,10 +137,10 @@ pub fn scenario_pairs(
             let err = |e: UnknownName| AnalysisError::Row(e.to_string());
             let variant: Variant = v[i].parse().map_err(err)?;
             let wheel: Wheel = w[i].parse().map_err(err)?;
-            let base = code(codes[0][i]);
             for (k, c) in codes.iter().enumerate().skip(1) {
+                let reference = code(codes[references[k - 1]][i]);
                 *counts
-                    .entry((k - 1, variant, wheel, base, code(c[i])))
+                    .entry((k - 1, variant, wheel, reference, code(c[i])))
                     .or_default() += n[i] as u64;
             }
         }
