@@ -112,6 +112,34 @@ fn a_toe_typed_as_mm_or_total_toe_is_refused_as_a_per_wheel_angle_and_converted_
         "{err}"
     );
     assert!(!d.join("c").exists());
+    // A parameter file takes them too, at its own rim, and refuses in the words written.
+    let params = d.join("p.toml");
+    std::fs::write(&params, "[params]\ntoe_mm = 2\nrim_diameter_mm = 406.4\n").unwrap();
+    let row = first_row(&["--params", params.to_str().unwrap()]);
+    assert!(
+        (row["toe_deg"].as_f64().unwrap() - deg(2.0, 406.4)).abs() < 1e-13,
+        "{row}"
+    );
+    std::fs::write(&params, "[params]\ntoe_total_deg = 0.5\n").unwrap();
+    assert_eq!(
+        first_row(&["--params", params.to_str().unwrap()])["toe_deg"],
+        0.25
+    );
+    for (text, words) in [
+        (
+            "[params]\ntoe_mm = 30\n",
+            "`params.toe_mm = 30 mm at the 381 mm rim (rim_diameter_mm) = 4.502 deg per wheel`: implausible",
+        ),
+        (
+            "[params]\ntoe_deg = 0.2\ntoe_mm = 1\n",
+            "`params.toe_mm` and `params.toe_deg` both give the toe-in",
+        ),
+    ] {
+        std::fs::write(&params, text).unwrap();
+        let (code, _, err) = polywear(&["simulate", "--params", params.to_str().unwrap()]);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains(words), "{words}: {err}");
+    }
 }
 
 #[test]

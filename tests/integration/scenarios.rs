@@ -426,7 +426,15 @@ fn a_scenario_is_compared_with_the_scenario_it_names() {
 }
 
 /// A scenario study that must be refused: (what is changed, words the message must hold).
-const REFUSED: [(&str, &[&str]); 13] = [
+const REFUSED: [(&str, &[&str]); 15] = [
+    (
+        "[scenarios.a]\ntoe_mm = { shift = -1 }\n",
+        &["scenarios.a.toe_mm.shift", "`toe_deg = { shift = -0.1504 }` at the 381 mm rim"],
+    ),
+    (
+        "[scenarios.a]\ntoe_mm = { set = 1 }\ntoe_deg = { shift = -0.1 }\n",
+        &["changes the toe-in twice"],
+    ),
     (
         "[scenarios.a]\ntoe_deg = { shift = -0.01 }\n[scenarios.\"a \"]\nload_n = { set = 3000 }\n",
         &["scenario `a ` is used twice", "differ only in the spaces"],

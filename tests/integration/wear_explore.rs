@@ -294,7 +294,10 @@ mod along_a_cycle {
         let lines: Vec<Vec<&str>> = summary.lines().map(|l| l.split(',').collect()).collect();
         let at = |name: &str| lines[0].iter().position(|h| *h == name).unwrap();
         for row in &lines[1..] {
-            assert_eq!(row[at("polygon_order_wear")], row[at("wear_dominant_order")]);
+            assert_eq!(
+                row[at("polygon_order_wear")],
+                row[at("wear_dominant_order")]
+            );
         }
         let out = dir.join("without");
         let (code, stdout, _) = polywear(&[

@@ -862,6 +862,22 @@ fn wear_checks_its_folder_first_runs_without_one_and_leaves_no_stale_figure() {
             assert_eq!(cells[col(name)], "NaN", "{name}: {line}");
         }
     }
+    // The earlier figure goes before any table is written: a run stopped while writing (here
+    // a table that cannot be written; kill -9 during the figure in the red team's case) leaves
+    // no old figure beside new tables.
+    std::fs::write(stale.join("wear.png"), "an earlier run's figure").unwrap();
+    std::fs::remove_file(stale.join("wear_history.parquet")).unwrap();
+    std::fs::create_dir(stale.join("wear_history.parquet")).unwrap();
+    let (code, _, stderr) = crate::common::polywear(&[
+        "wear",
+        "--quiet",
+        "--distance-km",
+        "100",
+        "--out",
+        stale.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0, "{stderr}");
+    assert!(!stale.join("wear.png").exists(), "{stderr}");
 }
 
 /// `wear --cycle` refuses a speed given as well, as `cycle` does, instead of dropping it.

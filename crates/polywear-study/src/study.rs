@@ -23,6 +23,7 @@ mod points;
 mod sampler;
 mod scenario;
 mod scenario_rules;
+mod scenario_toe;
 mod schema;
 pub use error::{ChangeOutOfRange, StudyError};
 use points::operating_points;
@@ -94,9 +95,24 @@ pub fn apply_param_file(base: &Params, text: &str) -> Result<Params, StudyError>
     read_param_file(base, text).map(|(p, _)| p)
 }
 
+/// The parameters a file names (as [`read_param_file`] lists them), each with its key as typed:
+/// `params.g_mod`, or `params.toe_mm = 20 mm at the 381 mm rim (rim_diameter_mm) = 3.005 deg per
+/// wheel` for a toe-in given another way, so that a later refusal quotes what the user wrote.
+pub fn param_file_keys(base: &Params, text: &str) -> Result<Vec<(ParamId, String)>, StudyError> {
+    read_param_file_keys(base, text).map(|(_, keys)| keys)
+}
+
 /// [`apply_param_file`], with the parameters the file names (in column order), so that a
 /// command can refuse a parameter the file and another source both set.
 pub fn read_param_file(base: &Params, text: &str) -> Result<(Params, Vec<ParamId>), StudyError> {
+    read_param_file_keys(base, text)
+        .map(|(p, keys)| (p, keys.into_iter().map(|(id, _)| id).collect()))
+}
+
+fn read_param_file_keys(
+    base: &Params,
+    text: &str,
+) -> Result<(Params, Vec<(ParamId, String)>), StudyError> {
     let file: ParamFile = toml_input::from_str(text).map_err(|e| match e {
         TomlError::UnknownKey { key, .. } if !key.contains('.') => TomlError::UnknownKey {
             key,
@@ -106,12 +122,27 @@ pub fn read_param_file(base: &Params, text: &str) -> Result<(Params, Vec<ParamId
     })?;
     let mut p = *base;
     let mut named = Vec::new();
-    for (&id, &x) in file.params.iter().flatten() {
-        p.try_set(id, x).map_err(|source| StudyError::Param {
-            key: format!("params.{id}"),
+    for (&key, &x) in file.params.iter().flatten() {
+        let (id, value, key) = match key {
+            schema::ParamKey::Param(id) => (id, x, format!("params.{id}")),
+            // As an alignment sheet gives it, at the file's rim (set before: keys sort so).
+            schema::ParamKey::Toe(input) => {
+                let toe = ParamId::ToeDeg;
+                if named.iter().any(|(id, _)| *id == toe) {
+                    return Err(StudyError::DrawnRule(format!(
+                        "`params.{input}` and `params.toe_deg` both give the toe-in; give one"
+                    )));
+                }
+                let rim = p.rim_diameter_mm;
+                let key = format!("params.{input} = {}", input.words(x, rim));
+                (toe, input.to_deg(x, rim), key)
+            }
+        };
+        p.try_set(id, value).map_err(|source| StudyError::Param {
+            key: key.clone(),
             source,
         })?;
-        named.push(id);
+        named.push((id, key));
     }
     p.validate().map_err(StudyError::Inconsistent)?;
     Ok((p, named))
@@ -223,12 +254,12 @@ impl Study {
     pub fn parse_at(source: &str, base: Params, dir: &Path) -> Result<Study, StudyError> {
         let raw = toml::Value::Table(toml_input::parse(source).map_err(repeated_scenario)?);
         let file = schema::read_study(&raw)?;
-        let scenarios = match &file.scenarios {
-            Some(tables) => scenario::scenarios(tables)?,
-            None => Vec::new(),
-        };
         let header = file.header()?;
         let (base, drawn, fixed) = file.params(base)?;
+        let scenarios = match &file.scenarios {
+            Some(tables) => scenario::scenarios(tables, &base, &drawn)?,
+            None => Vec::new(),
+        };
         let samples = sample_count(file.samples, header.design, &drawn)?;
         let max_axes = match header.design {
             Design::Sobol => SOBOL_MAX_AXES,

@@ -244,11 +244,35 @@ pub fn scenario_key(name: &str) -> String {
 }
 
 /// The scenarios of a study file, checked (in name order, as TOML tables keep their keys).
-pub(super) fn scenarios(tables: &ScenarioTables) -> Result<Vec<Scenario>, StudyError> {
+/// `base` and `drawn` are the study's parameters: a toe-in change in mm is read at its fixed rim.
+pub(super) fn scenarios(
+    tables: &ScenarioTables,
+    base: &Params,
+    drawn: &[super::DrawnParam],
+) -> Result<Vec<Scenario>, StudyError> {
     let mut out = Vec::new();
     for (name, table) in tables {
-        let changes = &table.changes;
         check_name(name)?;
+        let mut changes: Vec<(ParamId, Change, String)> = Vec::new();
+        for (&param, spec) in &table.changes {
+            let key = scenario_key_of(name, param.name());
+            changes.push((param, change(spec, &key)?, key));
+        }
+        for (&input, spec) in &table.toe_changes {
+            let key = scenario_key_of(name, input.name());
+            let typed = change(spec, &key)?;
+            changes.push((
+                ParamId::ToeDeg,
+                super::scenario_toe::toe_change(input, typed, &key, base, drawn)?,
+                key,
+            ));
+        }
+        if let Some(k) = super::scenario_toe::toe_keys_twice(&changes) {
+            return Err(StudyError::DrawnRule(format!(
+                "`{k}`: the scenario changes the toe-in twice; give one of toe_deg, toe_mm and toe_total_deg"
+            )));
+        }
+        changes.sort_by_key(|c| c.0);
         if changes.is_empty() {
             return Err(StudyError::EmptyScenario {
                 key: scenario_key(name),
@@ -259,9 +283,7 @@ pub(super) fn scenarios(tables: &ScenarioTables) -> Result<Vec<Scenario>, StudyE
             changes: Vec::new(),
             compare_to: table.compare_to.clone().filter(|r| r != BASELINE),
         };
-        for (&param, spec) in changes {
-            let key = scenario.key(param);
-            let change = change(spec, &key)?;
+        for (param, change, key) in changes {
             check_value(param, change, &key)?;
             scenario.changes.push(ParamChange { param, change });
         }
@@ -339,6 +361,11 @@ fn check_name(name: &str) -> Result<(), StudyError> {
 }
 
 /// The one change a table gives, its number finite.
+/// `scenarios.NAME.KEY`, the name quoted where it needs it.
+fn scenario_key_of(name: &str, key: &str) -> String {
+    format!("{}.{key}", scenario_key(name))
+}
+
 fn change(spec: &ChangeSpec, key: &str) -> Result<Change, StudyError> {
     let given: Vec<(&'static str, f64)> = [
         ("set", spec.set),

@@ -21,7 +21,7 @@ mod scenario_table;
 mod toe;
 pub(super) use scenario_table::{ChangeSpec, ScenarioTables, COMPARE_TO};
 use toe::toe_as_angle;
-use toe::ParamKey;
+pub(super) use toe::ParamKey;
 
 /// The distributions a drawn parameter may take, as the study file names them.
 pub(super) const DISTS: &str = "uniform, normal, truncated_normal, lognormal, levels";
@@ -65,7 +65,9 @@ pub(super) struct OperatingPointsSection {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct ParamFile {
-    pub(super) params: Option<BTreeMap<ParamId, f64>>,
+    /// Parameters, and the toe-in as `toe_mm` or `toe_total_deg` (keys order parameters first,
+    /// so the file's `rim_diameter_mm` is set before a toe in mm is read at it).
+    pub(super) params: Option<BTreeMap<ParamKey, f64>>,
 }
 
 /// One `[params]` entry: a number (fixed) or a table with `dist`.

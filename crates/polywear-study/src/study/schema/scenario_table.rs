@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 use serde::de::{self, MapAccess, Visitor};
 use serde::Deserialize;
 
+use polywear_core::params::toe::ToeInput;
 use polywear_core::params::ParamId;
 use polywear_core::wording::closest;
 
@@ -30,6 +31,9 @@ pub(in crate::study) struct ScenarioTable {
     pub(in crate::study) compare_to: Option<String>,
     /// Parameter → change.
     pub(in crate::study) changes: BTreeMap<ParamId, ChangeSpec>,
+    /// The toe-in changed as an alignment sheet gives it (`toe_mm`, `toe_total_deg`), read as a
+    /// change of `toe_deg` when the study's rim is known.
+    pub(in crate::study) toe_changes: BTreeMap<ToeInput, ChangeSpec>,
 }
 
 /// `[scenarios]` as written: scenario name → its table.
@@ -39,6 +43,7 @@ pub(in crate::study) type ScenarioTables = BTreeMap<String, ScenarioTable>;
 enum ScenarioKey {
     CompareTo,
     Param(ParamId),
+    Toe(ToeInput),
 }
 
 impl<'de> Deserialize<'de> for ScenarioKey {
@@ -46,6 +51,9 @@ impl<'de> Deserialize<'de> for ScenarioKey {
         let name = <std::borrow::Cow<'de, str>>::deserialize(d)?;
         if name == COMPARE_TO {
             return Ok(ScenarioKey::CompareTo);
+        }
+        if let Some(t) = ToeInput::parse(&name) {
+            return Ok(ScenarioKey::Toe(t));
         }
         match name.parse() {
             Ok(id) => Ok(ScenarioKey::Param(id)),
@@ -79,6 +87,9 @@ impl<'de> Deserialize<'de> for ScenarioTable {
                         ScenarioKey::CompareTo => table.compare_to = Some(map.next_value()?),
                         ScenarioKey::Param(id) => {
                             table.changes.insert(id, map.next_value()?);
+                        }
+                        ScenarioKey::Toe(t) => {
+                            table.toe_changes.insert(t, map.next_value()?);
                         }
                     }
                 }
