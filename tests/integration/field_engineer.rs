@@ -225,7 +225,6 @@ fn chunk_files(dir: &std::path::Path) -> Vec<PathBuf> {
 
 #[test]
 fn the_rows_say_the_wear_outcome_in_words_and_renamed_columns_keep_their_old_names_a_version() {
-    use parquet::file::reader::{FileReader, SerializedFileReader};
     use parquet::record::Field;
     let d = tmp("outcome");
     let run = wear_run(&d);
@@ -281,15 +280,7 @@ fn the_rows_say_the_wear_outcome_in_words_and_renamed_columns_keep_their_old_nam
             }
             assert_eq!(f64_of(&r["wear_share_straight"]), 0.12);
         }
-        let reader = SerializedFileReader::new(std::fs::File::open(&file).unwrap()).unwrap();
-        let kv = reader
-            .metadata()
-            .file_metadata()
-            .key_value_metadata()
-            .unwrap();
-        let deprecated = kv.iter().find(|k| k.key == "deprecated").unwrap();
-        let map: serde_json::Value =
-            serde_json::from_str(deprecated.value.as_deref().unwrap()).unwrap();
+        let map = crate::parquet_rows::footer_json(&file, "deprecated");
         assert_eq!(map["polygon_order_dominant"], "polygon_order_wear");
         assert_eq!(map["wear_calibration_share"], "wear_share_straight");
         assert_eq!(map["tread_height"], "tread_height_m");

@@ -587,17 +587,7 @@ fn wear_writes_summary_history_profile_and_figure() {
         }
     }
     {
-        use parquet::file::reader::{FileReader, SerializedFileReader};
-        let file = std::fs::File::open(out.join("wear_summary.parquet")).unwrap();
-        let reader = SerializedFileReader::new(file).unwrap();
-        let kv = reader
-            .metadata()
-            .file_metadata()
-            .key_value_metadata()
-            .unwrap();
-        let deprecated = kv.iter().find(|k| k.key == "deprecated").unwrap();
-        let map: serde_json::Value =
-            serde_json::from_str(deprecated.value.as_deref().unwrap()).unwrap();
+        let map = crate::parquet_rows::footer_json(&out.join("wear_summary.parquet"), "deprecated");
         assert_eq!(map["dominant_order"], "polygon_order_wear");
         assert_eq!(map["wear_calibration_share"], "wear_share_straight");
         assert_eq!(

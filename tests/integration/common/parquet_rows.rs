@@ -37,3 +37,16 @@ pub fn rows(file: &Path) -> Vec<std::collections::HashMap<String, parquet::recor
         })
         .collect()
 }
+
+/// The JSON value of key `key` in a Parquet file's footer metadata (panics if absent).
+pub fn footer_json(file: &Path, key: &str) -> serde_json::Value {
+    let reader = SerializedFileReader::new(std::fs::File::open(file).unwrap()).unwrap();
+    let kv = reader
+        .metadata()
+        .file_metadata()
+        .key_value_metadata()
+        .unwrap()
+        .clone();
+    let entry = kv.iter().find(|k| k.key == key).unwrap();
+    serde_json::from_str(entry.value.as_deref().unwrap()).unwrap()
+}
