@@ -17,13 +17,13 @@ use polywear_core::sampling::design::{
 use polywear_core::sampling::distribution::Distribution;
 use polywear_core::wear::WearSettings;
 
+mod change;
 mod error;
 mod plausible;
 mod points;
 mod sampler;
 mod scenario;
 mod scenario_rules;
-mod scenario_toe;
 mod schema;
 pub use error::{ChangeOutOfRange, StudyError};
 use points::operating_points;

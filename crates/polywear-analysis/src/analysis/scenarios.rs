@@ -138,27 +138,7 @@ pub fn compare(
     Ok(out)
 }
 
-/// The row block each scenario is compared with, as [`scenario_pairs`] takes it: 0 for the
-/// baseline, j + 1 for the scenario j (in row order) that its `compare_to` names. A name the
-/// run does not hold is refused: the footers were written by a study that checked it.
-pub fn reference_blocks(scenarios: &[Scenario]) -> Result<Vec<usize>, AnalysisError> {
-    scenarios
-        .iter()
-        .map(|s| match &s.compare_to {
-            None => Ok(0),
-            Some(r) => scenarios
-                .iter()
-                .position(|o| o.name == *r && o.name != s.name)
-                .map(|j| j + 1)
-                .ok_or_else(|| {
-                    AnalysisError::Row(format!(
-                        "scenario `{}` is compared with `{r}`, which is not a scenario of the run",
-                        s.name
-                    ))
-                }),
-        })
-        .collect()
-}
+pub use super::inputs::reference_blocks;
 
 /// The effects of one outcome from its pair counts, in scenario, variant and wheel order.
 pub fn effects(

@@ -30,56 +30,7 @@ pub(crate) const NAME_MAX_CHARS: usize = 64;
 /// limit): a change whose changed bounds leave the range is then refused without a count.
 pub const COUNT_LIMIT: u64 = 2_000_000;
 
-/// One change to one parameter, as `{ set = v }`, `{ shift = d }`, `{ scale = k }` or
-/// `{ cap = c }` writes it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Change {
-    /// Every sample takes the value.
-    Set(f64),
-    /// Every sample's value moves by this amount (the fleet's spread kept).
-    Shift(f64),
-    /// Every sample's value is multiplied by this positive factor.
-    Scale(f64),
-    /// Every sample's value is held to at most this.
-    Cap(f64),
-}
-
-/// The kinds of change, as the study file names them.
-pub const CHANGE_KINDS: [&str; 4] = ["set", "shift", "scale", "cap"];
-
-impl Change {
-    /// The changed value of `x`.
-    pub fn apply(self, x: f64) -> f64 {
-        match self {
-            Change::Set(v) => v,
-            Change::Shift(d) => x + d,
-            Change::Scale(k) => x * k,
-            Change::Cap(c) => x.min(c),
-        }
-    }
-
-    /// The change's key in the study file.
-    pub fn kind(self) -> &'static str {
-        match self {
-            Change::Set(_) => "set",
-            Change::Shift(_) => "shift",
-            Change::Scale(_) => "scale",
-            Change::Cap(_) => "cap",
-        }
-    }
-
-    /// The change's number.
-    pub fn amount(self) -> f64 {
-        match self {
-            Change::Set(x) | Change::Shift(x) | Change::Scale(x) | Change::Cap(x) => x,
-        }
-    }
-
-    /// The change as the study file writes it: `{ shift = -0.15 }`.
-    pub fn text(self) -> String {
-        format!("{{ {} = {} }}", self.kind(), plain(self.amount(), 12))
-    }
-}
+pub use super::change::{Change, CHANGE_KINDS};
 
 /// One parameter's change in a scenario.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -263,11 +214,11 @@ pub(super) fn scenarios(
             let typed = change(spec, &key)?;
             changes.push((
                 ParamId::ToeDeg,
-                super::scenario_toe::toe_change(input, typed, &key, base, drawn)?,
+                super::change::toe_change(input, typed, &key, base, drawn)?,
                 key,
             ));
         }
-        if let Some(k) = super::scenario_toe::toe_keys_twice(&changes) {
+        if let Some(k) = super::change::toe_keys_twice(&changes) {
             return Err(StudyError::DrawnRule(format!(
                 "`{k}`: the scenario changes the toe-in twice; give one of toe_deg, toe_mm and toe_total_deg"
             )));

@@ -1,12 +1,63 @@
-//! A scenario's change of the toe-in given as an alignment sheet gives it (`toe_mm`,
-//! `toe_total_deg`), read as the change of the per-wheel angle `toe_deg` the model takes
-//! (MODEL.md#operating-point-and-wheels), as `[params]` reads them.
+//! A scenario's change of one parameter (`{ set = v }`, `{ shift = d }`, `{ scale = k }`,
+//! `{ cap = c }`), and the change of the toe-in given as an alignment sheet gives it
+//! (`toe_mm`, `toe_total_deg`), read as the change of the per-wheel angle `toe_deg` the model
+//! takes (MODEL.md#operating-point-and-wheels), as `[params]` reads them.
 
-use super::scenario::Change;
 use super::{DrawnParam, StudyError};
 use polywear_core::params::toe::ToeInput;
 use polywear_core::params::{ParamId, Params};
 use polywear_core::wording::plain;
+
+/// One change to one parameter, as `{ set = v }`, `{ shift = d }`, `{ scale = k }` or
+/// `{ cap = c }` writes it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Change {
+    /// Every sample takes the value.
+    Set(f64),
+    /// Every sample's value moves by this amount (the fleet's spread kept).
+    Shift(f64),
+    /// Every sample's value is multiplied by this positive factor.
+    Scale(f64),
+    /// Every sample's value is held to at most this.
+    Cap(f64),
+}
+
+/// The kinds of change, as the study file names them.
+pub const CHANGE_KINDS: [&str; 4] = ["set", "shift", "scale", "cap"];
+
+impl Change {
+    /// The changed value of `x`.
+    pub fn apply(self, x: f64) -> f64 {
+        match self {
+            Change::Set(v) => v,
+            Change::Shift(d) => x + d,
+            Change::Scale(k) => x * k,
+            Change::Cap(c) => x.min(c),
+        }
+    }
+
+    /// The change's key in the study file.
+    pub fn kind(self) -> &'static str {
+        match self {
+            Change::Set(_) => "set",
+            Change::Shift(_) => "shift",
+            Change::Scale(_) => "scale",
+            Change::Cap(_) => "cap",
+        }
+    }
+
+    /// The change's number.
+    pub fn amount(self) -> f64 {
+        match self {
+            Change::Set(x) | Change::Shift(x) | Change::Scale(x) | Change::Cap(x) => x,
+        }
+    }
+
+    /// The change as the study file writes it: `{ shift = -0.15 }`.
+    pub fn text(self) -> String {
+        format!("{{ {} = {} }}", self.kind(), plain(self.amount(), 12))
+    }
+}
 
 /// The second toe-in key of a scenario's changes, if it gives the toe-in twice.
 pub(super) fn toe_keys_twice(changes: &[(ParamId, Change, String)]) -> Option<&str> {
