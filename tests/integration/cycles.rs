@@ -267,7 +267,7 @@ fn same_rows_whatever_threads_and_shares_over_structures() {
     let c = shipped("hwfet.csv");
     let (one, two) = (d.join("t1"), d.join("t2"));
     for (t, o) in [("1", &one), ("2", &two)] {
-        let (code, _, err) = polywear(&[
+        let (code, stdout, err) = polywear(&[
             "cycle",
             c.to_str().unwrap(),
             "--threads",
@@ -277,6 +277,11 @@ fn same_rows_whatever_threads_and_shares_over_structures() {
             o.to_str().unwrap(),
         ]);
         assert_eq!(code, 0, "{err}");
+        // Quiet hides the chatter, not the answer.
+        assert!(
+            stdout.contains("follower: in vibration") && !stdout.contains("wrote"),
+            "{stdout}"
+        );
     }
     let a = parquet_rows::rows_in_dir(&[&one]);
     assert_eq!(

@@ -77,7 +77,9 @@ pub struct CycleArgs {
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
     pub threads: Option<usize>,
-    /// No summary on stdout
+    /// No progress bar or progress lines, no notes and no list of the files written; the
+    /// answer (the summary per wheel) is still printed, as ripgrep's and cargo's -q silence
+    /// progress, not the result
     #[arg(long, short)]
     pub quiet: bool,
     /// Leave the wear stage out: no distance to a visible polygon, no wear columns
@@ -250,10 +252,10 @@ fn write(
         FilesError::CreateDir { .. } => CliError(format!("--out {e}")),
         e => CliError(e.to_string()),
     })?;
+    for line in summary_lines(&run, secs, threads) {
+        println!("{line}");
+    }
     if !args.quiet {
-        for line in summary_lines(&run, secs, threads) {
-            println!("{line}");
-        }
         for p in written {
             println!("  wrote {}", p.display());
         }
