@@ -11,7 +11,8 @@ use crate::common::{self, explore_default, polywear, python, python_has};
 /// Rewrites the chunks of `run` into `out` with distances set per sample: the follower at
 /// 1,000 km where `sample_id % 5 == 0`, the driving wheel where `% 11 == 0`, +inf elsewhere,
 /// and NaN on the follower where `% 13 == 0`, with a `wear_reason` as the wear stage writes
-/// one (its metadata kept).
+/// one (its metadata kept); the driving wheel's tire is worn out at 500 km where `% 22 == 0`,
+/// before its polygon, which then does not count.
 fn constructed(run: &Path, out: &Path) {
     python(
         r#"
@@ -31,6 +32,9 @@ for f in sorted(glob.glob(run + "/chunk-*.parquet")):
     r = [x if not (f and k % 13 == 0) else (x or "constructed: no distance") for x, f, k in zip(r, fol, s)]
     j = t.schema.get_field_index("wear_reason")
     t = t.set_column(j, "wear_reason", pa.array(r, pa.string()))
+    k = t.schema.get_field_index("tread_life_km")
+    life = t.column("tread_life_km").to_numpy()
+    t = t.set_column(k, "tread_life_km", pa.array(np.where(~fol & (s % 22 == 0), 500.0, life), pa.float64()))
     t = t.replace_schema_metadata(md)
     pq.write_table(t, os.path.join(out, os.path.basename(f)))
 print("ok")
@@ -66,8 +70,13 @@ fn wear_counts_intervals_and_mcnemar_are_the_hand_count_with_unknown_wheels_left
     let unknown_f = ids.clone().filter(|s| s % 13 == 0).count() as u64;
     let known_f = 300 - unknown_f;
     let within_f = ids.clone().filter(|s| s % 5 == 0 && s % 13 != 0).count() as u64;
-    let within_d = ids.clone().filter(|s| s % 11 == 0).count() as u64;
-    assert_eq!((unknown_f, within_f, within_d), (24, 55, 28));
+    // The driving wheel's polygons on the tires worn out at 500 km do not count.
+    let within_d = ids.clone().filter(|s| s % 11 == 0 && s % 22 != 0).count() as u64;
+    assert_eq!((unknown_f, within_f, within_d), (24, 55, 14));
+    assert!(
+        stdout.contains(&format!("({within_d} of 300 with a distance; 0 unknown)")),
+        "{stdout}"
+    );
     assert!(
         stdout.contains(&format!(
             "({within_f} of {known_f} with a distance; {unknown_f} unknown)"
@@ -83,16 +92,19 @@ rows = pd.read_parquet(sys.argv[1])
 z = 1.959963984540054
 for wheel, g in rows.groupby("wheel"):
     d = g["distance_to_visible_km"]
+    life = g["tread_life_km"]
     known = d.notna().sum()
     for km in [500.0, 1000.0, 40000.0]:
-        k = (d <= km).sum()
+        k = ((d <= km) & (d <= life)).sum()
         o = occ.loc[(wheel, km)]
         assert (o.samples, o.within, o.unknown) == (known, k, d.isna().sum()), (wheel, km, o)
         p = k / known
         c = (p + z*z/(2*known)) / (1 + z*z/known)
         h = z / (1 + z*z/known) * math.sqrt(p*(1-p)/known + z*z/(4*known*known))
         assert abs(o.p - p) < 1e-12 and abs(o.wilson95_lo - max(c - h, 0)) < 1e-12 and abs(o.wilson95_hi - min(c + h, 1)) < 1e-12, (wheel, km, o)
-w = rows.pivot(index="sample_id", columns="wheel", values="distance_to_visible_km")
+d = rows["distance_to_visible_km"]
+rows["visible_km"] = d.where((d <= rows["tread_life_km"]) | d.isna(), math.inf)
+w = rows.pivot(index="sample_id", columns="wheel", values="visible_km")
 w = w[w["follower"].notna() & w["driving"].notna()]
 f, dr = w["follower"] <= 1000, w["driving"] <= 1000
 b, c = int((f & ~dr).sum()), int((~f & dr).sum())
@@ -103,8 +115,9 @@ assert pr.method == "exact" and abs(pr.p_value - p) < 1e-12 * max(p, 1e-300), (p
 print("agree", b, c)
 "#;
     let out = python(script, &[edited.to_str().unwrap()]);
-    // Follower only: %5, not %11, not %13 (50); driving only: %11, not %5, not %13 (20).
-    assert!(out.contains("agree 50 20"), "{out}");
+    // Follower only: %5, not %13, the driving wheel's not counted (not %11, or %22: 52);
+    // driving only: %11, not %22, not %5, not %13 (10).
+    assert!(out.contains("agree 52 10"), "{out}");
     let page = std::fs::read_to_string(edited.join("_report/report.md")).unwrap();
     assert_eq!(first_section(&page), "## The answer: polygonal wear");
     assert!(

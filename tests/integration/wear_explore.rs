@@ -326,13 +326,15 @@ fn all_rows(dir: &std::path::Path) -> Vec<std::collections::HashMap<String, Fiel
 }
 
 /// Samples where only the follower, and only the driving wheel, has a visible polygon within
-/// `km` (each sample's two rows are written together, follower first).
+/// `km`, before its tire is worn out (each sample's two rows are written together, follower
+/// first).
 fn discordant(rows: &[std::collections::HashMap<String, Field>], km: f64) -> (u64, u64) {
     let (mut f, mut d) = (0, 0);
     for pair in rows.chunks(2) {
         assert_eq!(text(&pair[0]["wheel"]), "follower");
         let within = |r: &std::collections::HashMap<String, Field>| {
-            float(&r["distance_to_visible_km"]) <= km
+            let d = float(&r["distance_to_visible_km"]);
+            d <= km && d <= float(&r["tread_life_km"])
         };
         match (within(&pair[0]), within(&pair[1])) {
             (true, false) => f += 1,
@@ -439,7 +441,7 @@ fn quiet_still_prints_the_answer_and_a_finished_run_leaves_no_lock() {
         "{stdout}"
     );
     assert!(
-        stdout.contains("P(visible polygonal wear within X km)"),
+        stdout.contains("P(visible polygonal wear within X km, before the tire is worn out)"),
         "{stdout}"
     );
     assert!(!stdout.contains("samples evaluated in"), "{stdout}");

@@ -77,7 +77,7 @@ fn print_wear(a: &Analysis, lines: &mut Vec<String>) {
         return;
     };
     lines.push(format!(
-        "P(visible polygonal wear within X km), cruising at each sample's operating point (phi_s = {}, sigma_V = {} km/h, field-fitted), with 95% Wilson interval:",
+        "P(visible polygonal wear within X km, before the tire is worn out), cruising at each sample's operating point (phi_s = {}, sigma_V = {} km/h, field-fitted), with 95% Wilson interval:",
         w.share_straight, w.speed_spread_kmh
     ));
     answer_words::occurrence_lines(lines, &w.occurrence_rows());

@@ -129,7 +129,10 @@ fn meaning(s: &mut String, a: &Analysis, w: &WearAnalysis) {
         "**What the distance means.** A wheel's distance to a visible polygon is the distance it \
          runs **cruising at its sample's operating point, with the study's spread of the cruising \
          speed** (σ_V = {}, `speed_spread_kmh`), all its life; a wheel whose every order levels \
-         out never gets one (+inf). **Two constants are field-fitted, not measured**: φ_s = {} \
+         out never gets one (+inf). A polygon counts as visible within a distance only if it \
+         comes **before the tire is worn out** (`tread_life_km`: the position's whole even wear \
+         down to the worn-out depth; a driven tire wears faster and is often replaced first), \
+         the rows' `wear_outcome` \"visible\". **Two constants are field-fitted, not measured**: φ_s = {} \
          (`wear_share_straight`, the share of the even wear that straight running with toe \
          causes, to which the vibration couples) and σ_V. They are fitted so that a highway \
          follower with excessive toe-in shows a polygon after 25,000–40,000 km, as Sueoka's \
@@ -187,7 +190,7 @@ fn paired_table(s: &mut String, w: &WearAnalysis) {
     answer_words::paired_table(s, &w.paired_rows(), true, "a wheel unknown");
     let _ = writeln!(
         s,
-        "\nThe outcome is \"a visible polygon within the distance\"; McNemar's test asks whether \
+        "\nThe outcome is \"a visible polygon within the distance, before the tire is worn out\"; McNemar's test asks whether \
          the samples where only one wheel gets one split evenly. Tables: `wear_paired.csv`, \
          `wear_paired.parquet`.\n"
     );

@@ -8,7 +8,7 @@ use polars::prelude::*;
 
 use super::{pl_err, Rows};
 use crate::analysis::AnalysisError;
-use polywear_core::records::RENAMED_COLUMNS;
+use polywear_core::records::{WearColumn, RENAMED_COLUMNS};
 
 /// The renamed columns the frame carries only under their old name.
 fn old_only(schema: &Schema) -> Vec<(&'static str, &'static str)> {
@@ -19,13 +19,22 @@ fn old_only(schema: &Schema) -> Vec<(&'static str, &'static str)> {
         .collect()
 }
 
-/// The frame with each old-only column copied under its new name.
+/// The frame with each old-only column copied under its new name, and rows written before the
+/// wear stage gave a tread life read as tires that never wear out (a visible polygon then
+/// counts at any distance, as those versions counted it).
 pub(super) fn with_new_names(lf: LazyFrame) -> Result<LazyFrame, AnalysisError> {
     let schema = lf.clone().collect_schema().map_err(pl_err)?;
-    let copies: Vec<Expr> = old_only(&schema)
+    let mut copies: Vec<Expr> = old_only(&schema)
         .into_iter()
         .map(|(old, new)| col(old).alias(new))
         .collect();
+    let (distance, life) = (
+        WearColumn::DistanceToVisibleKm.name(),
+        WearColumn::TreadLifeKm.name(),
+    );
+    if schema.contains(distance) && !schema.contains(life) {
+        copies.push(lit(f64::INFINITY).alias(life));
+    }
     Ok(if copies.is_empty() {
         lf
     } else {

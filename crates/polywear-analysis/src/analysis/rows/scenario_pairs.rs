@@ -10,6 +10,7 @@ use polars::prelude::*;
 use super::{collect, file_rows, ints, outcome_expr, strs, Rows};
 use crate::analysis::AnalysisError;
 use polywear_core::model::{Variant, Wheel};
+use polywear_core::records::WearColumn;
 use polywear_core::text_enum::UnknownName;
 use polywear_study::study::BASELINE;
 
@@ -52,11 +53,15 @@ pub(super) fn code_expr(outcome: OutcomeColumn<'_>) -> Expr {
         OutcomeColumn::Vibration => outcome_expr(),
         OutcomeColumn::WithinKm { column, km } => {
             let x = col(column).cast(DataType::Float64);
+            let unknown = |e: Expr| e.clone().is_null().or(e.is_nan());
+            // A polygon counts only if it comes before the tire is worn out (the row's
+            // wear_outcome "visible"): a tire replaced first never shows it.
+            let life = col(WearColumn::TreadLifeKm.name()).cast(DataType::Float64);
             when(outcome_expr().eq(lit(2i64)))
                 .then(lit(2i64))
-                .when(x.clone().is_null().or(x.clone().is_nan()))
+                .when(unknown(x.clone()).or(unknown(life.clone())))
                 .then(lit(2i64))
-                .when(x.lt_eq(lit(km)))
+                .when(x.clone().lt_eq(lit(km)).and(x.lt_eq(life)))
                 .then(lit(1i64))
                 .otherwise(lit(0i64))
         }
