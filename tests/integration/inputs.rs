@@ -940,17 +940,7 @@ fn classify_takes_the_fleet_file_and_carries_its_weight_and_columns() {
         assert_eq!(r["hours"].to_string().parse::<f64>().unwrap(), hours);
         assert_eq!(r["load_n"].to_string().parse::<f64>().unwrap(), load);
     }
-    let reader =
-        parquet::file::reader::SerializedFileReader::new(std::fs::File::open(&out).unwrap())
-            .unwrap();
-    use parquet::file::reader::FileReader;
-    let kv = reader
-        .metadata()
-        .file_metadata()
-        .key_value_metadata()
-        .unwrap()
-        .clone();
-    let get = |k: &str| kv.iter().find(|e| e.key == k).and_then(|e| e.value.clone());
+    let get = |k: &str| crate::parquet_rows::footer_value(&out, k);
     assert_eq!(get("weight").as_deref(), Some("km"));
     assert_eq!(get("weight_kind").as_deref(), Some("distance"));
     std::fs::remove_dir_all(&d).ok();

@@ -38,15 +38,18 @@ pub fn rows(file: &Path) -> Vec<std::collections::HashMap<String, parquet::recor
         .collect()
 }
 
-/// The JSON value of key `key` in a Parquet file's footer metadata (panics if absent).
-pub fn footer_json(file: &Path, key: &str) -> serde_json::Value {
+/// The value of key `key` in a Parquet file's footer metadata, if it has one.
+pub fn footer_value(file: &Path, key: &str) -> Option<String> {
     let reader = SerializedFileReader::new(std::fs::File::open(file).unwrap()).unwrap();
     let kv = reader
         .metadata()
         .file_metadata()
-        .key_value_metadata()
-        .unwrap()
+        .key_value_metadata()?
         .clone();
-    let entry = kv.iter().find(|k| k.key == key).unwrap();
-    serde_json::from_str(entry.value.as_deref().unwrap()).unwrap()
+    kv.into_iter().find(|k| k.key == key).and_then(|k| k.value)
+}
+
+/// The JSON value of key `key` in a Parquet file's footer metadata (panics if absent).
+pub fn footer_json(file: &Path, key: &str) -> serde_json::Value {
+    serde_json::from_str(&footer_value(file, key).unwrap()).unwrap()
 }
