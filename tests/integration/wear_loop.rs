@@ -982,3 +982,48 @@ fn the_loop_stops_at_its_work_budget() {
         "{e}"
     );
 }
+
+/// The loop's cliff at the calibration point (MODEL.md#the-loops-constants-searched): at
+/// φ_s = 0.24 the follower's tire is worn out before a polygon, at 0.25 an 18-gon is visible
+/// just before 25,000 km; no φ_s gives the field's 25,000–40,000 km. Each run is a full
+/// 60,000 km loop (about 40 s on one core), so the two share the machine's cores.
+#[test]
+fn the_loop_s_calibration_follower_falls_off_a_cliff_at_the_field_s_distance() {
+    let verdict = |share: &str| {
+        let (code, stdout, err) = polywear(&[
+            "wear",
+            "--quiet",
+            "--speed",
+            "110",
+            "--toe",
+            "0.45",
+            "--set",
+            &format!("wear_share_straight={share}"),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        stdout.lines().nth(1).unwrap().to_string()
+    };
+    let (below, at) = std::thread::scope(|s| {
+        let below = s.spawn(|| verdict("0.24"));
+        let at = s.spawn(|| verdict("0.25"));
+        (below.join().unwrap(), at.join().unwrap())
+    });
+    assert!(
+        below.starts_with("follower: tire worn out before a polygon"),
+        "{below}"
+    );
+    let km: f64 = at
+        .split("becomes visible after ")
+        .nth(1)
+        .and_then(|r| r.split(" km").next())
+        .map(|k| k.replace(',', "").parse().unwrap())
+        .unwrap_or_else(|| panic!("{at}"));
+    assert!(
+        at.starts_with("follower: an 18-sided polygon") && (20_000.0..25_000.0).contains(&km),
+        "{at}"
+    );
+    assert!(
+        at.contains("driving: tire worn out before a polygon"),
+        "{at}"
+    );
+}
