@@ -125,6 +125,13 @@ print("agree", b, c)
         "{page}"
     );
     assert!(page.contains("field-fitted"), "{page}");
+    // It says that a polygon counts only before the tire is worn out, and that the distances'
+    // quantiles are the point's own.
+    assert!(
+        page.contains("**before the tire is worn out**")
+            && page.contains("as if the tread never ran out"),
+        "{page}"
+    );
     assert!(page.contains("24 wheels have no distance"), "{page}");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -224,7 +224,9 @@ fn growth(s: &mut String, w: &WearAnalysis, figures: &Figures) {
         s,
         "Over every wheel with a figure: the growth rate of its dominant order (per 1000 km; \
          ≤ 0: every order levels out) and the finite distances to a visible polygon, beside the \
-         share that never gets one (+inf). Tables: `wear_severity.csv`, `wear_severity.parquet`.\n"
+         share that never gets one (+inf). The distances are the point's, as if the tread never \
+         ran out; the probabilities above count only those before the tire is worn out \
+         (`tread_life_km`). Tables: `wear_severity.csv`, `wear_severity.parquet`.\n"
     );
     let _ = writeln!(
         s,
