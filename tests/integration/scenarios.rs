@@ -511,22 +511,33 @@ fn bad_scenarios_are_refused_before_any_work_naming_the_key_and_range() {
     let dir = tmp("refused");
     let base = BASE.replace("samples = 240", "samples = 50");
     for (k, (scenarios, words)) in REFUSED.iter().enumerate() {
-        let path = dir.join(format!("bad{k}.toml"));
-        std::fs::write(&path, format!("{base}{scenarios}")).unwrap();
-        let out = dir.join(format!("out{k}"));
-        let (code, _, stderr) = polywear(&[
-            "explore",
-            "--quiet",
-            path.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
-        assert_eq!(code, 2, "{scenarios}: {stderr}");
-        for w in *words {
-            assert!(stderr.contains(w), "{scenarios}: `{w}` not in {stderr}");
-        }
-        assert!(!out.exists(), "{scenarios}: work started");
+        refused_before_work(
+            &dir,
+            &format!("bad{k}"),
+            &format!("{base}{scenarios}"),
+            words,
+        );
     }
+}
+
+/// Explores the study `text` (written as `dir/NAME.toml`) and checks that it is refused before
+/// any work: exit 2, every one of `words` in the message, and no output folder.
+fn refused_before_work(dir: &Path, name: &str, text: &str, words: &[&str]) {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    let out = dir.join(format!("{name}_out"));
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        "--quiet",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{text}: {stderr}");
+    for w in words {
+        assert!(stderr.contains(w), "{text}: `{w}` not in {stderr}");
+    }
+    assert!(!out.exists(), "{text}: work started");
 }
 
 /// A scenario's changed values go through the plausibility and cross-parameter checks every
@@ -578,21 +589,8 @@ fn scenario_values_are_checked_like_direct_inputs() {
         ),
     ];
     for (k, (change, words)) in cases.iter().enumerate() {
-        let path = dir.join(format!("rule{k}.toml"));
-        std::fs::write(&path, format!("{base}[scenarios.a]\n{change}\n")).unwrap();
-        let out = dir.join(format!("out{k}"));
-        let (code, _, stderr) = polywear(&[
-            "explore",
-            "--quiet",
-            path.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
-        assert_eq!(code, 2, "{change}: {stderr}");
-        for w in *words {
-            assert!(stderr.contains(w), "{change}: `{w}` not in {stderr}");
-        }
-        assert!(!out.exists(), "{change}: work started");
+        let text = format!("{base}[scenarios.a]\n{change}\n");
+        refused_before_work(&dir, &format!("rule{k}"), &text, words);
     }
     // An implausible change that is meant runs with --accept-implausible.
     let path = dir.join("meant.toml");
