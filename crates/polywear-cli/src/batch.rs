@@ -23,11 +23,11 @@ pub struct ProgressLog {
 }
 
 impl ProgressLog {
-    pub fn new(total: u64, every: Duration) -> ProgressLog {
+    pub fn new(total: u64, unit: &'static str, every: Duration) -> ProgressLog {
         let start = Instant::now();
         ProgressLog {
             total,
-            unit: "samples",
+            unit,
             every,
             start,
             done: AtomicU64::new(0),
@@ -35,13 +35,7 @@ impl ProgressLog {
         }
     }
 
-    /// The same log counting `unit` (plural) instead of samples.
-    pub fn counting(mut self, unit: &'static str) -> ProgressLog {
-        self.unit = unit;
-        self
-    }
-
-    /// Counts `n` more samples; prints a line when the interval has passed (one worker prints,
+    /// Counts `n` more; prints a line when the interval has passed (one worker prints,
     /// the others do not wait for it).
     pub fn add(&self, n: u64) {
         let done = self.done.fetch_add(n, Ordering::Relaxed) + n;
@@ -83,7 +77,7 @@ pub struct Progress {
 impl Progress {
     pub fn new(quiet: bool, total: u64, unit: &'static str, every: Duration) -> Progress {
         let log = (!quiet && !std::io::stderr().is_terminal())
-            .then(|| ProgressLog::new(total, every).counting(unit));
+            .then(|| ProgressLog::new(total, unit, every));
         let bar = if quiet || log.is_some() {
             ProgressBar::hidden()
         } else {
@@ -208,12 +202,12 @@ mod tests {
         assert_eq!(duration_text(42.4), "42 s");
         assert_eq!(duration_text(200.0), "3 min 20 s");
         assert_eq!(duration_text(7500.0), "2 h 05 min");
-        let log = ProgressLog::new(6000, Duration::from_secs(5));
+        let log = ProgressLog::new(6000, "samples", Duration::from_secs(5));
         assert_eq!(
             log.line(1500, Duration::from_secs(3)),
             "progress: 1500 of 6000 samples (25%), 500 samples/s, ETA 9 s"
         );
-        let log = ProgressLog::new(1800, Duration::from_secs(5)).counting("steps");
+        let log = ProgressLog::new(1800, "steps", Duration::from_secs(5));
         assert_eq!(
             log.line(900, Duration::from_secs(3)),
             "progress: 900 of 1800 steps (50%), 300 steps/s, ETA 3 s"

@@ -1,18 +1,16 @@
 //! `polywear explore`: the batch study, with progress bar, summary, resume and shards.
 
-use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use clap::Args;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use polywear_analysis::plot::FigureFormat;
 
 mod errors;
 mod resume;
 
-use super::batch::{signal_name, Interrupt, ProgressLog};
+use super::batch::{signal_name, Interrupt, Progress};
 use super::common::{BudgetArgs, CliError, CliResult};
 use crate::wear_reading::WearReadingArgs;
 use errors::{explore_error, write_failure};
@@ -111,7 +109,12 @@ pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
         eprintln!("resume: {line}");
     }
     let todo = prepared.pending_samples(&plan);
-    let (bar, log) = progress(args, todo);
+    let progress = Progress::new(
+        args.quiet,
+        todo,
+        "samples",
+        Duration::from_secs_f64(args.log_every),
+    );
     if !args.quiet {
         if let Some(w) = chunk_size_warning(plan.study.chunk_size) {
             eprintln!("{w}");
@@ -120,19 +123,9 @@ pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
     }
     let stop = Interrupt::install()?;
     let start = Instant::now();
-    let result = pool.install(|| {
-        plan.run_until(
-            &prepared,
-            &|n| {
-                bar.inc(n);
-                if let Some(log) = &log {
-                    log.add(n);
-                }
-            },
-            &|| stop.signal().is_some(),
-        )
-    });
-    bar.finish_and_clear();
+    let result = pool
+        .install(|| plan.run_until(&prepared, &|n| progress.add(n), &|| stop.signal().is_some()));
+    progress.finish();
     // From here on a signal ends the program at once: the rows are saved.
     stop.disarm();
     let summary = result.map_err(|e| match e {
@@ -177,30 +170,6 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
         }
     }
     Ok(plan)
-}
-
-/// The progress bar on a terminal, or progress lines every `--log-every` seconds in a log.
-fn progress(args: &ExploreArgs, todo: u64) -> (ProgressBar, Option<ProgressLog>) {
-    let log = (!args.quiet && !std::io::stderr().is_terminal())
-        .then(|| ProgressLog::new(todo, Duration::from_secs_f64(args.log_every)));
-    let bar = if args.quiet || log.is_some() {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::with_draw_target(Some(todo), ProgressDrawTarget::stderr())
-    };
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} samples  {rate}  ETA {eta}",
-        )
-        .expect("valid template")
-        .with_key(
-            "rate",
-            |s: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
-                let _ = write!(w, "{:.0} samples/s", s.per_sec());
-            },
-        ),
-    );
-    (bar, log)
 }
 
 /// The run's first lines: what is evaluated where, and what a resume keeps.
