@@ -10,7 +10,7 @@ use polywear_core::params::{ParamId, Params};
 use polywear_core::wording::plain;
 
 use crate::safe_read::{self, Limit};
-use crate::study::{param_file_keys, read_param_file, Study};
+use crate::study::{read_param_file_keys, Study};
 
 /// An input refused before any work: the message names the flag or key, the value and the
 /// accepted range (printed as `error: …`, exit 2).
@@ -150,22 +150,18 @@ pub fn param_file(
     let text =
         safe_read::read_text(path, Limit::Text).map_err(|e| Refusal(format!("--params {e}")))?;
     let refuse = |e: &dyn std::fmt::Display| Refusal(format!("--params {}: {e}", path.display()));
-    let (p, _) = read_param_file(&Params::default(), &text).map_err(|e| refuse(&e))?;
-    let keys = param_file_keys(&Params::default(), &text).map_err(|e| refuse(&e))?;
+    let (p, keys) = read_param_file_keys(&Params::default(), &text).map_err(|e| refuse(&e))?;
     if !accept_implausible {
         for (id, key) in &keys {
-            let spec = id.spec();
-            // A toe-in typed in mm or as total toe is refused in those words.
-            if key.contains(" = ") {
-                if spec.plausible.is_some_and(|q| !q.contains(p[*id])) {
-                    return Err(refuse(&format!(
-                        "`{key}`: implausible for a road tire (plausible {id} {} deg per wheel) (if it is meant, --accept-implausible runs it anyway)",
-                        spec.plausible_text()
-                    )));
-                }
+            // A toe-in typed in mm or as total toe (its key is not the parameter's) is refused
+            // in those words.
+            if *key != format!("params.{id}") {
+                crate::toe_input::check_plausible_toe(p[*id], &format!("`{key}`"))
+                    .map_err(|e| refuse(&e.0))?;
                 continue;
             }
-            spec.check_plausible(p[*id])
+            id.spec()
+                .check_plausible(p[*id])
                 .map_err(|e| refuse(&format!("`{key}`: {e}")))?;
         }
     }

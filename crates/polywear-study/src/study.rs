@@ -95,13 +95,6 @@ pub fn apply_param_file(base: &Params, text: &str) -> Result<Params, StudyError>
     read_param_file(base, text).map(|(p, _)| p)
 }
 
-/// The parameters a file names (as [`read_param_file`] lists them), each with its key as typed:
-/// `params.g_mod`, or `params.toe_mm = 20 mm at the 381 mm rim (rim_diameter_mm) = 3.005 deg per
-/// wheel` for a toe-in given another way, so that a later refusal quotes what the user wrote.
-pub fn param_file_keys(base: &Params, text: &str) -> Result<Vec<(ParamId, String)>, StudyError> {
-    read_param_file_keys(base, text).map(|(_, keys)| keys)
-}
-
 /// [`apply_param_file`], with the parameters the file names (in column order), so that a
 /// command can refuse a parameter the file and another source both set.
 pub fn read_param_file(base: &Params, text: &str) -> Result<(Params, Vec<ParamId>), StudyError> {
@@ -109,7 +102,10 @@ pub fn read_param_file(base: &Params, text: &str) -> Result<(Params, Vec<ParamId
         .map(|(p, keys)| (p, keys.into_iter().map(|(id, _)| id).collect()))
 }
 
-fn read_param_file_keys(
+/// [`read_param_file`], with each parameter's key as typed: `params.g_mod`, or `params.toe_mm =
+/// 20 mm at the 381 mm rim (rim_diameter_mm) = 3.005 deg per wheel` for a toe-in given another
+/// way, so that a later refusal quotes what the user wrote.
+pub fn read_param_file_keys(
     base: &Params,
     text: &str,
 ) -> Result<(Params, Vec<(ParamId, String)>), StudyError> {

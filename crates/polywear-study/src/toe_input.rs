@@ -46,15 +46,23 @@ pub fn typed_toe(
 ) -> Result<(f64, String), Refusal> {
     let by = format!("{typed_as} ({})", input.words(x, rim_mm));
     let deg = input.to_deg(x, rim_mm);
-    let spec = ParamId::ToeDeg.spec();
-    let plausible = spec.plausible.is_none_or(|q| q.contains(deg));
-    if !accept_implausible && spec.check(deg).is_ok() && !plausible {
-        return Err(Refusal(format!(
-            "{by}: implausible for a road tire (plausible toe_deg {} deg per wheel) (if it is meant, --accept-implausible runs it anyway)",
-            spec.plausible_text()
-        )));
+    if !accept_implausible && ParamId::ToeDeg.spec().check(deg).is_ok() {
+        check_plausible_toe(deg, &by)?;
     }
     Ok((deg, by))
+}
+
+/// Refuses a per-wheel toe angle `deg` outside the plausible range, in the words it was typed
+/// in (`by`: the flag or key, with its conversion), not as a bare `toe_deg`.
+pub fn check_plausible_toe(deg: f64, by: &str) -> Result<(), Refusal> {
+    let spec = ParamId::ToeDeg.spec();
+    if spec.plausible.is_none_or(|q| q.contains(deg)) {
+        return Ok(());
+    }
+    Err(Refusal(format!(
+        "{by}: implausible for a road tire (plausible toe_deg {} deg per wheel) (if it is meant, --accept-implausible runs it anyway)",
+        spec.plausible_text()
+    )))
 }
 
 /// `--set` pairs: (name, value).
