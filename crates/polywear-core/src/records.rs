@@ -289,8 +289,7 @@ impl WearRecord {
             .orders
             .iter()
             .find(|o| o.order as f64 == e.polygon_order_dominant);
-        let usable_mm = p.usable_wear_m() * 1e3;
-        let tread_life_km = usable_mm / e.tread_wear_mm_per_1000km * 1000.0;
+        let tread_life_km = crate::wear::estimator::tread_life_km(p, e.tread_wear_mm_per_1000km);
         let outcome = WearOutcome::of(e.distance_to_visible_km, tread_life_km);
         WearRecord {
             wear_even_mm_per_1000km: e.wear_even_mm_per_1000km,

@@ -100,11 +100,18 @@ pub(crate) fn wear_rate_ref_m_per_m(p: &Params) -> f64 {
 /// faster: MODEL.md#wear-constants). The share of it that is not straight running,
 /// (1 − φ_s) of it, is the wheel's other wear.
 pub(crate) fn position_rate_m_per_m(p: &Params, wheel: Wheel, power: WearPower) -> f64 {
-    let factor = match (wheel, power) {
-        (Wheel::Driving, WearPower::WithSlip) => p.wear_rate_driven_factor,
-        _ => 1.0,
+    let factor = if driven_position(wheel, power) {
+        p.wear_rate_driven_factor
+    } else {
+        1.0
     };
     factor * wear_rate_ref_m_per_m(p)
+}
+
+/// Whether a wheel's position wears at k_d w′₀ rather than w′₀: the driving wheel under
+/// [`WearPower::WithSlip`].
+pub(crate) fn driven_position(wheel: Wheel, power: WearPower) -> bool {
+    matches!((wheel, power), (Wheel::Driving, WearPower::WithSlip))
 }
 
 /// `base` at the reference point: the operating axes at their shipped defaults.

@@ -20,9 +20,12 @@
 //! Over the speed spread the wheel's linearisation at the sample's speed is kept and ω_n moves
 //! with the speed: the mean over the normal spread is then exact pole by pole.
 
-use super::calibration::{position_rate_m_per_m, Calibration};
+use super::calibration::{
+    driven_position, position_rate_m_per_m, wear_rate_ref_m_per_m, Calibration,
+};
 use super::cycle::{SampledCycle, SAMPLES_PER_PERIOD};
 use super::feedback::Feedback;
+use super::fitted::{FittedConstants, WearAnswer};
 use super::law::{even_wear_m_per_m, MM_PER_1000KM_PER_M_PER_M, PER_1000KM_PER_PER_M};
 use super::periodic::CycleResponse;
 use super::slip::{SlipPower, WearPower};
@@ -220,6 +223,10 @@ pub struct WheelGrowth {
     other_per_share: f64,
     /// w′_pos \[m/m\], the position's even-wear rate.
     position_rate_m_per_m: f64,
+    /// Whether w′_pos is k_d w′₀ (the driving wheel under the slip reading), not w′₀.
+    driven_position: bool,
+    /// The sample's parameters, for the seed, the visible depth and the usable tread.
+    params: Params,
     speed_mps: f64,
     r_b: f64,
     seed_m: f64,
@@ -261,6 +268,8 @@ impl WheelGrowth {
         Ok(WheelGrowth {
             other_per_share: position_rate * feedback.local_per_m,
             position_rate_m_per_m: position_rate,
+            driven_position: driven_position(model.wheel, inputs.settings.power),
+            params: *p,
             response,
             feedback,
             even_per_share,
@@ -296,12 +305,58 @@ impl WheelGrowth {
         self.order_with(order, self.share, self.spread_mps)
     }
 
+    /// The wheel's wear answer under other fitted constants: the fastest order, its distance to
+    /// a visible polygon and the tread's life, as [`estimate`] gives them for a sample whose
+    /// φ_s, σ_V and k_d are `c`'s. φ_s enters in closed form, σ_V through the poles' normal
+    /// means and k_d through λ_other and the life: the loop is not solved again, so the
+    /// calibration band costs a few order evaluations per set (MODEL.md#the-calibration-band).
+    pub fn answer_with(&self, c: &FittedConstants) -> WearAnswer {
+        let share = c.wear_share_straight;
+        let position_rate = if self.driven_position {
+            c.wear_rate_driven_factor * wear_rate_ref_m_per_m(&self.params)
+        } else {
+            wear_rate_ref_m_per_m(&self.params)
+        };
+        let other_per_share = position_rate * self.feedback.local_per_m;
+        let spread_mps = c.speed_spread_kmh / 3.6;
+        let top = orders_around(self.nu())
+            .map(|n| self.order_at(n, share, spread_mps, other_per_share))
+            .max_by(|a, b| {
+                a.growth_rate_per_1000km
+                    .total_cmp(&b.growth_rate_per_1000km)
+            })
+            .expect("orders_around gives at least one order");
+        let even = share * (self.even_per_share + self.slip_even_per_share);
+        let tread_wear_mm_per_1000km =
+            (even + (1.0 - share) * position_rate) * MM_PER_1000KM_PER_M_PER_M;
+        WearAnswer {
+            polygon_order_wear: top.order as f64,
+            distance_to_visible_km: distance_to_visible_km(
+                &self.params,
+                top.growth_rate_per_1000km,
+            ),
+            tread_life_km: tread_life_km(&self.params, tread_wear_mm_per_1000km),
+        }
+    }
+
     /// The growth of order `order` with φ_s = `share` and a speed spread of `spread_mps`
     /// \[m/s\]: β_n = φ_s·B_n(σ_V) − (1 − φ_s) w′₀ κ, B_n the loop at φ_s = 1, over the share
     /// of the spread where a vibrating wheel's cycle is not locked to a seed-sized polygon of
     /// this order; where it is, the order grows by the locked print
     /// (MODEL.md#growth-of-a-vibrating-wheel).
     pub fn order_with(&self, order: u32, share: f64, spread_mps: f64) -> OrderGrowth {
+        self.order_at(order, share, spread_mps, self.other_per_share)
+    }
+
+    /// [`WheelGrowth::order_with`] with λ_other per unit (1 − φ_s) = `other_per_share` \[1/m\]
+    /// (it moves with the position's even-wear rate, k_d for a driving wheel).
+    fn order_at(
+        &self,
+        order: u32,
+        share: f64,
+        spread_mps: f64,
+        other_per_share: f64,
+    ) -> OrderGrowth {
         let n = order as f64;
         let r = &self.response;
         let fb = &self.feedback;
@@ -310,8 +365,8 @@ impl WheelGrowth {
         // The cycle locks to a seed-sized polygon in a band of speeds around V_n.
         let (lock_speed_mps, lock_mps) = self.tongue_mps(n, self.seed_m);
         let even = share * self.even_per_share;
-        let other = (1.0 - share) * self.other_per_share;
-        let linear = |g: Complex64| self.linear_per_m(n, share, g);
+        let other = (1.0 - share) * other_per_share;
+        let linear = |g: Complex64| self.linear_per_m(n, share, other, g);
         let (mut beta, regenerative) =
             linear(r.transfer.mean_over_speed(n, self.r_b, v, spread_mps));
         // Inside the tongue the order grows by the locked print instead of the linear loop:
@@ -344,17 +399,15 @@ impl WheelGrowth {
         }
     }
 
-    /// β of the linear loop of order `n` at φ_s = `share` for the forcing's (mean) transfer
-    /// `g`, and its regenerative part (the one through the tread) \[1/m\].
-    fn linear_per_m(&self, n: f64, share: f64, g: Complex64) -> (f64, f64) {
+    /// β of the linear loop of order `n` at φ_s = `share`, λ_other = `other` \[1/m\], for the
+    /// forcing's (mean) transfer `g`, and its regenerative part (the one through the tread)
+    /// \[1/m\].
+    fn linear_per_m(&self, n: f64, share: f64, other: f64, g: Complex64) -> (f64, f64) {
         let fb = &self.feedback;
         let h = fb.zone.transfer(n, self.r_b);
         let through_tread = g * h.conj() * fb.forcing_per_radius(n);
         let gain = Complex64::new(fb.local_per_m * (1.0 - h.norm_sqr()), 0.0) + through_tread;
-        let (even, other) = (
-            share * self.even_per_share,
-            (1.0 - share) * self.other_per_share,
-        );
+        let even = share * self.even_per_share;
         (
             -even * gain.re - other - self.slip_per_m(n, share),
             -even * through_tread.re,
@@ -455,6 +508,12 @@ pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
         orders,
         reason: String::new(),
     }
+}
+
+/// The cruising distance until the position's whole even wear, `tread_wear_mm_per_1000km`,
+/// leaves the worn-out depth \[km\] (MODEL.md#the-ageing-tread).
+pub fn tread_life_km(p: &Params, tread_wear_mm_per_1000km: f64) -> f64 {
+    p.usable_wear_m() * 1e3 / tread_wear_mm_per_1000km * 1000.0
 }
 
 /// s* = ln(d_visible / (2R⁰)) / β \[km\] for a growing order (0 if the seed is already

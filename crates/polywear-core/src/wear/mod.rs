@@ -4,7 +4,8 @@
 //! of wear onto the circumference), [`slip`] (the driving wheel's longitudinal slip power),
 //! [`zone`] (where on the patch the wear goes, its kernels and
 //! transfers), [`feedback`] (the profile's action on the friction levels), [`calibration`] (the
-//! abradability γ, once per run), [`cycle`] (one sampled period of a limit cycle). The
+//! abradability γ, once per run), [`fitted`] (the field-fitted constants as one value, for the
+//! calibration band), [`cycle`] (one sampled period of a limit cycle). The
 //! per-sample estimator (MODEL.md#the-per-sample-estimator) builds on them: [`transfer`] (the
 //! response to ε at a state and at the equilibrium, as poles), [`periodic`] (the cycle's
 //! response, Floquet modes and harmonic balance), [`spread`] (exact means of poles over a normal
@@ -44,6 +45,7 @@ pub mod edge;
 mod error;
 pub mod estimator;
 pub mod feedback;
+pub mod fitted;
 pub mod law;
 pub mod legs;
 pub mod lock;
@@ -63,6 +65,7 @@ pub use calibration::Calibration;
 pub use error::WearError;
 pub use estimator::{estimate, WearEstimate, WearInputs, WearSettings, WheelGrowth};
 pub use feedback::Feedback;
+pub use fitted::{FittedConstants, WearAnswer};
 pub use slip::WearPower;
 pub use zone::{WearZone, ZoneGeometry};
 

@@ -1,0 +1,93 @@
+//! The wear stage's fitted constants as one value (MODEL.md#the-calibration-band): what the field
+//! calibration fixes only to a band, so that a wear answer can be re-evaluated under each
+//! calibrated set on the same samples.
+
+use crate::params::{ParamId, Params};
+use crate::records::WearOutcome;
+
+/// The constants the field calibration fits or takes from a published range, and that a
+/// calibration band varies: φ_s, σ_V and k_d.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FittedConstants {
+    /// φ_s, `wear_share_straight` (field-fitted).
+    pub wear_share_straight: f64,
+    /// σ_V \[km/h\], `speed_spread_kmh` (field-fitted).
+    pub speed_spread_kmh: f64,
+    /// k_d, `wear_rate_driven_factor` (a published range).
+    pub wear_rate_driven_factor: f64,
+}
+
+impl FittedConstants {
+    /// The parameters a set holds, in the order of [`FittedConstants::values`].
+    pub const PARAMS: [ParamId; 3] = [
+        ParamId::WearShareStraight,
+        ParamId::SpeedSpreadKmh,
+        ParamId::WearRateDrivenFactor,
+    ];
+
+    /// The constants of `p`.
+    pub fn of(p: &Params) -> Self {
+        FittedConstants {
+            wear_share_straight: p.wear_share_straight,
+            speed_spread_kmh: p.speed_spread_kmh,
+            wear_rate_driven_factor: p.wear_rate_driven_factor,
+        }
+    }
+
+    /// `p` with these constants.
+    pub fn applied_to(&self, p: &Params) -> Params {
+        Params {
+            wear_share_straight: self.wear_share_straight,
+            speed_spread_kmh: self.speed_spread_kmh,
+            wear_rate_driven_factor: self.wear_rate_driven_factor,
+            ..*p
+        }
+    }
+
+    /// The values in [`FittedConstants::PARAMS`] order.
+    pub fn values(&self) -> [f64; 3] {
+        [
+            self.wear_share_straight,
+            self.speed_spread_kmh,
+            self.wear_rate_driven_factor,
+        ]
+    }
+}
+
+/// One wheel's wear answer: what the rows' wear columns say about it, under one set of
+/// fitted constants.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct WearAnswer {
+    /// The order that grows fastest (`polygon_order_wear`).
+    pub polygon_order_wear: f64,
+    /// Distance to a visible polygon \[km\] (+inf: every order levels out).
+    pub distance_to_visible_km: f64,
+    /// Distance until the tread is worn out \[km\].
+    pub tread_life_km: f64,
+}
+
+impl WearAnswer {
+    /// A wheel with no figures.
+    pub const UNKNOWN: WearAnswer = WearAnswer {
+        polygon_order_wear: f64::NAN,
+        distance_to_visible_km: f64::NAN,
+        tread_life_km: f64::NAN,
+    };
+
+    /// The answer in words.
+    pub fn outcome(&self) -> WearOutcome {
+        WearOutcome::of(self.distance_to_visible_km, self.tread_life_km)
+    }
+
+    /// Whether the polygon is visible within `within_km` and before the tire is worn out (what
+    /// every wear probability counts); None where unknown.
+    pub fn visible_within(&self, within_km: f64) -> Option<bool> {
+        match self.outcome() {
+            WearOutcome::Unknown => None,
+            _ => Some(
+                self.distance_to_visible_km <= within_km
+                    && self.distance_to_visible_km <= self.tread_life_km,
+            ),
+        }
+    }
+}
