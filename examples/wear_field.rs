@@ -5,7 +5,14 @@
 //! cargo run --release --example wear_field -- fit [SAMPLES]      # the (φ_s, σ_V) table
 //! cargo run --release --example wear_field -- check [SAMPLES]    # the shipped constants
 //! cargo run --release --example wear_field -- spread-error       # spread mean vs per-speed loops
+//! cargo run --release --example wear_field -- band [SAMPLES] [OUT] # the calibrated sets
 //! ```
+//!
+//! `band` is the calibration with its uncertainty (MODEL.md#the-calibration-band): history
+//! matching over φ_s, σ_V and k_d against the field facts' targets
+//! (`polywear::calibration_band::fit`), every grid point printed with what it gives, the
+//! accepted ones written as the file of calibrated sets (`data/calibration_band.toml` when OUT
+//! is not given).
 //!
 //! `fit` evaluates each wheel's loop once (its response to ε does not depend on φ_s or σ_V) and
 //! then every (φ_s, σ_V) of the grid: for the highway follower with excessive toe-in (0.40,
@@ -197,7 +204,12 @@ fn main() {
             );
         }
         "spread-error" => spread_error(),
-        other => eprintln!("unknown mode `{other}`; accepted: fit, check, spread-error"),
+        "band" => band(
+            samples,
+            args.get(2)
+                .map_or("data/calibration_band.toml", String::as_str),
+        ),
+        other => eprintln!("unknown mode `{other}`; accepted: fit, check, spread-error, band"),
     }
 }
 
@@ -256,4 +268,39 @@ fn spread_error() {
             }
         }
     }
+}
+
+/// The calibrated sets: the grid with each target's figure, then the accepted sets written.
+fn band(samples: u64, out: &str) {
+    use polywear::calibration_band::fit::{fit, FitOptions};
+    use polywear::field_facts::FieldFacts;
+    use polywear::wear::FittedConstants;
+    let facts = FieldFacts::shipped();
+    let base = Params::default();
+    let f = fit(&base, &facts, &FitOptions::shipped(samples, &facts)).expect("fit");
+    println!(
+        "{} highway followers, {} default-study wheels ({samples} samples)",
+        f.highway_wheels, f.fleet_wheels
+    );
+    println!("phi_s sigma_V k_d | highway median km | fleet median km | visible <= 60k | 10-20 sides | accepted");
+    for g in &f.points {
+        let c = g.constants;
+        println!(
+            "{:.3} {:4} {:4} | {:9.0} | {:9.0} | {:5.1}% | {:5.1}% | {}",
+            c.wear_share_straight,
+            c.speed_spread_kmh,
+            c.wear_rate_driven_factor,
+            g.highway_median_km,
+            g.fleet_median_km,
+            100.0 * g.fleet_visible_share,
+            100.0 * g.sides_share,
+            if g.accepted { "yes" } else { "" }
+        );
+    }
+    let generated_by = format!("cargo run --release --example wear_field -- band {samples}");
+    let band = f
+        .band(&FittedConstants::of(&base), &generated_by)
+        .expect("the shipped defaults meet the targets");
+    std::fs::write(out, band.to_toml()).expect("write the sets");
+    println!("{} accepted sets written to {out}", band.sets.len());
 }

@@ -7,7 +7,7 @@
 //! | crate | stages |
 //! |---|---|
 //! | `polywear-core` | [`params`], [`sampling`], [`model`], [`solver`], [`continuation`], [`classify`], [`wear`], [`evaluate`], [`ensemble`], [`records`] |
-//! | `polywear-study` | [`study`], [`explore`], [`parquet_out`], [`cycle`], [`calibrate`], [`optimize`], [`chart`], [`bifurcation`], [`validation`] |
+//! | `polywear-study` | [`study`], [`explore`], [`parquet_out`], [`cycle`], [`calibrate`], [`calibration_band`], [`optimize`], [`chart`], [`bifurcation`], [`validation`] |
 //! | `polywear-analysis` | [`analysis`], [`render`], [`plot`], [`figures`], [`reproduce`] |
 //! | `polywear-cli` | the `polywear` program |
 //!
@@ -74,8 +74,9 @@ pub use polywear_core::{
 };
 #[doc(hidden)]
 pub use polywear_study::{
-    bifurcation, calibrate, chart, cycle, field_facts, operating_points, optimize, output_dir,
-    parquet_out, safe_read, safe_write, stats, table_input, trajectory, validation,
+    bifurcation, calibrate, calibration_band, chart, cycle, field_facts, operating_points,
+    optimize, output_dir, parquet_out, safe_read, safe_write, stats, table_input, trajectory,
+    validation,
 };
 
 /// What a user of the engine needs: one point (problem → solve → solution), a study (in memory

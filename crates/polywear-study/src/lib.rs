@@ -7,6 +7,7 @@
 
 pub mod bifurcation;
 pub mod calibrate;
+pub mod calibration_band;
 pub mod chart;
 pub mod cycle;
 pub mod explore;

@@ -1,0 +1,362 @@
+//! A run's wear answer under every calibrated set, on a subsample of its own samples (common
+//! random numbers: the same draws, the same verdicts): the rows `analyze` turns into the
+//! calibration band.
+//!
+//! Each wheel of a subsample's point is classified as in the run and its closed loop solved once
+//! ([`WheelGrowth`]); its answer under the run's own constants and under each set then costs a
+//! few order evaluations ([`WheelGrowth::answer_with`]). The run's own answer equals the run's
+//! rows (tested), which is what lets the report move the full run's figures by the band's
+//! differences on the subsample.
+
+use std::path::{Path, PathBuf};
+
+use crate::parquet_out::Column;
+use polywear_core::classify::budget::Meter;
+use polywear_core::classify::ClassifierOptions;
+use polywear_core::evaluate::{self, PointProblem, WearStage};
+use polywear_core::model::{Variant, Wheel};
+use polywear_core::params::Params;
+use polywear_core::wear::{FittedConstants, WearAnswer, WearInputs, WheelGrowth};
+use rand::SeedableRng;
+use rayon::prelude::*;
+
+use super::CalibrationBand;
+use crate::study::{Study, BASELINE};
+
+/// The band's file in an explore output directory (a leading `_`, as the manifest's: not a
+/// chunk, so `analyze` and `--resume` leave it out of the rows).
+pub const BAND_FILE: &str = "_calibration_band.parquet";
+
+/// The band file's size and CRC-32, written after it: a band without it, or that does not
+/// match it, is refused by `analyze` (the chunks have their journal for the same job).
+pub const BAND_DIGEST: &str = "_calibration_band.digest.json";
+
+/// Samples the band is evaluated on by default: its sampling error (about ±0.4 points at 8%)
+/// stays well inside a band of several points, and it costs a few percent of a 1e6 run.
+pub const DEFAULT_BAND_SAMPLES: u64 = 20_000;
+
+/// Samples per row group of the band's file: a batch's rows (both wheels, every set) are held
+/// in memory at once, about 200,000 rows with the shipped 96 sets.
+pub const BATCH_SAMPLES: usize = 1024;
+
+/// The name of the run's own constants among the band's sets.
+pub const RUN_SET: &str = "run";
+
+/// Stream of the subsample's choice, apart from every stream of the draws.
+const SUBSAMPLE_STREAM: u64 = 0xBA4D_0000_0000_0001;
+
+/// What to evaluate: a run's study and draws, its wear stage, the sets and how many samples.
+pub struct BandPlan<'a> {
+    /// The run's study.
+    pub study: &'a Study,
+    /// The run's seed.
+    pub seed: u64,
+    /// The run's samples (the draws depend on it).
+    pub samples: u64,
+    /// Samples of the band (all the run's when it has fewer).
+    pub band_samples: u64,
+    /// The run's wear stage.
+    pub stage: &'a WearStage,
+    /// The calibrated sets.
+    pub band: &'a CalibrationBand,
+    /// Where the sets come from (a file's path, or [`super::SHIPPED_NAME`]).
+    pub band_source: String,
+}
+
+/// One wheel's answers: under the run's constants, then under each set in file order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BandWheel {
+    /// 0 for the baseline, k for the study's k-th scenario.
+    pub block: usize,
+    /// The friction variant.
+    pub variant: Variant,
+    /// The wheel.
+    pub wheel: Wheel,
+    /// The point's speed \[km/h\] (a fleet weighted by hours weighs wear by it).
+    pub speed_kmh: f64,
+    /// [`RUN_SET`]'s answer, then each set's.
+    pub answers: Vec<WearAnswer>,
+}
+
+/// One sample's wheels.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BandSample {
+    /// The sample's index in the run.
+    pub sample_id: u64,
+    /// Its wheels: blocks of one per variant and wheel, as the run's rows.
+    pub wheels: Vec<BandWheel>,
+}
+
+impl BandPlan<'_> {
+    /// The subsample: every sample when the run has at most `band_samples`, else that many
+    /// drawn without replacement from a stream of their own, increasing (whatever the design,
+    /// a grid's corner is never the band's whole subsample).
+    pub fn indices(&self) -> Vec<u64> {
+        if self.samples <= self.band_samples {
+            return (0..self.samples).collect();
+        }
+        let mut rng = chacha20::ChaCha12Rng::seed_from_u64(self.seed ^ SUBSAMPLE_STREAM);
+        let mut chosen: Vec<u64> =
+            rand::seq::index::sample(&mut rng, self.samples as usize, self.band_samples as usize)
+                .into_iter()
+                .map(|i| i as u64)
+                .collect();
+        chosen.sort_unstable();
+        chosen
+    }
+
+    /// Evaluates the subsample on the worker pool; `progress` is called with 1 for each
+    /// finished sample. The rows are the same whatever the threads.
+    pub fn evaluate(&self, progress: &(dyn Fn(u64) + Sync)) -> Vec<BandSample> {
+        self.evaluate_indices(&self.indices(), progress)
+    }
+
+    /// [`BandPlan::evaluate`] of the samples `indices` only.
+    fn evaluate_indices(
+        &self,
+        indices: &[u64],
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Vec<BandSample> {
+        let sampler = self.study.sampler(self.seed, self.samples);
+        let opts = ClassifierOptions {
+            budget: self.study.budget,
+            ..ClassifierOptions::default()
+        };
+        indices
+            .par_iter()
+            .map(|&i| {
+                let (p, _) = sampler.sample(i);
+                let s = self.sample(i, &p, &opts);
+                progress(1);
+                s
+            })
+            .collect()
+    }
+
+    fn sample(&self, sample_id: u64, p: &Params, opts: &ClassifierOptions) -> BandSample {
+        let sets: Vec<FittedConstants> = self.band.sets.iter().map(|s| s.constants()).collect();
+        let mut wheels = Vec::new();
+        // Block 0 is the baseline; a scenario's changes are made to each set's constants as to
+        // the run's, so a scenario that moves φ_s moves every set's.
+        let blocks = std::iter::once(None).chain(self.study.scenarios.iter().map(Some));
+        for (block, scenario) in blocks.enumerate() {
+            let apply = |q: &Params| scenario.map_or(*q, |s| s.apply(q));
+            let point = apply(p);
+            let constants: Vec<FittedConstants> = std::iter::once(FittedConstants::of(&point))
+                .chain(
+                    sets.iter()
+                        .map(|c| FittedConstants::of(&apply(&c.applied_to(p)))),
+                )
+                .collect();
+            let solution = evaluate::solve(&PointProblem::new(point, &self.study.variants, opts));
+            for w in &solution.wheels {
+                let inputs = WearInputs {
+                    params: &point,
+                    model: &w.model,
+                    verdict: &w.verdict,
+                    settings: &self.stage.settings,
+                    calibration: &self.stage.calibration,
+                };
+                let growth = if point.speed_kmh == 0.0 {
+                    None
+                } else {
+                    WheelGrowth::new(&inputs, &Meter::new(opts.budget)).ok()
+                };
+                let answers = constants
+                    .iter()
+                    .map(|c| {
+                        growth
+                            .as_ref()
+                            .map_or(WearAnswer::UNKNOWN, |g| g.answer_with(c))
+                    })
+                    .collect();
+                wheels.push(BandWheel {
+                    block,
+                    variant: w.record.variant,
+                    wheel: w.record.wheel,
+                    speed_kmh: point.speed_kmh,
+                    answers,
+                });
+            }
+        }
+        BandSample { sample_id, wheels }
+    }
+
+    /// The rows as columns, one row per sample, scenario, variant, wheel and set (the run's own
+    /// constants first, as [`RUN_SET`]).
+    pub fn columns(&self, rows: &[BandSample]) -> Vec<Column> {
+        let names = self.study.scenario_names();
+        let sets: Vec<&str> = std::iter::once(RUN_SET)
+            .chain(self.band.sets.iter().map(|s| s.id.as_str()))
+            .collect();
+        let flat: Vec<(u64, &BandWheel, usize, &WearAnswer)> = rows
+            .iter()
+            .flat_map(|s| {
+                s.wheels.iter().flat_map(move |w| {
+                    w.answers
+                        .iter()
+                        .enumerate()
+                        .map(move |(k, a)| (s.sample_id, w, k, a))
+                })
+            })
+            .collect();
+        let f = |name: &str, unit: &'static str, get: &dyn Fn(&WearAnswer) -> f64| {
+            Column::f64(name, unit, flat.iter().map(|r| get(r.3)).collect())
+        };
+        vec![
+            Column::i64("sample_id", "", flat.iter().map(|r| r.0 as i64).collect()),
+            Column::str(
+                "scenario",
+                flat.iter().map(|r| names[r.1.block].to_string()).collect(),
+            ),
+            Column::str(
+                "variant",
+                flat.iter().map(|r| r.1.variant.to_string()).collect(),
+            ),
+            Column::str(
+                "wheel",
+                flat.iter().map(|r| r.1.wheel.to_string()).collect(),
+            ),
+            Column::str("set", flat.iter().map(|r| sets[r.2].to_string()).collect()),
+            Column::f64(
+                "speed_kmh",
+                "km/h",
+                flat.iter().map(|r| r.1.speed_kmh).collect(),
+            ),
+            f("distance_to_visible_km", "km", &|a| {
+                a.distance_to_visible_km
+            }),
+            f("tread_life_km", "km", &|a| a.tread_life_km),
+            f("polygon_order_wear", "-", &|a| a.polygon_order_wear),
+            Column::str(
+                "wear_outcome",
+                flat.iter()
+                    .map(|r| r.3.outcome().as_str().to_string())
+                    .collect(),
+            ),
+        ]
+    }
+
+    /// What the band's footer records beside the run's own keys (`run`): the sets, their
+    /// source and method, the subsample.
+    pub fn metadata(&self, run: Vec<(String, String)>) -> Vec<(String, String)> {
+        let sets: Vec<serde_json::Value> = self
+            .band
+            .sets
+            .iter()
+            .map(|s| {
+                serde_json::json!({
+                    "id": s.id,
+                    "nominal": s.nominal,
+                    "wear_share_straight": s.wear_share_straight,
+                    "speed_spread_kmh": s.speed_spread_kmh,
+                    "wear_rate_driven_factor": s.wear_rate_driven_factor,
+                })
+            })
+            .collect();
+        let mut meta = run;
+        // Not a chunk: without `chunk` and the drawn names, `analyze` refuses the file as rows.
+        meta.retain(|(k, _)| !matches!(k.as_str(), "columns" | "chunk" | "drawn_names" | "drawn"));
+        meta.extend([
+            ("band_sets".to_string(), serde_json::Value::Array(sets).to_string()),
+            ("band_source".to_string(), self.band_source.clone()),
+            ("band_method".to_string(), self.band.method.clone()),
+            ("band_generated_by".to_string(), self.band.generated_by.clone()),
+            ("band_samples".to_string(), self.indices().len().to_string()),
+            (
+                "band_subsample".to_string(),
+                if self.samples <= self.band_samples {
+                    "every sample of the run".to_string()
+                } else {
+                    format!(
+                        "{} of the run's {} samples, drawn without replacement (ChaCha12, seed ^ {SUBSAMPLE_STREAM:#x})",
+                        self.band_samples, self.samples
+                    )
+                },
+            ),
+            (
+                "columns".to_string(),
+                format!("one row per sample, scenario ({BASELINE}: none), variant, wheel and set; set `{RUN_SET}` is the run's own constants, as its rows"),
+            ),
+        ]);
+        meta
+    }
+
+    /// Evaluates the subsample and streams its rows crash-safely to `dir`/[`BAND_FILE`], one
+    /// row group per [`BATCH_SAMPLES`] samples (so memory stays flat in the subsample's size),
+    /// then writes its digest ([`BAND_DIGEST`]); the old digest goes first, so a run killed in
+    /// between leaves a band that `analyze` refuses as unverified, never one it trusts.
+    /// `progress` is called with 1 for each finished sample.
+    pub fn write(
+        &self,
+        dir: &Path,
+        run_metadata: Vec<(String, String)>,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<PathBuf, String> {
+        let path = dir.join(BAND_FILE);
+        let digest_path = dir.join(BAND_DIGEST);
+        let at = |p: &Path, e: &dyn std::fmt::Display| format!("{}: {e}", p.display());
+        match std::fs::remove_file(&digest_path) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(at(&digest_path, &e)),
+            _ => {}
+        }
+        let indices = self.indices();
+        let meta = self.metadata(run_metadata);
+        let mut writer: Option<crate::parquet_out::TableWriter> = None;
+        for batch in indices.chunks(BATCH_SAMPLES) {
+            let cols = self.columns(&self.evaluate_indices(batch, progress));
+            if writer.is_none() {
+                writer = Some(
+                    crate::parquet_out::TableWriter::create(&path, &cols, &meta)
+                        .map_err(|e| at(&path, &e))?,
+                );
+            }
+            let w = writer.as_mut().expect("created above");
+            w.write(&cols).map_err(|e| at(&path, &e))?;
+        }
+        let digest = writer
+            .ok_or_else(|| at(&path, &"no sample to evaluate"))?
+            .finish()
+            .map_err(|e| at(&path, &e))?;
+        let json = serde_json::json!({
+            "file": BAND_FILE,
+            "bytes": digest.bytes,
+            "crc32": digest.crc32,
+        });
+        crate::safe_write::write_durably(&digest_path, format!("{json}\n").as_bytes())
+            .map_err(|e| at(&digest_path, &e))?;
+        Ok(path)
+    }
+}
+
+/// Checks `dir`'s band file against its digest: None when it matches, else why not.
+pub fn verify(dir: &Path) -> Option<String> {
+    let digest_path = dir.join(BAND_DIGEST);
+    let text = match std::fs::read_to_string(&digest_path) {
+        Ok(t) => t,
+        Err(_) => {
+            return Some(format!(
+                "no {BAND_DIGEST} beside it (the run was stopped while writing it)"
+            ))
+        }
+    };
+    let recorded: serde_json::Value = match serde_json::from_str(&text) {
+        Ok(v) => v,
+        Err(e) => return Some(format!("{BAND_DIGEST} is damaged: {e}")),
+    };
+    let found = match crate::parquet_out::FileDigest::of_file(&dir.join(BAND_FILE)) {
+        Ok(d) => d,
+        Err(e) => return Some(e.to_string()),
+    };
+    let (bytes, crc) = (recorded["bytes"].as_u64(), recorded["crc32"].as_u64());
+    if bytes != Some(found.bytes) || crc != Some(u64::from(found.crc32)) {
+        return Some(format!(
+            "its size and CRC-32 ({} bytes, {:08x}) differ from those recorded in {BAND_DIGEST} ({} bytes, {:08x}): the file changed after the run",
+            found.bytes,
+            found.crc32,
+            bytes.unwrap_or(0),
+            crc.unwrap_or(0)
+        ));
+    }
+    None
+}
