@@ -217,7 +217,10 @@ fn chunk_files(dir: &std::path::Path) -> Vec<PathBuf> {
     let mut f: Vec<PathBuf> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "parquet"))
+        .filter(|p| {
+            p.extension().is_some_and(|e| e == "parquet")
+                && !p.file_name().unwrap().to_string_lossy().starts_with('_')
+        })
         .collect();
     f.sort();
     f
@@ -318,6 +321,13 @@ fn the_rows_say_the_wear_outcome_in_words_and_renamed_columns_keep_their_old_nam
         let to = old_run.join(f.file_name().unwrap());
         std::fs::copy(&f, &to).unwrap();
         files.push(to.display().to_string());
+    }
+    // The run's calibration band goes with its rows (it holds no renamed column).
+    for name in [
+        polywear::calibration_band::evaluate::BAND_FILE,
+        polywear::calibration_band::evaluate::BAND_DIGEST,
+    ] {
+        std::fs::copy(run.join(name), old_run.join(name)).unwrap();
     }
     let args: Vec<&str> = files.iter().map(String::as_str).collect();
     crate::common::python(drop_new, &args);

@@ -11,6 +11,7 @@ mod bad_inputs;
 mod both_wheels;
 mod budget;
 mod calibrate_reproduce;
+mod calibration_band;
 mod chart;
 mod classifier_vs_reference;
 mod cli_bifurcation;

@@ -11,7 +11,10 @@ fn first_chunk(dir: &std::path::Path) -> std::path::PathBuf {
     let mut files: Vec<_> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "parquet"))
+        .filter(|p| {
+            p.extension().is_some_and(|e| e == "parquet")
+                && !p.file_name().unwrap().to_string_lossy().starts_with('_')
+        })
         .collect();
     files.sort();
     files.remove(0)
@@ -319,7 +322,10 @@ fn all_rows(dir: &std::path::Path) -> Vec<std::collections::HashMap<String, Fiel
     let mut files: Vec<_> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "parquet"))
+        .filter(|p| {
+            p.extension().is_some_and(|e| e == "parquet")
+                && !p.file_name().unwrap().to_string_lossy().starts_with('_')
+        })
         .collect();
     files.sort();
     files.iter().flat_map(|f| rows(f)).collect()

@@ -7,6 +7,7 @@ use std::time::{Duration, Instant};
 use clap::Args;
 use polywear_analysis::plot::FigureFormat;
 
+mod band;
 mod errors;
 mod resume;
 
@@ -90,6 +91,18 @@ pub struct ExploreArgs {
     pub no_wear: bool,
     #[command(flatten)]
     pub wear: WearReadingArgs,
+    /// The calibration band: a file of calibrated sets of the fitted wear constants (phi_s,
+    /// sigma_V, k_d; TOML as data/calibration_band.toml, which `cargo run --release --example
+    /// wear_field -- band` regenerates), or `off` for the nominal constants' answer alone.
+    /// Default: the shipped sets. Every wear figure is re-evaluated under each set on
+    /// --band-samples of the run's own samples, and its range printed beside its sampling
+    /// interval
+    #[arg(long, value_name = "FILE|off")]
+    pub calibration_band: Option<String>,
+    /// Samples of the run the calibration band is evaluated on (all of them when the run has
+    /// fewer), accepted [100, 1000000]
+    #[arg(long, value_name = "N", default_value_t = polywear_study::calibration_band::evaluate::DEFAULT_BAND_SAMPLES, value_parser = super::common::whole_in::<u64>("--band-samples", 100, 1_000_000))]
+    pub band_samples: u64,
     /// Skip the analysis report (risk maps, probabilities) written to DIR/_report at the end
     #[arg(long)]
     pub no_report: bool,
@@ -102,6 +115,7 @@ pub struct ExploreArgs {
 
 pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
     let plan = resolve(args)?;
+    let band = band::choose(args, &plan)?;
     let pool = super::common::thread_pool(args.threads)?;
     // Checks and locks --out; the lock is held until this function returns.
     let prepared = plan.prepare_output().map_err(explore_error)?;
@@ -144,6 +158,9 @@ pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
         );
         eprintln!("resume with: {}", resume_command(args, &plan));
         return Ok(ExitCode::from((128 + signal) as u8));
+    }
+    if let Some(choice) = &band {
+        band::run(args, &plan, choice, &pool)?;
     }
     finish(args, &plan, &summary, secs).map(|()| ExitCode::SUCCESS)
 }

@@ -4,12 +4,16 @@ use std::path::Path;
 
 use parquet::file::reader::{FileReader, SerializedFileReader};
 
-/// Every row of every `*.parquet` file in `dir` (sorted by file name), as text.
+/// Every row of every chunk (`*.parquet` not named `_*`) in `dir`, sorted by file name, as text.
 pub fn rows_in_dir(dirs: &[&Path]) -> Vec<String> {
     let mut files: Vec<std::path::PathBuf> = dirs
         .iter()
         .flat_map(|d| std::fs::read_dir(d).unwrap().map(|e| e.unwrap().path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "parquet"))
+        // The run's own files (`_calibration_band.parquet`) are not rows, as pandas reads it.
+        .filter(|p| {
+            p.extension().is_some_and(|e| e == "parquet")
+                && !p.file_name().unwrap().to_string_lossy().starts_with('_')
+        })
         .collect();
     files.sort_by_key(|p| p.file_name().unwrap().to_owned());
     let mut rows = Vec::new();

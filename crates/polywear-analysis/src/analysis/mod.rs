@@ -26,6 +26,7 @@
 //! limit cycle, bistable) whose wheel vibrates: settles on a limit cycle, or is bistable (can be
 //! kicked onto one). Rows that failed or have no traction are counted apart ([`counts`]).
 
+pub mod band;
 pub mod bins;
 pub mod conditional;
 pub mod counts;
@@ -169,6 +170,9 @@ pub struct Analysis {
     pub scenarios: Vec<ScenarioEffect>,
     /// The wear answer (None for a run without the wear stage's columns).
     pub wear: Option<WearAnalysis>,
+    /// The wear answer's calibration band (None without the band's file: a run with
+    /// `--calibration-band off`, without the wear stage, or by an older polywear).
+    pub band: Option<band::CalibrationBand>,
     /// Remarks for the report (skipped pairs, a design without Sobol indices, ...).
     pub notes: Vec<String>,
 }
@@ -521,6 +525,16 @@ pub fn run_with_progress(
         None
     };
     progress(Step::Wear);
+    let band = match (&wear, band::band_file(&info)?) {
+        (Some(w), Some(footer)) => Some(band::band(
+            &footer,
+            &info,
+            w,
+            &scenarios,
+            opts.scenario_within_km,
+        )?),
+        _ => None,
+    };
     Ok(Analysis {
         info,
         options: opts.clone(),
@@ -536,6 +550,7 @@ pub fn run_with_progress(
         robustness_summary,
         scenarios,
         wear,
+        band,
         notes,
     })
 }

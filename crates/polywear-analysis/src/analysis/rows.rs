@@ -1,13 +1,11 @@
 //! The one place that speaks to polars: the chunk files as a lazy frame, and the few kinds of
 //! streaming query the analysis asks of them (class counts per group, ranges, histograms, the
-//! paired outcomes, the rows of a Saltelli design). Every query is a group-by or a selection
-//! that returns a few hundred rows at most, so memory does not grow with the number of rows;
-//! what comes back is plain Rust data for the query modules.
+//! paired outcomes, a Saltelli design's rows, the calibration band's counts). Each is a group-by
+//! or selection of a few hundred rows at most: memory does not grow with the rows.
 //!
-//! polars 0.55 sizes the streaming group-by's per-thread table of "hot" groups from the
-//! `POLARS_HOT_TABLE_SIZE` environment variable, read when a query is built, and has no API for
-//! it; [`hot_table_size`] says what it should be, and the binary sets it at its start, before
-//! any thread exists.
+//! polars 0.55 sizes the streaming group-by's per-thread table of "hot" groups from
+//! `POLARS_HOT_TABLE_SIZE`, read when a query is built, with no API for it: the binary sets
+//! [`hot_table_size`] at its start, before any thread exists.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -23,10 +21,12 @@ use polywear_core::records::{RecordColumn, SAMPLE_ID};
 use polywear_core::text_enum::UnknownName;
 use polywear_study::study::BASELINE;
 
+mod band_counts;
 mod renamed;
 mod scenario_pairs;
 mod wear_counts;
 mod wear_values;
+pub use band_counts::{band_counts, BandCount};
 pub use renamed::deprecation_notes;
 use scenario_pairs::code_expr;
 pub use scenario_pairs::{scenario_pairs, OutcomeColumn, ScenarioPairCounts};

@@ -4,6 +4,7 @@
 
 mod answer_tables;
 mod answer_words;
+pub mod band;
 pub mod calibration;
 mod columns;
 pub mod cycle;

@@ -154,7 +154,12 @@ pub fn section(a: &Analysis, figure: Option<&Path>) -> String {
             } else {
                 String::new()
             };
-            let _ = writeln!(s, "- {}{variant}.", capitalise(&sentence(e)));
+            let banded = a
+                .band
+                .as_ref()
+                .and_then(|b| b.effect_of(e))
+                .map_or(String::new(), |r| format!("; {}", super::band::points(r)));
+            let _ = writeln!(s, "- {}{banded}{variant}.", capitalise(&sentence(e)));
         }
         if let Some(e) = effect_group
             .iter()

@@ -1,7 +1,7 @@
 //! The analysis in words for the terminal: the lines `analyze` (and `explore`'s closing report)
 //! print, the wear answer first.
 
-use super::answer_words;
+use super::{answer_words, band};
 use crate::analysis::Analysis;
 
 /// The analysis in a few lines, as `analyze` and `explore` print it: failures first when they
@@ -43,8 +43,13 @@ pub fn summary_lines(a: &Analysis) -> Vec<String> {
         );
     }
     for e in &a.scenarios {
+        let banded = a
+            .band
+            .as_ref()
+            .and_then(|b| b.effect_of(e))
+            .map_or(String::new(), |r| format!("; {}", band::points(r)));
         lines.push(format!(
-            "  {} ({}, {}): {}",
+            "  {} ({}, {}): {}{banded}",
             e.scenario,
             e.variant,
             e.outcome.name(),
@@ -80,8 +85,27 @@ fn print_wear(a: &Analysis, lines: &mut Vec<String>) {
         "P(visible polygonal wear within X km, before the tire is worn out), cruising at each sample's operating point (phi_s = {}, sigma_V = {} km/h, field-fitted), with 95% Wilson interval:",
         w.share_straight, w.speed_spread_kmh
     ));
-    answer_words::occurrence_lines(lines, &w.occurrence_rows());
-    answer_words::paired_lines(lines, &w.paired_rows());
+    let rows = w.occurrence_rows();
+    let start = lines.len();
+    answer_words::occurrence_lines(lines, &rows);
+    let paired = w.paired_rows();
+    let middle = lines.len();
+    answer_words::paired_lines(lines, &paired);
+    let Some(b) = &a.band else {
+        lines.push(format!("  {}", band::NO_BAND));
+        return;
+    };
+    for (line, (km, o)) in lines[start..middle].iter_mut().zip(&rows) {
+        if let Some(r) = b.occurrence_of(o.variant, o.wheel, *km) {
+            line.push_str(&format!("  ({})", band::percent(r)));
+        }
+    }
+    for (line, (km, p)) in lines[middle..].iter_mut().zip(&paired) {
+        if let Some(pb) = b.paired_of(p.variant, *km) {
+            line.push_str(&format!("; {}", band::paired_words(pb, b.sets.len())));
+        }
+    }
+    lines.push(format!("  calibration band: {}", band::about(b)));
 }
 
 /// When more than 1% of the rows have no verdict, the first thing printed: how many, and why.

@@ -36,6 +36,7 @@ pub fn section(s: &mut String, a: &Analysis, figures: &Figures) {
     meaning(s, a, w);
     occurrence_table(s, a, w);
     paired_table(s, w);
+    super::band::section(s, a);
     where_wear(s, a, figures);
     growth(s, w, figures);
 }
@@ -50,9 +51,19 @@ fn headline(s: &mut String, a: &Analysis, w: &WearAnalysis, variant: Variant) {
     ) else {
         return;
     };
-    let interval = |c: &crate::analysis::counts::WithinCounts| {
+    let interval = |c: &crate::analysis::counts::WithinCounts, wheel: Wheel| {
         let (lo, hi) = c.wilson();
-        format!("{} (95% interval {} – {})", pct(c.p()), pct(lo), pct(hi))
+        let banded = a
+            .band
+            .as_ref()
+            .and_then(|b| b.occurrence_of(variant, wheel, HEADLINE_WITHIN_KM))
+            .map_or(String::new(), |r| format!("; {}", super::band::percent(r)));
+        format!(
+            "{} (95% interval {} – {}{banded})",
+            pct(c.p()),
+            pct(lo),
+            pct(hi)
+        )
     };
     let paired = w.paired_at(variant, HEADLINE_WITHIN_KM);
     let verdict = match paired {
@@ -69,8 +80,8 @@ fn headline(s: &mut String, a: &Analysis, w: &WearAnalysis, variant: Variant) {
         "**Within {}, {} of follower wheels and {} of driving wheels get a visible polygon** \
          ({} mm peak-to-valley; `{variant}` variant). On the same samples {verdict}{}.\n",
         km(HEADLINE_WITHIN_KM),
-        interval(&f.counts),
-        interval(&d.counts),
+        interval(&f.counts, Wheel::Follower),
+        interval(&d.counts, Wheel::Driving),
         plain(w.visible_depth_mm, 3),
         paired.map_or(String::new(), |p| format!(
             " (McNemar p = {}: {} samples wear on the follower only, {} on the driving wheel only)",
@@ -79,6 +90,16 @@ fn headline(s: &mut String, a: &Analysis, w: &WearAnalysis, variant: Variant) {
             p.only_driving
         )),
     );
+    if let Some(pb) = a.band.as_ref().and_then(|b| {
+        b.paired_of(variant, HEADLINE_WITHIN_KM)
+            .map(|p| (p, b.sets.len()))
+    }) {
+        let _ = writeln!(
+            s,
+            "Across the calibration band: {}.\n",
+            super::band::paired_words(pb.0, pb.1)
+        );
+    }
     let vib = a.vibration.paired_of(variant);
     let driving_less_vibrating =
         vib.is_some_and(|p| p.p_value < 0.05 && p.only_follower > p.only_driving);

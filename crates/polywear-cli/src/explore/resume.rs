@@ -5,7 +5,7 @@ use polywear_study::explore::recorded_run::shell_word;
 use polywear_study::explore::RunPlan;
 
 /// The command that continues `plan`'s run: `--resume --out DIR`, and the flags the manifest
-/// does not record (work budget, threads).
+/// does not record (work budget, threads, the calibration band).
 pub(super) fn resume_command(args: &ExploreArgs, plan: &RunPlan) -> String {
     let mut words = vec![
         std::env::args().next().unwrap_or_else(|| "polywear".into()),
@@ -25,6 +25,12 @@ pub(super) fn resume_command(args: &ExploreArgs, plan: &RunPlan) -> String {
     }
     if args.no_report {
         words.push("--no-report".into());
+    }
+    if let Some(b) = &args.calibration_band {
+        words.extend(["--calibration-band".into(), b.clone()]);
+    }
+    if args.band_samples != polywear_study::calibration_band::evaluate::DEFAULT_BAND_SAMPLES {
+        words.extend(["--band-samples".into(), args.band_samples.to_string()]);
     }
     words
         .iter()

@@ -1,0 +1,378 @@
+//! The calibration band (MODEL.md#the-calibration-band): how far each wear figure moves across
+//! the calibrated sets of fitted constants, beside its sampling interval.
+//!
+//! explore re-evaluates a subsample of the run under every set and under the run's own
+//! constants (set `run`), on the same samples (`calibration_band.parquet`). A figure's band is
+//! the full run's figure moved by each set's difference from `run` on the subsample (a control
+//! variate: the subsample's sampling error cancels in the difference), its range over the sets.
+//! Which wheel is more exposed is said only where the sign holds under every set.
+
+use std::path::PathBuf;
+
+use super::footer::FileFooter;
+use super::rows::{band_counts, BandCount, OutcomeColumn};
+use super::scenarios::ScenarioEffect;
+use super::wear_risk::{sample_weight, WearAnalysis};
+use super::{AnalysisError, RunInfo};
+use polywear_core::model::{Variant, Wheel};
+use polywear_study::calibration_band::evaluate::{verify, BAND_FILE, RUN_SET};
+use polywear_study::study::BASELINE;
+
+/// The range of a figure over the calibrated sets.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BandRange {
+    /// The lowest value (a probability or a difference of two, as a share).
+    pub lo: f64,
+    /// The set that gives it.
+    pub lo_set: String,
+    /// The highest value.
+    pub hi: f64,
+    /// The set that gives it.
+    pub hi_set: String,
+}
+
+/// The band of P(visible polygon within a distance) of one wheel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OccurrenceBand {
+    /// The friction variant.
+    pub variant: Variant,
+    /// The wheel.
+    pub wheel: Wheel,
+    /// The distance \[km\].
+    pub within_km: f64,
+    /// The range.
+    pub range: BandRange,
+}
+
+/// Follower against driving wheel across the sets.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PairedBand {
+    /// The friction variant.
+    pub variant: Variant,
+    /// The distance \[km\].
+    pub within_km: f64,
+    /// P(follower) − P(driving) over the sets.
+    pub follower_minus_driving: BandRange,
+    /// Sets under which the follower is more exposed.
+    pub follower_ahead: usize,
+    /// Sets under which the driving wheel is.
+    pub driving_ahead: usize,
+}
+
+impl PairedBand {
+    /// The wheel more exposed under every set, or None where the sign changes across the band.
+    pub fn holds(&self) -> Option<Wheel> {
+        let r = &self.follower_minus_driving;
+        if r.lo > 0.0 {
+            Some(Wheel::Follower)
+        } else if r.hi < 0.0 {
+            Some(Wheel::Driving)
+        } else {
+            None
+        }
+    }
+}
+
+/// A scenario's effect (scenario minus its reference) across the sets.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EffectBand {
+    /// The scenario.
+    pub scenario: String,
+    /// The friction variant.
+    pub variant: Variant,
+    /// The wheel.
+    pub wheel: Wheel,
+    /// The distance of the wear outcome compared \[km\].
+    pub within_km: f64,
+    /// The range of the difference.
+    pub range: BandRange,
+}
+
+/// One calibrated set as the band's file records it.
+#[derive(Debug, Clone, PartialEq, serde::Deserialize)]
+pub struct BandSet {
+    /// Its name.
+    pub id: String,
+    /// Whether it is the nominal set.
+    pub nominal: bool,
+    /// φ_s.
+    pub wear_share_straight: f64,
+    /// σ_V \[km/h\].
+    pub speed_spread_kmh: f64,
+    /// k_d.
+    pub wear_rate_driven_factor: f64,
+}
+
+/// The band of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CalibrationBand {
+    /// The band's file.
+    pub file: PathBuf,
+    /// Where the sets come from.
+    pub source: String,
+    /// How they were found.
+    pub method: String,
+    /// The sets.
+    pub sets: Vec<BandSet>,
+    /// Samples of the subsample.
+    pub samples: u64,
+    /// The headline per wheel at each distance.
+    pub occurrence: Vec<OccurrenceBand>,
+    /// Follower against driving wheel at each distance.
+    pub paired: Vec<PairedBand>,
+    /// Each scenario's wear effect at the scenarios' distance.
+    pub scenarios: Vec<EffectBand>,
+}
+
+impl CalibrationBand {
+    /// The band of `variant`, `wheel` at `within_km`.
+    pub fn occurrence_of(
+        &self,
+        variant: Variant,
+        wheel: Wheel,
+        within_km: f64,
+    ) -> Option<&BandRange> {
+        self.occurrence
+            .iter()
+            .find(|o| (o.variant, o.wheel, o.within_km) == (variant, wheel, within_km))
+            .map(|o| &o.range)
+    }
+
+    /// The band of a scenario's effect on the wear outcome (None for its vibration effect,
+    /// which the fitted wear constants do not move).
+    pub fn effect_of(&self, e: &ScenarioEffect) -> Option<&BandRange> {
+        let OutcomeColumn::WithinKm { km, .. } = e.outcome else {
+            return None;
+        };
+        self.scenarios
+            .iter()
+            .find(|b| {
+                (b.scenario.as_str(), b.variant, b.wheel, b.within_km)
+                    == (e.scenario.as_str(), e.variant, e.wheel, km)
+            })
+            .map(|b| &b.range)
+    }
+
+    /// The paired band of `variant` at `within_km`.
+    pub fn paired_of(&self, variant: Variant, within_km: f64) -> Option<&PairedBand> {
+        self.paired
+            .iter()
+            .find(|p| (p.variant, p.within_km) == (variant, within_km))
+    }
+
+    /// Each constant's range over the sets, in words: "phi_s 0.05–0.23, sigma_V 2–10 km/h,
+    /// k_d 1.5–2".
+    pub fn constants_words(&self) -> String {
+        let range = |f: &dyn Fn(&BandSet) -> f64| {
+            let v = self.sets.iter().map(f);
+            let lo = v.clone().fold(f64::INFINITY, f64::min);
+            let hi = v.fold(f64::NEG_INFINITY, f64::max);
+            if lo == hi {
+                format!("{lo}")
+            } else {
+                format!("{lo}–{hi}")
+            }
+        };
+        format!(
+            "phi_s {}, sigma_V {} km/h, k_d {}",
+            range(&|s| s.wear_share_straight),
+            range(&|s| s.speed_spread_kmh),
+            range(&|s| s.wear_rate_driven_factor)
+        )
+    }
+}
+
+/// The band file of the run: [`BAND_FILE`] in the first directory of its chunk files that
+/// holds one, checked to be of this run (study, seed, samples); None where none does.
+pub(super) fn band_file(info: &RunInfo) -> Result<Option<FileFooter>, AnalysisError> {
+    let Some(path) = info
+        .files
+        .iter()
+        .filter_map(|f| f.parent())
+        .map(|d| d.join(BAND_FILE))
+        .find(|p| p.is_file())
+    else {
+        return Ok(None);
+    };
+    let dir = path.parent().expect("a file in a directory").to_path_buf();
+    let refuse = |why: String| {
+        AnalysisError::Metadata {
+        path: path.clone(),
+        message: format!(
+            "the calibration band cannot be used: {why}; write it again with `polywear explore --resume --out {}` (it keeps the chunks), or remove it",
+            dir.display()
+        ),
+    }
+    };
+    if let Some(why) = verify(&dir) {
+        return Err(refuse(why));
+    }
+    let footer = FileFooter::read(&path).map_err(|e| refuse(e.to_string()))?;
+    let run = footer.run()?;
+    let theirs = (
+        run.study_hash.clone().unwrap_or_default(),
+        run.seed,
+        run.samples,
+    );
+    if theirs != (info.study_hash.clone(), info.seed, info.samples) {
+        return Err(AnalysisError::Metadata {
+            path,
+            message: format!(
+                "the calibration band belongs to another run (study {}, seed {}, {} samples; the rows': study {}, seed {}, {} samples); remove it, or rerun explore",
+                theirs.0, theirs.1, theirs.2, info.study_hash, info.seed, info.samples
+            ),
+        });
+    }
+    Ok(Some(footer))
+}
+
+/// The band of a run whose inputs hold a band file, for the wear answer `wear` and the
+/// scenarios' effects `effects` (those on the wear outcome get a band).
+pub(super) fn band(
+    footer: &FileFooter,
+    info: &RunInfo,
+    wear: &WearAnalysis,
+    effects: &[ScenarioEffect],
+    scenario_within_km: f64,
+) -> Result<CalibrationBand, AnalysisError> {
+    let path = footer.path.clone();
+    let meta = |key: &str| {
+        footer
+            .value(key)
+            .map(str::to_string)
+            .ok_or_else(|| AnalysisError::Metadata {
+                path: path.clone(),
+                message: format!("no `{key}` recorded"),
+            })
+    };
+    let sets: Vec<BandSet> =
+        serde_json::from_str(&meta("band_sets")?).map_err(|e| AnalysisError::Metadata {
+            path: path.clone(),
+            message: format!("`band_sets`: {e}"),
+        })?;
+    let samples: u64 = meta("band_samples")?
+        .parse()
+        .map_err(|e| AnalysisError::Metadata {
+            path: path.clone(),
+            message: format!("`band_samples`: {e}"),
+        })?;
+    let mut within = wear.within_km();
+    if !within.contains(&scenario_within_km) {
+        within.push(scenario_within_km);
+    }
+    let counts = band_counts(&path, &within, sample_weight(info))?;
+    let p = |scenario: &str, variant: Variant, wheel: Wheel, set: &str, k: usize| {
+        counts
+            .iter()
+            .find(|c| {
+                (c.scenario.as_str(), c.variant, c.wheel, c.set.as_str())
+                    == (scenario, variant, wheel, set)
+            })
+            .map_or(f64::NAN, |c: &BandCount| {
+                if c.known > 0 {
+                    c.visible[k] as f64 / c.known as f64
+                } else {
+                    f64::NAN
+                }
+            })
+    };
+    let ids: Vec<&str> = sets.iter().map(|s| s.id.as_str()).collect();
+    // The full run's figure moved by each set's difference from `run` on the subsample.
+    let range = |full: f64, of: &dyn Fn(&str) -> f64, lo: f64, hi: f64| -> Option<BandRange> {
+        let base = of(RUN_SET);
+        let mut moved: Vec<(f64, &str)> = ids
+            .iter()
+            .map(|id| ((full + of(id) - base).clamp(lo, hi), *id))
+            .filter(|(x, _)| x.is_finite())
+            .collect();
+        if moved.is_empty() || !full.is_finite() {
+            return None;
+        }
+        moved.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let (first, last) = (moved[0], moved[moved.len() - 1]);
+        Some(BandRange {
+            lo: first.0,
+            lo_set: first.1.to_string(),
+            hi: last.0,
+            hi_set: last.1.to_string(),
+        })
+    };
+    let mut occurrence = Vec::new();
+    for (km, o) in wear.occurrence_rows() {
+        let k = within.iter().position(|x| *x == km).expect("asked");
+        let of = |set: &str| p(BASELINE, o.variant, o.wheel, set, k);
+        if let Some(r) = range(o.p(), &of, 0.0, 1.0) {
+            occurrence.push(OccurrenceBand {
+                variant: o.variant,
+                wheel: o.wheel,
+                within_km: km,
+                range: r,
+            });
+        }
+    }
+    let mut paired = Vec::new();
+    for (km, pr) in wear.paired_rows() {
+        let k = within.iter().position(|x| *x == km).expect("asked");
+        let v = pr.variant;
+        let of = |set: &str| {
+            p(BASELINE, v, Wheel::Follower, set, k) - p(BASELINE, v, Wheel::Driving, set, k)
+        };
+        let full = match (
+            wear.by_distance
+                .iter()
+                .find(|d| d.within_km == km)
+                .and_then(|d| d.answer.occurrence_of(v, Wheel::Follower)),
+            wear.by_distance
+                .iter()
+                .find(|d| d.within_km == km)
+                .and_then(|d| d.answer.occurrence_of(v, Wheel::Driving)),
+        ) {
+            (Some(f), Some(d)) => f.p() - d.p(),
+            _ => continue,
+        };
+        let base = of(RUN_SET);
+        let moved: Vec<f64> = ids.iter().map(|id| full + of(id) - base).collect();
+        if let Some(r) = range(full, &of, -1.0, 1.0) {
+            paired.push(PairedBand {
+                variant: v,
+                within_km: km,
+                follower_minus_driving: r,
+                follower_ahead: moved.iter().filter(|x| **x > 0.0).count(),
+                driving_ahead: moved.iter().filter(|x| **x < 0.0).count(),
+            });
+        }
+    }
+    let k = within
+        .iter()
+        .position(|x| *x == scenario_within_km)
+        .expect("asked");
+    let mut scenarios = Vec::new();
+    for e in effects {
+        if !matches!(e.outcome, OutcomeColumn::WithinKm { km, .. } if km == scenario_within_km) {
+            continue;
+        }
+        let reference = e.reference.clone();
+        let of = |set: &str| {
+            p(&e.scenario, e.variant, e.wheel, set, k) - p(&reference, e.variant, e.wheel, set, k)
+        };
+        if let Some(r) = range(e.difference(), &of, -1.0, 1.0) {
+            scenarios.push(EffectBand {
+                scenario: e.scenario.clone(),
+                variant: e.variant,
+                wheel: e.wheel,
+                within_km: scenario_within_km,
+                range: r,
+            });
+        }
+    }
+    Ok(CalibrationBand {
+        file: path.clone(),
+        source: meta("band_source")?,
+        method: meta("band_method")?,
+        sets,
+        samples,
+        occurrence,
+        paired,
+        scenarios,
+    })
+}

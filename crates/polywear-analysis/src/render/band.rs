@@ -1,0 +1,147 @@
+//! The calibration band in words (MODEL.md#the-calibration-band): beside each wear figure's
+//! sampling interval, its range over the calibrated sets of fitted constants, and the report's
+//! section that says what the band is and which set gives each end.
+
+use std::fmt::Write as _;
+
+use crate::analysis::band::{BandRange, CalibrationBand, PairedBand};
+use crate::analysis::Analysis;
+use polywear_core::model::Wheel;
+use polywear_core::wording::km;
+
+/// "calibration band 6.1–11.8%" for a probability.
+pub fn percent(r: &BandRange) -> String {
+    format!("calibration band {:.1}–{:.1}%", 100.0 * r.lo, 100.0 * r.hi)
+}
+
+/// "calibration band −11.0 to −54.0 points" for a difference of probabilities.
+pub fn points(r: &BandRange) -> String {
+    let p = |x: f64| {
+        let t = format!("{:+.1}", 100.0 * x);
+        if t == "+0.0" || t == "-0.0" {
+            "0.0".to_string()
+        } else {
+            t.replace('-', "−")
+        }
+    };
+    format!("calibration band {} to {} points", p(r.lo), p(r.hi))
+}
+
+/// Which wheel is more exposed across the band, in words that name a wheel only where the sign
+/// holds under every set.
+pub fn paired_words(p: &PairedBand, sets: usize) -> String {
+    let r = &p.follower_minus_driving;
+    // As finely as the smaller end needs to read as not zero.
+    let by = |a: f64, b: f64| {
+        let digits = if a.abs().min(b.abs()) < 0.001 { 3 } else { 1 };
+        format!("by {:.digits$} to {:.digits$} points", 100.0 * a, 100.0 * b)
+    };
+    match p.holds() {
+        Some(Wheel::Follower) => format!(
+            "the follower is more exposed under all {sets} calibrated sets ({})",
+            by(r.lo, r.hi)
+        ),
+        Some(Wheel::Driving) => format!(
+            "the driving wheel is more exposed under all {sets} calibrated sets ({})",
+            by(-r.hi, -r.lo)
+        ),
+        None => format!(
+            "which wheel is more exposed depends on the calibrated set (follower ahead under {}, driving wheel under {} of {sets}): no wheel is named",
+            p.follower_ahead, p.driving_ahead
+        ),
+    }
+}
+
+/// What the band is, in one sentence.
+pub fn about(b: &CalibrationBand) -> String {
+    format!(
+        "{} calibrated sets ({}; {}, {}), re-evaluated on {} of the run's samples",
+        b.sets.len(),
+        b.constants_words(),
+        b.method,
+        b.source,
+        b.samples
+    )
+}
+
+/// The summary's line where the run has no band.
+pub const NO_BAND: &str = "no calibration band in this run (explore wrote none: `--calibration-band off`, or an older polywear): the intervals are sampling only; the fitted constants' own uncertainty is not in them";
+
+/// The report's section: what the band is, the headline's and the scenarios' bands with the
+/// sets at their ends, and which wheel is more exposed where the sign holds.
+pub fn section(s: &mut String, a: &Analysis) {
+    let Some(w) = &a.wear else { return };
+    let _ = writeln!(s, "### The calibration band\n");
+    let Some(b) = &a.band else {
+        let _ = writeln!(s, "> {}.\n", capitalise(NO_BAND));
+        return;
+    };
+    let _ = writeln!(
+        s,
+        "The wear answer rests on constants fitted to field facts, not measured: φ_s \
+         (`wear_share_straight`), σ_V (`speed_spread_kmh`) and the driven axle's wear rate k_d \
+         (`wear_rate_driven_factor`, a published range). The field facts do not fix them to a \
+         point: {}. Each figure below is the run's, moved by each set's difference from the \
+         run's own constants on the same samples; its range over the sets is the calibration \
+         band, beside the 95% Wilson interval (sampling only). The band's rows: `{}` \
+         (MODEL.md#the-calibration-band).\n",
+        about(b),
+        b.file
+            .file_name()
+            .map_or(String::new(), |n| n.to_string_lossy().to_string())
+    );
+    let _ = writeln!(
+        s,
+        "| variant | wheel | within | P(visible polygon) | calibration band | lowest under | highest under |"
+    );
+    let _ = writeln!(s, "|---|---|---:|---:|---:|---|---|");
+    for (within_km, o) in w.occurrence_rows() {
+        if let Some(r) = b.occurrence_of(o.variant, o.wheel, within_km) {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {:.2}% | {:.1}–{:.1}% | `{}` | `{}` |",
+                o.variant,
+                o.wheel,
+                km(within_km),
+                100.0 * o.p(),
+                100.0 * r.lo,
+                100.0 * r.hi,
+                r.lo_set,
+                r.hi_set
+            );
+        }
+    }
+    let _ = writeln!(s);
+    for p in &b.paired {
+        let _ = writeln!(
+            s,
+            "- Within {} (`{}`): {}.",
+            km(p.within_km),
+            p.variant,
+            paired_words(p, b.sets.len())
+        );
+    }
+    if !b.scenarios.is_empty() {
+        let _ = writeln!(s, "\nThe scenarios' effects across the band:\n");
+        for e in &b.scenarios {
+            let _ = writeln!(
+                s,
+                "- `{}`, {} ({}): {} (lowest under `{}`, highest under `{}`).",
+                e.scenario,
+                e.wheel,
+                e.variant,
+                points(&e.range),
+                e.range.lo_set,
+                e.range.hi_set
+            );
+        }
+    }
+    let _ = writeln!(s);
+}
+
+fn capitalise(t: &str) -> String {
+    let mut c = t.chars();
+    c.next().map_or(String::new(), |f| {
+        f.to_uppercase().collect::<String>() + c.as_str()
+    })
+}

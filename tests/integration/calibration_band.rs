@@ -1,0 +1,453 @@
+//! The calibration band (MODEL.md#the-calibration-band): the shipped sets regenerate, each
+//! set's rows in the band are the rows of a run made with that set's constants, bad band files
+//! are refused before any work, and a study with a scenario reports the band beside the
+//! sampling interval of the headline and of the scenario's effect.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use super::common::{fresh_dir, polywear};
+use super::parquet_rows::rows;
+use parquet::record::Field;
+use polywear::calibration_band::evaluate::{BandPlan, BAND_FILE, RUN_SET};
+use polywear::calibration_band::fit::{fit, FitOptions};
+use polywear::calibration_band::CalibrationBand;
+use polywear::field_facts::FieldFacts;
+use polywear::params::Params;
+use polywear::wear::FittedConstants;
+
+fn text(f: &Field) -> String {
+    match f {
+        Field::Str(s) => s.clone(),
+        other => other.to_string(),
+    }
+}
+
+fn float(f: &Field) -> f64 {
+    match f {
+        Field::Double(x) => *x,
+        other => panic!("not a double: {other:?}"),
+    }
+}
+
+/// (sample_id, wheel) -> (distance, life, order) of the rows of `file` that pass `keep`.
+fn answers(
+    file: &Path,
+    keep: &dyn Fn(&HashMap<String, Field>) -> bool,
+) -> HashMap<(String, String), (f64, f64, f64)> {
+    rows(file)
+        .into_iter()
+        .filter(|r| keep(r))
+        .map(|r| {
+            (
+                (text(&r["sample_id"]), text(&r["wheel"])),
+                (
+                    float(&r["distance_to_visible_km"]),
+                    float(&r["tread_life_km"]),
+                    float(&r["polygon_order_wear"]),
+                ),
+            )
+        })
+        .collect()
+}
+
+/// Every row of a Parquet file as text, in order.
+fn row_text(file: &Path) -> Vec<String> {
+    use parquet::file::reader::{FileReader, SerializedFileReader};
+    let reader = SerializedFileReader::new(std::fs::File::open(file).unwrap()).unwrap();
+    reader
+        .get_row_iter(None)
+        .unwrap()
+        .map(|r| r.unwrap().to_string())
+        .collect()
+}
+
+fn same(a: f64, b: f64) -> bool {
+    a == b || (a.is_nan() && b.is_nan())
+}
+
+/// The band's rows under a set are exactly the rows of a run made with that set's constants
+/// (`--params`), and its `run` set the run's own rows: the band re-evaluates the closed loop in
+/// closed form where the run solves it afresh, so any slip in how φ_s, σ_V or k_d enter shows.
+#[test]
+fn the_band_under_each_set_is_the_run_made_with_that_set() {
+    let dir = fresh_dir("band-sets");
+    let out = dir.join("run");
+    let o = out.to_str().unwrap();
+    let (code, _, err) = polywear(&[
+        "explore",
+        "--quiet",
+        "--no-report",
+        "--samples",
+        "300",
+        "--band-samples",
+        "300",
+        "--out",
+        o,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let band_file = out.join(BAND_FILE);
+    let chunk = out.join("chunk-0000000.parquet");
+    let run_rows = answers(&chunk, &|_| true);
+    let band_run = answers(&band_file, &|r| text(&r["set"]) == RUN_SET);
+    assert_eq!(run_rows.len(), 600);
+    assert_eq!(band_run.len(), 600);
+    for (k, a) in &run_rows {
+        let b = band_run[k];
+        assert!(
+            same(a.0, b.0) && same(a.1, b.1) && same(a.2, b.2),
+            "{k:?}: {a:?} vs {b:?}"
+        );
+    }
+    // Two sets far from the nominal: the ridge's low-spread end and its high-spread end, with
+    // the driven axle's rate at either end of its range.
+    let band = CalibrationBand::shipped();
+    for set in [band.sets.first().unwrap(), band.sets.last().unwrap()] {
+        assert!(!set.nominal);
+        let params = dir.join(format!("{}.toml", set.id));
+        std::fs::write(
+            &params,
+            format!(
+                "[params]\nwear_share_straight = {}\nspeed_spread_kmh = {}\nwear_rate_driven_factor = {}\n",
+                set.wear_share_straight, set.speed_spread_kmh, set.wear_rate_driven_factor
+            ),
+        )
+        .unwrap();
+        let other = dir.join(&set.id);
+        let (code, _, err) = polywear(&[
+            "explore",
+            "--quiet",
+            "--no-report",
+            "--samples",
+            "300",
+            "--calibration-band",
+            "off",
+            "--params",
+            params.to_str().unwrap(),
+            "--out",
+            other.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let direct = answers(&other.join("chunk-0000000.parquet"), &|_| true);
+        let banded = answers(&band_file, &|r| text(&r["set"]) == set.id);
+        let mut moved = 0;
+        for (k, a) in &direct {
+            let b = banded[k];
+            assert!(
+                same(a.0, b.0) && same(a.1, b.1) && same(a.2, b.2),
+                "set {} {k:?}: run {a:?} vs band {b:?}",
+                set.id
+            );
+            moved += usize::from(!same(a.0, run_rows[k].0));
+        }
+        assert!(moved > 100, "set {} moved only {moved} distances", set.id);
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The shipped sets are what the history matching gives today: the same accepted grid points
+/// but for at most two at the edge of a target, every target met by every shipped set, and
+/// the shipped defaults among them.
+#[test]
+fn the_calibrated_sets_regenerate_within_tolerance() {
+    let facts = FieldFacts::shipped();
+    let base = Params::default();
+    let f = fit(&base, &facts, &FitOptions::shipped(2000, &facts)).unwrap();
+    let again = f
+        .band(&FittedConstants::of(&base), "test")
+        .expect("the shipped defaults are accepted");
+    let shipped = CalibrationBand::shipped();
+    let key = |c: FittedConstants| c.values().map(|x| (x * 1000.0).round() as i64);
+    let a: std::collections::BTreeSet<_> = again.sets.iter().map(|s| key(s.constants())).collect();
+    let b: std::collections::BTreeSet<_> =
+        shipped.sets.iter().map(|s| key(s.constants())).collect();
+    let differ = a.symmetric_difference(&b).count();
+    assert!(
+        differ <= 2,
+        "{differ} sets differ: {:?}",
+        a.symmetric_difference(&b).collect::<Vec<_>>()
+    );
+    assert!(shipped.nominal_is(&base));
+    for (x, y) in again.ranges().iter().zip(shipped.ranges()) {
+        assert!(
+            (x.1 - y.1).abs() <= 0.011 && (x.2 - y.2).abs() <= 1.01,
+            "{x:?} vs {y:?}"
+        );
+    }
+    // Every accepted point meets the targets as the facts state them; a rejected neighbour
+    // exists on each side of the ridge, so the grid is not what bounds the band in φ_s.
+    let highway = facts.get("highway_follower_distance").unwrap();
+    for g in f.accepted() {
+        assert!(highway.holds_for(g.highway_median_km), "{g:?}");
+    }
+    let shares: Vec<f64> = f
+        .accepted()
+        .map(|g| g.constants.wear_share_straight)
+        .collect();
+    let (lo, hi) = (
+        shares.iter().copied().fold(f64::INFINITY, f64::min),
+        shares.iter().copied().fold(0.0, f64::max),
+    );
+    let opts = FitOptions::shipped(2000, &facts);
+    assert!(
+        lo > opts.shares[0] && hi < *opts.shares.last().unwrap(),
+        "{lo}..{hi}"
+    );
+}
+
+/// A band file that is empty, damaged or holds a constant outside its range is refused before
+/// any work (exit 2, nothing written), naming the file, the key and the range; `off` gives the
+/// nominal answer alone and says so; a band without the wear stage is refused.
+#[test]
+fn a_bad_band_file_is_refused_before_any_work_and_off_says_so() {
+    let dir = fresh_dir("band-bad");
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    let good = polywear::calibration_band::SHIPPED;
+    let cases = [
+        ("empty.toml", String::new(), "empty file"),
+        (
+            "damaged.toml",
+            good[..good.len() / 3].to_string() + "\n[[set]\n",
+            "damaged.toml",
+        ),
+        (
+            "range.toml",
+            good.replacen("wear_share_straight = 0.05", "wear_share_straight = 1.5", 1),
+            "`wear_share_straight` = 1.5: accepted (0, 1]",
+        ),
+    ];
+    for (name, body, says) in cases {
+        let file = dir.join(name);
+        std::fs::write(&file, body).unwrap();
+        let (code, _, err) = polywear(&[
+            "explore",
+            "--samples",
+            "50",
+            "--out",
+            o,
+            "--calibration-band",
+            file.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{name}: {err}");
+        assert!(err.contains(name) && err.contains(says), "{name}: {err}");
+        assert!(!out.exists(), "{name}: the run started");
+    }
+    let (code, _, err) = polywear(&[
+        "explore",
+        "--samples",
+        "50",
+        "--no-wear",
+        "--out",
+        o,
+        "--calibration-band",
+        dir.join("range.toml").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("no wear stage"), "{err}");
+    let (code, stdout, err) = polywear(&[
+        "explore",
+        "--samples",
+        "50",
+        "--out",
+        o,
+        "--calibration-band",
+        "off",
+        "--format",
+        "svg",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("calibration band: off"), "{err}");
+    assert!(
+        stdout.contains("no calibration band in this run"),
+        "{stdout}"
+    );
+    assert!(!out.join(BAND_FILE).exists());
+    let report = std::fs::read_to_string(out.join("_report/report.md")).unwrap();
+    assert!(
+        report.contains("No calibration band in this run"),
+        "{report}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// In a study with a scenario the printed summary and report.md give the calibration band
+/// beside the sampling interval of the headline within 40,000 km and of the scenario's effect,
+/// and name a wheel as more exposed only with the sign across the band.
+#[test]
+fn a_scenario_study_reports_the_band_beside_each_interval() {
+    let dir = fresh_dir("band-scenario");
+    std::fs::create_dir_all(&dir).unwrap();
+    let study = dir.join("toe.toml");
+    std::fs::write(
+        &study,
+        "name = \"toe_band\"\nseed = 7\nsamples = 400\ndesign = \"random\"\n\n[params]\n\
+         speed_kmh = { dist = \"uniform\", min = 90, max = 140 }\n\
+         toe_deg = { dist = \"uniform\", min = 0.3, max = 0.6 }\n\n\
+         [scenarios.less_toe]\ntoe_deg = { shift = -0.2 }\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let (code, stdout, err) = polywear(&[
+        "explore",
+        study.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--band-samples",
+        "200",
+        "--format",
+        "svg",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let line = |what: &str| {
+        stdout
+            .lines()
+            .find(|l| l.contains(what))
+            .unwrap_or_else(|| panic!("no line with {what}: {stdout}"))
+            .to_string()
+    };
+    let headline = line("follower within  40,000 km");
+    assert!(
+        headline.contains('[') && headline.contains("(calibration band "),
+        "{headline}"
+    );
+    let effect = line("less_toe (sliding_share, wear_within_40000_km)");
+    assert!(
+        effect.contains("95% interval") && effect.contains("calibration band"),
+        "{effect}"
+    );
+    assert!(
+        stdout.contains("calibration band: 96 calibrated sets"),
+        "{stdout}"
+    );
+    // The fitted wear constants do not move vibration: its effects carry no band.
+    let vibration = line("less_toe (sliding_share, vibration)");
+    assert!(!vibration.contains("calibration band"), "{vibration}");
+    let paired = line("paired within  40,000 km");
+    assert!(
+        paired.contains("under all 96 calibrated sets") || paired.contains("no wheel is named"),
+        "{paired}"
+    );
+    let report = std::fs::read_to_string(out.join("_report/report.md")).unwrap();
+    assert!(report.contains("### The calibration band"), "{report}");
+    assert!(report.contains("; calibration band "), "headline: {report}");
+    assert!(report.contains("`less_toe`, follower"), "{report}");
+    // analyze reads the same band back from the directory.
+    let again_dir = dir.join("again");
+    let (code, again, err) = polywear(&[
+        "analyze",
+        out.to_str().unwrap(),
+        "--out",
+        again_dir.to_str().unwrap(),
+        "--format",
+        "svg",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(again.contains(&headline), "{again}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The band's rows do not depend on the thread count.
+#[test]
+fn the_band_is_the_same_whatever_the_threads() {
+    let study =
+        polywear::study::Study::parse_with_base(polywear::study::DEFAULT_STUDY, Params::default())
+            .unwrap();
+    let stage = polywear::evaluate::WearStage::for_run(
+        &study.base,
+        polywear::model::Variant::SlidingShare,
+        Default::default(),
+        &Default::default(),
+    )
+    .unwrap();
+    let band = CalibrationBand::shipped();
+    let plan = BandPlan {
+        study: &study,
+        seed: 11,
+        samples: 5000,
+        band_samples: 40,
+        stage: &stage,
+        band: &band,
+        band_source: "shipped".into(),
+    };
+    let indices = plan.indices();
+    assert_eq!(indices.len(), 40);
+    assert!(indices.windows(2).all(|w| w[0] < w[1]) && *indices.last().unwrap() < 5000);
+    assert!(
+        *indices.last().unwrap() > 2500,
+        "the subsample spans the run: {indices:?}"
+    );
+    let at = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| plan.evaluate(&|_| {}))
+    };
+    assert_eq!(at(1), at(2));
+}
+
+/// A band file changed after the run, or left without its digest by a run killed while writing
+/// it, is refused by `analyze` with the way back, and `--resume` writes it again.
+#[test]
+fn a_changed_band_is_refused_and_resume_writes_it_again() {
+    use polywear::calibration_band::evaluate::BAND_DIGEST;
+    let dir = fresh_dir("band-changed");
+    let out = dir.join("run");
+    let o = out.to_str().unwrap();
+    let (code, _, err) = polywear(&[
+        "explore",
+        "--quiet",
+        "--no-report",
+        "--samples",
+        "60",
+        "--out",
+        o,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let band = out.join(BAND_FILE);
+    let good = std::fs::read(&band).unwrap();
+    let good_rows = row_text(&band);
+    let mut bytes = good.clone();
+    let at = bytes.len() / 2;
+    bytes[at] ^= 0x10;
+    std::fs::write(&band, &bytes).unwrap();
+    let report = dir.join("report");
+    let analyze = || {
+        polywear(&[
+            "analyze",
+            o,
+            "--out",
+            report.to_str().unwrap(),
+            "--format",
+            "svg",
+        ])
+    };
+    let (code, _, err) = analyze();
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("differ from those recorded") && err.contains("explore --resume"),
+        "{err}"
+    );
+    std::fs::write(&band, &good).unwrap();
+    std::fs::remove_file(out.join(BAND_DIGEST)).unwrap();
+    let (code, _, err) = analyze();
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("no _calibration_band.digest.json"), "{err}");
+    let (code, _, err) = polywear(&["explore", "--quiet", "--no-report", "--resume", "--out", o]);
+    assert_eq!(code, 0, "{err}");
+    // The same rows again (the footer records the resuming command).
+    assert!(
+        row_text(&band) == good_rows,
+        "the band's rows changed on resume"
+    );
+    let (code, stdout, err) = analyze();
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.contains("(calibration band "), "{stdout}");
+    // The band's file named as an input is not taken for rows.
+    let (code, _, err) = polywear(&["analyze", band.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("not an explore output"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
