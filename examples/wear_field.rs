@@ -21,27 +21,21 @@
 //! study's samples (both wheels) the median distance, which must exceed 60,000 km, and the share
 //! of 10–20 sides among the wheels with a visible polygon within 60,000 km.
 
-use polywear::classify::budget::Meter;
-use polywear::classify::{classify_point, ClassifierOptions};
+use polywear::classify::ClassifierOptions;
 use polywear::model::{Variant, Wheel};
 use polywear::params::Params;
 use polywear::study::{Study, DEFAULT_STUDY};
 use polywear::wear::estimator::{distance_to_visible_km, orders_around};
-use polywear::wear::{Calibration, WearInputs, WearSettings, WheelGrowth};
+use polywear::wear::{Calibration, WearSettings, WheelGrowth};
 use rayon::prelude::*;
 
 /// One wheel's loop, or None where it has no figures.
 fn growth(p: &Params, wheel: Wheel, cal: &Calibration) -> Option<WheelGrowth> {
-    let opts = ClassifierOptions::default();
-    let (m, v) = classify_point(p, wheel, Variant::SlidingShare, &opts);
-    let inputs = WearInputs {
-        params: p,
-        model: &m,
-        verdict: &v,
-        settings: &WearSettings::default(),
-        calibration: cal,
+    let stage = polywear::evaluate::WearStage {
+        settings: WearSettings::default(),
+        calibration: *cal,
     };
-    WheelGrowth::new(&inputs, &Meter::new(opts.budget)).ok()
+    polywear::calibration_band::fit::wheel_growth(p, wheel, &stage)
 }
 
 /// (s* \[km\], dominant order) of a wheel's loop at φ_s = `share`, σ_V = `spread_kmh`.

@@ -62,6 +62,23 @@ fn row_text(file: &Path) -> Vec<String> {
         .collect()
 }
 
+/// `polywear explore --quiet --no-report --samples N --out OUT` with `extra` flags on the
+/// default study; panics unless it succeeds.
+fn explore_quietly(out: &Path, samples: &str, extra: &[&str]) {
+    let mut args = vec![
+        "explore",
+        "--quiet",
+        "--no-report",
+        "--samples",
+        samples,
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let (code, _, err) = polywear(&args);
+    assert_eq!(code, 0, "{err}");
+}
+
 fn same(a: f64, b: f64) -> bool {
     a == b || (a.is_nan() && b.is_nan())
 }
@@ -73,19 +90,7 @@ fn same(a: f64, b: f64) -> bool {
 fn the_band_under_each_set_is_the_run_made_with_that_set() {
     let dir = fresh_dir("band-sets");
     let out = dir.join("run");
-    let o = out.to_str().unwrap();
-    let (code, _, err) = polywear(&[
-        "explore",
-        "--quiet",
-        "--no-report",
-        "--samples",
-        "300",
-        "--band-samples",
-        "300",
-        "--out",
-        o,
-    ]);
-    assert_eq!(code, 0, "{err}");
+    explore_quietly(&out, "300", &["--band-samples", "300"]);
     let band_file = out.join(BAND_FILE);
     let chunk = out.join("chunk-0000000.parquet");
     let run_rows = answers(&chunk, &|_| true);
@@ -114,20 +119,16 @@ fn the_band_under_each_set_is_the_run_made_with_that_set() {
         )
         .unwrap();
         let other = dir.join(&set.id);
-        let (code, _, err) = polywear(&[
-            "explore",
-            "--quiet",
-            "--no-report",
-            "--samples",
+        explore_quietly(
+            &other,
             "300",
-            "--calibration-band",
-            "off",
-            "--params",
-            params.to_str().unwrap(),
-            "--out",
-            other.to_str().unwrap(),
-        ]);
-        assert_eq!(code, 0, "{err}");
+            &[
+                "--calibration-band",
+                "off",
+                "--params",
+                params.to_str().unwrap(),
+            ],
+        );
         let direct = answers(&other.join("chunk-0000000.parquet"), &|_| true);
         let banded = answers(&band_file, &|r| text(&r["set"]) == set.id);
         let mut moved = 0;
@@ -396,16 +397,7 @@ fn a_changed_band_is_refused_and_resume_writes_it_again() {
     let dir = fresh_dir("band-changed");
     let out = dir.join("run");
     let o = out.to_str().unwrap();
-    let (code, _, err) = polywear(&[
-        "explore",
-        "--quiet",
-        "--no-report",
-        "--samples",
-        "60",
-        "--out",
-        o,
-    ]);
-    assert_eq!(code, 0, "{err}");
+    explore_quietly(&out, "60", &[]);
     let band = out.join(BAND_FILE);
     let good = std::fs::read(&band).unwrap();
     let good_rows = row_text(&band);

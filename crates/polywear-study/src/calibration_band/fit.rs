@@ -95,22 +95,13 @@ pub struct Fit {
     pub fleet_wheels: usize,
 }
 
-/// A wheel with its loop.
-struct Loop {
-    growth: WheelGrowth,
-}
-
-impl Loop {
-    fn answer(&self, c: &FittedConstants) -> WearAnswer {
-        self.growth.answer_with(c)
-    }
-}
-
-fn wheel_loop(
+/// One wheel's closed loop at `p` (the sliding-share variant, as the field calibration's
+/// wheels), or None where it has no figures.
+pub fn wheel_growth(
     p: &Params,
     wheel: Wheel,
     stage: &polywear_core::evaluate::WearStage,
-) -> Option<Loop> {
+) -> Option<WheelGrowth> {
     let opts = ClassifierOptions::default();
     let (m, v) = classify_point(p, wheel, Variant::SlidingShare, &opts);
     let inputs = WearInputs {
@@ -120,9 +111,7 @@ fn wheel_loop(
         settings: &stage.settings,
         calibration: &stage.calibration,
     };
-    WheelGrowth::new(&inputs, &Meter::new(opts.budget))
-        .ok()
-        .map(|growth| Loop { growth })
+    WheelGrowth::new(&inputs, &Meter::new(opts.budget)).ok()
 }
 
 fn median(mut x: Vec<f64>) -> f64 {
@@ -153,7 +142,7 @@ pub fn fit(base: &Params, facts: &FieldFacts, opts: &FitOptions) -> Result<Fit, 
         &ClassifierOptions::default(),
     )
     .map_err(|e| e.to_string())?;
-    let highway: Vec<Loop> = [0.40, 0.45, 0.50]
+    let highway: Vec<WheelGrowth> = [0.40, 0.45, 0.50]
         .iter()
         .flat_map(|&toe_deg| [100.0, 110.0, 120.0].map(|speed_kmh| (toe_deg, speed_kmh)))
         .collect::<Vec<_>>()
@@ -164,18 +153,18 @@ pub fn fit(base: &Params, facts: &FieldFacts, opts: &FitOptions) -> Result<Fit, 
                 speed_kmh,
                 ..*base
             };
-            wheel_loop(&p, Wheel::Follower, &stage)
+            wheel_growth(&p, Wheel::Follower, &stage)
         })
         .collect();
     let study = Study::parse_with_base(DEFAULT_STUDY, *base).map_err(|e| e.to_string())?;
     let sampler = study.sampler(study.seed, opts.samples);
-    let fleet: Vec<Loop> = (0..opts.samples)
+    let fleet: Vec<WheelGrowth> = (0..opts.samples)
         .into_par_iter()
         .flat_map_iter(|i| {
             let (p, _) = sampler.sample(i);
             Wheel::BOTH
                 .iter()
-                .filter_map(|&w| wheel_loop(&p, w, &stage))
+                .filter_map(|&w| wheel_growth(&p, w, &stage))
                 .collect::<Vec<_>>()
         })
         .collect();
@@ -203,10 +192,10 @@ pub fn fit(base: &Params, facts: &FieldFacts, opts: &FitOptions) -> Result<Fit, 
             let highway_median_km = median(
                 highway
                     .iter()
-                    .map(|l| l.answer(c).distance_to_visible_km)
+                    .map(|g| g.answer_with(c).distance_to_visible_km)
                     .collect(),
             );
-            let answers: Vec<WearAnswer> = fleet.iter().map(|l| l.answer(c)).collect();
+            let answers: Vec<WearAnswer> = fleet.iter().map(|g| g.answer_with(c)).collect();
             let fleet_median_km =
                 median(answers.iter().map(|a| a.distance_to_visible_km).collect());
             let visible: Vec<&WearAnswer> = answers
