@@ -212,39 +212,7 @@ define_record! {
     WearCalibrationShare wear_calibration_share: f64, F64, "-", "Deprecated: wear_share_straight under its old name, kept for one version (the `deprecated` metadata lists it).";
 }
 
-/// The wear outcome of a wheel in words ([`WearOutcome::as_str`]), so that a reader never
-/// counts an unknown distance (NaN) as "no polygon" by comparing numbers.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum WearOutcome {
-    /// The polygon is visible before the tread is worn out.
-    Visible,
-    /// The tread is worn out first, or every order levels out.
-    NotWithinLife,
-    /// No wear figures (failed, no traction, standstill, the stage did not run).
-    Unknown,
-}
-
-impl WearOutcome {
-    /// The outcome of a distance to a visible polygon against the tread's life \[km\].
-    pub fn of(distance_to_visible_km: f64, tread_life_km: f64) -> Self {
-        if distance_to_visible_km.is_nan() || tread_life_km.is_nan() {
-            WearOutcome::Unknown
-        } else if distance_to_visible_km <= tread_life_km {
-            WearOutcome::Visible
-        } else {
-            WearOutcome::NotWithinLife
-        }
-    }
-
-    /// The name in the rows.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            WearOutcome::Visible => "visible",
-            WearOutcome::NotWithinLife => "not_within_life",
-            WearOutcome::Unknown => "unknown",
-        }
-    }
-}
+pub use crate::wear::fitted::WearOutcome;
 
 /// Output columns renamed, as (old, new): the rows carry both for one version, the files'
 /// `deprecated` metadata lists the pairs, and `analyze` reads a file with only the old name

@@ -138,6 +138,19 @@ pub fn replaced_notes(
         .collect()
 }
 
+/// Refuses a per-wheel toe angle `deg` outside the plausible range, in the words it was typed
+/// in (`by`: the flag or key, with its conversion), not as a bare `toe_deg`.
+pub fn check_plausible_toe(deg: f64, by: &str) -> Result<(), Refusal> {
+    let spec = ParamId::ToeDeg.spec();
+    if spec.plausible.is_none_or(|q| q.contains(deg)) {
+        return Ok(());
+    }
+    Err(Refusal(format!(
+        "{by}: implausible for a road tire (plausible toe_deg {} deg per wheel) (if it is meant, --accept-implausible runs it anyway)",
+        spec.plausible_text()
+    )))
+}
+
 /// The defaults with the `--params` file applied, and the parameters the file names; a value
 /// outside its plausible range is refused unless `accept_implausible`.
 pub fn param_file(
@@ -156,8 +169,7 @@ pub fn param_file(
             // A toe-in typed in mm or as total toe (its key is not the parameter's) is refused
             // in those words.
             if *key != format!("params.{id}") {
-                crate::toe_input::check_plausible_toe(p[*id], &format!("`{key}`"))
-                    .map_err(|e| refuse(&e.0))?;
+                check_plausible_toe(p[*id], &format!("`{key}`")).map_err(|e| refuse(&e.0))?;
                 continue;
             }
             id.spec()

@@ -10,7 +10,7 @@ use polywear_core::params::toe::ToeInput;
 use polywear_core::params::ParamId;
 use polywear_core::wording::plain;
 
-use crate::param_sources::{param_file, Refusal};
+use crate::param_sources::{check_plausible_toe, param_file, Refusal};
 
 /// The rim diameter \[mm\] a toe in mm is read at: `--set rim_diameter_mm` if typed, else the
 /// `--params` file's, else the default (a 15-inch rim).
@@ -50,19 +50,6 @@ pub fn typed_toe(
         check_plausible_toe(deg, &by)?;
     }
     Ok((deg, by))
-}
-
-/// Refuses a per-wheel toe angle `deg` outside the plausible range, in the words it was typed
-/// in (`by`: the flag or key, with its conversion), not as a bare `toe_deg`.
-pub fn check_plausible_toe(deg: f64, by: &str) -> Result<(), Refusal> {
-    let spec = ParamId::ToeDeg.spec();
-    if spec.plausible.is_none_or(|q| q.contains(deg)) {
-        return Ok(());
-    }
-    Err(Refusal(format!(
-        "{by}: implausible for a road tire (plausible toe_deg {} deg per wheel) (if it is meant, --accept-implausible runs it anyway)",
-        spec.plausible_text()
-    )))
 }
 
 /// `--set` pairs: (name, value).

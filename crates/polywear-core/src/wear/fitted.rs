@@ -3,7 +3,6 @@
 //! calibrated set on the same samples.
 
 use crate::params::{ParamId, Params};
-use crate::records::WearOutcome;
 
 /// The constants the field calibration fits or takes from a published range, and that a
 /// calibration band varies: φ_s, σ_V and k_d.
@@ -88,6 +87,40 @@ impl WearAnswer {
                 self.distance_to_visible_km <= within_km
                     && self.distance_to_visible_km <= self.tread_life_km,
             ),
+        }
+    }
+}
+
+/// The wear outcome of a wheel in words ([`WearOutcome::as_str`]), so that a reader never
+/// counts an unknown distance (NaN) as "no polygon" by comparing numbers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WearOutcome {
+    /// The polygon is visible before the tread is worn out.
+    Visible,
+    /// The tread is worn out first, or every order levels out.
+    NotWithinLife,
+    /// No wear figures (failed, no traction, standstill, the stage did not run).
+    Unknown,
+}
+
+impl WearOutcome {
+    /// The outcome of a distance to a visible polygon against the tread's life \[km\].
+    pub fn of(distance_to_visible_km: f64, tread_life_km: f64) -> Self {
+        if distance_to_visible_km.is_nan() || tread_life_km.is_nan() {
+            WearOutcome::Unknown
+        } else if distance_to_visible_km <= tread_life_km {
+            WearOutcome::Visible
+        } else {
+            WearOutcome::NotWithinLife
+        }
+    }
+
+    /// The name in the rows.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            WearOutcome::Visible => "visible",
+            WearOutcome::NotWithinLife => "not_within_life",
+            WearOutcome::Unknown => "unknown",
         }
     }
 }
