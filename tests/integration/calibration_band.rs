@@ -443,3 +443,99 @@ fn a_changed_band_is_refused_and_resume_writes_it_again() {
     assert!(err.contains("not an explore output"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `cycle` gives its distance to a visible polygon a calibration band, and the band under a set
+/// is the distance of a cycle run with that set's φ_s and k_d (σ_V does not enter a cycle):
+/// the closed form β_n(φ_s, k_d) = φ_s β_n(1) − (1 − φ_s) λ_other(k_d) against the loop solved
+/// at those constants.
+#[test]
+fn a_cycle_s_distance_carries_its_band_and_each_set_is_the_cycle_run_with_it() {
+    let dir = fresh_dir("band-cycle");
+    std::fs::create_dir_all(&dir).unwrap();
+    let cycle = concat!(env!("CARGO_MANIFEST_DIR"), "/data/cycles/hwfet.csv");
+    let one = dir.join("one.toml");
+    std::fs::write(
+        &one,
+        "method = \"m\"\ngenerated_by = \"g\"\n\n[[set]]\nid = \"hi\"\nnominal = true\n\
+         wear_share_straight = 0.2\nspeed_spread_kmh = 9.0\nwear_rate_driven_factor = 2.0\n",
+    )
+    .unwrap();
+    let distance = |out: &Path, column: &str| -> Vec<f64> {
+        let text = std::fs::read_to_string(out.join("cycle_summary.csv")).unwrap();
+        let mut lines = text.lines();
+        let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let k = head.iter().position(|h| *h == column).expect(column);
+        lines
+            .map(|l| l.split(',').nth(k).unwrap().parse().unwrap())
+            .collect()
+    };
+    let banded = dir.join("banded");
+    let (code, stdout, err) = polywear(&[
+        "cycle",
+        cycle,
+        "--set",
+        "toe_deg=0.45",
+        "--calibration-band",
+        one.to_str().unwrap(),
+        "--out",
+        banded.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.contains("over 1 calibrated sets"), "{stdout}");
+    let lo = distance(&banded, "distance_to_visible_km_band_low");
+    assert_eq!(lo, distance(&banded, "distance_to_visible_km_band_high"));
+    let direct = dir.join("direct");
+    let (code, _, err) = polywear(&[
+        "cycle",
+        cycle,
+        "--set",
+        "toe_deg=0.45",
+        "--set",
+        "wear_share_straight=0.2",
+        "--set",
+        "wear_rate_driven_factor=2",
+        "--calibration-band",
+        "off",
+        "--out",
+        direct.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let d = distance(&direct, "distance_to_visible_km");
+    assert_eq!(d.len(), 2);
+    for (a, b) in d.iter().zip(&lo) {
+        assert!(
+            a.is_finite() && ((a - b) / a).abs() < 1e-9,
+            "{d:?} vs band {lo:?}"
+        );
+    }
+    // The default band, and `off` without its columns; a bad file before any work.
+    let (code, stdout, _) = polywear(&[
+        "cycle",
+        cycle,
+        "--set",
+        "toe_deg=0.45",
+        "--quiet",
+        "--out",
+        dir.join("default").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0);
+    assert!(stdout.contains("over 96 calibrated sets"), "{stdout}");
+    let off = std::fs::read_to_string(direct.join("cycle_summary.csv")).unwrap();
+    assert!(!off.contains("band_low"));
+    std::fs::write(dir.join("bad.toml"), "").unwrap();
+    let late = dir.join("late");
+    let (code, _, err) = polywear(&[
+        "cycle",
+        cycle,
+        "--calibration-band",
+        dir.join("bad.toml").to_str().unwrap(),
+        "--out",
+        late.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("bad.toml: empty file") && !late.exists(),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -235,7 +235,7 @@ mod along_a_cycle {
         let at = |v: f64| {
             let q = Params { speed_kmh: v, ..p };
             let s = evaluate::solve(&PointProblem::new(q, &[Variant::SlidingShare], &opts));
-            [0, 1].map(|w| step_growth(&q, &s.wheels[w], &stage, &opts))
+            [0, 1].map(|w| step_growth(&q, &s.wheels[w], &stage, &opts).0)
         };
         let (slow, fast) = (at(50.0), at(100.0));
         for w in 0..2 {

@@ -16,6 +16,7 @@ use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::WearStage;
 use polywear_core::model::Variant;
 use polywear_core::params::Params;
+use polywear_core::wear::FittedConstants;
 use polywear_study::cycle::structures::{draw_structures, study_metadata, CommandLine, Structures};
 use polywear_study::cycle::{classify_cycles, DriveCycle, StepWheel};
 use polywear_study::study::Study;
@@ -38,7 +39,7 @@ pub struct CycleArgs {
     /// optionally a column per step for any parameter of `polywear params` (toe_deg, load_n,
     /// pressure_kpa, ...). Standard cycles: data/cycles/. At most 1,000,000 steps (steps x
     /// --structure-samples, for a distribution): every step's records stay in memory until the
-    /// files are written: about 3 KB a step, 5 KB with the wear stage
+    /// files are written: about 3 KB a step, 7 KB with the wear stage
     #[arg(value_name = "CYCLE.csv")]
     pub cycle: PathBuf,
     /// Output directory: cycle.parquet, cycle_summary.csv (+ .parquet), cycle.png
@@ -85,6 +86,12 @@ pub struct CycleArgs {
     /// Leave the wear stage out: no distance to a visible polygon, no wear columns
     #[arg(long, conflicts_with = "wear_zone")]
     pub no_wear: bool,
+    /// The calibration band of the distance to a visible polygon: a file of calibrated sets of
+    /// the fitted wear constants (as data/calibration_band.toml, the default), or `off`. Each
+    /// set's phi_s and k_d give the distance again in closed form (sigma_V does not enter: the
+    /// cycle's speeds are its spread), and its range is printed beside it
+    #[arg(long, value_name = "FILE|off", conflicts_with = "no_wear")]
+    pub calibration_band: Option<String>,
     #[command(flatten)]
     pub wear: WearReadingArgs,
     #[command(flatten)]
@@ -98,11 +105,21 @@ pub fn run(args: &CycleArgs) -> CliResult {
             println!("{l}");
         }
     }
+    // The band's file is read before any work; without the wear stage there is none.
+    let band = super::common::calibration_band(args.calibration_band.as_deref())?;
     let wear = wear_stage(args, &request.base, request.variant)?;
     if let Some(stage) = &wear {
         let stage = serde_json::to_string(stage).expect("json");
         request.metadata.push(("wear".into(), stage));
     }
+    let band_sets: Vec<FittedConstants> = match (&wear, band) {
+        (Some(_), Some((band, source))) => {
+            let said = format!("{} sets from {source}", band.sets.len());
+            request.metadata.push(("calibration_band".into(), said));
+            band.sets.iter().map(|s| s.constants()).collect()
+        }
+        _ => Vec::new(),
+    };
     let pool = super::common::thread_pool(args.threads)?;
     let todo = request.cycle.len() as u64 * request.structures.bases.len() as u64;
     let progress = Progress::new(args.quiet, todo, "steps", Duration::from_secs(10));
@@ -120,7 +137,15 @@ pub fn run(args: &CycleArgs) -> CliResult {
     progress.finish();
     let secs = start.elapsed().as_secs_f64();
     let threads = pool.current_num_threads();
-    write(args, request, wear.is_some(), steps, secs, threads)
+    write(
+        args,
+        request,
+        wear.is_some(),
+        band_sets,
+        steps,
+        secs,
+        threads,
+    )
 }
 
 /// One `cycle`, checked: the cycle, variant, options, tire structures and outputs' metadata.
@@ -226,6 +251,7 @@ fn write(
     args: &CycleArgs,
     request: CycleRequest,
     wear: bool,
+    band_sets: Vec<FittedConstants>,
     steps: Vec<Vec<[StepWheel; 2]>>,
     secs: f64,
     threads: usize,
@@ -247,6 +273,7 @@ fn write(
         metadata: request.metadata,
         fleet,
         wear_bases: if wear { structures.bases } else { Vec::new() },
+        band_sets,
     };
     let written = run.write(&args.out).map_err(|e| match e {
         FilesError::CreateDir { .. } => CliError(format!("--out {e}")),

@@ -11,8 +11,9 @@ use crate::plot::{FigureFile, FigureFormat, PlotError};
 use polywear_core::model::Variant;
 use polywear_core::params::{ParamId, Params, OPERATING_AXES};
 use polywear_core::records::{record_columns, OPERATING_POINT_ROW, SAMPLE_ID};
+use polywear_core::wear::FittedConstants;
 use polywear_study::cycle::summary::{summarise, summary_columns, WheelSummary};
-use polywear_study::cycle::wear::cycle_wear;
+use polywear_study::cycle::wear::{cycle_wear, cycle_wear_band};
 use polywear_study::cycle::{DriveCycle, StepWheel};
 use polywear_study::operating_points::OperatingPoints;
 use polywear_study::parquet_out::{write_csv, write_table, Column};
@@ -36,6 +37,9 @@ pub struct CycleRun<'a> {
     /// `bases[k]`: structure sample k's parameters, when the steps ran the wear stage (the
     /// seed and the visible depth of its distance to a visible polygon); empty otherwise.
     pub wear_bases: Vec<Params>,
+    /// The calibrated sets each structure's wear is also evaluated under (the calibration band;
+    /// empty for none). σ_V does not enter: a cycle's speeds are its spread.
+    pub band_sets: Vec<FittedConstants>,
 }
 
 /// The operating-point rows a study's fleet gave the structure samples: each sample drives the
@@ -54,12 +58,15 @@ impl CycleRun<'_> {
             .iter()
             .enumerate()
             .map(|(k, s)| {
-                [0, 1].map(|w| WheelSummary {
-                    wear: self
-                        .wear_bases
-                        .get(k)
-                        .map(|base| cycle_wear(self.cycle, s, w, base)),
-                    ..summarise(self.cycle, s, w)
+                [0, 1].map(|w| {
+                    let base = self.wear_bases.get(k);
+                    WheelSummary {
+                        wear: base.map(|base| cycle_wear(self.cycle, s, w, base)),
+                        wear_band: base.map_or(Vec::new(), |base| {
+                            cycle_wear_band(self.cycle, s, w, base, &self.band_sets)
+                        }),
+                        ..summarise(self.cycle, s, w)
+                    }
                 })
             })
             .collect()

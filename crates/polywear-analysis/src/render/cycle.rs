@@ -72,6 +72,15 @@ pub fn summary_lines(run: &CycleRun<'_>, secs: f64, threads: usize) -> Vec<Strin
     lines
 }
 
+/// A distance of the band in words: "never" for +inf.
+fn shown_km(x: f64) -> String {
+    if x.is_infinite() {
+        "never".to_string()
+    } else {
+        format!("{} km", thousands(x))
+    }
+}
+
 /// The polygon of a lifetime on the cycle, in words: the distance to a visible polygon (the
 /// median and 90% interval over the structures when there are several) and its order.
 fn wear_line(all: &[[WheelSummary; 2]], w: usize) -> Option<String> {
@@ -120,7 +129,17 @@ fn wear_line(all: &[[WheelSummary; 2]], w: usize) -> Option<String> {
                 plain(c.growth_rate_per_1000km, 3)
             )
         };
-        return Some(format!("{life}: {what}{unknown}"));
+        let band = all[0][w]
+            .distance_band_km()
+            .map_or(String::new(), |(lo, hi)| {
+                format!(
+                    " (calibration band {} to {} over {} calibrated sets)",
+                    shown_km(lo),
+                    shown_km(hi),
+                    all[0][w].wear_band.len()
+                )
+            });
+        return Some(format!("{life}: {what}{band}{unknown}"));
     }
     let never = d.iter().filter(|x| x.is_infinite()).count() as f64 / d.len() as f64;
     let shown = |x: f64| {
@@ -135,8 +154,36 @@ fn wear_line(all: &[[WheelSummary; 2]], w: usize) -> Option<String> {
     let order = orders.get(orders.len() / 2).map_or(String::new(), |n| {
         format!("; the fastest order mostly {n:.0}")
     });
+    // The band of the median: the median over the structures under each set, its range.
+    let sets = all[0][w].wear_band.len();
+    let band = (sets > 0)
+        .then(|| {
+            let medians: Vec<f64> = (0..sets)
+                .map(|k| {
+                    let mut d: Vec<f64> = all
+                        .iter()
+                        .filter_map(|s| s[w].wear_band.get(k))
+                        .map(|c| c.distance_to_visible_km)
+                        .collect();
+                    d.sort_by(f64::total_cmp);
+                    q(&d, 0.5)
+                })
+                .filter(|x| !x.is_nan())
+                .collect();
+            let lo = medians.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = medians.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            (!medians.is_empty()).then(|| {
+                format!(
+                    "; the median's calibration band {} to {} over {sets} calibrated sets",
+                    shown_km(lo),
+                    shown_km(hi)
+                )
+            })
+        })
+        .flatten()
+        .unwrap_or_default();
     Some(format!(
-        "{life}: distance to a visible polygon {} (median over the structures; 90% interval {} to {}); {}% of the structures never show one{order}{unknown}",
+        "{life}: distance to a visible polygon {} (median over the structures; 90% interval {} to {}{band}); {}% of the structures never show one{order}{unknown}",
         shown(q(&d, 0.5)),
         shown(q(&d, 0.05)),
         shown(q(&d, 0.95)),

@@ -1,14 +1,13 @@
 //! `explore`'s calibration band: `--calibration-band` and `--band-samples` resolved into the
 //! sets and the subsample before any work, then the band's pass after the run's chunks.
 
-use std::path::PathBuf;
 use std::time::Duration;
 
 use super::super::batch::Progress;
 use super::super::common::{CliError, CliResult};
 use super::ExploreArgs;
 use polywear_study::calibration_band::evaluate::BandPlan;
-use polywear_study::calibration_band::{CalibrationBand, SHIPPED_NAME};
+use polywear_study::calibration_band::CalibrationBand;
 use polywear_study::explore::RunPlan;
 
 /// The sets a run's band uses, and where they come from.
@@ -37,27 +36,9 @@ pub fn choose(args: &ExploreArgs, plan: &RunPlan) -> CliResult<Option<BandChoice
         }
         return Ok(None);
     }
-    let choice = match asked {
-        None => BandChoice {
-            band: CalibrationBand::shipped(),
-            source: SHIPPED_NAME.to_string(),
-        },
-        Some(file) => {
-            let path = PathBuf::from(file);
-            let text = super::super::common::read_input(
-                &path,
-                "--calibration-band ",
-                polywear_study::safe_read::Limit::Text,
-            )?;
-            let band = CalibrationBand::parse(&text, file)
-                .map_err(|e| CliError(format!("--calibration-band {e}")))?;
-            BandChoice {
-                band,
-                source: file.to_string(),
-            }
-        }
-    };
-    Ok(Some(choice))
+    let choice = super::super::common::calibration_band(asked)?
+        .map(|(band, source)| BandChoice { band, source });
+    Ok(choice)
 }
 
 /// The band's pass after a finished run: the subsample re-evaluated under every set, written

@@ -339,6 +339,22 @@ impl WheelGrowth {
         }
     }
 
+    /// λ_other per unit (1 − φ_s) \[1/1000 km\] with the driven axle's rate
+    /// `wear_rate_driven_factor`: w′_pos κ, w′_pos = k_d w′₀ for a driving wheel under the slip
+    /// reading, w′₀ otherwise. With no speed spread β_n is φ_s β_n(φ_s = 1) minus (1 − φ_s)
+    /// times this, for every order (a drive cycle's band uses it).
+    pub fn other_levelling_per_1000km(&self, wear_rate_driven_factor: f64) -> f64 {
+        let factor = if self.driven_position {
+            wear_rate_driven_factor
+        } else {
+            1.0
+        };
+        factor
+            * wear_rate_ref_m_per_m(&self.params)
+            * self.feedback.local_per_m
+            * PER_1000KM_PER_PER_M
+    }
+
     /// The growth of order `order` with φ_s = `share` and a speed spread of `spread_mps`
     /// \[m/s\]: β_n = φ_s·B_n(σ_V) − (1 − φ_s) w′₀ κ, B_n the loop at φ_s = 1, over the share
     /// of the spread where a vibrating wheel's cycle is not locked to a seed-sized polygon of

@@ -104,7 +104,7 @@ pub enum CycleError {
         value: f64,
     },
     /// More steps × tire structures than [`STEP_EVALUATIONS_MAX`].
-    #[error("{}: {} steps x {} tire structure(s) = {} step evaluations; accepted at most {} (every step's records stay in memory until the files are written: about 3 KB a step, 5 KB with the wear stage): draw fewer --structure-samples, or resample the cycle to fewer steps", path.display(), thousands(*steps as f64), thousands(*structures as f64), thousands(*steps as f64 * *structures as f64), thousands(STEP_EVALUATIONS_MAX as f64))]
+    #[error("{}: {} steps x {} tire structure(s) = {} step evaluations; accepted at most {} (every step's records stay in memory until the files are written: about 3 KB a step, 7 KB with the wear stage): draw fewer --structure-samples, or resample the cycle to fewer steps", path.display(), thousands(*steps as f64), thousands(*structures as f64), thousands(*steps as f64 * *structures as f64), thousands(STEP_EVALUATIONS_MAX as f64))]
     TooMuchWork {
         /// The cycle file.
         path: PathBuf,
@@ -136,8 +136,8 @@ fn did_you_mean(name: &str) -> String {
 pub const BLOCK_STEPS: usize = 32;
 
 /// Most step evaluations (steps × tire structures) one run accepts. Every step's two records stay
-/// in memory until the files are written (2.9 GB measured at a million steps, 5.3 GB with the
-/// wear stage and its growth of each order), so a larger run is refused before any work instead
+/// in memory until the files are written (2.9 GB measured at a million steps; with the wear
+/// stage, its growth of each order and the calibration band's, 1.32 GB at 200,000 steps), so a larger run is refused before any work instead
 /// of exhausting the memory hours in. A million steps is 11.6 days of driving logged at 1 Hz.
 pub const STEP_EVALUATIONS_MAX: u64 = 1_000_000;
 
@@ -172,7 +172,7 @@ impl DriveCycle {
             Some((
                 STEP_EVALUATIONS_MAX,
                 "a drive cycle's steps, each kept in memory with its records: about 3 KB a step, \
-                 5 KB with the wear stage; resample it to fewer steps, e.g. 1 Hz",
+                 7 KB with the wear stage; resample it to fewer steps, e.g. 1 Hz",
             )),
         )?;
         let need = |name: &'static str| {
@@ -409,6 +409,9 @@ pub struct StepWheel {
     /// β_n \[1/1000 km\] of orders 1..=[`wear::CYCLE_ORDERS_MAX`] at this step
     /// ([`wear::step_growth`]); empty without the wear stage or without figures.
     pub order_growth_per_1000km: Vec<f64>,
+    /// The same step's growth for the calibration band ([`wear::BandGrowth`]); None where
+    /// `order_growth_per_1000km` is empty.
+    pub band_growth: Option<wear::BandGrowth>,
 }
 
 impl StepWheel {
@@ -470,24 +473,24 @@ pub fn classify_cycles(
         progress(block.len() as u64);
         block
     };
-    let mut records: Vec<[(WheelRecord, Vec<f64>); 2]> =
-        ensemble::solve(jobs.len(), block, &Control::QUIET)
-            .all()
-            .into_iter()
-            .flatten()
-            .collect();
+    let mut records: Vec<[StepRow; 2]> = ensemble::solve(jobs.len(), block, &Control::QUIET)
+        .all()
+        .into_iter()
+        .flatten()
+        .collect();
     let mut out = Vec::with_capacity(bases.len());
     for _ in bases {
         let rest = records.split_off(n);
         let mut steps: Vec<[StepWheel; 2]> = records
             .into_iter()
             .map(|pair| {
-                pair.map(|(record, growth)| StepWheel {
+                pair.map(|(record, (growth, band_growth))| StepWheel {
                     record,
                     tread_time_constant_s: f64::NAN,
                     stability_change_time_s: f64::NAN,
                     quasi_static: true,
                     order_growth_per_1000km: growth,
+                    band_growth,
                 })
             })
             .collect();
@@ -510,10 +513,10 @@ fn classify_block(
     opts: &ClassifierOptions,
     wear: Option<&WearStage>,
     b: usize,
-) -> Vec<[(WheelRecord, Vec<f64>); 2]> {
+) -> Vec<[StepRow; 2]> {
     let lo = b * BLOCK_STEPS;
     let hi = (lo + BLOCK_STEPS).min(cycle.len());
-    let mut out: Vec<[(WheelRecord, Vec<f64>); 2]> = Vec::with_capacity(hi - lo);
+    let mut out: Vec<[StepRow; 2]> = Vec::with_capacity(hi - lo);
     let mut hints = vec![None, None];
     let mut previous: Option<Params> = None;
     for i in lo..hi {
@@ -537,9 +540,9 @@ fn classify_block(
         }
         let growth = |w: &evaluate::WheelSolution| match wear {
             Some(stage) if !cycle.standstill(i) => wear::step_growth(&p, w, stage, opts),
-            _ => Vec::new(),
+            _ => (Vec::new(), None),
         };
-        let [f, d]: [(WheelRecord, Vec<f64>); 2] = solution
+        let [f, d]: [StepRow; 2] = solution
             .wheels
             .into_iter()
             .map(|w| {
@@ -553,6 +556,9 @@ fn classify_block(
     }
     out
 }
+
+/// One wheel's row at one step and its wear growth ([`wear::step_growth`]).
+type StepRow = (WheelRecord, (Vec<f64>, Option<wear::BandGrowth>));
 
 /// Fills τ, T and the quasi-static flag of wheel `w` at every step (see the module docs).
 fn assess_quasi_static(time_s: &[f64], steps: &mut [[StepWheel; 2]], w: usize) {

@@ -36,6 +36,28 @@ pub struct WheelSummary {
     pub order_shares: BTreeMap<i64, f64>,
     /// The polygon of a lifetime on this cycle, when the wear stage ran.
     pub wear: Option<CycleWear>,
+    /// The same under each calibrated set of the fitted wear constants (the calibration band;
+    /// empty without one).
+    pub wear_band: Vec<CycleWear>,
+}
+
+impl WheelSummary {
+    /// The distance to a visible polygon over the calibrated sets, (lowest, highest) \[km\];
+    /// None without a band or where no set gives a distance.
+    pub fn distance_band_km(&self) -> Option<(f64, f64)> {
+        let d: Vec<f64> = self
+            .wear_band
+            .iter()
+            .map(|c| c.distance_to_visible_km)
+            .filter(|x| !x.is_nan())
+            .collect();
+        (!d.is_empty()).then(|| {
+            (
+                d.iter().copied().fold(f64::INFINITY, f64::min),
+                d.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            )
+        })
+    }
 }
 
 /// Summarises wheel `w` (0 follower, 1 driving) of a classified cycle.
@@ -91,6 +113,7 @@ pub fn summarise(cycle: &DriveCycle, steps: &[[StepWheel; 2]], w: usize) -> Whee
         not_quasi_static_share: doubt_s / total_s,
         order_shares: orders,
         wear: None,
+        wear_band: Vec::new(),
     }
 }
 
@@ -122,6 +145,13 @@ fn named(s: &WheelSummary, orders: &[i64]) -> Vec<(String, f64)> {
             // Its old name, a copy kept for one version (RENAMED_COLUMNS).
             ("wear_dominant_order".into(), w.dominant_order),
         ]);
+        if !s.wear_band.is_empty() {
+            let (lo, hi) = s.distance_band_km().unwrap_or((f64::NAN, f64::NAN));
+            v.extend([
+                ("distance_to_visible_km_band_low".to_string(), lo),
+                ("distance_to_visible_km_band_high".into(), hi),
+            ]);
+        }
     }
     v
 }

@@ -50,6 +50,7 @@ fn quasi_static_fails_where_re_lambda_changes_faster_than_its_square() {
                 stability_change_time_s: f64::NAN,
                 quasi_static: true,
                 order_growth_per_1000km: Vec::new(),
+                band_growth: None,
             };
             [w.clone(), w]
         })
@@ -91,6 +92,7 @@ fn summary_shares_stretches_and_orders() {
                 stability_change_time_s: f64::NAN,
                 quasi_static: i != 3,
                 order_growth_per_1000km: Vec::new(),
+                band_growth: None,
             };
             [w.clone(), w]
         })

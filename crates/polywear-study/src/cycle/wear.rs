@@ -12,21 +12,44 @@ use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::{WearStage, WheelSolution};
 use polywear_core::params::Params;
 use polywear_core::wear::estimator::distance_to_visible_km;
-use polywear_core::wear::{WearInputs, WheelGrowth};
+use polywear_core::wear::{FittedConstants, WearInputs, WheelGrowth};
 
 /// The highest order followed along a cycle: the seed's band (MODEL.md#step-12-feedback). A step
 /// slower than about 25 km/h puts ν above it; its orders near ν are not followed (their
 /// distance at such speeds is small).
 pub const CYCLE_ORDERS_MAX: u32 = 64;
 
+/// What a step's wear gives the calibration band: β_n at φ_s = 1 for orders
+/// 1..=[`CYCLE_ORDERS_MAX`], and λ_other per unit (1 − φ_s) as `(a, b)`, a + b k_d. With no
+/// speed spread (a cycle's speeds are its spread) β_n(φ_s, k_d) = φ_s β_n(1) − (1 − φ_s)(a + b
+/// k_d) exactly: the loop, the locked print and the slip power all scale with φ_s, and λ_other
+/// is the same for every order (MODEL.md#the-calibration-band).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BandGrowth {
+    /// β_n(φ_s = 1) \[1/1000 km\], orders 1..=[`CYCLE_ORDERS_MAX`].
+    pub full_share_per_1000km: Vec<f64>,
+    /// λ_other per unit (1 − φ_s) \[1/1000 km\]: (at k_d = 0, per unit k_d).
+    pub other_levelling_per_1000km: (f64, f64),
+}
+
+impl BandGrowth {
+    /// β_n \[1/1000 km\] of order `k + 1` under `c` (σ_V does not enter: no spread).
+    pub fn growth_per_1000km(&self, k: usize, c: &FittedConstants) -> f64 {
+        let (a, b) = self.other_levelling_per_1000km;
+        let phi = c.wear_share_straight;
+        phi * self.full_share_per_1000km[k] - (1.0 - phi) * (a + b * c.wear_rate_driven_factor)
+    }
+}
+
 /// β_n \[1/1000 km\] of orders 1..=[`CYCLE_ORDERS_MAX`] of one wheel at one step, with no
-/// speed spread; empty where the wheel has no figures (no model, failed, standstill).
+/// speed spread, and what the calibration band needs of it; empty and None where the wheel has
+/// no figures (no model, failed, standstill).
 pub fn step_growth(
     p: &Params,
     wheel: &WheelSolution,
     stage: &WearStage,
     options: &ClassifierOptions,
-) -> Vec<f64> {
+) -> (Vec<f64>, Option<BandGrowth>) {
     let inputs = WearInputs {
         params: p,
         model: &wheel.model,
@@ -35,15 +58,21 @@ pub fn step_growth(
         calibration: &stage.calibration,
     };
     let Ok(growth) = WheelGrowth::new(&inputs, &Meter::new(options.budget)) else {
-        return Vec::new();
+        return (Vec::new(), None);
     };
-    (1..=CYCLE_ORDERS_MAX)
-        .map(|n| {
-            growth
-                .order_with(n, p.wear_share_straight, 0.0)
-                .growth_rate_per_1000km
-        })
-        .collect()
+    let orders = 1..=CYCLE_ORDERS_MAX;
+    let at = |share: f64| -> Vec<f64> {
+        orders
+            .clone()
+            .map(|n| growth.order_with(n, share, 0.0).growth_rate_per_1000km)
+            .collect()
+    };
+    let a = growth.other_levelling_per_1000km(0.0);
+    let band = BandGrowth {
+        full_share_per_1000km: at(1.0),
+        other_levelling_per_1000km: (a, growth.other_levelling_per_1000km(1.0) - a),
+    };
+    (at(p.wear_share_straight), Some(band))
 }
 
 /// One wheel's polygon over a lifetime of the cycle (one tire structure).
@@ -67,49 +96,120 @@ pub fn cycle_wear(
     w: usize,
     base: &Params,
 ) -> CycleWear {
+    let terms = mean_terms(
+        cycle,
+        steps,
+        w,
+        CYCLE_ORDERS_MAX as usize,
+        &|s: &StepWheel| {
+            (!s.order_growth_per_1000km.is_empty()).then(|| s.order_growth_per_1000km.clone())
+        },
+    );
+    terms.wear(base, terms.mean.clone())
+}
+
+/// [`cycle_wear`] under each of the fitted constants `sets` instead of the structure's own (the
+/// calibration band), from each step's [`BandGrowth`]. β_n is linear in its two terms, so their
+/// distance-weighted means are taken once and each set costs one pass over the orders.
+pub fn cycle_wear_band(
+    cycle: &DriveCycle,
+    steps: &[[StepWheel; 2]],
+    w: usize,
+    base: &Params,
+    sets: &[FittedConstants],
+) -> Vec<CycleWear> {
+    // The means of β_n(φ_s = 1), then of a and b, as one "growth" vector of the steps.
+    let n = CYCLE_ORDERS_MAX as usize;
+    let terms = mean_terms(cycle, steps, w, n + 2, &|s: &StepWheel| {
+        s.band_growth.as_ref().map(|g| {
+            let (a, b) = g.other_levelling_per_1000km;
+            g.full_share_per_1000km
+                .iter()
+                .copied()
+                .chain([a, b])
+                .collect()
+        })
+    });
+    sets.iter()
+        .map(|c| {
+            let growth = terms.mean.as_ref().map(|m| {
+                let band = BandGrowth {
+                    full_share_per_1000km: m[..n].to_vec(),
+                    other_levelling_per_1000km: (m[n], m[n + 1]),
+                };
+                (0..n).map(|k| band.growth_per_1000km(k, c)).collect()
+            });
+            terms.wear(base, growth)
+        })
+        .collect()
+}
+
+/// The distance-weighted means of a per-step vector over a wheel's steps with figures, and the
+/// share of the distance without.
+struct MeanTerms {
+    mean: Option<Vec<f64>>,
+    unknown_distance_share: f64,
+}
+
+impl MeanTerms {
+    /// The wear of the mean growth `growth` of orders 1.. (None: no step with figures).
+    fn wear(&self, base: &Params, growth: Option<Vec<f64>>) -> CycleWear {
+        let best = growth.and_then(|g| {
+            g.iter()
+                .enumerate()
+                .max_by(|a, b| a.1.total_cmp(b.1))
+                .map(|(k, b)| (k as f64 + 1.0, *b))
+        });
+        let unknown_distance_share = self.unknown_distance_share;
+        match best {
+            Some((order, beta)) => CycleWear {
+                dominant_order: order,
+                growth_rate_per_1000km: beta,
+                distance_to_visible_km: distance_to_visible_km(base, beta),
+                unknown_distance_share,
+            },
+            None => CycleWear {
+                dominant_order: f64::NAN,
+                growth_rate_per_1000km: f64::NAN,
+                distance_to_visible_km: f64::NAN,
+                unknown_distance_share,
+            },
+        }
+    }
+}
+
+/// The distance-weighted mean of `value` (a vector of `len`, or None without figures) over wheel
+/// `w`'s moving steps.
+fn mean_terms(
+    cycle: &DriveCycle,
+    steps: &[[StepWheel; 2]],
+    w: usize,
+    len: usize,
+    value: &dyn Fn(&StepWheel) -> Option<Vec<f64>>,
+) -> MeanTerms {
     let dt = cycle.step_durations_s();
-    let mut sum = vec![0.0; CYCLE_ORDERS_MAX as usize];
+    let mut sum = vec![0.0; len];
     let (mut known_km, mut unknown_km) = (0.0, 0.0);
     for (i, s) in steps.iter().enumerate() {
         let km = cycle.speed_kmh[i] * dt[i] / 3600.0;
         if km <= 0.0 {
             continue;
         }
-        let g = &s[w].order_growth_per_1000km;
-        if g.is_empty() {
+        let Some(g) = value(&s[w]) else {
             unknown_km += km;
             continue;
-        }
+        };
         known_km += km;
-        for (acc, b) in sum.iter_mut().zip(g) {
+        for (acc, b) in sum.iter_mut().zip(&g) {
             *acc += km * b;
         }
     }
-    let unknown_distance_share = if known_km + unknown_km > 0.0 {
-        unknown_km / (known_km + unknown_km)
-    } else {
-        0.0
-    };
-    let best = (known_km > 0.0)
-        .then(|| {
-            sum.iter()
-                .enumerate()
-                .max_by(|a, b| a.1.total_cmp(b.1))
-                .map(|(k, s)| (k as f64 + 1.0, s / known_km))
-        })
-        .flatten();
-    match best {
-        Some((order, beta)) => CycleWear {
-            dominant_order: order,
-            growth_rate_per_1000km: beta,
-            distance_to_visible_km: distance_to_visible_km(base, beta),
-            unknown_distance_share,
-        },
-        None => CycleWear {
-            dominant_order: f64::NAN,
-            growth_rate_per_1000km: f64::NAN,
-            distance_to_visible_km: f64::NAN,
-            unknown_distance_share,
+    MeanTerms {
+        mean: (known_km > 0.0).then(|| sum.iter().map(|x| x / known_km).collect()),
+        unknown_distance_share: if known_km + unknown_km > 0.0 {
+            unknown_km / (known_km + unknown_km)
+        } else {
+            0.0
         },
     }
 }
