@@ -441,6 +441,25 @@ fn a_changed_band_is_refused_and_resume_writes_it_again() {
     let (code, _, err) = polywear(&["analyze", band.to_str().unwrap()]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("not an explore output"), "{err}");
+    // A resume asked for no band leaves none behind.
+    let (code, _, err) = polywear(&[
+        "explore",
+        "--quiet",
+        "--no-report",
+        "--resume",
+        "--out",
+        o,
+        "--calibration-band",
+        "off",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!band.exists() && !out.join(BAND_DIGEST).exists());
+    let (code, stdout, err) = analyze();
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        stdout.contains("no calibration band in this run"),
+        "{stdout}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -159,8 +159,9 @@ pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
         eprintln!("resume with: {}", resume_command(args, &plan));
         return Ok(ExitCode::from((128 + signal) as u8));
     }
-    if let Some(choice) = &band {
-        band::run(args, &plan, choice, &pool)?;
+    match &band {
+        Some(choice) => band::run(args, &plan, choice, &pool)?,
+        None => band::clear(&plan)?,
     }
     finish(args, &plan, &summary, secs).map(|()| ExitCode::SUCCESS)
 }

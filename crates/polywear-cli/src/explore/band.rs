@@ -90,3 +90,22 @@ pub fn run(
     written.map_err(|e| CliError(format!("cannot write the calibration band: {e}")))?;
     Ok(())
 }
+
+/// A run without a band (`--calibration-band off`) leaves no band of an earlier session of it
+/// in its directory, so that its report is the answer asked for.
+pub fn clear(plan: &RunPlan) -> CliResult {
+    use polywear_study::calibration_band::evaluate::{BAND_DIGEST, BAND_FILE};
+    if !plan.shard.owns(0) {
+        return Ok(());
+    }
+    for name in [BAND_DIGEST, BAND_FILE] {
+        let path = plan.out_dir.join(name);
+        match std::fs::remove_file(&path) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                return Err(CliError(format!("{}: {e}", path.display())))
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
