@@ -56,6 +56,18 @@ pub struct WearStage {
 }
 
 impl WearStage {
+    /// What the wear stage needs of wheel `w` at parameters `p`: its model and verdict, with
+    /// this stage's settings and calibration.
+    pub fn inputs<'a>(&'a self, p: &'a Params, w: &'a WheelSolution) -> WearInputs<'a> {
+        WearInputs {
+            params: p,
+            model: &w.model,
+            verdict: &w.verdict,
+            settings: &self.settings,
+            calibration: &self.calibration,
+        }
+    }
+
     /// The stage of a run whose nominal tire is `base`: the reference follower evaluated on the
     /// one road under `variant`, then its calibration.
     pub fn for_run(
@@ -278,14 +290,7 @@ impl WheelSolution {
         let estimate = if self.verdict.class == Class::Standstill {
             WearEstimate::undefined(p.wear_share_straight, self.verdict.reason.clone())
         } else {
-            let inputs = WearInputs {
-                params: p,
-                model: &self.model,
-                verdict: &self.verdict,
-                settings: &stage.settings,
-                calibration: &stage.calibration,
-            };
-            wear::estimate(&inputs, &meter)
+            wear::estimate(&stage.inputs(p, &self), &meter)
         };
         self.record.wear = Some(WearRecord::of(&estimate, p, meter.used()));
         self.wear = Some(estimate);

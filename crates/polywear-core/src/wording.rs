@@ -79,6 +79,15 @@ pub fn did_you_mean<'a>(typed: &str, candidates: impl IntoIterator<Item = &'a st
         .unwrap_or_default()
 }
 
+/// `text` with its first letter in upper case, for a sentence that begins with a generated
+/// phrase.
+pub fn capitalise(text: &str) -> String {
+    let mut c = text.chars();
+    c.next()
+        .map(|f| f.to_uppercase().chain(c).collect())
+        .unwrap_or_default()
+}
+
 /// A whole number with thousands separators, rounded: 40,000. Negative numbers keep their sign.
 pub fn thousands(x: f64) -> String {
     let digits = format!("{}", x.round().abs() as u64);

@@ -16,6 +16,7 @@ use super::wear_risk::{sample_weight, WearAnalysis};
 use super::{AnalysisError, RunInfo};
 use polywear_core::model::{Variant, Wheel};
 use polywear_study::calibration_band::evaluate::{verify, BAND_FILE, RUN_SET};
+use polywear_study::calibration_band::{constant_ranges, CalibratedSet};
 use polywear_study::study::BASELINE;
 
 /// The range of a figure over the calibrated sets.
@@ -88,21 +89,6 @@ pub struct EffectBand {
     pub range: BandRange,
 }
 
-/// One calibrated set as the band's file records it.
-#[derive(Debug, Clone, PartialEq, serde::Deserialize)]
-pub struct BandSet {
-    /// Its name.
-    pub id: String,
-    /// Whether it is the nominal set.
-    pub nominal: bool,
-    /// φ_s.
-    pub wear_share_straight: f64,
-    /// σ_V \[km/h\].
-    pub speed_spread_kmh: f64,
-    /// k_d.
-    pub wear_rate_driven_factor: f64,
-}
-
 /// The band of a run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CalibrationBand {
@@ -113,7 +99,7 @@ pub struct CalibrationBand {
     /// How they were found.
     pub method: String,
     /// The sets.
-    pub sets: Vec<BandSet>,
+    pub sets: Vec<CalibratedSet>,
     /// Samples of the subsample.
     pub samples: u64,
     /// The headline per wheel at each distance.
@@ -163,22 +149,24 @@ impl CalibrationBand {
     /// Each constant's range over the sets, in words: "phi_s 0.05–0.23, sigma_V 2–10 km/h,
     /// k_d 1.5–2".
     pub fn constants_words(&self) -> String {
-        let range = |f: &dyn Fn(&BandSet) -> f64| {
-            let v = self.sets.iter().map(f);
-            let lo = v.clone().fold(f64::INFINITY, f64::min);
-            let hi = v.fold(f64::NEG_INFINITY, f64::max);
-            if lo == hi {
-                format!("{lo}")
-            } else {
-                format!("{lo}–{hi}")
-            }
-        };
-        format!(
-            "phi_s {}, sigma_V {} km/h, k_d {}",
-            range(&|s| s.wear_share_straight),
-            range(&|s| s.speed_spread_kmh),
-            range(&|s| s.wear_rate_driven_factor)
-        )
+        constant_ranges(&self.sets)
+            .iter()
+            .map(|&(id, lo, hi)| {
+                let spec = id.spec();
+                let range = if lo == hi {
+                    format!("{lo}")
+                } else {
+                    format!("{lo}–{hi}")
+                };
+                let unit = if spec.unit == "-" {
+                    String::new()
+                } else {
+                    format!(" {}", spec.unit)
+                };
+                format!("{} {range}{unit}", spec.symbol)
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 
@@ -245,7 +233,7 @@ pub(super) fn band(
                 message: format!("no `{key}` recorded"),
             })
     };
-    let sets: Vec<BandSet> =
+    let sets: Vec<CalibratedSet> =
         serde_json::from_str(&meta("band_sets")?).map_err(|e| AnalysisError::Metadata {
             path: path.clone(),
             message: format!("`band_sets`: {e}"),
@@ -317,16 +305,11 @@ pub(super) fn band(
         let of = |set: &str| {
             p(BASELINE, v, Wheel::Follower, set, k) - p(BASELINE, v, Wheel::Driving, set, k)
         };
-        let full = match (
-            wear.by_distance
-                .iter()
-                .find(|d| d.within_km == km)
-                .and_then(|d| d.answer.occurrence_of(v, Wheel::Follower)),
-            wear.by_distance
-                .iter()
-                .find(|d| d.within_km == km)
-                .and_then(|d| d.answer.occurrence_of(v, Wheel::Driving)),
-        ) {
+        let Some(answer) = wear.by_distance.iter().find(|d| d.within_km == km) else {
+            continue;
+        };
+        let at = |wheel| answer.answer.occurrence_of(v, wheel);
+        let full = match (at(Wheel::Follower), at(Wheel::Driving)) {
             (Some(f), Some(d)) => f.p() - d.p(),
             _ => continue,
         };

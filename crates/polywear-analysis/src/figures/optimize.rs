@@ -3,6 +3,7 @@
 //! objective surface with the nominal tire's stability boundaries, and `report.md`, which says
 //! in words where the optimum is, how flat it is, and whether it sits on the box's edge.
 
+use polywear_core::wording::capitalise;
 use std::path::{Path, PathBuf};
 
 use crate::plot::maps::Overlay;
@@ -460,11 +461,4 @@ fn page(problem: &Problem, solution: &Solution, picture: Option<&Path>) -> Strin
         solution.settings.len()
     );
     s
-}
-
-fn capitalise(text: &str) -> String {
-    let mut c = text.chars();
-    c.next()
-        .map(|f| f.to_uppercase().chain(c).collect())
-        .unwrap_or_default()
 }

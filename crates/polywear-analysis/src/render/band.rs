@@ -2,6 +2,7 @@
 //! sampling interval, its range over the calibrated sets of fitted constants, and the report's
 //! section that says what the band is and which set gives each end.
 
+use polywear_core::wording::capitalise;
 use std::fmt::Write as _;
 
 use crate::analysis::band::{BandRange, CalibrationBand, PairedBand};
@@ -137,11 +138,4 @@ pub fn section(s: &mut String, a: &Analysis) {
         }
     }
     let _ = writeln!(s);
-}
-
-fn capitalise(t: &str) -> String {
-    let mut c = t.chars();
-    c.next().map_or(String::new(), |f| {
-        f.to_uppercase().collect::<String>() + c.as_str()
-    })
 }

@@ -3,6 +3,7 @@
 //! of every effect with its interval. A run whose scenarios all compare with the baseline reads
 //! as it did before `compare_to` existed: the reference is named only where it is another.
 
+use polywear_core::wording::capitalise;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -180,13 +181,6 @@ pub fn section(a: &Analysis, figure: Option<&Path>) -> String {
     }
     let _ = writeln!(s, "Table: `scenarios.csv`, `scenarios.parquet`.\n");
     s
-}
-
-fn capitalise(text: &str) -> String {
-    let mut c = text.chars();
-    c.next()
-        .map(|f| f.to_uppercase().chain(c).collect())
-        .unwrap_or_default()
 }
 
 /// The effects of each scenario together, in the analysis' order (wear first where there).

@@ -16,7 +16,7 @@ use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::{self, PointProblem, WearStage};
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::Params;
-use polywear_core::wear::{FittedConstants, WearAnswer, WearInputs, WheelGrowth};
+use polywear_core::wear::{FittedConstants, WearAnswer, WheelGrowth};
 use rand::SeedableRng;
 use rayon::prelude::*;
 
@@ -150,18 +150,9 @@ impl BandPlan<'_> {
                 .collect();
             let solution = evaluate::solve(&PointProblem::new(point, &self.study.variants, opts));
             for w in &solution.wheels {
-                let inputs = WearInputs {
-                    params: &point,
-                    model: &w.model,
-                    verdict: &w.verdict,
-                    settings: &self.stage.settings,
-                    calibration: &self.stage.calibration,
-                };
-                let growth = if point.speed_kmh == 0.0 {
-                    None
-                } else {
-                    WheelGrowth::new(&inputs, &Meter::new(opts.budget)).ok()
-                };
+                // None where the wheel has no figures (a standstill among them), as the rows.
+                let growth =
+                    WheelGrowth::new(&self.stage.inputs(&point, w), &Meter::new(opts.budget)).ok();
                 let answers = constants
                     .iter()
                     .map(|c| {

@@ -162,18 +162,9 @@ impl CalibrationBand {
         self.nominal().constants() == FittedConstants::of(p)
     }
 
-    /// Each constant's range over the sets, in [`FittedConstants::PARAMS`] order.
+    /// Each constant's range over the sets ([`constant_ranges`]).
     pub fn ranges(&self) -> Vec<(ParamId, f64, f64)> {
-        FittedConstants::PARAMS
-            .iter()
-            .enumerate()
-            .map(|(k, &id)| {
-                let v = self.sets.iter().map(|s| s.constants().values()[k]);
-                let lo = v.clone().fold(f64::INFINITY, f64::min);
-                let hi = v.fold(f64::NEG_INFINITY, f64::max);
-                (id, lo, hi)
-            })
-            .collect()
+        constant_ranges(&self.sets)
     }
 
     /// The file's text (TOML), with a header saying what it is.
@@ -210,6 +201,20 @@ impl CalibrationBand {
              # and reports the range beside the sampling interval. Regenerate with `generated_by`.\n\n{body}"
         )
     }
+}
+
+/// Each constant's (lowest, highest) over `sets`, in [`FittedConstants::PARAMS`] order.
+pub fn constant_ranges(sets: &[CalibratedSet]) -> Vec<(ParamId, f64, f64)> {
+    FittedConstants::PARAMS
+        .iter()
+        .enumerate()
+        .map(|(k, &id)| {
+            let v = sets.iter().map(|s| s.constants().values()[k]);
+            let lo = v.clone().fold(f64::INFINITY, f64::min);
+            let hi = v.fold(f64::NEG_INFINITY, f64::max);
+            (id, lo, hi)
+        })
+        .collect()
 }
 
 /// A number as TOML writes it: `inf`, `-inf` and `nan` spelled as TOML spells them, and a

@@ -12,7 +12,7 @@ use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::{WearStage, WheelSolution};
 use polywear_core::params::Params;
 use polywear_core::wear::estimator::distance_to_visible_km;
-use polywear_core::wear::{FittedConstants, WearInputs, WheelGrowth};
+use polywear_core::wear::{FittedConstants, WheelGrowth};
 
 /// The highest order followed along a cycle: the seed's band (MODEL.md#step-12-feedback). A step
 /// slower than about 25 km/h puts ν above it; its orders near ν are not followed (their
@@ -50,14 +50,7 @@ pub fn step_growth(
     stage: &WearStage,
     options: &ClassifierOptions,
 ) -> (Vec<f64>, Option<BandGrowth>) {
-    let inputs = WearInputs {
-        params: p,
-        model: &wheel.model,
-        verdict: &wheel.verdict,
-        settings: &stage.settings,
-        calibration: &stage.calibration,
-    };
-    let Ok(growth) = WheelGrowth::new(&inputs, &Meter::new(options.budget)) else {
+    let Ok(growth) = WheelGrowth::new(&stage.inputs(p, wheel), &Meter::new(options.budget)) else {
         return (Vec::new(), None);
     };
     let orders = 1..=CYCLE_ORDERS_MAX;
