@@ -231,6 +231,8 @@ pub struct WheelGrowth {
     r_b: f64,
     seed_m: f64,
     visible_m: f64,
+    /// ln(d_visible / 2R⁰), the locked print's logarithm (kept: the band asks it per set).
+    print_log_ratio: f64,
     share: f64,
     spread_mps: f64,
 }
@@ -279,6 +281,7 @@ impl WheelGrowth {
             r_b: p.r_b,
             seed_m: p.seed_runout_um * 1e-6,
             visible_m: p.visible_depth_mm * 1e-3,
+            print_log_ratio: (p.visible_depth_mm * 1e-3 / (2.0 * (p.seed_runout_um * 1e-6))).ln(),
             share: p.wear_share_straight,
             spread_mps: p.speed_spread_kmh / 3.6,
         })
@@ -311,6 +314,42 @@ impl WheelGrowth {
     /// means and k_d through λ_other and the life: the loop is not solved again, so the
     /// calibration band costs a few order evaluations per set (MODEL.md#the-calibration-band).
     pub fn answer_with(&self, c: &FittedConstants) -> WearAnswer {
+        self.answers_with(std::slice::from_ref(c))
+            .pop()
+            .expect("one set, one answer")
+    }
+
+    /// [`WheelGrowth::answer_with`] of every set in `sets`, in order, each equal to it bit for
+    /// bit. What depends on the speed spread alone (the poles' normal means, the share of the
+    /// spread in the tongue) is evaluated once per distinct σ_V, so a band of many sets on a
+    /// few spreads costs little more than those spreads (the shipped band: 96 sets, 9 spreads).
+    pub fn answers_with(&self, sets: &[FittedConstants]) -> Vec<WearAnswer> {
+        let fixed: Vec<OrderFixed> = orders_around(self.nu())
+            .map(|n| self.order_fixed(n))
+            .collect();
+        let mut by_spread: Vec<(u64, Vec<SpreadTerms>)> = Vec::new();
+        sets.iter()
+            .map(|c| {
+                let spread_mps = c.speed_spread_kmh / 3.6;
+                let key = spread_mps.to_bits();
+                let k = match by_spread.iter().position(|(b, _)| *b == key) {
+                    Some(k) => k,
+                    None => {
+                        let terms = fixed
+                            .iter()
+                            .map(|f| self.spread_terms(f, spread_mps))
+                            .collect();
+                        by_spread.push((key, terms));
+                        by_spread.len() - 1
+                    }
+                };
+                self.answer_from(c, &by_spread[k].1)
+            })
+            .collect()
+    }
+
+    /// The answer under `c` from its spread's terms, one per order of [`orders_around`] ν.
+    fn answer_from(&self, c: &FittedConstants, terms: &[SpreadTerms]) -> WearAnswer {
         let share = c.wear_share_straight;
         let position_rate = if self.driven_position {
             c.wear_rate_driven_factor * wear_rate_ref_m_per_m(&self.params)
@@ -318,9 +357,9 @@ impl WheelGrowth {
             wear_rate_ref_m_per_m(&self.params)
         };
         let other_per_share = position_rate * self.feedback.local_per_m;
-        let spread_mps = c.speed_spread_kmh / 3.6;
-        let top = orders_around(self.nu())
-            .map(|n| self.order_at(n, share, spread_mps, other_per_share))
+        let top = terms
+            .iter()
+            .map(|t| self.order_from(t, share, other_per_share))
             .max_by(|a, b| {
                 a.growth_rate_per_1000km
                     .total_cmp(&b.growth_rate_per_1000km)
@@ -373,75 +412,114 @@ impl WheelGrowth {
         spread_mps: f64,
         other_per_share: f64,
     ) -> OrderGrowth {
+        let terms = self.spread_terms(&self.order_fixed(order), spread_mps);
+        self.order_from(&terms, share, other_per_share)
+    }
+
+    /// What order `order`'s growth takes from the wheel alone: the zone's transfer, the
+    /// forcing and the tongue (its uniform mean kept once asked for).
+    fn order_fixed(&self, order: u32) -> OrderFixed {
         let n = order as f64;
-        let r = &self.response;
-        let fb = &self.feedback;
-        let v = self.speed_mps;
-        let h = fb.zone.transfer(n, self.r_b);
         // The cycle locks to a seed-sized polygon in a band of speeds around V_n.
         let (lock_speed_mps, lock_mps) = self.tongue_mps(n, self.seed_m);
-        let even = share * self.even_per_share;
-        let other = (1.0 - share) * other_per_share;
-        let linear = |g: Complex64| self.linear_per_m(n, share, other, g);
-        let (mut beta, regenerative) =
-            linear(r.transfer.mean_over_speed(n, self.r_b, v, spread_mps));
-        // Inside the tongue the order grows by the locked print instead of the linear loop:
-        // over the share of the spread there, the loop's own mean over the band (uniform, the
-        // spread's density taken as flat across it) is replaced; with no spread, the whole.
-        let locked_share = band_share(lock_speed_mps, lock_mps, v, spread_mps);
-        if locked_share > NEGLIGIBLE_LOCKED_SHARE {
-            let in_band = if spread_mps > 0.0 {
-                let band = r.transfer.mean_over_band(
-                    n,
-                    self.r_b,
-                    lock_speed_mps - lock_mps,
-                    lock_speed_mps + lock_mps,
-                );
-                linear(band).0
-            } else {
-                beta
-            };
-            let locked =
-                self.locked_print_per_m(even, h.norm()) - other - self.slip_per_m(n, share);
-            beta += locked_share * (locked - in_band);
-        }
-        OrderGrowth {
+        OrderFixed {
             order,
-            detuning_rev: r.nu - n,
-            growth_rate_per_1000km: beta * PER_1000KM_PER_PER_M,
-            regenerative_per_1000km: regenerative * PER_1000KM_PER_PER_M,
-            lock_halfwidth_kmh: lock_mps * 3.6,
-            locked_share,
+            zone: self.feedback.zone.transfer(n, self.r_b),
+            forcing: self.feedback.forcing_per_radius(n),
+            lock_speed_mps,
+            lock_mps,
+            over_tongue: std::cell::OnceCell::new(),
         }
     }
 
-    /// β of the linear loop of order `n` at φ_s = `share`, λ_other = `other` \[1/m\], for the
-    /// forcing's (mean) transfer `g`, and its regenerative part (the one through the tread)
-    /// \[1/m\].
-    fn linear_per_m(&self, n: f64, share: f64, other: f64, g: Complex64) -> (f64, f64) {
+    /// What order `f.order`'s growth takes from a speed spread of `spread_mps` \[m/s\],
+    /// before φ_s and λ_other enter: the forcing's normal mean over the spread, the share of
+    /// the spread inside the tongue and, where that share counts, the forcing's uniform mean
+    /// over the tongue.
+    fn spread_terms(&self, f: &OrderFixed, spread_mps: f64) -> SpreadTerms {
+        let n = f.order as f64;
+        let r = &self.response;
+        let v = self.speed_mps;
+        let mean = r.transfer.mean_over_speed(n, self.r_b, v, spread_mps);
+        let locked_share = band_share(f.lock_speed_mps, f.lock_mps, v, spread_mps);
+        let over_tongue = (locked_share > NEGLIGIBLE_LOCKED_SHARE && spread_mps > 0.0).then(|| {
+            *f.over_tongue.get_or_init(|| {
+                r.transfer.mean_over_band(
+                    n,
+                    self.r_b,
+                    f.lock_speed_mps - f.lock_mps,
+                    f.lock_speed_mps + f.lock_mps,
+                )
+            })
+        });
+        SpreadTerms {
+            order: f.order,
+            zone: f.zone,
+            forcing: f.forcing,
+            mean,
+            lock_mps: f.lock_mps,
+            locked_share,
+            over_tongue,
+        }
+    }
+
+    /// Order `t.order`'s growth at φ_s = `share` and λ_other per unit (1 − φ_s) =
+    /// `other_per_share` \[1/m\], from its spread's terms.
+    fn order_from(&self, t: &SpreadTerms, share: f64, other_per_share: f64) -> OrderGrowth {
+        let n = t.order as f64;
+        let even = share * self.even_per_share;
+        let other = (1.0 - share) * other_per_share;
+        let linear = |g: Complex64| self.linear_per_m(t, share, other, g);
+        let (mut beta, regenerative) = linear(t.mean);
+        // Inside the tongue the order grows by the locked print instead of the linear loop:
+        // over the share of the spread there, the loop's own mean over the band (uniform, the
+        // spread's density taken as flat across it) is replaced; with no spread, the whole.
+        if t.locked_share > NEGLIGIBLE_LOCKED_SHARE {
+            let in_band = match t.over_tongue {
+                Some(g) => linear(g).0,
+                None => beta,
+            };
+            let locked =
+                self.locked_print_per_m(even, t.zone.norm()) - other - self.slip_per_m(t, share);
+            beta += t.locked_share * (locked - in_band);
+        }
+        OrderGrowth {
+            order: t.order,
+            detuning_rev: self.response.nu - n,
+            growth_rate_per_1000km: beta * PER_1000KM_PER_PER_M,
+            regenerative_per_1000km: regenerative * PER_1000KM_PER_PER_M,
+            lock_halfwidth_kmh: t.lock_mps * 3.6,
+            locked_share: t.locked_share,
+        }
+    }
+
+    /// β of the linear loop of order `t.order` at φ_s = `share`, λ_other = `other` \[1/m\],
+    /// for the forcing's (mean) transfer `g`, and its regenerative part (the one through the
+    /// tread) \[1/m\].
+    fn linear_per_m(&self, t: &SpreadTerms, share: f64, other: f64, g: Complex64) -> (f64, f64) {
         let fb = &self.feedback;
-        let h = fb.zone.transfer(n, self.r_b);
-        let through_tread = g * h.conj() * fb.forcing_per_radius(n);
+        let h = t.zone;
+        let through_tread = g * h.conj() * t.forcing;
         let gain = Complex64::new(fb.local_per_m * (1.0 - h.norm_sqr()), 0.0) + through_tread;
         let even = share * self.even_per_share;
         (
-            -even * gain.re - other - self.slip_per_m(n, share),
+            -even * gain.re - other - self.slip_per_m(t, share),
             -even * through_tread.re,
         )
     }
 
-    /// The slip power's part of β for order `n` at φ_s = `share` \[1/m\]: its wear shared by
-    /// pressure within the zone levels by κ(1 − |H_w|²), and its zone total follows the
-    /// profile's ε with G_x (at the frozen slip ratio) through conj(H_w) e_n, as the lateral
+    /// The slip power's part of β for order `t.order` at φ_s = `share` \[1/m\]: its wear
+    /// shared by pressure within the zone levels by κ(1 − |H_w|²), and its zone total follows
+    /// the profile's ε with G_x (at the frozen slip ratio) through conj(H_w) e_n, as the lateral
     /// power does with G (MODEL.md#the-driving-wheels-slip-power). Positive: it levels.
-    fn slip_per_m(&self, n: f64, share: f64) -> f64 {
+    fn slip_per_m(&self, t: &SpreadTerms, share: f64) -> f64 {
         let even = share * self.slip_even_per_share;
         if even == 0.0 {
             return 0.0;
         }
         let fb = &self.feedback;
-        let h = fb.zone.transfer(n, self.r_b);
-        let through = (h.conj() * fb.forcing_per_radius(n)).re * self.slip_gain;
+        let h = t.zone;
+        let through = (h.conj() * t.forcing).re * self.slip_gain;
         even * (fb.local_per_m * (1.0 - h.norm_sqr()) + through)
     }
 
@@ -468,8 +546,43 @@ impl WheelGrowth {
         if visible <= seed {
             return f64::INFINITY;
         }
-        (visible / seed).ln() * rise / (visible - seed)
+        self.print_log_ratio * rise / (visible - seed)
     }
+}
+
+/// The part of one order's growth that depends on the wheel alone.
+#[derive(Debug, Clone)]
+struct OrderFixed {
+    order: u32,
+    /// H_w(n), the wear zone's transfer.
+    zone: Complex64,
+    /// e_n, the forcing per unit radius.
+    forcing: Complex64,
+    /// The tongue's centre and half-width \[m/s\].
+    lock_speed_mps: f64,
+    lock_mps: f64,
+    /// The forcing's uniform mean over the tongue, once a spread reaches into it.
+    over_tongue: std::cell::OnceCell<Complex64>,
+}
+
+/// The part of one order's growth that does not depend on φ_s or k_d: the order's zone transfer
+/// and forcing, and what the speed spread gives it ([`WheelGrowth::answers_with`] keeps it per
+/// spread).
+#[derive(Debug, Clone, Copy)]
+struct SpreadTerms {
+    order: u32,
+    /// H_w(n), the wear zone's transfer.
+    zone: Complex64,
+    /// e_n, the forcing per unit radius.
+    forcing: Complex64,
+    /// Ḡ, the forcing's transfer averaged over the normal spread.
+    mean: Complex64,
+    /// Half-width of the tongue \[m/s\].
+    lock_mps: f64,
+    /// The share of the spread inside it.
+    locked_share: f64,
+    /// The transfer's uniform mean over the tongue, where the spread reaches into it.
+    over_tongue: Option<Complex64>,
 }
 
 /// The share of speeds normal around `mean_mps` (deviation `spread_mps`) within ±`half_mps` of

@@ -3,10 +3,11 @@
 //! calibration band.
 //!
 //! Each wheel of a subsample's point is classified as in the run and its closed loop solved once
-//! ([`WheelGrowth`]); its answer under the run's own constants and under each set then costs a
-//! few order evaluations ([`WheelGrowth::answer_with`]). The run's own answer equals the run's
-//! rows (tested), which is what lets the report move the full run's figures by the band's
-//! differences on the subsample.
+//! ([`WheelGrowth`]); its answers under the run's own constants and under every set then cost
+//! a few order evaluations per distinct speed spread, and a little arithmetic per set
+//! ([`WheelGrowth::answers_with`]). The run's own answer equals the run's rows (tested), which
+//! is what lets the report move the full run's figures by the band's differences on the
+//! subsample.
 
 use std::path::{Path, PathBuf};
 
@@ -153,14 +154,10 @@ impl BandPlan<'_> {
                 // None where the wheel has no figures (a standstill among them), as the rows.
                 let growth =
                     WheelGrowth::new(&self.stage.inputs(&point, w), &Meter::new(opts.budget)).ok();
-                let answers = constants
-                    .iter()
-                    .map(|c| {
-                        growth
-                            .as_ref()
-                            .map_or(WearAnswer::UNKNOWN, |g| g.answer_with(c))
-                    })
-                    .collect();
+                let answers = match &growth {
+                    Some(g) => g.answers_with(&constants),
+                    None => vec![WearAnswer::UNKNOWN; constants.len()],
+                };
                 wheels.push(BandWheel {
                     block,
                     variant: w.record.variant,
