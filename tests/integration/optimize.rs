@@ -490,3 +490,126 @@ fn ctrl_c_during_the_search_says_what_is_left() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The calibration band (MODEL.md#the-calibration-band) in `optimize`: the run's own surface is
+/// the one without a band, row for row; under a set, the optimum and the objective at the
+/// run's optimum are those of a run made with that set's constants in `--params`; a band where
+/// nothing weighs wear, or over a varied constant of the sets, is refused when asked for.
+#[test]
+fn the_optimum_under_each_calibrated_set_is_the_run_made_with_that_set() {
+    let dir = tmp("band");
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "optimize",
+            STUDY,
+            "--vary",
+            "toe_deg=0.05..0.40",
+            "--objective",
+            "wear",
+            "--wheel",
+            "follower",
+            "--samples",
+            "300",
+            "--grid",
+            "5",
+            "--levels",
+            "0",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let (code, stdout, stderr) = polywear(&args);
+        assert_eq!(code, 0, "{stderr}");
+        (out, stdout)
+    };
+    let (banded, stdout) = run("banded", &[]);
+    assert!(stdout.contains("; calibration band "), "{stdout}");
+    assert!(
+        stdout.contains("under each of the 96 calibrated sets (data/calibration_band.toml)"),
+        "{stdout}"
+    );
+    let (off, stdout_off) = run("off", &["--calibration-band", "off"]);
+    assert!(!stdout_off.contains("calibration band"), "{stdout_off}");
+    assert!(!off.join("calibration_band.parquet").exists());
+    let surface = |d: &Path| -> Vec<(f64, f64)> {
+        rows(&d.join("surface.parquet"))
+            .iter()
+            .map(|r| (number(&r["toe_deg"]), number(&r["objective"])))
+            .collect()
+    };
+    assert_eq!(surface(&banded), surface(&off));
+    let run_optimum = number(&rows(&banded.join("optimum.parquet"))[0]["toe_deg"]);
+    let sets = rows(&banded.join("calibration_band.parquet"));
+    assert_eq!(sets.len(), 96);
+    let text = |f: &parquet::record::Field| match f {
+        parquet::record::Field::Str(s) => s.clone(),
+        other => other.to_string(),
+    };
+    let mut moved = 0;
+    for set in [&sets[0], &sets[95]] {
+        let params = dir.join(format!("{}.toml", text(&set["set"])));
+        std::fs::write(
+            &params,
+            format!(
+                "[params]\nwear_share_straight = {}\nspeed_spread_kmh = {}\nwear_rate_driven_factor = {}\n",
+                number(&set["wear_share_straight"]),
+                number(&set["speed_spread_kmh"]),
+                number(&set["wear_rate_driven_factor"])
+            ),
+        )
+        .unwrap();
+        let (with, _) = run(
+            &text(&set["set"]),
+            &[
+                "--calibration-band",
+                "off",
+                "--params",
+                params.to_str().unwrap(),
+            ],
+        );
+        let best = &rows(&with.join("optimum.parquet"))[0];
+        assert_eq!(number(&best["toe_deg"]), number(&set["toe_deg"]));
+        assert_eq!(number(&best["objective"]), number(&set["objective"]));
+        let at_run = surface(&with)
+            .into_iter()
+            .find(|(toe, _)| *toe == run_optimum)
+            .unwrap()
+            .1;
+        assert_eq!(at_run, number(&set["objective_at_run_optimum"]));
+        if surface(&with) != surface(&off) {
+            moved += 1;
+        }
+    }
+    assert_eq!(moved, 2, "a set's constants moved no objective");
+    // Refused when asked for where it cannot apply; the default band is then left out.
+    let shipped = "data/calibration_band.toml";
+    for (extra, says) in [
+        (
+            vec!["--objective", "vibration", "--calibration-band", shipped],
+            "neither the objective nor a constraint weighs wear",
+        ),
+        (
+            vec![
+                "--vary",
+                "wear_share_straight=0.1..0.2",
+                "--calibration-band",
+                shipped,
+            ],
+            "--vary wear_share_straight varies a constant the calibrated sets fix",
+        ),
+    ] {
+        let out = dir.join("refused");
+        let mut args = vec!["optimize", STUDY, "--samples", "20", "--quiet"];
+        if extra[0] != "--vary" {
+            args.extend(["--vary", "toe_deg=0.05..0.40"]);
+        }
+        args.extend(extra.iter().copied());
+        args.extend(["--out", out.to_str().unwrap()]);
+        let (code, _, stderr) = polywear(&args);
+        assert_eq!(code, 2, "{stderr}");
+        assert!(stderr.contains(says), "{stderr}");
+        assert!(!out.exists(), "work was done: {}", out.display());
+    }
+}

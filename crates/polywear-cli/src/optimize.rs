@@ -15,7 +15,7 @@ use polywear_core::wording::plain;
 use polywear_study::optimize::evaluate::{solve, Progress};
 use polywear_study::optimize::objective::{parse_terms, Objective, Term, WheelChoice};
 use polywear_study::optimize::search::SearchOptions;
-use polywear_study::optimize::{Problem, ProblemSpec};
+use polywear_study::optimize::{Problem, ProblemBand, ProblemSpec};
 use polywear_study::study::{Study, DEFAULT_STUDY, SEED_MAX};
 
 #[derive(Debug, Args)]
@@ -55,6 +55,13 @@ pub struct OptimizeArgs {
     /// (`vibration:driving<=0.3`, a probability in [0, 1])
     #[arg(long, value_name = "NAME<=V|NAME>=V")]
     pub constraint: Vec<String>,
+    /// The calibration band: a file of calibrated sets of the fitted wear constants (phi_s,
+    /// sigma_V, k_d; TOML as data/calibration_band.toml), or `off` for the nominal constants'
+    /// answer alone. Default: the shipped sets, when the objective or a constraint weighs wear.
+    /// Every setting's wear answer is re-evaluated under each set on the same samples (closed
+    /// form, no second classification), and the optimum under each set is reported
+    #[arg(long, value_name = "FILE|off")]
+    pub calibration_band: Option<String>,
     /// Samples of the study every setting is evaluated on (1e4 and 10_000 work), accepted
     /// [1, 1e7]
     #[arg(long, value_name = "N", default_value = "10000", allow_negative_numbers = true, value_parser = parse_samples)]
@@ -187,6 +194,18 @@ pub fn run(args: &OptimizeArgs) -> CliResult {
         ),
     )?;
     if !args.quiet {
+        match (&problem.band, &problem.band_note) {
+            (Some(b), _) => eprintln!(
+                "calibration band: {} sets from {}, each setting's wear answer under every set on the same samples",
+                b.sets.sets.len(),
+                b.source
+            ),
+            (None, Some(note)) => eprintln!("note: {note}"),
+            (None, None) if args.calibration_band.as_deref() == Some("off") => eprintln!(
+                "calibration band: off (--calibration-band off): the optimum is the nominal constants' alone, with its sampling interval only"
+            ),
+            (None, None) => {}
+        }
         eprintln!(
             "{}: {} of {} samples (seed {}, variant {}), {}, {} threads -> {}",
             problem.study.name,
@@ -323,5 +342,12 @@ fn problem(args: &OptimizeArgs) -> CliResult<Problem> {
             keep: args.keep,
         },
         accept_implausible: args.accept_implausible,
+        band: super::common::calibration_band(args.calibration_band.as_deref())?.map(
+            |(sets, source)| ProblemBand {
+                sets,
+                source,
+                given: args.calibration_band.is_some(),
+            },
+        ),
     })?)
 }

@@ -70,12 +70,17 @@ pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
         .map(|(a, v)| format!("{} = {}", a.param, plain(*v, 4)))
         .collect();
     lines.push(format!(
-        "optimum: {}: {} {} (95% interval {} to {}) over {} samples",
+        "optimum: {}: {} {} (95% interval {} to {}{}) over {} samples",
         at.join(", "),
         problem.objective.text(),
         pct(best.objective.value),
         pct(best.objective.low),
         pct(best.objective.high),
+        band_range(best).map_or(String::new(), |(lo, hi)| format!(
+            "; calibration band {:.1}–{:.1}%",
+            100.0 * lo,
+            100.0 * hi
+        )),
         best.objective.n
     ));
     let within = solution.within_best();
@@ -138,6 +143,121 @@ pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
             plain(end, 6)
         ));
     }
+    lines.extend(band_lines(problem, solution));
+    if let Some(note) = &problem.band_note {
+        lines.push(note.clone());
+    }
+    lines
+}
+
+/// The range of a setting's objective over the calibrated sets (None without a band, or where
+/// no set gives it a value).
+fn band_range(s: &polywear_study::optimize::Setting) -> Option<(f64, f64)> {
+    let (lo, hi) = s
+        .band
+        .iter()
+        .map(|e| e.objective.value)
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+            (l.min(v), h.max(v))
+        });
+    (lo <= hi).then_some((lo, hi))
+}
+
+/// What the calibrated sets do to the answer (MODEL.md#the-calibration-band): where the
+/// optimum lies under each set, whether it moves, whether the run's optimum stays within each
+/// set's best interval, and the box's edge in words where every set puts the optimum there.
+fn band_lines(problem: &Problem, solution: &Solution) -> Vec<String> {
+    let (Some(band), Some(b)) = (&problem.band, solution.best) else {
+        return Vec::new();
+    };
+    let optima = solution.band_optima();
+    if optima.is_empty() {
+        return Vec::new();
+    }
+    let sets = optima.len();
+    let found: Vec<usize> = optima.iter().flatten().copied().collect();
+    let mut lines = Vec::new();
+    let none = sets - found.len();
+    let staying = found.iter().filter(|&&i| i == b).count();
+    let places: Vec<String> = problem
+        .axes
+        .iter()
+        .enumerate()
+        .map(|(k, a)| {
+            let (lo, hi) = found
+                .iter()
+                .map(|&i| solution.settings[i].values[k])
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+                    (l.min(v), h.max(v))
+                });
+            if lo == hi {
+                format!("{} = {}", a.param, plain(lo, 4))
+            } else {
+                format!("{} from {} to {}", a.param, plain(lo, 4), plain(hi, 4))
+            }
+        })
+        .collect();
+    let held = (0..sets)
+        .filter(|&k| {
+            let Some(o) = optima[k] else { return false };
+            let at_run = &solution.settings[b].band[k];
+            at_run.feasible && at_run.objective.value <= solution.settings[o].band[k].objective.high
+        })
+        .count();
+    let moves = if staying == found.len() {
+        format!("the optimum stays at {} under every set", places.join(", "))
+    } else {
+        format!(
+            "the optimum moves with the constants: {} ({} of {} sets put it elsewhere than the run's constants do)",
+            places.join(", "),
+            found.len() - staying,
+            found.len()
+        )
+    };
+    lines.push(format!(
+        "under each of the {sets} calibrated sets ({}), among the {} settings evaluated: {moves}; the run's optimum lies within the set's own best interval under {held} of {sets}{}",
+        band.source,
+        solution.settings.len(),
+        if none > 0 {
+            format!("; {none} sets leave no setting that meets the constraints")
+        } else {
+            String::new()
+        }
+    ));
+    // The box's edge in words, where every set's optimum sits on it as the run's does.
+    let run_edges = solution.on_edge();
+    if !run_edges.is_empty()
+        && none == 0
+        && found.iter().all(|&i| solution.edges_of(i) == run_edges)
+    {
+        let words: Vec<String> = run_edges
+            .iter()
+            .map(|&(k, side)| {
+                let a = &problem.axes[k];
+                let (how, end) = if side == "lower" {
+                    ("little", a.lo)
+                } else {
+                    ("much", a.hi)
+                };
+                format!("as {how} {} as the box allows ({})", a.param, plain(end, 6))
+            })
+            .collect();
+        lines.push(format!(
+            "under every calibrated set the answer is the edge of the box: {}",
+            words.join(", ")
+        ));
+    } else {
+        let on_edge = found
+            .iter()
+            .filter(|&&i| !solution.edges_of(i).is_empty())
+            .count();
+        if on_edge > 0 {
+            lines.push(format!(
+                "{on_edge} of {sets} calibrated sets put the optimum on the box's edge"
+            ));
+        }
+    }
     lines
 }
 
@@ -165,6 +285,17 @@ pub fn write(
     let surface = dir.join("surface.parquet");
     write_table(&surface, &surface_columns(problem, solution), metadata)?;
     written.push(surface);
+    let band_file = dir.join(BAND_FILE);
+    match band_columns(problem, solution) {
+        Some(cols) => {
+            write_table(&band_file, &cols, metadata)?;
+            written.push(band_file);
+        }
+        // None of an earlier run's sets beside this run's files.
+        None => {
+            std::fs::remove_file(&band_file).ok();
+        }
+    }
     let picture = FigureFile::named(dir, "surface", format);
     let drawn = draw(problem, solution, &picture)?;
     let text = page(problem, solution, drawn.then_some(picture.path.as_path()));
@@ -207,6 +338,69 @@ fn optimum_columns(problem: &Problem, solution: &Solution) -> Vec<Column> {
         cols.push(Column::f64(name, "-", vec![v.unwrap_or(f64::NAN)]));
     }
     cols
+}
+
+/// The optimum under each calibrated set, one row per set.
+pub const BAND_FILE: &str = "calibration_band.parquet";
+
+/// [`BAND_FILE`]'s columns: the set and its constants, its optimum (a column per varied
+/// parameter, the objective with its interval, the box edges it sits on), and the objective at
+/// the run's optimum under the set; None without a band.
+fn band_columns(problem: &Problem, solution: &Solution) -> Option<Vec<Column>> {
+    let band = problem.band.as_ref()?;
+    let optima = solution.band_optima();
+    if optima.len() != band.sets.sets.len() {
+        return None;
+    }
+    let sets = &band.sets.sets;
+    let s = &solution.settings;
+    let at = |k: usize, get: &dyn Fn(usize) -> f64| optima[k].map_or(f64::NAN, get);
+    let f = |name: &str, unit: &'static str, get: &dyn Fn(usize) -> f64| {
+        Column::f64(name, unit, (0..sets.len()).map(get).collect())
+    };
+    let mut cols = vec![
+        Column::str("set", sets.iter().map(|c| c.id.clone()).collect()),
+        Column::i64(
+            "nominal",
+            "",
+            sets.iter().map(|c| i64::from(c.nominal)).collect(),
+        ),
+        f("wear_share_straight", "-", &|k| sets[k].wear_share_straight),
+        f("speed_spread_kmh", "km/h", &|k| sets[k].speed_spread_kmh),
+        f("wear_rate_driven_factor", "-", &|k| {
+            sets[k].wear_rate_driven_factor
+        }),
+    ];
+    for (j, a) in problem.axes.iter().enumerate() {
+        cols.push(f(a.param.name(), a.param.spec().unit, &|k| {
+            at(k, &|i| s[i].values[j])
+        }));
+    }
+    let objective = |k: usize, i: usize| s[i].band[k].objective;
+    cols.extend([
+        f("objective", "-", &|k| at(k, &|i| objective(k, i).value)),
+        f("objective_low", "-", &|k| at(k, &|i| objective(k, i).low)),
+        f("objective_high", "-", &|k| at(k, &|i| objective(k, i).high)),
+        f("objective_at_run_optimum", "-", &|k| {
+            solution.best.map_or(f64::NAN, |b| objective(k, b).value)
+        }),
+        Column::str(
+            "on_edge",
+            (0..sets.len())
+                .map(|k| {
+                    optima[k].map_or(String::new(), |i| {
+                        solution
+                            .edges_of(i)
+                            .iter()
+                            .map(|&(j, side)| format!("{} {side}", problem.axes[j].param))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    })
+                })
+                .collect(),
+        ),
+    ]);
+    Some(cols)
 }
 
 /// `surface.parquet`: one row per setting evaluated, in order.
@@ -454,11 +648,21 @@ fn page(problem: &Problem, solution: &Solution, picture: Option<&Path>) -> Strin
         "The search: a {}-point grid per axis, refined {} times (each halving the step) around \
          the best {} settings within the best's interval; {} settings evaluated. Files: \
          `optimum.csv` (and `optimum.parquet` with the metadata), `surface.parquet` (every \
-         setting, with its paired difference from the best).",
+         setting, with its paired difference from the best){}.",
         problem.search.grid,
         problem.search.levels,
         problem.search.keep,
-        solution.settings.len()
+        solution.settings.len(),
+        match &problem.band {
+            Some(b) => format!(
+                ", `{BAND_FILE}` (the optimum under each of the {} calibrated sets of `{}`, \
+                 found among the same settings: each setting's wear answer re-evaluated under \
+                 every set on the same samples, in closed form)",
+                b.sets.sets.len(),
+                b.source
+            ),
+            None => String::new(),
+        }
     );
     s
 }

@@ -4,17 +4,20 @@
 
 use polywear_core::ensemble::{self, Control};
 
-use super::objective::{Outcomes, Term, UNKNOWN};
+use super::objective::{Estimate, Outcomes, Term, UNKNOWN};
 use super::search::{search, Value};
-use super::{collect, Problem, Setting, Solution};
+use super::{collect, Problem, SetEstimate, Setting, Solution};
 use crate::explore::evaluate_params;
 use crate::parquet_out::ColumnData;
 use crate::study::ParamChange;
+use polywear_core::classify::budget::Meter;
 use polywear_core::classify::outcome_code;
+use polywear_core::evaluate::{self, PointProblem, WearStage};
 use polywear_core::model::Wheel;
 use polywear_core::params::Params;
 use polywear_core::records::DISTANCE_COLUMN;
 use polywear_core::records::{record_columns, WheelRecord, WEAR_COLUMNS};
+use polywear_core::wear::{FittedConstants, WearAnswer, WheelGrowth};
 
 /// Whether this build's rows carry the wear stage's distance to a visible polygon.
 pub fn wear_available() -> bool {
@@ -37,6 +40,12 @@ pub fn solve(problem: &Problem, progress: &Progress<'_>) -> Solution {
     let base: Vec<Params> = ensemble::solve(n, draw, &Control::QUIET).all();
     let wear =
         problem.objective.uses_wear() || problem.constraints.iter().any(|c| c.term == Term::Wear);
+    // Each set's constants; a setting's own are the sample's (FittedConstants::of).
+    let sets: Option<Vec<FittedConstants>> = problem
+        .band
+        .as_ref()
+        .filter(|_| wear)
+        .map(|b| b.sets.sets.iter().map(|c| c.constants()).collect());
     let mut settings: Vec<Setting> = Vec::new();
     let mut eval = |units: &[Vec<f64>], level: usize| -> Vec<Value> {
         (progress.level)(level, (units.len() * n) as u64);
@@ -67,32 +76,48 @@ pub fn solve(problem: &Problem, progress: &Progress<'_>) -> Solution {
             for c in &changes[j / n] {
                 p[c.param] = c.change.apply(p[c.param]);
             }
-            let records = evaluate_params(
-                &p,
-                &[problem.variant],
-                &problem.classifier,
-                problem.wear.as_ref(),
-            );
-            outcomes_of(&records, wear.then_some(problem.within_km))
+            match (&sets, problem.wear.as_ref()) {
+                (Some(sets), Some(stage)) => banded_outcomes(problem, stage, &p, sets),
+                _ => {
+                    let records = evaluate_params(
+                        &p,
+                        &[problem.variant],
+                        &problem.classifier,
+                        problem.wear.as_ref(),
+                    );
+                    let o = outcomes_of(&records, wear.then_some(problem.within_km));
+                    (o, Box::default())
+                }
+            }
         };
         let control = Control {
             progress: progress.done,
             stop: &|| false,
         };
-        let outcomes: Vec<Outcomes> = ensemble::solve(units.len() * n, outcome, &control).all();
+        let (outcomes, band): (Vec<Outcomes>, Vec<Box<[Outcomes]>>) =
+            ensemble::solve(units.len() * n, outcome, &control)
+                .all()
+                .into_iter()
+                .unzip();
         let mut out = Vec::with_capacity(units.len());
-        for ((unit, values), o) in units.iter().zip(values).zip(outcomes.chunks(n)) {
-            let objective = problem.objective.estimate(o);
-            let constrained: Vec<_> = problem
-                .constraints
-                .iter()
-                .map(|c| c.objective().estimate(o))
+        for (((unit, values), o), b) in units
+            .iter()
+            .zip(values)
+            .zip(outcomes.chunks(n))
+            .zip(band.chunks(n))
+        {
+            let (objective, constrained, feasible) = judged(problem, o);
+            let set_count = b.first().map_or(0, |x| x.len());
+            let band: Vec<SetEstimate> = (0..set_count)
+                .map(|k| {
+                    let under: Vec<Outcomes> = b.iter().map(|x| x[k]).collect();
+                    let (objective, _, feasible) = judged(problem, &under);
+                    SetEstimate {
+                        objective,
+                        feasible,
+                    }
+                })
                 .collect();
-            let feasible = problem
-                .constraints
-                .iter()
-                .zip(&constrained)
-                .all(|(c, e)| c.holds(e));
             out.push(Value {
                 value: objective.value,
                 high: objective.high,
@@ -106,6 +131,7 @@ pub fn solve(problem: &Problem, progress: &Progress<'_>) -> Solution {
                 constrained,
                 feasible,
                 outcomes: o.to_vec(),
+                band,
             });
         }
         out
@@ -121,6 +147,64 @@ pub fn solve(problem: &Problem, progress: &Progress<'_>) -> Solution {
     };
     let points = search(problem.axes.len(), problem.search, &mut eval, &canonical);
     collect(&points, settings, &problem.objective)
+}
+
+/// A setting's objective, its constraints' estimates and whether they all hold, from its
+/// samples' outcomes.
+fn judged(problem: &Problem, o: &[Outcomes]) -> (Estimate, Vec<Estimate>, bool) {
+    let objective = problem.objective.estimate(o);
+    let constrained: Vec<Estimate> = problem
+        .constraints
+        .iter()
+        .map(|c| c.objective().estimate(o))
+        .collect();
+    let feasible = problem
+        .constraints
+        .iter()
+        .zip(&constrained)
+        .all(|(c, e)| c.holds(e));
+    (objective, constrained, feasible)
+}
+
+/// A sample's outcomes under its own constants and under each set of the band: the point
+/// classified once, each wheel's closed loop solved once ([`WheelGrowth`]), then its answer
+/// under every set's constants in closed form ([`WheelGrowth::answers_with`]). The first is
+/// the outcome the rows give (the band's `run` answer equals the row's, tested).
+fn banded_outcomes(
+    problem: &Problem,
+    stage: &WearStage,
+    p: &Params,
+    sets: &[FittedConstants],
+) -> (Outcomes, Box<[Outcomes]>) {
+    let variants = [problem.variant];
+    let solution = evaluate::solve(&PointProblem::new(*p, &variants, &problem.classifier));
+    let constants: Vec<FittedConstants> = std::iter::once(FittedConstants::of(p))
+        .chain(sets.iter().map(|c| FittedConstants::of(&c.applied_to(p))))
+        .collect();
+    let mut under = vec![Outcomes::default(); constants.len()];
+    for w in &solution.wheels {
+        let wheel = w.record.wheel;
+        let vib = outcome_code(w.record.class) as u8;
+        let growth =
+            WheelGrowth::new(&stage.inputs(p, w), &Meter::new(problem.classifier.budget)).ok();
+        let answers = match &growth {
+            Some(g) => g.answers_with(&constants),
+            None => vec![WearAnswer::UNKNOWN; constants.len()],
+        };
+        for (o, a) in under.iter_mut().zip(&answers) {
+            let d = a.distance_to_visible_km;
+            let code = if vib != UNKNOWN && !d.is_nan() {
+                u8::from(d <= problem.within_km)
+            } else {
+                UNKNOWN
+            };
+            *o = o
+                .with(Term::Vibration, wheel, vib)
+                .with(Term::Wear, wheel, code);
+        }
+    }
+    let run = under[0];
+    (run, under[1..].into())
 }
 
 /// A sample's outcomes from its follower and driving records: vibration from the class

@@ -18,6 +18,7 @@ pub mod search;
 
 pub use request::ProblemSpec;
 
+use crate::calibration_band::CalibrationBand;
 use crate::study::{Change, ParamChange, Study, StudyError};
 use objective::{Estimate, Objective, Outcomes, Term, WheelChoice};
 use polywear_core::classify::ClassifierOptions;
@@ -274,6 +275,33 @@ pub struct Problem {
     pub wear: Option<polywear_core::evaluate::WearStage>,
     /// Every constraint as given, the bounds on varied parameters included (in the metadata).
     pub given_constraints: Vec<String>,
+    /// The calibrated sets every setting's wear answer is also evaluated under, on the same
+    /// samples (None: the run's constants alone).
+    pub band: Option<ProblemBand>,
+    /// Why the default band was left out, where it would otherwise have applied.
+    pub band_note: Option<String>,
+}
+
+/// The calibrated sets of an optimisation (MODEL.md#the-calibration-band) and where they come
+/// from.
+#[derive(Debug, Clone)]
+pub struct ProblemBand {
+    /// The sets.
+    pub sets: CalibrationBand,
+    /// A file's path, or [`crate::calibration_band::SHIPPED_NAME`].
+    pub source: String,
+    /// Asked for by name (refused where it cannot apply), not by default (then left out, with
+    /// a note where it would have moved the wear answer).
+    pub given: bool,
+}
+
+/// A setting's objective under one calibrated set, on the same samples.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SetEstimate {
+    /// The objective.
+    pub objective: Estimate,
+    /// Whether every constraint holds under the set.
+    pub feasible: bool,
 }
 
 impl Problem {
@@ -377,6 +405,8 @@ pub struct Setting {
     pub feasible: bool,
     /// Every sample's outcomes, in sample order.
     pub outcomes: Vec<Outcomes>,
+    /// The objective under each calibrated set, in the band's order (empty without a band).
+    pub band: Vec<SetEstimate>,
 }
 
 /// The search's result.
@@ -407,12 +437,37 @@ impl Solution {
             .collect()
     }
 
+    /// The best feasible setting under each calibrated set, among the settings evaluated (the
+    /// search refines around the run's own optimum), ties to the first as
+    /// [`search::best`]'s; empty without a band.
+    pub fn band_optima(&self) -> Vec<Option<usize>> {
+        let sets = self.settings.first().map_or(0, |s| s.band.len());
+        (0..sets)
+            .map(|k| {
+                (0..self.settings.len())
+                    .filter(|&i| {
+                        let e = &self.settings[i].band[k];
+                        e.feasible && e.objective.value.is_finite()
+                    })
+                    .min_by(|&a, &b| {
+                        let v = |i: usize| self.settings[i].band[k].objective.value;
+                        v(a).total_cmp(&v(b)).then(a.cmp(&b))
+                    })
+            })
+            .collect()
+    }
+
     /// The axes on whose edge the best setting lies: (axis index, "lower" or "upper").
     pub fn on_edge(&self) -> Vec<(usize, &'static str)> {
-        let Some(b) = self.best else {
-            return Vec::new();
-        };
-        let unit = &self.settings[b].unit;
+        match self.best {
+            Some(b) => self.edges_of(b),
+            None => Vec::new(),
+        }
+    }
+
+    /// The axes on whose edge setting `i` lies: (axis index, "lower" or "upper").
+    pub fn edges_of(&self, i: usize) -> Vec<(usize, &'static str)> {
+        let unit = &self.settings[i].unit;
         unit.iter()
             .enumerate()
             .filter_map(|(k, &u)| match u {

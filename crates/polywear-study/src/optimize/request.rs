@@ -7,12 +7,13 @@ use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::WearStage;
 use polywear_core::params::ParamId;
 use polywear_core::sampling::design::Design;
+use polywear_core::wear::FittedConstants;
 use polywear_core::wording::plain;
 
 use super::evaluate::wear_available;
 use super::objective::{Objective, Term, WheelChoice};
 use super::search::SearchOptions;
-use super::{Axis, Constraint, Problem, SettingKind};
+use super::{Axis, Constraint, Problem, ProblemBand, SettingKind};
 use crate::param_sources::Refusal;
 use crate::provenance::run_metadata;
 use crate::study::Study;
@@ -40,6 +41,10 @@ pub struct ProblemSpec {
     pub search: SearchOptions,
     /// Box ends outside their plausible range accepted.
     pub accept_implausible: bool,
+    /// The calibrated sets to evaluate every setting's wear answer under as well (None: the
+    /// run's constants alone). Refused where nothing weighs wear, or where a varied parameter
+    /// is one of the sets' constants.
+    pub band: Option<ProblemBand>,
 }
 
 impl Problem {
@@ -80,6 +85,26 @@ impl Problem {
                 ))
             }
         };
+        let (band, band_note) = match spec.band {
+            Some(band) => match band_misfit(wear, &axes) {
+                None => (Some(band), None),
+                Some(why) if band.given => {
+                    return Err(Refusal(format!(
+                        "--calibration-band {}: {why}; leave the flag out or give --calibration-band off",
+                        band.source
+                    )))
+                }
+                // The default band where nothing weighs wear: nothing to say.
+                Some(_) if !wear => (None, None),
+                Some(why) => (
+                    None,
+                    Some(format!(
+                        "the calibration band is left out: {why}; the optimum is the run's constants' alone, with its sampling interval only"
+                    )),
+                ),
+            },
+            None => (None, None),
+        };
         for (a, given) in axes.iter().zip(&spec.vary) {
             check_axis(a, &study, seed, spec.samples, given)?;
         }
@@ -106,6 +131,8 @@ impl Problem {
             within_km: spec.within_km,
             search: spec.search,
             given_constraints: spec.constraints,
+            band,
+            band_note,
         })
     }
     /// The metadata of every output file: the run, the objective, the box, the search.
@@ -141,6 +168,23 @@ impl Problem {
             ),
             ("constraints".into(), json(problem.given_constraints.clone().into())),
             (
+                "calibration_band".into(),
+                match &problem.band {
+                    Some(b) => json(serde_json::json!({
+                        "source": b.source,
+                        "method": b.sets.method,
+                        "sets": b.sets.sets.iter().map(|c| serde_json::json!({
+                            "id": c.id,
+                            "nominal": c.nominal,
+                            "wear_share_straight": c.wear_share_straight,
+                            "speed_spread_kmh": c.speed_spread_kmh,
+                            "wear_rate_driven_factor": c.wear_rate_driven_factor,
+                        })).collect::<Vec<_>>(),
+                    })),
+                    None => "off".into(),
+                },
+            ),
+            (
                 "search".into(),
                 json(serde_json::json!({
                     "grid": problem.search.grid, "levels": problem.search.levels, "keep": problem.search.keep
@@ -149,6 +193,25 @@ impl Problem {
         ]);
         m
     }
+}
+
+/// Why a band cannot apply, if it cannot: it needs a wear answer to move, and a box that
+/// leaves the sets' constants alone (a set would overwrite every setting of a varied φ_s, σ_V
+/// or k_d).
+fn band_misfit(wear: bool, axes: &[Axis]) -> Option<String> {
+    if !wear {
+        return Some(
+            "neither the objective nor a constraint weighs wear, and the calibrated sets move only the wear answer".into(),
+        );
+    }
+    axes.iter()
+        .find(|a| FittedConstants::PARAMS.contains(&a.param))
+        .map(|a| {
+            format!(
+                "--vary {} varies a constant the calibrated sets fix (each set would overwrite every setting)",
+                a.param
+            )
+        })
 }
 
 /// One `--constraint`: a bound on a varied parameter, or on a risk.
@@ -383,6 +446,7 @@ mod tests {
                 keep: 1,
             },
             accept_implausible: false,
+            band: None,
         }
     }
 
@@ -400,5 +464,24 @@ mod tests {
         assert!(refused(spec(vec![toe], &["toe_deg<=0.2"])).contains("empty box"));
         assert!(refused(spec(vec![toe, toe], &[])).contains("twice"));
         assert!(refused(spec(vec![toe], &["vibration<=2"])).contains("not in [0, 1]"));
+        // A band needs a wear answer and a box that leaves its constants alone.
+        let banded = |vary, terms| ProblemSpec {
+            band: Some(ProblemBand {
+                sets: crate::calibration_band::CalibrationBand::shipped(),
+                source: "shipped".into(),
+                given: true,
+            }),
+            objective: Objective {
+                terms,
+                wheel: WheelChoice::Follower,
+            },
+            ..spec(vary, &[])
+        };
+        assert!(refused(banded(vec![toe], vec![(1.0, Term::Vibration)]))
+            .contains("neither the objective nor a constraint weighs wear"));
+        let share = (ParamId::WearShareStraight, 0.1, 0.2);
+        assert!(refused(banded(vec![share], vec![(1.0, Term::Wear)]))
+            .contains("--vary wear_share_straight varies a constant the calibrated sets fix"));
+        assert!(Problem::new(banded(vec![toe], vec![(1.0, Term::Wear)])).is_ok());
     }
 }
