@@ -147,12 +147,12 @@ fi
 
 if want wear-loop; then
   section "wear-loop"
-  say "Command: \`polywear wear --distance-km $WEAR_KM\` at the default point, both wheels in parallel: the worst case at a steady speed (\`--set wear_share_straight=1 --speed-spread-kmh 0\`), then the shipped defaults (5 km/h of spread) at 5 speeds (the default) and at 1 (\`--speed-nodes 1\`), one after the other."
+  say "Command: \`polywear wear --distance-km $WEAR_KM --calibration-band off\` at the default point, both wheels in parallel: the worst case at a steady speed (\`--set wear_share_straight=1 --speed-spread-kmh 0\`), then the shipped defaults (5 km/h of spread) at 5 speeds (the default) and at 1 (\`--speed-nodes 1\`), one after the other; last the shipped defaults with the calibration band (the default: the loop again under the band's ends)."
   say ""
-  for args in "--set wear_share_straight=1 --speed-spread-kmh 0" "" "--speed-nodes 1"; do
+  for args in "--calibration-band off --set wear_share_straight=1 --speed-spread-kmh 0" "--calibration-band off" "--calibration-band off --speed-nodes 1" ""; do
     # shellcheck disable=SC2086
     timed "$bin" wear --quiet --distance-km "$WEAR_KM" $args --out "$work/wear" > "$work/wear.out" 2> "$work/wear.err"
-    echo "wear ${args:-(shipped defaults)}: $(tail -1 "$work/wear.err")"
+    echo "wear ${args:-(shipped defaults, with the band)}: $(tail -1 "$work/wear.err")"
   done | block
 fi
 

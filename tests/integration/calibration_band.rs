@@ -558,3 +558,169 @@ fn a_cycle_s_distance_carries_its_band_and_each_set_is_the_cycle_run_with_it() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `WheelGrowth::answers_with` keeps what depends on the speed spread once per spread: for the
+/// shipped sets (many sets on few spreads) each answer is `answer_with`'s bit for bit, and that
+/// is the estimator's answer at a sample carrying the set's constants, on a vibrating and a
+/// stable wheel of both positions; the answers move with the set, so the check can fail.
+#[test]
+fn grouping_the_sets_by_their_spread_changes_no_answer() {
+    use polywear::classify::budget::Meter;
+    use polywear::classify::ClassifierOptions;
+    use polywear::evaluate::{self, PointProblem, WearStage};
+    use polywear::model::Variant;
+    use polywear::wear::{WearAnswer, WheelGrowth};
+    let band = CalibrationBand::shipped();
+    let sets: Vec<FittedConstants> = band.sets.iter().map(|s| s.constants()).collect();
+    let opts = ClassifierOptions::default();
+    let variants = [Variant::SlidingShare];
+    let base = Params::default();
+    let stage =
+        WearStage::for_run(&base, variants[0], Default::default(), &opts).expect("calibrates");
+    let mut moved = 0;
+    for toe_deg in [0.45, 0.05] {
+        let p = Params { toe_deg, ..base };
+        let point = evaluate::solve(&PointProblem::new(p, &variants, &opts));
+        for w in &point.wheels {
+            let g = WheelGrowth::new(&stage.inputs(&p, w), &Meter::new(opts.budget)).unwrap();
+            let grouped = g.answers_with(&sets);
+            let single: Vec<WearAnswer> = sets.iter().map(|c| g.answer_with(c)).collect();
+            assert_eq!(grouped, single, "toe {toe_deg} {}", w.record.wheel);
+            for (c, a) in sets.iter().zip(&grouped).step_by(7) {
+                let q = c.applied_to(&p);
+                let e = polywear::wear::estimate(&stage.inputs(&q, w), &Meter::new(opts.budget));
+                assert_eq!(
+                    e.distance_to_visible_km.to_bits(),
+                    a.distance_to_visible_km.to_bits(),
+                    "toe {toe_deg} {} {c:?}",
+                    w.record.wheel
+                );
+                assert_eq!(e.polygon_order_dominant, a.polygon_order_wear);
+            }
+            let first = grouped[0].distance_to_visible_km;
+            moved += grouped
+                .iter()
+                .filter(|a| a.distance_to_visible_km.to_bits() != first.to_bits())
+                .count();
+        }
+    }
+    assert!(
+        moved > 100,
+        "only {moved} answers differ from the first set's"
+    );
+}
+
+/// `wear`'s verdict under the calibrated sets: each set's row is the loop run with that set's
+/// constants (`--set`, `--speed-spread-kmh`), wheel by wheel; `--band-sets all` runs every set;
+/// a bad `--band-sets` is refused before any work; `off` leaves no band of an earlier run.
+#[test]
+fn wear_s_verdict_under_each_set_is_the_loop_run_with_it() {
+    let dir = fresh_dir("band-wear");
+    std::fs::create_dir_all(&dir).unwrap();
+    let shipped = std::fs::read_to_string("data/calibration_band.toml").unwrap();
+    let head = shipped.split("[[set]]").next().unwrap();
+    let pick = |id: &str| {
+        shipped
+            .split("[[set]]")
+            .find(|s| s.contains(&format!("id = \"{id}\"")))
+            .unwrap()
+            .to_string()
+    };
+    let two = dir.join("two.toml");
+    std::fs::write(
+        &two,
+        format!(
+            "{head}[[set]]{}[[set]]{}",
+            pick("phi0.230_sv10_kd2"),
+            pick("phi0.050_sv2_kd1.5").replace("nominal = false", "nominal = true")
+        ),
+    )
+    .unwrap();
+    let wear = |out: &Path, extra: &[&str]| {
+        let mut args = vec!["wear", "--quiet", "--distance-km", "20000"];
+        args.extend_from_slice(extra);
+        args.extend(["--out", out.to_str().unwrap()]);
+        let (code, stdout, stderr) = polywear(&args);
+        assert_eq!(code, 0, "{stderr}");
+        stdout
+    };
+    let banded = dir.join("banded");
+    let stdout = wear(
+        &banded,
+        &[
+            "--calibration-band",
+            two.to_str().unwrap(),
+            "--band-sets",
+            "all",
+        ],
+    );
+    assert!(
+        stdout.contains("the loop run again under 2 of the 2 calibrated sets"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("follower: calibration band"), "{stdout}");
+    let band = rows(&banded.join("wear_calibration_band.parquet"));
+    assert_eq!(band.len(), 4);
+    let mut differ = 0;
+    let mut first = None;
+    for (id, phi, sv, kd) in [
+        ("phi0.230_sv10_kd2", "0.23", "10", "2"),
+        ("phi0.050_sv2_kd1.5", "0.05", "2", "1.5"),
+    ] {
+        let own = dir.join(id);
+        wear(
+            &own,
+            &[
+                "--calibration-band",
+                "off",
+                "--set",
+                &format!("wear_share_straight={phi}"),
+                "--speed-spread-kmh",
+                sv,
+                "--set",
+                &format!("wear_rate_driven_factor={kd}"),
+            ],
+        );
+        assert!(!own.join("wear_calibration_band.parquet").exists());
+        for r in rows(&own.join("wear_summary.parquet")) {
+            let b = band
+                .iter()
+                .find(|b| text(&b["set"]) == id && text(&b["wheel"]) == text(&r["wheel"]))
+                .unwrap();
+            let kind = match text(&r["run_end"]).as_str() {
+                "distance" => "none".to_string(),
+                other => other.to_string(),
+            };
+            assert_eq!(text(&b["verdict"]), kind, "{id}");
+            let (x, y) = (
+                float(&b["distance_to_visible_km"]),
+                float(&r["distance_to_visible_km"]),
+            );
+            assert_eq!(x.to_bits(), y.to_bits(), "{id} {}", text(&r["wheel"]));
+            if text(&r["wheel"]) == "follower" {
+                differ += usize::from(first.is_some_and(|f: f64| f.to_bits() != y.to_bits()));
+                first = Some(y);
+            }
+        }
+    }
+    assert_eq!(
+        differ, 1,
+        "the two sets gave the follower the same distance"
+    );
+    // A bad choice, or a set whose spread drives a leg the point's own does not, is refused
+    // before any work; `off` removes an earlier run's band.
+    let (code, _, stderr) = polywear(&["wear", "--band-sets", "some", "--out", "x"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("accepted: ends"), "{stderr}");
+    let slow = dir.join("slow");
+    let (code, _, stderr) = polywear(&["wear", "--speed", "12", "--out", slow.to_str().unwrap()]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("set `phi0.180_sv10_kd1.5` (speed_spread_kmh = 10): a leg drives at"),
+        "{stderr}"
+    );
+    assert!(!slow.exists(), "work was done");
+    wear(&banded, &["--calibration-band", "off"]);
+    assert!(!banded.join("wear_calibration_band.parquet").exists());
+    assert!(!banded.join("wear_calibration_band.csv").exists());
+}

@@ -19,7 +19,9 @@ use polywear_core::params::{ParamId, Params};
 use polywear_core::wear::long_term::{
     cruise_legs, Leg, LoopSettings, FIRST_STEP_REVS, MAX_FIRST_STEP_TREAD_S, SPEED_NODES,
 };
+use polywear_core::wear::FittedConstants;
 use polywear_core::wording::plain;
+use polywear_study::calibration_band::{self, long_term::LoopSets, CalibrationBand};
 use polywear_study::cycle::DriveCycle;
 
 #[derive(Debug, Args)]
@@ -28,7 +30,7 @@ use polywear_study::cycle::DriveCycle;
     "  # the default point, both wheels, 60,000 km with the shipped speed spread\n",
     "  polywear wear --out data/wear\n",
     "  # the worst case: every straight-running joule couples, a steady speed\n",
-    "  polywear wear --set wear_share_straight=1 --speed-spread-kmh 0 --estimate --out data/wear\n",
+    "  polywear wear --set wear_share_straight=1 --speed-spread-kmh 0 --estimate --calibration-band off --out data/wear\n",
     "  # a drive cycle driven again and again\n",
     "  polywear wear --cycle data/cycles/hwfet.csv --out data/wear_cycle\n",
     "\nGuide: docs/book/src/reference/wear.md#wear"
@@ -63,6 +65,16 @@ pub struct WearArgs {
     /// Seed of the new tyre's run-out phases, accepted [0, 4398046510080]
     #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = super::common::whole_in::<u64>("--seed", 0, polywear_study::study::SEED_MAX))]
     pub seed: u64,
+    /// The calibration band: a file of calibrated sets of the fitted wear constants (as
+    /// data/calibration_band.toml, the default), or `off`. The loop is run again under the sets
+    /// --band-sets chooses, and each wheel's verdict is printed with the band's two ends
+    #[arg(long, value_name = "FILE|off")]
+    pub calibration_band: Option<String>,
+    /// Which calibrated sets the loop runs under: `ends` (for each wheel, the sets with the
+    /// shortest and the longest distance by the per-sample estimator at this point: a few
+    /// runs) or `all` (every set: as many runs as the band has sets)
+    #[arg(long, value_name = "ends|all", default_value = "ends", value_parser = parse_band_sets)]
+    pub band_sets: LoopSets,
     /// Also print the per-sample estimator's figures and add `estimate_*` columns
     #[arg(long)]
     pub estimate: bool,
@@ -80,6 +92,16 @@ pub struct WearArgs {
     pub out: Option<PathBuf>,
 }
 
+fn parse_band_sets(s: &str) -> Result<LoopSets, String> {
+    match s {
+        "ends" => Ok(LoopSets::Ends),
+        "all" => Ok(LoopSets::All),
+        other => Err(format!(
+            "--band-sets `{other}`: accepted: ends (the estimator's band ends at this point), all (every set)"
+        )),
+    }
+}
+
 /// Most speeds `--speed-nodes` accepts.
 const MAX_SPEED_NODES: usize = 64;
 
@@ -88,6 +110,10 @@ struct Plan {
     problem: LongTermProblem,
     usage: String,
     metadata: Vec<(String, String)>,
+    /// The calibrated sets and where they come from (None: off).
+    band: Option<(CalibrationBand, String)>,
+    /// The legs of the point's constants replaced by a set's: a cruise's follow its spread.
+    cruise: Option<(f64, usize)>,
 }
 
 /// Checks every input before any work, exit 2 with the flag and the accepted range.
@@ -123,6 +149,23 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
         )));
     }
     let nodes = args.speed_nodes;
+    let band = super::common::calibration_band(args.calibration_band.as_deref())?;
+    // A set replaces the point's fitted constants: a value given for one of them is the run's,
+    // not the band's, and the band says so.
+    let given: Vec<String> = FittedConstants::PARAMS
+        .iter()
+        .filter_map(|&id| resolved.given_by(id).map(|by| format!("{id} ({by})")))
+        .chain(
+            args.speed_spread_kmh
+                .map(|_| "speed_spread_kmh (--speed-spread-kmh)".to_string()),
+        )
+        .collect();
+    if band.is_some() && !given.is_empty() && !args.quiet {
+        eprintln!(
+            "note: the calibration band's runs replace {} with each set's; the verdict above them is yours (--calibration-band off runs yours alone)",
+            given.join(", ")
+        );
+    }
     let variant: Variant = args.point.variant.into();
     let mut metadata = base_metadata(&p, variant);
     let (legs, usage) = match &args.cycle {
@@ -163,6 +206,17 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
         serde_json::to_string(&legs).expect("plain data"),
     ));
     metadata.push(("usage".into(), usage.clone()));
+    metadata.push((
+        "calibration_band".into(),
+        match &band {
+            Some((b, source)) => format!(
+                "{source}: {} sets; the loop run again under --band-sets {}",
+                b.sets.len(),
+                args.band_sets.as_str()
+            ),
+            None => "off".into(),
+        },
+    ));
     let classifier = ClassifierOptions {
         budget: args.budget.apply(Default::default())?,
         ..ClassifierOptions::default()
@@ -193,11 +247,46 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
             (e, _) => refusal(e),
         }
     })?;
-    Ok(Plan {
+    let plan = Plan {
         problem,
         usage,
         metadata,
-    })
+        band,
+        cruise: args.cycle.is_none().then_some((p.speed_kmh, nodes)),
+    };
+    // Every set's run is checked as the run's own is, before any work: a set's wider spread can
+    // drive a leg the point's own does not.
+    if let Some((band, source)) = &plan.band {
+        for set in &band.sets {
+            let q = set.constants().applied_to(&plan.problem.params);
+            LongTermProblem::new(
+                q,
+                variant,
+                plan.legs_for(&q),
+                plan.problem.settings.clone(),
+                classifier,
+            )
+            .map_err(|e| {
+                CliError(format!(
+                    "--calibration-band {source}: set `{}` (speed_spread_kmh = {}): {e}; give --calibration-band off, or a point every set can run",
+                    set.id,
+                    plain(set.speed_spread_kmh, 6)
+                ))
+            })?;
+        }
+    }
+    Ok(plan)
+}
+
+impl Plan {
+    /// The legs of the point with its fitted constants replaced by `q`'s: a cruise's follow
+    /// `q`'s speed spread; a cycle's are the cycle's.
+    fn legs_for(&self, q: &Params) -> Vec<Leg> {
+        match self.cruise {
+            Some((speed, nodes)) => cruise_legs(speed, q.speed_spread_kmh, nodes),
+            None => self.problem.legs.clone(),
+        }
+    }
 }
 
 /// A refused problem in the words of the command line: the distance as `--distance-km`.
@@ -262,6 +351,21 @@ pub fn run(args: &WearArgs) -> CliResult {
     let started = std::time::Instant::now();
     let solution = long_term::solve(&plan.problem, &|km| bar.inc(km.round() as u64))
         .map_err(|e| CliError(e.to_string()))?;
+    let band_runs = match &plan.band {
+        Some((band, _)) => {
+            let sets =
+                calibration_band::long_term::chosen(band, args.band_sets, &plan.problem, &solution)
+                    .map_err(|e| CliError(e.to_string()))?;
+            bar.inc_length((2.0 * plan.problem.settings.distance_km) as u64 * sets.len() as u64);
+            let legs = |q: &Params| plan.legs_for(q);
+            let runs = calibration_band::long_term::run(band, &sets, &plan.problem, &legs, &|km| {
+                bar.inc(km.round() as u64)
+            })
+            .map_err(|e| CliError(format!("the calibration band's runs: {e}")))?;
+            Some(runs)
+        }
+        None => None,
+    };
     bar.finish_and_clear();
     let secs = started.elapsed().as_secs_f64();
     if let Some(out) = &args.out {
@@ -277,6 +381,19 @@ pub fn run(args: &WearArgs) -> CliResult {
             FilesError::CreateDir { .. } => CliError(format!("--out {e}")),
             e => CliError(e.to_string()),
         })?;
+        match (&plan.band, &band_runs) {
+            (Some((band, _)), Some(runs)) => polywear_analysis::figures::wear::write_band(
+                out,
+                &plan.metadata,
+                band,
+                runs,
+                plan.problem.settings.distance_km,
+            )
+            .map_err(|e| CliError(e.to_string()))?,
+            // No band of an earlier run beside this run's files.
+            _ => polywear_analysis::figures::wear::remove_band(out)
+                .map_err(|e| CliError(e.to_string()))?,
+        }
     }
     let head = polywear_analysis::render::long_term::Header {
         usage: &plan.usage,
@@ -286,6 +403,31 @@ pub fn run(args: &WearArgs) -> CliResult {
         polywear_analysis::render::long_term::lines(&plan.problem, &solution, &head, args.estimate)
     {
         println!("{line}");
+    }
+    match (&plan.band, &band_runs) {
+        (Some((band, source)), Some(runs)) => {
+            let named: Vec<(&str, &polywear_core::long_term::LongTermSolution)> = runs
+                .iter()
+                .map(|r| (band.sets[r.set].id.as_str(), &r.solution))
+                .collect();
+            let chosen = match args.band_sets {
+                LoopSets::Ends => format!(
+                    "{source}: for each wheel the sets with the shortest and the longest estimate here; the estimator does not yet agree with the loop, so --band-sets all checks every set"
+                ),
+                LoopSets::All => format!("{source}: every set"),
+            };
+            for line in polywear_analysis::render::long_term::band_lines(
+                &plan.problem,
+                &named,
+                band.sets.len(),
+                &chosen,
+            ) {
+                println!("{line}");
+            }
+        }
+        _ => println!(
+            "calibration band: off (--calibration-band off): the verdict is the run's own constants' alone"
+        ),
     }
     Ok(())
 }

@@ -112,3 +112,77 @@ fn drawn_depths(run: &WheelWear) -> Vec<(u32, Vec<(f64, f64)>)> {
         })
         .collect()
 }
+
+/// The loop's verdict under each calibrated set run, one row per set and wheel:
+/// `wear_calibration_band.csv` and `.parquet` (with the run's metadata).
+pub fn write_band(
+    dir: &Path,
+    metadata: &[(String, String)],
+    band: &polywear_study::calibration_band::CalibrationBand,
+    runs: &[polywear_study::calibration_band::long_term::SetRun],
+    distance_km: f64,
+) -> Result<(), FilesError> {
+    use crate::render::long_term::band_verdict;
+    use polywear_study::parquet_out::Column;
+    let rows: Vec<(&polywear_study::calibration_band::long_term::SetRun, usize)> = runs
+        .iter()
+        .flat_map(|r| (0..r.solution.wheels.len()).map(move |i| (r, i)))
+        .collect();
+    let verdicts: Vec<_> = rows
+        .iter()
+        .map(|(r, i)| band_verdict(&r.solution.wheels[*i], &r.solution.params, distance_km))
+        .collect();
+    let set = |r: &polywear_study::calibration_band::long_term::SetRun| &band.sets[r.set];
+    let f = |name: &str, unit: &'static str, get: &dyn Fn(usize) -> f64| {
+        Column::f64(name, unit, (0..rows.len()).map(get).collect())
+    };
+    let cols = vec![
+        Column::str("set", rows.iter().map(|(r, _)| set(r).id.clone()).collect()),
+        Column::str(
+            "chosen_as",
+            rows.iter().map(|(r, _)| r.chosen_as.clone()).collect(),
+        ),
+        Column::str(
+            "wheel",
+            rows.iter()
+                .map(|(r, i)| r.solution.wheels[*i].wheel.to_string())
+                .collect(),
+        ),
+        f("wear_share_straight", "-", &|k| {
+            set(rows[k].0).wear_share_straight
+        }),
+        f("speed_spread_kmh", "km/h", &|k| {
+            set(rows[k].0).speed_spread_kmh
+        }),
+        f("wear_rate_driven_factor", "-", &|k| {
+            set(rows[k].0).wear_rate_driven_factor
+        }),
+        Column::str(
+            "verdict",
+            verdicts.iter().map(|v| v.kind.to_string()).collect(),
+        ),
+        f("polygon_order", "-", &|k| verdicts[k].order),
+        f("end_km", "km", &|k| verdicts[k].end_km),
+        f("distance_to_visible_km", "km", &|k| verdicts[k].km),
+    ];
+    write_csv(&dir.join("wear_calibration_band.csv"), &cols)?;
+    write_table(&dir.join("wear_calibration_band.parquet"), &cols, metadata)?;
+    Ok(())
+}
+
+/// Removes [`write_band`]'s files of an earlier run from `dir` (a run with the band off).
+pub fn remove_band(dir: &Path) -> Result<(), FilesError> {
+    for name in ["wear_calibration_band.csv", "wear_calibration_band.parquet"] {
+        let path = dir.join(name);
+        match std::fs::remove_file(&path) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                return Err(FilesError::CreateDir {
+                    dir: path,
+                    source: e,
+                })
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}

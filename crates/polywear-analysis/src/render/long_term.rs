@@ -165,3 +165,114 @@ pub fn lines(
     }
     out
 }
+
+/// One wheel's loop verdict as the band ranks it: the distance to a visible polygon (the
+/// extrapolated one where the run ended with an order still growing; infinite where every
+/// order levels out or the tire wore out first), the kind, and the verdict in short words.
+pub struct BandVerdict {
+    /// The key the band's ends are taken on \[km\] (NaN: no wear figures).
+    pub km: f64,
+    /// `visible`, `worn_out`, `none` or `no_figures`.
+    pub kind: &'static str,
+    /// The polygon's sides where one became visible (NaN otherwise).
+    pub order: f64,
+    /// Where the run ended: the visible polygon's or the tire's end \[km\] (the distance run
+    /// otherwise).
+    pub end_km: f64,
+    /// The verdict in words.
+    pub words: String,
+}
+
+/// [`BandVerdict`] of wheel `o` at parameters `p` over `distance_km`.
+pub fn band_verdict(o: &WheelLongTerm, p: &Params, distance_km: f64) -> BandVerdict {
+    let Ok(run) = &o.run else {
+        return BandVerdict {
+            km: f64::NAN,
+            kind: "no_figures",
+            order: f64::NAN,
+            end_km: f64::NAN,
+            words: "no wear figures".into(),
+        };
+    };
+    match run.ended() {
+        RunEnd::Visible { order, km } => BandVerdict {
+            km,
+            kind: "visible",
+            order: order as f64,
+            end_km: km,
+            words: format!("a {order}-sided polygon after {} km", thousands(km)),
+        },
+        RunEnd::WornOut { km } => BandVerdict {
+            km: f64::INFINITY,
+            kind: "worn_out",
+            order: f64::NAN,
+            end_km: km,
+            words: format!("worn out first, after {} km", thousands(km)),
+        },
+        RunEnd::Distance => {
+            let s = run.distance_to_visible_km(p.visible_depth_mm * 1e-3);
+            BandVerdict {
+                km: s.max(distance_km),
+                kind: "none",
+                order: f64::NAN,
+                end_km: distance_km,
+                words: if s.is_finite() {
+                    format!(
+                        "none in {} km (about {} km at its growth)",
+                        thousands(distance_km),
+                        thousands(s)
+                    )
+                } else {
+                    format!(
+                        "none in {} km, every order levels out",
+                        thousands(distance_km)
+                    )
+                },
+            }
+        }
+    }
+}
+
+/// The loop's verdict under the calibrated sets run, per wheel, beside the run's own: its two
+/// ends (the earliest polygon, the latest or none) and the sets that give them. `runs` holds
+/// (set name, that set's solution); `of_sets` is how many sets the band has, `chosen` how the
+/// ones run were chosen.
+pub fn band_lines(
+    problem: &LongTermProblem,
+    runs: &[(&str, &LongTermSolution)],
+    of_sets: usize,
+    chosen: &str,
+) -> Vec<String> {
+    let distance = problem.settings.distance_km;
+    let mut out = vec![format!(
+        "calibration band: the loop run again under {} of the {of_sets} calibrated sets ({chosen})",
+        runs.len()
+    )];
+    for (i, wheel) in polywear_core::model::Wheel::BOTH.iter().enumerate() {
+        let verdicts: Vec<(&str, BandVerdict)> = runs
+            .iter()
+            .map(|(name, s)| (*name, band_verdict(&s.wheels[i], &s.params, distance)))
+            .filter(|(_, v)| !v.km.is_nan())
+            .collect();
+        // The earliest polygon first; among none, the tire's end (a shorter life first).
+        let order = |a: &&(&str, BandVerdict), b: &&(&str, BandVerdict)| {
+            a.1.km
+                .total_cmp(&b.1.km)
+                .then(a.1.end_km.total_cmp(&b.1.end_km))
+        };
+        let lowest = verdicts.iter().min_by(order);
+        let highest = verdicts.iter().max_by(order);
+        out.push(match (lowest, highest) {
+            (Some(lo), Some(hi)) if lo.1.words == hi.1.words => format!(
+                "  {wheel}: calibration band  {} under every set run",
+                lo.1.words
+            ),
+            (Some(lo), Some(hi)) => format!(
+                "  {wheel}: calibration band  {} ({}) to {} ({})",
+                lo.1.words, lo.0, hi.1.words, hi.0
+            ),
+            _ => format!("  {wheel}: calibration band  no wear figures under any set run"),
+        });
+    }
+    out
+}

@@ -4,10 +4,12 @@
 //! One file per job: this one reads and checks a file of calibrated sets (the shipped one is
 //! `data/calibration_band.toml`); [`fit`] finds the sets by history matching against the field
 //! facts' targets and writes that file; [`evaluate`] re-evaluates a run's subsample under every
-//! set, into rows that `analyze` turns into the band beside each sampling interval.
+//! set, into rows that `analyze` turns into the band beside each sampling interval;
+//! [`long_term`] runs `wear`'s loop again under chosen sets.
 
 pub mod evaluate;
 pub mod fit;
+pub mod long_term;
 
 use std::collections::BTreeSet;
 
