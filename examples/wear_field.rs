@@ -6,6 +6,7 @@
 //! cargo run --release --example wear_field -- check [SAMPLES]    # the shipped constants
 //! cargo run --release --example wear_field -- spread-error       # spread mean vs per-speed loops
 //! cargo run --release --example wear_field -- band [SAMPLES] [OUT] # the calibrated sets
+//! cargo run --release --example wear_field -- band-life [SAMPLES] [PHIS] [SIGMAS] # the fit over the tread's life
 //! ```
 //!
 //! `band` is the calibration with its uncertainty (MODEL.md#the-calibration-band): history
@@ -203,7 +204,10 @@ fn main() {
             args.get(2)
                 .map_or("data/calibration_band.toml", String::as_str),
         ),
-        other => eprintln!("unknown mode `{other}`; accepted: fit, check, spread-error, band"),
+        "band-life" => band_life(samples, args.get(2), args.get(3)),
+        other => {
+            eprintln!("unknown mode `{other}`; accepted: fit, check, spread-error, band, band-life")
+        }
     }
 }
 
@@ -265,13 +269,38 @@ fn spread_error() {
 }
 
 /// The calibrated sets: the grid with each target's figure, then the accepted sets written.
-fn band(samples: u64, out: &str) {
-    use polywear::calibration_band::fit::{fit, FitOptions};
+/// The history matching of `band` on the level over the tread's life
+/// (MODEL.md#the-estimator-over-the-treads-life), on a coarser grid (each grid point integrates
+/// every wheel's orders over its life): what every grid point gives, and which are accepted.
+fn band_life(samples: u64, shares: Option<&String>, spreads: Option<&String>) {
+    use polywear::calibration_band::fit::{fit, FitLevel, FitOptions};
     use polywear::field_facts::FieldFacts;
-    use polywear::wear::FittedConstants;
     let facts = FieldFacts::shipped();
     let base = Params::default();
-    let f = fit(&base, &facts, &FitOptions::shipped(samples, &facts)).expect("fit");
+    let list = |given: Option<&String>, default: &str| -> Vec<f64> {
+        given
+            .map_or(default, String::as_str)
+            .split(',')
+            .map(|x| x.parse().expect("a comma-separated list of numbers"))
+            .collect()
+    };
+    let opts = FitOptions {
+        shares: list(shares, "0.08,0.12,0.16,0.2,0.25,0.3,0.4,0.5"),
+        spreads_kmh: list(spreads, "2,5,10"),
+        driven_factors: vec![1.75],
+        level: FitLevel::TreadLife,
+        ..FitOptions::shipped(samples, &facts)
+    };
+    let f = fit(&base, &facts, &opts).expect("fit");
+    print_grid(&f, samples);
+    println!(
+        "{} of {} grid points accepted",
+        f.accepted().count(),
+        f.points.len()
+    );
+}
+
+fn print_grid(f: &polywear::calibration_band::fit::Fit, samples: u64) {
     println!(
         "{} highway followers, {} default-study wheels ({samples} samples)",
         f.highway_wheels, f.fleet_wheels
@@ -291,6 +320,16 @@ fn band(samples: u64, out: &str) {
             if g.accepted { "yes" } else { "" }
         );
     }
+}
+
+fn band(samples: u64, out: &str) {
+    use polywear::calibration_band::fit::{fit, FitOptions};
+    use polywear::field_facts::FieldFacts;
+    use polywear::wear::FittedConstants;
+    let facts = FieldFacts::shipped();
+    let base = Params::default();
+    let f = fit(&base, &facts, &FitOptions::shipped(samples, &facts)).expect("fit");
+    print_grid(&f, samples);
     let generated_by = format!("cargo run --release --example wear_field -- band {samples}");
     let band = f
         .band(&FittedConstants::of(&base), &generated_by)

@@ -1027,3 +1027,118 @@ fn the_loop_s_calibration_follower_falls_off_a_cliff_at_the_field_s_distance() {
         "{at}"
     );
 }
+
+/// The per-sample estimator over the tread's life (MODEL.md#the-estimator-over-the-treads-life)
+/// agrees with the long-term loop where the new-tire estimator does not: at the calibration
+/// point (110 km/h, 0.45°) at the shipped constants the new tire's estimate is a visible 17-gon
+/// within 26,000 km, while the loop and the life estimate see no polygon before the tire is worn
+/// out, and the deepest order's peak over the life agrees with the loop's within 25%; at 115
+/// km/h, 0.60° with φ_s = 0.25 both give the follower a polygon, within 25% in distance and one
+/// order, and none to the driving wheel.
+#[test]
+fn the_estimate_over_the_tread_s_life_agrees_with_the_loop() {
+    use polywear::long_term::{solve, LongTermProblem};
+    use polywear::wear::FittedConstants;
+    let opts = ClassifierOptions::default();
+    let loop_of = |p: Params| {
+        let problem = LongTermProblem::new(
+            p,
+            V,
+            cruise_legs(p.speed_kmh, p.speed_spread_kmh, SPEED_NODES),
+            LoopSettings::default(),
+            opts,
+        )
+        .unwrap();
+        solve(&problem, &|_| {}).unwrap()
+    };
+    let shipped = Params {
+        speed_kmh: 110.0,
+        toe_deg: 0.45,
+        ..Params::default()
+    };
+    let s = loop_of(shipped);
+    let visible_m = shipped.visible_depth_mm * 1e-3;
+    for w in &s.wheels {
+        let life = w.life.unwrap();
+        let run = w.run.as_ref().unwrap();
+        assert!(
+            matches!(run.ended(), RunEnd::WornOut { .. }),
+            "{}: {:?}",
+            w.wheel,
+            run.ended()
+        );
+        assert!(
+            life.answer.distance_to_visible_km.is_infinite(),
+            "{}: {life:?}",
+            w.wheel
+        );
+        let estimate = w.solution.wear.as_ref().unwrap();
+        if w.wheel == Wheel::Follower {
+            // What the new-tire estimate says instead, and what the loop's deepest order did.
+            assert!(estimate.distance_to_visible_km < 30_000.0, "{estimate:?}");
+            let n = life.answer.polygon_order_wear as usize;
+            let peak = run
+                .history
+                .iter()
+                .map(|h| h.depths_m[n - 1])
+                .fold(0.0, f64::max);
+            let ratio = life.peak_share_of_visible * visible_m / peak;
+            assert!(
+                (0.75..=1.25).contains(&ratio),
+                "order {n}: life peak {} of visible, the loop's {peak} m",
+                life.peak_share_of_visible
+            );
+        }
+        // The loop's own tread life, from the same wear rate.
+        if let RunEnd::WornOut { km } = run.ended() {
+            assert!(
+                (life.answer.tread_life_km / km - 1.0).abs() < 0.02,
+                "{}: life {} km, the loop's {km} km",
+                w.wheel,
+                life.answer.tread_life_km
+            );
+        }
+        let c = FittedConstants::of(&shipped);
+        assert_eq!(
+            w.life,
+            Some(
+                WheelGrowth::new(
+                    &WearInputs {
+                        params: &shipped,
+                        model: &w.solution.model,
+                        verdict: &w.solution.verdict,
+                        settings: &WearSettings::default(),
+                        calibration: &calibration(&shipped),
+                    },
+                    &polywear::classify::budget::Meter::new(opts.budget)
+                )
+                .unwrap()
+                .life_answer(&c)
+            )
+        );
+    }
+    let steep = Params {
+        speed_kmh: 115.0,
+        toe_deg: 0.60,
+        wear_share_straight: 0.25,
+        ..Params::default()
+    };
+    let s = loop_of(steep);
+    for w in &s.wheels {
+        let life = w.life.unwrap().answer;
+        match (w.wheel, w.run.as_ref().unwrap().ended()) {
+            (Wheel::Follower, RunEnd::Visible { order, km }) => {
+                let ratio = life.distance_to_visible_km / km;
+                assert!(
+                    (0.75..=1.25).contains(&ratio),
+                    "loop {km} km, life {life:?}"
+                );
+                assert!((life.polygon_order_wear - order as f64).abs() <= 1.0);
+            }
+            (Wheel::Driving, RunEnd::WornOut { .. }) => {
+                assert!(life.distance_to_visible_km.is_infinite(), "{life:?}")
+            }
+            (wheel, end) => panic!("{wheel}: the loop ended {end:?}"),
+        }
+    }
+}

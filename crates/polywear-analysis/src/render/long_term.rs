@@ -161,6 +161,23 @@ pub fn lines(
                 ),
                 None => format!("  {}: estimate  none", w.wheel),
             });
+            out.push(match &w.life {
+                Some(l) if l.answer.distance_to_visible_km.is_finite() => format!(
+                    "  {}: life      order {}, distance {} km over the tread's life (the tire worn out at {} km)",
+                    w.wheel,
+                    plain(l.answer.polygon_order_wear, 4),
+                    plain(l.answer.distance_to_visible_km.round(), 8),
+                    plain(l.answer.tread_life_km.round(), 8)
+                ),
+                Some(l) => format!(
+                    "  {}: life      none before the tire is worn out at {} km over the tread's life (order {} deepest, at {} of the visible depth)",
+                    w.wheel,
+                    plain(l.answer.tread_life_km.round(), 8),
+                    plain(l.answer.polygon_order_wear, 4),
+                    plain(l.peak_share_of_visible, 2)
+                ),
+                None => format!("  {}: life      none", w.wheel),
+            });
         }
     }
     out

@@ -108,6 +108,28 @@ impl LongTermSolution {
             for (name, unit, get) in columns {
                 cols.push(Column::f64(name, unit, est(&get)));
             }
+            // The estimator over the tread's life (MODEL.md#the-estimator-over-the-treads-life).
+            let life = |get: &dyn Fn(&crate::wear::LifeAnswer) -> f64| -> Vec<f64> {
+                wheels
+                    .iter()
+                    .map(|w| w.life.as_ref().map_or(f64::NAN, get))
+                    .collect()
+            };
+            cols.push(Column::f64(
+                "estimate_life_polygon_order_wear",
+                "",
+                life(&|l| l.answer.polygon_order_wear),
+            ));
+            cols.push(Column::f64(
+                "estimate_life_distance_to_visible_km",
+                "km",
+                life(&|l| l.answer.distance_to_visible_km),
+            ));
+            cols.push(Column::f64(
+                "estimate_life_peak_share_of_visible",
+                "",
+                life(&|l| l.peak_share_of_visible),
+            ));
         }
         // The summary's old names, copies kept for one version (in RENAMED_COLUMNS, so the
         // Parquet footer's `deprecated` lists them), at the end so the new names keep their

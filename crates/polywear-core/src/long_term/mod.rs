@@ -3,6 +3,7 @@
 //! [`crate::evaluate`] (each wheel starts from its verdict) and [`crate::wear::long_term`] (the
 //! loop of one wheel), which is why it is a module of its own and not a part of `wear`.
 
+use crate::classify::budget::Meter;
 use crate::classify::{Class, ClassifierOptions};
 use crate::ensemble::{self, Control};
 use crate::evaluate::{self, PointProblem, WearStage, WheelSolution};
@@ -13,7 +14,7 @@ use crate::wear::long_term::{
     FEEDBACK_ORDERS, FIRST_STEP_REVS, MAX_FIRST_STEP_TREAD_S,
 };
 use crate::wear::tongue::{self, Tongue, TongueRequest};
-use crate::wear::{WearError, WearSettings};
+use crate::wear::{FittedConstants, LifeAnswer, WearError, WearSettings, WheelGrowth};
 
 mod columns;
 mod figures;
@@ -170,6 +171,10 @@ pub struct WheelLongTerm {
     /// The lock-in tongue measured at the end where a leg is locked (`None` where none is),
     /// or why it could not be.
     pub tongue: Result<Option<Tongue>, WheelRunFailure>,
+    /// The per-sample estimator over the tread's life at the point's constants
+    /// (MODEL.md#the-estimator-over-the-treads-life); `None` where the wheel has no wear
+    /// figures.
+    pub life: Option<LifeAnswer>,
 }
 
 /// Both wheels' runs, in [`Wheel::BOTH`] order.
@@ -248,11 +253,18 @@ pub fn solve(
                 Ok((run, tongue)) => (Ok(run), tongue),
                 Err(e) => (Err(e), Err(WheelRunFailure::NoRun)),
             };
+            let life = WheelGrowth::new(
+                &stage.inputs(&p, &solution),
+                &Meter::new(problem.classifier.budget),
+            )
+            .ok()
+            .map(|g| g.life_answer(&FittedConstants::of(&p)));
             WheelLongTerm {
                 wheel: Wheel::BOTH[i],
                 solution,
                 run,
                 tongue,
+                life,
             }
         })
         .collect();

@@ -63,7 +63,7 @@ pub mod zone;
 
 pub use calibration::Calibration;
 pub use error::WearError;
-pub use estimator::{estimate, WearEstimate, WearInputs, WearSettings, WheelGrowth};
+pub use estimator::{estimate, LifeAnswer, WearEstimate, WearInputs, WearSettings, WheelGrowth};
 pub use feedback::Feedback;
 pub use fitted::{FittedConstants, WearAnswer};
 pub use slip::WearPower;

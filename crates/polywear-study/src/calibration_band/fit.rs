@@ -44,6 +44,21 @@ pub struct FitOptions {
     pub spreads_kmh: Vec<f64>,
     /// k_d values.
     pub driven_factors: Vec<f64>,
+    /// Which level of the per-sample estimator answers each grid point.
+    pub level: FitLevel,
+}
+
+/// The level of the per-sample estimator a fit runs on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FitLevel {
+    /// The new tire cruising for ever, φ_s, σ_V and k_d in closed form
+    /// ([`WheelGrowth::answer_with`]): the level the shipped sets were fitted on.
+    #[default]
+    NewTire,
+    /// Over the tread's life ([`WheelGrowth::life_answer`],
+    /// MODEL.md#the-estimator-over-the-treads-life): the level that agrees with the long-term
+    /// loop; each grid point integrates every wheel's orders over its life again.
+    TreadLife,
 }
 
 impl FitOptions {
@@ -62,6 +77,7 @@ impl FitOptions {
             shares: (3..=30).map(|k| k as f64 / 100.0).collect(),
             spreads_kmh: (2..=10).map(f64::from).collect(),
             driven_factors: vec![kd.0, 0.5 * (kd.0 + kd.1), kd.1],
+            level: FitLevel::NewTire,
         }
     }
 }
@@ -186,16 +202,20 @@ pub fn fit(base: &Params, facts: &FieldFacts, opts: &FitOptions) -> Result<Fit, 
             })
         })
         .collect();
+    let answer = |g: &WheelGrowth, c: &FittedConstants| match opts.level {
+        FitLevel::NewTire => g.answer_with(c),
+        FitLevel::TreadLife => g.life_answer(c).answer,
+    };
     let points = grid
         .par_iter()
         .map(|c| {
             let highway_median_km = median(
                 highway
                     .iter()
-                    .map(|g| g.answer_with(c).distance_to_visible_km)
+                    .map(|g| answer(g, c).distance_to_visible_km)
                     .collect(),
             );
-            let answers: Vec<WearAnswer> = fleet.iter().map(|g| g.answer_with(c)).collect();
+            let answers: Vec<WearAnswer> = fleet.iter().map(|g| answer(g, c)).collect();
             let fleet_median_km =
                 median(answers.iter().map(|a| a.distance_to_visible_km).collect());
             let visible: Vec<&WearAnswer> = answers

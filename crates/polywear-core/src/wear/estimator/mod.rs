@@ -37,6 +37,10 @@ use crate::classify::{Class, WheelVerdict};
 use crate::model::{ModelFailure, WheelModel};
 use crate::params::Params;
 
+mod life;
+pub use life::LifeAnswer;
+use life::TreadDrift;
+
 /// A share of the spread inside the tongue below which the locked print is left out (its
 /// effect on β̄ is below this share of the locked growth).
 const NEGLIGIBLE_LOCKED_SHARE: f64 = 1e-6;
@@ -235,6 +239,8 @@ pub struct WheelGrowth {
     print_log_ratio: f64,
     share: f64,
     spread_mps: f64,
+    /// f₀/f over the worn depth, for the answer over the tread's life.
+    drift: TreadDrift,
 }
 
 impl WheelGrowth {
@@ -284,6 +290,7 @@ impl WheelGrowth {
             print_log_ratio: (p.visible_depth_mm * 1e-3 / (2.0 * (p.seed_runout_um * 1e-6))).ln(),
             share: p.wear_share_straight,
             spread_mps: p.speed_spread_kmh / 3.6,
+            drift: TreadDrift::of(p, &model.patch),
         })
     }
 
@@ -419,13 +426,22 @@ impl WheelGrowth {
     /// What order `order`'s growth takes from the wheel alone: the zone's transfer, the
     /// forcing and the tongue (its uniform mean kept once asked for).
     fn order_fixed(&self, order: u32) -> OrderFixed {
+        self.order_fixed_at(order, order as f64)
+    }
+
+    /// [`WheelGrowth::order_fixed`] with the tread's transfer and tongue read at order `x`:
+    /// `x` = n for the new tire, n·f₀/f for a worn one whose tread frequency has risen to f
+    /// (MODEL.md#the-estimator-over-the-treads-life); the zone and the forcing stay n's.
+    fn order_fixed_at(&self, order: u32, x: f64) -> OrderFixed {
         let n = order as f64;
+        let forcing = self.feedback.forcing_per_radius(n);
         // The cycle locks to a seed-sized polygon in a band of speeds around V_n.
-        let (lock_speed_mps, lock_mps) = self.tongue_mps(n, self.seed_m);
+        let (lock_speed_mps, lock_mps) = self.tongue_mps(x, forcing, self.seed_m);
         OrderFixed {
             order,
+            x,
             zone: self.feedback.zone.transfer(n, self.r_b),
-            forcing: self.feedback.forcing_per_radius(n),
+            forcing,
             lock_speed_mps,
             lock_mps,
             over_tongue: std::cell::OnceCell::new(),
@@ -437,7 +453,7 @@ impl WheelGrowth {
     /// the spread inside the tongue and, where that share counts, the forcing's uniform mean
     /// over the tongue.
     fn spread_terms(&self, f: &OrderFixed, spread_mps: f64) -> SpreadTerms {
-        let n = f.order as f64;
+        let n = f.x;
         let r = &self.response;
         let v = self.speed_mps;
         let mean = r.transfer.mean_over_speed(n, self.r_b, v, spread_mps);
@@ -524,13 +540,13 @@ impl WheelGrowth {
     }
 
     /// The speed band \[m/s\] (centre, half-width) in which the cycle locks to order `n` of
-    /// depth |R_n| = `radius_m`: |δ| ≤ δ_L = ν |e_n R_n| |ĝ₋₁|, the band ±V δ_L / n around
-    /// V_n = V ν / n (ν ∝ 1/V at a fixed tread frequency); none for a stable wheel.
-    fn tongue_mps(&self, n: f64, radius_m: f64) -> (f64, f64) {
+    /// depth |R_n| = `radius_m` and forcing e_n = `forcing`: |δ| ≤ δ_L = ν |e_n R_n| |ĝ₋₁|, the
+    /// band ±V δ_L / n around V_n = V ν / n (ν ∝ 1/V at a fixed tread frequency); none for a
+    /// stable wheel. A worn tread's ν is ν₀·f/f₀, which is n read at x = n·f₀/f.
+    fn tongue_mps(&self, n: f64, forcing: Complex64, radius_m: f64) -> (f64, f64) {
         let r = &self.response;
         let v = self.speed_mps;
-        let e_n = self.feedback.forcing_per_radius(n);
-        let lock_rev = r.nu * e_n.norm() * radius_m * r.phase_coupling_s;
+        let lock_rev = r.nu * forcing.norm() * radius_m * r.phase_coupling_s;
         (v * r.nu / n, v * lock_rev / n)
     }
 
@@ -554,6 +570,8 @@ impl WheelGrowth {
 #[derive(Debug, Clone)]
 struct OrderFixed {
     order: u32,
+    /// The order the tread's transfer and tongue are read at (n for the new tire).
+    x: f64,
     /// H_w(n), the wear zone's transfer.
     zone: Complex64,
     /// e_n, the forcing per unit radius.
