@@ -358,12 +358,7 @@ impl WheelGrowth {
     /// The answer under `c` from its spread's terms, one per order of [`orders_around`] ν.
     fn answer_from(&self, c: &FittedConstants, terms: &[SpreadTerms]) -> WearAnswer {
         let share = c.wear_share_straight;
-        let position_rate = if self.driven_position {
-            c.wear_rate_driven_factor * wear_rate_ref_m_per_m(&self.params)
-        } else {
-            wear_rate_ref_m_per_m(&self.params)
-        };
-        let other_per_share = position_rate * self.feedback.local_per_m;
+        let other_per_share = self.position_rate_with(c) * self.feedback.local_per_m;
         let top = terms
             .iter()
             .map(|t| self.order_from(t, share, other_per_share))
@@ -372,9 +367,7 @@ impl WheelGrowth {
                     .total_cmp(&b.growth_rate_per_1000km)
             })
             .expect("orders_around gives at least one order");
-        let even = share * (self.even_per_share + self.slip_even_per_share);
-        let tread_wear_mm_per_1000km =
-            (even + (1.0 - share) * position_rate) * MM_PER_1000KM_PER_M_PER_M;
+        let tread_wear_mm_per_1000km = self.tread_wear_with(c) * MM_PER_1000KM_PER_M_PER_M;
         WearAnswer {
             polygon_order_wear: top.order as f64,
             distance_to_visible_km: distance_to_visible_km(
@@ -383,6 +376,25 @@ impl WheelGrowth {
             ),
             tread_life_km: tread_life_km(&self.params, tread_wear_mm_per_1000km),
         }
+    }
+
+    /// w′_pos under `c` \[m/m\]: the position's even-wear rate, k_d w′₀ for a driving wheel under
+    /// the slip reading, w′₀ otherwise.
+    fn position_rate_with(&self, c: &FittedConstants) -> f64 {
+        if self.driven_position {
+            c.wear_rate_driven_factor * wear_rate_ref_m_per_m(&self.params)
+        } else {
+            wear_rate_ref_m_per_m(&self.params)
+        }
+    }
+
+    /// The tread's whole even wear under `c` \[m/m\]: w′ at its φ_s and the rest of the
+    /// position's wear, (1 − φ_s) w′_pos; the tread's mean depth falls at this rate
+    /// (MODEL.md#the-ageing-tread).
+    fn tread_wear_with(&self, c: &FittedConstants) -> f64 {
+        let share = c.wear_share_straight;
+        let even = share * (self.even_per_share + self.slip_even_per_share);
+        even + (1.0 - share) * self.position_rate_with(c)
     }
 
     /// λ_other per unit (1 − φ_s) \[1/1000 km\] with the driven axle's rate
@@ -426,21 +438,32 @@ impl WheelGrowth {
     /// What order `order`'s growth takes from the wheel alone: the zone's transfer, the
     /// forcing and the tongue (its uniform mean kept once asked for).
     fn order_fixed(&self, order: u32) -> OrderFixed {
-        self.order_fixed_at(order, order as f64)
+        let n = order as f64;
+        self.order_fixed_with(
+            order,
+            n,
+            self.feedback.zone.transfer(n, self.r_b),
+            self.feedback.forcing_per_radius(n),
+        )
     }
 
-    /// [`WheelGrowth::order_fixed`] with the tread's transfer and tongue read at order `x`:
-    /// `x` = n for the new tire, n·f₀/f for a worn one whose tread frequency has risen to f
-    /// (MODEL.md#the-estimator-over-the-treads-life); the zone and the forcing stay n's.
-    fn order_fixed_at(&self, order: u32, x: f64) -> OrderFixed {
-        let n = order as f64;
-        let forcing = self.feedback.forcing_per_radius(n);
+    /// [`WheelGrowth::order_fixed`] with the tread's transfer and tongue read at order `x`, and
+    /// the order's zone transfer H_w(n) and forcing e_n given (they do not move with x): `x` = n
+    /// for the new tire, n·f₀/f for a worn one whose tread frequency has risen to f
+    /// (MODEL.md#the-estimator-over-the-treads-life).
+    fn order_fixed_with(
+        &self,
+        order: u32,
+        x: f64,
+        zone: Complex64,
+        forcing: Complex64,
+    ) -> OrderFixed {
         // The cycle locks to a seed-sized polygon in a band of speeds around V_n.
         let (lock_speed_mps, lock_mps) = self.tongue_mps(x, forcing, self.seed_m);
         OrderFixed {
             order,
             x,
-            zone: self.feedback.zone.transfer(n, self.r_b),
+            zone,
             forcing,
             lock_speed_mps,
             lock_mps,
@@ -453,10 +476,19 @@ impl WheelGrowth {
     /// the spread inside the tongue and, where that share counts, the forcing's uniform mean
     /// over the tongue.
     fn spread_terms(&self, f: &OrderFixed, spread_mps: f64) -> SpreadTerms {
+        let mean =
+            self.response
+                .transfer
+                .mean_over_speed(f.x, self.r_b, self.speed_mps, spread_mps);
+        self.spread_terms_with(f, spread_mps, mean)
+    }
+
+    /// [`WheelGrowth::spread_terms`] with the forcing's normal mean over the spread given
+    /// (`mean`: read from a table, where many orders share it).
+    fn spread_terms_with(&self, f: &OrderFixed, spread_mps: f64, mean: Complex64) -> SpreadTerms {
         let n = f.x;
         let r = &self.response;
         let v = self.speed_mps;
-        let mean = r.transfer.mean_over_speed(n, self.r_b, v, spread_mps);
         let locked_share = band_share(f.lock_speed_mps, f.lock_mps, v, spread_mps);
         let over_tongue = (locked_share > NEGLIGIBLE_LOCKED_SHARE && spread_mps > 0.0).then(|| {
             *f.over_tongue.get_or_init(|| {
