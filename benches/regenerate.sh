@@ -25,12 +25,12 @@ while [ $# -gt 0 ]; do
   shift
 done
 if [ "$quick" = 1 ]; then
-  EXPLORE_N=2000; OUTPUT_N=2000; SCALING_N=1000; FSYNC_N=400; VALIDATE_N=4; THROUGHPUT_N=500
+  EXPLORE_N=2000; OUTPUT_N=2000; SCALING_N=1000; FSYNC_N=400; VALIDATE_N=4; THROUGHPUT_N=500; LIFE_N=200
   ANALYZE_SIZES="2e4 4e4"; ANALYZE_RUNS=1; REPRODUCE="--steps 11 --paired-samples 200"
   DECODING_N=2560; PEERS_N=20; PEERS_SCIPY=2; CRITERION="--test"; CYCLE_REPEATS=1
   SCENARIOS_N=1000; OPTIMIZE_N=300; WEAR_KM=300
 else
-  EXPLORE_N=1e6; OUTPUT_N=1e6; SCALING_N=20000; FSYNC_N=4000; VALIDATE_N=340; THROUGHPUT_N=20000
+  EXPLORE_N=1e6; OUTPUT_N=1e6; SCALING_N=20000; FSYNC_N=4000; VALIDATE_N=340; THROUGHPUT_N=20000; LIFE_N=4000
   ANALYZE_SIZES="1e6 4e6"; ANALYZE_RUNS=3; REPRODUCE=""
   DECODING_N=51200; PEERS_N=1000; PEERS_SCIPY=50; CRITERION="--warm-up-time 1 --measurement-time 3"; CYCLE_REPEATS=9
   SCENARIOS_N=20000; OPTIMIZE_N=10000; WEAR_KM=60000
@@ -143,6 +143,13 @@ if want wear-estimator; then
   say "Command: \`cargo bench --bench wear -- $THROUGHPUT_N\` (both wheels of the default study classified without and with the per-sample wear estimator, interleaved, best of 2; the estimator's RHS evaluations per wheel by class)."
   say ""
   cargo bench --quiet --bench wear -- "$THROUGHPUT_N" 2>/dev/null | block
+fi
+
+if want wear-life; then
+  section "wear-life"
+  say "Command: \`cargo bench --bench wear_life -- $LIFE_N\` (the default study classified, with the new tire's wear answer, and with the answer over the tread's life as well, interleaved, best of 2; the wheels each gives a visible polygon within 60,000 km)."
+  say ""
+  cargo bench --quiet --bench wear_life -- "$LIFE_N" 2>/dev/null | block
 fi
 
 if want wear-loop; then

@@ -1,0 +1,92 @@
+//! What the estimator over the tread's life (MODEL.md#the-estimator-over-the-treads-life) would
+//! cost explore, side by side on the same samples of the shipped default study: samples/s of
+//! classifying both wheels (A), with the new tire's wear answer (B: each wheel's closed loop
+//! solved once, then its answer), and with the answer over the tread's life as well (C), the
+//! three interleaved twice on all threads. Explore's bar for its wear stage is half of A.
+//!
+//! Run: `cargo bench --bench wear_life -- [SAMPLES=4000]`.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use polywear::classify::budget::Meter;
+use polywear::classify::ClassifierOptions;
+use polywear::evaluate::{self, PointProblem, WearStage};
+use polywear::study::{Study, DEFAULT_STUDY};
+use polywear::wear::{FittedConstants, WheelGrowth};
+
+fn main() {
+    let samples: u64 = std::env::args()
+        .skip(1)
+        .filter_map(|a| a.parse().ok())
+        .next()
+        .unwrap_or(4_000);
+    let study = Study::parse(DEFAULT_STUDY).expect("the shipped default study parses");
+    let sampler = study.sampler(study.seed, samples);
+    let opts = ClassifierOptions::default();
+    let variants = [study.variants[0]];
+    let stage = WearStage::for_run(
+        &study.base,
+        variants[0],
+        study.wear.unwrap_or_default(),
+        &opts,
+    )
+    .expect("the reference point calibrates");
+    // 0: classify; 1: and the new tire's answer; 2: and the answer over the tread's life.
+    // Returns how many wheels saw a visible polygon within 60,000 km, new tire and life.
+    let run = |level: u8| -> (usize, usize) {
+        (0..samples)
+            .into_par_iter()
+            .map(|i| {
+                let (p, _) = sampler.sample(i);
+                let point = evaluate::solve(&PointProblem::new(p, &variants, &opts));
+                let mut seen = (0, 0);
+                if level == 0 {
+                    return seen;
+                }
+                let c = FittedConstants::of(&p);
+                for w in &point.wheels {
+                    let Ok(g) = WheelGrowth::new(&stage.inputs(&p, w), &Meter::new(opts.budget))
+                    else {
+                        continue;
+                    };
+                    seen.0 += usize::from(g.answer_with(&c).distance_to_visible_km <= 60_000.0);
+                    if level == 2 {
+                        let life = g.life_answer(&c).answer;
+                        seen.1 += usize::from(life.distance_to_visible_km <= 60_000.0);
+                    }
+                }
+                seen
+            })
+            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+    };
+    let mut rates = [0.0_f64; 3];
+    let mut seen = (0, 0);
+    for _round in 0..2 {
+        for level in 0..3u8 {
+            let t0 = Instant::now();
+            let s = run(level);
+            let rate = samples as f64 / t0.elapsed().as_secs_f64();
+            rates[level as usize] = rates[level as usize].max(rate);
+            if level == 2 {
+                seen = s;
+            }
+        }
+    }
+    println!(
+        "default study, {samples} samples on {} threads (best of 2): classify {:.0} samples/s; with the new tire's answer {:.0} ({:.0}% kept); with the answer over the tread's life too {:.0} ({:.0}% kept)",
+        rayon::current_num_threads(),
+        rates[0],
+        rates[1],
+        100.0 * rates[1] / rates[0],
+        rates[2],
+        100.0 * rates[2] / rates[0]
+    );
+    println!(
+        "  wheels with a visible polygon within 60,000 km: new tire {}, over the tread's life {} (of {})",
+        seen.0,
+        seen.1,
+        2 * samples
+    );
+}
