@@ -129,8 +129,8 @@ pub struct LifeAnswer {
     /// The order that becomes visible first, or (none visible) the one that got deepest; its
     /// distance to a visible polygon (+inf: none before the tire is worn out); the tread's life.
     pub answer: WearAnswer,
-    /// The deepest order's largest depth over the life, as a share of d_visible (≥ 1 where
-    /// visible).
+    /// The deepest order's largest depth over the life, as a share of d_visible (1 where a
+    /// polygon is visible).
     pub peak_share_of_visible: f64,
 }
 
@@ -196,6 +196,10 @@ impl WheelGrowth {
             let mut peak = 0.0_f64;
             for k in 1..=steps {
                 let s = ds * k as f64;
+                // Past an earlier order's polygon this one can only come later.
+                if first.is_some_and(|(m, _)| s - ds > m) {
+                    break;
+                }
                 let beta = beta_per_m(s);
                 let next = log_growth + 0.5 * (before + beta) * ds;
                 if next >= target && target > 0.0 {
