@@ -14,7 +14,7 @@ use polywear::classify::budget::Meter;
 use polywear::classify::ClassifierOptions;
 use polywear::evaluate::{self, PointProblem, WearStage};
 use polywear::study::{Study, DEFAULT_STUDY};
-use polywear::wear::{FittedConstants, WheelGrowth};
+use polywear::wear::{FittedConstants, WearAnswer, WheelGrowth};
 
 fn main() {
     let samples: u64 = std::env::args()
@@ -34,7 +34,8 @@ fn main() {
     )
     .expect("the reference point calibrates");
     // 0: classify; 1: and the new tire's answer; 2: and the answer over the tread's life.
-    // Returns how many wheels saw a visible polygon within 60,000 km, new tire and life.
+    // Returns how many wheels saw a visible polygon within 60,000 km (before the tire is worn
+    // out), new tire and life.
     let run = |level: u8| -> (usize, usize) {
         (0..samples)
             .into_par_iter()
@@ -51,10 +52,13 @@ fn main() {
                     else {
                         continue;
                     };
-                    seen.0 += usize::from(g.answer_with(&c).distance_to_visible_km <= 60_000.0);
+                    // Visible within 60,000 km and before the tire is worn out, as the analysis
+                    // counts.
+                    let visible =
+                        |a: WearAnswer| usize::from(a.visible_within(60_000.0) == Some(true));
+                    seen.0 += visible(g.answer_with(&c));
                     if level == 2 {
-                        let life = g.life_answer(&c).answer;
-                        seen.1 += usize::from(life.distance_to_visible_km <= 60_000.0);
+                        seen.1 += visible(g.life_answer(&c).answer);
                     }
                 }
                 seen
@@ -84,7 +88,7 @@ fn main() {
         100.0 * rates[2] / rates[0]
     );
     println!(
-        "  wheels with a visible polygon within 60,000 km: new tire {}, over the tread's life {} (of {})",
+        "  wheels with a visible polygon within 60,000 km, before the tire is worn out: new tire {}, over the tread's life {} (of {})",
         seen.0,
         seen.1,
         2 * samples

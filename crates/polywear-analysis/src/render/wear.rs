@@ -158,7 +158,12 @@ fn meaning(s: &mut String, a: &Analysis, w: &WearAnalysis) {
          causes, to which the vibration couples) and σ_V. They are fitted so that a highway \
          follower with excessive toe-in shows a polygon after 25,000–40,000 km, as Sueoka's \
          survey of passenger cars found, and most tires never do (MODEL.md#calibration-to-the-field); \
-         φ_s = 1 with no spread is the worst case.\n",
+         φ_s = 1 with no spread is the worst case. **These distances are the new tire's**: they \
+         leave out how the tread's frequency rises as it wears. The long-term loop (`polywear \
+         wear`), which follows it, and an estimate over the tread's life that agrees with the \
+         loop give far fewer polygons at these constants (on the built-in study 4 of 8,000 \
+         wheels within 60,000 km, against 493 by this estimate): read these figures as the more \
+         pessimistic of the model's two levels (MODEL.md#the-estimator-over-the-treads-life).\n",
         value(ParamId::SpeedSpreadKmh, w.speed_spread_kmh, " km/h"),
         value(ParamId::WearShareStraight, w.share_straight, ""),
     );
