@@ -80,13 +80,13 @@ impl TransferTable {
 /// f₀/f(h₀ − w) over the worn depth w ∈ \[0, usable\]: the new tread's undamped frequency
 /// √(K_s/m) over the worn one's (MODEL.md#the-ageing-tread; `worn_tread_block`).
 #[derive(Debug, Clone, PartialEq)]
-pub(super) struct TreadDrift {
+struct TreadDrift {
     usable_m: f64,
     ratio: Vec<f64>,
 }
 
 impl TreadDrift {
-    pub(super) fn of(p: &Params, patch: &ContactPatch) -> Self {
+    fn of(p: &Params, patch: &ContactPatch) -> Self {
         let usable_m = p.usable_wear_m().clamp(0.0, p.tread_height);
         let frequency = |h: f64| {
             let b = worn_tread_block(p, patch, h);
@@ -153,9 +153,10 @@ impl WheelGrowth {
         let tread_life = tread_life_km(&self.params, wear_m_per_m * MM_PER_1000KM_PER_M_PER_M);
         let target = self.print_log_ratio;
         let spread_mps = c.speed_spread_kmh / 3.6;
-        let life_m = self.drift.usable_m / wear_m_per_m;
+        let drift = TreadDrift::of(&self.params, &self.patch);
+        let life_m = drift.usable_m / wear_m_per_m;
         let nu = self.nu();
-        let end = self.drift.at_end();
+        let end = drift.at_end();
         let lo = (nu.floor() - 2.0).max(1.0) as u32;
         let hi = ((nu / end).ceil() + 2.0).max(lo as f64) as u32;
         // The spread's width in orders at ν: where it smooths the resonance over a few tenths
@@ -180,7 +181,7 @@ impl WheelGrowth {
                 self.feedback.forcing_per_radius(n as f64),
             );
             let beta_per_m = |s_m: f64| {
-                let x = n as f64 * self.drift.at(wear_m_per_m * s_m);
+                let x = n as f64 * drift.at(wear_m_per_m * s_m);
                 let fixed = self.order_fixed_with(n, x, zone, forcing);
                 let terms = match &table {
                     Some(t) => self.spread_terms_with(&fixed, spread_mps, t.at(x)),

@@ -39,7 +39,6 @@ use crate::params::Params;
 
 mod life;
 pub use life::LifeAnswer;
-use life::TreadDrift;
 
 /// A share of the spread inside the tongue below which the locked print is left out (its
 /// effect on β̄ is below this share of the locked growth).
@@ -239,8 +238,9 @@ pub struct WheelGrowth {
     print_log_ratio: f64,
     share: f64,
     spread_mps: f64,
-    /// f₀/f over the worn depth, for the answer over the tread's life.
-    drift: TreadDrift,
+    /// The contact patch, whose tread block ages in the answer over the tread's life (its
+    /// drift is built there, off the new tire's path).
+    patch: crate::model::ContactPatch,
 }
 
 impl WheelGrowth {
@@ -290,7 +290,7 @@ impl WheelGrowth {
             print_log_ratio: (p.visible_depth_mm * 1e-3 / (2.0 * (p.seed_runout_um * 1e-6))).ln(),
             share: p.wear_share_straight,
             spread_mps: p.speed_spread_kmh / 3.6,
-            drift: TreadDrift::of(p, &model.patch),
+            patch: model.patch,
         })
     }
 
