@@ -148,7 +148,8 @@ impl WheelGrowth {
     /// [`STEP_ORDERS`] (what the table is tested against).
     fn life(&self, c: &FittedConstants, tabulate: bool) -> LifeAnswer {
         let share = c.wear_share_straight;
-        let other_per_share = self.position_rate_with(c) * self.feedback.local_per_m;
+        let other_per_share =
+            self.position_rate(c.wear_rate_driven_factor) * self.feedback.local_per_m;
         let wear_m_per_m = self.tread_wear_with(c);
         let tread_life = tread_life_km(&self.params, wear_m_per_m * MM_PER_1000KM_PER_M_PER_M);
         let target = self.print_log_ratio;

@@ -358,7 +358,8 @@ impl WheelGrowth {
     /// The answer under `c` from its spread's terms, one per order of [`orders_around`] ν.
     fn answer_from(&self, c: &FittedConstants, terms: &[SpreadTerms]) -> WearAnswer {
         let share = c.wear_share_straight;
-        let other_per_share = self.position_rate_with(c) * self.feedback.local_per_m;
+        let other_per_share =
+            self.position_rate(c.wear_rate_driven_factor) * self.feedback.local_per_m;
         let top = terms
             .iter()
             .map(|t| self.order_from(t, share, other_per_share))
@@ -378,11 +379,11 @@ impl WheelGrowth {
         }
     }
 
-    /// w′_pos under `c` \[m/m\]: the position's even-wear rate, k_d w′₀ for a driving wheel under
-    /// the slip reading, w′₀ otherwise.
-    fn position_rate_with(&self, c: &FittedConstants) -> f64 {
+    /// w′_pos with the driven axle's rate `wear_rate_driven_factor` \[m/m\]: the position's
+    /// even-wear rate, k_d w′₀ for a driving wheel under the slip reading, w′₀ otherwise.
+    fn position_rate(&self, wear_rate_driven_factor: f64) -> f64 {
         if self.driven_position {
-            c.wear_rate_driven_factor * wear_rate_ref_m_per_m(&self.params)
+            wear_rate_driven_factor * wear_rate_ref_m_per_m(&self.params)
         } else {
             wear_rate_ref_m_per_m(&self.params)
         }
@@ -394,7 +395,7 @@ impl WheelGrowth {
     fn tread_wear_with(&self, c: &FittedConstants) -> f64 {
         let share = c.wear_share_straight;
         let even = share * (self.even_per_share + self.slip_even_per_share);
-        even + (1.0 - share) * self.position_rate_with(c)
+        even + (1.0 - share) * self.position_rate(c.wear_rate_driven_factor)
     }
 
     /// λ_other per unit (1 − φ_s) \[1/1000 km\] with the driven axle's rate
@@ -402,13 +403,7 @@ impl WheelGrowth {
     /// reading, w′₀ otherwise. With no speed spread β_n is φ_s β_n(φ_s = 1) minus (1 − φ_s)
     /// times this, for every order (a drive cycle's band uses it).
     pub fn other_levelling_per_1000km(&self, wear_rate_driven_factor: f64) -> f64 {
-        let factor = if self.driven_position {
-            wear_rate_driven_factor
-        } else {
-            1.0
-        };
-        factor
-            * wear_rate_ref_m_per_m(&self.params)
+        self.position_rate(wear_rate_driven_factor)
             * self.feedback.local_per_m
             * PER_1000KM_PER_PER_M
     }
