@@ -88,12 +88,7 @@ pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
         .iter()
         .enumerate()
         .map(|(k, a)| {
-            let (lo, hi) = within
-                .iter()
-                .map(|&i| solution.settings[i].values[k])
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
-                    (l.min(v), h.max(v))
-                });
+            let (lo, hi) = span(within.iter().map(|&i| solution.settings[i].values[k]));
             format!("{} {} to {}", a.param, plain(lo, 4), plain(hi, 4))
         })
         .collect();
@@ -153,15 +148,20 @@ pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
 /// The range of a setting's objective over the calibrated sets (None without a band, or where
 /// no set gives it a value).
 fn band_range(s: &polywear_study::optimize::Setting) -> Option<(f64, f64)> {
-    let (lo, hi) = s
-        .band
-        .iter()
-        .map(|e| e.objective.value)
-        .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
-            (l.min(v), h.max(v))
-        });
+    let (lo, hi) = span(
+        s.band
+            .iter()
+            .map(|e| e.objective.value)
+            .filter(|v| v.is_finite()),
+    );
     (lo <= hi).then_some((lo, hi))
+}
+
+/// The smallest and the largest of `values` ((+inf, −inf) for none).
+fn span(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    values.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+        (l.min(v), h.max(v))
+    })
 }
 
 /// What the calibrated sets do to the answer (MODEL.md#the-calibration-band): where the
@@ -185,12 +185,7 @@ fn band_lines(problem: &Problem, solution: &Solution) -> Vec<String> {
         .iter()
         .enumerate()
         .map(|(k, a)| {
-            let (lo, hi) = found
-                .iter()
-                .map(|&i| solution.settings[i].values[k])
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
-                    (l.min(v), h.max(v))
-                });
+            let (lo, hi) = span(found.iter().map(|&i| solution.settings[i].values[k]));
             if lo == hi {
                 format!("{} = {}", a.param, plain(lo, 4))
             } else {
