@@ -211,7 +211,9 @@ mod along_a_cycle {
                 (a - b).abs() <= 1e-9 * b.abs().max(1.0),
                 "wheel {w}: {a} vs {b}"
             );
-            assert_eq!(lifetime.distance_to_visible_km, e.distance_to_visible_km);
+            // The cycle's mean of three equal steps may round differently: the same tolerance.
+            let (a, b) = (lifetime.distance_to_visible_km, e.distance_to_visible_km);
+            assert!((a - b).abs() <= 1e-9 * b.abs(), "wheel {w}: {a} vs {b} km");
             assert!(
                 lifetime.distance_to_visible_km.is_finite(),
                 "the worst case grows"

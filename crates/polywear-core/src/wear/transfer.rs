@@ -122,18 +122,36 @@ impl PoleExpansion {
     pub fn mean_over_band(&self, order: f64, r_b: f64, lo_mps: f64, hi_mps: f64) -> Complex64 {
         let k = r_b / order;
         let width = hi_mps - lo_mps;
+        let (centre, half) = (0.5 * (lo_mps + hi_mps), 0.5 * width);
         self.terms.iter().fold(self.direct, |g, t| {
             let z = pole_in_speed(t, k);
-            let ratio = (Complex64::new(hi_mps, 0.0) - z) / (Complex64::new(lo_mps, 0.0) - z);
-            let log = if t.phase {
-                Complex64::new(ratio.norm().ln(), 0.0)
+            let to_centre = Complex64::new(centre, 0.0) - z;
+            let q = half / to_centre;
+            let mean = if q.norm_sqr() < FAR_FROM_BAND * FAR_FROM_BAND {
+                // ln((c + h − z)/(c − h − z)) / 2h = artanh(q)/h, q = h/(c − z): its series
+                // (1/(c − z)) Σ q^{2j}/(2j + 1), to q⁸ within q¹⁰/11 (a pole far from the
+                // band: a cycle's harmonics, and the poles of most orders' tongues).
+                let q2 = q * q;
+                to_centre.inv()
+                    * (Complex64::new(1.0, 0.0)
+                        + q2 * (1.0 / 3.0 + q2 * (0.2 + q2 * (1.0 / 7.0 + q2 / 9.0))))
             } else {
-                ratio.ln()
+                let ratio = (Complex64::new(hi_mps, 0.0) - z) / (Complex64::new(lo_mps, 0.0) - z);
+                let log = if t.phase {
+                    Complex64::new(ratio.norm().ln(), 0.0)
+                } else {
+                    ratio.ln()
+                };
+                log / width
             };
-            g + t.residue * Complex64::new(0.0, -k) * log / width
+            g + t.residue * Complex64::new(0.0, -k) * mean
         })
     }
 }
+
+/// |h/(c − z)| below which a pole's mean over a band c ± h is taken from its series (the
+/// series' first term left out is under 1e-11 of the mean).
+const FAR_FROM_BAND: f64 = 0.1;
 
 /// The pole of a term in the speed V for order n = r_B/`k`: z = −i s r_B/n (real for a phase
 /// mode).

@@ -434,31 +434,12 @@ impl WheelGrowth {
     /// forcing and the tongue (its uniform mean kept once asked for).
     fn order_fixed(&self, order: u32) -> OrderFixed {
         let n = order as f64;
-        self.order_fixed_with(
-            order,
-            n,
-            self.feedback.zone.transfer(n, self.r_b),
-            self.feedback.forcing_per_radius(n),
-        )
-    }
-
-    /// [`WheelGrowth::order_fixed`] with the tread's transfer and tongue read at order `x`, and
-    /// the order's zone transfer H_w(n) and forcing e_n given (they do not move with x): `x` = n
-    /// for the new tire, n·f₀/f for a worn one whose tread frequency has risen to f
-    /// (MODEL.md#the-estimator-over-the-treads-life).
-    fn order_fixed_with(
-        &self,
-        order: u32,
-        x: f64,
-        zone: Complex64,
-        forcing: Complex64,
-    ) -> OrderFixed {
+        let forcing = self.feedback.forcing_per_radius(n);
         // The cycle locks to a seed-sized polygon in a band of speeds around V_n.
-        let (lock_speed_mps, lock_mps) = self.tongue_mps(x, forcing, self.seed_m);
+        let (lock_speed_mps, lock_mps) = self.tongue_mps(n, forcing, self.seed_m);
         OrderFixed {
             order,
-            x,
-            zone,
+            zone: self.feedback.zone.transfer(n, self.r_b),
             forcing,
             lock_speed_mps,
             lock_mps,
@@ -471,18 +452,11 @@ impl WheelGrowth {
     /// the spread inside the tongue and, where that share counts, the forcing's uniform mean
     /// over the tongue.
     fn spread_terms(&self, f: &OrderFixed, spread_mps: f64) -> SpreadTerms {
-        let mean =
-            self.response
-                .transfer
-                .mean_over_speed(f.x, self.r_b, self.speed_mps, spread_mps);
-        self.spread_terms_with(f, spread_mps, mean)
-    }
-
-    /// [`WheelGrowth::spread_terms`] with the forcing's normal mean over the spread given
-    /// (`mean`: read from a table, where many orders share it).
-    fn spread_terms_with(&self, f: &OrderFixed, spread_mps: f64, mean: Complex64) -> SpreadTerms {
-        let n = f.x;
+        let n = f.order as f64;
         let r = &self.response;
+        let mean = r
+            .transfer
+            .mean_over_speed(n, self.r_b, self.speed_mps, spread_mps);
         let v = self.speed_mps;
         let locked_share = band_share(f.lock_speed_mps, f.lock_mps, v, spread_mps);
         let over_tongue = (locked_share > NEGLIGIBLE_LOCKED_SHARE && spread_mps > 0.0).then(|| {
@@ -509,61 +483,51 @@ impl WheelGrowth {
     /// Order `t.order`'s growth at φ_s = `share` and λ_other per unit (1 − φ_s) =
     /// `other_per_share` \[1/m\], from its spread's terms.
     fn order_from(&self, t: &SpreadTerms, share: f64, other_per_share: f64) -> OrderGrowth {
-        let n = t.order as f64;
-        let even = share * self.even_per_share;
-        let other = (1.0 - share) * other_per_share;
-        let linear = |g: Complex64| self.linear_per_m(t, share, other, g);
-        let (mut beta, regenerative) = linear(t.mean);
-        // Inside the tongue the order grows by the locked print instead of the linear loop:
-        // over the share of the spread there, the loop's own mean over the band (uniform, the
-        // spread's density taken as flat across it) is replaced; with no spread, the whole.
-        if t.locked_share > NEGLIGIBLE_LOCKED_SHARE {
-            let in_band = match t.over_tongue {
-                Some(g) => linear(g).0,
-                None => beta,
-            };
-            let locked =
-                self.locked_print_per_m(even, t.zone.norm()) - other - self.slip_per_m(t, share);
-            beta += t.locked_share * (locked - in_band);
-        }
+        let order_loop = self.order_loop(t.zone, t.forcing, share, other_per_share);
+        let beta = order_loop.growth_per_m(t.mean, t.locked_share, t.over_tongue);
         OrderGrowth {
             order: t.order,
-            detuning_rev: self.response.nu - n,
+            detuning_rev: self.response.nu - t.order as f64,
             growth_rate_per_1000km: beta * PER_1000KM_PER_PER_M,
-            regenerative_per_1000km: regenerative * PER_1000KM_PER_PER_M,
+            regenerative_per_1000km: order_loop.through_tread_per_m(t.mean) * PER_1000KM_PER_PER_M,
             lock_halfwidth_kmh: t.lock_mps * 3.6,
             locked_share: t.locked_share,
         }
     }
 
-    /// β of the linear loop of order `t.order` at φ_s = `share`, λ_other = `other` \[1/m\],
-    /// for the forcing's (mean) transfer `g`, and its regenerative part (the one through the
-    /// tread) \[1/m\].
-    fn linear_per_m(&self, t: &SpreadTerms, share: f64, other: f64, g: Complex64) -> (f64, f64) {
-        let fb = &self.feedback;
-        let h = t.zone;
-        let through_tread = g * h.conj() * t.forcing;
-        let gain = Complex64::new(fb.local_per_m * (1.0 - h.norm_sqr()), 0.0) + through_tread;
+    /// The closed loop of an order whose wear zone has the transfer `zone` (H_w) and whose
+    /// forcing is `forcing` (e_n), at φ_s = `share` and λ_other per unit (1 − φ_s) =
+    /// `other_per_share` \[1/m\]: what stays fixed while the tread's transfer Ḡ moves (with
+    /// the speed spread, or with the tread's age).
+    fn order_loop(
+        &self,
+        zone: Complex64,
+        forcing: Complex64,
+        share: f64,
+        other_per_share: f64,
+    ) -> OrderLoop {
         let even = share * self.even_per_share;
-        (
-            -even * gain.re - other - self.slip_per_m(t, share),
-            -even * through_tread.re,
-        )
+        let other = (1.0 - share) * other_per_share;
+        let slip = self.slip_per_m(zone, forcing, share);
+        OrderLoop {
+            base_per_m: -even * self.feedback.local_per_m * (1.0 - zone.norm_sqr()) - other - slip,
+            through_per_m: -even * zone.conj() * forcing,
+            locked_per_m: self.locked_print_per_m(even, zone.norm()) - other - slip,
+        }
     }
 
-    /// The slip power's part of β for order `t.order` at φ_s = `share` \[1/m\]: its wear
-    /// shared by pressure within the zone levels by κ(1 − |H_w|²), and its zone total follows
-    /// the profile's ε with G_x (at the frozen slip ratio) through conj(H_w) e_n, as the lateral
-    /// power does with G (MODEL.md#the-driving-wheels-slip-power). Positive: it levels.
-    fn slip_per_m(&self, t: &SpreadTerms, share: f64) -> f64 {
+    /// The slip power's part of β for an order of zone transfer `zone` and forcing `forcing`
+    /// at φ_s = `share` \[1/m\]: its wear shared by pressure within the zone levels by
+    /// κ(1 − |H_w|²), and its zone total follows the profile's ε with G_x (at the frozen slip
+    /// ratio) through conj(H_w) e_n, as the lateral power does with G
+    /// (MODEL.md#the-driving-wheels-slip-power). Positive: it levels.
+    fn slip_per_m(&self, zone: Complex64, forcing: Complex64, share: f64) -> f64 {
         let even = share * self.slip_even_per_share;
         if even == 0.0 {
             return 0.0;
         }
-        let fb = &self.feedback;
-        let h = t.zone;
-        let through = (h.conj() * t.forcing).re * self.slip_gain;
-        even * (fb.local_per_m * (1.0 - h.norm_sqr()) + through)
+        let through = (zone.conj() * forcing).re * self.slip_gain;
+        even * (self.feedback.local_per_m * (1.0 - zone.norm_sqr()) + through)
     }
 
     /// The speed band \[m/s\] (centre, half-width) in which the cycle locks to order `n` of
@@ -593,12 +557,57 @@ impl WheelGrowth {
     }
 }
 
+/// One order's closed loop as a function of the tread's transfer Ḡ it sees: affine in Ḡ (the
+/// linear loop, MODEL.md#growth-of-an-order), and over the share of the spread in the
+/// tongue, the locked print instead (MODEL.md#growth-of-a-vibrating-wheel).
+#[derive(Debug, Clone, Copy)]
+struct OrderLoop {
+    /// β with no transfer through the tread: −w′κ(1 − |H_w|²) − λ_other − the slip power's
+    /// part \[1/m\].
+    base_per_m: f64,
+    /// β's part through the tread is Re(Ḡ · this): −w′ conj(H_w) e_n \[1/m\].
+    through_per_m: Complex64,
+    /// The locked print's growth, less λ_other and the slip power's part \[1/m\].
+    locked_per_m: f64,
+}
+
+impl OrderLoop {
+    /// β's regenerative part, the one through the tread, for the transfer `g` \[1/m\].
+    fn through_tread_per_m(&self, g: Complex64) -> f64 {
+        (g * self.through_per_m).re
+    }
+
+    /// β of the linear loop for the transfer `g` \[1/m\].
+    fn linear_per_m(&self, g: Complex64) -> f64 {
+        self.base_per_m + self.through_tread_per_m(g)
+    }
+
+    /// β for the transfer's normal mean over the spread `mean`, a share `locked_share` of the
+    /// spread inside the tongue, over which the transfer's uniform mean is `over_tongue`
+    /// \[1/m\]. Inside the tongue the order grows by the locked print instead of the linear
+    /// loop: over the share of the spread there, the loop's own mean over the band (uniform,
+    /// the spread's density taken as flat across it) is replaced; with no spread
+    /// (`over_tongue` none), the whole.
+    fn growth_per_m(
+        &self,
+        mean: Complex64,
+        locked_share: f64,
+        over_tongue: Option<Complex64>,
+    ) -> f64 {
+        let beta = self.linear_per_m(mean);
+        if locked_share > NEGLIGIBLE_LOCKED_SHARE {
+            let in_band = over_tongue.map_or(beta, |g| self.linear_per_m(g));
+            beta + locked_share * (self.locked_per_m - in_band)
+        } else {
+            beta
+        }
+    }
+}
+
 /// The part of one order's growth that depends on the wheel alone.
 #[derive(Debug, Clone)]
 struct OrderFixed {
     order: u32,
-    /// The order the tread's transfer and tongue are read at (n for the new tire).
-    x: f64,
     /// H_w(n), the wear zone's transfer.
     zone: Complex64,
     /// e_n, the forcing per unit radius.
@@ -642,6 +651,14 @@ fn band_share(centre_mps: f64, half_mps: f64, mean_mps: f64, spread_mps: f64) ->
         } else {
             0.0
         };
+    }
+    // A band more than this many deviations from the mean holds under 1e-19 of the spread
+    // (left out; the answer over the tread's life asks at every step, mostly far out).
+    const FAR_DEVIATIONS: f64 = 9.0;
+    if (centre_mps - half_mps - mean_mps) > FAR_DEVIATIONS * spread_mps
+        || (centre_mps + half_mps - mean_mps) < -FAR_DEVIATIONS * spread_mps
+    {
+        return 0.0;
     }
     let cdf = |x: f64| 0.5 * libm::erfc(-(x - mean_mps) / (std::f64::consts::SQRT_2 * spread_mps));
     cdf(centre_mps + half_mps) - cdf(centre_mps - half_mps)
