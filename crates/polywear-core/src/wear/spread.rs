@@ -112,13 +112,16 @@ pub(crate) fn normal_mean_of_pole(z: Complex64, mean: f64, sd: f64) -> Complex64
         };
     }
     let scale = std::f64::consts::SQRT_2 * sd;
-    let zeta = (z - mean) / scale;
-    if zeta.norm_sqr() > FAR_POLE_ZETA * FAR_POLE_ZETA {
-        // Far from the spread: the moments' series 1/(V̄−z) Σ (2k−1)!! (σ/(V̄−z))^{2k}.
-        let inv = (Complex64::new(mean, 0.0) - z).inv();
+    let to_mean = Complex64::new(mean, 0.0) - z;
+    let distance_sqr = to_mean.norm_sqr();
+    if distance_sqr > (FAR_POLE_ZETA * scale) * (FAR_POLE_ZETA * scale) {
+        // Far from the spread: the moments' series 1/(V̄−z) Σ (2k−1)!! (σ/(V̄−z))^{2k} (one
+        // division: this is most poles of a vibrating wheel at most orders).
+        let inv = to_mean.conj() * (1.0 / distance_sqr);
         let r = inv * inv * (sd * sd);
         return inv * (Complex64::new(1.0, 0.0) + r * (1.0 + r * (3.0 + r * 15.0)));
     }
+    let zeta = -to_mean / scale;
     let k = (std::f64::consts::PI / 2.0).sqrt() / sd;
     if z.im > 0.0 {
         Complex64::new(0.0, k) * faddeeva_fast(zeta)
