@@ -652,8 +652,9 @@ fn band_share(centre_mps: f64, half_mps: f64, mean_mps: f64, spread_mps: f64) ->
             0.0
         };
     }
-    // A band more than this many deviations from the mean holds under 1e-19 of the spread
-    // (left out; the answer over the tread's life asks at every step, mostly far out).
+    // A band more than this many deviations from the mean holds under 1e-19 of the spread:
+    // left out without the two error functions (the answer over the tread's life asks at
+    // every node of every order).
     const FAR_DEVIATIONS: f64 = 9.0;
     if (centre_mps - half_mps - mean_mps) > FAR_DEVIATIONS * spread_mps
         || (centre_mps + half_mps - mean_mps) < -FAR_DEVIATIONS * spread_mps
