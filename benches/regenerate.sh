@@ -147,7 +147,7 @@ fi
 
 if want wear-life; then
   section "wear-life"
-  say "Command: \`cargo bench --bench wear_life -- $LIFE_N\` (the default study classified, with the new tire's wear answer, and with the answer over the tread's life as well, interleaved, best of 2; the wheels each gives a visible polygon within 60,000 km)."
+  say "Command: \`cargo bench --bench wear_life -- $LIFE_N\` (the default study classified, with the new tire's wear answer, with the answer over the tread's life as well, and with it instead, interleaved, best of 2; the wheels each gives a visible polygon within 60,000 km)."
   say ""
   cargo bench --quiet --bench wear_life -- "$LIFE_N" 2>/dev/null | block
 fi

@@ -1,8 +1,10 @@
 //! What the estimator over the tread's life (MODEL.md#the-estimator-over-the-treads-life) would
 //! cost explore, side by side on the same samples of the shipped default study: samples/s of
 //! classifying both wheels (A), with the new tire's wear answer (B: each wheel's closed loop
-//! solved once, then its answer), and with the answer over the tread's life as well (C), the
-//! three interleaved twice on all threads. Explore's bar for its wear stage is half of A.
+//! solved once, then its answer), with the answer over the tread's life as well (C), and with
+//! the life answer instead of the new tire's (D: what explore would cost if it were the
+//! sample's answer), the four interleaved twice on all threads. Explore's bar for its wear
+//! stage is half of A.
 //!
 //! Run: `cargo bench --bench wear_life -- [SAMPLES=4000]`.
 
@@ -33,7 +35,8 @@ fn main() {
         &opts,
     )
     .expect("the reference point calibrates");
-    // 0: classify; 1: and the new tire's answer; 2: and the answer over the tread's life.
+    // 0: classify; 1: and the new tire's answer; 2: and the answer over the tread's life;
+    // 3: and the answer over the tread's life alone.
     // Returns how many wheels saw a visible polygon within 60,000 km (before the tire is worn
     // out), new tire and life.
     let run = |level: u8| -> (usize, usize) {
@@ -56,8 +59,10 @@ fn main() {
                     // counts.
                     let visible =
                         |a: WearAnswer| usize::from(a.visible_within(60_000.0) == Some(true));
-                    seen.0 += visible(g.answer_with(&c));
-                    if level == 2 {
+                    if level <= 2 {
+                        seen.0 += visible(g.answer_with(&c));
+                    }
+                    if level >= 2 {
                         seen.1 += visible(g.life_answer(&c).answer);
                     }
                 }
@@ -65,10 +70,10 @@ fn main() {
             })
             .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
     };
-    let mut rates = [0.0_f64; 3];
+    let mut rates = [0.0_f64; 4];
     let mut seen = (0, 0);
     for _round in 0..2 {
-        for level in 0..3u8 {
+        for level in 0..4u8 {
             let t0 = Instant::now();
             let s = run(level);
             let rate = samples as f64 / t0.elapsed().as_secs_f64();
@@ -79,13 +84,15 @@ fn main() {
         }
     }
     println!(
-        "default study, {samples} samples on {} threads (best of 2): classify {:.0} samples/s; with the new tire's answer {:.0} ({:.0}% kept); with the answer over the tread's life too {:.0} ({:.0}% kept)",
+        "default study, {samples} samples on {} threads (best of 2): classify {:.0} samples/s; with the new tire's answer {:.0} ({:.0}% kept); with the answer over the tread's life too {:.0} ({:.0}% kept); with the life answer instead of the new tire's {:.0} ({:.0}% kept)",
         rayon::current_num_threads(),
         rates[0],
         rates[1],
         100.0 * rates[1] / rates[0],
         rates[2],
-        100.0 * rates[2] / rates[0]
+        100.0 * rates[2] / rates[0],
+        rates[3],
+        100.0 * rates[3] / rates[0]
     );
     println!(
         "  wheels with a visible polygon within 60,000 km, before the tire is worn out: new tire {}, over the tread's life {} (of {})",
