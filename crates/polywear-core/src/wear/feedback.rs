@@ -55,8 +55,13 @@ impl Feedback {
     /// e_n \[1/m\]: ε = Re\[e_n R e^{inΩt}\] for the profile harmonic r = Re\[R e^{inθ}\]:
     /// κ H_w(n) + ∂ln(F_Z L)/∂F_Z · k_r H_p(n).
     pub fn forcing_per_radius(&self, order: f64) -> Complex64 {
-        self.zone.transfer(order, self.r_b) * self.local_per_m
-            + self.load_per_radius(order) * self.load_sensitivity_per_n
+        self.forcing_with_zone(order, self.zone.transfer(order, self.r_b))
+    }
+
+    /// [`Feedback::forcing_per_radius`] for the zone's transfer at `order` already taken,
+    /// `zone` = H_w(n).
+    pub fn forcing_with_zone(&self, order: f64, zone: Complex64) -> Complex64 {
+        zone * self.local_per_m + self.load_per_radius(order) * self.load_sensitivity_per_n
     }
 
     /// ΔF_Z per metre of radius of the harmonic of `order` under the belt, k_r H_p(n) \[N/m\].

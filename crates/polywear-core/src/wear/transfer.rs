@@ -5,7 +5,7 @@
 
 use nalgebra::{Matrix3, RowVector3, Vector3};
 
-use super::spread::normal_mean_of_pole;
+use super::spread::NormalSpeeds;
 use super::Complex64;
 use crate::model::{State, TreadOde};
 
@@ -108,12 +108,49 @@ impl PoleExpansion {
         speed_mps: f64,
         spread_mps: f64,
     ) -> Complex64 {
+        self.mean_over_speeds(order, r_b, &NormalSpeeds::new(speed_mps, spread_mps))
+    }
+
+    /// [`PoleExpansion::mean_over_speed`] over `speeds`.
+    pub(crate) fn mean_over_speeds(
+        &self,
+        order: f64,
+        r_b: f64,
+        speeds: &NormalSpeeds,
+    ) -> Complex64 {
         let k = r_b / order;
-        self.terms.iter().fold(self.direct, |g, t| {
-            // residue/(iω − s) = residue · (r_B/(i n)) / (V − z).
+        let sum = self.terms.iter().fold(Complex64::new(0.0, 0.0), |g, t| {
             let z = pole_in_speed(t, k);
-            g + t.residue * Complex64::new(0.0, -k) * normal_mean_of_pole(z, speed_mps, spread_mps)
-        })
+            g + t.residue * speeds.mean_of_pole(z)
+        });
+        // residue/(iω − s) = residue · (r_B/(i n)) / (V − z).
+        self.direct + sum * Complex64::new(0.0, -k)
+    }
+
+    /// The poles that resonate at an order inside \[`lo`, `hi`\] (ω = x V/r_B at a positive
+    /// frequency Im s) with the part without a pole, and the rest: what the rest adds is smooth
+    /// over those orders.
+    pub fn split_at_orders(
+        &self,
+        lo: f64,
+        hi: f64,
+        r_b: f64,
+        speed_mps: f64,
+    ) -> (PoleExpansion, PoleExpansion) {
+        let (near, far) = self.terms.iter().partition(|t| {
+            let x = t.pole.im * r_b / speed_mps;
+            (lo..=hi).contains(&x)
+        });
+        (
+            PoleExpansion {
+                direct: self.direct,
+                terms: near,
+            },
+            PoleExpansion {
+                direct: Complex64::new(0.0, 0.0),
+                terms: far,
+            },
+        )
     }
 
     /// The mean of G(i n V/r_B) over speeds uniform on \[`lo_mps`, `hi_mps`\]: each pole
@@ -137,15 +174,86 @@ impl PoleExpansion {
                         + q2 * (1.0 / 3.0 + q2 * (0.2 + q2 * (1.0 / 7.0 + q2 / 9.0))))
             } else {
                 let ratio = (Complex64::new(hi_mps, 0.0) - z) / (Complex64::new(lo_mps, 0.0) - z);
+                // ln|ratio| from its square (no hypot: the ratio is of order one).
+                let log_norm = 0.5 * ratio.norm_sqr().ln();
                 let log = if t.phase {
-                    Complex64::new(ratio.norm().ln(), 0.0)
+                    Complex64::new(log_norm, 0.0)
                 } else {
-                    ratio.ln()
+                    Complex64::new(log_norm, ratio.im.atan2(ratio.re))
                 };
                 log / width
             };
             g + t.residue * Complex64::new(0.0, -k) * mean
         })
+    }
+}
+
+/// [`PoleExpansion::mean_over_band`] over a cycle's tongue at every order of a wheel: at order
+/// n the band of speeds is V ν/n ± V λ_n/n (λ_n the lock's half-width in revolutions), which
+/// spans the same ω = ω_γ(1 ± λ_n/ν) at every n but for its width. A pole far from the band at
+/// the widest λ adds residue·(−i r_B)/(Vν − z₁) · Σ_j (λ u)^{2j}/(2j + 1), u = V/(Vν − z₁) and
+/// z₁ its pole in V at order 1 (the series the band's mean takes anyway): those poles are
+/// summed once as a series in λ², the rest per order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TongueMeans {
+    /// The poles near the band, with the part without a pole.
+    near: PoleExpansion,
+    /// Σ over the far poles of residue·(−i r_B)/(Vν − z₁) · u^{2j}/(2j + 1), j = 0 … 4.
+    series: [Complex64; 5],
+    r_b: f64,
+    speed_mps: f64,
+}
+
+impl TongueMeans {
+    /// The transfer's uniform mean over the band `centre_mps` ± `half_mps` at `order`, the
+    /// band being the tongue's (centre V ν/n).
+    pub fn at(&self, order: f64, centre_mps: f64, half_mps: f64) -> Complex64 {
+        let lambda = half_mps * order / self.speed_mps;
+        let l2 = lambda * lambda;
+        let far = self
+            .series
+            .iter()
+            .rev()
+            .fold(Complex64::new(0.0, 0.0), |acc, &c| acc * l2 + c);
+        self.near.mean_over_band(
+            order,
+            self.r_b,
+            centre_mps - half_mps,
+            centre_mps + half_mps,
+        ) + far
+    }
+}
+
+impl PoleExpansion {
+    /// The means over a cycle's tongue ([`TongueMeans`]) of frequency ν = ω_γ r_B/V revolutions,
+    /// for half-widths λ up to `widest` (revolutions).
+    pub fn tongue_means(&self, r_b: f64, speed_mps: f64, nu: f64, widest: f64) -> TongueMeans {
+        let mut near = PoleExpansion {
+            direct: self.direct,
+            terms: Vec::new(),
+        };
+        let mut series = [Complex64::new(0.0, 0.0); 5];
+        let centre = Complex64::new(speed_mps * nu, 0.0);
+        for t in &self.terms {
+            let to_centre = centre - pole_in_speed(t, r_b);
+            let u = Complex64::new(speed_mps, 0.0) / to_centre;
+            if (u * widest).norm_sqr() < FAR_FROM_BAND * FAR_FROM_BAND {
+                let u2 = u * u;
+                let mut term = t.residue * Complex64::new(0.0, -r_b) / to_centre;
+                for (j, s) in series.iter_mut().enumerate() {
+                    *s += term / (2 * j + 1) as f64;
+                    term *= u2;
+                }
+            } else {
+                near.terms.push(*t);
+            }
+        }
+        TongueMeans {
+            near,
+            series,
+            r_b,
+            speed_mps,
+        }
     }
 }
 
