@@ -55,13 +55,28 @@ impl Feedback {
     /// e_n \[1/m\]: ε = Re\[e_n R e^{inΩt}\] for the profile harmonic r = Re\[R e^{inθ}\]:
     /// κ H_w(n) + ∂ln(F_Z L)/∂F_Z · k_r H_p(n).
     pub fn forcing_per_radius(&self, order: f64) -> Complex64 {
-        self.forcing_with_zone(order, self.zone.transfer(order, self.r_b))
+        self.forcing_of(
+            self.zone.transfer(order, self.r_b),
+            pressure_transfer(order, self.patch.length_m, self.r_b),
+        )
     }
 
-    /// [`Feedback::forcing_per_radius`] for the zone's transfer at `order` already taken,
-    /// `zone` = H_w(n).
-    pub fn forcing_with_zone(&self, order: f64, zone: Complex64) -> Complex64 {
-        zone * self.local_per_m + self.load_per_radius(order) * self.load_sensitivity_per_n
+    /// (H_w(n), e_n) at the consecutive orders `first`, `first` + 1, …: the zone's transfer and
+    /// [`Feedback::forcing_per_radius`], their sines by rotation ([`ZoneGeometry::gains`]).
+    pub fn zones_and_forcings(
+        &self,
+        first: u32,
+    ) -> impl Iterator<Item = (Complex64, Complex64)> + '_ {
+        self.zone
+            .transfers(first, self.r_b)
+            .zip(self.patch.gains(first, self.r_b))
+            .map(|(zone, pressure)| (zone, self.forcing_of(zone, pressure)))
+    }
+
+    /// e_n from the zone's transfer H_w(n) and the pressure's H_p(n).
+    fn forcing_of(&self, zone: Complex64, pressure: f64) -> Complex64 {
+        zone * self.local_per_m
+            + self.radial_stiffness_n_per_m * pressure * self.load_sensitivity_per_n
     }
 
     /// ΔF_Z per metre of radius of the harmonic of `order` under the belt, k_r H_p(n) \[N/m\].

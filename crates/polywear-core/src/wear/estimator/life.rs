@@ -446,11 +446,10 @@ impl WheelGrowth {
         let mut first: Option<(f64, u32)> = None;
         let mut deepest = (f64::NEG_INFINITY, lo);
         // Each order's zone transfer H_w(n) and forcing e_n.
-        let fixed: Vec<(Complex64, Complex64)> = (lo..=hi)
-            .map(|n| {
-                let zone = self.feedback.zone.transfer(n as f64, self.r_b);
-                (zone, self.feedback.forcing_with_zone(n as f64, zone))
-            })
+        let fixed: Vec<(Complex64, Complex64)> = self
+            .feedback
+            .zones_and_forcings(lo)
+            .take((hi - lo + 1) as usize)
             .collect();
         // The tongue's uniform means, for the widest tongue of these orders (a vibrating
         // wheel under a spread).
