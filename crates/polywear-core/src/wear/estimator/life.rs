@@ -388,7 +388,7 @@ impl TreadDrift {
 /// they were taken.
 struct Prev {
     x: f64,
-    /// Its index among the nodes (none: not a node).
+    /// Its index among the nodes (none: the start, whose ln D is 0, or the end).
     j: Option<usize>,
     s: Option<f64>,
     log: Option<f64>,
