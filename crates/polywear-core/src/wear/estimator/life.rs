@@ -721,6 +721,116 @@ mod table_tests {
     use crate::model::{Variant, Wheel};
     use crate::wear::{WearInputs, WearSettings};
 
+    /// A wheel's closed loop at a highway point (140 km/h 0.35°: the follower vibrates).
+    fn growth(speed_kmh: f64, toe_deg: f64, wheel: Wheel) -> (WheelGrowth, bool) {
+        let opts = ClassifierOptions::default();
+        let base = Params::default();
+        let cal = calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
+        let p = Params {
+            speed_kmh,
+            toe_deg,
+            ..base
+        };
+        let w = solve_wheel(p, Variant::SlidingShare, wheel, &opts);
+        let g = WheelGrowth::new(
+            &WearInputs {
+                params: &p,
+                model: &w.model,
+                verdict: &w.verdict,
+                settings: &WearSettings::default(),
+                calibration: &cal,
+            },
+            &Meter::new(opts.budget),
+        )
+        .unwrap();
+        (g, w.verdict.class.vibrates())
+    }
+
+    /// The nodes' Ḡ (the far poles through their Chebyshev fit) is every pole's sum at the
+    /// node within 10⁻⁶ of the largest |Ḡ|, and their moments are the integrals of x^m Ḡ (Ḡ
+    /// linear between the nodes) by a fine trapezoid within 10⁻⁶, for a vibrating and a stable
+    /// wheel at spreads of 2–10 km/h.
+    #[test]
+    fn the_nodes_are_the_transfer_and_its_moments() {
+        let mut fitted = 0;
+        for (speed, toe, wheel) in [
+            (140.0, 0.35, Wheel::Follower),
+            (110.0, 0.45, Wheel::Follower),
+        ] {
+            let (g, _) = growth(speed, toe, wheel);
+            for spread_kmh in [2.0, 5.0, 10.0] {
+                let spread = spread_kmh / 3.6;
+                let (lo, hi) = (10.0, 30.0);
+                let nodes = TransferNodes::new(&g, lo, hi, spread, Nodes::Adaptive);
+                let transfer = &g.response.transfer;
+                let direct: Vec<Complex64> = nodes
+                    .x
+                    .iter()
+                    .map(|&x| transfer.mean_over_speed(x, g.r_b, g.speed_mps, spread))
+                    .collect();
+                let largest = direct.iter().map(|d| d.norm()).fold(0.0, f64::max);
+                for (k, (a, b)) in nodes.g.iter().zip(&direct).enumerate() {
+                    assert!(
+                        (a - b).norm() <= 1e-6 * largest,
+                        "{speed} km/h, {spread_kmh} km/h, node {k}: {a} {b}"
+                    );
+                }
+                fitted += usize::from(nodes.g != direct);
+                // The moments at the last node against a fine trapezoid of x^m Ḡ.
+                let last = nodes.x.len() - 1;
+                for m in 0..WORN_DEGREE {
+                    let mut sum = Complex64::new(0.0, 0.0);
+                    for k in 1..=last {
+                        let (a, b) = (nodes.x[k - 1], nodes.x[k]);
+                        let steps = 200;
+                        for i in 0..steps {
+                            let (t0, t1) = (i as f64 / steps as f64, (i + 1) as f64 / steps as f64);
+                            let at = |t: f64| {
+                                let x = a + (b - a) * t;
+                                (nodes.g[k - 1] * (1.0 - t) + nodes.g[k] * t) * x.powi(m as i32)
+                            };
+                            sum += (at(t0) + at(t1)) * (0.5 * (b - a) / steps as f64);
+                        }
+                    }
+                    let got = nodes.moments[last][m];
+                    assert!(
+                        (got - sum).norm() <= 1e-6 * sum.norm(),
+                        "moment {m}: {got} {sum}"
+                    );
+                }
+            }
+        }
+        // The fit was used (somewhere it differs from the direct sum in its last digits).
+        assert!(fitted > 0);
+    }
+
+    /// The tongue's means from [`TongueMeans`] (far poles as one series in λ²) are the
+    /// transfer's uniform means over the band, within 10⁻⁹ relative, at every order a
+    /// vibrating wheel's answer over its life takes and half-widths up to the widest.
+    #[test]
+    fn the_tongue_means_are_the_band_means() {
+        let (g, vibrates) = growth(140.0, 0.35, Wheel::Follower);
+        assert!(vibrates);
+        let (v, nu) = (g.speed_mps, g.response.nu);
+        let widest = 0.3;
+        let means = g.response.transfer.tongue_means(g.r_b, v, nu, widest);
+        for n in 8..30 {
+            let order = n as f64;
+            for lambda in [1e-3, 0.01, 0.1, widest] {
+                let (centre, half) = (v * nu / order, v * lambda / order);
+                let want =
+                    g.response
+                        .transfer
+                        .mean_over_band(order, g.r_b, centre - half, centre + half);
+                let got = means.at(order, centre, half);
+                assert!(
+                    (got - want).norm() <= 1e-9 * want.norm(),
+                    "order {n}, λ {lambda}: {got} {want}"
+                );
+            }
+        }
+    }
+
     /// The adaptive nodes of Ḡ(x) (and the locked print left out where it cannot count) give the
     /// integral over a uniform grid of 0.02 order: at highway points with stable and vibrating
     /// wheels, both positions, spreads of 0.5–10 km/h, the same polygon within 1.5% in
