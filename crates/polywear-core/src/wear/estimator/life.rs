@@ -449,10 +449,20 @@ impl WheelGrowth {
         let mut first: Option<(f64, u32)> = None;
         let mut deepest = (f64::NEG_INFINITY, lo);
         // Each order's zone transfer H_w(n) and forcing e_n.
-        let fixed: Vec<(Complex64, Complex64)> = self
-            .feedback
-            .zones_and_forcings(lo)
-            .take((hi - lo + 1) as usize)
+        // Each order's zone transfer H_w(n), forcing e_n, and tongue (centre and half-width,
+        // m/s): the tongue at x: a worn tread's ν is ν₀·f/f₀, so order n locks as the new
+        // tire's order x does, in a band of speeds around V ν/x, ±V δ_L/x (δ_L of order n). The
+        // uniform mean over it is the same at every x: the band of ω = x V/r_B it spans does not
+        // move.
+        let fixed: Vec<(Complex64, Complex64, (f64, f64))> = (lo..=hi)
+            .zip(self.feedback.zones_and_forcings(lo))
+            .map(|(n, (zone, forcing))| {
+                (
+                    zone,
+                    forcing,
+                    self.tongue_mps(n as f64, forcing, self.seed_m),
+                )
+            })
             .collect();
         // The tongue's uniform means, for the widest tongue of these orders (a vibrating
         // wheel under a spread).
@@ -462,9 +472,7 @@ impl WheelGrowth {
                 .get_or_init(|| {
                     let widest = (lo..=hi)
                         .zip(&fixed)
-                        .map(|(n, &(_, forcing))| {
-                            self.tongue_mps(n as f64, forcing, self.seed_m).1 * n as f64 / v
-                        })
+                        .map(|(n, &(_, _, (_, half_mps)))| half_mps * n as f64 / v)
                         .fold(0.0, f64::max);
                     self.response
                         .transfer
@@ -472,14 +480,9 @@ impl WheelGrowth {
                 })
                 .at(order, centre_mps, half_mps)
         };
-        for (n, &(zone, forcing)) in (lo..=hi).zip(&fixed) {
+        for (n, &(zone, forcing, (centre_mps, half_mps))) in (lo..=hi).zip(&fixed) {
             let order = n as f64;
             let order_loop = self.order_loop(zone, forcing, share, other_per_share);
-            // The tongue at x: a worn tread's ν is ν₀·f/f₀, so order n locks as the new tire's
-            // order x does, in a band of speeds around V ν/x, ±V δ_L/x (δ_L of order n). The
-            // uniform mean over it is the same at every x: the band of ω = x V/r_B it spans
-            // does not move.
-            let (centre_mps, half_mps) = self.tongue_mps(order, forcing, self.seed_m);
             let (centre_at_n, half_at_n) = (centre_mps * order, half_mps * order);
             let over_tongue = (half_mps > 0.0 && spread_mps > 0.0)
                 .then(|| tongue_mean(order, centre_mps, half_mps));

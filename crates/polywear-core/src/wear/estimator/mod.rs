@@ -537,10 +537,6 @@ impl WheelGrowth {
     fn tongue_mps(&self, n: f64, forcing: Complex64, radius_m: f64) -> (f64, f64) {
         let r = &self.response;
         let v = self.speed_mps;
-        if r.phase_coupling_s == 0.0 {
-            // A stable wheel: no cycle to lock.
-            return (v * r.nu / n, 0.0);
-        }
         let lock_rev = r.nu * forcing.norm() * radius_m * r.phase_coupling_s;
         (v * r.nu / n, v * lock_rev / n)
     }
