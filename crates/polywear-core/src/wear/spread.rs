@@ -101,6 +101,14 @@ pub fn dawson(x: f64) -> f64 {
 /// vibrating wheel at most orders, and the resonance's flanks).
 const FAR_POLE_ZETA: f64 = 5.0;
 
+/// Beyond |ζ|² = this times [`FAR_POLE_ZETA`]² the series' first three terms suffice (the
+/// fourth is 15/(2|ζ|²)³ of the sum: below 3·10⁻⁸ from |ζ| = 20) ...
+const FAR_POLE_TERMS_3: f64 = 16.0;
+
+/// ... and beyond this times it, the first four (the fifth is 105/(2|ζ|²)⁴: below 7·10⁻⁸ from
+/// |ζ| = 10).
+const FAR_POLE_TERMS_4: f64 = 4.0;
+
 /// E\[1/(V − z)\] for V normal with mean `mean` and standard deviation `sd` (1/(mean − z) for
 /// sd = 0). A pole on the real axis has no mean: its principal value is returned (0 at the
 /// pole itself when sd = 0).
@@ -150,13 +158,21 @@ impl NormalSpeeds {
         let distance_sqr = to_mean.norm_sqr();
         if distance_sqr > self.far_sqr {
             // Far from the spread: the moments' series 1/(V̄−z) Σ (2k−1)!! (σ/(V̄−z))^{2k} (one
-            // division). In the upper half-plane of ζ (where the poles are read) it has no
-            // exponentially small part to leave out.
+            // division), to the term before the first below 10⁻⁶ of the sum. In the upper
+            // half-plane of ζ (where the poles are read) it has no exponentially small part to
+            // leave out.
             let inv = to_mean.conj() * (1.0 / distance_sqr);
             let r = inv * inv * (sd * sd);
-            let tail = r * (15.0 + r * (105.0 + r * 945.0));
-            return inv
-                * (Complex64::new(1.0, 0.0) + r * (Complex64::new(1.0, 0.0) + r * (3.0 + tail)));
+            let one = Complex64::new(1.0, 0.0);
+            let sum = if distance_sqr > self.far_sqr * FAR_POLE_TERMS_3 {
+                one + r * (one + r * 3.0)
+            } else if distance_sqr > self.far_sqr * FAR_POLE_TERMS_4 {
+                one + r * (one + r * (3.0 + r * 15.0))
+            } else {
+                let tail = r * (15.0 + r * (105.0 + r * 945.0));
+                one + r * (one + r * (3.0 + tail))
+            };
+            return inv * sum;
         }
         let zeta = -to_mean * self.per_scale;
         let k = self.k;

@@ -399,6 +399,32 @@ struct Prev {
     locked_log: f64,
 }
 
+/// What [`WheelGrowth::life_answer`] takes from the wheel alone, whatever the fitted constants.
+struct LifeOrders {
+    drift: TreadDrift,
+    /// The worn depth's slope along an order's path ([`TreadDrift::slope_coefficients`]).
+    slope: [f64; WORN_DEGREE],
+    /// f₀/f of the worn-out tire.
+    end: f64,
+    /// The orders ν passes, ⌊ν₀⌋ − 2 … ⌈ν₀ f_end/f₀⌉ + 2.
+    lo: u32,
+    hi: u32,
+    /// Each order's zone transfer, forcing, and tongue (centre and half-width at x = 1, m/s).
+    fixed: Vec<(Complex64, Complex64, (f64, f64))>,
+    /// The transfer's uniform means over the widest tongue, once an order asks.
+    tongue_means: std::cell::OnceCell<crate::wear::transfer::TongueMeans>,
+}
+
+/// ... and what it takes from the speed spread: the nodes of Ḡ(x).
+struct LifeNodes {
+    spread_mps: f64,
+    transfer: TransferNodes,
+    /// 1/x at the nodes.
+    per_x: Vec<f64>,
+    /// The narrow tongue's share of the spread at each node, once an order needs it.
+    tongue_nodes: std::cell::OnceCell<Vec<NarrowBand>>,
+}
+
 /// The wear answer over the tread's life, with how near the deepest order came.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LifeAnswer {
@@ -426,35 +452,49 @@ impl WheelGrowth {
     /// nodes' moments ([`TransferNodes`]); the locked print by the trapezoid rule in s. ln D is
     /// taken only on the segments where it can rise.
     fn life(&self, c: &FittedConstants, nodes: Nodes) -> LifeAnswer {
-        let share = c.wear_share_straight;
-        let other_per_share =
-            self.position_rate(c.wear_rate_driven_factor) * self.feedback.local_per_m;
-        let wear_m_per_m = self.tread_wear_with(c);
-        let tread_life = tread_life_km(&self.params, wear_m_per_m * MM_PER_1000KM_PER_M_PER_M);
-        let target = self.print_log_ratio;
-        let spread_mps = c.speed_spread_kmh / 3.6;
+        let orders = self.life_orders();
+        let at = self.life_nodes(&orders, c.speed_spread_kmh / 3.6, nodes);
+        self.life_from(&orders, &at, c)
+    }
+
+    /// [`WheelGrowth::life_answer`] under every set of `sets`, in order, each equal to it bit
+    /// for bit. The orders' zones, forcings and tongues are taken once, and the nodes of Ḡ once
+    /// per distinct speed spread: a set then costs the walk of its orders (what a calibration
+    /// band of many sets on a few spreads needs).
+    pub fn life_answers_with(&self, sets: &[FittedConstants]) -> Vec<LifeAnswer> {
+        let orders = self.life_orders();
+        let mut by_spread: Vec<(u64, LifeNodes)> = Vec::new();
+        sets.iter()
+            .map(|c| {
+                let spread_mps = c.speed_spread_kmh / 3.6;
+                let key = spread_mps.to_bits();
+                let k = match by_spread.iter().position(|(b, _)| *b == key) {
+                    Some(k) => k,
+                    None => {
+                        let at = self.life_nodes(&orders, spread_mps, Nodes::Adaptive);
+                        by_spread.push((key, at));
+                        by_spread.len() - 1
+                    }
+                };
+                self.life_from(&orders, &by_spread[k].1, c)
+            })
+            .collect()
+    }
+
+    /// What the answer over the tread's life takes from the wheel alone: the tread's drift, the
+    /// orders ν passes, each with its zone transfer H_w(n), forcing e_n and tongue.
+    fn life_orders(&self) -> LifeOrders {
         let drift = TreadDrift::of(&self.params, &self.patch);
-        let life_m = drift.usable_m / wear_m_per_m;
         let nu = self.nu();
         let end = drift.at_end();
         let lo = (nu.floor() - 2.0).max(1.0) as u32;
         let hi = ((nu / end).ceil() + 2.0).max(lo as f64) as u32;
-        let transfer = TransferNodes::new(self, lo as f64 * end, hi as f64, spread_mps, nodes);
-        let slope = drift.slope_coefficients();
-        // 1/x at the nodes (every order's tongue is read there).
-        let per_x: Vec<f64> = transfer.x.iter().map(|x| 1.0 / x).collect();
-        // The narrow tongue's share of the spread at each node, once an order needs it.
-        let tongue_nodes = std::cell::OnceCell::<Vec<NarrowBand>>::new();
-        let v = self.speed_mps;
-        let mut first: Option<(f64, u32)> = None;
-        let mut deepest = (f64::NEG_INFINITY, lo);
-        // Each order's zone transfer H_w(n) and forcing e_n.
         // Each order's zone transfer H_w(n), forcing e_n, and tongue (centre and half-width,
         // m/s): the tongue at x: a worn tread's ν is ν₀·f/f₀, so order n locks as the new
         // tire's order x does, in a band of speeds around V ν/x, ±V δ_L/x (δ_L of order n). The
         // uniform mean over it is the same at every x: the band of ω = x V/r_B it spans does not
         // move.
-        let fixed: Vec<(Complex64, Complex64, (f64, f64))> = (lo..=hi)
+        let fixed = (lo..=hi)
             .zip(self.feedback.zones_and_forcings(lo))
             .map(|(n, (zone, forcing))| {
                 (
@@ -464,14 +504,73 @@ impl WheelGrowth {
                 )
             })
             .collect();
+        LifeOrders {
+            slope: drift.slope_coefficients(),
+            drift,
+            end,
+            lo,
+            hi,
+            fixed,
+            tongue_means: std::cell::OnceCell::new(),
+        }
+    }
+
+    /// The nodes of Ḡ(x) over `orders`' span for a spread of `spread_mps` \[m/s\], laid as
+    /// `nodes` asks.
+    fn life_nodes(&self, orders: &LifeOrders, spread_mps: f64, nodes: Nodes) -> LifeNodes {
+        let transfer = TransferNodes::new(
+            self,
+            orders.lo as f64 * orders.end,
+            orders.hi as f64,
+            spread_mps,
+            nodes,
+        );
+        LifeNodes {
+            spread_mps,
+            // 1/x at the nodes (every order's tongue is read there).
+            per_x: transfer.x.iter().map(|x| 1.0 / x).collect(),
+            transfer,
+            tongue_nodes: std::cell::OnceCell::new(),
+        }
+    }
+
+    /// The answer under `c` from the wheel's `orders` and the nodes `at` of its spread.
+    fn life_from(&self, orders: &LifeOrders, at: &LifeNodes, c: &FittedConstants) -> LifeAnswer {
+        let share = c.wear_share_straight;
+        let other_per_share =
+            self.position_rate(c.wear_rate_driven_factor) * self.feedback.local_per_m;
+        let wear_m_per_m = self.tread_wear_with(c);
+        let tread_life = tread_life_km(&self.params, wear_m_per_m * MM_PER_1000KM_PER_M_PER_M);
+        let target = self.print_log_ratio;
+        let spread_mps = at.spread_mps;
+        let LifeOrders {
+            drift,
+            slope,
+            end,
+            lo,
+            hi,
+            fixed,
+            tongue_means,
+        } = orders;
+        let (end, lo, hi) = (*end, *lo, *hi);
+        let LifeNodes {
+            transfer,
+            per_x,
+            tongue_nodes,
+            ..
+        } = at;
+        let life_m = drift.usable_m / wear_m_per_m;
+        let nu = self.nu();
+        let v = self.speed_mps;
+        let mut first: Option<(f64, u32)> = None;
+        let mut deepest = (f64::NEG_INFINITY, lo);
         // The tongue's uniform means, for the widest tongue of these orders (a vibrating
         // wheel under a spread).
-        let tongue_means = std::cell::OnceCell::new();
         let tongue_mean = |order: f64, centre_mps: f64, half_mps: f64| {
             tongue_means
                 .get_or_init(|| {
                     let widest = (lo..=hi)
-                        .zip(&fixed)
+                        .zip(fixed)
                         .map(|(n, &(_, _, (_, half_mps)))| half_mps * n as f64 / v)
                         .fold(0.0, f64::max);
                     self.response
@@ -480,7 +579,7 @@ impl WheelGrowth {
                 })
                 .at(order, centre_mps, half_mps)
         };
-        for (n, &(zone, forcing, (centre_mps, half_mps))) in (lo..=hi).zip(&fixed) {
+        for (n, &(zone, forcing, (centre_mps, half_mps))) in (lo..=hi).zip(fixed) {
             let order = n as f64;
             let order_loop = self.order_loop(zone, forcing, share, other_per_share);
             let (centre_at_n, half_at_n) = (centre_mps * order, half_mps * order);
@@ -541,7 +640,7 @@ impl WheelGrowth {
             // dw/dx = Σ_m e_m x^m/n^{m+1}: c_m = −through · e_m/(n^{m+1} ẇ).
             let mut weight = [Complex64::new(0.0, 0.0); WORN_DEGREE];
             let mut power = per_order;
-            for (c, &e) in weight.iter_mut().zip(&slope) {
+            for (c, &e) in weight.iter_mut().zip(slope) {
                 *c = order_loop.through_per_m * (-e * power * per_wear);
                 power *= per_order;
             }
@@ -556,12 +655,59 @@ impl WheelGrowth {
             let x_end = order * end;
             let (g_end, moments_end) = transfer.point(x_end);
             // The nodes strictly between n·f₀/f_end and n, from n down, then the end.
-            let inside = transfer.x.partition_point(|&x| x <= x_end)
+            let mut inside = transfer.x.partition_point(|&x| x <= x_end)
                 ..transfer.x.partition_point(|&x| x < order);
+            // With no locked print on this order, ln D can rise only on a segment with an end
+            // where the linear loop's rate is not negative (a rising one). The walk starts at
+            // the node above the highest rising node and stops at the node below the lowest:
+            // outside them ln D falls, and neither peaks nor reaches the visible depth. An order
+            // with no rising point has no walk (its peak stays at the seed). (Where the print
+            // counts, its part of ln D is summed node by node: every node is walked.)
+            let mut resume = None;
+            let mut to_end = true;
+            if lock_within_sd.is_none() {
+                let rises = |g: Complex64| order_loop.linear_per_m(g) >= 0.0;
+                let (start_rises, end_rises) = (rises(g_start), rises(g_end));
+                let highest = inside.clone().rev().find(|&j| rises(transfer.g[j]));
+                let lowest =
+                    highest.and_then(|top| (inside.start..=top).find(|&j| rises(transfer.g[j])));
+                if !start_rises && !end_rises && highest.is_none() {
+                    if 0.0 > deepest.0 {
+                        deepest = (0.0, n);
+                    }
+                    continue;
+                }
+                if !start_rises {
+                    resume = match highest {
+                        Some(top) => (top + 1 < inside.end).then_some(top + 1),
+                        // Only the end rises: the walk's one segment is from the lowest node.
+                        None => (!inside.is_empty()).then_some(inside.start),
+                    };
+                }
+                if let Some(j) = resume {
+                    inside.end = j;
+                }
+                if !end_rises {
+                    match lowest {
+                        Some(bottom) if bottom > inside.start => {
+                            inside.start = bottom - 1;
+                            to_end = false;
+                        }
+                        Some(_) => {}
+                        // Only the start rises: the walk's one segment is to the highest node.
+                        None => {
+                            if let Some(top) = inside.clone().next_back() {
+                                inside.start = top;
+                                to_end = false;
+                            }
+                        }
+                    }
+                }
+            }
             let path = inside
                 .rev()
                 .map(|j| (transfer.x[j], transfer.g[j], Some(j)))
-                .chain(std::iter::once((x_end, g_end, None)));
+                .chain(to_end.then_some((x_end, g_end, None)));
             let moments_of = |j: Option<usize>| j.map_or(moments_end, |j| transfer.moments[j]);
             let distance_of = |x: f64| if x == x_end { life_m } else { distance_m(x) };
             // ln D at a node where the distance is `s`, the locked print's part `locked_log`.
@@ -573,14 +719,25 @@ impl WheelGrowth {
             // print's (by the trapezoid rule) are both negative at the ends, ln D falls, so it
             // neither peaks nor reaches the visible depth there. The distance is read where it is
             // needed (lazily at the previous node).
-            let mut prev = Prev {
-                x: order,
-                j: None,
-                s: Some(0.0),
-                log: Some(0.0),
-                linear: order_loop.linear_per_m(g_start),
-                locked: locked_per_m(order, g_start, None),
-                locked_log: 0.0,
+            let mut prev = match resume {
+                Some(j) => Prev {
+                    x: transfer.x[j],
+                    j: Some(j),
+                    s: None,
+                    log: None,
+                    linear: order_loop.linear_per_m(transfer.g[j]),
+                    locked: 0.0,
+                    locked_log: 0.0,
+                },
+                None => Prev {
+                    x: order,
+                    j: None,
+                    s: Some(0.0),
+                    log: Some(0.0),
+                    linear: order_loop.linear_per_m(g_start),
+                    locked: locked_per_m(order, g_start, None),
+                    locked_log: 0.0,
+                },
             };
             let mut peak = 0.0_f64;
             for (x, g, j) in path {
@@ -805,6 +962,42 @@ mod table_tests {
         }
         // The fit was used (somewhere it differs from the direct sum in its last digits).
         assert!(fitted > 0);
+    }
+
+    /// The answers of many sets at once are each set's own answer, bit for bit: the nodes of
+    /// one spread serve every set on it, and those of another spread are not mixed in (sets on
+    /// three spreads, in an order that returns to an earlier one), at a vibrating and a stable
+    /// follower and a driving wheel (whose k_d moves its even wear).
+    #[test]
+    fn the_answers_of_many_sets_are_each_sets_answer() {
+        let mut sets = Vec::new();
+        for spread in [5.0, 2.0, 5.0, 10.0] {
+            for phi in [0.12, 0.25, 0.28] {
+                for k_d in [1.0, 1.75] {
+                    sets.push(FittedConstants {
+                        wear_share_straight: phi,
+                        speed_spread_kmh: spread,
+                        wear_rate_driven_factor: k_d,
+                    });
+                }
+            }
+        }
+        let mut visible = 0;
+        for (speed, toe, wheel) in [
+            (140.0, 0.35, Wheel::Follower),
+            (110.0, 0.45, Wheel::Follower),
+            (110.0, 0.45, Wheel::Driving),
+        ] {
+            let (g, _) = growth(speed, toe, wheel);
+            let together = g.life_answers_with(&sets);
+            assert_eq!(together.len(), sets.len());
+            for (c, got) in sets.iter().zip(&together) {
+                assert_eq!(*got, g.life_answer(c), "{speed} km/h {wheel} {c:?}");
+                visible += usize::from(got.answer.distance_to_visible_km.is_finite());
+            }
+        }
+        // Some sets see a polygon, so the walk's every branch is compared.
+        assert!(visible > 0);
     }
 
     /// The tongue's means from [`TongueMeans`] (far poles as one series in λ²) are the

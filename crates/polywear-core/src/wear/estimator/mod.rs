@@ -512,7 +512,9 @@ impl WheelGrowth {
         OrderLoop {
             base_per_m: -even * self.feedback.local_per_m * (1.0 - zone.norm_sqr()) - other - slip,
             through_per_m: -even * zone.conj() * forcing,
-            locked_per_m: self.locked_print_per_m(even, zone.norm()) - other - slip,
+            // |H_w| as √|H_w|², not `norm`'s hypot: every order of the answer over the tread's life
+            // asks it, and the values are far from overflow.
+            locked_per_m: self.locked_print_per_m(even, zone.norm_sqr().sqrt()) - other - slip,
         }
     }
 
@@ -537,7 +539,7 @@ impl WheelGrowth {
     fn tongue_mps(&self, n: f64, forcing: Complex64, radius_m: f64) -> (f64, f64) {
         let r = &self.response;
         let v = self.speed_mps;
-        let lock_rev = r.nu * forcing.norm() * radius_m * r.phase_coupling_s;
+        let lock_rev = r.nu * forcing.norm_sqr().sqrt() * radius_m * r.phase_coupling_s;
         (v * r.nu / n, v * lock_rev / n)
     }
 
