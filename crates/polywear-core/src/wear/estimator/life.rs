@@ -16,8 +16,8 @@
 //! visible where ln D_n first reaches ln d_visible, if that is before the tire is worn out.
 
 use super::{
-    band_share, tread_life_km, Complex64, NarrowBand, WheelGrowth, NARROW_BAND_DEVIATIONS,
-    NEGLIGIBLE_LOCKED_SHARE,
+    band_share, per_spread, tread_life_km, Complex64, NarrowBand, WheelGrowth,
+    NARROW_BAND_DEVIATIONS, NEGLIGIBLE_LOCKED_SHARE,
 };
 use crate::model::tire::worn_tread_block;
 use crate::model::ContactPatch;
@@ -463,22 +463,11 @@ impl WheelGrowth {
     /// band of many sets on a few spreads needs).
     pub fn life_answers_with(&self, sets: &[FittedConstants]) -> Vec<LifeAnswer> {
         let orders = self.life_orders();
-        let mut by_spread: Vec<(u64, LifeNodes)> = Vec::new();
-        sets.iter()
-            .map(|c| {
-                let spread_mps = c.speed_spread_kmh / 3.6;
-                let key = spread_mps.to_bits();
-                let k = match by_spread.iter().position(|(b, _)| *b == key) {
-                    Some(k) => k,
-                    None => {
-                        let at = self.life_nodes(&orders, spread_mps, Nodes::Adaptive);
-                        by_spread.push((key, at));
-                        by_spread.len() - 1
-                    }
-                };
-                self.life_from(&orders, &by_spread[k].1, c)
-            })
-            .collect()
+        per_spread(
+            sets,
+            |spread_mps| self.life_nodes(&orders, spread_mps, Nodes::Adaptive),
+            |at, c| self.life_from(&orders, at, c),
+        )
     }
 
     /// What the answer over the tread's life takes from the wheel alone: the tread's drift, the

@@ -334,25 +334,16 @@ impl WheelGrowth {
         let fixed: Vec<OrderFixed> = orders_around(self.nu())
             .map(|n| self.order_fixed(n))
             .collect();
-        let mut by_spread: Vec<(u64, Vec<SpreadTerms>)> = Vec::new();
-        sets.iter()
-            .map(|c| {
-                let spread_mps = c.speed_spread_kmh / 3.6;
-                let key = spread_mps.to_bits();
-                let k = match by_spread.iter().position(|(b, _)| *b == key) {
-                    Some(k) => k,
-                    None => {
-                        let terms = fixed
-                            .iter()
-                            .map(|f| self.spread_terms(f, spread_mps))
-                            .collect();
-                        by_spread.push((key, terms));
-                        by_spread.len() - 1
-                    }
-                };
-                self.answer_from(c, &by_spread[k].1)
-            })
-            .collect()
+        per_spread(
+            sets,
+            |spread_mps| -> Vec<SpreadTerms> {
+                fixed
+                    .iter()
+                    .map(|f| self.spread_terms(f, spread_mps))
+                    .collect()
+            },
+            |terms, c| self.answer_from(c, terms),
+        )
     }
 
     /// The answer under `c` from its spread's terms, one per order of [`orders_around`] ν.
@@ -639,6 +630,31 @@ struct SpreadTerms {
     locked_share: f64,
     /// The transfer's uniform mean over the tongue, where the spread reaches into it.
     over_tongue: Option<Complex64>,
+}
+
+/// `answer(what, c)` for every set `c` of `sets`, in order, where `what` is `for_spread(σ_V)`
+/// \[m/s\] taken once per distinct speed spread among the sets (the calibration band's sets
+/// share a few spreads).
+pub(crate) fn per_spread<T, A>(
+    sets: &[FittedConstants],
+    mut for_spread: impl FnMut(f64) -> T,
+    mut answer: impl FnMut(&T, &FittedConstants) -> A,
+) -> Vec<A> {
+    let mut by_spread: Vec<(u64, T)> = Vec::new();
+    sets.iter()
+        .map(|c| {
+            let spread_mps = c.speed_spread_kmh / 3.6;
+            let key = spread_mps.to_bits();
+            let k = match by_spread.iter().position(|(b, _)| *b == key) {
+                Some(k) => k,
+                None => {
+                    by_spread.push((key, for_spread(spread_mps)));
+                    by_spread.len() - 1
+                }
+            };
+            answer(&by_spread[k].1, c)
+        })
+        .collect()
 }
 
 /// The share of speeds normal around `mean_mps` (deviation `spread_mps`) within ±`half_mps` of
