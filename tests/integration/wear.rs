@@ -314,7 +314,7 @@ fn tread_response_matches_forced_integration() {
     assert!(v.class.vibrates());
     let meter = Meter::new(opts.budget);
     let cycle = SampledCycle::integrate(&m.ode, &v, 16, &meter).unwrap();
-    let response = CycleResponse::of(&m.ode, &cycle, &meter).unwrap();
+    let response = CycleResponse::of(&m.ode, &cycle).unwrap();
     let omega_rot = std::f64::consts::TAU * WheelModel::rotation_hz(&p);
     for n in [17.0, 19.0, 20.0, 21.0] {
         let omega = n * omega_rot;
@@ -361,7 +361,7 @@ fn tread_response_matches_forced_integration() {
 }
 
 /// The estimator adds no RHS evaluation to a stable wheel and at most 1,000 to a vibrating one
-/// (about 210), counted by the classifier's meter.
+/// (about 165), counted by the classifier's meter.
 #[test]
 fn estimator_work_is_bounded() {
     for (speed_kmh, vibrates) in [(70.0, false), (100.0, true), (180.0, true)] {

@@ -37,6 +37,11 @@ pub struct CycleSample {
     pub x: State,
     /// The fundamental matrix Φ(t) of the variational equations.
     pub phi: Matrix3<f64>,
+    /// The vector field f(x_γ(t)) and its Jacobian there (one evaluation, which both Φ's y
+    /// column and the periodic linearisation read).
+    pub field: State,
+    /// ∂f/∂x at x_γ(t).
+    pub jacobian: Matrix3<f64>,
 }
 
 /// One period of a limit cycle, sampled at equal times.
@@ -56,7 +61,8 @@ impl SampledCycle {
     /// `CYCLE_RTOL`; the work is charged to `meter`. Only Φ's z and v columns are integrated
     /// ([`SectionVariational`]): the flow maps the vector field onto itself, Φ(t) f(x₀) =
     /// f(x(t)), and f_y = v₀ > 0 on the section, so the y column follows from the other two and
-    /// f at each sample (one RHS evaluation per sample, charged).
+    /// f at each sample (one evaluation of f and its Jacobian per sample, charged, which the
+    /// periodic linearisation reads too).
     pub fn integrate(
         ode: &TreadOde,
         verdict: &WheelVerdict,
@@ -101,10 +107,13 @@ impl SampledCycle {
                     }
                     let s = step.interpolate(t_s);
                     let x = [s[0], s[1], s[2]];
+                    let (field, jacobian) = ode.rhs_and_jacobian(&x);
                     out.push(CycleSample {
                         t_s,
                         x,
-                        phi: full_phi(&s, &ode.rhs(&x)),
+                        phi: full_phi(&s, &field),
+                        field,
+                        jacobian,
                     });
                 }
                 Control::Continue

@@ -23,7 +23,6 @@ use super::cycle::SampledCycle;
 use super::error::WearError;
 use super::transfer::{eigenbasis, Linearisation, PoleExpansion, PoleTerm};
 use super::Complex64;
-use crate::classify::budget::Meter;
 use crate::model::TreadOde;
 use nalgebra::{RowVector3, Vector3};
 
@@ -124,15 +123,14 @@ impl Linearised<'_> {
 }
 
 impl CycleResponse {
-    /// The response of `cycle` (of `ode`), from its samples (one linearisation per sample,
-    /// charged to `meter` as one RHS evaluation each).
-    pub fn of(ode: &TreadOde, cycle: &SampledCycle, meter: &Meter) -> Result<Self, WearError> {
+    /// The response of `cycle` (of `ode`), from its samples: one linearisation per sample, from
+    /// the vector field and Jacobian the integration took there (no evaluation of its own).
+    pub fn of(ode: &TreadOde, cycle: &SampledCycle) -> Result<Self, WearError> {
         let n = cycle.samples.len();
-        meter.charge(n);
         let lins: Vec<Linearisation> = cycle
             .samples
             .iter()
-            .map(|s| Linearisation::at(ode, &s.x))
+            .map(|s| Linearisation::from_field(ode, &s.x, &s.field, s.jacobian))
             .collect();
         let mean_power_w = lins.iter().map(|l| l.power_w).sum::<f64>() / n as f64;
         let direct = cplx(lins.iter().map(|l| l.d).sum::<f64>() / n as f64 / mean_power_w);

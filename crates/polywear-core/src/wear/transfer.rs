@@ -30,6 +30,11 @@ impl Linearisation {
     /// At state `x` of `ode`: one evaluation of the right-hand side and Jacobian.
     pub fn at(ode: &TreadOde, x: &State) -> Self {
         let (f, a) = ode.rhs_and_jacobian(x);
+        Self::from_field(ode, x, &f, a)
+    }
+
+    /// At state `x` whose vector field `f` and Jacobian `a` are known (a sampled cycle's).
+    pub fn from_field(ode: &TreadOde, x: &State, f: &State, a: Matrix3<f64>) -> Self {
         let w = x[2] - ode.u_mps;
         let dz_de = w - f[0];
         let force = ode.sigma0 * x[0] + ode.sigma1 * f[0];

@@ -16,7 +16,7 @@
 //! even-wear rate (MODEL.md#the-driving-wheels-slip-power).
 //!
 //! G is the equilibrium's transfer for a stable wheel (no integration) and the cycle's periodic
-//! linearisation for a vibrating one (one period integrated again, about 200 RHS evaluations).
+//! linearisation for a vibrating one (one period integrated again, about 165 RHS evaluations).
 //! Over the speed spread the wheel's linearisation at the sample's speed is kept and ω_n moves
 //! with the speed: the mean over the normal spread is then exact pole by pole.
 
@@ -180,7 +180,7 @@ fn response(inputs: &WearInputs, meter: &Meter) -> Result<Response, WearError> {
         }
         Class::LimitCycle | Class::Bistable => {
             let cycle = SampledCycle::integrate(ode, v, SAMPLES_PER_PERIOD, meter)?;
-            let r = CycleResponse::of(ode, &cycle, meter)?;
+            let r = CycleResponse::of(ode, &cycle)?;
             Response {
                 transfer: r.transfer,
                 mean_power_w: r.mean_power_w,
@@ -729,8 +729,9 @@ const NARROW_BAND_DEVIATIONS: f64 = 0.25;
 const FRAC_1_SQRT_2PI: f64 = 0.398_942_280_401_432_7;
 
 /// The estimator for one wheel. Adds no RHS evaluation to a stable wheel; a vibrating one
-/// spends one period of its cycle with the variational equations and one linearisation per
-/// sample, charged to `meter` (about 210 evaluations). A wheel without a model, or whose cycle
+/// spends one period of its cycle with the variational equations and, at each of its samples,
+/// one evaluation of the vector field and its Jacobian that the linearisation reads too,
+/// charged to `meter` (165 evaluations on average on the default study). A wheel without a model, or whose cycle
 /// cannot be integrated, gets NaN with the reason.
 pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
     let p = inputs.params;
