@@ -26,6 +26,7 @@ use envelope::Envelope;
 pub use error::{ClassifyError, ShootingError};
 use hopf_start::{hopf_dz_per_v, normal_form_section_v};
 pub use scales::Scales;
+pub use shooting::CyclePath;
 
 /// Smallest section velocity of a limit cycle, relative to the road's lateral speed U: smaller
 /// "cycles" are the equilibrium seen through integration noise (a stable equilibrium has a
@@ -138,6 +139,10 @@ pub struct WheelVerdict {
     pub section_z_m: f64,
     /// The section velocity v \[m/s\] of the same crossing (see `section_z_m`).
     pub section_v_mps: f64,
+    /// Shooting's last iteration, from which the cycle and its variational matrix follow to
+    /// first order (none without a cycle, or where the cycle was found otherwise): what reads the
+    /// cycle again need not integrate it again.
+    pub cycle_path: Option<std::sync::Arc<CyclePath>>,
 }
 
 impl WheelVerdict {
@@ -162,6 +167,7 @@ impl WheelVerdict {
             reason: String::new(),
             section_z_m: 0.0,
             section_v_mps: 0.0,
+            cycle_path: None,
         }
     }
 
@@ -406,7 +412,7 @@ impl Route<'_> {
         self.newton_with(guess, period, &self.tols())
     }
 
-    fn cycle(&self, orbit: &shooting::PeriodicOrbit) -> WheelVerdict {
+    fn cycle(&self, orbit: shooting::PeriodicOrbit) -> WheelVerdict {
         cycle_verdict(orbit, &self.lin, self.rotation_hz)
     }
 
@@ -430,7 +436,7 @@ impl Route<'_> {
             Ok(Envelope::Settles { z, v }) => {
                 if let Ok(orbit) = self.newton((z, v), period) {
                     if orbit.floquet_max < 1.0 {
-                        let mut v = self.cycle(&orbit);
+                        let mut v = self.cycle(orbit);
                         v.class = Class::Bistable;
                         return v;
                     }
@@ -461,7 +467,7 @@ impl Route<'_> {
         };
         if let Some(orbit) = hint.and_then(|h| attracting(self.newton(h.guess(scales, q0), period)))
         {
-            return Some(self.cycle(&orbit));
+            return Some(self.cycle(orbit));
         }
         let dz = hopf_dz_per_v(self.ode, self.lin.leading);
         // Newton's residual test passes an orbit whose amplitude is off by about newton_tol /
@@ -475,7 +481,7 @@ impl Route<'_> {
         if from_normal_form {
             let orbit = self.newton_with((scales.z_eq + a * dz, a), period, &tols.looser_first());
             if let Some(orbit) = attracting(orbit) {
-                return Some(self.cycle(&orbit));
+                return Some(self.cycle(orbit));
             }
         }
         for handoff in [shooting::HANDOFF, shooting::HANDOFF_CLOSE] {
@@ -489,7 +495,7 @@ impl Route<'_> {
                 break;
             };
             if let Some(orbit) = attracting(self.newton(guess, period)) {
-                return Some(self.cycle(&orbit));
+                return Some(self.cycle(orbit));
             }
         }
         None
@@ -538,7 +544,7 @@ impl Route<'_> {
         };
         match self.newton((z, v), period) {
             Ok(orbit) => {
-                let mut v = self.cycle(&orbit);
+                let mut v = self.cycle(orbit);
                 v.method = Method::Envelope;
                 v
             }
@@ -621,13 +627,14 @@ fn settled_cycle(
         reason: String::new(),
         section_z_m: start[0],
         section_v_mps: start[2],
+        cycle_path: None,
     })
 }
 
 /// The limit-cycle verdict for a converged orbit: frequency and polygon order from its period,
 /// amplitudes and energy from the period integrated by its last Newton iteration.
 fn cycle_verdict(
-    orbit: &shooting::PeriodicOrbit,
+    orbit: shooting::PeriodicOrbit,
     lin: &crate::model::LinearStability,
     rotation_hz: f64,
 ) -> WheelVerdict {
@@ -648,6 +655,7 @@ fn cycle_verdict(
         reason: String::new(),
         section_z_m: orbit.start[0],
         section_v_mps: orbit.start[2],
+        cycle_path: orbit.path.map(std::sync::Arc::new),
     }
 }
 

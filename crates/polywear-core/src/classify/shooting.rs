@@ -9,11 +9,49 @@ use super::section::{first_return, Return};
 use super::{Scales, ShootingError, MIN_CYCLE_V_REL};
 use crate::model::SectionVariational;
 use crate::model::{State, TreadOde};
-use crate::solver::{Method, OdeSystem, SolverOptions, Step};
+use crate::solver::{DenseStep, Method, OdeSystem, SolverOptions, Step};
+
+/// The last iteration of shooting that found a cycle, kept for what reads the cycle again (the
+/// wear stage's periodic linearisation, MODEL.md#growth-of-a-vibrating-wheel): the return from a
+/// start `start` on the section with the variational equations of [`SectionVariational`]
+/// (the state, then Φ's z and v columns), whose Newton step `shift` = (dz, 0, dv) leads to the
+/// cycle. The cycle is this trajectory shifted by Φ·shift, within |shift|², and Φ along it is
+/// the path's, within |shift| (relative, below 10⁻³: `FINE_ACCEPT_REL`): the accuracy of the
+/// classifier's own amplitudes and Floquet multiplier.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CyclePath {
+    /// The relative tolerance the return was integrated at (DOP853).
+    pub rtol: f64,
+    /// Where the return started, on the section.
+    pub start: State,
+    /// The last Newton step (dz, 0, dv) from `start` to the cycle.
+    pub shift: State,
+    /// The return's time \[s\] (the cycle's period less the Newton step's dT).
+    pub return_s: f64,
+    /// The accepted steps of the return, the last one past it.
+    pub steps: Vec<DenseStep<9>>,
+}
+
+impl CyclePath {
+    /// The variational state at `t` (s since the start), from the step holding it; up to a
+    /// twentieth of the last step beyond its end by its polynomial (the cycle's period can end
+    /// past the return by the Newton step's dT). None outside.
+    pub fn at(&self, t: f64) -> Option<[f64; 9]> {
+        let last = self.steps.last()?;
+        if t < 0.0 || t > last.t1 + 0.05 * (last.t1 - last.t0) {
+            return None;
+        }
+        let k = self
+            .steps
+            .partition_point(|s| s.t1 < t)
+            .min(self.steps.len() - 1);
+        Some(self.steps[k].interpolate(t))
+    }
+}
 
 /// A converged limit cycle, represented by its point on the section y = y_eq, with what one
 /// period along it measures.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub(crate) struct PeriodicOrbit {
     /// The orbit's point on the section y = y_eq.
     pub start: State,
@@ -23,6 +61,9 @@ pub(crate) struct PeriodicOrbit {
     pub floquet_max: f64,
     /// Amplitudes and energy along one period.
     pub measure: CycleMeasure,
+    /// The last iteration's trajectory, where it was integrated by DOP853 (a tolerance at or
+    /// below [`DOP853_AT_OR_BELOW_RTOL`]).
+    pub path: Option<CyclePath>,
 }
 
 /// Amplitudes (half peak-to-peak) and energy of one period (MODEL.md#step-9-attractor).
@@ -308,9 +349,12 @@ pub(crate) fn newton_orbit(
     let mut damped_in_a_row = 0;
     // The previous iteration's multiplier and relative step.
     let mut last: Option<(f64, f64)> = None;
+    let keep_path = fine_method == Method::Dop853;
+    let mut steps: Vec<DenseStep<9>> = Vec::new();
     for iter in 0..MAX_NEWTON {
         let start = [z, y_sec, v, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0];
         let mut samples = OrbitSamples::new(&start);
+        steps.clear();
         let opts = match (tight, iter) {
             (true, _) => &fine,
             (false, 0) => &first,
@@ -326,7 +370,10 @@ pub(crate) fn newton_orbit(
             meter,
             |s, t_hi| {
                 if tight {
-                    samples.add(s, t_hi)
+                    samples.add(s, t_hi);
+                    if keep_path {
+                        steps.push(s.to_dense());
+                    }
                 }
             },
         )?;
@@ -359,6 +406,13 @@ pub(crate) fn newton_orbit(
                 period_s: ret.period_s + dt_s,
                 floquet_max: rho,
                 measure: samples.measure(&d, dt_s, ode.c_s),
+                path: keep_path.then(|| CyclePath {
+                    rtol: tols.fine,
+                    start: [z, y_sec, v],
+                    shift: d,
+                    return_s: ret.period_s,
+                    steps: std::mem::take(&mut steps),
+                }),
             });
         }
         // Damp steps that would more than halve or double the amplitude.

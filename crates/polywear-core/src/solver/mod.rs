@@ -14,7 +14,7 @@ mod types;
 
 pub use dop853::integrate as integrate_dop853;
 pub use dopri5::integrate;
-pub use types::{Control, IntegrationError, Outcome, SolverOptions, Step};
+pub use types::{Control, DenseStep, IntegrationError, Outcome, SolverOptions, Step};
 
 /// Which Runge–Kutta pair integrates: both give the same [`Step`]s to the callback.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -122,6 +122,58 @@ impl<const N: usize> Step<'_, N> {
     }
 }
 
+/// An accepted step kept after the integration: its ends and its dense-output polynomial,
+/// owned ([`Step::to_dense`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DenseStep<const N: usize> {
+    /// Start of the step \[s\].
+    pub t0: f64,
+    /// End of the step \[s\].
+    pub t1: f64,
+    x0: [f64; N],
+    coefficients: DenseCoefficients<N>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+enum DenseCoefficients<const N: usize> {
+    Dopri5([[f64; N]; 5]),
+    Dop853([[f64; N]; 7]),
+}
+
+impl<const N: usize> Step<'_, N> {
+    /// The step with its dense output, owned.
+    pub fn to_dense(&self) -> DenseStep<N> {
+        DenseStep {
+            t0: self.t0,
+            t1: self.t1,
+            x0: *self.x0,
+            coefficients: match self.dense {
+                Dense::Dopri5(c) => DenseCoefficients::Dopri5(*c),
+                Dense::Dop853(c) => DenseCoefficients::Dop853(*c),
+            },
+        }
+    }
+}
+
+impl<const N: usize> DenseStep<N> {
+    /// The state at `t` through the step's polynomial, as [`Step::interpolate`] gives it inside
+    /// [t0, t1] (outside, the polynomial extrapolated).
+    pub fn interpolate(&self, t: f64) -> [f64; N] {
+        let step = Step {
+            t0: self.t0,
+            t1: self.t1,
+            x0: &self.x0,
+            // The polynomial does not read the end.
+            x1: &self.x0,
+            dense: match &self.coefficients {
+                DenseCoefficients::Dopri5(c) => Dense::Dopri5(c),
+                DenseCoefficients::Dop853(c) => Dense::Dop853(c),
+            },
+        };
+        step.interpolate(t)
+    }
+}
+
 /// Where an integration ended and what it cost.
 #[derive(Debug, Clone, Copy)]
 pub struct Outcome<const N: usize> {

@@ -62,7 +62,7 @@ impl Calibration {
             Class::Stable => equilibrium_power_w(&model.ode),
             Class::LimitCycle | Class::Bistable => {
                 let meter = Meter::new(budget);
-                SampledCycle::integrate(&model.ode, verdict, SAMPLES_PER_PERIOD, &meter)
+                SampledCycle::of(&model.ode, verdict, SAMPLES_PER_PERIOD, &meter)
                     .map_err(|e| refused(verdict.class, e.to_string()))?
                     .mean_power_w(&model.ode, &meter)
             }

@@ -16,7 +16,8 @@
 //! even-wear rate (MODEL.md#the-driving-wheels-slip-power).
 //!
 //! G is the equilibrium's transfer for a stable wheel (no integration) and the cycle's periodic
-//! linearisation for a vibrating one (one period integrated again, about 165 RHS evaluations).
+//! linearisation for a vibrating one (one period read off shooting's last iteration: 17 RHS
+//! evaluations).
 //! Over the speed spread the wheel's linearisation at the sample's speed is kept and ω_n moves
 //! with the speed: the mean over the normal spread is then exact pole by pole.
 
@@ -179,7 +180,7 @@ fn response(inputs: &WearInputs, meter: &Meter) -> Result<Response, WearError> {
             }
         }
         Class::LimitCycle | Class::Bistable => {
-            let cycle = SampledCycle::integrate(ode, v, SAMPLES_PER_PERIOD, meter)?;
+            let cycle = SampledCycle::of(ode, v, SAMPLES_PER_PERIOD, meter)?;
             let r = CycleResponse::of(ode, &cycle)?;
             Response {
                 transfer: r.transfer,
@@ -729,10 +730,11 @@ const NARROW_BAND_DEVIATIONS: f64 = 0.25;
 const FRAC_1_SQRT_2PI: f64 = 0.398_942_280_401_432_7;
 
 /// The estimator for one wheel. Adds no RHS evaluation to a stable wheel; a vibrating one
-/// spends one period of its cycle with the variational equations and, at each of its samples,
-/// one evaluation of the vector field and its Jacobian that the linearisation reads too,
-/// charged to `meter` (165 evaluations on average on the default study). A wheel without a model, or whose cycle
-/// cannot be integrated, gets NaN with the reason.
+/// spends, at each sample of its cycle, one evaluation of the vector field and its Jacobian
+/// that the linearisation reads too, and one at the period's end (17, the period read off
+/// shooting's last iteration), or integrates the period again where the classifier kept no
+/// iteration (about 165), charged to `meter`. A wheel without a model, or whose cycle cannot be
+/// integrated, gets NaN with the reason.
 pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
     let p = inputs.params;
     let share = p.wear_share_straight;
