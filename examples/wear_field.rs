@@ -284,8 +284,9 @@ fn spread_error() {
 /// (MODEL.md#the-estimator-over-the-treads-life), on a coarser grid (each grid point integrates
 /// every wheel's orders over its life): what every grid point gives, and which are accepted.
 fn band_life(samples: u64, shares: Option<&String>, spreads: Option<&String>) {
-    use polywear::calibration_band::fit::{fit, FitLevel, FitOptions};
+    use polywear::calibration_band::fit::{fit, FitOptions};
     use polywear::field_facts::FieldFacts;
+    use polywear::wear::EstimateLevel;
     let facts = FieldFacts::shipped();
     let base = Params::default();
     let list = |given: Option<&String>, default: &str| -> Vec<f64> {
@@ -299,7 +300,7 @@ fn band_life(samples: u64, shares: Option<&String>, spreads: Option<&String>) {
         shares: list(shares, "0.08,0.12,0.16,0.2,0.25,0.3,0.4,0.5"),
         spreads_kmh: list(spreads, "2,5,10"),
         driven_factors: vec![1.75],
-        level: FitLevel::TreadLife,
+        level: EstimateLevel::TreadLife,
         ..FitOptions::shipped(samples, &facts)
     };
     let f = fit(&base, &facts, &opts).expect("fit");

@@ -239,6 +239,7 @@ fn estimated(p: &Params, wheel: Wheel, zone: WearZone) -> (WearEstimate, WheelGr
     let settings = WearSettings {
         zone,
         power: WearPower::LateralOnly,
+        ..WearSettings::default()
     };
     let inputs = WearInputs {
         params: p,
@@ -921,6 +922,7 @@ fn driving_growth(power: WearPower) -> (WheelGrowth, WheelModel, f64) {
     let settings = WearSettings {
         zone: WearZone::Trailing,
         power,
+        ..WearSettings::default()
     };
     let inputs = WearInputs {
         params: &p,

@@ -390,6 +390,96 @@ fn the_follower_wears_polygonal_more_often_than_the_driving_wheel() {
     }
 }
 
+/// The answer's level is a setting (`--wear-estimate`, the study's `wear_estimate`): the run
+/// records it, its rows differ from the new tire's, a resume keeps it and refuses the other, and
+/// a misspelt or contradicted one is refused before any work.
+#[test]
+fn the_estimate_level_is_recorded_kept_on_resume_and_refused_when_wrong() {
+    let dir = fresh_dir("wear-explore-level");
+    std::fs::create_dir_all(&dir).unwrap();
+    // Highway points at a share and spread where the follower gets polygons on both levels.
+    let study = dir.join("s.toml");
+    std::fs::write(
+        &study,
+        "name = \"w\"\nsamples = 24\nchunk_size = 12\n[params]\nwear_share_straight = 0.28\nspeed_spread_kmh = 10\nspeed_kmh = { dist = \"uniform\", min = 100, max = 130 }\ntoe_deg = { dist = \"uniform\", min = 0.4, max = 0.6 }\n",
+    )
+    .unwrap();
+    let (new_tire, life) = (dir.join("new"), dir.join("life"));
+    assert_eq!(explore(&study, &new_tire, &[]).0, 0);
+    let (code, stderr) = explore(&study, &life, &["--wear-estimate", "tread_life"]);
+    assert_eq!(code, 0, "{stderr}");
+    let manifest = std::fs::read_to_string(life.join("_manifest.json")).unwrap();
+    assert!(
+        manifest.contains("\"wear_estimate\": \"tread_life\""),
+        "{manifest}"
+    );
+    let manifest = std::fs::read_to_string(new_tire.join("_manifest.json")).unwrap();
+    assert!(
+        manifest.contains("\"wear_estimate\": \"new_tire\""),
+        "{manifest}"
+    );
+    let distances = |out: &std::path::Path| -> Vec<f64> {
+        rows(&first_chunk(out))
+            .iter()
+            .map(|r| float(&r["distance_to_visible_km"]))
+            .collect()
+    };
+    let (a, b) = (distances(&new_tire), distances(&life));
+    assert_eq!(a.len(), b.len());
+    assert!(
+        a.iter().zip(&b).any(|(x, y)| x != y),
+        "the same distances on both levels"
+    );
+    let o = life.to_str().unwrap();
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        "--resume",
+        "--out",
+        o,
+        "--quiet",
+        "--wear-estimate",
+        "new_tire",
+    ]);
+    assert_eq!(code, 2);
+    assert!(
+        stderr.contains("--wear-estimate new_tire contradicts the run")
+            && stderr.contains("--wear-estimate tread_life"),
+        "{stderr}"
+    );
+    let (code, _, stderr) =
+        polywear(&["explore", "--resume", "--out", o, "--quiet", "--no-report"]);
+    assert_eq!(code, 0, "{stderr}");
+    let (code, stderr) = explore(&study, &dir.join("typo"), &["--wear-estimate", "tread"]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("did you mean `tread_life`"), "{stderr}");
+    assert!(
+        !dir.join("typo").exists(),
+        "nothing written before the refusal"
+    );
+    let off = dir.join("off.toml");
+    std::fs::write(
+        &off,
+        format!("wear = false\nwear_estimate = \"tread_life\"\n{STUDY}"),
+    )
+    .unwrap();
+    let (code, stderr) = explore(&off, &dir.join("off"), &[]);
+    assert_eq!(code, 2);
+    assert!(
+        stderr.contains("`wear_estimate` is set but `wear = false`"),
+        "{stderr}"
+    );
+    // The study's key reaches the manifest as the flag does.
+    let keyed = dir.join("keyed.toml");
+    std::fs::write(&keyed, format!("wear_estimate = \"tread_life\"\n{STUDY}")).unwrap();
+    let out = dir.join("keyed");
+    assert_eq!(explore(&keyed, &out, &[]).0, 0);
+    let manifest = std::fs::read_to_string(out.join("_manifest.json")).unwrap();
+    assert!(
+        manifest.contains("\"wear_estimate\": \"tread_life\""),
+        "{manifest}"
+    );
+}
+
 /// The slip power's inputs are refused before any work, naming the key and its range.
 #[test]
 fn bad_driven_factors_and_wear_powers_are_refused() {

@@ -15,6 +15,7 @@ use super::batch::{signal_name, Interrupt, Progress};
 use super::common::{BudgetArgs, CliError, CliResult};
 use crate::wear_reading::WearReadingArgs;
 use errors::{explore_error, write_failure};
+use polywear_core::wear::EstimateLevel;
 use polywear_core::wording::plain;
 use polywear_study::explore::recorded_run::shell_word;
 use polywear_study::explore::{
@@ -87,10 +88,17 @@ pub struct ExploreArgs {
     /// Leave the wear stage out: the rows then carry no wear columns (distance to a visible
     /// polygon, growth rate, dominant order) and the run is about as fast as vibration alone.
     /// A study can say `wear = false`
-    #[arg(long, conflicts_with = "wear_zone")]
+    #[arg(long, conflicts_with_all = ["wear_zone", "wear_power", "wear_estimate"])]
     pub no_wear: bool,
     #[command(flatten)]
     pub wear: WearReadingArgs,
+    /// Which answer each sample gets (MODEL.md#the-estimator-over-the-treads-life): new_tire
+    /// (the default: the new tire cruising for ever, the level the field calibration and its
+    /// band are fitted on) or tread_life (every order the tread frequency passes as the tread
+    /// wears, until one is visible or the tire is worn out: the level that agrees with
+    /// `polywear wear`'s long-term loop); a study can say `wear_estimate = "..."`
+    #[arg(long, value_name = "LEVEL", value_parser = |s: &str| s.parse::<EstimateLevel>().map_err(|e| e.to_string()))]
+    pub wear_estimate: Option<EstimateLevel>,
     /// The calibration band: a file of calibrated sets of the fitted wear constants (phi_s,
     /// sigma_V, k_d; TOML as data/calibration_band.toml, which `cargo run --release --example
     /// wear_field -- band` regenerates), or `off` for the nominal constants' answer alone.
@@ -180,6 +188,7 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
         no_wear: args.no_wear,
         wear_zone: args.wear.wear_zone,
         wear_power: args.wear.wear_power,
+        wear_estimate: args.wear_estimate,
     };
     let (plan, notes) = request.plan(&|b| args.budget.apply(b).map_err(|e| Refusal(e.0)))?;
     if !args.quiet {

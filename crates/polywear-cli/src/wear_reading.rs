@@ -2,7 +2,7 @@
 //! friction power wears the tread, and which power (MODEL.md#step-11-wear-zone,
 //! MODEL.md#the-driving-wheels-slip-power).
 use clap::Args;
-use polywear_core::wear::{WearPower, WearSettings, WearZone};
+use polywear_core::wear::{EstimateLevel, WearPower, WearSettings, WearZone};
 
 /// `--wear-zone` and `--wear-power`.
 #[derive(Debug, Clone, Default, Args)]
@@ -24,6 +24,9 @@ impl WearReadingArgs {
         WearSettings {
             zone: self.wear_zone.unwrap_or_default(),
             power: self.wear_power.unwrap_or_default(),
+            // `cycle` and `wear` answer as the new tire (`wear --estimate` prints the answer
+            // over the tread's life beside it); explore's `--wear-estimate` chooses.
+            estimate: EstimateLevel::NewTire,
         }
     }
 }

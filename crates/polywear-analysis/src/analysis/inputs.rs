@@ -11,6 +11,7 @@ use super::AnalysisError;
 use polywear_core::model::Variant;
 use polywear_core::params::{ParamId, Params};
 use polywear_core::sampling::design::Design;
+use polywear_core::wear::EstimateLevel;
 use polywear_study::explore::manifest::OperatingPointsRecord;
 use polywear_study::explore::RunManifest;
 use polywear_study::study::{text_hash, Scenario, Study};
@@ -58,6 +59,9 @@ pub struct RunInfo {
     /// The study's scenarios (`scenarios` metadata), in the order of each sample's row blocks
     /// after the baseline's; empty for a study without scenarios.
     pub scenarios: Vec<Scenario>,
+    /// Which answer the wear columns hold (the wear stage's `wear_estimate`; the new tire's
+    /// for a run recorded before it was a setting, or without the stage).
+    pub estimate: EstimateLevel,
 }
 
 impl RunInfo {
@@ -179,6 +183,18 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
     // does not parse is one this version cannot read, or whose operating-point file moved: only
     // the nominal curves of the risk maps need it, and they are then left out.
     let study = Study::parse_at(&study_text, run.params, &dir).ok();
+    let estimate = match run
+        .wear
+        .as_ref()
+        .and_then(|w| w.get("wear_estimate"))
+        .and_then(|e| e.as_str())
+    {
+        None => EstimateLevel::NewTire,
+        Some(e) => e.parse().map_err(|e| AnalysisError::Metadata {
+            path: first.path.clone(),
+            message: format!("`wear.wear_estimate`: {e}"),
+        })?,
+    };
     Ok(RunInfo {
         study_name: run.study_name.clone(),
         study_text,
@@ -200,6 +216,7 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
         params: run.params,
         operating_points: run.operating_points.clone(),
         scenarios,
+        estimate,
     })
 }
 

@@ -8,6 +8,7 @@ use std::fmt::Write as _;
 use crate::analysis::band::{BandRange, CalibrationBand, PairedBand};
 use crate::analysis::Analysis;
 use polywear_core::model::Wheel;
+use polywear_core::wear::EstimateLevel;
 use polywear_core::wording::km;
 
 /// "calibration band 6.1–11.8%" for a probability.
@@ -47,16 +48,25 @@ pub fn paired_words(p: &PairedBand, sets: usize) -> String {
             by(-r.hi, -r.lo)
         ),
         None => format!(
-            "which wheel is more exposed depends on the calibrated set (follower ahead under {}, driving wheel under {} of {sets}): no wheel is named",
-            p.follower_ahead, p.driving_ahead
+            "which wheel is more exposed depends on the calibrated set (follower ahead under {}, driving wheel under {}, tied under {} of {sets}): no wheel is named",
+            p.follower_ahead,
+            p.driving_ahead,
+            sets.saturating_sub(p.follower_ahead + p.driving_ahead)
         ),
     }
 }
 
-/// What the band is, in one sentence.
-pub fn about(b: &CalibrationBand) -> String {
+/// What the band is, in one sentence, for a run whose answers are on `level` (the shipped
+/// sets are fitted on the new tire's: over the tread's life, the sentence says so).
+pub fn about(b: &CalibrationBand, level: EstimateLevel) -> String {
+    let fitted_on = match level {
+        EstimateLevel::NewTire => "",
+        EstimateLevel::TreadLife => {
+            "; fitted on the new tire's answers, not on this run's over the tread's life"
+        }
+    };
     format!(
-        "{} calibrated sets ({}; {}, {}), re-evaluated on {} of the run's samples",
+        "{} calibrated sets ({}; {}, {}{fitted_on}), re-evaluated on {} of the run's samples",
         b.sets.len(),
         b.constants_words(),
         b.method,
@@ -86,7 +96,7 @@ pub fn section(s: &mut String, a: &Analysis) {
          run's own constants on the same samples; its range over the sets is the calibration \
          band, beside the 95% Wilson interval (sampling only). The band's rows: `{}` \
          (MODEL.md#the-calibration-band).\n",
-        about(b),
+        about(b, a.info.estimate),
         b.file
             .file_name()
             .map_or(String::new(), |n| n.to_string_lossy().to_string())

@@ -3,6 +3,7 @@
 
 use super::{answer_words, band};
 use crate::analysis::Analysis;
+use polywear_core::wear::EstimateLevel;
 
 /// The analysis in a few lines, as `analyze` and `explore` print it: failures first when they
 /// are many, the samples present, the wear answer, then vibration, fleet and scenarios.
@@ -81,8 +82,14 @@ fn print_wear(a: &Analysis, lines: &mut Vec<String>) {
         lines.push("wear: the wear stage was left out of this run (--no-wear or `wear = false`); vibration only".to_string());
         return;
     };
+    let how = match a.info.estimate {
+        EstimateLevel::NewTire => "cruising at each sample's operating point",
+        EstimateLevel::TreadLife => {
+            "over the tread's life at each sample's operating point (wear_estimate = tread_life)"
+        }
+    };
     lines.push(format!(
-        "P(visible polygonal wear within X km, before the tire is worn out), cruising at each sample's operating point (phi_s = {}, sigma_V = {} km/h, field-fitted), with 95% Wilson interval:",
+        "P(visible polygonal wear within X km, before the tire is worn out), {how} (phi_s = {}, sigma_V = {} km/h, field-fitted), with 95% Wilson interval:",
         w.share_straight, w.speed_spread_kmh
     ));
     let rows = w.occurrence_rows();
@@ -105,7 +112,10 @@ fn print_wear(a: &Analysis, lines: &mut Vec<String>) {
             line.push_str(&format!("; {}", band::paired_words(pb, b.sets.len())));
         }
     }
-    lines.push(format!("  calibration band: {}", band::about(b)));
+    lines.push(format!(
+        "  calibration band: {}",
+        band::about(b, a.info.estimate)
+    ));
 }
 
 /// When more than 1% of the rows have no verdict, the first thing printed: how many, and why.

@@ -15,6 +15,7 @@ use crate::analysis::wear_risk::{WearAnalysis, HEADLINE_WITHIN_KM, ORDERS_WITHIN
 use crate::analysis::Analysis;
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::ParamId;
+use polywear_core::wear::EstimateLevel;
 use polywear_core::wording::plain;
 use polywear_study::stats::format_p;
 
@@ -145,6 +146,24 @@ fn meaning(s: &mut String, a: &Analysis, w: &WearAnalysis) {
             format!("{}{unit}", plain(x, 4))
         }
     };
+    let level_words = match a.info.estimate {
+        EstimateLevel::NewTire => {
+            "**These distances are the new tire's**: they \
+             leave out how the tread's frequency rises as it wears. The long-term loop (`polywear \
+             wear`), which follows it, and an estimate over the tread's life that agrees with the \
+             loop give far fewer polygons at these constants (on the built-in study 4 of 8,000 \
+             wheels within 60,000 km, against 493 by this estimate): read these figures as the more \
+             pessimistic of the model's two levels (MODEL.md#the-estimator-over-the-treads-life)."
+        }
+        EstimateLevel::TreadLife => {
+            "**These distances are over the tread's life** \
+             (`wear_estimate = \"tread_life\"`): every order the tread frequency passes as the \
+             tread wears grows from the seed, the level that agrees with the long-term loop \
+             (`polywear wear`). The two constants and the calibration band were fitted on the new \
+             tire's answers, not on these; on this level the field facts hold only at a knife \
+             edge (MODEL.md#fitted-over-the-treads-life)."
+        }
+    };
     let _ = writeln!(
         s,
         "**What the distance means.** A wheel's distance to a visible polygon is the distance it \
@@ -158,12 +177,7 @@ fn meaning(s: &mut String, a: &Analysis, w: &WearAnalysis) {
          causes, to which the vibration couples) and σ_V. They are fitted so that a highway \
          follower with excessive toe-in shows a polygon after 25,000–40,000 km, as Sueoka's \
          survey of passenger cars found, and most tires never do (MODEL.md#calibration-to-the-field); \
-         φ_s = 1 with no spread is the worst case. **These distances are the new tire's**: they \
-         leave out how the tread's frequency rises as it wears. The long-term loop (`polywear \
-         wear`), which follows it, and an estimate over the tread's life that agrees with the \
-         loop give far fewer polygons at these constants (on the built-in study 4 of 8,000 \
-         wheels within 60,000 km, against 493 by this estimate): read these figures as the more \
-         pessimistic of the model's two levels (MODEL.md#the-estimator-over-the-treads-life).\n",
+         φ_s = 1 with no spread is the worst case. {level_words}\n",
         value(ParamId::SpeedSpreadKmh, w.speed_spread_kmh, " km/h"),
         value(ParamId::WearShareStraight, w.share_straight, ""),
     );

@@ -201,6 +201,9 @@ pub fn solve(
         WearSettings {
             zone: settings.zone,
             power: settings.power,
+            // The loop's per-point estimate is the new tire's; `--estimate` prints the one over
+            // the tread's life beside it.
+            estimate: crate::wear::EstimateLevel::NewTire,
         },
         &problem.classifier,
     )?;

@@ -63,7 +63,9 @@ pub mod zone;
 
 pub use calibration::Calibration;
 pub use error::WearError;
-pub use estimator::{estimate, LifeAnswer, WearEstimate, WearInputs, WearSettings, WheelGrowth};
+pub use estimator::{
+    estimate, EstimateLevel, LifeAnswer, WearEstimate, WearInputs, WearSettings, WheelGrowth,
+};
 pub use feedback::Feedback;
 pub use fitted::{FittedConstants, WearAnswer};
 pub use slip::WearPower;
@@ -71,7 +73,7 @@ pub use zone::{WearZone, ZoneGeometry};
 
 /// The wear stage's category settings as rows of `polywear params`: name, default,
 /// provenance, accepted names, meaning.
-pub fn setting_rows() -> [[String; 5]; 2] {
+pub fn setting_rows() -> [[String; 5]; 3] {
     fn row(
         name: &str,
         default: &str,
@@ -104,6 +106,16 @@ pub fn setting_rows() -> [[String; 5]; 2] {
             <WearPower as strum::VariantNames>::VARIANTS,
             "Which friction power wears the tread",
             WearPower::ALL
+                .iter()
+                .map(|z| format!("{} = {}", z.as_str(), z.description()))
+                .collect(),
+        ),
+        row(
+            "wear_estimate",
+            EstimateLevel::DEFAULT.as_str(),
+            <EstimateLevel as strum::VariantNames>::VARIANTS,
+            "Which answer each sample gets (explore)",
+            EstimateLevel::ALL
                 .iter()
                 .map(|z| format!("{} = {}", z.as_str(), z.description()))
                 .collect(),

@@ -5,7 +5,9 @@
 //! Each wheel of a subsample's point is classified as in the run and its closed loop solved once
 //! ([`WheelGrowth`]); its answers under the run's own constants and under every set then cost
 //! a few order evaluations per distinct speed spread, and a little arithmetic per set
-//! ([`WheelGrowth::answers_with`]). The run's own answer equals the run's rows (tested), which
+//! ([`WheelGrowth::answers_with`]); over the tread's life (`wear_estimate = "tread_life"`), the
+//! walk of its orders per set, the nodes of Ḡ once per spread
+//! ([`WheelGrowth::life_answers_with`]). The run's own answer equals the run's rows (tested), which
 //! is what lets the report move the full run's figures by the band's differences on the
 //! subsample.
 
@@ -155,7 +157,7 @@ impl BandPlan<'_> {
                 let growth =
                     WheelGrowth::new(&self.stage.inputs(&point, w), &Meter::new(opts.budget)).ok();
                 let answers = match &growth {
-                    Some(g) => g.answers_with(&constants),
+                    Some(g) => g.answers_on(self.stage.settings.estimate, &constants),
                     None => vec![WearAnswer::UNKNOWN; constants.len()],
                 };
                 wheels.push(BandWheel {

@@ -19,7 +19,9 @@ use polywear_core::classify::budget::Meter;
 use polywear_core::classify::{classify_point, ClassifierOptions};
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::Params;
-use polywear_core::wear::{FittedConstants, WearAnswer, WearInputs, WearSettings, WheelGrowth};
+use polywear_core::wear::{
+    EstimateLevel, FittedConstants, WearAnswer, WearInputs, WearSettings, WheelGrowth,
+};
 use rayon::prelude::*;
 
 use super::{CalibratedSet, CalibrationBand};
@@ -45,20 +47,7 @@ pub struct FitOptions {
     /// k_d values.
     pub driven_factors: Vec<f64>,
     /// Which level of the per-sample estimator answers each grid point.
-    pub level: FitLevel,
-}
-
-/// The level of the per-sample estimator a fit runs on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum FitLevel {
-    /// The new tire cruising for ever, φ_s, σ_V and k_d in closed form
-    /// ([`WheelGrowth::answer_with`]): the level the shipped sets were fitted on.
-    #[default]
-    NewTire,
-    /// Over the tread's life ([`WheelGrowth::life_answer`],
-    /// MODEL.md#the-estimator-over-the-treads-life): the level that agrees with the long-term
-    /// loop; each grid point integrates every wheel's orders over its life again.
-    TreadLife,
+    pub level: EstimateLevel,
 }
 
 impl FitOptions {
@@ -77,7 +66,7 @@ impl FitOptions {
             shares: (3..=30).map(|k| k as f64 / 100.0).collect(),
             spreads_kmh: (2..=10).map(f64::from).collect(),
             driven_factors: vec![kd.0, 0.5 * (kd.0 + kd.1), kd.1],
-            level: FitLevel::NewTire,
+            level: EstimateLevel::NewTire,
         }
     }
 }
@@ -203,8 +192,8 @@ pub fn fit(base: &Params, facts: &FieldFacts, opts: &FitOptions) -> Result<Fit, 
         })
         .collect();
     let answer = |g: &WheelGrowth, c: &FittedConstants| match opts.level {
-        FitLevel::NewTire => g.answer_with(c),
-        FitLevel::TreadLife => g.life_answer(c).answer,
+        EstimateLevel::NewTire => g.answer_with(c),
+        EstimateLevel::TreadLife => g.life_answer(c).answer,
     };
     let points = grid
         .par_iter()

@@ -70,6 +70,7 @@ pub fn chosen(
         WearSettings {
             zone: problem.settings.zone,
             power: problem.settings.power,
+            estimate: polywear_core::wear::EstimateLevel::NewTire,
         },
         &problem.classifier,
     )?;

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use super::{RunManifest, Shard};
 use crate::output_dir::{self, MANIFEST};
 use polywear_core::params::Params;
-use polywear_core::wear::{WearPower, WearSettings, WearZone};
+use polywear_core::wear::{EstimateLevel, WearPower, WearSettings, WearZone};
 
 /// The run recorded in an output directory's manifest.
 #[derive(Debug, Clone, PartialEq)]
@@ -272,7 +272,18 @@ fn recorded_wear(w: &serde_json::Value) -> Result<WearSettings, Refusal> {
             .parse()
             .map_err(|e| Refusal(format!("`wear.wear_power`: {e}")))?,
     };
-    Ok(WearSettings { zone, power })
+    // A run recorded before the level was a setting answered as the new tire.
+    let estimate = match w.get("wear_estimate").and_then(|z| z.as_str()) {
+        None => EstimateLevel::NewTire,
+        Some(s) => s
+            .parse()
+            .map_err(|e| Refusal(format!("`wear.wear_estimate`: {e}")))?,
+    };
+    Ok(WearSettings {
+        zone,
+        power,
+        estimate,
+    })
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use polywear_core::classify::WheelBudget;
-use polywear_core::wear::{WearPower, WearSettings, WearZone};
+use polywear_core::wear::{EstimateLevel, WearPower, WearSettings, WearZone};
 
 use super::recorded_run::{changed_lines, param_changes, shell_word, RecordedRun};
 use super::{ExploreError, RunPlan, Shard};
@@ -39,6 +39,9 @@ pub struct ExploreRequest {
     pub wear_zone: Option<WearZone>,
     /// Which friction power wears the tread, over the study's.
     pub wear_power: Option<WearPower>,
+    /// Which answer each sample gets (the new tire's, or over the tread's life), over the
+    /// study's.
+    pub wear_estimate: Option<EstimateLevel>,
 }
 
 impl ExploreRequest {
@@ -173,30 +176,34 @@ fn check_new_inputs(
         .collect())
 }
 
-/// The run's wear stage: `--no-wear` or `--wear-zone` over the study's `wear`/`wear_zone`; a
-/// resumed run keeps the stage it started with, and a flag that contradicts it is refused.
+/// The run's wear stage: `--no-wear`, or `--wear-zone`, `--wear-power` and `--wear-estimate`
+/// over the study's wear settings; a resumed run keeps the stage it started with, and a flag
+/// that contradicts it is refused.
 fn wear_settings(
     args: &ExploreRequest,
     study: &Study,
     recorded: Option<&RecordedRun>,
 ) -> Result<Option<WearSettings>, Refusal> {
     let flags = asked_flags(args);
-    let asked = match (args.no_wear, args.wear_zone, args.wear_power) {
-        (true, _, _) => Some(None),
-        (false, None, None) => None,
-        (false, _, _) if study.wear.is_none() && recorded.is_none() => {
+    let any_flag =
+        args.wear_zone.is_some() || args.wear_power.is_some() || args.wear_estimate.is_some();
+    let asked = match (args.no_wear, any_flag) {
+        (true, _) => Some(None),
+        (false, false) => None,
+        (false, true) if study.wear.is_none() && recorded.is_none() => {
             return Err(Refusal(format!(
                 "{flags}: the study sets `wear = false`, which leaves the wear stage out; remove it from the study, or leave {flags} out"
             )))
         }
-        (false, zone, power) => {
+        (false, true) => {
             let base = recorded
                 .and_then(|r| r.wear)
                 .or(study.wear)
                 .unwrap_or_default();
             Some(Some(WearSettings {
-                zone: zone.unwrap_or(base.zone),
-                power: power.unwrap_or(base.power),
+                zone: args.wear_zone.unwrap_or(base.zone),
+                power: args.wear_power.unwrap_or(base.power),
+                estimate: args.wear_estimate.unwrap_or(base.estimate),
             }))
         }
     };
@@ -209,8 +216,8 @@ fn wear_settings(
                 .wear
                 .map_or("no wear stage (--no-wear)".to_string(), |w| {
                     format!(
-                        "the wear stage with --wear-zone {} --wear-power {}",
-                        w.zone, w.power
+                        "the wear stage with --wear-zone {} --wear-power {} --wear-estimate {}",
+                        w.zone, w.power, w.estimate
                     )
                 });
             let flag = if args.no_wear {
@@ -226,7 +233,7 @@ fn wear_settings(
     }
 }
 
-/// The wear flags given, as typed: "--wear-zone Z", "--wear-power P", or both.
+/// The wear flags given, as typed: "--wear-zone Z", "--wear-power P", "--wear-estimate E".
 fn asked_flags(args: &ExploreRequest) -> String {
     let mut f = Vec::new();
     if let Some(z) = args.wear_zone {
@@ -234,6 +241,9 @@ fn asked_flags(args: &ExploreRequest) -> String {
     }
     if let Some(p) = args.wear_power {
         f.push(format!("--wear-power {p}"));
+    }
+    if let Some(e) = args.wear_estimate {
+        f.push(format!("--wear-estimate {e}"));
     }
     f.join(" ")
 }

@@ -168,7 +168,7 @@ fn judged(problem: &Problem, o: &[Outcomes]) -> (Estimate, Vec<Estimate>, bool) 
 
 /// A sample's outcomes under its own constants and under each set of the band: the point
 /// classified once, each wheel's closed loop solved once ([`WheelGrowth`]), then its answer
-/// under every set's constants in closed form ([`WheelGrowth::answers_with`]). The first is
+/// under every set's constants ([`WheelGrowth::answers_on`] its estimate level). The first is
 /// the outcome the rows give (the band's `run` answer equals the row's, tested).
 fn banded_outcomes(
     problem: &Problem,
@@ -188,7 +188,7 @@ fn banded_outcomes(
         let growth =
             WheelGrowth::new(&stage.inputs(p, w), &Meter::new(problem.classifier.budget)).ok();
         let answers = match &growth {
-            Some(g) => g.answers_with(&constants),
+            Some(g) => g.answers_on(stage.settings.estimate, &constants),
             None => vec![WearAnswer::UNKNOWN; constants.len()],
         };
         for (o, a) in under.iter_mut().zip(&answers) {

@@ -15,7 +15,7 @@ use polywear_core::model::Variant;
 use polywear_core::params::{ParamId, ParamSpec, Params};
 use polywear_core::sampling::design::Design;
 use polywear_core::sampling::distribution::Distribution;
-use polywear_core::wear::{WearPower, WearSettings, WearZone};
+use polywear_core::wear::{EstimateLevel, WearPower, WearSettings, WearZone};
 
 mod scenario_table;
 mod toe;
@@ -43,6 +43,7 @@ pub(super) struct StudyFile {
     wear: Option<bool>,
     wear_zone: Option<WearZone>,
     wear_power: Option<WearPower>,
+    wear_estimate: Option<EstimateLevel>,
     pub(super) params: Option<BTreeMap<ParamKey, ParamEntry>>,
     pub(super) operating_points: Option<OperatingPointsSection>,
     pub(super) scenarios: Option<ScenarioTables>,
@@ -301,17 +302,22 @@ impl StudyFile {
             chunk_size,
             budget,
             accept_implausible: self.accept_implausible.unwrap_or(false),
-            wear: match (self.wear, self.wear_zone, self.wear_power) {
-                (Some(false), Some(_), _) => {
-                    return Err(StudyError::WearSettingWithoutWear("wear_zone"))
+            wear: match self.wear {
+                Some(false) => {
+                    let set = [
+                        ("wear_zone", self.wear_zone.is_some()),
+                        ("wear_power", self.wear_power.is_some()),
+                        ("wear_estimate", self.wear_estimate.is_some()),
+                    ];
+                    if let Some((key, _)) = set.iter().find(|(_, given)| *given) {
+                        return Err(StudyError::WearSettingWithoutWear(key));
+                    }
+                    None
                 }
-                (Some(false), None, Some(_)) => {
-                    return Err(StudyError::WearSettingWithoutWear("wear_power"))
-                }
-                (Some(false), None, None) => None,
-                (_, zone, power) => Some(WearSettings {
-                    zone: zone.unwrap_or_default(),
-                    power: power.unwrap_or_default(),
+                _ => Some(WearSettings {
+                    zone: self.wear_zone.unwrap_or_default(),
+                    power: self.wear_power.unwrap_or_default(),
+                    estimate: self.wear_estimate.unwrap_or_default(),
                 }),
             },
         })

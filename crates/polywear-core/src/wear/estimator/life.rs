@@ -868,7 +868,7 @@ mod table_tests {
     use crate::classify::ClassifierOptions;
     use crate::evaluate::{calibrate_wear, solve_wheel};
     use crate::model::{Variant, Wheel};
-    use crate::wear::{WearInputs, WearSettings};
+    use crate::wear::{EstimateLevel, WearInputs, WearSettings};
 
     /// A wheel's closed loop at a highway point (140 km/h 0.35°: the follower vibrates).
     fn growth(speed_kmh: f64, toe_deg: f64, wheel: Wheel) -> (WheelGrowth, bool) {
@@ -893,6 +893,71 @@ mod table_tests {
         )
         .unwrap();
         (g, w.verdict.class.vibrates())
+    }
+
+    /// The estimate on the level over the tread's life (`wear_estimate = "tread_life"`, what
+    /// explore writes) is the life answer under the sample's own constants, with the new tire's
+    /// growth of its order in the growth columns; and it is not the new tire's (at φ_s = 0.28,
+    /// σ_V = 10 km/h, where the follower at 120 km/h and 0.45° gets a polygon on both levels).
+    #[test]
+    fn the_estimate_over_the_tread_s_life_is_the_life_answer() {
+        let opts = ClassifierOptions::default();
+        let base = Params {
+            wear_share_straight: 0.28,
+            speed_spread_kmh: 10.0,
+            ..Params::default()
+        };
+        let cal = calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
+        let mut finite = 0;
+        for (speed_kmh, toe_deg) in [(120.0, 0.45), (110.0, 0.6), (80.0, 0.3)] {
+            let p = Params {
+                speed_kmh,
+                toe_deg,
+                ..base
+            };
+            for wheel in Wheel::BOTH {
+                let w = solve_wheel(p, Variant::SlidingShare, wheel, &opts);
+                let at = |estimate| {
+                    let settings = WearSettings {
+                        estimate,
+                        ..WearSettings::default()
+                    };
+                    let inputs = WearInputs {
+                        params: &p,
+                        model: &w.model,
+                        verdict: &w.verdict,
+                        settings: &settings,
+                        calibration: &cal,
+                    };
+                    let g = WheelGrowth::new(&inputs, &Meter::new(opts.budget)).unwrap();
+                    (crate::wear::estimate(&inputs, &Meter::new(opts.budget)), g)
+                };
+                let (e, g) = at(EstimateLevel::TreadLife);
+                let life = g.life_answer(&FittedConstants::of(&p)).answer;
+                let here = format!("{speed_kmh} km/h {toe_deg}° {wheel}");
+                assert_eq!(
+                    e.distance_to_visible_km.to_bits(),
+                    life.distance_to_visible_km.to_bits(),
+                    "{here}"
+                );
+                assert_eq!(e.polygon_order_dominant, life.polygon_order_wear, "{here}");
+                let order = g.order(life.polygon_order_wear as u32);
+                assert_eq!(
+                    e.growth_rate_per_1000km, order.growth_rate_per_1000km,
+                    "{here}"
+                );
+                assert_eq!(e.orders, vec![order], "{here}");
+                let (new_tire, _) = at(EstimateLevel::NewTire);
+                if life.distance_to_visible_km.is_finite() {
+                    finite += 1;
+                    assert_ne!(
+                        new_tire.distance_to_visible_km, life.distance_to_visible_km,
+                        "{here}"
+                    );
+                }
+            }
+        }
+        assert!(finite >= 1, "no polygon over the tread's life");
     }
 
     /// The nodes' Ḡ (the far poles through their Chebyshev fit) is every pole's sum at the

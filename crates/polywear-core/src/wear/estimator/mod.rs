@@ -57,6 +57,49 @@ pub struct WearSettings {
     /// Which friction power wears it: the lateral alone, or with the driving wheel's slip.
     #[serde(rename = "wear_power")]
     pub power: WearPower,
+    /// Which answer each sample gets: the new tire's, or over the tread's life.
+    #[serde(rename = "wear_estimate")]
+    pub estimate: EstimateLevel,
+}
+
+crate::named_enum! {
+    /// Which answer the per-sample estimator gives each wheel (the `wear_estimate` setting;
+    /// MODEL.md#the-estimator-over-the-treads-life).
+    pub enum EstimateLevel: "wear estimate" {
+        /// The new tire cruising for ever: the fastest order around ν at the new tread's
+        /// growth rate ([`WheelGrowth::answer_with`]). The shipped default: the field
+        /// calibration and its band are fitted on this level.
+        NewTire,
+        /// Over the tread's life: every order ν passes as the tread wears, from the seed until
+        /// one is visible or the tire is worn out ([`WheelGrowth::life_answer`]); the level
+        /// that agrees with the long-term loop.
+        TreadLife,
+    }
+}
+
+impl EstimateLevel {
+    /// Every level, in the order of the declaration.
+    pub const ALL: [EstimateLevel; 2] = [EstimateLevel::NewTire, EstimateLevel::TreadLife];
+    /// The level every command uses unless told otherwise.
+    pub const DEFAULT: EstimateLevel = EstimateLevel::NewTire;
+
+    /// What the level is, in a sentence (for messages and `polywear params`).
+    pub fn description(self) -> &'static str {
+        match self {
+            EstimateLevel::NewTire => {
+                "the new tire cruising for ever: the fastest order at the new tread's growth rate"
+            }
+            EstimateLevel::TreadLife => {
+                "over the tread's life: every order the tread frequency passes as the tread wears, until one is visible or the tire is worn out (agrees with the long-term loop)"
+            }
+        }
+    }
+}
+
+impl Default for EstimateLevel {
+    fn default() -> Self {
+        EstimateLevel::DEFAULT
+    }
 }
 
 impl Default for WearZone {
@@ -105,14 +148,16 @@ pub struct OrderGrowth {
 pub struct WearEstimate {
     /// w′ at the point \[mm/1000 km\] (φ_s·w′₀ at the reference point).
     pub wear_even_mm_per_1000km: f64,
-    /// The order with the largest β̄_n (NaN where undefined).
+    /// The order with the largest β̄_n; over the tread's life, the order visible first (or the
+    /// deepest). NaN where undefined.
     pub polygon_order_dominant: f64,
     /// Its detuning δ = ν − n.
     pub detuning_rev: f64,
     /// Its β̄_n \[1/1000 km\].
     pub growth_rate_per_1000km: f64,
     /// Distance to a polygon of depth d_visible peak-to-valley, cruising at this point with
-    /// this speed spread \[km\]; +inf if every order levels out.
+    /// this speed spread \[km\]; +inf if every order levels out (over the tread's life: if
+    /// none is visible before the tire is worn out).
     pub distance_to_visible_km: f64,
     /// φ_s used.
     pub wear_calibration_share: f64,
@@ -345,6 +390,20 @@ impl WheelGrowth {
             },
             |terms, c| self.answer_from(c, terms),
         )
+    }
+
+    /// The wheel's answers under every set of `sets` on `level`, as [`estimate`] gives a
+    /// sample whose constants are the set's: [`WheelGrowth::answers_with`] for the new tire,
+    /// the answers of [`WheelGrowth::life_answers_with`] over the tread's life.
+    pub fn answers_on(&self, level: EstimateLevel, sets: &[FittedConstants]) -> Vec<WearAnswer> {
+        match level {
+            EstimateLevel::NewTire => self.answers_with(sets),
+            EstimateLevel::TreadLife => self
+                .life_answers_with(sets)
+                .into_iter()
+                .map(|a| a.answer)
+                .collect(),
+        }
     }
 
     /// The answer under `c` from its spread's terms, one per order of [`orders_around`] ν.
@@ -729,11 +788,13 @@ const NARROW_BAND_DEVIATIONS: f64 = 0.25;
 /// 1/√(2π).
 const FRAC_1_SQRT_2PI: f64 = 0.398_942_280_401_432_7;
 
-/// The estimator for one wheel. Adds no RHS evaluation to a stable wheel; a vibrating one
-/// spends, at each sample of its cycle, one evaluation of the vector field and its Jacobian
-/// that the linearisation reads too, and one at the period's end (17, the period read off
-/// shooting's last iteration), or integrates the period again where the classifier kept no
-/// iteration (about 165), charged to `meter`. A wheel without a model, or whose cycle cannot be
+/// The estimator for one wheel, on the level `inputs.settings.estimate` names: the new tire's
+/// fastest order and its distance, or the order visible first over the tread's life and its
+/// distance there (the growth columns then the new tire's growth of that order). Adds no RHS
+/// evaluation to a stable wheel; a vibrating one spends, at each sample of its cycle, one
+/// evaluation of the vector field and its Jacobian that the linearisation reads too, and one at
+/// the period's end (17, the period read off shooting's last iteration), or integrates the
+/// period again where the classifier kept no iteration (about 165), charged to `meter`. A wheel without a model, or whose cycle cannot be
 /// integrated, gets NaN with the reason.
 pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
     let p = inputs.params;
@@ -742,14 +803,31 @@ pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
         Ok(g) => g,
         Err(e) => return WearEstimate::undefined(share, e.to_string()),
     };
-    let orders: Vec<OrderGrowth> = orders_around(growth.nu())
-        .map(|n| growth.order(n))
-        .collect();
-    let Some(top) = orders.iter().copied().max_by(|a, b| {
-        a.growth_rate_per_1000km
-            .total_cmp(&b.growth_rate_per_1000km)
-    }) else {
-        return WearEstimate::undefined(share, "no order to evaluate".into());
+    // The order each level answers with, the orders it evaluated, and the distance.
+    let (top, orders, distance_km) = match inputs.settings.estimate {
+        EstimateLevel::NewTire => {
+            let orders: Vec<OrderGrowth> = orders_around(growth.nu())
+                .map(|n| growth.order(n))
+                .collect();
+            let Some(top) = orders.iter().copied().max_by(|a, b| {
+                a.growth_rate_per_1000km
+                    .total_cmp(&b.growth_rate_per_1000km)
+            }) else {
+                return WearEstimate::undefined(share, "no order to evaluate".into());
+            };
+            (
+                top,
+                orders,
+                distance_to_visible_km(p, top.growth_rate_per_1000km),
+            )
+        }
+        // The order visible first over the tread's life (or the deepest), with the new tire's
+        // growth of it in the growth columns.
+        EstimateLevel::TreadLife => {
+            let life = growth.life_answer(&FittedConstants::of(p));
+            let top = growth.order(life.answer.polygon_order_wear as u32);
+            (top, vec![top], life.answer.distance_to_visible_km)
+        }
     };
     let even = growth.even_wear_m_per_m();
     WearEstimate {
@@ -757,7 +835,7 @@ pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
         polygon_order_dominant: top.order as f64,
         detuning_rev: top.detuning_rev,
         growth_rate_per_1000km: top.growth_rate_per_1000km,
-        distance_to_visible_km: distance_to_visible_km(p, top.growth_rate_per_1000km),
+        distance_to_visible_km: distance_km,
         wear_calibration_share: share,
         levelling_per_1000km: even * growth.local_per_m() * PER_1000KM_PER_PER_M,
         levelling_other_per_1000km: (1.0 - share) * growth.other_per_share * PER_1000KM_PER_PER_M,
