@@ -152,6 +152,42 @@ fn one_parameter_the_edge_is_said_and_a_fixed_parameter_is_set() {
     );
 }
 
+/// A study's `wear_estimate = "tread_life"` reaches optimize: its wear objective is answered
+/// over the tread's life, and the summary says so (and that the band was fitted on the new
+/// tire's answers); the default says nothing of it.
+#[test]
+fn a_study_s_estimate_level_reaches_optimize_and_is_said() {
+    let dir = tmp("level");
+    std::fs::create_dir_all(&dir).unwrap();
+    let study = dir.join("life.toml");
+    let text = std::fs::read_to_string(STUDY).unwrap();
+    std::fs::write(&study, format!("wear_estimate = \"tread_life\"\n{text}")).unwrap();
+    let run = |name: &str, study: &str| {
+        let out = dir.join(name);
+        let (code, stdout, stderr) = polywear(&[
+            "optimize",
+            study,
+            "--vary",
+            "toe_deg=0.05..0.40",
+            "--samples",
+            "60",
+            "--grid",
+            "3",
+            "--levels",
+            "1",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+        stdout
+    };
+    let said = "wear answered over the tread's life";
+    let stdout = run("life", study.to_str().unwrap());
+    assert!(stdout.contains(said), "{stdout}");
+    assert!(!run("new", STUDY).contains(said));
+}
+
 #[test]
 fn bad_optimize_input_is_refused_before_any_work() {
     let dir = tmp("refused");

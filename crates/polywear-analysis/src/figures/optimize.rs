@@ -11,6 +11,7 @@ use crate::plot::surface::{marker, surface_curve, surface_map, MapPoint, VLine};
 use crate::plot::FigureFile;
 use crate::plot::{FigureFormat, PlotError};
 use polywear_core::model::Wheel;
+use polywear_core::wear::EstimateLevel;
 use polywear_core::wording::plain;
 use polywear_study::optimize::{Problem, Solution};
 use polywear_study::parquet_out::{write_csv, write_table, Column};
@@ -83,6 +84,14 @@ pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
         )),
         best.objective.n
     ));
+    if problem
+        .wear
+        .is_some_and(|w| w.settings.estimate == EstimateLevel::TreadLife)
+    {
+        lines.push(
+            "wear answered over the tread's life (the study's wear_estimate = \"tread_life\"); the calibration band's sets were fitted on the new tire's answers".into(),
+        );
+    }
     let within = solution.within_best();
     let spans: Vec<String> = axes
         .iter()
