@@ -468,6 +468,28 @@ fn the_estimate_level_is_recorded_kept_on_resume_and_refused_when_wrong() {
         stderr.contains("`wear_estimate` is set but `wear = false`"),
         "{stderr}"
     );
+    // The summary and the report say which level they show.
+    let reported = dir.join("reported");
+    let (code, stdout, stderr) = polywear(&[
+        "explore",
+        study.to_str().unwrap(),
+        "--quiet",
+        "--wear-estimate",
+        "tread_life",
+        "--out",
+        reported.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("over the tread's life at each sample's operating point")
+            && stdout.contains("fitted on the new tire's answers"),
+        "{stdout}"
+    );
+    let report = std::fs::read_to_string(reported.join("_report/report.md")).unwrap();
+    assert!(
+        report.contains("These distances are over the tread's life"),
+        "{report}"
+    );
     // The study's key reaches the manifest as the flag does.
     let keyed = dir.join("keyed.toml");
     std::fs::write(&keyed, format!("wear_estimate = \"tread_life\"\n{STUDY}")).unwrap();

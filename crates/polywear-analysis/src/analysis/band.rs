@@ -214,8 +214,6 @@ pub(super) fn band_file(info: &RunInfo) -> Result<Option<FileFooter>, AnalysisEr
     Ok(Some(footer))
 }
 
-/// The band of a run whose inputs hold a band file, for the wear answer `wear` and the
-/// scenarios' effects `effects` (those on the wear outcome get a band).
 /// The full run's figure `full` moved under each set of `ids` by that set's difference from the
 /// run's own constants on the subsample (`of`, [`RUN_SET`] the run's), kept within [lo, hi].
 fn moved_under_sets<'a>(
@@ -250,6 +248,8 @@ fn difference_under_sets<'a>(
         .collect()
 }
 
+/// The band of a run whose inputs hold a band file, for the wear answer `wear` and the
+/// scenarios' effects `effects` (those on the wear outcome get a band).
 pub(super) fn band(
     footer: &FileFooter,
     info: &RunInfo,
