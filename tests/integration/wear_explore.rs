@@ -482,7 +482,8 @@ fn the_estimate_level_is_recorded_kept_on_resume_and_refused_when_wrong() {
     assert_eq!(code, 0, "{stderr}");
     assert!(
         stdout.contains("over the tread's life at each sample's operating point")
-            && stdout.contains("fitted on the new tire's answers"),
+            && stdout.contains("km/h, fitted to the field on the new tire's answers)")
+            && stdout.contains("fitted on the new tire's answers, not on this run's"),
         "{stdout}"
     );
     let report = std::fs::read_to_string(reported.join("_report/report.md")).unwrap();

@@ -82,14 +82,17 @@ fn print_wear(a: &Analysis, lines: &mut Vec<String>) {
         lines.push("wear: the wear stage was left out of this run (--no-wear or `wear = false`); vibration only".to_string());
         return;
     };
-    let how = match a.info.estimate {
-        EstimateLevel::NewTire => "cruising at each sample's operating point",
-        EstimateLevel::TreadLife => {
-            "over the tread's life at each sample's operating point (wear_estimate = tread_life)"
-        }
+    // The constants are fitted to the field on the new tire's answers: over the tread's life the
+    // line says so rather than "field-fitted".
+    let (how, fitted) = match a.info.estimate {
+        EstimateLevel::NewTire => ("cruising at each sample's operating point", "field-fitted"),
+        EstimateLevel::TreadLife => (
+            "over the tread's life at each sample's operating point (wear_estimate = tread_life)",
+            "fitted to the field on the new tire's answers",
+        ),
     };
     lines.push(format!(
-        "P(visible polygonal wear within X km, before the tire is worn out), {how} (phi_s = {}, sigma_V = {} km/h, field-fitted), with 95% Wilson interval:",
+        "P(visible polygonal wear within X km, before the tire is worn out), {how} (phi_s = {}, sigma_V = {} km/h, {fitted}), with 95% Wilson interval:",
         w.share_straight, w.speed_spread_kmh
     ));
     let rows = w.occurrence_rows();
