@@ -214,18 +214,17 @@ pub(super) fn band_file(info: &RunInfo) -> Result<Option<FileFooter>, AnalysisEr
     Ok(Some(footer))
 }
 
-/// The full run's figure `full` moved under each set of `ids` by that set's difference from the
-/// run's own constants on the subsample (`of`, [`RUN_SET`] the run's), kept within [lo, hi].
+/// The full run's probability `full` moved under each set of `ids` by that set's difference
+/// from the run's own constants on the subsample (`of`, [`RUN_SET`] the run's), kept within
+/// [0, 1].
 fn moved_under_sets<'a>(
     ids: &[&'a str],
     full: f64,
     of: &dyn Fn(&str) -> f64,
-    lo: f64,
-    hi: f64,
 ) -> Vec<(f64, &'a str)> {
     let base = of(RUN_SET);
     ids.iter()
-        .map(|id| ((full + of(id) - base).clamp(lo, hi), *id))
+        .map(|id| ((full + of(id) - base).clamp(0.0, 1.0), *id))
         .collect()
 }
 
@@ -241,9 +240,9 @@ fn difference_under_sets<'a>(
     of_a: &dyn Fn(&str) -> f64,
     of_b: &dyn Fn(&str) -> f64,
 ) -> Vec<(f64, &'a str)> {
-    moved_under_sets(ids, a, of_a, 0.0, 1.0)
+    moved_under_sets(ids, a, of_a)
         .into_iter()
-        .zip(moved_under_sets(ids, b, of_b, 0.0, 1.0))
+        .zip(moved_under_sets(ids, b, of_b))
         .map(|((x, id), (y, _))| (x - y, id))
         .collect()
 }
@@ -299,9 +298,6 @@ pub(super) fn band(
             })
     };
     let ids: Vec<&str> = sets.iter().map(|s| s.id.as_str()).collect();
-    let moved = |full: f64, of: &dyn Fn(&str) -> f64, lo: f64, hi: f64| {
-        moved_under_sets(&ids, full, of, lo, hi)
-    };
     // The range of figures under the sets, and the sets at its ends.
     let range_of = |full: f64, mut moved: Vec<(f64, &str)>| -> Option<BandRange> {
         moved.retain(|(x, _)| x.is_finite());
@@ -317,14 +313,11 @@ pub(super) fn band(
             hi_set: last.1.to_string(),
         })
     };
-    let range = |full: f64, of: &dyn Fn(&str) -> f64, lo: f64, hi: f64| {
-        range_of(full, moved(full, of, lo, hi))
-    };
     let mut occurrence = Vec::new();
     for (km, o) in wear.occurrence_rows() {
         let k = within.iter().position(|x| *x == km).expect("asked");
         let of = |set: &str| p(BASELINE, o.variant, o.wheel, set, k);
-        if let Some(r) = range(o.p(), &of, 0.0, 1.0) {
+        if let Some(r) = range_of(o.p(), moved_under_sets(&ids, o.p(), &of)) {
             occurrence.push(OccurrenceBand {
                 variant: o.variant,
                 wheel: o.wheel,

@@ -76,19 +76,33 @@ pub struct SampledCycle {
     pub monodromy: Matrix3<f64>,
 }
 
-/// Where `verdict`'s cycle of `ode` crosses the section, its period, and f there.
-fn section_start(ode: &TreadOde, verdict: &WheelVerdict) -> Result<(State, f64, State), WearError> {
-    if !(verdict.section_v_mps > 0.0 && verdict.freq_hz > 0.0) {
-        return Err(WearError::NoCycle {
-            section_v_mps: verdict.section_v_mps,
-        });
+/// Where a verdict's cycle crosses the section, its period, and f there: what both ways of
+/// sampling the cycle start from.
+struct SectionStart {
+    x0: State,
+    period_s: f64,
+    f0: State,
+}
+
+impl SectionStart {
+    /// `verdict`'s cycle of `ode`, or why it has none.
+    fn of(ode: &TreadOde, verdict: &WheelVerdict) -> Result<Self, WearError> {
+        if !(verdict.section_v_mps > 0.0 && verdict.freq_hz > 0.0) {
+            return Err(WearError::NoCycle {
+                section_v_mps: verdict.section_v_mps,
+            });
+        }
+        let x0 = [
+            verdict.section_z_m,
+            Scales::new(ode).y_eq,
+            verdict.section_v_mps,
+        ];
+        Ok(SectionStart {
+            x0,
+            period_s: 1.0 / verdict.freq_hz,
+            f0: ode.rhs(&x0),
+        })
     }
-    let x0 = [
-        verdict.section_z_m,
-        Scales::new(ode).y_eq,
-        verdict.section_v_mps,
-    ];
-    Ok((x0, 1.0 / verdict.freq_hz, ode.rhs(&x0)))
 }
 
 impl SampledCycle {
@@ -104,14 +118,15 @@ impl SampledCycle {
         samples: usize,
         meter: &Meter,
     ) -> Result<Self, WearError> {
-        let path_cycle = verdict
+        let start = SectionStart::of(ode, verdict)?;
+        let read = verdict
             .cycle_path
             .as_deref()
             .filter(|path| path.rtol <= CYCLE_RTOL)
-            .and_then(|_| Self::from_path(ode, verdict, samples, meter).transpose());
-        match path_cycle {
-            Some(cycle) => cycle,
-            None => Self::integrate(ode, verdict, samples, meter),
+            .and_then(|path| Self::read_path(ode, path, &start, samples, meter));
+        match read {
+            Some(cycle) => Ok(cycle),
+            None => Self::integrate_from(ode, &start, samples, meter),
         }
     }
 
@@ -127,21 +142,22 @@ impl SampledCycle {
         samples: usize,
         meter: &Meter,
     ) -> Result<Option<Self>, WearError> {
-        let (_, period_s, f0) = section_start(ode, verdict)?;
-        let Some(path) = verdict.cycle_path.as_deref() else {
-            return Ok(None);
-        };
-        Ok(Self::read_path(ode, path, period_s, f0, samples, meter))
+        let start = SectionStart::of(ode, verdict)?;
+        Ok(verdict
+            .cycle_path
+            .as_deref()
+            .and_then(|path| Self::read_path(ode, path, &start, samples, meter)))
     }
 
+    /// [`SampledCycle::from_path`] from the cycle's `start` on the section.
     fn read_path(
         ode: &TreadOde,
         path: &CyclePath,
-        period_s: f64,
-        f0: State,
+        start: &SectionStart,
         samples: usize,
         meter: &Meter,
     ) -> Option<Self> {
+        let SectionStart { period_s, f0, .. } = *start;
         let scales = Scales::new(ode);
         let d = path.shift;
         // The cycle's state at t: the path's, shifted by its Φ (z and v columns; d_y = 0).
@@ -191,7 +207,17 @@ impl SampledCycle {
         samples: usize,
         meter: &Meter,
     ) -> Result<Self, WearError> {
-        let (x0, period_s, f0) = section_start(ode, verdict)?;
+        Self::integrate_from(ode, &SectionStart::of(ode, verdict)?, samples, meter)
+    }
+
+    /// [`SampledCycle::integrate`] from the cycle's `start` on the section.
+    fn integrate_from(
+        ode: &TreadOde,
+        start: &SectionStart,
+        samples: usize,
+        meter: &Meter,
+    ) -> Result<Self, WearError> {
+        let SectionStart { x0, period_s, f0 } = *start;
         let scales = Scales::new(ode);
         let start = [x0[0], x0[1], x0[2], 1.0, 0.0, 0.0, 0.0, 0.0, 1.0];
         let mut atol = [f64::INFINITY; 9];

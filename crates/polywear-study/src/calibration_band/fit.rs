@@ -191,10 +191,8 @@ pub fn fit(base: &Params, facts: &FieldFacts, opts: &FitOptions) -> Result<Fit, 
             })
         })
         .collect();
-    let answer = |g: &WheelGrowth, c: &FittedConstants| match opts.level {
-        EstimateLevel::NewTire => g.answer_with(c),
-        EstimateLevel::TreadLife => g.life_answer(c).answer,
-    };
+    let answer =
+        |g: &WheelGrowth, c: &FittedConstants| g.answers_on(opts.level, std::slice::from_ref(c))[0];
     let points = grid
         .par_iter()
         .map(|c| {
