@@ -152,16 +152,20 @@ fn one_parameter_the_edge_is_said_and_a_fixed_parameter_is_set() {
     );
 }
 
-/// A study's `wear_estimate = "tread_life"` reaches optimize: its wear objective is answered
-/// over the tread's life, and the summary says so (and that the band was fitted on the new
-/// tire's answers); the default says nothing of it.
+/// A study's `wear_estimate` reaches optimize: by default its wear objective is answered over
+/// the tread's life, and the summary says so (and that the band was fitted on the new tire's
+/// answers); `wear_estimate = "new_tire"` answers as the new tire and says that instead.
+/// Where the objective takes one value over the whole box (over the tread's life no workshop
+/// toe-in of this study gives a polygon within 40,000 km on these samples), the summary says the
+/// box is flat and names no edge to widen, and the band's flat sets are told apart from those
+/// whose objective moves; where it moves (the new tire's level), the edge is named as before.
 #[test]
-fn a_study_s_estimate_level_reaches_optimize_and_is_said() {
+fn a_study_s_estimate_level_reaches_optimize_and_a_flat_objective_names_no_edge() {
     let dir = tmp("level");
     std::fs::create_dir_all(&dir).unwrap();
-    let study = dir.join("life.toml");
+    let study = dir.join("new.toml");
     let text = std::fs::read_to_string(STUDY).unwrap();
-    std::fs::write(&study, format!("wear_estimate = \"tread_life\"\n{text}")).unwrap();
+    std::fs::write(&study, format!("wear_estimate = \"new_tire\"\n{text}")).unwrap();
     let run = |name: &str, study: &str| {
         let out = dir.join(name);
         let (code, stdout, stderr) = polywear(&[
@@ -170,11 +174,11 @@ fn a_study_s_estimate_level_reaches_optimize_and_is_said() {
             "--vary",
             "toe_deg=0.05..0.40",
             "--samples",
-            "60",
+            "200",
             "--grid",
             "3",
             "--levels",
-            "1",
+            "0",
             "--quiet",
             "--out",
             out.to_str().unwrap(),
@@ -182,10 +186,32 @@ fn a_study_s_estimate_level_reaches_optimize_and_is_said() {
         assert_eq!(code, 0, "{stderr}");
         stdout
     };
-    let said = "wear answered over the tread's life";
-    let stdout = run("life", study.to_str().unwrap());
-    assert!(stdout.contains(said), "{stdout}");
-    assert!(!run("new", STUDY).contains(said));
+    let (life, new_tire) = (
+        "wear answered over the tread's life",
+        "wear answered as the new tire",
+    );
+    let stdout = run("new", study.to_str().unwrap());
+    assert!(
+        stdout.contains(new_tire)
+            && !stdout.contains(life)
+            && !stdout.contains("at every setting of the box")
+            && stdout.contains("edge of toe_deg"),
+        "{stdout}"
+    );
+    // Flat under the run's constants; under the band's sets flat or not, depending on the set:
+    // the sets where it moves are named apart from those where it is flat.
+    let stdout = run("life", STUDY);
+    assert!(
+        stdout.contains(life)
+            && !stdout.contains(new_tire)
+            && stdout.contains("the objective is 0.0% at every setting of the box")
+            && !stdout.contains("widen the box")
+            && (stdout
+                .contains("under every calibrated set the objective is flat over the box too")
+                || stdout
+                    .contains("under every calibrated set whose objective moves over the box (")),
+        "{stdout}"
+    );
 }
 
 #[test]
@@ -530,15 +556,22 @@ fn ctrl_c_during_the_search_says_what_is_left() {
 /// The calibration band (MODEL.md#the-calibration-band) in `optimize`: the run's own surface is
 /// the one without a band, row for row; under a set, the optimum and the objective at the
 /// run's optimum are those of a run made with that set's constants in `--params`; a band where
-/// nothing weighs wear, or over a varied constant of the sets, is refused when asked for.
+/// nothing weighs wear, or over a varied constant of the sets, is refused when asked for. On
+/// the new tire's level, where the sets move the objective (over the tread's life it is 0.0%
+/// at every setting of this box).
 #[test]
 fn the_optimum_under_each_calibrated_set_is_the_run_made_with_that_set() {
     let dir = tmp("band");
+    std::fs::create_dir_all(&dir).unwrap();
+    let study = dir.join("new_tire.toml");
+    let text = std::fs::read_to_string(STUDY).unwrap();
+    std::fs::write(&study, format!("wear_estimate = \"new_tire\"\n{text}")).unwrap();
+    let study = study.to_str().unwrap().to_string();
     let run = |name: &str, extra: &[&str]| {
         let out = dir.join(name);
         let mut args = vec![
             "optimize",
-            STUDY,
+            study.as_str(),
             "--vary",
             "toe_deg=0.05..0.40",
             "--objective",

@@ -92,11 +92,12 @@ pub struct ExploreArgs {
     pub no_wear: bool,
     #[command(flatten)]
     pub wear: WearReadingArgs,
-    /// Which answer each sample gets (MODEL.md#the-estimator-over-the-treads-life): new_tire
-    /// (the default: the new tire cruising for ever, the level the field calibration and its
-    /// band are fitted on) or tread_life (every order the tread frequency passes as the tread
-    /// wears, until one is visible or the tire is worn out: the level that agrees with
-    /// `polywear wear`'s long-term loop); a study can say `wear_estimate = "..."`
+    /// Which answer each sample gets (MODEL.md#the-estimator-over-the-treads-life): tread_life
+    /// (the default: every order the tread frequency passes as the tread wears, until one is
+    /// visible or the tire is worn out, the level that agrees with `polywear wear`'s long-term
+    /// loop) or new_tire (the new tire cruising for ever, the level the field calibration and
+    /// its band were fitted on, which the loop contradicts at highway points); a study can say
+    /// `wear_estimate = "..."`
     #[arg(long, value_name = "LEVEL", value_parser = |s: &str| s.parse::<EstimateLevel>().map_err(|e| e.to_string()))]
     pub wear_estimate: Option<EstimateLevel>,
     /// The calibration band: a file of calibrated sets of the fitted wear constants (phi_s,

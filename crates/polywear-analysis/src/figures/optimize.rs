@@ -84,13 +84,16 @@ pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
         )),
         best.objective.n
     ));
-    if problem
-        .wear
-        .is_some_and(|w| w.settings.estimate == EstimateLevel::TreadLife)
-    {
-        lines.push(
-            "wear answered over the tread's life (the study's wear_estimate = \"tread_life\"); the calibration band's sets were fitted on the new tire's answers".into(),
-        );
+    // Which level answered the wear objective, said either way: the two differ by orders of
+    // magnitude at the shipped constants (MODEL.md#the-estimator-over-the-treads-life).
+    match problem.wear.map(|w| w.settings.estimate) {
+        Some(EstimateLevel::TreadLife) => lines.push(
+            "wear answered over the tread's life (wear_estimate = \"tread_life\"); the calibration band's sets were fitted on the new tire's answers".into(),
+        ),
+        Some(EstimateLevel::NewTire) => lines.push(
+            "wear answered as the new tire cruising for ever (wear_estimate = \"new_tire\"), the level the field calibration was fitted on; the long-term loop contradicts it at highway points".into(),
+        ),
+        None => {}
     }
     let within = solution.within_best();
     let spans: Vec<String> = axes
@@ -125,7 +128,17 @@ pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
         pct(best.objective.value),
         pct(worst)
     ));
-    for (k, side) in solution.on_edge() {
+    // A box over which the objective does not move at all (over the tread's life at a workshop
+    // toe-in, 0.0% everywhere) has no minimum: the best is the first of equals, and its edge
+    // says nothing about what lies beyond the box.
+    let flat = flat_value(solution, |s| Some(s.objective.value));
+    if let Some(v) = flat {
+        lines.push(format!(
+            "the objective is {} at every setting of the box: no setting is better than another, so the optimum above only breaks a tie and its place (an edge or not) means nothing",
+            pct(v)
+        ));
+    }
+    for (k, side) in solution.on_edge().into_iter().filter(|_| flat.is_none()) {
         let a = &axes[k];
         let lower = side == "lower";
         let end = if lower { a.lo } else { a.hi };
@@ -152,6 +165,21 @@ pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
         lines.push(note.clone());
     }
     lines
+}
+
+/// The value the objective takes at every feasible setting, where it takes one value only
+/// (`of` reads a setting's objective; None where some setting differs or none is feasible).
+fn flat_value(
+    solution: &Solution,
+    of: impl Fn(&polywear_study::optimize::Setting) -> Option<f64>,
+) -> Option<f64> {
+    let mut values = solution
+        .settings
+        .iter()
+        .filter(|s| s.feasible)
+        .map(|s| of(s).unwrap_or(f64::NAN));
+    let first = values.next()?;
+    (first.is_finite() && values.all(|v| v == first)).then_some(first)
 }
 
 /// The range of a setting's objective over the calibrated sets (None without a band, or where
@@ -229,13 +257,41 @@ fn band_lines(problem: &Problem, solution: &Solution) -> Vec<String> {
             String::new()
         }
     ));
-    // The box's edge in words, where every set's optimum sits on it as the run's does.
+    // The box's edge in words, where every set's optimum sits on it as the run's does. A set
+    // whose objective is flat over the box has a tie for its optimum, not an edge: the edge is
+    // named from the sets whose objective moves, and the flat ones are counted.
     let run_edges = solution.on_edge();
-    if !run_edges.is_empty()
+    let set_is_flat: Vec<bool> = (0..sets)
+        .map(|k| {
+            flat_value(solution, |s| {
+                s.band
+                    .get(k)
+                    .filter(|e| e.feasible)
+                    .map(|e| e.objective.value)
+            })
+            .is_some()
+        })
+        .collect();
+    let flat_sets = set_is_flat.iter().filter(|&&f| f).count();
+    let moving: Vec<usize> = (0..sets)
+        .filter(|&k| !set_is_flat[k])
+        .filter_map(|k| optima[k])
+        .collect();
+    let run_flat = flat_value(solution, |s| Some(s.objective.value)).is_some();
+    let edges = if run_flat {
+        moving.first().map_or(Vec::new(), |&i| solution.edges_of(i))
+    } else {
+        run_edges
+    };
+    if flat_sets == sets {
+        lines.push(
+            "under every calibrated set the objective is flat over the box too: no setting is better than another under any of them".into(),
+        );
+    } else if !edges.is_empty()
         && none == 0
-        && found.iter().all(|&i| solution.edges_of(i) == run_edges)
+        && moving.iter().all(|&i| solution.edges_of(i) == edges)
     {
-        let words: Vec<String> = run_edges
+        let words: Vec<String> = edges
             .iter()
             .map(|&(k, side)| {
                 let a = &problem.axes[k];
@@ -247,8 +303,16 @@ fn band_lines(problem: &Problem, solution: &Solution) -> Vec<String> {
                 format!("as {how} {} as the box allows ({})", a.param, plain(end, 6))
             })
             .collect();
+        let which = if flat_sets == 0 {
+            "under every calibrated set".to_string()
+        } else {
+            format!(
+                "under every calibrated set whose objective moves over the box ({} of {sets}; flat under the other {flat_sets})",
+                sets - flat_sets
+            )
+        };
         lines.push(format!(
-            "under every calibrated set the answer is the edge of the box: {}",
+            "{which} the answer is the edge of the box: {}",
             words.join(", ")
         ));
     } else {

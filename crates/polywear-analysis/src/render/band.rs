@@ -47,6 +47,19 @@ pub fn paired_words(p: &PairedBand, sets: usize) -> String {
             "the driving wheel is more exposed under all {sets} calibrated sets ({})",
             by(-r.hi, -r.lo)
         ),
+        // One wheel ahead under some sets and behind under none: the others are ties (both
+        // figures the same, mostly 0 under the sets of lowest φ_s), said as such rather than as
+        // a set that reverses the sign.
+        None if p.driving_ahead == 0 && p.follower_ahead > 0 => format!(
+            "the follower is ahead under {} and behind under none of the {sets} calibrated sets (tied under {}: both wheels' figures equal)",
+            p.follower_ahead,
+            sets.saturating_sub(p.follower_ahead)
+        ),
+        None if p.follower_ahead == 0 && p.driving_ahead > 0 => format!(
+            "the driving wheel is ahead under {} and behind under none of the {sets} calibrated sets (tied under {}: both wheels' figures equal)",
+            p.driving_ahead,
+            sets.saturating_sub(p.driving_ahead)
+        ),
         None => format!(
             "which wheel is more exposed depends on the calibrated set (follower ahead under {}, driving wheel under {}, tied under {} of {sets}): no wheel is named",
             p.follower_ahead,
@@ -148,4 +161,52 @@ pub fn section(s: &mut String, a: &Analysis) {
         }
     }
     let _ = writeln!(s);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use polywear_core::model::Variant;
+
+    fn paired(lo: f64, hi: f64, follower_ahead: usize, driving_ahead: usize) -> PairedBand {
+        PairedBand {
+            variant: Variant::SlidingShare,
+            within_km: 40_000.0,
+            follower_minus_driving: BandRange {
+                lo,
+                lo_set: "a".into(),
+                hi,
+                hi_set: "b".into(),
+            },
+            follower_ahead,
+            driving_ahead,
+        }
+    }
+
+    /// A band whose sets put one wheel ahead or tie, never behind, says so; only a band whose
+    /// sets reverse the sign names no wheel; a sign held by every set names it.
+    #[test]
+    fn ties_are_not_called_a_reversal() {
+        let words = paired_words(&paired(0.0, 0.016, 78, 0), 96);
+        assert_eq!(
+            words,
+            "the follower is ahead under 78 and behind under none of the 96 calibrated sets (tied under 18: both wheels' figures equal)"
+        );
+        let words = paired_words(&paired(-0.02, 0.0, 0, 5), 96);
+        assert!(
+            words.starts_with("the driving wheel is ahead under 5 and behind under none"),
+            "{words}"
+        );
+        let words = paired_words(&paired(-0.01, 0.02, 60, 30), 96);
+        assert!(
+            words.contains("follower ahead under 60, driving wheel under 30, tied under 6 of 96")
+                && words.ends_with("no wheel is named"),
+            "{words}"
+        );
+        let words = paired_words(&paired(0.01, 0.02, 96, 0), 96);
+        assert!(
+            words.starts_with("the follower is more exposed under all 96"),
+            "{words}"
+        );
+    }
 }

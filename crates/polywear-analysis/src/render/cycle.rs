@@ -110,7 +110,9 @@ fn wear_line(all: &[[WheelSummary; 2]], w: usize) -> Option<String> {
     } else {
         String::new()
     };
-    let life = "driving this cycle all its life";
+    // A cycle's answer is the new tire's (MODEL.md#along-a-drive-cycle), unlike explore's default
+    // over the tread's life: the line says so.
+    let life = "driving this cycle all its life, as the new tire";
     if d.len() == 1 {
         let c = wear[0];
         let what = if c.distance_to_visible_km.is_nan() {

@@ -148,7 +148,7 @@ pub fn lines(
         if estimate {
             out.push(match &w.solution.wear {
                 Some(e) => format!(
-                    "  {}: estimate  dominant order {}, growth {} per 1000 km, distance {} km{}",
+                    "  {}: new tire  dominant order {}, growth {} per 1000 km, distance {} km{}",
                     w.wheel,
                     plain(e.polygon_order_dominant, 4),
                     plain(e.growth_rate_per_1000km, 3),
@@ -159,7 +159,7 @@ pub fn lines(
                         format!(" ({})", e.reason)
                     }
                 ),
-                None => format!("  {}: estimate  none", w.wheel),
+                None => format!("  {}: new tire  none", w.wheel),
             });
             out.push(match &w.life {
                 Some(l) if l.answer.distance_to_visible_km.is_finite() => format!(

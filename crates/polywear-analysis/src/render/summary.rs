@@ -82,10 +82,14 @@ fn print_wear(a: &Analysis, lines: &mut Vec<String>) {
         lines.push("wear: the wear stage was left out of this run (--no-wear or `wear = false`); vibration only".to_string());
         return;
     };
-    // The constants are fitted to the field on the new tire's answers: over the tread's life the
-    // line says so rather than "field-fitted".
+    // The constants are fitted to the field on the new tire's answers: over the tread's life (the
+    // default) the line says so rather than "field-fitted", and the new tire's line names its
+    // level, which is no longer the default.
     let (how, fitted) = match a.info.estimate {
-        EstimateLevel::NewTire => ("cruising at each sample's operating point", "field-fitted"),
+        EstimateLevel::NewTire => (
+            "the new tire cruising at each sample's operating point (wear_estimate = new_tire)",
+            "field-fitted",
+        ),
         EstimateLevel::TreadLife => (
             "over the tread's life at each sample's operating point (wear_estimate = tread_life)",
             "fitted to the field on the new tire's answers",

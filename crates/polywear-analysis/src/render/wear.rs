@@ -148,20 +148,25 @@ fn meaning(s: &mut String, a: &Analysis, w: &WearAnalysis) {
     };
     let level_words = match a.info.estimate {
         EstimateLevel::NewTire => {
-            "**These distances are the new tire's**: they \
+            "**These distances are the new tire's** \
+             (`wear_estimate = \"new_tire\"`, not the default): they \
              leave out how the tread's frequency rises as it wears. The long-term loop (`polywear \
-             wear`), which follows it, and an estimate over the tread's life that agrees with the \
-             loop give far fewer polygons at these constants (on the built-in study 4 of 8,000 \
-             wheels within 60,000 km, against 493 by this estimate): read these figures as the more \
-             pessimistic of the model's two levels (MODEL.md#the-estimator-over-the-treads-life)."
+             wear`), which follows it, and the default estimate over the tread's life, which agrees \
+             with the loop, give far fewer polygons at these constants (on the built-in study 4 of \
+             8,000 wheels within 60,000 km, against 493 by this estimate): read these figures as the \
+             more pessimistic of the model's two levels, the one the constants were fitted to the \
+             field on (MODEL.md#the-estimator-over-the-treads-life)."
         }
         EstimateLevel::TreadLife => {
             "**These distances are over the tread's life** \
-             (`wear_estimate = \"tread_life\"`): every order the tread frequency passes as the \
-             tread wears grows from the seed, the level that agrees with the long-term loop \
-             (`polywear wear`). The two constants and the calibration band were fitted on the new \
-             tire's answers, not on these; on this level the field facts hold only at a knife \
-             edge (MODEL.md#fitted-over-the-treads-life)."
+             (`wear_estimate = \"tread_life\"`, the default): every order the tread frequency \
+             passes as the tread wears grows from the seed, the level that agrees with the \
+             long-term loop (`polywear wear`). The two constants and the calibration band were \
+             fitted on the new tire's answers, not on these. **On this level the model disagrees \
+             with the field**: the field facts hold only at a knife edge of the constants, and \
+             its polygons come before about 25,000 km or not at all, where the field sees them \
+             after 25,000–40,000 km (MODEL.md#fitted-over-the-treads-life). The new tire's \
+             answer, which the constants were fitted on, is `--wear-estimate new_tire`."
         }
     };
     let _ = writeln!(

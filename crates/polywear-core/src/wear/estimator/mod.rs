@@ -67,12 +67,12 @@ crate::named_enum! {
     /// MODEL.md#the-estimator-over-the-treads-life).
     pub enum EstimateLevel: "wear estimate" {
         /// The new tire cruising for ever: the fastest order around ν at the new tread's
-        /// growth rate ([`WheelGrowth::answer_with`]). The shipped default: the field
-        /// calibration and its band are fitted on this level.
+        /// growth rate ([`WheelGrowth::answer_with`]). The level the field calibration and
+        /// its band were fitted on; it contradicts the long-term loop at highway points.
         NewTire,
         /// Over the tread's life: every order ν passes as the tread wears, from the seed until
-        /// one is visible or the tire is worn out ([`WheelGrowth::life_answer`]); the level
-        /// that agrees with the long-term loop.
+        /// one is visible or the tire is worn out ([`WheelGrowth::life_answer`]). The shipped
+        /// default: the level that agrees with the long-term loop (one answer, issue 40).
         TreadLife,
     }
 }
@@ -81,7 +81,7 @@ impl EstimateLevel {
     /// Every level, in the order of the declaration.
     pub const ALL: [EstimateLevel; 2] = [EstimateLevel::NewTire, EstimateLevel::TreadLife];
     /// The level every command uses unless told otherwise.
-    pub const DEFAULT: EstimateLevel = EstimateLevel::NewTire;
+    pub const DEFAULT: EstimateLevel = EstimateLevel::TreadLife;
 
     /// What the level is, in a sentence (for messages and `polywear params`).
     pub fn description(self) -> &'static str {
