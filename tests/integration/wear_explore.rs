@@ -438,6 +438,28 @@ fn the_estimate_level_is_recorded_kept_on_resume_and_refused_when_wrong() {
     };
     let (a, b) = (distances(&new_tire), distances(&life));
     assert_eq!(a.len(), b.len());
+    // How near the deepest order came, over the tread's life only: in (0, 1], 1 exactly where
+    // a polygon is visible before the tire is worn out; NaN on the new tire's level.
+    let peaks = |out: &std::path::Path| -> Vec<(f64, String)> {
+        rows(&first_chunk(out))
+            .iter()
+            .map(|r| {
+                (
+                    float(&r["wear_peak_share_of_visible"]),
+                    text(&r["wear_outcome"]),
+                )
+            })
+            .collect()
+    };
+    assert!(peaks(&new_tire).iter().all(|(p, _)| p.is_nan()));
+    let life_peaks = peaks(&life);
+    assert!(
+        life_peaks
+            .iter()
+            .filter(|(_, o)| o != "unknown")
+            .all(|(p, o)| *p > 0.0 && *p <= 1.0 && (*p == 1.0) == (o == "visible")),
+        "{life_peaks:?}"
+    );
     assert!(
         a.iter().zip(&b).any(|(x, y)| x != y),
         "the same distances on both levels"

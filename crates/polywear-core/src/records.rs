@@ -204,6 +204,7 @@ define_record! {
     DistanceToVisibleKm distance_to_visible_km: f64, F64, "km", "Cruising distance at the point, with the speed spread, until the polygon is visible_depth_mm deep; inf when every order levels out.";
     TreadLifeKm tread_life_km: f64, F64, "km", "Cruising distance at the point until the position's whole even wear leaves tread_depth_worn_out_mm: (tread_depth_new_mm - tread_depth_worn_out_mm) / (w' + (1 - phi_s) w'_pos).";
     WearOutcome wear_outcome: String, Str, "", "The wear answer in words: visible (distance_to_visible_km within tread_life_km), not_within_life (later, or never), unknown (no figures; wear_reason says why).";
+    WearPeakShareOfVisible wear_peak_share_of_visible: f64, F64, "-", "Over the tread's life (wear_estimate = tread_life): the deepest order's largest depth before the tire is worn out, as a share of visible_depth_mm (1 where a polygon is visible): how near a wheel without one came. NaN on the new tire's level.";
     WearLockedShare wear_locked_share: f64, F64, "-", "Share of the speed spread inside the dominant order's lock-in band (0 for a stable wheel).";
     WearShareStraight wear_share_straight: f64, F64, "-", "phi_s, the parameter wear_share_straight: the share of the reference wear that straight running couples to (field-fitted).";
     WearRhsEvals wear_rhs_evals: u64, I64, "", "Right-hand-side evaluations the wear stage spent on the wheel (0 for a stable one).";
@@ -267,6 +268,7 @@ impl WearRecord {
             distance_to_visible_km: e.distance_to_visible_km,
             tread_life_km,
             wear_outcome: outcome.as_str().to_string(),
+            wear_peak_share_of_visible: e.peak_share_of_visible,
             wear_locked_share: dominant.map_or(f64::NAN, |o| o.locked_share),
             wear_share_straight: e.wear_calibration_share,
             wear_rhs_evals: rhs_evals,

@@ -897,7 +897,8 @@ mod table_tests {
 
     /// The estimate on the level over the tread's life (`wear_estimate = "tread_life"`, what
     /// explore writes) is the life answer under the sample's own constants, with the new tire's
-    /// growth of its order in the growth columns; and it is not the new tire's (at φ_s = 0.28,
+    /// growth of its order in the growth columns and the life answer's peak share (NaN on the
+    /// new tire's level); and it is not the new tire's (at φ_s = 0.28,
     /// σ_V = 10 km/h, where the follower at 120 km/h and 0.45° gets a polygon on both levels).
     #[test]
     fn the_estimate_over_the_tread_s_life_is_the_life_answer() {
@@ -933,8 +934,21 @@ mod table_tests {
                     (crate::wear::estimate(&inputs, &Meter::new(opts.budget)), g)
                 };
                 let (e, g) = at(EstimateLevel::TreadLife);
-                let life = g.life_answer(&FittedConstants::of(&p)).answer;
+                let whole = g.life_answer(&FittedConstants::of(&p));
+                let life = whole.answer;
                 let here = format!("{speed_kmh} km/h {toe_deg}° {wheel}");
+                // How near the deepest order came is the life answer's, 1 where visible.
+                assert_eq!(
+                    e.peak_share_of_visible.to_bits(),
+                    whole.peak_share_of_visible.to_bits(),
+                    "{here}"
+                );
+                assert!(
+                    (e.peak_share_of_visible == 1.0) == life.distance_to_visible_km.is_finite()
+                        && e.peak_share_of_visible > 0.0,
+                    "{here}: {}",
+                    e.peak_share_of_visible
+                );
                 assert_eq!(
                     e.distance_to_visible_km.to_bits(),
                     life.distance_to_visible_km.to_bits(),
@@ -948,6 +962,7 @@ mod table_tests {
                 );
                 assert_eq!(e.orders, vec![order], "{here}");
                 let (new_tire, _) = at(EstimateLevel::NewTire);
+                assert!(new_tire.peak_share_of_visible.is_nan(), "{here}");
                 if life.distance_to_visible_km.is_finite() {
                     finite += 1;
                     assert_ne!(

@@ -159,6 +159,10 @@ pub struct WearEstimate {
     /// this speed spread \[km\]; +inf if every order levels out (over the tread's life: if
     /// none is visible before the tire is worn out).
     pub distance_to_visible_km: f64,
+    /// Over the tread's life, how deep the deepest order got before the tire was worn out, as
+    /// a share of d_visible (1 where a polygon is visible): how near a wheel without one came.
+    /// NaN on the new tire's level, whose orders grow without end or level out from the seed.
+    pub peak_share_of_visible: f64,
     /// φ_s used.
     pub wear_calibration_share: f64,
     /// λ_lev = w′ κ, the levelling of straight running \[1/1000 km\].
@@ -185,6 +189,7 @@ impl WearEstimate {
             detuning_rev: nan,
             growth_rate_per_1000km: nan,
             distance_to_visible_km: nan,
+            peak_share_of_visible: nan,
             wear_calibration_share: share,
             levelling_per_1000km: nan,
             levelling_other_per_1000km: nan,
@@ -803,8 +808,9 @@ pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
         Ok(g) => g,
         Err(e) => return WearEstimate::undefined(share, e.to_string()),
     };
-    // The order each level answers with, the orders it evaluated, and the distance.
-    let (top, orders, distance_km) = match inputs.settings.estimate {
+    // The order each level answers with, the orders it evaluated, the distance, and (over the
+    // tread's life) how near the deepest order came.
+    let (top, orders, distance_km, peak_share) = match inputs.settings.estimate {
         EstimateLevel::NewTire => {
             let orders: Vec<OrderGrowth> = orders_around(growth.nu())
                 .map(|n| growth.order(n))
@@ -819,6 +825,7 @@ pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
                 top,
                 orders,
                 distance_to_visible_km(p, top.growth_rate_per_1000km),
+                f64::NAN,
             )
         }
         // The order visible first over the tread's life (or the deepest), with the new tire's
@@ -826,7 +833,12 @@ pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
         EstimateLevel::TreadLife => {
             let life = growth.life_answer(&FittedConstants::of(p));
             let top = growth.order(life.answer.polygon_order_wear as u32);
-            (top, vec![top], life.answer.distance_to_visible_km)
+            (
+                top,
+                vec![top],
+                life.answer.distance_to_visible_km,
+                life.peak_share_of_visible,
+            )
         }
     };
     let even = growth.even_wear_m_per_m();
@@ -836,6 +848,7 @@ pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
         detuning_rev: top.detuning_rev,
         growth_rate_per_1000km: top.growth_rate_per_1000km,
         distance_to_visible_km: distance_km,
+        peak_share_of_visible: peak_share,
         wear_calibration_share: share,
         levelling_per_1000km: even * growth.local_per_m() * PER_1000KM_PER_PER_M,
         levelling_other_per_1000km: (1.0 - share) * growth.other_per_share * PER_1000KM_PER_PER_M,
