@@ -523,6 +523,48 @@ fn the_estimate_level_is_recorded_kept_on_resume_and_refused_when_wrong() {
         report.contains("These distances are over the tread's life"),
         "{report}"
     );
+    // How near the others came: the wheels whose peak reached the visible depth are those
+    // visible in the rows, per wheel; the new tire's level has no such section.
+    assert!(report.contains("### How near the others came"), "{report}");
+    let table = std::fs::read_to_string(reported.join("_report/wear_near_misses.csv")).unwrap();
+    let mut lines = table.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let at = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    let all = all_rows(&reported);
+    let mut seen = 0;
+    for line in lines {
+        let cells: Vec<&str> = line.split(',').collect();
+        let wheel = cells[at("wheel")];
+        let visible = all
+            .iter()
+            .filter(|r| text(&r["wheel"]) == wheel && text(&r["wear_outcome"]) == "visible")
+            .count();
+        let known = all
+            .iter()
+            .filter(|r| {
+                text(&r["wheel"]) == wheel && float(&r["wear_peak_share_of_visible"]).is_finite()
+            })
+            .count();
+        assert_eq!(cells[at("reached_visible")], visible.to_string(), "{table}");
+        assert_eq!(cells[at("wheels_with_peak")], known.to_string(), "{table}");
+        let half: u64 = cells[at("reached_50pct")].parse().unwrap();
+        assert!(half >= visible as u64, "{table}");
+        seen += 1;
+    }
+    assert_eq!(seen, 2, "{table}");
+    let analysed = dir.join("new_analysed");
+    let (code, _, stderr) = polywear(&[
+        "analyze",
+        new_tire.to_str().unwrap(),
+        "--out",
+        analysed.to_str().unwrap(),
+        "--format",
+        "svg",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let report = std::fs::read_to_string(analysed.join("report.md")).unwrap();
+    assert!(!report.contains("How near the others came"), "{report}");
+    assert!(!analysed.join("wear_near_misses.csv").exists());
     // The study's key reaches the manifest as the flag does.
     let keyed = dir.join("keyed.toml");
     std::fs::write(&keyed, format!("wear_estimate = \"new_tire\"\n{STUDY}")).unwrap();

@@ -31,8 +31,8 @@ pub use renamed::deprecation_notes;
 use scenario_pairs::code_expr;
 pub use scenario_pairs::{scenario_pairs, OutcomeColumn, ScenarioPairCounts};
 pub use wear_counts::{
-    decade_bins, decades, OrderCount, SampleWeight, WearGroup, WearSpread, BINS_PER_DECADE,
-    WEIGHT_UNITS_PER_KMH,
+    decade_bins, decades, NearMisses, OrderCount, SampleWeight, WearGroup, WearSpread,
+    BINS_PER_DECADE, NEAR_MISS_SHARES, WEIGHT_UNITS_PER_KMH,
 };
 pub use wear_values::check_wear_values;
 

@@ -10,7 +10,7 @@ use super::answer_words;
 use super::words::{pct, rel};
 use super::Figures;
 use crate::analysis::paired::Paired;
-use crate::analysis::rows::SampleWeight;
+use crate::analysis::rows::{SampleWeight, NEAR_MISS_SHARES};
 use crate::analysis::wear_risk::{WearAnalysis, HEADLINE_WITHIN_KM, ORDERS_WITHIN_KM};
 use crate::analysis::Analysis;
 use polywear_core::model::{Variant, Wheel};
@@ -36,6 +36,7 @@ pub fn section(s: &mut String, a: &Analysis, figures: &Figures) {
     }
     meaning(s, a, w);
     occurrence_table(s, a, w);
+    near_misses(s, w);
     paired_table(s, w);
     super::band::section(s, a);
     where_wear(s, a, figures);
@@ -227,6 +228,60 @@ fn occurrence_table(s: &mut String, a: &Analysis, w: &WearAnalysis) {
         } else {
             ""
         }
+    );
+}
+
+/// How near the wheels without a visible polygon came, over the tread's life: the wheels whose
+/// deepest order reached each share of the visible depth (`wear_peak_share_of_visible`). A
+/// run on the new tire's level has no such column values and no section.
+fn near_misses(s: &mut String, w: &WearAnalysis) {
+    if w.near_misses.is_empty() {
+        return;
+    }
+    let _ = writeln!(s, "### How near the others came\n");
+    let _ = writeln!(
+        s,
+        "Over the tread's life each wheel's deepest order has a largest depth before the tire is \
+         worn out (`wear_peak_share_of_visible`, as a share of the visible depth, {} mm): the \
+         wheels that reached each share, among those with a value. A fleet far from the cliff \
+         has few wheels in the middle columns; a small change of the constants or the operating \
+         point moves the wheels near 100% across it.\n",
+        plain(w.visible_depth_mm, 3)
+    );
+    let heads: Vec<String> = NEAR_MISS_SHARES
+        .iter()
+        .map(|&t| {
+            if t >= 1.0 {
+                "visible before worn out".to_string()
+            } else {
+                format!("≥ {:.0}%", 100.0 * t)
+            }
+        })
+        .collect();
+    let _ = writeln!(
+        s,
+        "| variant | wheel | wheels with a value | {} |",
+        heads.join(" | ")
+    );
+    let _ = writeln!(s, "|---|---|---:|{}", "---:|".repeat(heads.len()));
+    for m in &w.near_misses {
+        let cells: Vec<String> = m
+            .at_least
+            .iter()
+            .map(|&n| format!("{n} ({})", pct(n as f64 / m.known as f64)))
+            .collect();
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} |",
+            m.variant,
+            m.wheel,
+            m.known,
+            cells.join(" | ")
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nTables: `wear_near_misses.csv`, `wear_near_misses.parquet`.\n"
     );
 }
 

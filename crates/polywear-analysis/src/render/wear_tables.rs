@@ -1,11 +1,13 @@
 //! The wear answer's tables (CSV and Parquet, through [`super::tables`]): those it shares with
 //! the vibration answer, written by [`super::answer_tables`] (`wear_occurrence` per distance,
 //! `wear_paired`, `wear_conditional`, `wear_riskmap_<x>_<y>`), then its own: one row per
-//! quantity (`wear_severity`), order (`wear_orders`) and operating point (`wear_fleet_rows`).
+//! quantity (`wear_severity`), order (`wear_orders`), how near the deepest orders came over the
+//! tread's life (`wear_near_misses`) and operating point (`wear_fleet_rows`).
 
 use super::answer_tables::{self, CountColumns};
 use super::columns::{count_col, f64_col, str_col};
 use crate::analysis::counts::WithinCounts;
+use crate::analysis::rows::NEAR_MISS_SHARES;
 use crate::analysis::wear_risk::{WearAnalysis, HEADLINE_WITHIN_KM};
 use polywear_core::model::Wheel;
 use polywear_study::parquet_out::Column;
@@ -62,10 +64,35 @@ pub fn tables(w: &WearAnalysis, min_count: u64) -> Vec<(String, Vec<Column>)> {
             count_col("wheels", d, |r| r.n),
         ],
     ));
+    let m = &w.near_misses;
+    if !m.is_empty() {
+        let mut cols = vec![
+            str_col("variant", m, |r| r.variant.to_string()),
+            str_col("wheel", m, |r| r.wheel.to_string()),
+            count_col("wheels_with_peak", m, |r| r.known),
+        ];
+        cols.extend(
+            NEAR_MISS_SHARES
+                .iter()
+                .enumerate()
+                .map(|(k, t)| count_col(&near_miss_column(*t), m, |r| r.at_least[k])),
+        );
+        out.push(("wear_near_misses".to_string(), cols));
+    }
     if !w.headline_answer().fleet.is_empty() {
         out.push(("wear_fleet_rows".to_string(), fleet_columns(w, min_count)));
     }
     out
+}
+
+/// The near-miss table's column of the wheels whose peak reached the share `t` of the visible
+/// depth: `reached_10pct`, ..., `reached_visible` for 1.
+pub fn near_miss_column(t: f64) -> String {
+    if t >= 1.0 {
+        "reached_visible".to_string()
+    } else {
+        format!("reached_{:.0}pct", 100.0 * t)
+    }
 }
 
 /// One row per operating point of the file and wheel.

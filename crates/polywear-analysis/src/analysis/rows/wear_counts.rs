@@ -62,6 +62,23 @@ pub struct OrderCount {
     pub n: u64,
 }
 
+/// How near one variant's and wheel's deepest orders came to the visible depth over the
+/// tread's life (`wear_peak_share_of_visible`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct NearMisses {
+    /// The friction variant.
+    pub variant: Variant,
+    /// The wheel.
+    pub wheel: Wheel,
+    /// Wheels with a peak share (finite; NaN on the new tire's level and for unknown wheels).
+    pub known: u64,
+    /// Wheels whose peak share reached each threshold of [`NEAR_MISS_SHARES`].
+    pub at_least: Vec<u64>,
+}
+
+/// The shares of the visible depth the near-miss table counts the wheels at or above.
+pub const NEAR_MISS_SHARES: [f64; 4] = [0.1, 0.25, 0.5, 1.0];
+
 const DISTANCE: &str = WearColumn::DistanceToVisibleKm.name();
 const SPEED: &str = RecordColumn::SpeedKmh.name();
 
@@ -251,6 +268,45 @@ impl Rows {
                 .agg([len().cast(DataType::Int64).alias("n")]),
         )?;
         histogram_bins(&df, None)
+    }
+
+    /// Per variant and wheel, the wheels with a peak share and those at or above each of
+    /// [`NEAR_MISS_SHARES`]; empty where the rows have no `wear_peak_share_of_visible` (rows
+    /// written before it existed) or none has a value (the new tire's level).
+    pub fn near_misses(&self) -> Result<Vec<NearMisses>, AnalysisError> {
+        let name = WearColumn::WearPeakShareOfVisible.name();
+        if !self.has_column(name)? {
+            return Ok(Vec::new());
+        }
+        let x = col(name).cast(DataType::Float64);
+        let count = |e: Expr| e.cast(DataType::Int64).sum();
+        let mut aggs = vec![count(x.clone().is_finite()).alias("known")];
+        aggs.extend(NEAR_MISS_SHARES.iter().enumerate().map(|(k, &t)| {
+            count(x.clone().is_finite().and(x.clone().gt_eq(lit(t)))).alias(format!("at{k}"))
+        }));
+        let df = collect(
+            self.lf
+                .clone()
+                .group_by([col("variant"), col("wheel")])
+                .agg(aggs),
+        )?;
+        let known = ints(&df, "known")?;
+        let at: Vec<Vec<i64>> = (0..NEAR_MISS_SHARES.len())
+            .map(|k| ints(&df, &format!("at{k}")))
+            .collect::<Result<_, _>>()?;
+        let mut out: Vec<NearMisses> = variant_wheel(&df)?
+            .into_iter()
+            .enumerate()
+            .map(|(i, (variant, wheel))| NearMisses {
+                variant,
+                wheel,
+                known: known[i] as u64,
+                at_least: at.iter().map(|a| a[i] as u64).collect(),
+            })
+            .filter(|m| m.known > 0)
+            .collect();
+        out.sort_by_key(|m| (m.variant, m.wheel));
+        Ok(out)
     }
 
     /// Wheels per dominant order among those with a visible polygon within `within_km`.

@@ -21,7 +21,7 @@ use super::fleet::WeightKind;
 use super::outcome::{self, AnswerPlan, MapAxes, Occurrence, OutcomeAnswer, VisibleWithin};
 use super::paired::Paired;
 use super::risk_map::RiskMap;
-use super::rows::{OrderCount, Rows, SampleWeight};
+use super::rows::{NearMisses, OrderCount, Rows, SampleWeight};
 use super::{AnalysisError, RunInfo, Step};
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::ParamId;
@@ -67,6 +67,9 @@ pub struct WearAnalysis {
     pub severity: Vec<WearSeverity>,
     /// Wheels per dominant order among those within [`ORDERS_WITHIN_KM`].
     pub orders: Vec<OrderCount>,
+    /// How near the deepest orders came to the visible depth over the tread's life, per
+    /// variant and wheel (empty on the new tire's level).
+    pub near_misses: Vec<NearMisses>,
 }
 
 impl WearAnalysis {
@@ -229,5 +232,6 @@ pub fn wear(
         by_distance,
         severity: severity::wear_severity(rows)?,
         orders: rows.dominant_orders(ORDERS_WITHIN_KM)?,
+        near_misses: rows.near_misses()?,
     })
 }
