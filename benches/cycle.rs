@@ -43,8 +43,9 @@ fn main() {
         let mut plain_rhs = 0;
         for _ in 0..repeats {
             let t = Instant::now();
-            steps =
-                pool.install(|| classify_cycle(&cycle, &base, Variant::SlidingShare, &opts, None));
+            steps = pool
+                .install(|| classify_cycle(&cycle, &base, Variant::SlidingShare, &opts, None))
+                .steps;
             times.push(t.elapsed().as_secs_f64());
             let t = Instant::now();
             plain_rhs = pool.install(|| independent_steps(&cycle, &base, &opts));

@@ -498,19 +498,13 @@ fn a_changed_band_is_refused_and_resume_writes_it_again() {
 /// `cycle` gives its distance to a visible polygon a calibration band, and the band under a set
 /// is the distance of a cycle run with that set's φ_s and k_d (σ_V does not enter a cycle):
 /// the closed form β_n(φ_s, k_d) = φ_s β_n(1) − (1 − φ_s) λ_other(k_d) against the loop solved
-/// at those constants.
+/// at those constants, as the new tire; over the tread's life, the profiles' sums read under the
+/// set against the cycle run with it.
 #[test]
 fn a_cycle_s_distance_carries_its_band_and_each_set_is_the_cycle_run_with_it() {
     let dir = fresh_dir("band-cycle");
     std::fs::create_dir_all(&dir).unwrap();
     let cycle = concat!(env!("CARGO_MANIFEST_DIR"), "/data/cycles/hwfet.csv");
-    let one = dir.join("one.toml");
-    std::fs::write(
-        &one,
-        "method = \"m\"\ngenerated_by = \"g\"\n\n[[set]]\nid = \"hi\"\nnominal = true\n\
-         wear_share_straight = 0.2\nspeed_spread_kmh = 9.0\nwear_rate_driven_factor = 2.0\n",
-    )
-    .unwrap();
     let distance = |out: &Path, column: &str| -> Vec<f64> {
         let text = std::fs::read_to_string(out.join("cycle_summary.csv")).unwrap();
         let mut lines = text.lines();
@@ -520,44 +514,61 @@ fn a_cycle_s_distance_carries_its_band_and_each_set_is_the_cycle_run_with_it() {
             .map(|l| l.split(',').nth(k).unwrap().parse().unwrap())
             .collect()
     };
-    let banded = dir.join("banded");
-    let (code, stdout, err) = polywear(&[
-        "cycle",
-        cycle,
-        "--set",
-        "toe_deg=0.45",
-        "--calibration-band",
-        one.to_str().unwrap(),
-        "--out",
-        banded.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
-    assert!(stdout.contains("over 1 calibrated sets"), "{stdout}");
-    let lo = distance(&banded, "distance_to_visible_km_band_low");
-    assert_eq!(lo, distance(&banded, "distance_to_visible_km_band_high"));
-    let direct = dir.join("direct");
-    let (code, _, err) = polywear(&[
-        "cycle",
-        cycle,
-        "--set",
-        "toe_deg=0.45",
-        "--set",
-        "wear_share_straight=0.2",
-        "--set",
-        "wear_rate_driven_factor=2",
-        "--calibration-band",
-        "off",
-        "--out",
-        direct.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
-    let d = distance(&direct, "distance_to_visible_km");
-    assert_eq!(d.len(), 2);
-    for (a, b) in d.iter().zip(&lo) {
-        assert!(
-            a.is_finite() && ((a - b) / a).abs() < 1e-9,
-            "{d:?} vs band {lo:?}"
-        );
+    // On both levels, at a set under which the cycle's polygons become visible on that level.
+    let mut direct = dir.join("direct-new_tire");
+    for (level, share) in [("new_tire", "0.2"), ("tread_life", "0.5")] {
+        let one = dir.join(format!("one-{level}.toml"));
+        std::fs::write(
+            &one,
+            format!(
+                "method = \"m\"\ngenerated_by = \"g\"\n\n[[set]]\nid = \"hi\"\nnominal = true\n\
+                 wear_share_straight = {share}\nspeed_spread_kmh = 9.0\nwear_rate_driven_factor = 2.0\n"
+            ),
+        )
+        .unwrap();
+        let banded = dir.join(format!("banded-{level}"));
+        let (code, stdout, err) = polywear(&[
+            "cycle",
+            cycle,
+            "--set",
+            "toe_deg=0.45",
+            "--wear-estimate",
+            level,
+            "--calibration-band",
+            one.to_str().unwrap(),
+            "--out",
+            banded.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        assert!(stdout.contains("over 1 calibrated sets"), "{stdout}");
+        let lo = distance(&banded, "distance_to_visible_km_band_low");
+        assert_eq!(lo, distance(&banded, "distance_to_visible_km_band_high"));
+        direct = dir.join(format!("direct-{level}"));
+        let (code, _, err) = polywear(&[
+            "cycle",
+            cycle,
+            "--set",
+            "toe_deg=0.45",
+            "--set",
+            &format!("wear_share_straight={share}"),
+            "--set",
+            "wear_rate_driven_factor=2",
+            "--wear-estimate",
+            level,
+            "--calibration-band",
+            "off",
+            "--out",
+            direct.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let d = distance(&direct, "distance_to_visible_km");
+        assert_eq!(d.len(), 2);
+        for (a, b) in d.iter().zip(&lo) {
+            assert!(
+                a.is_finite() && ((a - b) / a).abs() < 1e-9,
+                "{level}: {d:?} vs band {lo:?}"
+            );
+        }
     }
     // The default band, and `off` without its columns; a bad file before any work.
     let (code, stdout, _) = polywear(&[

@@ -166,7 +166,8 @@ mod along_a_cycle {
     use polywear::evaluate::{self, PointProblem, WearStage};
     use polywear::model::Variant;
     use polywear::params::Params;
-    use polywear::wear::WearSettings;
+    use polywear::wear::estimator::tread_life_km;
+    use polywear::wear::{EstimateLevel, FittedConstants, WearSettings};
 
     fn cycle(name: &str, text: &str) -> DriveCycle {
         let dir = fresh_dir(name);
@@ -200,7 +201,7 @@ mod along_a_cycle {
             "wear-cycle-held",
             "time_s,speed_kmh\n0,100\n600,100\n1200,100\n",
         );
-        let steps = classify_cycle(&c, &p, Variant::SlidingShare, &opts, Some(&stage));
+        let steps = classify_cycle(&c, &p, Variant::SlidingShare, &opts, Some(&stage)).steps;
         let point = evaluate::solve(
             &PointProblem::new(p, &[Variant::SlidingShare], &opts).with_wear(Some(&stage)),
         );
@@ -238,11 +239,11 @@ mod along_a_cycle {
             "wear-cycle-two",
             "time_s,speed_kmh\n0,50\n2,100\n3,0\n4,0\n",
         );
-        let steps = classify_cycle(&c, &p, Variant::SlidingShare, &opts, Some(&stage));
+        let steps = classify_cycle(&c, &p, Variant::SlidingShare, &opts, Some(&stage)).steps;
         let at = |v: f64| {
             let q = Params { speed_kmh: v, ..p };
             let s = evaluate::solve(&PointProblem::new(q, &[Variant::SlidingShare], &opts));
-            [0, 1].map(|w| step_growth(&q, &s.wheels[w], &stage, &opts).0)
+            [0, 1].map(|w| step_growth(&q, &s.wheels[w], &stage, &opts).orders_per_1000km)
         };
         let (slow, fast) = (at(50.0), at(100.0));
         for w in 0..2 {
@@ -265,6 +266,84 @@ mod along_a_cycle {
         }
     }
 
+    /// Over the tread's life (the default level) a cycle held at one speed is explore's answer
+    /// over the tread's life at that point without a speed spread: the same order, the
+    /// distance within 1% (the cycle's profile is read on a grid of the worn depth, the
+    /// sample's on nodes of x), the same tread life; at points where a polygon becomes visible
+    /// and where none does. Its sums do not depend on the number of threads.
+    #[test]
+    fn a_cycle_held_at_one_speed_over_the_tread_s_life_is_the_sample_s_answer() {
+        let opts = ClassifierOptions::default();
+        let (mut visible, mut none) = (0, 0);
+        for (speed_kmh, toe_deg) in [(120.0, 0.45), (110.0, 0.6)] {
+            let p = Params {
+                speed_kmh,
+                toe_deg,
+                wear_share_straight: 0.28,
+                speed_spread_kmh: 0.0,
+                ..Params::default()
+            };
+            let stage =
+                WearStage::for_run(&p, Variant::SlidingShare, WearSettings::default(), &opts)
+                    .unwrap();
+            assert_eq!(stage.settings.estimate, EstimateLevel::TreadLife);
+            let c = cycle(
+                &format!("wear-cycle-life-{speed_kmh}"),
+                &format!("time_s,speed_kmh\n0,{speed_kmh}\n600,{speed_kmh}\n1200,{speed_kmh}\n"),
+            );
+            let classified = classify_cycle(&c, &p, Variant::SlidingShare, &opts, Some(&stage));
+            let point = evaluate::solve(
+                &PointProblem::new(p, &[Variant::SlidingShare], &opts).with_wear(Some(&stage)),
+            );
+            for w in 0..2 {
+                let here = format!("{speed_kmh} km/h {toe_deg} deg wheel {w}");
+                let life = classified.life[w].as_ref().expect("the life level");
+                let got = life.wear(&p, &FittedConstants::of(&p));
+                let e = point.wheels[w].wear.as_ref().unwrap();
+                assert_eq!(got.dominant_order, e.polygon_order_dominant, "{here}");
+                let (a, b) = (got.distance_to_visible_km, e.distance_to_visible_km);
+                assert!(a == b || (a - b).abs() <= 0.01 * b, "{here}: {a} vs {b} km");
+                let tread_life = tread_life_km(&p, e.tread_wear_mm_per_1000km);
+                assert!(
+                    (got.tread_life_km - tread_life).abs() <= 1e-9 * tread_life,
+                    "{here}: {} vs {tread_life} km",
+                    got.tread_life_km
+                );
+                let (x, y) = (got.peak_share_of_visible, e.peak_share_of_visible);
+                assert!((x - y).abs() <= 0.02 * y, "{here}: peak {x} vs {y}");
+                if b.is_finite() {
+                    visible += 1;
+                } else {
+                    none += 1;
+                }
+            }
+        }
+        assert!(visible >= 1 && none >= 1, "{visible} visible, {none} none");
+        // The same sums on one thread and on two (blocks summed in their order).
+        let p = Params {
+            wear_share_straight: 0.28,
+            ..Params::default()
+        };
+        let stage =
+            WearStage::for_run(&p, Variant::SlidingShare, WearSettings::default(), &opts).unwrap();
+        let c = DriveCycle::read(std::path::Path::new("data/cycles/hwfet.csv")).unwrap();
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| classify_cycle(&c, &p, Variant::SlidingShare, &opts, Some(&stage)))
+        };
+        let (one, two) = (on(1), on(2));
+        assert!(one.life[0].as_ref().unwrap().known_km > 16.0);
+        // Bit for bit (the records' NaNs are not equal to themselves): their debug texts.
+        assert!(
+            format!("{:?}", one.life) == format!("{:?}", two.life),
+            "the profiles' sums differ with the thread count"
+        );
+        assert!(format!("{:?}", one.steps) == format!("{:?}", two.steps));
+    }
+
     #[test]
     fn cycle_says_the_lifetime_distance_and_no_wear_leaves_it_out() {
         let dir = fresh_dir("wear-cycle-cli");
@@ -276,6 +355,8 @@ mod along_a_cycle {
             "wear_share_straight=1",
             "--set",
             "speed_spread_kmh=0",
+            "--wear-estimate",
+            "new_tire",
             "--out",
             out.to_str().unwrap(),
         ]);
@@ -308,6 +389,38 @@ mod along_a_cycle {
                 row[at("polygon_order_wear")],
                 row[at("wear_dominant_order")]
             );
+        }
+        // The default level, over the tread's life: both wheels' lines say it, and the
+        // summary has the tread's life and how near the deepest order came; on the new tire's
+        // level those are NaN.
+        let life = dir.join("life");
+        let (code, stdout, stderr) = polywear(&[
+            "cycle",
+            "data/cycles/hwfet.csv",
+            "--set",
+            "wear_share_straight=0.28",
+            "--out",
+            life.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+        assert_eq!(
+            stdout
+                .matches("driving this cycle all its life, its tread wearing: ")
+                .count(),
+            2,
+            "{stdout}"
+        );
+        assert!(stdout.contains("worn out at"), "{stdout}");
+        for (dir, finite) in [(&life, true), (&out, false)] {
+            let summary = std::fs::read_to_string(dir.join("cycle_summary.csv")).unwrap();
+            let lines: Vec<Vec<&str>> = summary.lines().map(|l| l.split(',').collect()).collect();
+            let at = |name: &str| lines[0].iter().position(|h| *h == name).unwrap();
+            for row in &lines[1..] {
+                for name in ["tread_life_km", "wear_peak_share_of_visible"] {
+                    let x: f64 = row[at(name)].parse().unwrap_or(f64::NAN);
+                    assert_eq!(x.is_finite(), finite, "{name} in {summary}");
+                }
+            }
         }
         let out = dir.join("without");
         let (code, stdout, _) = polywear(&[

@@ -16,9 +16,9 @@ use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::WearStage;
 use polywear_core::model::Variant;
 use polywear_core::params::Params;
-use polywear_core::wear::FittedConstants;
+use polywear_core::wear::{EstimateLevel, FittedConstants, WearSettings};
 use polywear_study::cycle::structures::{draw_structures, study_metadata, CommandLine, Structures};
-use polywear_study::cycle::{classify_cycles, DriveCycle, StepWheel};
+use polywear_study::cycle::{classify_cycles, ClassifiedCycle, DriveCycle};
 use polywear_study::study::Study;
 
 /// Most tire structures `--structure-samples` accepts.
@@ -84,8 +84,15 @@ pub struct CycleArgs {
     #[arg(long, short)]
     pub quiet: bool,
     /// Leave the wear stage out: no distance to a visible polygon, no wear columns
-    #[arg(long, conflicts_with = "wear_zone")]
+    #[arg(long, conflicts_with_all = ["wear_zone", "wear_estimate"])]
     pub no_wear: bool,
+    /// Which answer the cycle's polygon gets (MODEL.md#along-a-drive-cycle): tread_life (the
+    /// default: the steps share one tread whose frequency rises as it wears, and every order it
+    /// passes grows while it is near, until one is visible or the tire is worn out, as explore's
+    /// default and `polywear wear`'s long-term loop) or new_tire (the new tire driving the
+    /// cycle for ever, the level the field calibration was fitted on)
+    #[arg(long, value_name = "LEVEL", value_parser = |s: &str| s.parse::<EstimateLevel>().map_err(|e| e.to_string()))]
+    pub wear_estimate: Option<EstimateLevel>,
     /// The calibration band of the distance to a visible polygon: a file of calibrated sets of
     /// the fitted wear constants (as data/calibration_band.toml, the default), or `off`. Each
     /// set's phi_s and k_d give the distance again in closed form (sigma_V does not enter: the
@@ -252,10 +259,11 @@ fn write(
     request: CycleRequest,
     wear: bool,
     band_sets: Vec<FittedConstants>,
-    steps: Vec<Vec<[StepWheel; 2]>>,
+    classified: Vec<ClassifiedCycle>,
     secs: f64,
     threads: usize,
 ) -> CliResult {
+    let (steps, life): (Vec<_>, Vec<_>) = classified.into_iter().map(|c| (c.steps, c.life)).unzip();
     let (structures, study) = (request.structures, &request.study);
     let fleet = match (study, structures.fleet_rows) {
         (Some(s), Some(rows)) => s
@@ -270,6 +278,7 @@ fn write(
         structure_names: structures.names,
         structure_values: structures.values,
         steps,
+        life,
         metadata: request.metadata,
         fleet,
         wear_bases: if wear { structures.bases } else { Vec::new() },
@@ -295,7 +304,10 @@ fn wear_stage(args: &CycleArgs, base: &Params, variant: Variant) -> CliResult<Op
     if args.no_wear {
         return Ok(None);
     }
-    let settings = args.wear.settings();
+    let settings = WearSettings {
+        estimate: args.wear_estimate.unwrap_or_default(),
+        ..args.wear.settings()
+    };
     WearStage::for_run(base, variant, settings, &ClassifierOptions::default())
         .map(Some)
         .map_err(|e| CliError(format!("the wear stage: {e} (leave it out with --no-wear)")))

@@ -13,7 +13,7 @@ use polywear_core::params::{ParamId, Params, OPERATING_AXES};
 use polywear_core::records::{record_columns, OPERATING_POINT_ROW, SAMPLE_ID};
 use polywear_core::wear::FittedConstants;
 use polywear_study::cycle::summary::{summarise, summary_columns, WheelSummary};
-use polywear_study::cycle::wear::{cycle_wear, cycle_wear_band};
+use polywear_study::cycle::wear::{cycle_wear, cycle_wear_band, CycleLife};
 use polywear_study::cycle::{DriveCycle, StepWheel};
 use polywear_study::operating_points::OperatingPoints;
 use polywear_study::parquet_out::{write_csv, write_table, Column};
@@ -30,6 +30,9 @@ pub struct CycleRun<'a> {
     pub structure_values: Vec<Vec<f64>>,
     /// `steps[k][i]`: sample k, step i, both wheels.
     pub steps: Vec<Vec<[StepWheel; 2]>>,
+    /// `life[k][w]`: sample k's wheel w over the tread's life, its steps' profiles summed by
+    /// distance (None on the new tire's level or without the wear stage); empty for none.
+    pub life: Vec<[Option<CycleLife>; 2]>,
     /// Written into every file (version, command, parameters, variant, cycle, study).
     pub metadata: Vec<(String, String)>,
     /// The study's fleet, when its `[operating_points]` gave each structure sample a row.
@@ -60,11 +63,22 @@ impl CycleRun<'_> {
             .map(|(k, s)| {
                 [0, 1].map(|w| {
                     let base = self.wear_bases.get(k);
+                    let life = self.life.get(k).and_then(|l| l[w].as_ref());
+                    let (wear, wear_band) = match (base, life) {
+                        // Over the tread's life: the structure's own constants, then each set's.
+                        (Some(base), Some(life)) => (
+                            Some(life.wear(base, &FittedConstants::of(base))),
+                            self.band_sets.iter().map(|c| life.wear(base, c)).collect(),
+                        ),
+                        (Some(base), None) => (
+                            Some(cycle_wear(self.cycle, s, w, base)),
+                            cycle_wear_band(self.cycle, s, w, base, &self.band_sets),
+                        ),
+                        _ => (None, Vec::new()),
+                    };
                     WheelSummary {
-                        wear: base.map(|base| cycle_wear(self.cycle, s, w, base)),
-                        wear_band: base.map_or(Vec::new(), |base| {
-                            cycle_wear_band(self.cycle, s, w, base, &self.band_sets)
-                        }),
+                        wear,
+                        wear_band,
                         ..summarise(self.cycle, s, w)
                     }
                 })

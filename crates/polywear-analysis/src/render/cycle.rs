@@ -65,7 +65,12 @@ pub fn summary_lines(run: &CycleRun<'_>, secs: f64, threads: usize) -> Vec<Strin
             mean(&|s| s.longest_vibration_km),
             100.0 * mean(&|s| s.not_quasi_static_share),
         ));
-        if let Some(line) = wear_line(&all, w) {
+        // The seed's share of the visible depth, 2R⁰/d_visible: an order that never grows past
+        // it levels out from the start.
+        let seed_share = run.wear_bases.first().map_or(f64::NAN, |p| {
+            2.0 * p.seed_runout_um * 1e-6 / (p.visible_depth_mm * 1e-3)
+        });
+        if let Some(line) = wear_line(&all, w, seed_share) {
             lines.push(format!("            {line}"));
         }
     }
@@ -82,8 +87,10 @@ fn shown_km(x: f64) -> String {
 }
 
 /// The polygon of a lifetime on the cycle, in words: the distance to a visible polygon (the
-/// median and 90% interval over the structures when there are several) and its order.
-fn wear_line(all: &[[WheelSummary; 2]], w: usize) -> Option<String> {
+/// median and 90% interval over the structures when there are several) and its order; over the
+/// tread's life, where none is visible, how near the deepest order came (`seed_share`, the
+/// seed's share of the visible depth, is where every order starts).
+fn wear_line(all: &[[WheelSummary; 2]], w: usize, seed_share: f64) -> Option<String> {
     let wear: Vec<CycleWear> = all.iter().filter_map(|s| s[w].wear).collect();
     if wear.is_empty() {
         return None;
@@ -110,13 +117,40 @@ fn wear_line(all: &[[WheelSummary; 2]], w: usize) -> Option<String> {
     } else {
         String::new()
     };
-    // A cycle's answer is the new tire's (MODEL.md#along-a-drive-cycle), unlike explore's default
-    // over the tread's life: the line says so.
-    let life = "driving this cycle all its life, as the new tire";
+    // The level the cycle answered on (MODEL.md#along-a-drive-cycle): over the tread's life a
+    // wheel has how near its deepest order came; as the new tire it has none.
+    let over_life = wear.iter().any(|c| !c.peak_share_of_visible.is_nan());
+    let life = if over_life {
+        "driving this cycle all its life, its tread wearing"
+    } else {
+        "driving this cycle all its life, as the new tire"
+    };
     if d.len() == 1 {
         let c = wear[0];
         let what = if c.distance_to_visible_km.is_nan() {
             "no wear figures at any step".to_string()
+        } else if over_life
+            && c.distance_to_visible_km.is_infinite()
+            && c.peak_share_of_visible <= seed_share * (1.0 + 1e-9)
+        {
+            format!(
+                "no polygon before the tire is worn out at {}: every order levels out from its seed as the tread wears",
+                km(c.tread_life_km)
+            )
+        } else if over_life && c.distance_to_visible_km.is_infinite() {
+            format!(
+                "no polygon before the tire is worn out at {} (the deepest order, {:.0}, reached {}% of the visible depth)",
+                km(c.tread_life_km),
+                c.dominant_order,
+                plain(100.0 * c.peak_share_of_visible, 2)
+            )
+        } else if over_life {
+            format!(
+                "a {:.0}-sided polygon becomes visible after {} (the tire is worn out at {})",
+                c.dominant_order,
+                km(c.distance_to_visible_km),
+                km(c.tread_life_km)
+            )
         } else if c.distance_to_visible_km.is_infinite() {
             format!(
                 "no polygon ever: every order levels out (the slowest, order {:.0}, at {} per 1000 km)",
@@ -153,9 +187,29 @@ fn wear_line(all: &[[WheelSummary; 2]], w: usize) -> Option<String> {
             km(x)
         }
     };
-    let order = orders.get(orders.len() / 2).map_or(String::new(), |n| {
-        format!("; the fastest order mostly {n:.0}")
-    });
+    let order = if over_life {
+        // Over the tread's life the order named is the one visible first or, where none is,
+        // the deepest: only wheels whose orders grew past the seed have one worth naming.
+        let grown: Vec<&CycleWear> = wear
+            .iter()
+            .filter(|c| c.peak_share_of_visible > seed_share * (1.0 + 1e-9))
+            .collect();
+        let mut named: Vec<f64> = grown.iter().map(|c| c.dominant_order).collect();
+        named.sort_by(f64::total_cmp);
+        let mut peaks: Vec<f64> = wear.iter().map(|c| c.peak_share_of_visible).collect();
+        peaks.sort_by(f64::total_cmp);
+        match named.get(named.len() / 2) {
+            None => "; every order levels out from its seed on every structure".to_string(),
+            Some(n) => format!(
+                "; the deepest order mostly {n:.0}, a median {}% of the visible depth reached",
+                plain(100.0 * q(&peaks, 0.5), 2)
+            ),
+        }
+    } else {
+        orders.get(orders.len() / 2).map_or(String::new(), |n| {
+            format!("; the fastest order mostly {n:.0}")
+        })
+    };
     // The band of the median: the median over the structures under each set, its range.
     let sets = all[0][w].wear_band.len();
     let band = (sets > 0)
@@ -185,10 +239,15 @@ fn wear_line(all: &[[WheelSummary; 2]], w: usize) -> Option<String> {
         .flatten()
         .unwrap_or_default();
     Some(format!(
-        "{life}: distance to a visible polygon {} (median over the structures; 90% interval {} to {}{band}); {}% of the structures never show one{order}{unknown}",
+        "{life}: distance to a visible polygon {} (median over the structures; 90% interval {} to {}{band}); {}% of the structures {}{order}{unknown}",
         shown(q(&d, 0.5)),
         shown(q(&d, 0.05)),
         shown(q(&d, 0.95)),
-        plain(100.0 * never, 3)
+        plain(100.0 * never, 3),
+        if over_life {
+            "show none before the tire is worn out"
+        } else {
+            "never show one"
+        }
     ))
 }

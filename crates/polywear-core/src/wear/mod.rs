@@ -64,7 +64,8 @@ pub mod zone;
 pub use calibration::Calibration;
 pub use error::WearError;
 pub use estimator::{
-    estimate, EstimateLevel, LifeAnswer, WearEstimate, WearInputs, WearSettings, WheelGrowth,
+    estimate, EstimateLevel, LifeAnswer, LifeProfile, WearEstimate, WearInputs, WearSettings,
+    WheelGrowth, LIFE_PROFILE_INTERVALS,
 };
 pub use feedback::Feedback;
 pub use fitted::{FittedConstants, WearAnswer};

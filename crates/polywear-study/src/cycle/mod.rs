@@ -27,6 +27,7 @@ use polywear_core::evaluate::{self, PointProblem, WearStage};
 use polywear_core::model::Variant;
 use polywear_core::params::{ParamError, ParamId, Params};
 use polywear_core::records::WheelRecord;
+use polywear_core::wear::EstimateLevel;
 use polywear_core::wording::{plain, thousands};
 
 /// Why a drive cycle is refused (before any work, naming the file, row and column) or its
@@ -134,6 +135,12 @@ fn did_you_mean(name: &str) -> String {
 /// previous step's cycle (the neighbouring step's cycle is close: the speed changes little in
 /// one step). Blocks are fixed, so the rows do not depend on the number of threads.
 pub const BLOCK_STEPS: usize = 32;
+
+/// Blocks classified at once before their profiles over the tread's life are summed into their
+/// structures' (in block order, so the sums do not depend on the number of threads): each block
+/// holds two profiles of [`wear::CYCLE_ORDERS_MAX`] × (LIFE_PROFILE_INTERVALS + 1) numbers
+/// (66 KB each), so a batch holds about 8 MB whatever the cycle's length.
+const BATCH_BLOCKS: usize = 64;
 
 /// Most step evaluations (steps × tire structures) one run accepts. Every step's two records stay
 /// in memory until the files are written (2.9 GB measured at a million steps; with the wear
@@ -328,6 +335,15 @@ impl DriveCycle {
         (legs, distances_m.iter().sum::<f64>() / 1e3)
     }
 
+    /// The distance covered at each step \[km\]: its speed held for its duration.
+    pub fn step_km(&self) -> Vec<f64> {
+        self.step_durations_s()
+            .iter()
+            .zip(&self.speed_kmh)
+            .map(|(dt, v)| v * dt / 3600.0)
+            .collect()
+    }
+
     /// How long each step holds \[s\]: until the next step; the last step as long as the one
     /// before it (a logger's sample holds until the next). With steps of equal length every
     /// step weighs the same, and the time shares are shares of steps.
@@ -427,15 +443,26 @@ impl StepWheel {
     }
 }
 
-/// Classifies both wheels at every step of `cycle` on top of `base` (follower then driving per
-/// step; `[step][wheel]`). See [`classify_cycles`].
+/// One tire structure's cycle, classified: both wheels at every step (follower then driving
+/// per step; `[step][wheel]`) and, where the wear stage answers over the tread's life, each
+/// wheel's profiles summed over the steps by distance.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClassifiedCycle {
+    /// Both wheels at every step.
+    pub steps: Vec<[StepWheel; 2]>,
+    /// Per wheel, the steps' profiles over the tread's life ([`wear::CycleLife`]); None
+    /// without the wear stage or on the new tire's level.
+    pub life: [Option<wear::CycleLife>; 2],
+}
+
+/// Classifies both wheels at every step of `cycle` on top of `base`. See [`classify_cycles`].
 pub fn classify_cycle(
     cycle: &DriveCycle,
     base: &Params,
     variant: Variant,
     opts: &ClassifierOptions,
     wear: Option<&WearStage>,
-) -> Vec<[StepWheel; 2]> {
+) -> ClassifiedCycle {
     classify_cycles(
         cycle,
         std::slice::from_ref(base),
@@ -448,12 +475,14 @@ pub fn classify_cycle(
     .expect("one base")
 }
 
-/// [`classify_cycle`] for each of several parameter bases (tire structures), `[base][step]`.
-/// Blocks of [`BLOCK_STEPS`] steps of every base run in parallel on the current rayon pool;
-/// within a block each wheel starts from its own cycle at the previous step, and a step with
-/// the same parameters as the previous one takes its verdict. With `wear`, every step also runs
-/// the wear stage (its columns in the records, and each order's growth for [`wear::cycle_wear`]).
-/// `progress` hears the steps of each block as it finishes (from the worker threads).
+/// [`classify_cycle`] for each of several parameter bases (tire structures), in their order.
+/// Blocks of [`BLOCK_STEPS`] steps of every base run in parallel on the current rayon pool,
+/// 64 blocks at a time; within a block each wheel starts from its own cycle at the
+/// previous step, and a step with the same parameters as the previous one takes its verdict.
+/// With `wear`, every step also runs the wear stage (its columns in the records, each order's
+/// growth for [`wear::cycle_wear`] and, over the tread's life, its profile for
+/// [`wear::CycleLife`]). `progress` hears the steps of each block as it finishes (from the
+/// worker threads).
 pub fn classify_cycles(
     cycle: &DriveCycle,
     bases: &[Params],
@@ -461,71 +490,92 @@ pub fn classify_cycles(
     opts: &ClassifierOptions,
     wear: Option<&WearStage>,
     progress: &(dyn Fn(u64) + Sync),
-) -> Vec<Vec<[StepWheel; 2]>> {
+) -> Vec<ClassifiedCycle> {
     let n = cycle.len();
     let per_base = n.div_ceil(BLOCK_STEPS);
     let jobs: Vec<(usize, usize)> = (0..bases.len())
         .flat_map(|k| (0..per_base).map(move |b| (k, b)))
         .collect();
-    let block = |j: usize| {
-        let (k, b) = jobs[j];
-        let block = classify_block(cycle, &bases[k], variant, opts, wear, b);
-        progress(block.len() as u64);
-        block
-    };
-    let mut records: Vec<[StepRow; 2]> = ensemble::solve(jobs.len(), block, &Control::QUIET)
-        .all()
-        .into_iter()
-        .flatten()
-        .collect();
-    let mut out = Vec::with_capacity(bases.len());
-    for _ in bases {
-        let rest = records.split_off(n);
-        let mut steps: Vec<[StepWheel; 2]> = records
-            .into_iter()
-            .map(|pair| {
-                pair.map(|(record, (growth, band_growth))| StepWheel {
-                    record,
-                    tread_time_constant_s: f64::NAN,
-                    stability_change_time_s: f64::NAN,
-                    quasi_static: true,
-                    order_growth_per_1000km: growth,
-                    band_growth,
-                })
-            })
-            .collect();
-        for w in 0..2 {
-            assess_quasi_static(&cycle.time_s, &mut steps, w);
+    let km = cycle.step_km();
+    let life_level = wear.is_some_and(|s| s.settings.estimate == EstimateLevel::TreadLife);
+    let mut rows: Vec<Vec<[StepRow; 2]>> = bases.iter().map(|_| Vec::with_capacity(n)).collect();
+    let mut life: Vec<[wear::CycleLife; 2]> = bases.iter().map(|_| Default::default()).collect();
+    for batch in jobs.chunks(BATCH_BLOCKS) {
+        let block = |j: usize| {
+            let (k, b) = batch[j];
+            let block = classify_block(cycle, &km, &bases[k], variant, opts, wear, b);
+            progress(block.0.len() as u64);
+            block
+        };
+        let done = ensemble::solve(batch.len(), block, &Control::QUIET).all();
+        for (&(k, _), (block_rows, block_life)) in batch.iter().zip(done) {
+            rows[k].extend(block_rows);
+            for w in 0..2 {
+                life[k][w].merge(&block_life[w]);
+            }
         }
-        out.push(steps);
-        records = rest;
     }
-    out
+    rows.into_iter()
+        .zip(life)
+        .map(|(records, life)| {
+            let mut steps: Vec<[StepWheel; 2]> = records
+                .into_iter()
+                .map(|pair| {
+                    pair.map(|(record, growth)| StepWheel {
+                        record,
+                        tread_time_constant_s: f64::NAN,
+                        stability_change_time_s: f64::NAN,
+                        quasi_static: true,
+                        order_growth_per_1000km: growth.orders_per_1000km,
+                        band_growth: growth.band,
+                    })
+                })
+                .collect();
+            for w in 0..2 {
+                assess_quasi_static(&cycle.time_s, &mut steps, w);
+            }
+            ClassifiedCycle {
+                steps,
+                life: life.map(|l| life_level.then_some(l)),
+            }
+        })
+        .collect()
 }
 
-/// The records of block `b`, in step order. Each step is one point of the one road
+/// The records of block `b`, in step order, and each wheel's profiles over the tread's life
+/// summed over the block's steps by their distance `km`. Each step is one point of the one road
 /// ([`polywear_core::evaluate::solve`]); each wheel starts its shooting from its own cycle at the
 /// previous step (the driving wheel without one from the follower's at this step).
 fn classify_block(
     cycle: &DriveCycle,
+    km: &[f64],
     base: &Params,
     variant: Variant,
     opts: &ClassifierOptions,
     wear: Option<&WearStage>,
     b: usize,
-) -> Vec<[StepRow; 2]> {
+) -> (Vec<[StepRow; 2]>, [wear::CycleLife; 2]) {
     let lo = b * BLOCK_STEPS;
     let hi = (lo + BLOCK_STEPS).min(cycle.len());
     let mut out: Vec<[StepRow; 2]> = Vec::with_capacity(hi - lo);
+    let mut life: [wear::CycleLife; 2] = Default::default();
+    // The previous step's profiles, for a repeated step: the rows do not keep them (66 KB a
+    // wheel; the block's sums are what the cycle reads).
+    let mut last_life: [Option<polywear_core::wear::LifeProfile>; 2] = [None, None];
     let mut hints = vec![None, None];
     let mut previous: Option<Params> = None;
-    for i in lo..hi {
+    for (i, &step_km) in km.iter().enumerate().take(hi).skip(lo) {
         let mut p = cycle.step_params(base, i);
         if cycle.standstill(i) {
             p.speed_kmh = 0.0;
             previous = None;
         } else if previous == Some(p) {
             let same = out.last().expect("a previous step").clone();
+            if wear.is_some() {
+                for (w, last) in last_life.iter().enumerate() {
+                    life[w].add_step(last.as_ref(), step_km);
+                }
+            }
             out.push(same);
             continue;
         } else {
@@ -540,9 +590,9 @@ fn classify_block(
         }
         let growth = |w: &evaluate::WheelSolution| match wear {
             Some(stage) if !cycle.standstill(i) => wear::step_growth(&p, w, stage, opts),
-            _ => (Vec::new(), None),
+            _ => wear::StepGrowth::default(),
         };
-        let [f, d]: [StepRow; 2] = solution
+        let [mut f, mut d]: [StepRow; 2] = solution
             .wheels
             .into_iter()
             .map(|w| {
@@ -552,13 +602,19 @@ fn classify_block(
             .collect::<Vec<_>>()
             .try_into()
             .expect("two wheels");
+        if wear.is_some() {
+            last_life = [f.1.life.take(), d.1.life.take()];
+            for (w, last) in last_life.iter().enumerate() {
+                life[w].add_step(last.as_ref(), step_km);
+            }
+        }
         out.push([f, d]);
     }
-    out
+    (out, life)
 }
 
 /// One wheel's row at one step and its wear growth ([`wear::step_growth`]).
-type StepRow = (WheelRecord, (Vec<f64>, Option<wear::BandGrowth>));
+type StepRow = (WheelRecord, wear::StepGrowth);
 
 /// Fills τ, T and the quasi-static flag of wheel `w` at every step (see the module docs).
 fn assess_quasi_static(time_s: &[f64], steps: &mut [[StepWheel; 2]], w: usize) {

@@ -144,6 +144,9 @@ fn named(s: &WheelSummary, orders: &[i64]) -> Vec<(String, f64)> {
             ),
             // Its old name, a copy kept for one version (RENAMED_COLUMNS).
             ("wear_dominant_order".into(), w.dominant_order),
+            // Over the tread's life (NaN as the new tire).
+            ("tread_life_km".into(), w.tread_life_km),
+            ("wear_peak_share_of_visible".into(), w.peak_share_of_visible),
         ]);
         if !s.wear_band.is_empty() {
             let (lo, hi) = s.distance_band_km().unwrap_or((f64::NAN, f64::NAN));

@@ -1,10 +1,17 @@
 //! The distance to a visible polygon for a car that drives a cycle all its life
-//! (MODEL.md#along-a-drive-cycle): each step's closed-loop growth of every order
-//! 1..=[`CYCLE_ORDERS_MAX`], at the step's own speed (the cycle's speeds are its speed spread, so
-//! no further spread is laid over a step), averaged over the distance the cycle covers at each
-//! step. Repeating the cycle multiplies |R_n| by exp(Σ β_n(k) Δs_k) per lap, so the order whose
-//! distance-weighted mean β̄_n is largest is the one that becomes visible, after
-//! ln(d_visible / 2R⁰) / β̄_n.
+//! (MODEL.md#along-a-drive-cycle), on the level the wear stage asks for.
+//!
+//! As the new tire: each step's closed-loop growth of every order 1..=[`CYCLE_ORDERS_MAX`], at
+//! the step's own speed (the cycle's speeds are its speed spread, so no further spread is laid
+//! over a step), averaged over the distance the cycle covers at each step. Repeating the cycle
+//! multiplies |R_n| by exp(Σ β_n(k) Δs_k) per lap, so the order whose distance-weighted mean
+//! β̄_n is largest is the one that becomes visible, after ln(d_visible / 2R⁰) / β̄_n.
+//!
+//! Over the tread's life (the default): the steps share one tread, whose depth falls at the
+//! cycle's mean whole even wear; at each worn depth every step reads its closed loop at the
+//! order its drifting tread frequency puts there ([`LifeProfile`]). The steps' profiles,
+//! summed by the distance covered at each ([`CycleLife`]), give ln D_n along the depth, and the
+//! first order to reach the visible depth before the tire is worn out is the polygon.
 
 use super::{DriveCycle, StepWheel};
 use polywear_core::classify::budget::Meter;
@@ -12,7 +19,9 @@ use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::{WearStage, WheelSolution};
 use polywear_core::params::Params;
 use polywear_core::wear::estimator::distance_to_visible_km;
-use polywear_core::wear::{FittedConstants, WheelGrowth};
+use polywear_core::wear::{
+    EstimateLevel, FittedConstants, LifeProfile, WheelGrowth, LIFE_PROFILE_INTERVALS,
+};
 
 /// The highest order followed along a cycle: the seed's band (MODEL.md#step-12-feedback). A step
 /// slower than about 25 km/h puts ν above it; its orders near ν are not followed (their
@@ -41,17 +50,29 @@ impl BandGrowth {
     }
 }
 
-/// β_n \[1/1000 km\] of orders 1..=[`CYCLE_ORDERS_MAX`] of one wheel at one step, with no
-/// speed spread, and what the calibration band needs of it; empty and None where the wheel has
-/// no figures (no model, failed, standstill).
+/// What one wheel's wear gives at one step: β_n of orders 1..=[`CYCLE_ORDERS_MAX`] \[1/1000
+/// km\] as the new tire, its terms for the calibration band and, over the tread's life, its
+/// profile in the worn depth. Empty and None where the wheel has no figures (no model, failed,
+/// standstill).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct StepGrowth {
+    /// β_n \[1/1000 km\], orders 1..=[`CYCLE_ORDERS_MAX`], with no speed spread.
+    pub orders_per_1000km: Vec<f64>,
+    /// The same for the calibration band.
+    pub band: Option<BandGrowth>,
+    /// The profile over the tread's life (only when the wear stage answers on that level).
+    pub life: Option<LifeProfile>,
+}
+
+/// One wheel's [`StepGrowth`] at one step, with no speed spread.
 pub fn step_growth(
     p: &Params,
     wheel: &WheelSolution,
     stage: &WearStage,
     options: &ClassifierOptions,
-) -> (Vec<f64>, Option<BandGrowth>) {
+) -> StepGrowth {
     let Ok(growth) = WheelGrowth::new(&stage.inputs(p, wheel), &Meter::new(options.budget)) else {
-        return (Vec::new(), None);
+        return StepGrowth::default();
     };
     let orders = 1..=CYCLE_ORDERS_MAX;
     let at = |share: f64| -> Vec<f64> {
@@ -65,7 +86,91 @@ pub fn step_growth(
         full_share_per_1000km: at(1.0),
         other_levelling_per_1000km: (a, growth.other_levelling_per_1000km(1.0) - a),
     };
-    (at(p.wear_share_straight), Some(band))
+    StepGrowth {
+        orders_per_1000km: at(p.wear_share_straight),
+        band: Some(band),
+        life: (stage.settings.estimate == EstimateLevel::TreadLife)
+            .then(|| growth.life_profile(CYCLE_ORDERS_MAX, LIFE_PROFILE_INTERVALS)),
+    }
+}
+
+/// One wheel's profiles over the tread's life summed over a cycle's steps, each by the
+/// distance covered at it \[km\], and the distance at steps without figures.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct CycleLife {
+    /// Σ km_k · profile_k over the steps with figures (None before the first).
+    pub profile_km: Option<LifeProfile>,
+    /// The distance at those steps \[km\].
+    pub known_km: f64,
+    /// The distance at moving steps without figures (failed, no traction) \[km\].
+    pub unknown_km: f64,
+}
+
+impl CycleLife {
+    /// Adds a step of `km` whose profile is `profile` (None: no figures).
+    pub fn add_step(&mut self, profile: Option<&LifeProfile>, km: f64) {
+        if km <= 0.0 {
+            return;
+        }
+        let Some(profile) = profile else {
+            self.unknown_km += km;
+            return;
+        };
+        self.known_km += km;
+        self.profile_km
+            .get_or_insert_with(|| {
+                LifeProfile::zero(profile.max_order, profile.intervals, profile.usable_m)
+            })
+            .add(profile, km);
+    }
+
+    /// Adds the steps of `other` (the next block of the same structure).
+    pub fn merge(&mut self, other: &CycleLife) {
+        if let Some(profile) = &other.profile_km {
+            self.profile_km
+                .get_or_insert_with(|| {
+                    LifeProfile::zero(profile.max_order, profile.intervals, profile.usable_m)
+                })
+                .add(profile, 1.0);
+        }
+        self.known_km += other.known_km;
+        self.unknown_km += other.unknown_km;
+    }
+
+    /// The cycle's wear over the tread's life under `c` (the structure `base`'s seed and
+    /// visible depth): the steps' distance-weighted mean profile's answer. Its growth rate is
+    /// the visible order's mean from the seed to the visible depth (NaN where none is visible
+    /// before the tire is worn out).
+    pub fn wear(&self, base: &Params, c: &FittedConstants) -> CycleWear {
+        let unknown_distance_share = if self.known_km + self.unknown_km > 0.0 {
+            self.unknown_km / (self.known_km + self.unknown_km)
+        } else {
+            0.0
+        };
+        let Some(sum) = self.profile_km.as_ref().filter(|_| self.known_km > 0.0) else {
+            return CycleWear {
+                unknown_distance_share,
+                ..CycleWear::UNKNOWN
+            };
+        };
+        let mut mean = sum.clone();
+        mean.scale(1.0 / self.known_km);
+        let life = mean.answer(c, base);
+        let distance = life.answer.distance_to_visible_km;
+        let target = (base.visible_depth_mm * 1e-3 / (2.0 * base.seed_runout_um * 1e-6)).ln();
+        CycleWear {
+            dominant_order: life.answer.polygon_order_wear,
+            growth_rate_per_1000km: if distance.is_finite() && distance > 0.0 {
+                target / distance * 1000.0
+            } else {
+                f64::NAN
+            },
+            distance_to_visible_km: distance,
+            unknown_distance_share,
+            tread_life_km: life.answer.tread_life_km,
+            peak_share_of_visible: life.peak_share_of_visible,
+        }
+    }
 }
 
 /// One wheel's polygon over a lifetime of the cycle (one tire structure).
@@ -80,6 +185,24 @@ pub struct CycleWear {
     /// Share of the cycle's distance at steps without figures (failed, no traction): left out
     /// of the mean, and said.
     pub unknown_distance_share: f64,
+    /// Over the tread's life: the distance at which the tire is worn out \[km\] (NaN as the
+    /// new tire).
+    pub tread_life_km: f64,
+    /// Over the tread's life: the deepest order's largest depth as a share of the visible
+    /// depth, 1 where visible (NaN as the new tire).
+    pub peak_share_of_visible: f64,
+}
+
+impl CycleWear {
+    /// No figures at any step.
+    pub const UNKNOWN: CycleWear = CycleWear {
+        dominant_order: f64::NAN,
+        growth_rate_per_1000km: f64::NAN,
+        distance_to_visible_km: f64::NAN,
+        unknown_distance_share: 0.0,
+        tread_life_km: f64::NAN,
+        peak_share_of_visible: f64::NAN,
+    };
 }
 
 /// The cycle's wear of wheel `w` (0 follower, 1 driving) on the structure `base`.
@@ -160,12 +283,11 @@ impl MeanTerms {
                 growth_rate_per_1000km: beta,
                 distance_to_visible_km: distance_to_visible_km(base, beta),
                 unknown_distance_share,
+                ..CycleWear::UNKNOWN
             },
             None => CycleWear {
-                dominant_order: f64::NAN,
-                growth_rate_per_1000km: f64::NAN,
-                distance_to_visible_km: f64::NAN,
                 unknown_distance_share,
+                ..CycleWear::UNKNOWN
             },
         }
     }

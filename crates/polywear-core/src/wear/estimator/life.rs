@@ -27,6 +27,9 @@ use crate::wear::law::MM_PER_1000KM_PER_M_PER_M;
 use crate::wear::spread::NormalSpeeds;
 use crate::wear::transfer::PoleExpansion;
 
+mod profile;
+pub use profile::{LifeProfile, LIFE_PROFILE_INTERVALS};
+
 /// Points of the table of f₀/f over the usable depth the worn depth's polynomial is fitted
 /// through (17 give it within 2.5·10⁻⁷ of the usable depth of the ageing law, as 33 do).
 const DRIFT_POINTS: usize = 17;
@@ -274,10 +277,26 @@ impl TransferNodes {
             .clamp(1, self.x.len() - 1)
     }
 
+    /// [`TransferNodes::point`] for `x` at or below the `x` of the previous call, whose segment
+    /// `hint` holds (start it at `x.len()`): the segment is found walking down from it, so a
+    /// falling sequence of points costs no search.
+    fn point_below(&self, x: f64, hint: &mut usize) -> (Complex64, Moments) {
+        let mut k = (*hint).clamp(1, self.x.len() - 1);
+        while k > 1 && self.x[k - 1] > x {
+            k -= 1;
+        }
+        *hint = k;
+        self.point_in(x, k)
+    }
+
     /// Ḡ at `x`, linear between the nodes (held past the ends), and the moments there (inside
     /// the nodes' span: the last node's below it and the rest of its segment).
     fn point(&self, x: f64) -> (Complex64, Moments) {
-        let k = self.segment(x);
+        self.point_in(x, self.segment(x))
+    }
+
+    /// [`TransferNodes::point`] in the segment `k` (whose upper node is k).
+    fn point_in(&self, x: f64, k: usize) -> (Complex64, Moments) {
         let (a, b) = (self.x[k - 1], self.x[k]);
         let t = ((x - a) / (b - a)).clamp(0.0, 1.0);
         let g = self.g[k - 1] * (1.0 - t) + self.g[k] * t;
@@ -376,6 +395,30 @@ impl TreadDrift {
             }
         }
         e
+    }
+
+    /// f₀/f at the worn depth `worn_m` \[m\]: [`TreadDrift::worn_at`] inverted by bisection
+    /// (it falls with the ratio), so that a grid of depths and the integrals' weights read one
+    /// polynomial; 1 at no wear and the end's ratio at the usable depth and beyond.
+    fn ratio_at(&self, worn_m: f64) -> f64 {
+        let end = self.at_end();
+        if worn_m <= 0.0 || end >= 1.0 {
+            return 1.0;
+        }
+        if worn_m >= self.usable_m {
+            return end;
+        }
+        let (mut lo, mut hi) = (end, 1.0);
+        // 52 halvings take the bracket below an ulp of 1.
+        for _ in 0..52 {
+            let mid = 0.5 * (lo + hi);
+            if self.worn_at(mid) > worn_m {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        0.5 * (lo + hi)
     }
 
     /// f₀/f of the worn-out tire.

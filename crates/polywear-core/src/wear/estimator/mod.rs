@@ -39,7 +39,7 @@ use crate::model::{ModelFailure, WheelModel};
 use crate::params::Params;
 
 mod life;
-pub use life::LifeAnswer;
+pub use life::{LifeAnswer, LifeProfile, LIFE_PROFILE_INTERVALS};
 
 /// A share of the spread inside the tongue below which the locked print is left out (its
 /// effect on β̄ is below this share of the locked growth).
