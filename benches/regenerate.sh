@@ -28,12 +28,12 @@ if [ "$quick" = 1 ]; then
   EXPLORE_N=2000; OUTPUT_N=2000; SCALING_N=1000; FSYNC_N=400; VALIDATE_N=4; THROUGHPUT_N=500; LIFE_N=200
   ANALYZE_SIZES="2e4 4e4"; ANALYZE_RUNS=1; REPRODUCE="--steps 11 --paired-samples 200"
   DECODING_N=2560; PEERS_N=20; PEERS_SCIPY=2; CRITERION="--test"; CYCLE_REPEATS=1
-  SCENARIOS_N=1000; OPTIMIZE_N=300; WEAR_KM=300
+  SCENARIOS_N=1000; OPTIMIZE_N=300; WEAR_KM=300; CYCLE_STRUCTURES=2
 else
   EXPLORE_N=1e6; OUTPUT_N=1e6; SCALING_N=20000; FSYNC_N=4000; VALIDATE_N=340; THROUGHPUT_N=20000; LIFE_N=4000
   ANALYZE_SIZES="1e6 4e6"; ANALYZE_RUNS=3; REPRODUCE=""
   DECODING_N=51200; PEERS_N=1000; PEERS_SCIPY=50; CRITERION="--warm-up-time 1 --measurement-time 3"; CYCLE_REPEATS=9
-  SCENARIOS_N=20000; OPTIMIZE_N=10000; WEAR_KM=60000
+  SCENARIOS_N=20000; OPTIMIZE_N=10000; WEAR_KM=60000; CYCLE_STRUCTURES=20
 fi
 
 cargo build --release --quiet --bin polywear
@@ -176,6 +176,20 @@ if want cycle; then
   say "Command: \`cargo bench --bench cycle -- $CYCLE_REPEATS\` (the WLTC class 3b, 1,801 steps × 2 wheels, beside the same steps classified independently, alternating)."
   say ""
   cargo bench --quiet --bench cycle -- "$CYCLE_REPEATS" 2>/dev/null | block
+fi
+
+if want cycle-life; then
+  section "cycle-life"
+  say "Command: \`polywear cycle data/cycles/wltc_class3b.csv --study studies/default.toml --structure-samples $CYCLE_STRUCTURES -q --wear-estimate L\`, L = new_tire then tread_life, two alternating pairs (the cycle's polygon as the new tire, and over the tread's life: each step's profile in the worn depth)."
+  say ""
+  for pair in 1 2; do
+    for level in new_tire tread_life; do
+      timed_cpu "$bin" cycle data/cycles/wltc_class3b.csv --study studies/default.toml \
+        --structure-samples "$CYCLE_STRUCTURES" -q --wear-estimate "$level" \
+        --out "$work/cycle-$level" > /dev/null 2> "$work/cycle.err"
+      echo "pair $pair, $level: $(tail -1 "$work/cycle.err")"
+    done
+  done | block
 fi
 
 if want sampling; then
