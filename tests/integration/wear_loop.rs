@@ -506,6 +506,12 @@ fn wear_refuses_bad_input() {
         (vec!["--set", "tread_depth_worn_out_mm=8"], "[0, 8) mm"),
         (vec!["--set", "carcass_share=1.5"], "carcass_share"),
         (vec!["--cycle", "no/such/cycle.csv"], "cycle.csv"),
+        (
+            vec!["--loop-max-rhs-evals", "1000"],
+            "--loop-max-rhs-evals = 1000",
+        ),
+        (vec!["--loop-max-rhs-evals", "2000000.5"], "[1e6, 1e12]"),
+        (vec!["--loop-max-rhs-evals", "2e12"], "[1e6, 1e12]"),
         (vec!["--speed-nodes", "0"], "[1, 64]"),
         (vec!["--speed-nodes", "65"], "--speed-nodes"),
         (

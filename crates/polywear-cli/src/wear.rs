@@ -58,6 +58,12 @@ pub struct WearArgs {
     pub speed_nodes: usize,
     #[command(flatten)]
     pub wear: WearReadingArgs,
+    /// Most RHS evaluations one wheel's long-term loop may spend over all its windows and
+    /// speeds (a run over it fails that wheel with `budget exceeded`); accepted [1e6, 1e12],
+    /// default 1e9 (30 times what the default point's 60,000 km take). Many speed nodes over a
+    /// long distance need more
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub loop_max_rhs_evals: Option<f64>,
     /// Drive this cycle (CSV or Parquet: time_s, speed_kmh, as `polywear cycle` reads it) again
     /// and again instead of cruising at --speed
     #[arg(long, value_name = "CYCLE")]
@@ -150,6 +156,20 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
         )));
     }
     let nodes = args.speed_nodes;
+    let loop_budget = match args.loop_max_rhs_evals {
+        None => LoopSettings::default().max_rhs_evals,
+        Some(n)
+            if n.fract() == 0.0
+                && (LOOP_RHS_EVALS_RANGE.0..=LOOP_RHS_EVALS_RANGE.1).contains(&n) =>
+        {
+            n as u64
+        }
+        Some(n) => {
+            return Err(CliError(format!(
+                "--loop-max-rhs-evals = {n} must be a whole number in [1e6, 1e12]"
+            )))
+        }
+    };
     let band = super::common::calibration_band(args.calibration_band.as_deref())?;
     // A set replaces the point's fitted constants: a value given for one of them is the run's,
     // not the band's, and the band says so.
@@ -194,6 +214,7 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
         seed: args.seed,
         zone: reading.zone,
         power: reading.power,
+        max_rhs_evals: loop_budget,
         ..LoopSettings::default()
     };
     metadata.push(("wear_zone".into(), reading.zone.as_str().into()));
@@ -342,6 +363,9 @@ fn read_cycle(
         ),
     ))
 }
+
+/// The accepted range of `--loop-max-rhs-evals`.
+const LOOP_RHS_EVALS_RANGE: (f64, f64) = (1e6, 1e12);
 
 pub fn run(args: &WearArgs) -> CliResult {
     let plan = plan(args)?;
