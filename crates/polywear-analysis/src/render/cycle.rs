@@ -3,6 +3,7 @@
 //! the distance to a visible polygon over a lifetime on the cycle.
 
 use crate::figures::cycle::CycleRun;
+use polywear_core::wear::estimator::print_log_ratio;
 use polywear_core::wording::{plain, thousands};
 use polywear_study::cycle::summary::{quantile, WheelSummary};
 use polywear_study::cycle::wear::CycleWear;
@@ -67,9 +68,10 @@ pub fn summary_lines(run: &CycleRun<'_>, secs: f64, threads: usize) -> Vec<Strin
         ));
         // The seed's share of the visible depth, 2R⁰/d_visible: an order that never grows past
         // it levels out from the start.
-        let seed_share = run.wear_bases.first().map_or(f64::NAN, |p| {
-            2.0 * p.seed_runout_um * 1e-6 / (p.visible_depth_mm * 1e-3)
-        });
+        let seed_share = run
+            .wear_bases
+            .first()
+            .map_or(f64::NAN, |p| (-print_log_ratio(p)).exp());
         if let Some(line) = wear_line(&all, w, seed_share) {
             lines.push(format!("            {line}"));
         }

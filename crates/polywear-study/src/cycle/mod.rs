@@ -571,10 +571,8 @@ fn classify_block(
             previous = None;
         } else if previous == Some(p) {
             let same = out.last().expect("a previous step").clone();
-            if wear.is_some() {
-                for (w, last) in last_life.iter().enumerate() {
-                    life[w].add_step(last.as_ref(), step_km);
-                }
+            for (w, last) in last_life.iter().enumerate() {
+                life[w].add_step(last.as_ref(), step_km);
             }
             out.push(same);
             continue;
@@ -602,11 +600,9 @@ fn classify_block(
             .collect::<Vec<_>>()
             .try_into()
             .expect("two wheels");
-        if wear.is_some() {
-            last_life = [f.1.life.take(), d.1.life.take()];
-            for (w, last) in last_life.iter().enumerate() {
-                life[w].add_step(last.as_ref(), step_km);
-            }
+        last_life = [f.1.life.take(), d.1.life.take()];
+        for (w, last) in last_life.iter().enumerate() {
+            life[w].add_step(last.as_ref(), step_km);
         }
         out.push([f, d]);
     }

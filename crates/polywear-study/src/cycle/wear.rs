@@ -18,7 +18,7 @@ use polywear_core::classify::budget::Meter;
 use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::{WearStage, WheelSolution};
 use polywear_core::params::Params;
-use polywear_core::wear::estimator::distance_to_visible_km;
+use polywear_core::wear::estimator::{distance_to_visible_km, print_log_ratio};
 use polywear_core::wear::{
     EstimateLevel, FittedConstants, LifeProfile, WheelGrowth, LIFE_PROFILE_INTERVALS,
 };
@@ -117,21 +117,19 @@ impl CycleLife {
             return;
         };
         self.known_km += km;
+        self.sum_like(profile).add(profile, km);
+    }
+
+    /// The sum, started empty on `like`'s grid before the first profile.
+    fn sum_like(&mut self, like: &LifeProfile) -> &mut LifeProfile {
         self.profile_km
-            .get_or_insert_with(|| {
-                LifeProfile::zero(profile.max_order, profile.intervals, profile.usable_m)
-            })
-            .add(profile, km);
+            .get_or_insert_with(|| LifeProfile::zero(like.max_order, like.intervals, like.usable_m))
     }
 
     /// Adds the steps of `other` (the next block of the same structure).
     pub fn merge(&mut self, other: &CycleLife) {
         if let Some(profile) = &other.profile_km {
-            self.profile_km
-                .get_or_insert_with(|| {
-                    LifeProfile::zero(profile.max_order, profile.intervals, profile.usable_m)
-                })
-                .add(profile, 1.0);
+            self.sum_like(profile).add(profile, 1.0);
         }
         self.known_km += other.known_km;
         self.unknown_km += other.unknown_km;
@@ -157,7 +155,7 @@ impl CycleLife {
         mean.scale(1.0 / self.known_km);
         let life = mean.answer(c, base);
         let distance = life.answer.distance_to_visible_km;
-        let target = (base.visible_depth_mm * 1e-3 / (2.0 * base.seed_runout_um * 1e-6)).ln();
+        let target = print_log_ratio(base);
         CycleWear {
             dominant_order: life.answer.polygon_order_wear,
             growth_rate_per_1000km: if distance.is_finite() && distance > 0.0 {

@@ -207,10 +207,8 @@ impl TransferNodes {
         // Where each pole resonates, in orders: ω = x V / r_B at the pole's frequency; those
         // further than MAX_FAR_STEP_ORDERS/FAR_STEP_SHARE from the nodes cannot narrow them.
         let reach = MAX_FAR_STEP_ORDERS / FAR_STEP_SHARE;
-        let mut resonances: Vec<f64> = transfer
-            .terms
-            .iter()
-            .map(|t| t.pole.im.abs() * g.r_b / g.speed_mps)
+        let mut resonances: Vec<f64> = g
+            .resonance_orders()
             .filter(|&r| r > lo - reach && r < hi + reach)
             .collect();
         resonances.sort_by(f64::total_cmp);
@@ -480,6 +478,16 @@ pub struct LifeAnswer {
 }
 
 impl WheelGrowth {
+    /// Where each pole of the tread's transfer resonates, in orders: ω = x V/r_B at the pole's
+    /// frequency |Im s|.
+    fn resonance_orders(&self) -> impl Iterator<Item = f64> + '_ {
+        self.response
+            .transfer
+            .terms
+            .iter()
+            .map(|t| t.pole.im.abs() * self.r_b / self.speed_mps)
+    }
+
     /// The wheel's wear answer under `c` over the tread's life
     /// (MODEL.md#the-estimator-over-the-treads-life): every order that ν passes, integrated
     /// from the seed over the drifting tread frequency, until it is visible or the tire is worn

@@ -338,7 +338,7 @@ impl WheelGrowth {
             r_b: p.r_b,
             seed_m: p.seed_runout_um * 1e-6,
             visible_m: p.visible_depth_mm * 1e-3,
-            print_log_ratio: (p.visible_depth_mm * 1e-3 / (2.0 * (p.seed_runout_um * 1e-6))).ln(),
+            print_log_ratio: print_log_ratio(p),
             share: p.wear_share_straight,
             spread_mps: p.speed_spread_kmh / 3.6,
             patch: model.patch,
@@ -863,6 +863,13 @@ pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
 /// leaves the worn-out depth \[km\] (MODEL.md#the-ageing-tread).
 pub fn tread_life_km(p: &Params, tread_wear_mm_per_1000km: f64) -> f64 {
     p.usable_wear_m() * 1e3 / tread_wear_mm_per_1000km * 1000.0
+}
+
+/// ln(d_visible / 2R⁰): how many e-foldings an order grows from the seed's peak-to-valley
+/// 2R⁰ to the visible depth (MODEL.md#growth-of-an-order); every answer over the tread's life
+/// reads its crossing of this.
+pub fn print_log_ratio(p: &Params) -> f64 {
+    (p.visible_depth_mm * 1e-3 / (2.0 * (p.seed_runout_um * 1e-6))).ln()
 }
 
 /// s* = ln(d_visible / (2R⁰)) / β \[km\] for a growing order (0 if the seed is already

@@ -11,7 +11,7 @@
 
 use super::{LifeAnswer, Nodes, TransferNodes, TreadDrift, WORN_DEGREE};
 use crate::params::Params;
-use crate::wear::estimator::{tread_life_km, Complex64, WheelGrowth};
+use crate::wear::estimator::{print_log_ratio, tread_life_km, Complex64, WheelGrowth};
 use crate::wear::fitted::{FittedConstants, WearAnswer};
 use crate::wear::law::MM_PER_1000KM_PER_M_PER_M;
 
@@ -109,7 +109,7 @@ impl LifeProfile {
                 peak_share_of_visible: f64::NAN,
             };
         }
-        let target = (p.visible_depth_mm * 1e-3 / (2.0 * p.seed_runout_um * 1e-6)).ln();
+        let target = print_log_ratio(p);
         let phi = c.wear_share_straight;
         let other = (1.0 - phi)
             * (self.other_per_share.0 + c.wear_rate_driven_factor * self.other_per_share.1);
@@ -199,14 +199,7 @@ impl WheelGrowth {
             TransferNodes::new(self, end.min(1.0), max_order as f64, 0.0, Nodes::Adaptive);
         let nu = self.nu();
         let v = self.speed_mps;
-        // Where the transfer's poles resonate, in orders (ω = x V/r_B at the pole's frequency).
-        let resonances: Vec<f64> = self
-            .response
-            .transfer
-            .terms
-            .iter()
-            .map(|t| t.pole.im.abs() * self.r_b / v)
-            .collect();
+        let resonances: Vec<f64> = self.resonance_orders().collect();
         let mut integrals = Vec::with_capacity(max_order as usize * points);
         for (n, (zone, forcing)) in (1..=max_order).zip(self.feedback.zones_and_forcings(1)) {
             let order = n as f64;
@@ -225,10 +218,12 @@ impl WheelGrowth {
                     .zip(m)
                     .fold(0.0, |acc, (c, m)| acc + (c * m).re)
             };
-            let weighted = |x: f64| weigh(&transfer.point(x).1);
-            let at_start = weighted(order);
-            // ∫₀^w of the linear loop, x = n·f₀/f at w.
-            let linear = |w: f64, x: f64| order_loop.base_per_m * w + at_start - weighted(x);
+            let at_start = weigh(&transfer.point(order).1);
+            // ∫₀^w of the linear loop, from the moments at x = n·f₀/f at w.
+            let linear_from = |w: f64, m: &[Complex64; WORN_DEGREE]| {
+                order_loop.base_per_m * w + at_start - weigh(m)
+            };
+            let linear = |w: f64, x: f64| linear_from(w, &transfer.point(x).1);
             // The tongue in depth: where |x − ν| ≤ δ_n (x falls as w grows), and the locked
             // print's rate there.
             let (_, half_mps) = self.tongue_mps(order, forcing, self.seed_m);
@@ -266,7 +261,7 @@ impl WheelGrowth {
                 for (j, &r) in ratios.iter().enumerate().step_by(COARSE) {
                     let (w, x) = (depth(j), order * r);
                     let (g, moments) = transfer.point_below(x, &mut hint);
-                    let value = order_loop.base_per_m * w + at_start - weigh(&moments);
+                    let value = linear_from(w, &moments);
                     let slope = order_loop.linear_per_m(g);
                     if let Some((value_before, slope_before)) = before {
                         let h = depth(j) - depth(j - COARSE);
@@ -288,9 +283,7 @@ impl WheelGrowth {
             }
             for (j, &r) in ratios.iter().enumerate() {
                 let (w, x) = (depth(j), order * r);
-                let at_grid = order_loop.base_per_m * w + at_start
-                    - weigh(&transfer.point_below(x, &mut hint).1);
-                let mut total = at_grid;
+                let mut total = linear_from(w, &transfer.point_below(x, &mut hint).1);
                 if let Some(((w_in, x_in), (w_out, x_out))) = tongue {
                     if w > w_in && w_out > w_in {
                         let (w_to, x_to) = if w < w_out { (w, x) } else { (w_out, x_out) };
