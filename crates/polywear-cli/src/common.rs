@@ -289,6 +289,26 @@ pub fn whole_in<T: TryFrom<u64>>(
     }
 }
 
+/// A count given as a number (so `1e9` is accepted) checked for `flag`: a whole number within
+/// [lo, hi], else refused with the accepted range, powers of ten written short (`1e12`).
+pub fn whole_count(flag: &str, n: f64, (lo, hi): (u64, u64)) -> CliResult<u64> {
+    if n.fract() == 0.0 && n >= lo as f64 && n <= hi as f64 {
+        return Ok(n as u64);
+    }
+    let short = |v: u64| {
+        let digits = v.to_string();
+        match digits.trim_end_matches('0') {
+            "1" if v >= 1_000_000 => format!("1e{}", digits.len() - 1),
+            _ => digits,
+        }
+    };
+    Err(CliError(format!(
+        "{flag} = {n} must be a whole number in [{}, {}]",
+        short(lo),
+        short(hi)
+    )))
+}
+
 /// Parses `--threads`: a whole number in [1, THREADS_MAX].
 pub fn parse_threads(s: &str) -> Result<usize, String> {
     whole_in("--threads", 1, THREADS_MAX as u64)(s)
@@ -387,13 +407,7 @@ impl BudgetArgs {
     pub fn apply(&self, base: WheelBudget) -> CliResult<WheelBudget> {
         let mut b = base;
         if let Some(n) = self.max_rhs_evals {
-            let (lo, hi) = WheelBudget::RHS_EVALS_RANGE;
-            if !(n.fract() == 0.0 && n >= lo as f64 && n <= hi as f64) {
-                return Err(CliError(format!(
-                    "--max-rhs-evals = {n} must be a whole number in [{lo}, {hi}]"
-                )));
-            }
-            b.max_rhs_evals = n as u64;
+            b.max_rhs_evals = whole_count("--max-rhs-evals", n, WheelBudget::RHS_EVALS_RANGE)?;
         }
         if let Some(s) = self.max_wheel_seconds {
             b.max_wheel_seconds = s;
@@ -424,5 +438,30 @@ pub fn calibration_band(
                 .map_err(|e| CliError(format!("--calibration-band {e}")))?;
             Ok(Some((band, file.to_string())))
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::whole_count;
+
+    #[test]
+    fn whole_count_takes_whole_numbers_in_range_and_names_the_flag_otherwise() {
+        assert_eq!(
+            whole_count("--n", 1e9, (100, 1_000_000_000_000)).unwrap(),
+            1_000_000_000
+        );
+        assert_eq!(whole_count("--n", 100.0, (100, 1_000)).unwrap(), 100);
+        for bad in [99.0, 2.5e12, 1e9 + 0.5, f64::NAN, -1.0] {
+            let e = whole_count("--n", bad, (100, 1_000_000_000_000))
+                .unwrap_err()
+                .0;
+            assert!(e.starts_with("--n = "), "{e}");
+            assert!(e.ends_with("must be a whole number in [100, 1e12]"), "{e}");
+        }
+        let e = whole_count("--n", 1.0, (1_000_000, 3_000_000))
+            .unwrap_err()
+            .0;
+        assert!(e.ends_with("[1e6, 3000000]"), "{e}");
     }
 }

@@ -158,17 +158,7 @@ fn plan(args: &WearArgs) -> CliResult<Plan> {
     let nodes = args.speed_nodes;
     let loop_budget = match args.loop_max_rhs_evals {
         None => LoopSettings::default().max_rhs_evals,
-        Some(n)
-            if n.fract() == 0.0
-                && (LOOP_RHS_EVALS_RANGE.0..=LOOP_RHS_EVALS_RANGE.1).contains(&n) =>
-        {
-            n as u64
-        }
-        Some(n) => {
-            return Err(CliError(format!(
-                "--loop-max-rhs-evals = {n} must be a whole number in [1e6, 1e12]"
-            )))
-        }
+        Some(n) => super::common::whole_count("--loop-max-rhs-evals", n, LOOP_RHS_EVALS_RANGE)?,
     };
     let band = super::common::calibration_band(args.calibration_band.as_deref())?;
     // A set replaces the point's fitted constants: a value given for one of them is the run's,
@@ -365,7 +355,7 @@ fn read_cycle(
 }
 
 /// The accepted range of `--loop-max-rhs-evals`.
-const LOOP_RHS_EVALS_RANGE: (f64, f64) = (1e6, 1e12);
+const LOOP_RHS_EVALS_RANGE: (u64, u64) = (1_000_000, 1_000_000_000_000);
 
 pub fn run(args: &WearArgs) -> CliResult {
     let plan = plan(args)?;
