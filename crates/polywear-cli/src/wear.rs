@@ -52,8 +52,9 @@ pub struct WearArgs {
     pub speed_spread_kmh: Option<f64>,
     /// Speeds driven, equal shares of the distance, each with its own tread state: the spread's
     /// quantiles, or the cycle's distance-weighted ones; accepted [1, 64]. The distance to a
-    /// visible polygon settles with 5 (within 15% of 40 at the reference point); more
-    /// cost that many times the time
+    /// visible polygon settles with 5 on a cruising spread (within 15% of 40 at the reference
+    /// point) and on HWFET, but a cycle of widely spread speeds needs about 40 (WLTC: 12,700 km
+    /// on 5, 23,400 on 64); more cost that many times the time
     #[arg(long, value_name = "K", default_value_t = SPEED_NODES, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--speed-nodes", 1, MAX_SPEED_NODES as u64))]
     pub speed_nodes: usize,
     #[command(flatten)]

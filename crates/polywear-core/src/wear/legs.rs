@@ -1,7 +1,8 @@
 //! The speeds a wheel drives in the long-term loop (MODEL.md#the-long-term-loop): a steady
 //! speed, a normal spread of the cruising speed, or a drive cycle, each as a few legs of equal
 //! shares of the distance (`--speed-nodes` of them; five settle the distance to a visible
-//! polygon within 15% of forty, MODEL.md#the-long-term-loop).
+//! polygon within 15% of forty on a cruising spread and on HWFET, MODEL.md#the-long-term-loop;
+//! WLTC's widely spread speeds need about forty, MODEL.md#along-a-drive-cycle).
 
 use crate::sampling::distribution::normal_quantile;
 
