@@ -28,7 +28,10 @@ use crate::wear::spread::NormalSpeeds;
 use crate::wear::transfer::PoleExpansion;
 
 mod profile;
-pub use profile::{LifeProfile, LIFE_PROFILE_INTERVALS};
+pub use profile::{
+    answer_saturated_per_step, LifeProfile, PiecewiseRate, SpeedTerm, LIFE_PROFILE_INTERVALS,
+    SLIDING_MODULATION_MAX,
+};
 
 /// Points of the table of f₀/f over the usable depth the worn depth's polynomial is fitted
 /// through (17 give it within 2.5·10⁻⁷ of the usable depth of the ageing law, as 33 do).
@@ -477,6 +480,38 @@ pub struct LifeAnswer {
     pub peak_share_of_visible: f64,
 }
 
+impl LifeAnswer {
+    /// The answer of a walk over a wheel's orders: the first polygon `first` (distance \[km\],
+    /// order) if any, else none and the order that got deepest, `deepest` (its largest
+    /// ln(D/2R⁰), order); a seed already visible (`target` = ln(d_visible/2R⁰) ≤ 0) is
+    /// visible at once, as order `lowest`.
+    pub(crate) fn of_walk(
+        first: Option<(f64, u32)>,
+        deepest: (f64, u32),
+        target: f64,
+        tread_life_km: f64,
+        lowest: u32,
+    ) -> Self {
+        let (distance_to_visible_km, order) = match first {
+            _ if target <= 0.0 => (0.0, lowest),
+            Some((km, n)) => (km, n),
+            None => (f64::INFINITY, deepest.1),
+        };
+        LifeAnswer {
+            answer: WearAnswer {
+                polygon_order_wear: order as f64,
+                distance_to_visible_km,
+                tread_life_km,
+            },
+            peak_share_of_visible: if first.is_some() || target <= 0.0 {
+                1.0
+            } else {
+                (deepest.0 - target).exp()
+            },
+        }
+    }
+}
+
 impl WheelGrowth {
     /// Where each pole of the tread's transfer resonates, in orders: ω = x V/r_B at the pole's
     /// frequency |Im s|.
@@ -829,23 +864,13 @@ impl WheelGrowth {
                 deepest = (peak, n);
             }
         }
-        let (distance_to_visible_km, order) = match first {
-            _ if target <= 0.0 => (0.0, lo),
-            Some((m, n)) => (m * 1e-3, n),
-            None => (f64::INFINITY, deepest.1),
-        };
-        LifeAnswer {
-            answer: WearAnswer {
-                polygon_order_wear: order as f64,
-                distance_to_visible_km,
-                tread_life_km: tread_life,
-            },
-            peak_share_of_visible: if first.is_some() {
-                1.0
-            } else {
-                (deepest.0 - target).exp()
-            },
-        }
+        LifeAnswer::of_walk(
+            first.map(|(m, n)| (m * 1e-3, n)),
+            deepest,
+            target,
+            tread_life,
+            lo,
+        )
     }
 }
 

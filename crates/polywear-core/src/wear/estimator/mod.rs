@@ -39,7 +39,10 @@ use crate::model::{ModelFailure, WheelModel};
 use crate::params::Params;
 
 mod life;
-pub use life::{LifeAnswer, LifeProfile, LIFE_PROFILE_INTERVALS};
+pub use life::{
+    answer_saturated_per_step, LifeAnswer, LifeProfile, PiecewiseRate, SpeedTerm,
+    LIFE_PROFILE_INTERVALS, SLIDING_MODULATION_MAX,
+};
 
 /// A share of the spread inside the tongue below which the locked print is left out (its
 /// effect on β̄ is below this share of the locked growth).

@@ -49,6 +49,12 @@ pub struct LifeProfile {
     pub position_rate: (f64, f64),
     /// λ_other per unit (1 − φ_s) = O₀ + k_d O₁ \[1/m\].
     pub other_per_share: (f64, f64),
+    /// Per order, β's part with no transfer through the tread at φ_s = 1 (its levelling, and
+    /// the slip power's part) \[1/m\]: what the saturated print keeps linear in D_n.
+    pub base_per_share: Vec<f64>,
+    /// Per order, 2 w′ |H_w| per unit φ_s \[m/m\]: the rise of D_n per metre when the zone's
+    /// power is modulated by its whole mean (|δP_n|/P̄ = 1), the lateral power's w′ alone.
+    pub full_print_per_share: Vec<f64>,
 }
 
 impl LifeProfile {
@@ -62,6 +68,8 @@ impl LifeProfile {
             even_per_share: 0.0,
             position_rate: (0.0, 0.0),
             other_per_share: (0.0, 0.0),
+            base_per_share: vec![0.0; max_order as usize],
+            full_print_per_share: vec![0.0; max_order as usize],
         }
     }
 
@@ -82,6 +90,16 @@ impl LifeProfile {
         self.position_rate.1 += weight * other.position_rate.1;
         self.other_per_share.0 += weight * other.other_per_share.0;
         self.other_per_share.1 += weight * other.other_per_share.1;
+        for (a, b) in self.base_per_share.iter_mut().zip(&other.base_per_share) {
+            *a += weight * b;
+        }
+        for (a, b) in self
+            .full_print_per_share
+            .iter_mut()
+            .zip(&other.full_print_per_share)
+        {
+            *a += weight * b;
+        }
     }
 
     /// Every term times `factor`.
@@ -138,23 +156,24 @@ impl LifeProfile {
                 deepest = (peak, n);
             }
         }
-        let (distance_to_visible_km, order) = match first {
-            _ if target <= 0.0 => (0.0, 1),
-            Some((w, n)) => (w / wear * 1e-3, n),
-            None => (f64::INFINITY, deepest.1),
-        };
-        LifeAnswer {
-            answer: WearAnswer {
-                polygon_order_wear: order as f64,
-                distance_to_visible_km,
-                tread_life_km: tread_life,
-            },
-            peak_share_of_visible: if first.is_some() || target <= 0.0 {
-                1.0
-            } else {
-                (deepest.0 - target).exp()
-            },
-        }
+        LifeAnswer::of_walk(
+            first.map(|(w, n)| (w / wear * 1e-3, n)),
+            deepest,
+            target,
+            tread_life,
+            1,
+        )
+    }
+
+    /// [`LifeProfile::answer`] with the zone's power modulation held to at most
+    /// `modulation_max` of its mean: [`answer_saturated_per_step`] of this profile alone.
+    pub fn answer_saturated(
+        &self,
+        c: &FittedConstants,
+        p: &Params,
+        modulation_max: f64,
+    ) -> LifeAnswer {
+        answer_saturated_per_step(&[(1.0, self)], c, p, modulation_max)
     }
 
     /// ∫₀^{w_j} B_n dw of order `n` at grid point `j`.
@@ -201,9 +220,13 @@ impl WheelGrowth {
         let v = self.speed_mps;
         let resonances: Vec<f64> = self.resonance_orders().collect();
         let mut integrals = Vec::with_capacity(max_order as usize * points);
+        let mut base_per_share = Vec::with_capacity(max_order as usize);
+        let mut full_print_per_share = Vec::with_capacity(max_order as usize);
         for (n, (zone, forcing)) in (1..=max_order).zip(self.feedback.zones_and_forcings(1)) {
             let order = n as f64;
             let order_loop = self.order_loop(zone, forcing, 1.0, 0.0);
+            base_per_share.push(order_loop.base_per_m);
+            full_print_per_share.push(2.0 * self.even_per_share * zone.norm_sqr().sqrt());
             // The weights of the moments: ∫_x^n Ḡ (−dw/dx′) dx′ = Σ_m −e_m/n^{m+1} (M_m(n) −
             // M_m(x)).
             let mut weight = [Complex64::new(0.0, 0.0); WORN_DEGREE];
@@ -303,8 +326,228 @@ impl WheelGrowth {
             even_per_share: self.even_per_share + self.slip_even_per_share,
             position_rate: (position(0.0), position(1.0) - position(0.0)),
             other_per_share: (other(0.0), other(1.0) - other(0.0)),
+            base_per_share,
+            full_print_per_share,
         }
     }
+}
+
+/// The largest first harmonic of a sliding power at a constant friction force, as a share of
+/// its mean: max over a of 2⟨P cos θ⟩/⟨P⟩ for P ∝ |1 + a cos θ|, the sliding speed's mean
+/// plus an oscillation a times it (MODEL.md#the-forced-response-saturates). Below a = 1 the
+/// share is a; past it the sliding reverses for part of each period and the power's
+/// harmonic turns to 2θ: the maximum, 1.0528 at a ≈ 1.18, is the most of the zone's mean
+/// power a deep polygon can make its own order print (a test computes it).
+pub const SLIDING_MODULATION_MAX: f64 = 1.0528;
+
+/// One speed's part of an order's rate at depth u: share · (base · u + min(growth · u, bound)).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpeedTerm {
+    /// The speed's share of the distance.
+    pub share: f64,
+    /// The order's rate there with no transfer through the tread (its levelling) \[1/m\].
+    pub base_per_m: f64,
+    /// Its growth through the tread \[1/m\].
+    pub growth_per_m: f64,
+    /// The bound on that growth's print, in seeds 2R⁰ per metre.
+    pub bound_per_m: f64,
+}
+
+/// du/ds = F(u) with F continuous and linear on each piece: slope·u + offset on
+/// \[`knots[i]`, `knots[i + 1]`), the last piece to +inf (u = D/2R⁰, s in metres).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PiecewiseRate {
+    /// The pieces' lower ends, from 0, rising.
+    pub knots: Vec<f64>,
+    /// F's slope on each piece \[1/m\].
+    pub slope: Vec<f64>,
+    /// F's value at u = 0 of each piece's line \[1/m\].
+    pub offset: Vec<f64>,
+}
+
+impl PiecewiseRate {
+    /// Σ_k a_k (b_k u + min(r_k u, cap_k)) over `terms`: each term linear below its knot
+    /// u*_k = cap_k/r_k (r_k > 0) and b_k u + cap_k above it.
+    pub fn of_terms(terms: &[SpeedTerm]) -> Self {
+        let (mut slope, mut knots) = (0.0, Vec::new());
+        for t in terms {
+            let (a, b, r, cap) = (t.share, t.base_per_m, t.growth_per_m, t.bound_per_m);
+            slope += a * (b + r);
+            if r > 0.0 {
+                knots.push(((cap / r).max(0.0), a * r, a * cap));
+            }
+        }
+        knots.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let mut rate = PiecewiseRate {
+            knots: vec![0.0],
+            slope: vec![slope],
+            offset: vec![0.0],
+        };
+        let mut offset = 0.0;
+        for (at, dr, dc) in knots {
+            slope -= dr;
+            offset += dc;
+            if at > *rate.knots.last().unwrap_or(&0.0) {
+                rate.knots.push(at);
+                rate.slope.push(slope);
+                rate.offset.push(offset);
+            } else {
+                *rate.slope.last_mut().unwrap() = slope;
+                *rate.offset.last_mut().unwrap() = offset;
+            }
+        }
+        rate
+    }
+
+    /// u after `ds` from `u` (u > 0), exactly on each piece, and the distance at which u
+    /// first reaches `visible` (None: not within `ds`).
+    pub fn evolve(&self, mut u: f64, ds: f64, visible: f64) -> (f64, Option<f64>) {
+        let mut i = self.knots.partition_point(|&k| k <= u).saturating_sub(1);
+        let (mut t, mut left) = (0.0, ds);
+        for _ in 0..2 * self.knots.len() + 4 {
+            if left <= 0.0 {
+                break;
+            }
+            let (alpha, beta) = (self.slope[i], self.offset[i]);
+            let f = alpha * u + beta;
+            if f == 0.0 {
+                break;
+            }
+            // The distance from u to the level `to` on this piece's line (+inf: never).
+            let reach = |to: f64| {
+                let s = if alpha == 0.0 {
+                    (to - u) / beta
+                } else {
+                    let ratio = (alpha * to + beta) / f;
+                    if ratio <= 0.0 {
+                        return f64::INFINITY;
+                    }
+                    ratio.ln() / alpha
+                };
+                if s >= 0.0 {
+                    s
+                } else {
+                    f64::INFINITY
+                }
+            };
+            let rising = f > 0.0;
+            let to_visible = match (rising, visible > u) {
+                (true, true) => reach(visible),
+                (true, false) => 0.0,
+                (false, _) => f64::INFINITY,
+            };
+            let edge = if rising {
+                self.knots.get(i + 1).copied()
+            } else {
+                (i > 0).then(|| self.knots[i])
+            };
+            let to_edge = edge.map_or(f64::INFINITY, reach);
+            if to_visible <= left.min(to_edge) {
+                return (visible, Some(t + to_visible));
+            }
+            if let Some(at) = edge.filter(|_| to_edge <= left) {
+                u = at;
+                i = if rising { i + 1 } else { i - 1 };
+                t += to_edge;
+                left -= to_edge;
+                continue;
+            }
+            u = if alpha == 0.0 {
+                u + beta * left
+            } else {
+                (u + beta / alpha) * (alpha * left).exp() - beta / alpha
+            };
+            break;
+        }
+        (u, None)
+    }
+}
+
+/// The answer over the tread's life of a cycle's steps, each a profile weighed by its share
+/// of the distance, with every step's print saturated on its own: each order's depth obeys
+/// dD/ds = Σ_k a_k (b_k D + min(r_k D, m_max · φ_s 2 w′_k |H_w|)), b_k the step's levelling
+/// and r_k its growth through the tread on the interval (read off its integrals), solved
+/// exactly on each interval of the depth grid (MODEL.md#the-forced-response-saturates). The
+/// steps must share one grid. With `modulation_max` = +inf it is the summed profile's
+/// [`LifeProfile::answer`].
+pub fn answer_saturated_per_step(
+    steps: &[(f64, &LifeProfile)],
+    c: &FittedConstants,
+    p: &Params,
+    modulation_max: f64,
+) -> LifeAnswer {
+    let total: f64 = steps.iter().map(|(a, _)| a).sum();
+    let Some(&(_, like)) = steps.first() else {
+        return LifeProfile::zero(0, 1, 0.0).answer(c, p);
+    };
+    let mut mean = LifeProfile::zero(like.max_order, like.intervals, like.usable_m);
+    for &(a, profile) in steps {
+        mean.add(profile, a / total);
+    }
+    let wear = mean.tread_wear_m_per_m(c);
+    let target = print_log_ratio(p);
+    if wear.is_nan() || wear <= 0.0 || like.max_order == 0 || target <= 0.0 {
+        return mean.answer(c, p);
+    }
+    let tread_life = tread_life_km(p, wear * MM_PER_1000KM_PER_M_PER_M);
+    let visible = target.exp();
+    let seed_m = 2.0 * p.seed_runout_um * 1e-6;
+    let phi = c.wear_share_straight;
+    let others: Vec<f64> = steps
+        .iter()
+        .map(|(_, pr)| {
+            (1.0 - phi) * (pr.other_per_share.0 + c.wear_rate_driven_factor * pr.other_per_share.1)
+        })
+        .collect();
+    let intervals = like.intervals;
+    let dw = like.usable_m / intervals as f64;
+    let ds = dw / wear;
+    let mut first: Option<(f64, u32)> = None;
+    let mut deepest = (f64::NEG_INFINITY, 1);
+    let mut terms = Vec::with_capacity(steps.len());
+    for n in 1..=like.max_order {
+        let k = n as usize - 1;
+        let (mut u, mut peak, mut s) = (1.0_f64, 1.0_f64, 0.0);
+        for j in 1..=intervals {
+            terms.clear();
+            for (&(a, pr), &other) in steps.iter().zip(&others) {
+                let base = phi * pr.base_per_share[k] - other;
+                let rate = (phi * (pr.integral(n, j) - pr.integral(n, j - 1)) - other * dw) / dw;
+                let cap = phi * pr.full_print_per_share[k] * modulation_max / seed_m;
+                terms.push(SpeedTerm {
+                    share: a / total,
+                    base_per_m: base,
+                    growth_per_m: rate - base,
+                    bound_per_m: cap,
+                });
+            }
+            let (end, cross) = PiecewiseRate::of_terms(&terms).evolve(u, ds, visible);
+            if let Some(t) = cross {
+                let at = s + t;
+                if first.is_none_or(|(m, _)| at < m) {
+                    first = Some((at, n));
+                }
+                peak = visible;
+                break;
+            }
+            u = end;
+            peak = peak.max(u);
+            s += ds;
+            if first.is_some_and(|(m, _)| s > m) {
+                break;
+            }
+        }
+        if peak.ln() > deepest.0 {
+            deepest = (peak.ln(), n);
+        }
+    }
+    LifeAnswer::of_walk(
+        first.map(|(at, n)| (at * 1e-3, n)),
+        deepest,
+        target,
+        tread_life,
+        1,
+    )
 }
 
 #[cfg(test)]
@@ -545,5 +788,182 @@ mod tests {
             assert!((a - b).abs() <= 1e-15 * b.abs().max(1e-6));
         }
         assert!((sum.even_per_share - one.even_per_share).abs() < 1e-22);
+    }
+
+    /// The bound is the largest first harmonic of |1 + a cos θ| over its mean: a below 1 gives
+    /// a itself, the maximum lies past it, and a fast oscillation prints little on its order.
+    #[test]
+    fn sliding_modulation_max_is_the_largest_harmonic_of_a_sliding_power() {
+        let points = 20_000;
+        let harmonic = |a: f64| {
+            let (mut mean, mut first) = (0.0, 0.0);
+            for i in 0..points {
+                let theta = std::f64::consts::TAU * (i as f64 + 0.5) / points as f64;
+                let power = (1.0 + a * theta.cos()).abs();
+                mean += power;
+                first += power * theta.cos();
+            }
+            2.0 * first / mean
+        };
+        assert!((harmonic(0.6) - 0.6).abs() < 1e-9);
+        let (at, max) = (1000..3000)
+            .map(|i| i as f64 * 1e-3)
+            .map(|a| (a, harmonic(a)))
+            .fold((0.0, 0.0), |best, x| if x.1 > best.1 { x } else { best });
+        assert!(
+            (max - SLIDING_MODULATION_MAX).abs() < 1e-4,
+            "{max} at a = {at}"
+        );
+        assert!(at > 1.0 && at < 1.5, "{at}");
+        assert!(harmonic(3.0) < 0.7);
+    }
+
+    /// The pieces' exact solution is the ODE's, integrated by RK4 on fine steps: rising
+    /// through knots to the visible depth, settling where a levelling meets the bound, and
+    /// falling back through a knot; and a rate of one linear piece is the exponential.
+    #[test]
+    fn piecewise_rate_evolves_as_its_ode() {
+        let term = |share, base_per_m, growth_per_m, bound_per_m| SpeedTerm {
+            share,
+            base_per_m,
+            growth_per_m,
+            bound_per_m,
+        };
+        let rk4 = |terms: &[SpeedTerm], mut u: f64, ds: f64, visible: f64| {
+            let f = |u: f64| -> f64 {
+                terms
+                    .iter()
+                    .map(|t| {
+                        let cap = if t.growth_per_m > 0.0 {
+                            t.bound_per_m
+                        } else {
+                            f64::INFINITY
+                        };
+                        t.share * (t.base_per_m * u + (t.growth_per_m * u).min(cap))
+                    })
+                    .sum()
+            };
+            let steps = 200_000;
+            let h = ds / steps as f64;
+            for i in 0..steps {
+                let k1 = f(u);
+                let k2 = f(u + 0.5 * h * k1);
+                let k3 = f(u + 0.5 * h * k2);
+                let k4 = f(u + h * k3);
+                let next = u + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+                if next >= visible {
+                    return (visible, Some((i as f64 + (visible - u) / (next - u)) * h));
+                }
+                u = next;
+            }
+            (u, None)
+        };
+        // (terms, u from, distance, visible)
+        let cases = [
+            // Two steps saturating one after the other, reaching the visible depth.
+            (
+                vec![term(0.5, -0.1, 3.0, 2.0), term(0.5, -0.1, 1.0, 4.0)],
+                1.0,
+                5.0,
+                20.0,
+            ),
+            // Levelling against the bound: u settles at cap/|b| = 10 (below the visible 50).
+            (vec![term(1.0, -0.2, 1.5, 2.0)], 1.0, 60.0, 50.0),
+            // Above its equilibrium, falling back through the knot.
+            (vec![term(1.0, -0.5, 0.8, 2.0)], 20.0, 10.0, 100.0),
+            // One linear piece: the exponential.
+            (vec![term(1.0, 0.1, 0.3, f64::INFINITY)], 1.0, 3.0, 1e3),
+            // A levelling step and a saturating one.
+            (
+                vec![term(0.3, -0.4, -0.2, 1.0), term(0.7, 0.0, 2.0, 3.0)],
+                1.0,
+                8.0,
+                30.0,
+            ),
+        ];
+        for (terms, u, ds, visible) in &cases {
+            let (u, ds, visible) = (*u, *ds, *visible);
+            let (want, want_at) = rk4(terms, u, ds, visible);
+            let (got, got_at) = PiecewiseRate::of_terms(terms).evolve(u, ds, visible);
+            assert!(
+                (got - want).abs() <= 1e-6 * want.abs().max(1.0),
+                "{terms:?}: {got} against {want}"
+            );
+            match (got_at, want_at) {
+                (Some(a), Some(b)) => assert!((a - b).abs() <= 1e-5 * b, "{a} against {b}"),
+                (None, None) => {}
+                other => panic!("{terms:?}: {other:?}"),
+            }
+        }
+        let (settled, _) = PiecewiseRate::of_terms(&cases[1].0).evolve(1.0, 200.0, 50.0);
+        assert!((settled - 10.0).abs() < 1e-6, "{settled}");
+    }
+
+    /// Unbounded, the saturated answer is the profile's own (the exact exponential on each
+    /// interval is the log read linearly between the grid's points); at the bound it is never
+    /// earlier and never deeper, comes a third later or more where an order grows fast through
+    /// the resonance (φ_s = 1, 60, 93 and 110 km/h at 0.45°) and stays none at the shipped
+    /// constants; two equal steps answer as one.
+    #[test]
+    fn saturation_slows_only_deep_orders() {
+        let opts = ClassifierOptions::default();
+        let base = Params {
+            speed_spread_kmh: 0.0,
+            toe_deg: 0.45,
+            ..Params::default()
+        };
+        let cal = calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
+        for (speed_kmh, share) in [(60.0, 1.0), (93.0, 1.0), (110.0, 1.0), (110.0, 0.12)] {
+            let p = Params {
+                speed_kmh,
+                wear_share_straight: share,
+                ..base
+            };
+            let deep = share == 1.0;
+            for wheel in Wheel::BOTH {
+                let (g, _) = growth_at(&p, &cal, wheel);
+                let profile = g.life_profile(64, LIFE_PROFILE_INTERVALS);
+                let c = FittedConstants::of(&p);
+                let here = format!("{speed_kmh} km/h phi_s {share} {wheel}");
+                let plain = profile.answer(&c, &p);
+                let unbounded = profile.answer_saturated(&c, &p, f64::INFINITY).answer;
+                assert_eq!(
+                    plain.answer.polygon_order_wear, unbounded.polygon_order_wear,
+                    "{here}"
+                );
+                let (a, b) = (
+                    plain.answer.distance_to_visible_km,
+                    unbounded.distance_to_visible_km,
+                );
+                assert!(a == b || (a - b).abs() <= 1e-9 * a, "{here}: {a} {b}");
+                let bounded = profile.answer_saturated(&c, &p, SLIDING_MODULATION_MAX);
+                let d = bounded.answer.distance_to_visible_km;
+                assert!(d >= a, "{here}: {d} against {a}");
+                assert!(
+                    bounded.peak_share_of_visible <= plain.peak_share_of_visible + 1e-12,
+                    "{here}"
+                );
+                if deep {
+                    assert!(a.is_finite() && d > 1.3 * a, "{here}: {d} against {a}");
+                } else {
+                    assert!(
+                        a.is_infinite() && d.is_infinite(),
+                        "{here}: {d} against {a}"
+                    );
+                }
+                let twice = answer_saturated_per_step(
+                    &[(0.3, &profile), (0.7, &profile)],
+                    &c,
+                    &p,
+                    SLIDING_MODULATION_MAX,
+                )
+                .answer;
+                let (d, e) = (d, twice.distance_to_visible_km);
+                assert!(
+                    e == d || (e - d).abs() <= 1e-9 * d,
+                    "{here}: {e} against {d}"
+                );
+            }
+        }
     }
 }
