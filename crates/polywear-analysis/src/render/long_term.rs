@@ -161,23 +161,34 @@ pub fn lines(
                 ),
                 None => format!("  {}: new tire  none", w.wheel),
             });
-            out.push(match &w.life {
-                Some(l) if l.answer.distance_to_visible_km.is_finite() => format!(
-                    "  {}: life      order {}, distance {} km over the tread's life (the tire worn out at {} km)",
-                    w.wheel,
-                    plain(l.answer.polygon_order_wear, 4),
-                    plain(l.answer.distance_to_visible_km.round(), 8),
-                    plain(l.answer.tread_life_km.round(), 8)
-                ),
-                Some(l) => format!(
-                    "  {}: life      none before the tire is worn out at {} km over the tread's life (order {} deepest, at {} of the visible depth)",
-                    w.wheel,
-                    plain(l.answer.tread_life_km.round(), 8),
-                    plain(l.answer.polygon_order_wear, 4),
-                    plain(l.peak_share_of_visible, 2)
-                ),
-                None => format!("  {}: life      none", w.wheel),
-            });
+            let legs = problem.legs.len();
+            let saturated = if legs == 1 {
+                ", saturated at the loop's one speed (not shipped)".to_string()
+            } else {
+                format!(", each of the loop's {legs} speeds saturating on its own (not shipped)")
+            };
+            for (label, reading, note) in [
+                ("life     ", &w.life, ""),
+                ("saturated", &w.saturated, saturated.as_str()),
+            ] {
+                out.push(match reading {
+                    Some(l) if l.answer.distance_to_visible_km.is_finite() => format!(
+                        "  {}: {label} order {}, distance {} km over the tread's life (the tire worn out at {} km){note}",
+                        w.wheel,
+                        plain(l.answer.polygon_order_wear, 4),
+                        plain(l.answer.distance_to_visible_km.round(), 8),
+                        plain(l.answer.tread_life_km.round(), 8)
+                    ),
+                    Some(l) => format!(
+                        "  {}: {label} none before the tire is worn out at {} km over the tread's life (order {} deepest, at {} of the visible depth){note}",
+                        w.wheel,
+                        plain(l.answer.tread_life_km.round(), 8),
+                        plain(l.answer.polygon_order_wear, 4),
+                        plain(l.peak_share_of_visible, 2)
+                    ),
+                    None => format!("  {}: {label} none", w.wheel),
+                });
+            }
         }
     }
     out

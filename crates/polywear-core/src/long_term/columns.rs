@@ -1,7 +1,7 @@
 //! The long-term run as columns: the summary (one row per wheel), the history (per wheel, step
 //! and order) and the profiles (per wheel, chosen distance and cell).
 
-use super::{LongTermFigures, LongTermSolution};
+use super::{LongTermFigures, LongTermSolution, WheelLongTerm};
 use crate::columns::Column;
 use crate::wear::WearEstimate;
 
@@ -108,28 +108,36 @@ impl LongTermSolution {
             for (name, unit, get) in columns {
                 cols.push(Column::f64(name, unit, est(&get)));
             }
-            // The estimator over the tread's life (MODEL.md#the-estimator-over-the-treads-life).
-            let life = |get: &dyn Fn(&crate::wear::LifeAnswer) -> f64| -> Vec<f64> {
-                wheels
-                    .iter()
-                    .map(|w| w.life.as_ref().map_or(f64::NAN, get))
-                    .collect()
-            };
-            cols.push(Column::f64(
-                "estimate_life_polygon_order_wear",
-                "",
-                life(&|l| l.answer.polygon_order_wear),
-            ));
-            cols.push(Column::f64(
-                "estimate_life_distance_to_visible_km",
-                "km",
-                life(&|l| l.answer.distance_to_visible_km),
-            ));
-            cols.push(Column::f64(
-                "estimate_life_peak_share_of_visible",
-                "",
-                life(&|l| l.peak_share_of_visible),
-            ));
+            // The estimator over the tread's life (MODEL.md#the-estimator-over-the-treads-life),
+            // and the same saturated per leg (MODEL.md#the-forced-response-saturates).
+            type Reading = fn(&WheelLongTerm) -> Option<&crate::wear::LifeAnswer>;
+            let readings: [(&str, Reading); 2] = [
+                ("life", |w| w.life.as_ref()),
+                ("saturated", |w| w.saturated.as_ref()),
+            ];
+            for (level, reading) in readings {
+                let of = |get: &dyn Fn(&crate::wear::LifeAnswer) -> f64| -> Vec<f64> {
+                    wheels
+                        .iter()
+                        .map(|w| reading(w).map_or(f64::NAN, get))
+                        .collect()
+                };
+                cols.push(Column::f64(
+                    format!("estimate_{level}_polygon_order_wear"),
+                    "",
+                    of(&|l| l.answer.polygon_order_wear),
+                ));
+                cols.push(Column::f64(
+                    format!("estimate_{level}_distance_to_visible_km"),
+                    "km",
+                    of(&|l| l.answer.distance_to_visible_km),
+                ));
+                cols.push(Column::f64(
+                    format!("estimate_{level}_peak_share_of_visible"),
+                    "",
+                    of(&|l| l.peak_share_of_visible),
+                ));
+            }
         }
         // The summary's old names, copies kept for one version (in RENAMED_COLUMNS, so the
         // Parquet footer's `deprecated` lists them), at the end so the new names keep their

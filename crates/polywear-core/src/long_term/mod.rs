@@ -9,12 +9,17 @@ use crate::ensemble::{self, Control};
 use crate::evaluate::{self, PointProblem, WearStage, WheelSolution};
 use crate::model::{ModelFailure, Variant, Wheel};
 use crate::params::{ParamId, Params};
+use crate::wear::estimator::{answer_saturated_per_step, SLIDING_MODULATION_MAX};
 use crate::wear::long_term::{
     first_step_tread_s, run_wheel, slowest_cruise_kmh, Leg, LoopInputs, LoopSettings, WheelWear,
     FEEDBACK_ORDERS, FIRST_STEP_REVS, MAX_FIRST_STEP_TREAD_S,
 };
+use crate::wear::profile::SEED_ORDERS;
 use crate::wear::tongue::{self, Tongue, TongueRequest};
-use crate::wear::{FittedConstants, LifeAnswer, WearError, WearSettings, WheelGrowth};
+use crate::wear::{
+    FittedConstants, LifeAnswer, LifeProfile, WearError, WearSettings, WheelGrowth,
+    LIFE_PROFILE_INTERVALS,
+};
 
 mod columns;
 mod figures;
@@ -175,6 +180,11 @@ pub struct WheelLongTerm {
     /// (MODEL.md#the-estimator-over-the-treads-life); `None` where the wheel has no wear
     /// figures.
     pub life: Option<LifeAnswer>,
+    /// The answer over the tread's life on the loop's own legs, each leg's print saturating on
+    /// its own (MODEL.md#the-forced-response-saturates): the reading that accounts for the
+    /// loop's deep, constant prints, measured beside it and not yet the shipped estimate;
+    /// `None` where no leg has wear figures.
+    pub saturated: Option<LifeAnswer>,
 }
 
 /// Both wheels' runs, in [`Wheel::BOTH`] order.
@@ -262,16 +272,58 @@ pub fn solve(
             )
             .ok()
             .map(|g| g.life_answer(&FittedConstants::of(&p)));
+            let saturated = saturated_on_legs(problem, &stage, Wheel::BOTH[i]);
             WheelLongTerm {
                 wheel: Wheel::BOTH[i],
                 solution,
                 run,
                 tongue,
                 life,
+                saturated,
             }
         })
         .collect();
     Ok(LongTermSolution { params: p, wheels })
+}
+
+/// The answer over the tread's life of `wheel` on the problem's legs, each leg's point solved
+/// at its own speed with no further spread and its print saturated on its own
+/// (MODEL.md#the-forced-response-saturates); legs without wear figures are left out, `None`
+/// where none has them.
+fn saturated_on_legs(
+    problem: &LongTermProblem,
+    stage: &WearStage,
+    wheel: Wheel,
+) -> Option<LifeAnswer> {
+    let p = problem.params;
+    let meter = Meter::new(problem.classifier.budget);
+    let profiles: Vec<(f64, LifeProfile)> = problem
+        .legs
+        .iter()
+        .filter_map(|leg| {
+            let at = Params {
+                speed_kmh: leg.speed_kmh,
+                speed_spread_kmh: 0.0,
+                ..p
+            };
+            let w = evaluate::solve_wheel(at, problem.variant, wheel, &problem.classifier);
+            let growth = WheelGrowth::new(&stage.inputs(&at, &w), &meter).ok()?;
+            Some((
+                leg.share,
+                growth.life_profile(SEED_ORDERS as u32, LIFE_PROFILE_INTERVALS),
+            ))
+        })
+        .collect();
+    if profiles.is_empty() {
+        return None;
+    }
+    let steps: Vec<(f64, &LifeProfile)> = profiles.iter().map(|(a, pr)| (*a, pr)).collect();
+    Some(answer_saturated_per_step(
+        &steps,
+        &FittedConstants::of(&p),
+        &p,
+        SLIDING_MODULATION_MAX,
+    ))
 }
 
 /// The state the loop starts a wheel from: on the classifier's cycle where it vibrates.
