@@ -682,3 +682,84 @@ fn the_optimum_under_each_calibrated_set_is_the_run_made_with_that_set() {
         assert!(!out.exists(), "work was done: {}", out.display());
     }
 }
+
+/// optimize's band on a subsample (`--band-samples`, a control variate): the run's own surface
+/// is the full run's, row for row; the band file records the subsample; under nearly every set
+/// the objective at the set's optimum is the full band's within the subsample's interval; and
+/// a subsample no smaller than the run is the full band, bit for bit. On the new tire's level,
+/// where the sets move the objective.
+#[test]
+fn the_band_on_a_subsample_is_the_full_band_within_its_interval() {
+    let dir = tmp("band-subsample");
+    let study = dir.join("new_tire.toml");
+    let text = std::fs::read_to_string(STUDY).unwrap();
+    std::fs::write(&study, format!("wear_estimate = \"new_tire\"\n{text}")).unwrap();
+    let study = study.to_str().unwrap().to_string();
+    let run = |name: &str, band_samples: &str| {
+        let out = dir.join(name);
+        let (code, _, stderr) = polywear(&[
+            "optimize",
+            study.as_str(),
+            "--vary",
+            "toe_deg=0.40..0.70",
+            "--objective",
+            "wear",
+            "--wheel",
+            "follower",
+            "--samples",
+            "400",
+            "--grid",
+            "5",
+            "--levels",
+            "0",
+            "--band-samples",
+            band_samples,
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+        out
+    };
+    let full = run("full", "400");
+    let sub = run("sub", "150");
+    let same = run("same", "1000");
+    assert_eq!(
+        rows(&full.join("surface.parquet")),
+        rows(&sub.join("surface.parquet"))
+    );
+    assert_eq!(
+        rows(&full.join("calibration_band.parquet")),
+        rows(&same.join("calibration_band.parquet"))
+    );
+    let footer =
+        String::from_utf8_lossy(&std::fs::read(sub.join("calibration_band.parquet")).unwrap())
+            .into_owned();
+    assert!(
+        footer.contains("\"samples\":150"),
+        "the subsample is not recorded"
+    );
+    let (a, b) = (
+        rows(&full.join("calibration_band.parquet")),
+        rows(&sub.join("calibration_band.parquet")),
+    );
+    assert_eq!(a.len(), 96);
+    let mut outside = 0;
+    let mut moved = 0;
+    for (x, y) in a.iter().zip(&b) {
+        let (want, got) = (number(&x["objective"]), number(&y["objective"]));
+        let (low, high) = (number(&y["objective_low"]), number(&y["objective_high"]));
+        assert!(low <= got && got <= high, "{got} outside [{low}, {high}]");
+        if !(low..=high).contains(&want) {
+            outside += 1;
+        }
+        if got != want {
+            moved += 1;
+        }
+    }
+    assert!(
+        outside <= 10,
+        "{outside} of 96 sets outside the subsample's interval"
+    );
+    assert!(moved > 0, "the subsample changed nothing: it was not used");
+}

@@ -62,6 +62,12 @@ pub struct OptimizeArgs {
     /// form, no second classification), and the optimum under each set is reported
     #[arg(long, value_name = "FILE|off")]
     pub calibration_band: Option<String>,
+    /// Samples the calibration band's sets are evaluated on (every sample where --samples is at
+    /// most this), accepted [100, 1000000]. Under each set a setting's objective is then the
+    /// nominal constants' on every sample plus the set's paired difference on this subsample (a
+    /// control variate), at that share of the band's work
+    #[arg(long, value_name = "N", default_value_t = polywear_study::optimize::DEFAULT_BAND_SAMPLES, value_parser = super::common::whole_in::<u64>("--band-samples", 100, 1_000_000))]
+    pub band_samples: u64,
     /// Samples of the study every setting is evaluated on (1e4 and 10_000 work), accepted
     /// [1, 1e7]
     #[arg(long, value_name = "N", default_value = "10000", allow_negative_numbers = true, value_parser = parse_samples)]
@@ -195,6 +201,13 @@ pub fn run(args: &OptimizeArgs) -> CliResult {
     )?;
     if !args.quiet {
         match (&problem.band, &problem.band_note) {
+            (Some(b), _) if b.samples < problem.samples => eprintln!(
+                "calibration band: {} sets from {}, each setting's wear answer under every set on the same {} of its {} samples (--band-samples), moved by the nominal constants' answer on all of them",
+                b.sets.sets.len(),
+                b.source,
+                b.samples,
+                problem.samples
+            ),
             (Some(b), _) => eprintln!(
                 "calibration band: {} sets from {}, each setting's wear answer under every set on the same samples",
                 b.sets.sets.len(),
@@ -347,6 +360,7 @@ fn problem(args: &OptimizeArgs) -> CliResult<Problem> {
                 sets,
                 source,
                 given: args.calibration_band.is_some(),
+                samples: args.band_samples,
             },
         ),
     })?)

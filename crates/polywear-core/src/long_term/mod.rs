@@ -296,7 +296,6 @@ fn saturated_on_legs(
     wheel: Wheel,
 ) -> Option<LifeAnswer> {
     let p = problem.params;
-    let meter = Meter::new(problem.classifier.budget);
     let profiles: Vec<(f64, LifeProfile)> = problem
         .legs
         .iter()
@@ -307,6 +306,8 @@ fn saturated_on_legs(
                 ..p
             };
             let w = evaluate::solve_wheel(at, problem.variant, wheel, &problem.classifier);
+            // Each leg its own budget, as each point of a run has.
+            let meter = Meter::new(problem.classifier.budget);
             let growth = WheelGrowth::new(&stage.inputs(&at, &w), &meter).ok()?;
             Some((
                 leg.share,

@@ -48,6 +48,23 @@ pub const RUN_SET: &str = "run";
 /// Stream of the subsample's choice, apart from every stream of the draws.
 const SUBSAMPLE_STREAM: u64 = 0xBA4D_0000_0000_0001;
 
+/// The band's subsample of a run of `samples` drawn with `seed`: every sample when the run has
+/// at most `band_samples`, else that many drawn without replacement from a stream of their own,
+/// increasing (the same for explore's band and optimize's).
+pub fn subsample(seed: u64, samples: u64, band_samples: u64) -> Vec<u64> {
+    if samples <= band_samples {
+        return (0..samples).collect();
+    }
+    let mut rng = chacha20::ChaCha12Rng::seed_from_u64(seed ^ SUBSAMPLE_STREAM);
+    let mut chosen: Vec<u64> =
+        rand::seq::index::sample(&mut rng, samples as usize, band_samples as usize)
+            .into_iter()
+            .map(|i| i as u64)
+            .collect();
+    chosen.sort_unstable();
+    chosen
+}
+
 /// What to evaluate: a run's study and draws, its wear stage, the sets and how many samples.
 pub struct BandPlan<'a> {
     /// The run's study.
@@ -95,17 +112,7 @@ impl BandPlan<'_> {
     /// drawn without replacement from a stream of their own, increasing (whatever the design,
     /// a grid's corner is never the band's whole subsample).
     pub fn indices(&self) -> Vec<u64> {
-        if self.samples <= self.band_samples {
-            return (0..self.samples).collect();
-        }
-        let mut rng = chacha20::ChaCha12Rng::seed_from_u64(self.seed ^ SUBSAMPLE_STREAM);
-        let mut chosen: Vec<u64> =
-            rand::seq::index::sample(&mut rng, self.samples as usize, self.band_samples as usize)
-                .into_iter()
-                .map(|i| i as u64)
-                .collect();
-        chosen.sort_unstable();
-        chosen
+        subsample(self.seed, self.samples, self.band_samples)
     }
 
     /// Evaluates the subsample on the worker pool; `progress` is called with 1 for each

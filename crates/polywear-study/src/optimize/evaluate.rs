@@ -4,9 +4,10 @@
 
 use polywear_core::ensemble::{self, Control};
 
-use super::objective::{Estimate, Outcomes, Term, UNKNOWN};
+use super::objective::{Estimate, Objective, Outcomes, Term, UNKNOWN};
 use super::search::{search, Value};
 use super::{collect, Problem, SetEstimate, Setting, Solution};
+use crate::calibration_band::evaluate::subsample;
 use crate::explore::evaluate_params;
 use crate::parquet_out::ColumnData;
 use crate::study::ParamChange;
@@ -46,6 +47,19 @@ pub fn solve(problem: &Problem, progress: &Progress<'_>) -> Solution {
         .as_ref()
         .filter(|_| wear)
         .map(|b| b.sets.sets.iter().map(|c| c.constants()).collect());
+    // The samples the sets are evaluated on: every one, or the band's subsample, the same for
+    // every setting (MODEL.md#the-calibration-band).
+    let band_samples = problem.band.as_ref().map_or(n as u64, |b| b.samples);
+    let subsample: Vec<usize> = subsample(problem.seed, n as u64, band_samples)
+        .into_iter()
+        .map(|i| i as usize)
+        .collect();
+    let every = subsample.len() == n;
+    let mut in_band = vec![false; n];
+    for &i in &subsample {
+        in_band[i] = true;
+    }
+    let set_count = sets.as_ref().map_or(0, Vec::len);
     let mut settings: Vec<Setting> = Vec::new();
     let mut eval = |units: &[Vec<f64>], level: usize| -> Vec<Value> {
         (progress.level)(level, (units.len() * n) as u64);
@@ -77,7 +91,9 @@ pub fn solve(problem: &Problem, progress: &Progress<'_>) -> Solution {
                 p[c.param] = c.change.apply(p[c.param]);
             }
             match (&sets, problem.wear.as_ref()) {
-                (Some(sets), Some(stage)) => banded_outcomes(problem, stage, &p, sets),
+                (Some(sets), Some(stage)) if in_band[j % n] => {
+                    banded_outcomes(problem, stage, &p, sets)
+                }
                 _ => {
                     let records = evaluate_params(
                         &p,
@@ -107,14 +123,30 @@ pub fn solve(problem: &Problem, progress: &Progress<'_>) -> Solution {
             .zip(band.chunks(n))
         {
             let (objective, constrained, feasible) = judged(problem, o);
-            let set_count = b.first().map_or(0, |x| x.len());
+            let run_sub: Vec<Outcomes> = if every {
+                Vec::new()
+            } else {
+                subsample.iter().map(|&i| o[i]).collect()
+            };
             let band: Vec<SetEstimate> = (0..set_count)
                 .map(|k| {
-                    let under: Vec<Outcomes> = b.iter().map(|x| x[k]).collect();
-                    let (objective, _, feasible) = judged(problem, &under);
+                    if every {
+                        let under: Vec<Outcomes> = b.iter().map(|x| x[k]).collect();
+                        let (objective, _, feasible) = judged(problem, &under);
+                        return SetEstimate {
+                            objective,
+                            feasible,
+                        };
+                    }
+                    let set_sub: Vec<Outcomes> = subsample.iter().map(|&i| b[i][k]).collect();
+                    let shifted =
+                        |objective: &Objective| control_variate(objective, o, &run_sub, &set_sub);
                     SetEstimate {
-                        objective,
-                        feasible,
+                        objective: shifted(&problem.objective),
+                        feasible: problem
+                            .constraints
+                            .iter()
+                            .all(|c| c.holds(&shifted(&c.objective()))),
                     }
                 })
                 .collect();
@@ -164,6 +196,37 @@ fn judged(problem: &Problem, o: &[Outcomes]) -> (Estimate, Vec<Estimate>, bool) 
         .zip(&constrained)
         .all(|(c, e)| c.holds(e));
     (objective, constrained, feasible)
+}
+
+/// An objective under a calibrated set from a subsample (a control variate): its value under
+/// the run's own constants on every sample, `all`, plus the set's paired difference from them on
+/// the subsample (`set_sub` against `run_sub`, the same samples in order), clamped to the
+/// scores' range. Each end of the interval adds the two intervals' half-widths on its side in
+/// quadrature. NaN where either part has no known score.
+fn control_variate(
+    objective: &Objective,
+    all: &[Outcomes],
+    run_sub: &[Outcomes],
+    set_sub: &[Outcomes],
+) -> Estimate {
+    let e = objective.estimate(all);
+    let (d, lo, hi) = objective.paired_difference(set_sub, run_sub);
+    let top: f64 = objective.terms.iter().map(|t| t.0).sum();
+    let value = (e.value + d).clamp(0.0, top);
+    if value.is_nan() {
+        return Estimate {
+            value: f64::NAN,
+            low: f64::NAN,
+            high: f64::NAN,
+            n: e.n,
+        };
+    }
+    Estimate {
+        value,
+        low: (value - (e.value - e.low).hypot(d - lo)).max(0.0),
+        high: (value + (e.high - e.value).hypot(hi - d)).min(top),
+        n: e.n,
+    }
 }
 
 /// A sample's outcomes under its own constants and under each set of the band: the point
@@ -234,4 +297,61 @@ pub(crate) fn outcomes_of(records: &[WheelRecord], within_km: Option<f64>) -> Ou
     }
     debug_assert!(records.iter().map(|r| r.wheel).eq(Wheel::BOTH));
     o
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::optimize::objective::{WheelChoice, NO, YES};
+    use polywear_core::model::Wheel;
+
+    fn wear(code: u8) -> Outcomes {
+        Outcomes::default().with(Term::Wear, Wheel::Follower, code)
+    }
+
+    /// The control variate: a set that changes no sample is the run's own estimate on every
+    /// sample; over a subsample of every sample it is the set's own value; its interval holds
+    /// its value, and it stays in the scores' range.
+    #[test]
+    fn a_set_s_objective_is_the_run_s_plus_its_paired_difference() {
+        let objective = Objective {
+            terms: vec![(1.0, Term::Wear)],
+            wheel: WheelChoice::Follower,
+        };
+        let all: Vec<Outcomes> = (0..1000).map(|i| wear(u8::from(i % 10 == 0))).collect();
+        let sub: Vec<usize> = (0..1000).step_by(5).collect();
+        let run_sub: Vec<Outcomes> = sub.iter().map(|&i| all[i]).collect();
+        let same = control_variate(&objective, &all, &run_sub, &run_sub);
+        assert_eq!(same.value, objective.estimate(&all).value);
+        assert!(same.low <= same.value && same.value <= same.high);
+        // A set that adds a polygon to every fourth sample of the subsample's.
+        let set_sub: Vec<Outcomes> = run_sub
+            .iter()
+            .enumerate()
+            .map(|(k, o)| if k % 4 == 0 { wear(YES) } else { *o })
+            .collect();
+        let moved = control_variate(&objective, &all, &run_sub, &set_sub);
+        let d = objective.paired_difference(&set_sub, &run_sub).0;
+        assert!((moved.value - (0.1 + d)).abs() < 1e-12, "{moved:?}");
+        assert!(moved.low < moved.value && moved.value < moved.high);
+        // The subsample is every sample: the set's own value.
+        let set_all: Vec<Outcomes> = all
+            .iter()
+            .enumerate()
+            .map(|(k, o)| if k % 4 == 0 { wear(YES) } else { *o })
+            .collect();
+        let whole = control_variate(&objective, &all, &all, &set_all);
+        assert!((whole.value - objective.estimate(&set_all).value).abs() < 1e-12);
+        // Clamped to [0, 1]: a set that clears every polygon of a subsample richer in them.
+        let rich: Vec<Outcomes> = (0..100).map(|_| wear(YES)).collect();
+        let none: Vec<Outcomes> = (0..100).map(|_| wear(NO)).collect();
+        let clamped = control_variate(&objective, &all, &rich, &none);
+        assert_eq!(clamped.value, 0.0);
+        assert_eq!(clamped.low, 0.0);
+        // Nothing known: NaN.
+        let unknown: Vec<Outcomes> = (0..10).map(|_| wear(UNKNOWN)).collect();
+        assert!(control_variate(&objective, &all, &unknown, &unknown)
+            .value
+            .is_nan());
+    }
 }

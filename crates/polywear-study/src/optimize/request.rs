@@ -173,6 +173,7 @@ impl Problem {
                     Some(b) => json(serde_json::json!({
                         "source": b.source,
                         "method": b.sets.method,
+                        "samples": b.samples.min(problem.samples),
                         "sets": b.sets.sets.iter().map(|c| serde_json::json!({
                             "id": c.id,
                             "nominal": c.nominal,
@@ -470,6 +471,7 @@ mod tests {
                 sets: crate::calibration_band::CalibrationBand::shipped(),
                 source: "shipped".into(),
                 given: true,
+                samples: crate::optimize::DEFAULT_BAND_SAMPLES,
             }),
             objective: Objective {
                 terms,
