@@ -622,7 +622,8 @@ fn wear_writes_summary_history_profile_and_figure() {
 
 /// `--cycle`: a shipped cycle driven again and again, both wheels through the loop; its legs
 /// are the cycle's distance-weighted speed quantiles (recorded in the metadata) and the verdict
-/// says which cycle was driven.
+/// says which cycle was driven, at how many of its speeds, with a note that a widely spread
+/// cycle needs more.
 #[test]
 fn wear_drives_a_shipped_cycle() {
     let dir = fresh_dir("wear-cycle");
@@ -640,6 +641,15 @@ fn wear_drives_a_shipped_cycle() {
     assert_eq!(code, 0, "{err}");
     assert!(stdout.contains("driving the cycle"), "{stdout}");
     assert!(stdout.contains("hwfet.csv"), "{stdout}");
+    // How many of its speeds, and that a widely spread cycle needs more.
+    assert!(
+        stdout.contains("again and again, at 5 of its speeds"),
+        "{stdout}"
+    );
+    assert!(
+        err.contains("note: --speed-nodes 5: on a cycle of widely spread speeds"),
+        "{err}"
+    );
     assert!(
         stdout.contains("follower: ") && stdout.contains("driving: "),
         "{stdout}"
