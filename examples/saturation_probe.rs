@@ -12,6 +12,7 @@
 //! saturated per step (the reading MODEL.md#the-forced-response-saturates measures).
 use polywear::classify::ClassifierOptions;
 use polywear::evaluate::{solve_wheel, WearStage};
+use polywear::long_term::leg_profiles;
 use polywear::model::{Variant, Wheel};
 use polywear::params::Params;
 use polywear::wear::estimator::answer_saturated_per_step;
@@ -64,22 +65,12 @@ fn main() {
                 .unwrap();
         let legs = polywear::wear::long_term::cruise_legs(speed, sigma, k);
         for wheel in Wheel::BOTH {
-            let mut sum: Option<LifeProfile> = None;
-            let mut steps = Vec::new();
-            for leg in &legs {
-                let p = Params {
-                    speed_kmh: leg.speed_kmh,
-                    ..base
-                };
-                let w = solve_wheel(p, Variant::SlidingShare, wheel, &opts);
-                let life = step_growth(&p, &w, &stage, &opts).life.unwrap();
-                sum.get_or_insert_with(|| {
-                    LifeProfile::zero(life.max_order, life.intervals, life.usable_m)
-                })
-                .add(&life, leg.share);
-                steps.push((leg.share, life));
+            let steps = leg_profiles(&base, Variant::SlidingShare, wheel, &legs, &stage, &opts);
+            let (_, like) = &steps[0];
+            let mut mean = LifeProfile::zero(like.max_order, like.intervals, like.usable_m);
+            for (share, life) in &steps {
+                mean.add(life, *share);
             }
-            let mean = sum.unwrap();
             report(
                 &format!("{speed} km/h {toe}° sigma {sigma} K {k} {wheel}"),
                 &mean,
@@ -226,17 +217,14 @@ fn rows(path: &str, sigma: f64, k: usize, m_max: f64, phi: f64) {
                 ..nominal
             };
             let legs = polywear::wear::long_term::cruise_legs(base.speed_kmh, sigma, k);
-            let mut steps = Vec::new();
-            for leg in &legs {
-                let p = Params {
-                    speed_kmh: leg.speed_kmh,
-                    ..base
-                };
-                let w = solve_wheel(p, Variant::SlidingShare, Wheel::Follower, &opts);
-                if let Some(life) = step_growth(&p, &w, &stage, &opts).life {
-                    steps.push((leg.share, life));
-                }
-            }
+            let steps = leg_profiles(
+                &base,
+                Variant::SlidingShare,
+                Wheel::Follower,
+                &legs,
+                &stage,
+                &opts,
+            );
             let refs: Vec<(f64, &LifeProfile)> = steps.iter().map(|(a, pr)| (*a, pr)).collect();
             let c = FittedConstants::of(&base);
             let plain = answer_saturated_per_step(&refs, &c, &base, f64::INFINITY).answer;

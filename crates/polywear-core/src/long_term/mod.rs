@@ -286,35 +286,23 @@ pub fn solve(
     Ok(LongTermSolution { params: p, wheels })
 }
 
-/// The answer over the tread's life of `wheel` on the problem's legs, each leg's point solved
-/// at its own speed with no further spread and its print saturated on its own
-/// (MODEL.md#the-forced-response-saturates); legs without wear figures are left out, `None`
-/// where none has them.
+/// The answer over the tread's life of `wheel` on the problem's legs, each leg's print
+/// saturated on its own (MODEL.md#the-forced-response-saturates); `None` where no leg has wear
+/// figures.
 fn saturated_on_legs(
     problem: &LongTermProblem,
     stage: &WearStage,
     wheel: Wheel,
 ) -> Option<LifeAnswer> {
     let p = problem.params;
-    let profiles: Vec<(f64, LifeProfile)> = problem
-        .legs
-        .iter()
-        .filter_map(|leg| {
-            let at = Params {
-                speed_kmh: leg.speed_kmh,
-                speed_spread_kmh: 0.0,
-                ..p
-            };
-            let w = evaluate::solve_wheel(at, problem.variant, wheel, &problem.classifier);
-            // Each leg its own budget, as each point of a run has.
-            let meter = Meter::new(problem.classifier.budget);
-            let growth = WheelGrowth::new(&stage.inputs(&at, &w), &meter).ok()?;
-            Some((
-                leg.share,
-                growth.life_profile(SEED_ORDERS as u32, LIFE_PROFILE_INTERVALS),
-            ))
-        })
-        .collect();
+    let profiles = leg_profiles(
+        &p,
+        problem.variant,
+        wheel,
+        &problem.legs,
+        stage,
+        &problem.classifier,
+    );
     if profiles.is_empty() {
         return None;
     }
@@ -325,6 +313,36 @@ fn saturated_on_legs(
         &p,
         SLIDING_MODULATION_MAX,
     ))
+}
+
+/// Each leg's share and the life profile of `wheel` at the leg's own speed with no further
+/// spread, orders 1..=[`SEED_ORDERS`] (the point `p` solved there, with its own work budget, as
+/// each point of a run has); legs without wear figures are left out. What a reading per leg,
+/// such as [`answer_saturated_per_step`], sums.
+pub fn leg_profiles(
+    p: &Params,
+    variant: Variant,
+    wheel: Wheel,
+    legs: &[Leg],
+    stage: &WearStage,
+    classifier: &ClassifierOptions,
+) -> Vec<(f64, LifeProfile)> {
+    legs.iter()
+        .filter_map(|leg| {
+            let at = Params {
+                speed_kmh: leg.speed_kmh,
+                speed_spread_kmh: 0.0,
+                ..*p
+            };
+            let w = evaluate::solve_wheel(at, variant, wheel, classifier);
+            let growth =
+                WheelGrowth::new(&stage.inputs(&at, &w), &Meter::new(classifier.budget)).ok()?;
+            Some((
+                leg.share,
+                growth.life_profile(SEED_ORDERS as u32, LIFE_PROFILE_INTERVALS),
+            ))
+        })
+        .collect()
 }
 
 /// The state the loop starts a wheel from: on the classifier's cycle where it vibrates.

@@ -324,22 +324,21 @@ mod tests {
         let same = control_variate(&objective, &all, &run_sub, &run_sub);
         assert_eq!(same.value, objective.estimate(&all).value);
         assert!(same.low <= same.value && same.value <= same.high);
-        // A set that adds a polygon to every fourth sample of the subsample's.
-        let set_sub: Vec<Outcomes> = run_sub
-            .iter()
-            .enumerate()
-            .map(|(k, o)| if k % 4 == 0 { wear(YES) } else { *o })
-            .collect();
+        // A set that adds a polygon to every fourth sample.
+        let every_fourth = |outcomes: &[Outcomes]| -> Vec<Outcomes> {
+            outcomes
+                .iter()
+                .enumerate()
+                .map(|(k, o)| if k % 4 == 0 { wear(YES) } else { *o })
+                .collect()
+        };
+        let set_sub = every_fourth(&run_sub);
         let moved = control_variate(&objective, &all, &run_sub, &set_sub);
         let d = objective.paired_difference(&set_sub, &run_sub).0;
         assert!((moved.value - (0.1 + d)).abs() < 1e-12, "{moved:?}");
         assert!(moved.low < moved.value && moved.value < moved.high);
         // The subsample is every sample: the set's own value.
-        let set_all: Vec<Outcomes> = all
-            .iter()
-            .enumerate()
-            .map(|(k, o)| if k % 4 == 0 { wear(YES) } else { *o })
-            .collect();
+        let set_all = every_fourth(&all);
         let whole = control_variate(&objective, &all, &all, &set_all);
         assert!((whole.value - objective.estimate(&set_all).value).abs() < 1e-12);
         // Clamped to [0, 1]: a set that clears every polygon of a subsample richer in them.

@@ -507,19 +507,25 @@ pub fn answer_saturated_per_step(
     let mut terms = Vec::with_capacity(steps.len());
     for n in 1..=like.max_order {
         let k = n as usize - 1;
+        // What each step gives this order at every depth: its share, levelling and bound;
+        // only the growth through the tread moves along the grid.
+        terms.clear();
+        terms.extend(
+            steps
+                .iter()
+                .zip(&others)
+                .map(|(&(a, pr), &other)| SpeedTerm {
+                    share: a / total,
+                    base_per_m: phi * pr.base_per_share[k] - other,
+                    growth_per_m: 0.0,
+                    bound_per_m: phi * pr.full_print_per_share[k] * modulation_max / seed_m,
+                }),
+        );
         let (mut u, mut peak, mut s) = (1.0_f64, 1.0_f64, 0.0);
         for j in 1..=intervals {
-            terms.clear();
-            for (&(a, pr), &other) in steps.iter().zip(&others) {
-                let base = phi * pr.base_per_share[k] - other;
+            for (t, (&(_, pr), &other)) in terms.iter_mut().zip(steps.iter().zip(&others)) {
                 let rate = (phi * (pr.integral(n, j) - pr.integral(n, j - 1)) - other * dw) / dw;
-                let cap = phi * pr.full_print_per_share[k] * modulation_max / seed_m;
-                terms.push(SpeedTerm {
-                    share: a / total,
-                    base_per_m: base,
-                    growth_per_m: rate - base,
-                    bound_per_m: cap,
-                });
+                t.growth_per_m = rate - t.base_per_m;
             }
             let (end, cross) = PiecewiseRate::of_terms(&terms).evolve(u, ds, visible);
             if let Some(t) = cross {
