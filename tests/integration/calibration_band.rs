@@ -99,7 +99,18 @@ fn over_the_tread_s_life_the_band_under_each_set_is_the_run_made_with_that_set()
     band_sets_are_the_runs_made_with_them("band-sets-life", &["--wear-estimate", "tread_life"]);
 }
 
-/// The body of the two tests above, the runs made with the flags `level`.
+/// The same with each speed's print saturated (`--wear-estimate tread_life_saturated`): the
+/// band drives a set's legs only where its plain answer has a polygon, built once per spread,
+/// where the run builds them afresh for its one set.
+#[test]
+fn saturated_the_band_under_each_set_is_the_run_made_with_that_set() {
+    band_sets_are_the_runs_made_with_them(
+        "band-sets-saturated",
+        &["--wear-estimate", "tread_life_saturated"],
+    );
+}
+
+/// The body of the three tests above, the runs made with the flags `level`.
 fn band_sets_are_the_runs_made_with_them(name: &str, level: &[&str]) {
     let dir = fresh_dir(name);
     let out = dir.join("run");

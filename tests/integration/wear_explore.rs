@@ -511,6 +511,74 @@ fn the_follower_wears_polygonal_more_often_than_the_driving_wheel() {
     }
 }
 
+/// The saturated level (`--wear-estimate tread_life_saturated`,
+/// MODEL.md#the-forced-response-saturates) is recorded, keeps every row of the answer over the
+/// tread's life that has no polygon (the saturated one is never earlier, so the plain answer
+/// screens), and moves the polygons later or out: at φ_s = 0.28 on highway points, some by a
+/// tenth or more, none earlier by more than the legs' quadrature of the spread (5%).
+#[test]
+fn the_saturated_level_keeps_the_rows_without_a_polygon_and_delays_the_rest() {
+    let dir = fresh_dir("wear-explore-saturated");
+    std::fs::create_dir_all(&dir).unwrap();
+    let study = dir.join("s.toml");
+    std::fs::write(
+        &study,
+        "name = \"w\"\nsamples = 48\nchunk_size = 48\n[params]\nwear_share_straight = 0.28\nspeed_spread_kmh = 5\nspeed_kmh = { dist = \"uniform\", min = 100, max = 130 }\ntoe_deg = { dist = \"uniform\", min = 0.4, max = 0.6 }\n",
+    )
+    .unwrap();
+    let (life, saturated) = (dir.join("life"), dir.join("saturated"));
+    let (code, stderr) = explore(&study, &life, &["--wear-estimate", "tread_life"]);
+    assert_eq!(code, 0, "{stderr}");
+    let (code, stderr) = explore(
+        &study,
+        &saturated,
+        &["--wear-estimate", "tread_life_saturated"],
+    );
+    assert_eq!(code, 0, "{stderr}");
+    let manifest = std::fs::read_to_string(saturated.join("_manifest.json")).unwrap();
+    assert!(
+        manifest.contains("\"wear_estimate\": \"tread_life_saturated\""),
+        "{manifest}"
+    );
+    let answers = |out: &std::path::Path| -> Vec<(f64, f64, f64)> {
+        rows(&first_chunk(out))
+            .iter()
+            .map(|r| {
+                (
+                    float(&r["distance_to_visible_km"]),
+                    float(&r["polygon_order_wear"]),
+                    float(&r["wear_peak_share_of_visible"]),
+                )
+            })
+            .collect()
+    };
+    let (plain, bounded) = (answers(&life), answers(&saturated));
+    assert_eq!(plain.len(), bounded.len());
+    let (mut with_polygon, mut later) = (0, 0);
+    for (i, (a, b)) in plain.iter().zip(&bounded).enumerate() {
+        if a.0.is_finite() {
+            with_polygon += 1;
+            assert!(
+                b.0.is_infinite() || b.0 >= 0.95 * a.0,
+                "row {i}: {b:?} against {a:?}"
+            );
+            if b.0 > 1.1 * a.0 {
+                later += 1;
+            }
+        } else {
+            assert!(
+                (a.0 == b.0 || (a.0.is_nan() && b.0.is_nan()))
+                    && (a.1 == b.1 || (a.1.is_nan() && b.1.is_nan())),
+                "row {i}: {b:?} against {a:?}"
+            );
+        }
+    }
+    assert!(
+        with_polygon >= 5 && later >= 2,
+        "{with_polygon} polygons, {later} later"
+    );
+}
+
 /// The answer's level is a setting (`--wear-estimate`, the study's `wear_estimate`; over the
 /// tread's life by default): the run records it, its rows differ from the new tire's, a resume
 /// keeps it and refuses the other, and a misspelt or contradicted one is refused before any

@@ -1208,6 +1208,53 @@ fn saturated_on_the_loop_s_legs_agrees_where_the_life_reading_is_short() {
     }
 }
 
+/// The `tread_life_saturated` level against the loop at a highway point with a speed spread
+/// (MODEL.md#the-forced-response-saturates): 130 km/h, 0.50° toe-in, σ_V = 5 km/h, φ_s = 0.25,
+/// the loop on its default 5 legs. The follower's polygon comes after 11,839 km (15 sides); the
+/// answer over the tread's life says 8,183 km (at least 25% short), and the saturated level,
+/// each of its 40 legs printing at most what sliding can modulate, 11,532 km: within 25% and
+/// one order. The driving wheel's tire wears out first in the loop, and the level says none.
+#[test]
+fn the_saturated_level_agrees_with_the_loop_at_a_spread_where_the_life_level_is_short() {
+    use polywear::long_term::{solve, LongTermProblem};
+    let p = Params {
+        speed_kmh: 130.0,
+        toe_deg: 0.5,
+        wear_share_straight: 0.25,
+        speed_spread_kmh: 5.0,
+        ..Params::default()
+    };
+    let problem = LongTermProblem::new(
+        p,
+        V,
+        cruise_legs(p.speed_kmh, p.speed_spread_kmh, 5),
+        LoopSettings::default(),
+        ClassifierOptions::default(),
+    )
+    .unwrap();
+    let s = solve(&problem, &|_| {}).unwrap();
+    for w in &s.wheels {
+        let life = w.life.unwrap().answer;
+        let saturated = w.life_saturated.unwrap().answer;
+        let here = format!("{}: life {life:?}, saturated {saturated:?}", w.wheel);
+        match (w.wheel, w.run.as_ref().unwrap().ended()) {
+            (Wheel::Follower, RunEnd::Visible { order, km }) => {
+                assert!(life.distance_to_visible_km < 0.75 * km, "{here}, loop {km}");
+                let ratio = saturated.distance_to_visible_km / km;
+                assert!((0.75..=1.25).contains(&ratio), "{here}, loop {km}");
+                assert!(
+                    (saturated.polygon_order_wear - order as f64).abs() <= 1.0,
+                    "{here}, loop order {order}"
+                );
+            }
+            (Wheel::Driving, RunEnd::WornOut { .. }) => {
+                assert!(saturated.distance_to_visible_km.is_infinite(), "{here}");
+            }
+            (_, end) => panic!("{here}: the loop ended {end:?}"),
+        }
+    }
+}
+
 /// Which wheel wears polygonal on the level that agrees with the loop
 /// (MODEL.md#which-wheel-on-both-levels): over the default study at the shipped φ_s and k_d,
 /// with speed spreads of 2 and 5 km/h, more followers than driving wheels have a visible polygon

@@ -90,7 +90,8 @@ pub struct CycleArgs {
     /// default: the steps share one tread whose frequency rises as it wears, and every order it
     /// passes grows while it is near, until one is visible or the tire is worn out, as explore's
     /// default and `polywear wear`'s long-term loop) or new_tire (the new tire driving the
-    /// cycle for ever, the level the field calibration was fitted on)
+    /// cycle for ever, the level the field calibration was fitted on); tread_life_saturated is
+    /// refused here (a cycle's steps would each need their own saturated profile: not yet)
     #[arg(long, value_name = "LEVEL", value_parser = |s: &str| s.parse::<EstimateLevel>().map_err(|e| e.to_string()))]
     pub wear_estimate: Option<EstimateLevel>,
     /// The calibration band of the distance to a visible polygon: a file of calibrated sets of
@@ -308,6 +309,11 @@ fn wear_stage(args: &CycleArgs, base: &Params, variant: Variant) -> CliResult<Op
         estimate: args.wear_estimate.unwrap_or_default(),
         ..args.wear.settings()
     };
+    if settings.estimate == EstimateLevel::TreadLifeSaturated {
+        return Err(CliError(
+            "--wear-estimate tread_life_saturated: not available on a drive cycle yet (each step's print would saturate on its own, so the steps' profiles cannot be summed); accepted here: tread_life, new_tire".into(),
+        ));
+    }
     WearStage::for_run(base, variant, settings, &ClassifierOptions::default())
         .map(Some)
         .map_err(|e| CliError(format!("the wear stage: {e} (leave it out with --no-wear)")))

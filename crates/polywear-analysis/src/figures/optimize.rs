@@ -90,6 +90,9 @@ pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
         Some(EstimateLevel::TreadLife) => lines.push(
             "wear answered over the tread's life (wear_estimate = \"tread_life\"); the calibration band's sets were fitted on the new tire's answers".into(),
         ),
+        Some(EstimateLevel::TreadLifeSaturated) => lines.push(
+            "wear answered over the tread's life with each speed's print saturated (wear_estimate = \"tread_life_saturated\"); the calibration band's sets were fitted on the new tire's answers".into(),
+        ),
         Some(EstimateLevel::NewTire) => lines.push(
             "wear answered as the new tire cruising for ever (wear_estimate = \"new_tire\"), the level the field calibration was fitted on; the long-term loop contradicts it at highway points".into(),
         ),

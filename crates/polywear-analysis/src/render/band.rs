@@ -74,7 +74,7 @@ pub fn paired_words(p: &PairedBand, sets: usize) -> String {
 pub fn about(b: &CalibrationBand, level: EstimateLevel) -> String {
     let fitted_on = match level {
         EstimateLevel::NewTire => "",
-        EstimateLevel::TreadLife => {
+        EstimateLevel::TreadLife | EstimateLevel::TreadLifeSaturated => {
             "; fitted on the new tire's answers, not on this run's over the tread's life"
         }
     };

@@ -169,6 +169,11 @@ pub fn lines(
             };
             for (label, reading, note) in [
                 ("life     ", &w.life, ""),
+                (
+                    "life, saturated",
+                    &w.life_saturated,
+                    " (the tread_life_saturated level)",
+                ),
                 ("saturated", &w.saturated, saturated.as_str()),
             ] {
                 out.push(match reading {

@@ -94,6 +94,10 @@ fn print_wear(a: &Analysis, lines: &mut Vec<String>) {
             "over the tread's life at each sample's operating point (wear_estimate = tread_life)",
             "fitted to the field on the new tire's answers",
         ),
+        EstimateLevel::TreadLifeSaturated => (
+            "over the tread's life, each speed's print saturated, at each sample's operating point (wear_estimate = tread_life_saturated)",
+            "fitted to the field on the new tire's answers",
+        ),
     };
     lines.push(format!(
         "P(visible polygonal wear within X km, before the tire is worn out), {how} (phi_s = {}, sigma_V = {} km/h, {fitted}), with 95% Wilson interval:",

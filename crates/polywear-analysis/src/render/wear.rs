@@ -169,6 +169,16 @@ fn meaning(s: &mut String, a: &Analysis, w: &WearAnalysis) {
              after 25,000–40,000 km (MODEL.md#fitted-over-the-treads-life). The new tire's \
              answer, which the constants were fitted on, is `--wear-estimate new_tire`."
         }
+        EstimateLevel::TreadLifeSaturated => {
+            "**These distances are over the tread's life, each speed's print saturated** \
+             (`wear_estimate = \"tread_life_saturated\"`): as over the tread's life, with the \
+             speed spread driven on 40 legs and a deep order's print at each held to what \
+             sliding friction can modulate (MODEL.md#the-forced-response-saturates). It is \
+             never earlier than the default level, and within 25% of the long-term loop where \
+             the default is 30–84% short at fast wear. The constants and the calibration band \
+             were fitted on the new tire's answers, not on these; **on this level too the model \
+             disagrees with the field**: its polygons come before about 25,000 km or not at all."
+        }
     };
     let _ = writeln!(
         s,

@@ -109,10 +109,12 @@ impl LongTermSolution {
                 cols.push(Column::f64(name, unit, est(&get)));
             }
             // The estimator over the tread's life (MODEL.md#the-estimator-over-the-treads-life),
-            // and the same saturated per leg (MODEL.md#the-forced-response-saturates).
+            // the same with each speed saturated (the `tread_life_saturated` level), and saturated
+            // on the loop's own legs (MODEL.md#the-forced-response-saturates).
             type Reading = fn(&WheelLongTerm) -> Option<&crate::wear::LifeAnswer>;
-            let readings: [(&str, Reading); 2] = [
+            let readings: [(&str, Reading); 3] = [
                 ("life", |w| w.life.as_ref()),
+                ("life_saturated", |w| w.life_saturated.as_ref()),
                 ("saturated", |w| w.saturated.as_ref()),
             ];
             for (level, reading) in readings {

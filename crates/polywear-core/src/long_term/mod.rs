@@ -180,6 +180,10 @@ pub struct WheelLongTerm {
     /// (MODEL.md#the-estimator-over-the-treads-life); `None` where the wheel has no wear
     /// figures.
     pub life: Option<LifeAnswer>,
+    /// The per-sample estimator over the tread's life with each speed's print saturated (the
+    /// `tread_life_saturated` level, MODEL.md#the-forced-response-saturates): the point's
+    /// spread on the estimator's own legs; `None` where the wheel has no wear figures.
+    pub life_saturated: Option<LifeAnswer>,
     /// The answer over the tread's life on the loop's own legs, each leg's print saturating on
     /// its own (MODEL.md#the-forced-response-saturates): the reading that accounts for the
     /// loop's deep, constant prints, measured beside it and not yet the shipped estimate;
@@ -266,12 +270,14 @@ pub fn solve(
                 Ok((run, tongue)) => (Ok(run), tongue),
                 Err(e) => (Err(e), Err(WheelRunFailure::NoRun)),
             };
-            let life = WheelGrowth::new(
+            let growth = WheelGrowth::new(
                 &stage.inputs(&p, &solution),
                 &Meter::new(problem.classifier.budget),
             )
-            .ok()
-            .map(|g| g.life_answer(&FittedConstants::of(&p)));
+            .ok();
+            let c = FittedConstants::of(&p);
+            let life = growth.as_ref().map(|g| g.life_answer(&c));
+            let life_saturated = growth.as_ref().map(|g| g.saturated_answer(&c));
             let saturated = saturated_on_legs(problem, &stage, Wheel::BOTH[i]);
             WheelLongTerm {
                 wheel: Wheel::BOTH[i],
@@ -279,6 +285,7 @@ pub fn solve(
                 run,
                 tongue,
                 life,
+                life_saturated,
                 saturated,
             }
         })

@@ -28,10 +28,12 @@ use crate::wear::spread::NormalSpeeds;
 use crate::wear::transfer::PoleExpansion;
 
 mod profile;
+mod saturated;
 pub use profile::{
     answer_saturated_per_step, LifeProfile, PiecewiseRate, SpeedTerm, LIFE_PROFILE_INTERVALS,
     SLIDING_MODULATION_MAX,
 };
+pub use saturated::SATURATED_SPEED_LEGS;
 
 /// Points of the table of f₀/f over the usable depth the worn depth's polynomial is fitted
 /// through (17 give it within 2.5·10⁻⁷ of the usable depth of the ageing law, as 33 do).

@@ -41,7 +41,7 @@ use crate::params::Params;
 mod life;
 pub use life::{
     answer_saturated_per_step, LifeAnswer, LifeProfile, PiecewiseRate, SpeedTerm,
-    LIFE_PROFILE_INTERVALS, SLIDING_MODULATION_MAX,
+    LIFE_PROFILE_INTERVALS, SATURATED_SPEED_LEGS, SLIDING_MODULATION_MAX,
 };
 
 /// A share of the spread inside the tongue below which the locked print is left out (its
@@ -77,12 +77,22 @@ crate::named_enum! {
         /// one is visible or the tire is worn out ([`WheelGrowth::life_answer`]). The shipped
         /// default: the level that agrees with the long-term loop (one answer, issue 40).
         TreadLife,
+        /// Over the tread's life with each speed's forced response saturated: the spread
+        /// driven on 40 legs, each order's print held to m_max · 2 w′ |H_w| at each
+        /// ([`WheelGrowth::saturated_answers_with`], MODEL.md#the-forced-response-saturates).
+        /// Never earlier than `TreadLife`; within 25% of the long-term loop at φ_s = 1 where
+        /// `TreadLife` is 30–84% short.
+        TreadLifeSaturated,
     }
 }
 
 impl EstimateLevel {
     /// Every level, in the order of the declaration.
-    pub const ALL: [EstimateLevel; 2] = [EstimateLevel::NewTire, EstimateLevel::TreadLife];
+    pub const ALL: [EstimateLevel; 3] = [
+        EstimateLevel::NewTire,
+        EstimateLevel::TreadLife,
+        EstimateLevel::TreadLifeSaturated,
+    ];
     /// The level every command uses unless told otherwise.
     pub const DEFAULT: EstimateLevel = EstimateLevel::TreadLife;
 
@@ -94,6 +104,9 @@ impl EstimateLevel {
             }
             EstimateLevel::TreadLife => {
                 "over the tread's life: every order the tread frequency passes as the tread wears, until one is visible or the tire is worn out (agrees with the long-term loop)"
+            }
+            EstimateLevel::TreadLifeSaturated => {
+                "over the tread's life with each speed's print saturated: the speed spread on 40 legs, a deep order's print at each held to what sliding friction can modulate (agrees with the long-term loop where the wear is fast)"
             }
         }
     }
@@ -402,12 +415,18 @@ impl WheelGrowth {
 
     /// The wheel's answers under every set of `sets` on `level`, as [`estimate`] gives a
     /// sample whose constants are the set's: [`WheelGrowth::answers_with`] for the new tire,
-    /// the answers of [`WheelGrowth::life_answers_with`] over the tread's life.
+    /// the answers of [`WheelGrowth::life_answers_with`] over the tread's life, and of
+    /// [`WheelGrowth::saturated_answers_with`] saturated.
     pub fn answers_on(&self, level: EstimateLevel, sets: &[FittedConstants]) -> Vec<WearAnswer> {
         match level {
             EstimateLevel::NewTire => self.answers_with(sets),
             EstimateLevel::TreadLife => self
                 .life_answers_with(sets)
+                .into_iter()
+                .map(|a| a.answer)
+                .collect(),
+            EstimateLevel::TreadLifeSaturated => self
+                .saturated_answers_with(sets)
                 .into_iter()
                 .map(|a| a.answer)
                 .collect(),
@@ -833,8 +852,13 @@ pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
         }
         // The order visible first over the tread's life (or the deepest), with the new tire's
         // growth of it in the growth columns.
-        EstimateLevel::TreadLife => {
-            let life = growth.life_answer(&FittedConstants::of(p));
+        EstimateLevel::TreadLife | EstimateLevel::TreadLifeSaturated => {
+            let c = FittedConstants::of(p);
+            let life = if inputs.settings.estimate == EstimateLevel::TreadLife {
+                growth.life_answer(&c)
+            } else {
+                growth.saturated_answer(&c)
+            };
             let top = growth.order(life.answer.polygon_order_wear as u32);
             (
                 top,

@@ -198,14 +198,45 @@ impl WheelGrowth {
     /// tongue |x − ν| ≤ δ_n in orders), the locked print replaces the loop over the depths
     /// that put x there, exactly.
     pub fn life_profile(&self, max_order: u32, intervals: usize) -> LifeProfile {
-        self.life_profile_with(max_order, intervals, true)
+        self.life_profile_with(1, max_order, intervals, true)
     }
 
     /// [`WheelGrowth::life_profile`], the orders far from every resonance by their cubic
     /// between every [`COARSE`]-th point where `coarse` (else every point exactly: what the
     /// cubic is tested against).
-    fn life_profile_with(&self, max_order: u32, intervals: usize, coarse: bool) -> LifeProfile {
+    fn life_profile_with(
+        &self,
+        from_order: u32,
+        max_order: u32,
+        intervals: usize,
+        coarse: bool,
+    ) -> LifeProfile {
         let drift = TreadDrift::of(&self.params, &self.patch);
+        let lo = from_order.max(1) as f64 * drift.at_end().min(1.0);
+        let transfer = TransferNodes::new(self, lo, max_order as f64, 0.0, Nodes::Adaptive);
+        self.life_profile_on(
+            &drift, &transfer, 1.0, from_order, max_order, intervals, coarse,
+        )
+    }
+
+    /// [`WheelGrowth::life_profile_with`] of the wheel's own model read at `speed_scale` times
+    /// its speed, from `transfer`, the nodes of its own transfer with no spread: the leg's
+    /// transfer at order x is the wheel's at x·q (ω = x v/r_B), so it is read there, and the
+    /// moments' weights take q^{−(m+1)} (∫ (y/q)^m G(y) dy/q); ν is ν₀/q, and the tongue's band
+    /// of speeds is the wheel's. `transfer` must span \[`from_order`·f₀/f_end·q,
+    /// `max_order`·q\]. With q = 1 it is the wheel's own profile, bit for bit.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn life_profile_on(
+        &self,
+        drift: &TreadDrift,
+        transfer: &TransferNodes,
+        speed_scale: f64,
+        from_order: u32,
+        max_order: u32,
+        intervals: usize,
+        coarse: bool,
+    ) -> LifeProfile {
+        let q = speed_scale;
         let slope = drift.slope_coefficients();
         let end = drift.at_end();
         let usable = drift.usable_m;
@@ -214,15 +245,21 @@ impl WheelGrowth {
         // f₀/f at each depth of the grid: the drift's polynomial inverted (it falls with the
         // depth), so that the depths and the integrals' weights are one function.
         let ratios: Vec<f64> = (0..points).map(|j| drift.ratio_at(depth(j))).collect();
-        let transfer =
-            TransferNodes::new(self, end.min(1.0), max_order as f64, 0.0, Nodes::Adaptive);
-        let nu = self.nu();
-        let v = self.speed_mps;
-        let resonances: Vec<f64> = self.resonance_orders().collect();
+        let nu = self.nu() / q;
+        let v = self.speed_mps * q;
+        let resonances: Vec<f64> = self.resonance_orders().map(|r| r / q).collect();
         let mut integrals = Vec::with_capacity(max_order as usize * points);
         let mut base_per_share = Vec::with_capacity(max_order as usize);
         let mut full_print_per_share = Vec::with_capacity(max_order as usize);
-        for (n, (zone, forcing)) in (1..=max_order).zip(self.feedback.zones_and_forcings(1)) {
+        let from_order = from_order.clamp(1, max_order.max(1));
+        for _ in 1..from_order.min(max_order + 1) {
+            integrals.extend(std::iter::repeat_n(0.0, points));
+            base_per_share.push(0.0);
+            full_print_per_share.push(0.0);
+        }
+        for (n, (zone, forcing)) in
+            (from_order..=max_order).zip(self.feedback.zones_and_forcings(from_order))
+        {
             let order = n as f64;
             let order_loop = self.order_loop(zone, forcing, 1.0, 0.0);
             base_per_share.push(order_loop.base_per_m);
@@ -230,10 +267,11 @@ impl WheelGrowth {
             // The weights of the moments: ∫_x^n Ḡ (−dw/dx′) dx′ = Σ_m −e_m/n^{m+1} (M_m(n) −
             // M_m(x)).
             let mut weight = [Complex64::new(0.0, 0.0); WORN_DEGREE];
-            let mut power = 1.0 / order;
+            let scaled = order * q;
+            let mut power = 1.0 / scaled;
             for (c, &e) in weight.iter_mut().zip(&slope) {
                 *c = order_loop.through_per_m * (-e * power);
-                power /= order;
+                power /= scaled;
             }
             let weigh = |m: &[Complex64; WORN_DEGREE]| {
                 weight
@@ -241,12 +279,12 @@ impl WheelGrowth {
                     .zip(m)
                     .fold(0.0, |acc, (c, m)| acc + (c * m).re)
             };
-            let at_start = weigh(&transfer.point(order).1);
+            let at_start = weigh(&transfer.point(scaled).1);
             // ∫₀^w of the linear loop, from the moments at x = n·f₀/f at w.
             let linear_from = |w: f64, m: &[Complex64; WORN_DEGREE]| {
                 order_loop.base_per_m * w + at_start - weigh(m)
             };
-            let linear = |w: f64, x: f64| linear_from(w, &transfer.point(x).1);
+            let linear = |w: f64, x: f64| linear_from(w, &transfer.point(x * q).1);
             // The tongue in depth: where |x − ν| ≤ δ_n (x falls as w grows), and the locked
             // print's rate there.
             let (_, half_mps) = self.tongue_mps(order, forcing, self.seed_m);
@@ -283,7 +321,7 @@ impl WheelGrowth {
                 let mut before: Option<(f64, f64)> = None;
                 for (j, &r) in ratios.iter().enumerate().step_by(COARSE) {
                     let (w, x) = (depth(j), order * r);
-                    let (g, moments) = transfer.point_below(x, &mut hint);
+                    let (g, moments) = transfer.point_below(x * q, &mut hint);
                     let value = linear_from(w, &moments);
                     let slope = order_loop.linear_per_m(g);
                     if let Some((value_before, slope_before)) = before {
@@ -306,7 +344,7 @@ impl WheelGrowth {
             }
             for (j, &r) in ratios.iter().enumerate() {
                 let (w, x) = (depth(j), order * r);
-                let mut total = linear_from(w, &transfer.point_below(x, &mut hint).1);
+                let mut total = linear_from(w, &transfer.point_below(x * q, &mut hint).1);
                 if let Some(((w_in, x_in), (w_out, x_out))) = tongue {
                     if w > w_in && w_out > w_in {
                         let (w_to, x_to) = if w < w_out { (w, x) } else { (w_out, x_out) };
@@ -502,11 +540,47 @@ pub fn answer_saturated_per_step(
     let intervals = like.intervals;
     let dw = like.usable_m / intervals as f64;
     let ds = dw / wear;
+    // Each order unsaturated, from the mean profile: where it first reaches the visible depth
+    // (in metres) and its largest ln(D/2R⁰). The saturated order is never earlier or deeper,
+    // so an order that cannot beat the answer so far is not driven, and the order visible
+    // first unsaturated is driven first; the answer is that of driving every order in turn.
+    let mean_other =
+        (1.0 - phi) * (mean.other_per_share.0 + c.wear_rate_driven_factor * mean.other_per_share.1);
+    let unsaturated: Vec<(Option<f64>, f64)> = (1..=like.max_order)
+        .map(|n| {
+            let log = |j: usize| (phi * mean.integral(n, j) - mean_other * dw * j as f64) / wear;
+            let (mut before, mut peak) = (0.0_f64, 0.0_f64);
+            for j in 1..=intervals {
+                let now = log(j);
+                if now >= target {
+                    let at = (j as f64 - 1.0 + (target - before) / (now - before)) * ds;
+                    return (Some(at), target.max(peak));
+                }
+                peak = peak.max(now);
+                before = now;
+            }
+            (None, peak)
+        })
+        .collect();
+    let leader = (1..=like.max_order)
+        .filter_map(|n| unsaturated[n as usize - 1].0.map(|at| (at, n)))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, n)| n);
     let mut first: Option<(f64, u32)> = None;
     let mut deepest = (f64::NEG_INFINITY, 1);
     let mut terms = Vec::with_capacity(steps.len());
-    for n in 1..=like.max_order {
+    // (Within a relative 10⁻⁹: where no knot is reached the two are one value, rounded twice.)
+    let rest = (1..=like.max_order).filter(|&n| Some(n) != leader);
+    for n in leader.into_iter().chain(rest) {
         let k = n as usize - 1;
+        let hopeless = match (first, unsaturated[k]) {
+            (Some((m, _)), (at, _)) => at.is_none_or(|at| at > m * (1.0 + 1e-9)),
+            (None, (None, peak)) => peak + 1e-9 < deepest.0,
+            (None, (Some(_), _)) => false,
+        };
+        if hopeless {
+            continue;
+        }
         // What each step gives this order at every depth: its share, levelling and bound;
         // only the growth through the tread moves along the grid.
         terms.clear();
@@ -530,7 +604,7 @@ pub fn answer_saturated_per_step(
             let (end, cross) = PiecewiseRate::of_terms(&terms).evolve(u, ds, visible);
             if let Some(t) = cross {
                 let at = s + t;
-                if first.is_none_or(|(m, _)| at < m) {
+                if first.is_none_or(|(m, o)| at < m || (at == m && n < o)) {
                     first = Some((at, n));
                 }
                 peak = visible;
@@ -543,8 +617,9 @@ pub fn answer_saturated_per_step(
                 break;
             }
         }
-        if peak.ln() > deepest.0 {
-            deepest = (peak.ln(), n);
+        let log_peak = peak.ln();
+        if log_peak > deepest.0 || (log_peak == deepest.0 && n < deepest.1) {
+            deepest = (log_peak, n);
         }
     }
     LifeAnswer::of_walk(
@@ -557,7 +632,7 @@ pub fn answer_saturated_per_step(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::classify::budget::Meter;
     use crate::classify::ClassifierOptions;
@@ -569,7 +644,11 @@ mod tests {
 
     /// One wheel's closed loop at the point `p`, the wear stage calibrated as `cal`, and whether
     /// its tread vibrates.
-    fn growth_at(p: &Params, cal: &Calibration, wheel: Wheel) -> (WheelGrowth, bool) {
+    pub(in crate::wear::estimator::life) fn growth_at(
+        p: &Params,
+        cal: &Calibration,
+        wheel: Wheel,
+    ) -> (WheelGrowth, bool) {
         let opts = ClassifierOptions::default();
         let w = solve_wheel(*p, Variant::SlidingShare, wheel, &opts);
         let g = WheelGrowth::new(
@@ -744,8 +823,8 @@ mod tests {
             };
             for wheel in Wheel::BOTH {
                 let (g, vibrates) = growth_at(&p, &cal, wheel);
-                let fast = g.life_profile_with(64, LIFE_PROFILE_INTERVALS, true);
-                let exact = g.life_profile_with(64, LIFE_PROFILE_INTERVALS, false);
+                let fast = g.life_profile_with(1, 64, LIFE_PROFILE_INTERVALS, true);
+                let exact = g.life_profile_with(1, 64, LIFE_PROFILE_INTERVALS, false);
                 let wear = fast.tread_wear_m_per_m(&FittedConstants {
                     wear_share_straight: 1.0,
                     ..FittedConstants::of(&p)

@@ -1,0 +1,368 @@
+//! The answer over the tread's life with each speed's forced response saturated
+//! (MODEL.md#the-forced-response-saturates): the `saturated` estimate level.
+//!
+//! The answer over the tread's life averages the tread's transfer over the speed spread (Ḡ)
+//! before it forms an order's growth, and lets that growth print without bound. A deep order
+//! prints at most m_max · 2 w′ |H_w| at each speed, so the spread is driven here as the
+//! long-term loop drives it: equal shares of the distance at the spread's quantiles, each leg
+//! the sample's own model read at the leg's speed (its transfer at ω = x v/r_B and ν ∝ 1/v, as
+//! Ḡ reads them), each order's print held to the bound at each leg on its own
+//! ([`answer_saturated_per_step`]).
+//!
+//! The saturated answer is never earlier and never deeper than the unsaturated one of the same
+//! legs (tested), so the plain answer screens: a set under which no order is visible keeps the
+//! plain answer, and only the wheels with a polygon pay for the legs.
+
+use super::{
+    answer_saturated_per_step, LifeAnswer, LifeProfile, Nodes, TransferNodes, TreadDrift,
+    LIFE_PROFILE_INTERVALS, SLIDING_MODULATION_MAX,
+};
+use crate::wear::estimator::{per_spread, WheelGrowth};
+use crate::wear::fitted::FittedConstants;
+use crate::wear::legs::cruise_legs;
+
+/// Legs of the speed spread the saturated answer drives: the long-term loop's spreads settle
+/// from about 40 (`polywear wear --speed-nodes 40`; at 110 km/h, σ_V = 5 km/h the loop moves
+/// by 14% and 16% from 5 legs to 40).
+pub const SATURATED_SPEED_LEGS: usize = 40;
+
+/// The lowest leg speed, as a share of the sample's: a spread wide enough to put a quantile
+/// below it (σ_V above about 0.4 V at 40 legs) has those legs held there.
+const LOWEST_LEG_SHARE: f64 = 0.05;
+
+impl WheelGrowth {
+    /// The legs of a spread of `spread_mps` \[m/s\]: [`SATURATED_SPEED_LEGS`] equal shares at
+    /// its quantiles (the speed itself without a spread), each with its profile over the
+    /// tread's life on one grid of orders, from the lowest order ν passes at the fastest leg to
+    /// the highest at the slowest. Each leg is the wheel's own model read at the leg's speed
+    /// v = q V: its transfer at ω = x v/r_B, ν = ν₀/q; the tongue's band of speeds, the
+    /// powers and the zone's feedback are the sample's, as the spread's mean Ḡ takes them
+    /// (MODEL.md#the-speed-spread). One set of nodes of the transfer serves every leg
+    /// (`WheelGrowth::life_profile_on`).
+    pub fn spread_leg_profiles(&self, spread_mps: f64) -> Vec<(f64, LifeProfile)> {
+        let v = self.speed_mps;
+        let legs = cruise_legs(v * 3.6, spread_mps * 3.6, SATURATED_SPEED_LEGS);
+        let scales: Vec<(f64, f64)> = legs
+            .iter()
+            .map(|l| (l.share, (l.speed_kmh / 3.6 / v).max(LOWEST_LEG_SHARE)))
+            .collect();
+        let (slowest, fastest) = scales
+            .iter()
+            .fold((f64::INFINITY, 0.0_f64), |(lo, hi), &(_, q)| {
+                (lo.min(q), hi.max(q))
+            });
+        let drift = TreadDrift::of(&self.params, &self.patch);
+        let end = drift.at_end().min(1.0);
+        let nu = self.nu();
+        let from = ((nu / fastest).floor() - 2.0).max(1.0) as u32;
+        let to = ((nu / slowest / end).ceil() + 2.0).max(from as f64) as u32;
+        let transfer = TransferNodes::new(
+            self,
+            from as f64 * end * slowest,
+            to as f64 * fastest,
+            0.0,
+            Nodes::Adaptive,
+        );
+        scales
+            .into_iter()
+            .map(|(share, q)| {
+                let profile = self.life_profile_on(
+                    &drift,
+                    &transfer,
+                    q,
+                    from,
+                    to,
+                    LIFE_PROFILE_INTERVALS,
+                    true,
+                );
+                (share, profile)
+            })
+            .collect()
+    }
+
+    /// [`WheelGrowth::life_answers_with`] with each leg's print saturated
+    /// ([`answer_saturated_per_step`], m_max = [`SLIDING_MODULATION_MAX`]) under every set of
+    /// `sets`: a set whose plain answer has no polygon keeps it (the saturated one is never
+    /// earlier or deeper), the others are driven on the legs of their spread, built once per
+    /// spread.
+    pub fn saturated_answers_with(&self, sets: &[FittedConstants]) -> Vec<LifeAnswer> {
+        let plain = self.life_answers_with(sets);
+        if plain
+            .iter()
+            .all(|a| !a.answer.distance_to_visible_km.is_finite())
+        {
+            return plain;
+        }
+        let mut next = plain.into_iter();
+        per_spread(
+            sets,
+            |spread_mps| {
+                (
+                    spread_mps,
+                    std::cell::OnceCell::<Vec<(f64, LifeProfile)>>::new(),
+                )
+            },
+            |(spread_mps, legs), c| {
+                let plain = next.next().expect("one plain answer per set");
+                if !plain.answer.distance_to_visible_km.is_finite() {
+                    return plain;
+                }
+                let legs = legs.get_or_init(|| self.spread_leg_profiles(*spread_mps));
+                let steps: Vec<(f64, &LifeProfile)> = legs.iter().map(|(a, p)| (*a, p)).collect();
+                let mut bounded =
+                    answer_saturated_per_step(&steps, c, &self.params, SLIDING_MODULATION_MAX);
+                // The legs share the wheel's even wear: its tread's life is the plain answer's
+                // (the same sum, taken once rather than over the legs' shares).
+                bounded.answer.tread_life_km = plain.answer.tread_life_km;
+                bounded
+            },
+        )
+    }
+
+    /// [`WheelGrowth::saturated_answers_with`] of one set.
+    pub fn saturated_answer(&self, c: &FittedConstants) -> LifeAnswer {
+        self.saturated_answers_with(std::slice::from_ref(c))
+            .pop()
+            .expect("one set, one answer")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::profile::tests::growth_at;
+    use super::super::{PiecewiseRate, SpeedTerm};
+    use super::*;
+    use crate::classify::ClassifierOptions;
+    use crate::evaluate::calibrate_wear;
+    use crate::model::{Variant, Wheel};
+    use crate::params::Params;
+    use crate::wear::estimator::print_log_ratio;
+
+    /// Highway points at 0.45–0.6° toe-in with the calibration of the default point, both
+    /// wheels (stable and vibrating among them), with a speed spread.
+    fn highway_wheels(spread_kmh: f64) -> Vec<(String, Params, WheelGrowth)> {
+        let base = Params {
+            toe_deg: 0.45,
+            speed_spread_kmh: spread_kmh,
+            ..Params::default()
+        };
+        let cal =
+            calibrate_wear(&base, Variant::SlidingShare, &ClassifierOptions::default()).unwrap();
+        let mut out = Vec::new();
+        for (speed_kmh, toe_deg, share) in
+            [(110.0, 0.45, 1.0), (130.0, 0.5, 0.25), (93.0, 0.6, 0.5)]
+        {
+            let p = Params {
+                speed_kmh,
+                toe_deg,
+                wear_share_straight: share,
+                ..base
+            };
+            for wheel in Wheel::BOTH {
+                let here = format!("{speed_kmh} km/h {toe_deg}° phi_s {share} {wheel}");
+                out.push((here, p, growth_at(&p, &cal, wheel).0));
+            }
+        }
+        out
+    }
+
+    /// A leg read off the wheel's nodes at q·V is the wheel's model rebuilt at that speed (ν
+    /// and the speed set there, its own nodes laid afresh): the moments' q^{−(m+1)} and the
+    /// reads at x·q are what the rebuilt one's integrals give.
+    #[test]
+    fn a_leg_read_at_its_speed_is_the_model_rebuilt_there() {
+        for (here, _, g) in highway_wheels(5.0) {
+            let legs = g.spread_leg_profiles(5.0 / 3.6);
+            assert_eq!(legs.len(), SATURATED_SPEED_LEGS, "{here}");
+            let shares: f64 = legs.iter().map(|(a, _)| a).sum();
+            assert!((shares - 1.0).abs() < 1e-12, "{here}");
+            let speeds = cruise_legs(g.speed_mps * 3.6, 5.0, SATURATED_SPEED_LEGS);
+            for k in [0, 13, SATURATED_SPEED_LEGS - 1] {
+                let v = speeds[k].speed_kmh / 3.6;
+                let mut rebuilt = g.clone();
+                rebuilt.response.nu *= g.speed_mps / v;
+                rebuilt.speed_mps = v;
+                let profile = &legs[k].1;
+                let own = rebuilt.life_profile(profile.max_order, profile.intervals);
+                let first = (1..=profile.max_order)
+                    .find(|&n| profile.full_print_per_share[n as usize - 1] > 0.0)
+                    .unwrap();
+                let largest = (first..=profile.max_order)
+                    .flat_map(|n| (0..=profile.intervals).map(move |j| (n, j)))
+                    .map(|(n, j)| own.integral(n, j).abs())
+                    .fold(0.0, f64::max);
+                assert!(largest > 0.0, "{here}");
+                // Both take Ḡ linear between nodes 0.02 order apart near a resonance, laid over
+                // different spans: next to a vibrating wheel's lightly damped poles that is
+                // good to about 1.5% of the largest integral (a leg's q^{−(m+1)} left out moves
+                // them by q^{−5}, 0.6–1.7 over these legs).
+                for n in first..=profile.max_order {
+                    for j in 0..=profile.intervals {
+                        let (a, b) = (profile.integral(n, j), own.integral(n, j));
+                        assert!(
+                            (a - b).abs() <= 0.02 * largest,
+                            "{here} leg {k} order {n} point {j}: {a} against {b} (of {largest})"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// Unsaturated, the legs are a quadrature of the spread the answer over the tread's life
+    /// takes in closed form (Ḡ): the same polygon, its distance within 6%.
+    #[test]
+    fn the_legs_unsaturated_are_the_spread_s_mean() {
+        let mut compared = 0;
+        for (here, p, g) in highway_wheels(5.0) {
+            let c = FittedConstants::of(&p);
+            let plain = g.life_answer(&c).answer;
+            let legs = g.spread_leg_profiles(5.0 / 3.6);
+            let steps: Vec<(f64, &LifeProfile)> = legs.iter().map(|(a, pr)| (*a, pr)).collect();
+            let unbounded = answer_saturated_per_step(&steps, &c, &p, f64::INFINITY).answer;
+            let (a, b) = (
+                unbounded.distance_to_visible_km,
+                plain.distance_to_visible_km,
+            );
+            if b.is_finite() {
+                compared += 1;
+                assert!(
+                    (unbounded.polygon_order_wear - plain.polygon_order_wear).abs() <= 1.0,
+                    "{here}: {unbounded:?} against {plain:?}"
+                );
+                assert!((a - b).abs() <= 0.06 * b, "{here}: {a} km against {b} km");
+            } else {
+                assert!(
+                    a.is_infinite() || a > 0.9 * plain.tread_life_km,
+                    "{here}: {a} km"
+                );
+            }
+        }
+        assert!(compared >= 3, "only {compared} wheels with a polygon");
+    }
+
+    /// Every order driven in turn, as [`answer_saturated_per_step`] did before it left out
+    /// the orders that cannot beat its answer: the reference it must equal.
+    fn every_order(
+        steps: &[(f64, &LifeProfile)],
+        c: &FittedConstants,
+        p: &Params,
+        modulation_max: f64,
+    ) -> LifeAnswer {
+        let total: f64 = steps.iter().map(|(a, _)| a).sum();
+        let like = steps[0].1;
+        let mut mean = LifeProfile::zero(like.max_order, like.intervals, like.usable_m);
+        for &(a, profile) in steps {
+            mean.add(profile, a / total);
+        }
+        let wear = mean.tread_wear_m_per_m(c);
+        let target = print_log_ratio(p);
+        let tread_life = crate::wear::estimator::tread_life_km(
+            p,
+            wear * crate::wear::law::MM_PER_1000KM_PER_M_PER_M,
+        );
+        let seed_m = 2.0 * p.seed_runout_um * 1e-6;
+        let phi = c.wear_share_straight;
+        let dw = like.usable_m / like.intervals as f64;
+        let ds = dw / wear;
+        let (mut first, mut deepest): (Option<(f64, u32)>, (f64, u32)) =
+            (None, (f64::NEG_INFINITY, 1));
+        for n in 1..=like.max_order {
+            let k = n as usize - 1;
+            let (mut u, mut peak, mut s) = (1.0_f64, 1.0_f64, 0.0);
+            for j in 1..=like.intervals {
+                let terms: Vec<SpeedTerm> = steps
+                    .iter()
+                    .map(|&(a, pr)| {
+                        let other = (1.0 - phi)
+                            * (pr.other_per_share.0
+                                + c.wear_rate_driven_factor * pr.other_per_share.1);
+                        let base = phi * pr.base_per_share[k] - other;
+                        let rate =
+                            (phi * (pr.integral(n, j) - pr.integral(n, j - 1)) - other * dw) / dw;
+                        SpeedTerm {
+                            share: a / total,
+                            base_per_m: base,
+                            growth_per_m: rate - base,
+                            bound_per_m: phi * pr.full_print_per_share[k] * modulation_max / seed_m,
+                        }
+                    })
+                    .collect();
+                let (end, cross) = PiecewiseRate::of_terms(&terms).evolve(u, ds, target.exp());
+                if let Some(t) = cross {
+                    if first.is_none_or(|(m, _)| s + t < m) {
+                        first = Some((s + t, n));
+                    }
+                    peak = target.exp();
+                    break;
+                }
+                u = end;
+                peak = peak.max(u);
+                s += ds;
+            }
+            if peak.ln() > deepest.0 {
+                deepest = (peak.ln(), n);
+            }
+        }
+        LifeAnswer::of_walk(
+            first.map(|(at, n)| (at * 1e-3, n)),
+            deepest,
+            target,
+            tread_life,
+            1,
+        )
+    }
+
+    /// The saturated answer leaves out the orders that cannot beat it, and is that of driving
+    /// every order; it is never earlier or deeper than the legs unsaturated; where the plain
+    /// answer has no polygon the level keeps it.
+    #[test]
+    fn the_saturated_level_drives_only_what_can_change_its_answer() {
+        let mut slowed = 0;
+        for spread_kmh in [0.0, 5.0] {
+            for (here, p, g) in highway_wheels(spread_kmh) {
+                let c = FittedConstants::of(&p);
+                let legs = g.spread_leg_profiles(spread_kmh / 3.6);
+                let steps: Vec<(f64, &LifeProfile)> = legs.iter().map(|(a, pr)| (*a, pr)).collect();
+                let got = answer_saturated_per_step(&steps, &c, &p, SLIDING_MODULATION_MAX);
+                let want = every_order(&steps, &c, &p, SLIDING_MODULATION_MAX);
+                assert_eq!(
+                    got.answer.polygon_order_wear, want.answer.polygon_order_wear,
+                    "{here} sigma {spread_kmh}"
+                );
+                let (a, b) = (
+                    got.answer.distance_to_visible_km,
+                    want.answer.distance_to_visible_km,
+                );
+                assert!(
+                    a == b || (a - b).abs() <= 1e-9 * b,
+                    "{here} sigma {spread_kmh}: {a} {b}"
+                );
+                let (x, y) = (got.peak_share_of_visible, want.peak_share_of_visible);
+                assert!((x - y).abs() <= 1e-9, "{here} sigma {spread_kmh}: {x} {y}");
+                let unbounded = answer_saturated_per_step(&steps, &c, &p, f64::INFINITY);
+                assert!(
+                    a >= unbounded.answer.distance_to_visible_km,
+                    "{here} sigma {spread_kmh}"
+                );
+                let level = g.saturated_answer(&c);
+                let plain = g.life_answer(&c);
+                if plain.answer.distance_to_visible_km.is_finite() {
+                    // The tread's life is the plain answer's, the legs' sum of one even wear.
+                    let life_km = plain.answer.tread_life_km;
+                    let (x, y) = (got.answer.tread_life_km, life_km);
+                    assert!((x - y).abs() <= 1e-9 * y, "{here} sigma {spread_kmh}");
+                    let mut got = got;
+                    got.answer.tread_life_km = life_km;
+                    assert_eq!(level, got, "{here} sigma {spread_kmh}");
+                    if a > 1.2 * plain.answer.distance_to_visible_km {
+                        slowed += 1;
+                    }
+                } else {
+                    assert_eq!(level, plain, "{here} sigma {spread_kmh}");
+                }
+            }
+        }
+        assert!(slowed >= 4, "saturation moved only {slowed} wheels by 20%");
+    }
+}
