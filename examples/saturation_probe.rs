@@ -3,7 +3,8 @@
 //!
 //! - `cargo run --release --example saturation_probe -- M_MAX PHI_S`: steady points at 0.45°,
 //!   60, 93 and 110 km/h, no spread;
-//! - `... -- M_MAX PHI_S CYCLE.csv TOE`: a drive cycle's steps;
+//! - `... -- M_MAX PHI_S CYCLE.csv TOE`: a drive cycle's steps, each on its own and summed by
+//!   speed bins of 0.1, 0.25, 0.5 and 1 km/h (as `cycle --wear-estimate tread_life_saturated`);
 //! - `... -- M_MAX PHI_S spread V SIGMA K [TOE]`: a cruising spread as K equal-distance legs at
 //!   its quantiles, each with its own model, as the long-term loop drives it;
 //! - `... -- M_MAX PHI_S rows CSV SIGMA K`: every follower row of a CSV (explore's columns) so.
@@ -96,6 +97,7 @@ fn main() {
             let mut sum: Option<LifeProfile> = None;
             let mut total = 0.0;
             let mut steps: Vec<(f64, LifeProfile)> = Vec::new();
+            let mut speeds: Vec<f64> = Vec::new();
             for (i, &d) in km.iter().enumerate() {
                 if cycle.standstill(i) || d <= 0.0 {
                     continue;
@@ -110,12 +112,18 @@ fn main() {
                 })
                 .add(&life, d);
                 total += d;
+                speeds.push(p.speed_kmh);
                 steps.push((d, life));
             }
             let mut mean = sum.unwrap();
             mean.scale(1.0 / total);
             report(&format!("{path} {toe}° {wheel}"), &mean, &base);
             per_step(&steps, &base, m_max);
+            for width in [0.1, 0.25, 0.5, 1.0] {
+                let binned = by_speed(&steps, &speeds, width);
+                print!("  bins of {width} km/h ({}):", binned.len());
+                per_step(&binned, &base, m_max);
+            }
         }
         return;
     }
@@ -146,6 +154,27 @@ fn main() {
             );
         }
     }
+}
+
+/// The steps summed by speed bin of `width` km/h: each bin's distance and mean profile.
+fn by_speed(steps: &[(f64, LifeProfile)], speeds: &[f64], width: f64) -> Vec<(f64, LifeProfile)> {
+    let mut bins: std::collections::BTreeMap<i64, (f64, LifeProfile)> = Default::default();
+    for ((d, life), v) in steps.iter().zip(speeds) {
+        let bin = bins.entry((v / width).round() as i64).or_insert_with(|| {
+            (
+                0.0,
+                LifeProfile::zero(life.max_order, life.intervals, life.usable_m),
+            )
+        });
+        bin.0 += d;
+        bin.1.add(life, *d);
+    }
+    bins.into_values()
+        .map(|(d, mut sum)| {
+            sum.scale(1.0 / d);
+            (d, sum)
+        })
+        .collect()
 }
 
 /// Each step saturated on its own (MODEL.md#the-forced-response-saturates).

@@ -258,6 +258,28 @@ fn bad_cycles_exit_2_naming_file_row_and_column_before_any_work() {
         assert_eq!(code, 2, "{args:?}: {err}");
         assert!(err.contains(needle), "{args:?}: {err}");
     }
+    // The saturated level's speed bins over many structures would not fit: refused, naming
+    // the flag and how many structures fit, before any work.
+    let wltc = shipped("wltc_class3b.csv");
+    let study = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/default.toml");
+    let (code, _, err) = polywear(&[
+        "cycle",
+        wltc.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--study",
+        study.to_str().unwrap(),
+        "--structure-samples",
+        "100",
+        "--wear-estimate",
+        "tread_life_saturated",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--structure-samples") && err.contains("at most 38 structures"),
+        "{err}"
+    );
+    assert!(!out.exists(), "work started");
     std::fs::remove_dir_all(&d).ok();
 }
 

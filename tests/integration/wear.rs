@@ -793,7 +793,10 @@ fn field_calibration_holds() {
         estimate(&inputs, &Meter::new(opts.budget))
     };
     let estimate_at = |p: &Params, wheel: Wheel| estimate_on(EstimateLevel::NewTire, p, wheel);
-    assert_eq!(WearSettings::default().estimate, EstimateLevel::TreadLife);
+    assert_eq!(
+        WearSettings::default().estimate,
+        EstimateLevel::TreadLifeSaturated
+    );
     let median = |mut x: Vec<f64>| {
         x.sort_by(f64::total_cmp);
         x[x.len() / 2]

@@ -162,12 +162,29 @@ mod along_a_cycle {
     use crate::common::{fresh_dir, polywear};
     use polywear::classify::ClassifierOptions;
     use polywear::cycle::wear::{cycle_wear, step_growth};
-    use polywear::cycle::{classify_cycle, DriveCycle};
+    use polywear::cycle::{classify_cycle, ClassifiedCycle, DriveCycle};
     use polywear::evaluate::{self, PointProblem, WearStage};
     use polywear::model::Variant;
     use polywear::params::Params;
     use polywear::wear::estimator::tread_life_km;
     use polywear::wear::{EstimateLevel, FittedConstants, WearSettings};
+
+    /// `c` classified with the wear stage `stage` on one thread and on two.
+    fn on_one_and_two_threads(
+        c: &DriveCycle,
+        p: &Params,
+        opts: &ClassifierOptions,
+        stage: &WearStage,
+    ) -> (ClassifiedCycle, ClassifiedCycle) {
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| classify_cycle(c, p, Variant::SlidingShare, opts, Some(stage)))
+        };
+        (on(1), on(2))
+    }
 
     fn cycle(name: &str, text: &str) -> DriveCycle {
         let dir = fresh_dir(name);
@@ -266,7 +283,7 @@ mod along_a_cycle {
         }
     }
 
-    /// Over the tread's life (the default level) a cycle held at one speed is explore's answer
+    /// Over the tread's life (`tread_life`) a cycle held at one speed is explore's answer
     /// over the tread's life at that point without a speed spread: the same order, the
     /// distance within 1% (the cycle's profile is read on a grid of the worn depth, the
     /// sample's on nodes of x), the same tread life; at points where a polygon becomes visible
@@ -283,10 +300,11 @@ mod along_a_cycle {
                 speed_spread_kmh: 0.0,
                 ..Params::default()
             };
-            let stage =
-                WearStage::for_run(&p, Variant::SlidingShare, WearSettings::default(), &opts)
-                    .unwrap();
-            assert_eq!(stage.settings.estimate, EstimateLevel::TreadLife);
+            let settings = WearSettings {
+                estimate: EstimateLevel::TreadLife,
+                ..WearSettings::default()
+            };
+            let stage = WearStage::for_run(&p, Variant::SlidingShare, settings, &opts).unwrap();
             let c = cycle(
                 &format!("wear-cycle-life-{speed_kmh}"),
                 &format!("time_s,speed_kmh\n0,{speed_kmh}\n600,{speed_kmh}\n1200,{speed_kmh}\n"),
@@ -327,14 +345,7 @@ mod along_a_cycle {
         let stage =
             WearStage::for_run(&p, Variant::SlidingShare, WearSettings::default(), &opts).unwrap();
         let c = DriveCycle::read(std::path::Path::new("data/cycles/hwfet.csv")).unwrap();
-        let on = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| classify_cycle(&c, &p, Variant::SlidingShare, &opts, Some(&stage)))
-        };
-        let (one, two) = (on(1), on(2));
+        let (one, two) = on_one_and_two_threads(&c, &p, &opts, &stage);
         assert!(one.life[0].as_ref().unwrap().known_km > 16.0);
         // Bit for bit (the records' NaNs are not equal to themselves): their debug texts.
         assert!(
@@ -342,6 +353,67 @@ mod along_a_cycle {
             "the profiles' sums differ with the thread count"
         );
         assert!(format!("{:?}", one.steps) == format!("{:?}", two.steps));
+    }
+
+    /// With each speed's print saturated (`tread_life_saturated`), a cycle's steps saturate on
+    /// their own: its answer is `answer_saturated_per_step` over every moving step's own profile
+    /// (its speed bins of 0.1 km/h hold one speed each here, and a repeated step the same
+    /// profile twice), at least 10% later than the summed profile's where the print saturates
+    /// (φ_s = 1, 0.45°: 22% and 16%); and its sums do not depend on the number of threads.
+    #[test]
+    fn a_saturated_cycle_is_its_steps_each_saturated_on_its_own() {
+        use polywear::wear::estimator::{answer_saturated_per_step, SLIDING_MODULATION_MAX};
+        use polywear::wear::LifeProfile;
+        let opts = ClassifierOptions::default();
+        let p = Params {
+            toe_deg: 0.45,
+            wear_share_straight: 1.0,
+            ..Params::default()
+        };
+        let settings = WearSettings {
+            estimate: EstimateLevel::TreadLifeSaturated,
+            ..WearSettings::default()
+        };
+        let stage = WearStage::for_run(&p, Variant::SlidingShare, settings, &opts).unwrap();
+        let speeds = [
+            88.0, 90.5, 93.0, 93.0, 95.5, 98.0, 101.0, 104.0, 104.0, 108.0,
+        ];
+        let mut text = String::from("time_s,speed_kmh\n");
+        for (i, v) in speeds.iter().enumerate() {
+            text.push_str(&format!("{},{v}\n", 60 * i));
+        }
+        text.push_str(&format!("{},0\n", 60 * speeds.len()));
+        let c = cycle("wear-cycle-saturated", &text);
+        let (one, two) = on_one_and_two_threads(&c, &p, &opts, &stage);
+        assert!(format!("{:?}", one.life) == format!("{:?}", two.life));
+        let km = c.step_km();
+        let mut slowed = 0;
+        for w in 0..2 {
+            let life = one.life[w].as_ref().expect("the life level");
+            let got = life.wear(&p, &FittedConstants::of(&p));
+            // Every moving step on its own, its profile from a point solved at its speed.
+            let profiles: Vec<(f64, LifeProfile)> = (0..c.len())
+                .filter(|&i| !c.standstill(i) && km[i] > 0.0)
+                .map(|i| {
+                    let q = c.step_params(&p, i);
+                    let s = evaluate::solve(&PointProblem::new(q, &[Variant::SlidingShare], &opts));
+                    let life = step_growth(&q, &s.wheels[w], &stage, &opts).life.unwrap();
+                    (km[i], life)
+                })
+                .collect();
+            let steps: Vec<(f64, &LifeProfile)> = profiles.iter().map(|(a, pr)| (*a, pr)).collect();
+            let c0 = FittedConstants::of(&p);
+            let want = answer_saturated_per_step(&steps, &c0, &p, SLIDING_MODULATION_MAX).answer;
+            let summed = answer_saturated_per_step(&steps, &c0, &p, f64::INFINITY).answer;
+            let here = format!("wheel {w}: {got:?} against {want:?}");
+            assert_eq!(got.dominant_order, want.polygon_order_wear, "{here}");
+            let (a, b) = (got.distance_to_visible_km, want.distance_to_visible_km);
+            assert!(a.is_finite() && (a - b).abs() <= 1e-9 * b, "{here}");
+            if a > 1.1 * summed.distance_to_visible_km {
+                slowed += 1;
+            }
+        }
+        assert_eq!(slowed, 2, "the print saturates on both wheels");
     }
 
     #[test]
@@ -603,7 +675,7 @@ fn the_estimate_level_is_recorded_kept_on_resume_and_refused_when_wrong() {
     assert_eq!(code, 0, "{stderr}");
     let manifest = std::fs::read_to_string(life.join("_manifest.json")).unwrap();
     assert!(
-        manifest.contains("\"wear_estimate\": \"tread_life\""),
+        manifest.contains("\"wear_estimate\": \"tread_life_saturated\""),
         "{manifest}"
     );
     let manifest = std::fs::read_to_string(new_tire.join("_manifest.json")).unwrap();
@@ -658,7 +730,7 @@ fn the_estimate_level_is_recorded_kept_on_resume_and_refused_when_wrong() {
     assert_eq!(code, 2);
     assert!(
         stderr.contains("--wear-estimate new_tire contradicts the run")
-            && stderr.contains("--wear-estimate tread_life"),
+            && stderr.contains("--wear-estimate tread_life_saturated"),
         "{stderr}"
     );
     let (code, _, stderr) =

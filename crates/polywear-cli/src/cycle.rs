@@ -24,6 +24,11 @@ use polywear_study::study::Study;
 /// Most tire structures `--structure-samples` accepts.
 const STRUCTURE_SAMPLES_MAX: u64 = 100_000;
 
+/// The most memory the `tread_life_saturated` level's speed bins may take, over every structure
+/// and both wheels (each bin one 66 KB profile a wheel: WLTC's 846 bins of 0.1 km/h are 112 MB
+/// a structure).
+const SATURATED_BINS_MAX_BYTES: u64 = 4 << 30;
+
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
     "Examples:\n",
@@ -86,12 +91,13 @@ pub struct CycleArgs {
     /// Leave the wear stage out: no distance to a visible polygon, no wear columns
     #[arg(long, conflicts_with_all = ["wear_zone", "wear_estimate"])]
     pub no_wear: bool,
-    /// Which answer the cycle's polygon gets (MODEL.md#along-a-drive-cycle): tread_life (the
-    /// default: the steps share one tread whose frequency rises as it wears, and every order it
-    /// passes grows while it is near, until one is visible or the tire is worn out, as explore's
-    /// default and `polywear wear`'s long-term loop) or new_tire (the new tire driving the
-    /// cycle for ever, the level the field calibration was fitted on); tread_life_saturated is
-    /// refused here (a cycle's steps would each need their own saturated profile: not yet)
+    /// Which answer the cycle's polygon gets (MODEL.md#along-a-drive-cycle):
+    /// tread_life_saturated (the default, as explore's: the steps share one tread whose
+    /// frequency rises as it wears, every order it passes grows while it is near, until one is
+    /// visible or the tire is worn out, and the steps summed by 0.1 km/h of speed each print at
+    /// most what sliding friction can modulate, MODEL.md#the-forced-response-saturates),
+    /// tread_life (the same with the print growing without bound) or new_tire (the new tire
+    /// driving the cycle for ever, the level the field calibration was fitted on)
     #[arg(long, value_name = "LEVEL", value_parser = |s: &str| s.parse::<EstimateLevel>().map_err(|e| e.to_string()))]
     pub wear_estimate: Option<EstimateLevel>,
     /// The calibration band of the distance to a visible polygon: a file of calibrated sets of
@@ -116,6 +122,22 @@ pub fn run(args: &CycleArgs) -> CliResult {
     // The band's file is read before any work; without the wear stage there is none.
     let band = super::common::calibration_band(args.calibration_band.as_deref())?;
     let wear = wear_stage(args, &request.base, request.variant)?;
+    if wear
+        .as_ref()
+        .is_some_and(|s| s.settings.estimate == EstimateLevel::TreadLifeSaturated)
+    {
+        let per_wheel = polywear_study::cycle::wear::saturated_bins_bytes(&request.cycle);
+        let bases = request.structures.bases.len() as u64;
+        let bytes = 2 * bases * per_wheel;
+        if bytes > SATURATED_BINS_MAX_BYTES {
+            let most = SATURATED_BINS_MAX_BYTES / (2 * per_wheel).max(1);
+            return Err(CliError(format!(
+                "--wear-estimate tread_life_saturated: {bases} structures would hold {:.1} GiB of speed bins on this cycle ({:.0} MB a structure); accepted: at most {most} structures (--structure-samples), or --wear-estimate tread_life",
+                bytes as f64 / (1u64 << 30) as f64,
+                (2 * per_wheel) as f64 / 1e6
+            )));
+        }
+    }
     if let Some(stage) = &wear {
         let stage = serde_json::to_string(stage).expect("json");
         request.metadata.push(("wear".into(), stage));
@@ -309,11 +331,6 @@ fn wear_stage(args: &CycleArgs, base: &Params, variant: Variant) -> CliResult<Op
         estimate: args.wear_estimate.unwrap_or_default(),
         ..args.wear.settings()
     };
-    if settings.estimate == EstimateLevel::TreadLifeSaturated {
-        return Err(CliError(
-            "--wear-estimate tread_life_saturated: not available on a drive cycle yet (each step's print would saturate on its own, so the steps' profiles cannot be summed); accepted here: tread_life, new_tire".into(),
-        ));
-    }
     WearStage::for_run(base, variant, settings, &ClassifierOptions::default())
         .map(Some)
         .map_err(|e| CliError(format!("the wear stage: {e} (leave it out with --no-wear)")))

@@ -92,16 +92,15 @@ pub struct ExploreArgs {
     pub no_wear: bool,
     #[command(flatten)]
     pub wear: WearReadingArgs,
-    /// Which answer each sample gets (MODEL.md#the-estimator-over-the-treads-life): tread_life
-    /// (the default: every order the tread frequency passes as the tread wears, until one is
-    /// visible or the tire is worn out, the level that agrees with `polywear wear`'s long-term
-    /// loop), tread_life_saturated (the same with the speed spread driven on 40 legs, a deep
-    /// order's print at each held to what sliding friction can modulate,
-    /// MODEL.md#the-forced-response-saturates: never earlier, and within 25% of the loop where
-    /// tread_life is 30-84% short at fast wear) or new_tire (the new tire cruising for ever, the
+    /// Which answer each sample gets (MODEL.md#the-estimator-over-the-treads-life):
+    /// tread_life_saturated (the default: every order the tread frequency passes as the tread
+    /// wears, until one is visible or the tire is worn out, the speed spread driven on 40 legs
+    /// and a deep order's print at each held to what sliding friction can modulate,
+    /// MODEL.md#the-forced-response-saturates; the level that agrees with `polywear wear`'s
+    /// long-term loop), tread_life (the same with the print growing without bound: 30-84% short
+    /// of the loop where the wear is fast) or new_tire (the new tire cruising for ever, the
     /// level the field calibration and its band were fitted on, which the loop contradicts at
-    /// highway points); a study can say
-    /// `wear_estimate = "..."`
+    /// highway points); a study can say `wear_estimate = "..."`
     #[arg(long, value_name = "LEVEL", value_parser = |s: &str| s.parse::<EstimateLevel>().map_err(|e| e.to_string()))]
     pub wear_estimate: Option<EstimateLevel>,
     /// The calibration band: a file of calibrated sets of the fitted wear constants (phi_s,

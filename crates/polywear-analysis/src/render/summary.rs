@@ -91,11 +91,11 @@ fn print_wear(a: &Analysis, lines: &mut Vec<String>) {
             "field-fitted",
         ),
         EstimateLevel::TreadLife => (
-            "over the tread's life at each sample's operating point (wear_estimate = tread_life)",
+            "over the tread's life at each sample's operating point, the print unbounded (wear_estimate = tread_life)",
             "fitted to the field on the new tire's answers",
         ),
         EstimateLevel::TreadLifeSaturated => (
-            "over the tread's life, each speed's print saturated, at each sample's operating point (wear_estimate = tread_life_saturated)",
+            "over the tread's life at each sample's operating point, each speed's print saturated (wear_estimate = tread_life_saturated)",
             "fitted to the field on the new tire's answers",
         ),
     };

@@ -153,31 +153,34 @@ fn meaning(s: &mut String, a: &Analysis, w: &WearAnalysis) {
              (`wear_estimate = \"new_tire\"`, not the default): they \
              leave out how the tread's frequency rises as it wears. The long-term loop (`polywear \
              wear`), which follows it, and the default estimate over the tread's life, which agrees \
-             with the loop, give far fewer polygons at these constants (on the built-in study 4 of \
-             8,000 wheels within 60,000 km, against 493 by this estimate): read these figures as the \
+             with the loop, give far fewer polygons at these constants (on the built-in study's \
+             main job 0.039% of followers within 60,000 km, against 10% by this estimate): read \
+             these figures as the \
              more pessimistic of the model's two levels, the one the constants were fitted to the \
              field on (MODEL.md#the-estimator-over-the-treads-life)."
         }
         EstimateLevel::TreadLife => {
-            "**These distances are over the tread's life** \
-             (`wear_estimate = \"tread_life\"`, the default): every order the tread frequency \
-             passes as the tread wears grows from the seed, the level that agrees with the \
-             long-term loop (`polywear wear`). The two constants and the calibration band were \
-             fitted on the new tire's answers, not on these. **On this level the model disagrees \
-             with the field**: the field facts hold only at a knife edge of the constants, and \
-             its polygons come before about 25,000 km or not at all, where the field sees them \
-             after 25,000–40,000 km (MODEL.md#fitted-over-the-treads-life). The new tire's \
-             answer, which the constants were fitted on, is `--wear-estimate new_tire`."
+            "**These distances are over the tread's life, the print unbounded** \
+             (`wear_estimate = \"tread_life\"`, not the default): every order the tread \
+             frequency passes as the tread wears grows from the seed, each order's print growing \
+             with its depth without bound, so where the wear is fast they are 30–84% short of the \
+             long-term loop (`polywear wear`; MODEL.md#the-forced-response-saturates). The two \
+             constants and the calibration band were fitted on the new tire's answers, not on \
+             these. **On this level the model disagrees with the field**: its polygons come \
+             before about 25,000 km or not at all, where the field sees them after \
+             25,000–40,000 km (MODEL.md#fitted-over-the-treads-life)."
         }
         EstimateLevel::TreadLifeSaturated => {
             "**These distances are over the tread's life, each speed's print saturated** \
-             (`wear_estimate = \"tread_life_saturated\"`): as over the tread's life, with the \
-             speed spread driven on 40 legs and a deep order's print at each held to what \
-             sliding friction can modulate (MODEL.md#the-forced-response-saturates). It is \
-             never earlier than the default level, and within 25% of the long-term loop where \
-             the default is 30–84% short at fast wear. The constants and the calibration band \
-             were fitted on the new tire's answers, not on these; **on this level too the model \
-             disagrees with the field**: its polygons come before about 25,000 km or not at all."
+             (`wear_estimate = \"tread_life_saturated\"`, the default): every order the tread \
+             frequency passes as the tread wears grows from the seed, the speed spread driven on \
+             40 legs and a deep order's print at each held to what sliding friction can modulate \
+             (MODEL.md#the-forced-response-saturates): the level that agrees with the long-term \
+             loop (`polywear wear`). The two constants and the calibration band were fitted on \
+             the new tire's answers, not on these. **On this level the model disagrees with the \
+             field**: its polygons come before about 25,000 km or not at all, where the field \
+             sees them after 25,000–40,000 km (MODEL.md#fitted-over-the-treads-life). The new \
+             tire's answer, which the constants were fitted on, is `--wear-estimate new_tire`."
         }
     };
     let _ = writeln!(

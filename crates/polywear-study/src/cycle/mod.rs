@@ -497,9 +497,13 @@ pub fn classify_cycles(
         .flat_map(|k| (0..per_base).map(move |b| (k, b)))
         .collect();
     let km = cycle.step_km();
-    let life_level = wear.is_some_and(|s| s.settings.estimate == EstimateLevel::TreadLife);
+    let level = wear.map_or(EstimateLevel::NewTire, |s| s.settings.estimate);
+    let life_level = level != EstimateLevel::NewTire;
     let mut rows: Vec<Vec<[StepRow; 2]>> = bases.iter().map(|_| Vec::with_capacity(n)).collect();
-    let mut life: Vec<[wear::CycleLife; 2]> = bases.iter().map(|_| Default::default()).collect();
+    let mut life: Vec<[wear::CycleLife; 2]> = bases
+        .iter()
+        .map(|_| [wear::CycleLife::on(level), wear::CycleLife::on(level)])
+        .collect();
     for batch in jobs.chunks(BATCH_BLOCKS) {
         let block = |j: usize| {
             let (k, b) = batch[j];
@@ -558,7 +562,8 @@ fn classify_block(
     let lo = b * BLOCK_STEPS;
     let hi = (lo + BLOCK_STEPS).min(cycle.len());
     let mut out: Vec<[StepRow; 2]> = Vec::with_capacity(hi - lo);
-    let mut life: [wear::CycleLife; 2] = Default::default();
+    let level = wear.map_or(EstimateLevel::NewTire, |s| s.settings.estimate);
+    let mut life: [wear::CycleLife; 2] = [wear::CycleLife::on(level), wear::CycleLife::on(level)];
     // The previous step's profiles, for a repeated step: the rows do not keep them (66 KB a
     // wheel; the block's sums are what the cycle reads).
     let mut last_life: [Option<polywear_core::wear::LifeProfile>; 2] = [None, None];
@@ -572,7 +577,7 @@ fn classify_block(
         } else if previous == Some(p) {
             let same = out.last().expect("a previous step").clone();
             for (w, last) in last_life.iter().enumerate() {
-                life[w].add_step(last.as_ref(), step_km);
+                life[w].add_step(last.as_ref(), step_km, p.speed_kmh);
             }
             out.push(same);
             continue;
@@ -602,7 +607,7 @@ fn classify_block(
             .expect("two wheels");
         last_life = [f.1.life.take(), d.1.life.take()];
         for (w, last) in last_life.iter().enumerate() {
-            life[w].add_step(last.as_ref(), step_km);
+            life[w].add_step(last.as_ref(), step_km, p.speed_kmh);
         }
         out.push([f, d]);
     }

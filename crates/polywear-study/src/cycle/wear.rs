@@ -12,12 +12,18 @@
 //! order its drifting tread frequency puts there ([`LifeProfile`]). The steps' profiles,
 //! summed by the distance covered at each ([`CycleLife`]), give ln D_n along the depth, and the
 //! first order to reach the visible depth before the tire is worn out is the polygon.
+//!
+//! With each speed's print saturated (`tread_life_saturated`,
+//! MODEL.md#the-forced-response-saturates): the steps' profiles are summed by speed bin of
+//! [`SATURATED_SPEED_BIN_KMH`], and each bin prints at most what sliding can modulate, on its
+//! own ([`answer_saturated_per_step`]).
 
 use super::{DriveCycle, StepWheel};
 use polywear_core::classify::budget::Meter;
 use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::{WearStage, WheelSolution};
 use polywear_core::params::Params;
+use polywear_core::wear::estimator::{answer_saturated_per_step, SLIDING_MODULATION_MAX};
 use polywear_core::wear::estimator::{distance_to_visible_km, print_log_ratio};
 use polywear_core::wear::{
     EstimateLevel, FittedConstants, LifeProfile, WheelGrowth, LIFE_PROFILE_INTERVALS,
@@ -27,6 +33,15 @@ use polywear_core::wear::{
 /// slower than about 25 km/h puts ν above it; its orders near ν are not followed (their
 /// distance at such speeds is small).
 pub const CYCLE_ORDERS_MAX: u32 = 64;
+
+/// The width of the speed bins whose steps saturate together on the `tread_life_saturated`
+/// level \[km/h\]: a bin's steps share one bound (the min of their sum, weaker than each
+/// step's own). A step's resonance is sharp in speed, so the bins must be fine: against every
+/// step on its own on HWFET at φ_s = 1 (`examples/saturation_probe.rs`), bins of 1 km/h put the
+/// polygon 5–7% early, 0.5 km/h 2–3%, 0.25 km/h under 0.5%, and 0.1 km/h (a cycle's own
+/// resolution: HWFET's 766 steps hold 250 speeds) not at all. A bin holds one profile a wheel
+/// (66 KB).
+pub const SATURATED_SPEED_BIN_KMH: f64 = 0.1;
 
 /// What a step's wear gives the calibration band: β_n at φ_s = 1 for orders
 /// 1..=[`CYCLE_ORDERS_MAX`], and λ_other per unit (1 − φ_s) as `(a, b)`, a + b k_d. With no
@@ -89,7 +104,7 @@ pub fn step_growth(
     StepGrowth {
         orders_per_1000km: at(p.wear_share_straight),
         band: Some(band),
-        life: (stage.settings.estimate == EstimateLevel::TreadLife)
+        life: (stage.settings.estimate != EstimateLevel::NewTire)
             .then(|| growth.life_profile(CYCLE_ORDERS_MAX, LIFE_PROFILE_INTERVALS)),
     }
 }
@@ -100,6 +115,10 @@ pub fn step_growth(
 pub struct CycleLife {
     /// Σ km_k · profile_k over the steps with figures (None before the first).
     pub profile_km: Option<LifeProfile>,
+    /// With each speed's print saturated ([`CycleLife::on`] that level; None otherwise): the same
+    /// sums by speed bin of [`SATURATED_SPEED_BIN_KMH`], rising: (bin, Σ km_k · profile_k,
+    /// Σ km_k \[km\]).
+    pub by_speed: Option<Vec<(i64, LifeProfile, f64)>>,
     /// The distance at those steps \[km\].
     pub known_km: f64,
     /// The distance at moving steps without figures (failed, no traction) \[km\].
@@ -107,8 +126,17 @@ pub struct CycleLife {
 }
 
 impl CycleLife {
-    /// Adds a step of `km` whose profile is `profile` (None: no figures).
-    pub fn add_step(&mut self, profile: Option<&LifeProfile>, km: f64) {
+    /// An empty sum whose steps saturate by speed bin (the `tread_life_saturated` level), or
+    /// not.
+    pub fn on(level: EstimateLevel) -> Self {
+        CycleLife {
+            by_speed: (level == EstimateLevel::TreadLifeSaturated).then(Vec::new),
+            ..CycleLife::default()
+        }
+    }
+
+    /// Adds a step of `km` at `speed_kmh` whose profile is `profile` (None: no figures).
+    pub fn add_step(&mut self, profile: Option<&LifeProfile>, km: f64, speed_kmh: f64) {
         if km <= 0.0 {
             return;
         }
@@ -118,6 +146,10 @@ impl CycleLife {
         };
         self.known_km += km;
         self.sum_like(profile).add(profile, km);
+        if let Some(bins) = &mut self.by_speed {
+            let bin = (speed_kmh / SATURATED_SPEED_BIN_KMH).round() as i64;
+            add_to_bin(bins, bin, profile, km, km);
+        }
     }
 
     /// The sum, started empty on `like`'s grid before the first profile.
@@ -130,6 +162,11 @@ impl CycleLife {
     pub fn merge(&mut self, other: &CycleLife) {
         if let Some(profile) = &other.profile_km {
             self.sum_like(profile).add(profile, 1.0);
+        }
+        if let (Some(bins), Some(theirs)) = (&mut self.by_speed, &other.by_speed) {
+            for (bin, sum, km) in theirs {
+                add_to_bin(bins, *bin, sum, 1.0, *km);
+            }
         }
         self.known_km += other.known_km;
         self.unknown_km += other.unknown_km;
@@ -153,7 +190,26 @@ impl CycleLife {
         };
         let mut mean = sum.clone();
         mean.scale(1.0 / self.known_km);
-        let life = mean.answer(c, base);
+        let life = match &self.by_speed {
+            Some(bins) if !bins.is_empty() => {
+                let means: Vec<(f64, LifeProfile)> = bins
+                    .iter()
+                    .map(|(_, sum, km)| {
+                        let mut mean = sum.clone();
+                        mean.scale(1.0 / km);
+                        (*km, mean)
+                    })
+                    .collect();
+                let steps: Vec<(f64, &LifeProfile)> =
+                    means.iter().map(|(km, mean)| (*km, mean)).collect();
+                let mut bounded =
+                    answer_saturated_per_step(&steps, c, base, SLIDING_MODULATION_MAX);
+                // The bins share the cycle's even wear: its tread's life is the whole sum's.
+                bounded.answer.tread_life_km = mean.answer(c, base).answer.tread_life_km;
+                bounded
+            }
+            _ => mean.answer(c, base),
+        };
         let distance = life.answer.distance_to_visible_km;
         let target = print_log_ratio(base);
         CycleWear {
@@ -169,6 +225,41 @@ impl CycleLife {
             peak_share_of_visible: life.peak_share_of_visible,
         }
     }
+}
+
+/// The memory \[bytes\] one wheel's speed bins take on the `tread_life_saturated` level over
+/// `cycle`: one profile of orders 1..=[`CYCLE_ORDERS_MAX`] on [`LIFE_PROFILE_INTERVALS`] for
+/// each bin of [`SATURATED_SPEED_BIN_KMH`] its moving steps fill.
+pub fn saturated_bins_bytes(cycle: &DriveCycle) -> u64 {
+    let mut bins: Vec<i64> = (0..cycle.len())
+        .filter(|&i| !cycle.standstill(i))
+        .map(|i| (cycle.speed_kmh[i] / SATURATED_SPEED_BIN_KMH).round() as i64)
+        .collect();
+    bins.sort_unstable();
+    bins.dedup();
+    let profile = CYCLE_ORDERS_MAX as u64 * (LIFE_PROFILE_INTERVALS as u64 + 1) * 8;
+    bins.len() as u64 * profile
+}
+
+/// Adds `weight` times `profile` and `km` to bin `bin` of `bins` (rising), opening it where
+/// there is none.
+fn add_to_bin(
+    bins: &mut Vec<(i64, LifeProfile, f64)>,
+    bin: i64,
+    profile: &LifeProfile,
+    weight: f64,
+    km: f64,
+) {
+    let at = match bins.binary_search_by_key(&bin, |b| b.0) {
+        Ok(at) => at,
+        Err(at) => {
+            let empty = LifeProfile::zero(profile.max_order, profile.intervals, profile.usable_m);
+            bins.insert(at, (bin, empty, 0.0));
+            at
+        }
+    };
+    bins[at].1.add(profile, weight);
+    bins[at].2 += km;
 }
 
 /// One wheel's polygon over a lifetime of the cycle (one tire structure).

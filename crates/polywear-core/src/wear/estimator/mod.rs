@@ -74,14 +74,16 @@ crate::named_enum! {
         /// its band were fitted on; it contradicts the long-term loop at highway points.
         NewTire,
         /// Over the tread's life: every order ν passes as the tread wears, from the seed until
-        /// one is visible or the tire is worn out ([`WheelGrowth::life_answer`]). The shipped
-        /// default: the level that agrees with the long-term loop (one answer, issue 40).
+        /// one is visible or the tire is worn out ([`WheelGrowth::life_answer`]); each order's
+        /// print grows with its depth without bound, so where the wear is fast it is 30–84%
+        /// short of the long-term loop. The default before `TreadLifeSaturated`.
         TreadLife,
         /// Over the tread's life with each speed's forced response saturated: the spread
         /// driven on 40 legs, each order's print held to m_max · 2 w′ |H_w| at each
         /// ([`WheelGrowth::saturated_answers_with`], MODEL.md#the-forced-response-saturates).
-        /// Never earlier than `TreadLife`; within 25% of the long-term loop at φ_s = 1 where
-        /// `TreadLife` is 30–84% short.
+        /// Never earlier than `TreadLife`; within 25% of the long-term loop at every cruising
+        /// polygon compared. The shipped default: the level that agrees with the loop (one
+        /// answer, issue 40).
         TreadLifeSaturated,
     }
 }
@@ -94,7 +96,7 @@ impl EstimateLevel {
         EstimateLevel::TreadLifeSaturated,
     ];
     /// The level every command uses unless told otherwise.
-    pub const DEFAULT: EstimateLevel = EstimateLevel::TreadLife;
+    pub const DEFAULT: EstimateLevel = EstimateLevel::TreadLifeSaturated;
 
     /// What the level is, in a sentence (for messages and `polywear params`).
     pub fn description(self) -> &'static str {
@@ -103,10 +105,10 @@ impl EstimateLevel {
                 "the new tire cruising for ever: the fastest order at the new tread's growth rate"
             }
             EstimateLevel::TreadLife => {
-                "over the tread's life: every order the tread frequency passes as the tread wears, until one is visible or the tire is worn out (agrees with the long-term loop)"
+                "over the tread's life: every order the tread frequency passes as the tread wears, until one is visible or the tire is worn out, each order's print growing without bound (short of the long-term loop where the wear is fast)"
             }
             EstimateLevel::TreadLifeSaturated => {
-                "over the tread's life with each speed's print saturated: the speed spread on 40 legs, a deep order's print at each held to what sliding friction can modulate (agrees with the long-term loop where the wear is fast)"
+                "over the tread's life with each speed's print saturated: the speed spread on 40 legs, a deep order's print at each held to what sliding friction can modulate (agrees with the long-term loop)"
             }
         }
     }
