@@ -24,7 +24,8 @@ use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::{WearStage, WheelSolution};
 use polywear_core::params::Params;
 use polywear_core::wear::estimator::{answer_saturated_per_step, SLIDING_MODULATION_MAX};
-use polywear_core::wear::estimator::{distance_to_visible_km, print_log_ratio};
+use polywear_core::wear::estimator::{distance_to_visible_km, print_log_ratio, tread_life_km};
+use polywear_core::wear::law::MM_PER_1000KM_PER_M_PER_M;
 use polywear_core::wear::{
     EstimateLevel, FittedConstants, LifeProfile, WheelGrowth, LIFE_PROFILE_INTERVALS,
 };
@@ -204,8 +205,10 @@ impl CycleLife {
                     means.iter().map(|(km, mean)| (*km, mean)).collect();
                 let mut bounded =
                     answer_saturated_per_step(&steps, c, base, SLIDING_MODULATION_MAX);
-                // The bins share the cycle's even wear: its tread's life is the whole sum's.
-                bounded.answer.tread_life_km = mean.answer(c, base).answer.tread_life_km;
+                // The bins share the cycle's even wear: its tread's life is the whole sum's
+                // (what `mean.answer` gives, without walking its orders).
+                bounded.answer.tread_life_km =
+                    tread_life_km(base, mean.tread_wear_m_per_m(c) * MM_PER_1000KM_PER_M_PER_M);
                 bounded
             }
             _ => mean.answer(c, base),
