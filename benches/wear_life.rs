@@ -2,11 +2,13 @@
 //! cost explore, side by side on the same samples of the shipped default study: samples/s of
 //! classifying both wheels (A), with the new tire's wear answer (B: each wheel's closed loop
 //! solved once, then its answer), with the answer over the tread's life as well (C), and with
-//! the life answer instead of the new tire's (D: what explore would cost if it were the
-//! sample's answer), the four interleaved twice on all threads. Explore's bar for its wear
-//! stage is half of A.
+//! the life answer instead of the new tire's (D: `--wear-estimate tread_life`), and with the
+//! saturated answer over the tread's life instead (E: the shipped default,
+//! `tread_life_saturated`), the five interleaved twice on all threads. Explore's bar for its
+//! wear stage is half of A. A study file given after the sample count replaces the default
+//! study (`studies/excess_toe.toml`: one where polygons are common, and E builds its legs).
 //!
-//! Run: `cargo bench --bench wear_life -- [SAMPLES=4000]`.
+//! Run: `cargo bench --bench wear_life -- [SAMPLES=4000] [STUDY.toml]`.
 
 use std::time::Instant;
 
@@ -19,12 +21,21 @@ use polywear::study::{Study, DEFAULT_STUDY};
 use polywear::wear::{FittedConstants, WearAnswer, WheelGrowth};
 
 fn main() {
-    let samples: u64 = std::env::args()
-        .skip(1)
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let samples: u64 = args
+        .iter()
         .filter_map(|a| a.parse().ok())
         .next()
         .unwrap_or(4_000);
-    let study = Study::parse(DEFAULT_STUDY).expect("the shipped default study parses");
+    let study_file = args.iter().find(|a| a.ends_with(".toml"));
+    let study = match study_file {
+        Some(path) => {
+            let text = std::fs::read_to_string(path).expect("the study file reads");
+            Study::parse(&text).expect("the study file parses")
+        }
+        None => Study::parse(DEFAULT_STUDY).expect("the shipped default study parses"),
+    };
+    let study_name = study_file.map_or("default study", |p| p.as_str());
     let sampler = study.sampler(study.seed, samples);
     let opts = ClassifierOptions::default();
     let variants = [study.variants[0]];
@@ -36,16 +47,16 @@ fn main() {
     )
     .expect("the reference point calibrates");
     // 0: classify; 1: and the new tire's answer; 2: and the answer over the tread's life;
-    // 3: and the answer over the tread's life alone.
+    // 3: and the answer over the tread's life alone; 4: and the saturated one alone.
     // Returns how many wheels saw a visible polygon within 60,000 km (before the tire is worn
-    // out), new tire and life.
-    let run = |level: u8| -> (usize, usize) {
+    // out), new tire, life and saturated.
+    let run = |level: u8| -> (usize, usize, usize) {
         (0..samples)
             .into_par_iter()
             .map(|i| {
                 let (p, _) = sampler.sample(i);
                 let point = evaluate::solve(&PointProblem::new(p, &variants, &opts));
-                let mut seen = (0, 0);
+                let mut seen = (0, 0, 0);
                 if level == 0 {
                     return seen;
                 }
@@ -62,29 +73,34 @@ fn main() {
                     if level <= 2 {
                         seen.0 += visible(g.answer_with(&c));
                     }
-                    if level >= 2 {
+                    if level == 2 || level == 3 {
                         seen.1 += visible(g.life_answer(&c).answer);
+                    }
+                    if level == 4 {
+                        seen.2 += visible(g.saturated_answer(&c).answer);
                     }
                 }
                 seen
             })
-            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+            .reduce(|| (0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2))
     };
-    let mut rates = [0.0_f64; 4];
-    let mut seen = (0, 0);
+    let mut rates = [0.0_f64; 5];
+    let mut seen = (0, 0, 0);
     for _round in 0..2 {
-        for level in 0..4u8 {
+        for level in 0..5u8 {
             let t0 = Instant::now();
             let s = run(level);
             let rate = samples as f64 / t0.elapsed().as_secs_f64();
             rates[level as usize] = rates[level as usize].max(rate);
-            if level == 2 {
-                seen = s;
+            match level {
+                2 => (seen.0, seen.1) = (s.0, s.1),
+                4 => seen.2 = s.2,
+                _ => {}
             }
         }
     }
     println!(
-        "default study, {samples} samples on {} threads (best of 2): classify {:.0} samples/s; with the new tire's answer {:.0} ({:.0}% kept); with the answer over the tread's life too {:.0} ({:.0}% kept); with the life answer instead of the new tire's {:.0} ({:.0}% kept)",
+        "{study_name}, {samples} samples on {} threads (best of 2): classify {:.0} samples/s; with the new tire's answer {:.0} ({:.0}% kept); with the answer over the tread's life too {:.0} ({:.0}% kept); with the life answer instead of the new tire's {:.0} ({:.0}% kept); with the saturated one instead (the default) {:.0} ({:.0}% kept)",
         rayon::current_num_threads(),
         rates[0],
         rates[1],
@@ -92,12 +108,15 @@ fn main() {
         rates[2],
         100.0 * rates[2] / rates[0],
         rates[3],
-        100.0 * rates[3] / rates[0]
+        100.0 * rates[3] / rates[0],
+        rates[4],
+        100.0 * rates[4] / rates[0]
     );
     println!(
-        "  wheels with a visible polygon within 60,000 km, before the tire is worn out: new tire {}, over the tread's life {} (of {})",
+        "  wheels with a visible polygon within 60,000 km, before the tire is worn out: new tire {}, over the tread's life {}, saturated {} (of {})",
         seen.0,
         seen.1,
+        seen.2,
         2 * samples
     );
 }

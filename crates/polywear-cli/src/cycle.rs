@@ -307,11 +307,12 @@ fn write(
         wear_bases: if wear { structures.bases } else { Vec::new() },
         band_sets,
     };
-    let written = run.write(&args.out).map_err(|e| match e {
+    let summaries = run.summaries();
+    let written = run.write(&args.out, &summaries).map_err(|e| match e {
         FilesError::CreateDir { .. } => CliError(format!("--out {e}")),
         e => CliError(e.to_string()),
     })?;
-    for line in summary_lines(&run, secs, threads) {
+    for line in summary_lines(&run, &summaries, secs, threads) {
         println!("{line}");
     }
     if !args.quiet {

@@ -66,10 +66,14 @@ impl CycleRun<'_> {
                     let life = self.life.get(k).and_then(|l| l[w].as_ref());
                     let (wear, wear_band) = match (base, life) {
                         // Over the tread's life: the structure's own constants, then each set's.
-                        (Some(base), Some(life)) => (
-                            Some(life.wear(base, &FittedConstants::of(base))),
-                            self.band_sets.iter().map(|c| life.wear(base, c)).collect(),
-                        ),
+                        (Some(base), Some(life)) => {
+                            let sets: Vec<FittedConstants> =
+                                std::iter::once(FittedConstants::of(base))
+                                    .chain(self.band_sets.iter().copied())
+                                    .collect();
+                            let mut all = life.wear_with(base, &sets).into_iter();
+                            (all.next(), all.collect())
+                        }
                         (Some(base), None) => (
                             Some(cycle_wear(self.cycle, s, w, base)),
                             cycle_wear_band(self.cycle, s, w, base, &self.band_sets),
@@ -150,9 +154,14 @@ impl CycleRun<'_> {
         cols
     }
 
-    /// Writes `cycle.parquet`, `cycle_summary.csv` (+ `.parquet`) and `cycle.png` into `dir`;
-    /// returns the paths written.
-    pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>, FilesError> {
+    /// Writes `cycle.parquet`, `cycle_summary.csv` (+ `.parquet`) and `cycle.png` into `dir`,
+    /// the summary from `summaries` ([`CycleRun::summaries`], taken once for the files and the
+    /// words: on the saturated level each is a walk of every set); returns the paths written.
+    pub fn write(
+        &self,
+        dir: &Path,
+        summaries: &[[WheelSummary; 2]],
+    ) -> Result<Vec<PathBuf>, FilesError> {
         polywear_study::safe_write::create_dir(dir).map_err(|source| FilesError::CreateDir {
             dir: dir.to_path_buf(),
             source,
@@ -166,7 +175,7 @@ impl CycleRun<'_> {
         let table = dir.join("cycle.parquet");
         write_table(&table, &self.columns(), &meta)?;
         written.push(table);
-        let summary = summary_columns(&self.summaries());
+        let summary = summary_columns(summaries);
         let csv = dir.join("cycle_summary.csv");
         write_csv(&csv, &summary)?;
         written.push(csv);

@@ -9,8 +9,14 @@ use polywear_study::cycle::summary::{quantile, WheelSummary};
 use polywear_study::cycle::wear::CycleWear;
 
 /// The summary printed after a cycle: per wheel, the shares in vibration (with the 90% interval over the
-/// structures when there are several) and the dominant polygon order.
-pub fn summary_lines(run: &CycleRun<'_>, secs: f64, threads: usize) -> Vec<String> {
+/// structures when there are several) and the dominant polygon order, from `all`
+/// ([`CycleRun::summaries`]).
+pub fn summary_lines(
+    run: &CycleRun<'_>,
+    all: &[[WheelSummary; 2]],
+    secs: f64,
+    threads: usize,
+) -> Vec<String> {
     let mut lines = Vec::new();
     let c = run.cycle;
     let dt = c.step_durations_s();
@@ -23,7 +29,6 @@ pub fn summary_lines(run: &CycleRun<'_>, secs: f64, threads: usize) -> Vec<Strin
         run.steps.len(),
         run.variant.as_str()
     ));
-    let all = run.summaries();
     for w in 0..2 {
         let pick = |f: &dyn Fn(&WheelSummary) -> f64| {
             let mut xs: Vec<f64> = all.iter().map(|s| f(&s[w])).collect();
@@ -46,7 +51,7 @@ pub fn summary_lines(run: &CycleRun<'_>, secs: f64, threads: usize) -> Vec<Strin
         };
         // Polygon orders: the mean share over the structures.
         let mut orders: std::collections::BTreeMap<i64, f64> = Default::default();
-        for s in &all {
+        for s in all {
             for (n, share) in &s[w].order_shares {
                 *orders.entry(*n).or_default() += share / all.len() as f64;
             }
@@ -72,7 +77,7 @@ pub fn summary_lines(run: &CycleRun<'_>, secs: f64, threads: usize) -> Vec<Strin
             .wear_bases
             .first()
             .map_or(f64::NAN, |p| (-print_log_ratio(p)).exp());
-        if let Some(line) = wear_line(&all, w, seed_share) {
+        if let Some(line) = wear_line(all, w, seed_share) {
             lines.push(format!("            {line}"));
         }
     }

@@ -16,15 +16,15 @@
 //! With each speed's print saturated (`tread_life_saturated`,
 //! MODEL.md#the-forced-response-saturates): the steps' profiles are summed by speed bin of
 //! [`SATURATED_SPEED_BIN_KMH`], and each bin prints at most what sliding can modulate, on its
-//! own ([`answer_saturated_per_step`]).
+//! own ([`polywear_core::wear::estimator::answer_saturated_per_step`]).
 
 use super::{DriveCycle, StepWheel};
 use polywear_core::classify::budget::Meter;
 use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::{WearStage, WheelSolution};
 use polywear_core::params::Params;
-use polywear_core::wear::estimator::{answer_saturated_per_step, SLIDING_MODULATION_MAX};
 use polywear_core::wear::estimator::{distance_to_visible_km, print_log_ratio, tread_life_km};
+use polywear_core::wear::estimator::{SaturatedSteps, SLIDING_MODULATION_MAX};
 use polywear_core::wear::law::MM_PER_1000KM_PER_M_PER_M;
 use polywear_core::wear::{
     EstimateLevel, FittedConstants, LifeProfile, WheelGrowth, LIFE_PROFILE_INTERVALS,
@@ -178,55 +178,75 @@ impl CycleLife {
     /// the visible order's mean from the seed to the visible depth (NaN where none is visible
     /// before the tire is worn out).
     pub fn wear(&self, base: &Params, c: &FittedConstants) -> CycleWear {
+        self.wear_with(base, std::slice::from_ref(c))
+            .pop()
+            .expect("one set, one answer")
+    }
+
+    /// [`CycleLife::wear`] under each of `sets` (the structure's own constants, the
+    /// calibration band's): the mean profile and the speed bins' means are formed once for all
+    /// of them, and each set reads its answer off them.
+    pub fn wear_with(&self, base: &Params, sets: &[FittedConstants]) -> Vec<CycleWear> {
         let unknown_distance_share = if self.known_km + self.unknown_km > 0.0 {
             self.unknown_km / (self.known_km + self.unknown_km)
         } else {
             0.0
         };
         let Some(sum) = self.profile_km.as_ref().filter(|_| self.known_km > 0.0) else {
-            return CycleWear {
+            let unknown = CycleWear {
                 unknown_distance_share,
                 ..CycleWear::UNKNOWN
             };
+            return vec![unknown; sets.len()];
         };
         let mut mean = sum.clone();
         mean.scale(1.0 / self.known_km);
-        let life = match &self.by_speed {
-            Some(bins) if !bins.is_empty() => {
-                let means: Vec<(f64, LifeProfile)> = bins
-                    .iter()
-                    .map(|(_, sum, km)| {
-                        let mut mean = sum.clone();
-                        mean.scale(1.0 / km);
-                        (*km, mean)
-                    })
-                    .collect();
-                let steps: Vec<(f64, &LifeProfile)> =
-                    means.iter().map(|(km, mean)| (*km, mean)).collect();
-                let mut bounded =
-                    answer_saturated_per_step(&steps, c, base, SLIDING_MODULATION_MAX);
-                // The bins share the cycle's even wear: its tread's life is the whole sum's
-                // (what `mean.answer` gives, without walking its orders).
-                bounded.answer.tread_life_km =
-                    tread_life_km(base, mean.tread_wear_m_per_m(c) * MM_PER_1000KM_PER_M_PER_M);
-                bounded
-            }
-            _ => mean.answer(c, base),
-        };
-        let distance = life.answer.distance_to_visible_km;
+        let bins = self
+            .by_speed
+            .as_ref()
+            .filter(|b| !b.is_empty())
+            .map(|bins| {
+                SaturatedSteps::new(
+                    bins.iter()
+                        .map(|(_, sum, km)| {
+                            let mut mean = sum.clone();
+                            mean.scale(1.0 / km);
+                            (*km, mean)
+                        })
+                        .collect(),
+                )
+            });
         let target = print_log_ratio(base);
-        CycleWear {
-            dominant_order: life.answer.polygon_order_wear,
-            growth_rate_per_1000km: if distance.is_finite() && distance > 0.0 {
-                target / distance * 1000.0
-            } else {
-                f64::NAN
-            },
-            distance_to_visible_km: distance,
-            unknown_distance_share,
-            tread_life_km: life.answer.tread_life_km,
-            peak_share_of_visible: life.peak_share_of_visible,
-        }
+        sets.iter()
+            .map(|c| {
+                let life = match &bins {
+                    Some(bins) => {
+                        let mut bounded = bins.answer(c, base, SLIDING_MODULATION_MAX);
+                        // The bins share the cycle's even wear: its tread's life is the whole
+                        // sum's (what `mean.answer` gives, without walking its orders).
+                        bounded.answer.tread_life_km = tread_life_km(
+                            base,
+                            mean.tread_wear_m_per_m(c) * MM_PER_1000KM_PER_M_PER_M,
+                        );
+                        bounded
+                    }
+                    None => mean.answer(c, base),
+                };
+                let distance = life.answer.distance_to_visible_km;
+                CycleWear {
+                    dominant_order: life.answer.polygon_order_wear,
+                    growth_rate_per_1000km: if distance.is_finite() && distance > 0.0 {
+                        target / distance * 1000.0
+                    } else {
+                        f64::NAN
+                    },
+                    distance_to_visible_km: distance,
+                    unknown_distance_share,
+                    tread_life_km: life.answer.tread_life_km,
+                    peak_share_of_visible: life.peak_share_of_visible,
+                }
+            })
+            .collect()
     }
 }
 

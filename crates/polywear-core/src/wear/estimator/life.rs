@@ -30,8 +30,8 @@ use crate::wear::transfer::PoleExpansion;
 mod profile;
 mod saturated;
 pub use profile::{
-    answer_saturated_per_step, LifeProfile, PiecewiseRate, SpeedTerm, LIFE_PROFILE_INTERVALS,
-    SLIDING_MODULATION_MAX,
+    answer_saturated_per_step, LifeProfile, PiecewiseRate, SaturatedSteps, SpeedTerm,
+    LIFE_PROFILE_INTERVALS, SLIDING_MODULATION_MAX,
 };
 pub use saturated::SATURATED_SPEED_LEGS;
 
@@ -558,6 +558,26 @@ impl WheelGrowth {
         )
     }
 
+    /// [`WheelGrowth::life_answers_with`], each answer with every order's largest ln(D/2R⁰)
+    /// over the life (orders from `.0`; [`WheelGrowth::life_walk`]): what the saturated level
+    /// screens its orders with.
+    pub(super) fn life_answers_and_peaks(
+        &self,
+        sets: &[FittedConstants],
+    ) -> (u32, Vec<(LifeAnswer, Vec<f64>)>) {
+        let orders = self.life_orders();
+        let answers = per_spread(
+            sets,
+            |spread_mps| self.life_nodes(&orders, spread_mps, Nodes::Adaptive),
+            |at, c| {
+                let mut peaks = Vec::with_capacity(orders.fixed.len());
+                let answer = self.life_walk(&orders, at, c, Some(&mut peaks));
+                (answer, peaks)
+            },
+        );
+        (orders.lo, answers)
+    }
+
     /// What the answer over the tread's life takes from the wheel alone: the tread's drift, the
     /// orders ν passes, each with its zone transfer H_w(n), forcing e_n and tongue.
     fn life_orders(&self) -> LifeOrders {
@@ -613,6 +633,20 @@ impl WheelGrowth {
 
     /// The answer under `c` from the wheel's `orders` and the nodes `at` of its spread.
     fn life_from(&self, orders: &LifeOrders, at: &LifeNodes, c: &FittedConstants) -> LifeAnswer {
+        self.life_walk(orders, at, c, None)
+    }
+
+    /// [`WheelGrowth::life_from`], and where `peaks` is given, each order's largest
+    /// ln(D/2R⁰) over the life into it (from `orders.lo`; at least the target where it is
+    /// visible): every order is then walked to its own polygon or the tire's end, not only to
+    /// an earlier order's polygon. The answer is the same.
+    fn life_walk(
+        &self,
+        orders: &LifeOrders,
+        at: &LifeNodes,
+        c: &FittedConstants,
+        mut peaks: Option<&mut Vec<f64>>,
+    ) -> LifeAnswer {
         let share = c.wear_share_straight;
         let other_per_share =
             self.position_rate(c.wear_rate_driven_factor) * self.feedback.local_per_m;
@@ -752,6 +786,9 @@ impl WheelGrowth {
                     if 0.0 > deepest.0 {
                         deepest = (0.0, n);
                     }
+                    if let Some(peaks) = peaks.as_deref_mut() {
+                        peaks.push(0.0);
+                    }
                     continue;
                 }
                 if !start_rises {
@@ -826,7 +863,7 @@ impl WheelGrowth {
                 if may_rise || locks || first.is_some() {
                     let s_before = *prev.s.get_or_insert_with(|| distance_of(prev.x));
                     // Past an earlier order's polygon this one can only come later.
-                    if first.is_some_and(|(m, _)| s_before > m) {
+                    if peaks.is_none() && first.is_some_and(|(m, _)| s_before > m) {
                         break;
                     }
                     s = Some(distance_of(x));
@@ -864,6 +901,9 @@ impl WheelGrowth {
             }
             if peak > deepest.0 {
                 deepest = (peak, n);
+            }
+            if let Some(peaks) = peaks.as_deref_mut() {
+                peaks.push(peak);
             }
         }
         LifeAnswer::of_walk(

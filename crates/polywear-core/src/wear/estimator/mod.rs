@@ -40,7 +40,7 @@ use crate::params::Params;
 
 mod life;
 pub use life::{
-    answer_saturated_per_step, LifeAnswer, LifeProfile, PiecewiseRate, SpeedTerm,
+    answer_saturated_per_step, LifeAnswer, LifeProfile, PiecewiseRate, SaturatedSteps, SpeedTerm,
     LIFE_PROFILE_INTERVALS, SATURATED_SPEED_LEGS, SLIDING_MODULATION_MAX,
 };
 

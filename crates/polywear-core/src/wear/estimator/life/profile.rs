@@ -190,6 +190,33 @@ impl LifeProfile {
     }
 }
 
+/// The grid of worn depth a wheel's profiles are laid on: its tread's drift, and f₀/f at
+/// each of the grid's depths w_j = usable · j/`intervals` (the drift's polynomial inverted, it
+/// falls with the depth, so that the depths and the integrals' weights are one function).
+/// Taken once per wheel: every leg of every spread reads the same.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct DepthGrid {
+    pub(super) drift: TreadDrift,
+    pub(super) intervals: usize,
+    pub(super) ratios: Vec<f64>,
+}
+
+impl DepthGrid {
+    /// The wheel's grid of `intervals` equal intervals of its usable depth.
+    pub(super) fn of(g: &WheelGrowth, intervals: usize) -> Self {
+        let drift = TreadDrift::of(&g.params, &g.patch);
+        let usable = drift.usable_m;
+        let ratios = (0..=intervals)
+            .map(|j| drift.ratio_at(usable * j as f64 / intervals as f64))
+            .collect();
+        DepthGrid {
+            drift,
+            intervals,
+            ratios,
+        }
+    }
+}
+
 impl WheelGrowth {
     /// The wheel's [`LifeProfile`] for orders 1..=`max_order` on `intervals` equal intervals of
     /// the usable depth. Each order's integral of the linear loop is closed-form from the
@@ -211,11 +238,17 @@ impl WheelGrowth {
         intervals: usize,
         coarse: bool,
     ) -> LifeProfile {
-        let drift = TreadDrift::of(&self.params, &self.patch);
-        let lo = from_order.max(1) as f64 * drift.at_end().min(1.0);
+        let grid = DepthGrid::of(self, intervals);
+        let lo = from_order.max(1) as f64 * grid.drift.at_end().min(1.0);
         let transfer = TransferNodes::new(self, lo, max_order as f64, 0.0, Nodes::Adaptive);
         self.life_profile_on(
-            &drift, &transfer, 1.0, from_order, max_order, intervals, coarse,
+            &grid,
+            &transfer,
+            1.0,
+            from_order,
+            |_| true,
+            max_order,
+            coarse,
         )
     }
 
@@ -224,27 +257,32 @@ impl WheelGrowth {
     /// transfer at order x is the wheel's at x·q (ω = x v/r_B), so it is read there, and the
     /// moments' weights take q^{−(m+1)} (∫ (y/q)^m G(y) dy/q); ν is ν₀/q, and the tongue's band
     /// of speeds is the wheel's. `transfer` must span \[`from_order`·f₀/f_end·q,
-    /// `max_order`·q\]. With q = 1 it is the wheel's own profile, bit for bit.
+    /// `max_order`·q\]. With q = 1 it is the wheel's own profile, bit for bit. The orders
+    /// `profiled` refuses are left at zero (each order's figures are those of the profile of
+    /// every order from `from_order`, bit for bit).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn life_profile_on(
         &self,
-        drift: &TreadDrift,
+        grid: &DepthGrid,
         transfer: &TransferNodes,
         speed_scale: f64,
         from_order: u32,
+        profiled: impl Fn(u32) -> bool,
         max_order: u32,
-        intervals: usize,
         coarse: bool,
     ) -> LifeProfile {
         let q = speed_scale;
+        let DepthGrid {
+            drift,
+            intervals,
+            ratios,
+        } = grid;
+        let (drift, intervals) = (drift, *intervals);
         let slope = drift.slope_coefficients();
         let end = drift.at_end();
         let usable = drift.usable_m;
         let points = intervals + 1;
         let depth = |j: usize| usable * j as f64 / intervals as f64;
-        // f₀/f at each depth of the grid: the drift's polynomial inverted (it falls with the
-        // depth), so that the depths and the integrals' weights are one function.
-        let ratios: Vec<f64> = (0..points).map(|j| drift.ratio_at(depth(j))).collect();
         let nu = self.nu() / q;
         let v = self.speed_mps * q;
         let resonances: Vec<f64> = self.resonance_orders().map(|r| r / q).collect();
@@ -260,6 +298,14 @@ impl WheelGrowth {
         for (n, (zone, forcing)) in
             (from_order..=max_order).zip(self.feedback.zones_and_forcings(from_order))
         {
+            // (The zones are taken by rotation from `from_order` on, so an order's figures do
+            // not depend on which orders are profiled.)
+            if !profiled(n) {
+                integrals.extend(std::iter::repeat_n(0.0, points));
+                base_per_share.push(0.0);
+                full_print_per_share.push(0.0);
+                continue;
+            }
             let order = n as f64;
             let order_loop = self.order_loop(zone, forcing, 1.0, 0.0);
             base_per_share.push(order_loop.base_per_m);
@@ -407,7 +453,20 @@ impl PiecewiseRate {
     /// Σ_k a_k (b_k u + min(r_k u, cap_k)) over `terms`: each term linear below its knot
     /// u*_k = cap_k/r_k (r_k > 0) and b_k u + cap_k above it.
     pub fn of_terms(terms: &[SpeedTerm]) -> Self {
-        let (mut slope, mut knots) = (0.0, Vec::new());
+        let mut rate = PiecewiseRate {
+            knots: Vec::new(),
+            slope: Vec::new(),
+            offset: Vec::new(),
+        };
+        rate.refill(terms, &mut Vec::new());
+        rate
+    }
+
+    /// [`PiecewiseRate::of_terms`] into `self`, its buffers and `knots` (scratch) reused: an
+    /// order's walk forms one rate for every interval of the depth grid.
+    pub fn refill(&mut self, terms: &[SpeedTerm], knots: &mut Vec<(f64, f64, f64)>) {
+        let mut slope = 0.0;
+        knots.clear();
         for t in terms {
             let (a, b, r, cap) = (t.share, t.base_per_m, t.growth_per_m, t.bound_per_m);
             slope += a * (b + r);
@@ -416,25 +475,25 @@ impl PiecewiseRate {
             }
         }
         knots.sort_by(|x, y| x.0.total_cmp(&y.0));
-        let mut rate = PiecewiseRate {
-            knots: vec![0.0],
-            slope: vec![slope],
-            offset: vec![0.0],
-        };
+        self.knots.clear();
+        self.slope.clear();
+        self.offset.clear();
+        self.knots.push(0.0);
+        self.slope.push(slope);
+        self.offset.push(0.0);
         let mut offset = 0.0;
-        for (at, dr, dc) in knots {
+        for &(at, dr, dc) in knots.iter() {
             slope -= dr;
             offset += dc;
-            if at > *rate.knots.last().unwrap_or(&0.0) {
-                rate.knots.push(at);
-                rate.slope.push(slope);
-                rate.offset.push(offset);
+            if at > *self.knots.last().unwrap_or(&0.0) {
+                self.knots.push(at);
+                self.slope.push(slope);
+                self.offset.push(offset);
             } else {
-                *rate.slope.last_mut().unwrap() = slope;
-                *rate.offset.last_mut().unwrap() = offset;
+                *self.slope.last_mut().unwrap() = slope;
+                *self.offset.last_mut().unwrap() = offset;
             }
         }
-        rate
     }
 
     /// u after `ds` from `u` (u > 0), exactly on each piece, and the distance at which u
@@ -507,21 +566,79 @@ impl PiecewiseRate {
 /// and r_k its growth through the tread on the interval (read off its integrals), solved
 /// exactly on each interval of the depth grid (MODEL.md#the-forced-response-saturates). The
 /// steps must share one grid. With `modulation_max` = +inf it is the summed profile's
-/// [`LifeProfile::answer`].
+/// [`LifeProfile::answer`]. [`SaturatedSteps`] prepares the steps once for many sets.
 pub fn answer_saturated_per_step(
     steps: &[(f64, &LifeProfile)],
     c: &FittedConstants,
     p: &Params,
     modulation_max: f64,
 ) -> LifeAnswer {
+    let mean = steps_mean(steps);
+    saturated_walk(steps, &mean, c, p, modulation_max)
+}
+
+/// A wheel's steps (a cycle's speed bins, a spread's legs), each a profile with its share of
+/// the distance, and their share-weighted mean, prepared once: what every set of fitted
+/// constants reads ([`SaturatedSteps::answer`] is [`answer_saturated_per_step`] of the steps,
+/// bit for bit, without summing the mean again for each set).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SaturatedSteps {
+    steps: Vec<(f64, LifeProfile)>,
+    /// The steps' mean, weighed by their shares (None without steps).
+    mean: Option<LifeProfile>,
+}
+
+impl SaturatedSteps {
+    /// The steps `steps` (share, profile), all on one grid.
+    pub fn new(steps: Vec<(f64, LifeProfile)>) -> Self {
+        let mean = {
+            let refs: Vec<(f64, &LifeProfile)> = steps.iter().map(|(a, pr)| (*a, pr)).collect();
+            (!refs.is_empty()).then(|| steps_mean(&refs))
+        };
+        SaturatedSteps { steps, mean }
+    }
+
+    /// The steps' share-weighted mean profile (None without steps).
+    pub fn mean(&self) -> Option<&LifeProfile> {
+        self.mean.as_ref()
+    }
+
+    /// [`answer_saturated_per_step`] of the steps under `c`.
+    pub fn answer(&self, c: &FittedConstants, p: &Params, modulation_max: f64) -> LifeAnswer {
+        let refs: Vec<(f64, &LifeProfile)> = self.steps.iter().map(|(a, pr)| (*a, pr)).collect();
+        match &self.mean {
+            Some(mean) => saturated_walk(&refs, mean, c, p, modulation_max),
+            None => answer_saturated_per_step(&refs, c, p, modulation_max),
+        }
+    }
+}
+
+/// The steps' mean profile, each weighed by its share of their total (the grid of the first;
+/// an empty profile of no orders without steps).
+fn steps_mean(steps: &[(f64, &LifeProfile)]) -> LifeProfile {
     let total: f64 = steps.iter().map(|(a, _)| a).sum();
     let Some(&(_, like)) = steps.first() else {
-        return LifeProfile::zero(0, 1, 0.0).answer(c, p);
+        return LifeProfile::zero(0, 1, 0.0);
     };
     let mut mean = LifeProfile::zero(like.max_order, like.intervals, like.usable_m);
     for &(a, profile) in steps {
         mean.add(profile, a / total);
     }
+    mean
+}
+
+/// [`answer_saturated_per_step`] of `steps` whose mean is `mean` ([`steps_mean`]).
+fn saturated_walk(
+    steps: &[(f64, &LifeProfile)],
+    mean: &LifeProfile,
+    c: &FittedConstants,
+    p: &Params,
+    modulation_max: f64,
+) -> LifeAnswer {
+    let total: f64 = steps.iter().map(|(a, _)| a).sum();
+    let Some(&(_, like)) = steps.first() else {
+        return mean.answer(c, p);
+    };
     let wear = mean.tread_wear_m_per_m(c);
     let target = print_log_ratio(p);
     if wear.is_nan() || wear <= 0.0 || like.max_order == 0 || target <= 0.0 {
@@ -569,6 +686,10 @@ pub fn answer_saturated_per_step(
     let mut first: Option<(f64, u32)> = None;
     let mut deepest = (f64::NEG_INFINITY, 1);
     let mut terms = Vec::with_capacity(steps.len());
+    let (mut rate, mut knots) = (
+        PiecewiseRate::of_terms(&[]),
+        Vec::with_capacity(steps.len()),
+    );
     // (Within a relative 10⁻⁹: where no knot is reached the two are one value, rounded twice.)
     let rest = (1..=like.max_order).filter(|&n| Some(n) != leader);
     for n in leader.into_iter().chain(rest) {
@@ -601,7 +722,8 @@ pub fn answer_saturated_per_step(
                 let rate = (phi * (pr.integral(n, j) - pr.integral(n, j - 1)) - other * dw) / dw;
                 t.growth_per_m = rate - t.base_per_m;
             }
-            let (end, cross) = PiecewiseRate::of_terms(&terms).evolve(u, ds, visible);
+            rate.refill(&terms, &mut knots);
+            let (end, cross) = rate.evolve(u, ds, visible);
             if let Some(t) = cross {
                 let at = s + t;
                 if first.is_none_or(|(m, o)| at < m || (at == m && n < o)) {

@@ -13,9 +13,12 @@
 //! legs (tested), so the plain answer screens: a set under which no order is visible keeps the
 //! plain answer, and only the wheels with a polygon pay for the legs.
 
+#[cfg(doc)]
+use super::answer_saturated_per_step;
+use super::profile::DepthGrid;
 use super::{
-    answer_saturated_per_step, LifeAnswer, LifeProfile, Nodes, TransferNodes, TreadDrift,
-    LIFE_PROFILE_INTERVALS, SLIDING_MODULATION_MAX,
+    LifeAnswer, LifeProfile, Nodes, SaturatedSteps, TransferNodes, LIFE_PROFILE_INTERVALS,
+    SLIDING_MODULATION_MAX,
 };
 use crate::wear::estimator::{per_spread, WheelGrowth};
 use crate::wear::fitted::FittedConstants;
@@ -25,6 +28,13 @@ use crate::wear::legs::cruise_legs;
 /// from about 40 (`polywear wear --speed-nodes 40`; at 110 km/h, σ_V = 5 km/h the loop moves
 /// by 14% and 16% from 5 legs to 40).
 pub const SATURATED_SPEED_LEGS: usize = 40;
+
+/// The legs are built for the orders whose plain answer (the spread's mean transfer, no
+/// saturation) comes within this much of the visible depth in ln D, a factor e² ≈ 7.4: the
+/// saturated order is never deeper than the legs' unsaturated mean, which is the plain answer
+/// within its quadrature (6% in distance, about 0.3 in ln D; tested). The orders left out
+/// cannot reach the visible depth; the answer is that of every order's legs (tested).
+const SCREEN_LOG_MARGIN: f64 = 2.0;
 
 /// The lowest leg speed, as a share of the sample's: a spread wide enough to put a quantile
 /// below it (σ_V above about 0.4 V at 40 legs) has those legs held there.
@@ -40,6 +50,19 @@ impl WheelGrowth {
     /// (MODEL.md#the-speed-spread). One set of nodes of the transfer serves every leg
     /// (`WheelGrowth::life_profile_on`).
     pub fn spread_leg_profiles(&self, spread_mps: f64) -> Vec<(f64, LifeProfile)> {
+        let grid = DepthGrid::of(self, LIFE_PROFILE_INTERVALS);
+        self.spread_leg_profiles_of(&grid, spread_mps, |_| true)
+    }
+
+    /// [`WheelGrowth::spread_leg_profiles`] on `grid` of the orders `profiled` accepts alone
+    /// (the others' integrals left at zero): the same nodes of the transfer, so each order's
+    /// integrals are those of every order's legs, bit for bit.
+    fn spread_leg_profiles_of(
+        &self,
+        grid: &DepthGrid,
+        spread_mps: f64,
+        profiled: impl Fn(u32) -> bool + Copy,
+    ) -> Vec<(f64, LifeProfile)> {
         let v = self.speed_mps;
         let legs = cruise_legs(v * 3.6, spread_mps * 3.6, SATURATED_SPEED_LEGS);
         let scales: Vec<(f64, f64)> = legs
@@ -51,8 +74,7 @@ impl WheelGrowth {
             .fold((f64::INFINITY, 0.0_f64), |(lo, hi), &(_, q)| {
                 (lo.min(q), hi.max(q))
             });
-        let drift = TreadDrift::of(&self.params, &self.patch);
-        let end = drift.at_end().min(1.0);
+        let end = grid.drift.at_end().min(1.0);
         let nu = self.nu();
         let from = ((nu / fastest).floor() - 2.0).max(1.0) as u32;
         let to = ((nu / slowest / end).ceil() + 2.0).max(from as f64) as u32;
@@ -66,15 +88,7 @@ impl WheelGrowth {
         scales
             .into_iter()
             .map(|(share, q)| {
-                let profile = self.life_profile_on(
-                    &drift,
-                    &transfer,
-                    q,
-                    from,
-                    to,
-                    LIFE_PROFILE_INTERVALS,
-                    true,
-                );
+                let profile = self.life_profile_on(grid, &transfer, q, from, profiled, to, true);
                 (share, profile)
             })
             .collect()
@@ -84,33 +98,75 @@ impl WheelGrowth {
     /// ([`answer_saturated_per_step`], m_max = [`SLIDING_MODULATION_MAX`]) under every set of
     /// `sets`: a set whose plain answer has no polygon keeps it (the saturated one is never
     /// earlier or deeper), the others are driven on the legs of their spread, built once per
-    /// spread.
+    /// spread for the orders that come within a factor e² of the visible depth on the plain
+    /// answer under some set of that spread, and those the plain answer does not walk (the
+    /// saturated answer is never deeper, and the legs' unsaturated mean is the plain answer's
+    /// spread, by quadrature; the answer is that of every order's legs, tested).
     pub fn saturated_answers_with(&self, sets: &[FittedConstants]) -> Vec<LifeAnswer> {
-        let plain = self.life_answers_with(sets);
-        if plain
-            .iter()
-            .all(|a| !a.answer.distance_to_visible_km.is_finite())
-        {
-            return plain;
+        self.saturated_answers_screened(sets, SCREEN_LOG_MARGIN)
+    }
+
+    /// [`WheelGrowth::saturated_answers_with`] with the legs built for the orders whose plain
+    /// peak comes within `margin` (in ln D) of the visible depth (+inf: every order).
+    fn saturated_answers_screened(&self, sets: &[FittedConstants], margin: f64) -> Vec<LifeAnswer> {
+        let (lowest, walks) = self.life_answers_and_peaks(sets);
+        let visible = |a: &LifeAnswer| a.answer.distance_to_visible_km.is_finite();
+        if walks.iter().all(|(a, _)| !visible(a)) {
+            return walks.into_iter().map(|(a, _)| a).collect();
         }
-        let mut next = plain.into_iter();
+        // Per spread, the orders of the plain walk (lowest ..= highest) that some set of the
+        // spread with a polygon brings near. The legs reach orders the plain walk does not
+        // (⌊ν⌋ − 2 … ⌈ν f₀/f_end⌉ + 2 at the sample's own speed): those are always profiled.
+        let target = self.print_log_ratio;
+        let highest = lowest + walks.first().map_or(0, |(_, p)| p.len() as u32).max(1) - 1;
+        let mut near: Vec<(u64, Vec<bool>)> = Vec::new();
+        for (c, (answer, peaks)) in sets.iter().zip(&walks) {
+            if !visible(answer) {
+                continue;
+            }
+            let key = (c.speed_spread_kmh / 3.6).to_bits();
+            let k = match near.iter().position(|(k, _)| *k == key) {
+                Some(k) => k,
+                None => {
+                    near.push((key, vec![false; peaks.len()]));
+                    near.len() - 1
+                }
+            };
+            for (is_near, &peak) in near[k].1.iter_mut().zip(peaks) {
+                *is_near |= peak >= target - margin;
+            }
+        }
+        let grid = DepthGrid::of(self, LIFE_PROFILE_INTERVALS);
+        let mut next = walks.into_iter();
         per_spread(
             sets,
             |spread_mps| {
+                let near = near
+                    .iter()
+                    .find(|(k, _)| *k == spread_mps.to_bits())
+                    .map(|(_, near)| near.as_slice());
                 (
                     spread_mps,
-                    std::cell::OnceCell::<Vec<(f64, LifeProfile)>>::new(),
+                    near,
+                    std::cell::OnceCell::<SaturatedSteps>::new(),
                 )
             },
-            |(spread_mps, legs), c| {
-                let plain = next.next().expect("one plain answer per set");
-                if !plain.answer.distance_to_visible_km.is_finite() {
+            |(spread_mps, near, legs), c| {
+                let (plain, _) = next.next().expect("one plain answer per set");
+                if !visible(&plain) {
                     return plain;
                 }
-                let legs = legs.get_or_init(|| self.spread_leg_profiles(*spread_mps));
-                let steps: Vec<(f64, &LifeProfile)> = legs.iter().map(|(a, p)| (*a, p)).collect();
-                let mut bounded =
-                    answer_saturated_per_step(&steps, c, &self.params, SLIDING_MODULATION_MAX);
+                // The legs and their mean are laid once per spread, for every set on it.
+                let legs = legs.get_or_init(|| {
+                    let profiled = |n: u32| {
+                        !margin.is_finite()
+                            || n < lowest
+                            || n > highest
+                            || near.is_none_or(|near| near[(n - lowest) as usize])
+                    };
+                    SaturatedSteps::new(self.spread_leg_profiles_of(&grid, *spread_mps, profiled))
+                });
+                let mut bounded = legs.answer(c, &self.params, SLIDING_MODULATION_MAX);
                 // The legs share the wheel's even wear: its tread's life is the plain answer's
                 // (the same sum, taken once rather than over the legs' shares).
                 bounded.answer.tread_life_km = plain.answer.tread_life_km;
@@ -130,7 +186,7 @@ impl WheelGrowth {
 #[cfg(test)]
 mod tests {
     use super::super::profile::tests::growth_at;
-    use super::super::{PiecewiseRate, SpeedTerm};
+    use super::super::{answer_saturated_per_step, PiecewiseRate, SpeedTerm};
     use super::*;
     use crate::classify::ClassifierOptions;
     use crate::evaluate::calibrate_wear;
@@ -364,5 +420,59 @@ mod tests {
             }
         }
         assert!(slowed >= 4, "saturation moved only {slowed} wheels by 20%");
+    }
+
+    /// The legs are built only for the orders the plain answer brings within
+    /// [`SCREEN_LOG_MARGIN`] of the visible depth (and for those it does not walk), and the
+    /// answer is that of every order's legs, bit for bit: at highway points, at 62 km/h with a
+    /// spread wide enough for its fast legs to reach orders below the plain walk's, under a
+    /// band of sets on several spreads. A screen that keeps none of the plain walk's orders
+    /// changes answers: the test can tell.
+    #[test]
+    fn the_screened_legs_give_every_order_s_answer() {
+        let mut wheels = highway_wheels(5.0);
+        let base = Params {
+            toe_deg: 0.6,
+            speed_kmh: 62.0,
+            wear_share_straight: 0.25,
+            speed_spread_kmh: 10.0,
+            ..Params::default()
+        };
+        let cal =
+            calibrate_wear(&base, Variant::SlidingShare, &ClassifierOptions::default()).unwrap();
+        for wheel in Wheel::BOTH {
+            wheels.push((
+                format!("62 km/h 0.6° {wheel}"),
+                base,
+                growth_at(&base, &cal, wheel).0,
+            ));
+        }
+        let sets: Vec<FittedConstants> = [0.12, 0.25, 0.5, 1.0]
+            .into_iter()
+            .flat_map(|phi| {
+                [2.0, 5.0, 10.0].into_iter().flat_map(move |sigma| {
+                    [1.5, 2.0].map(|k_d| FittedConstants {
+                        wear_share_straight: phi,
+                        speed_spread_kmh: sigma,
+                        wear_rate_driven_factor: k_d,
+                    })
+                })
+            })
+            .collect();
+        let (mut polygons, mut told) = (0, 0);
+        for (here, _, g) in wheels {
+            let every = g.saturated_answers_screened(&sets, f64::INFINITY);
+            let screened = g.saturated_answers_screened(&sets, SCREEN_LOG_MARGIN);
+            for ((c, a), b) in sets.iter().zip(&screened).zip(&every) {
+                assert_eq!(a, b, "{here} under {c:?}");
+                polygons += usize::from(b.answer.distance_to_visible_km.is_finite());
+            }
+            told += usize::from(g.saturated_answers_screened(&sets, -1e9) != every);
+        }
+        assert!(polygons >= 40, "only {polygons} answers with a polygon");
+        assert!(
+            told >= 3,
+            "a screen of no orders changed only {told} wheels"
+        );
     }
 }
