@@ -584,32 +584,25 @@ pub fn answer_saturated_per_step(
 #[derive(Debug, Clone, PartialEq)]
 pub struct SaturatedSteps {
     steps: Vec<(f64, LifeProfile)>,
-    /// The steps' mean, weighed by their shares (None without steps).
-    mean: Option<LifeProfile>,
+    /// The steps' mean, weighed by their shares ([`steps_mean`]).
+    mean: LifeProfile,
 }
 
 impl SaturatedSteps {
     /// The steps `steps` (share, profile), all on one grid.
     pub fn new(steps: Vec<(f64, LifeProfile)>) -> Self {
-        let mean = {
-            let refs: Vec<(f64, &LifeProfile)> = steps.iter().map(|(a, pr)| (*a, pr)).collect();
-            (!refs.is_empty()).then(|| steps_mean(&refs))
-        };
+        let mean = steps_mean(&Self::refs(&steps));
         SaturatedSteps { steps, mean }
-    }
-
-    /// The steps' share-weighted mean profile (None without steps).
-    pub fn mean(&self) -> Option<&LifeProfile> {
-        self.mean.as_ref()
     }
 
     /// [`answer_saturated_per_step`] of the steps under `c`.
     pub fn answer(&self, c: &FittedConstants, p: &Params, modulation_max: f64) -> LifeAnswer {
-        let refs: Vec<(f64, &LifeProfile)> = self.steps.iter().map(|(a, pr)| (*a, pr)).collect();
-        match &self.mean {
-            Some(mean) => saturated_walk(&refs, mean, c, p, modulation_max),
-            None => answer_saturated_per_step(&refs, c, p, modulation_max),
-        }
+        saturated_walk(&Self::refs(&self.steps), &self.mean, c, p, modulation_max)
+    }
+
+    /// The steps as [`answer_saturated_per_step`] takes them.
+    fn refs(steps: &[(f64, LifeProfile)]) -> Vec<(f64, &LifeProfile)> {
+        steps.iter().map(|(a, pr)| (*a, pr)).collect()
     }
 }
 
