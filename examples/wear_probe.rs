@@ -1,6 +1,6 @@
 //! A quick look at the long-term loop at one point: `cargo run --release --example wear_probe
 //! -- SPEED PHI_S SPREAD WHEEL(f|d) DISTANCE_KM`. Prints the time, the steps and the dominant
-//! order's history.
+//! order's history. PW_SKIP sets the revolutions settled after each profile update (default 2).
 use polywear::classify::ClassifierOptions;
 use polywear::evaluate::{calibrate_wear, solve_wheel};
 use polywear::model::{Variant, Wheel};
@@ -46,6 +46,8 @@ fn main() {
         update_tread_height: std::env::var("PW_FIXED_H").is_err(),
         // PW_MIN_STEP_KM: the loop's Δs_min (default 20 km).
         min_step_km: std::env::var("PW_MIN_STEP_KM").map_or(20.0, |s| s.parse().unwrap()),
+        // PW_SKIP: revolutions settled after each profile update (default 2).
+        skip_revs: std::env::var("PW_SKIP").map_or(2, |s| s.parse().unwrap()),
         ..LoopSettings::default()
     };
     let t0 = Instant::now();

@@ -678,10 +678,12 @@ fn wear_drives_a_shipped_cycle() {
 }
 
 /// P2 on the loop's own windows: a cycle locks to a single polygon of order 19 only inside a
-/// tongue of speeds around V_19 = V ν/19, whose half-width grows in proportion to the depth at
-/// small depths (phase reduction: δ_lock ∝ |R_n|), and agrees with the estimator's tongue
-/// (MODEL.md#growth-of-a-vibrating-wheel) but for a factor of about two (the estimator's is
-/// wider).
+/// tongue of speeds around V_19 = V ν/19, whose half-width grows with the depth (×3.2 for ×4
+/// from 4 to 16 µm). At 4 µm deep (R = 2 µm) it is the fixed-model lock band of
+/// `the_first_order_tongue_is_the_forced_cycles_lock_band_at_small_depth` read in speed, about
+/// 0.68 of the estimator's first-order width (MODEL.md#growth-of-a-vibrating-wheel): the model
+/// moving with V adds nothing. The earlier 20 revolutions of settling read 0.47, and this test
+/// then held 0.35–0.7; it fails on that settling.
 #[test]
 fn the_loop_locks_only_inside_a_tongue_that_widens_with_the_depth() {
     use polywear::wear::tongue::{measure, TongueRequest};
@@ -720,13 +722,14 @@ fn the_loop_locks_only_inside_a_tongue_that_widens_with_the_depth() {
         (2.5..5.5).contains(&ratio),
         "x4 the depth: x{ratio} the tongue ({shallow:?}, {deep:?})"
     );
-    // The estimator's first-order tongue at the seed is about twice as wide: the band in speed is
-    // narrower than first order already at the seed (MODEL.md#growth-of-a-vibrating-wheel, and
-    // `the_first_order_tongue_is_the_forced_cycles_lock_band_at_small_depth`).
+    // The estimator's first-order tongue at the seed is wider: the band bends below first order
+    // already at the seed (±0.065 against ±0.10 in δ at a fixed model,
+    // `the_first_order_tongue_is_the_forced_cycles_lock_band_at_small_depth`), and in speed it
+    // is that band again.
     let estimated = growth(&p, &w).order(19).lock_halfwidth_kmh;
     let ratio = shallow.halfwidth_kmh / estimated;
     assert!(
-        (0.35..0.7).contains(&ratio),
+        (0.6..0.8).contains(&ratio),
         "loop ±{} km/h, estimator ±{estimated} km/h",
         shallow.halfwidth_kmh
     );

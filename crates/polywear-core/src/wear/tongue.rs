@@ -14,10 +14,16 @@ use crate::model::{Variant, Wheel, WheelModel};
 use crate::params::Params;
 
 /// Revolutions integrated at each speed before the rotation number is read (onto the cycle
-/// from the run's last state).
-const SETTLE_REVS: usize = 20;
-/// Revolutions whose rotation number decides.
-const MEASURE_REVS: usize = 10;
+/// from the run's last state). Near a tongue's edge the phase relaxes slowly (Adler's equation:
+/// at a rate falling as √(1 − (δ/δ_lock)²)), and the amplitude mode about as slowly (its
+/// multiplier 0.987 a period is 0.78 a revolution at order 19), so a short settling reads a
+/// speed that does lock as unlocked: 20 revolutions put the default point's band at 4 µm deep
+/// (R = 2 µm) at −0.20…+0.375 km/h, where 300 and 600 give −0.35…+0.375 km/h
+/// (MODEL.md#growth-of-a-vibrating-wheel).
+const SETTLE_REVS: usize = 300;
+/// Revolutions whose rotation number decides: ρ within [`super::lock::LOCK_TOLERANCE`] of a
+/// whole number over 40 revolutions is a phase drift under 0.04 of a period.
+const MEASURE_REVS: usize = 40;
 /// Steps outward on each side, each an eighth of one order's window V/n.
 const OUTWARD_STEPS: usize = 8;
 /// Halvings of the bracket between the last locked and the first unlocked speed.
