@@ -735,6 +735,37 @@ fn the_loop_locks_only_inside_a_tongue_that_widens_with_the_depth() {
     );
 }
 
+/// Brute force on the cycle of `w` (at `p`, the model fixed): forced by one order-19 harmonic of
+/// radius `radius_m`, with the rotation moved so that δ = ν − 19 is `detuning`, settled 300
+/// revolutions; whether ρ is 19 over the next 40, and ρ.
+fn locks_to_19(p: &Params, w: &WheelSolution, radius_m: f64, detuning: f64) -> (bool, f64) {
+    use polywear::wear::lock::{is_locked, rotation_number};
+    use polywear::wear::window::{integrate_window, EpsilonTable, WindowRequest};
+    use polywear::wear::{Complex64, Feedback, WearZone};
+    let m = w.model.as_ref().unwrap();
+    let f_hz = w.verdict.polygon_order * polywear::model::WheelModel::rotation_hz(p);
+    let fb = Feedback::new(p, m, WearZone::Trailing);
+    let mut h = vec![Complex64::new(0.0, 0.0); 64];
+    h[18] = Complex64::new(radius_m, 0.0);
+    let table = EpsilonTable::new(&fb, &h, 2048);
+    let rotation_hz = f_hz / (19.0 + detuning);
+    let win = integrate_window(&WindowRequest {
+        ode: &m.ode,
+        epsilon: &table,
+        rotation_hz,
+        start: start(w).unwrap(),
+        skip_revs: 300,
+        revs: 40,
+        samples_per_rev: 64,
+        rtol: 1e-8,
+        period_s: 1.0 / f_hz,
+        max_steps: 10_000_000,
+    })
+    .unwrap();
+    let rho = rotation_number(&win.crossings_s, 1.0 / rotation_hz);
+    (is_locked(rho), rho)
+}
+
 /// The lock-in coupling of the periodic linearisation (Adler, MODEL.md#growth-of-a-vibrating-wheel)
 /// against brute force: the default point's cycle at a fixed speed, forced by one order-19
 /// harmonic, with only the rotation frequency moved so that δ = ν − 19 is scanned at a fixed
@@ -743,36 +774,9 @@ fn the_loop_locks_only_inside_a_tongue_that_widens_with_the_depth() {
 /// first order, so 0.9 δ_L is outside it (the estimator's tongue is an upper bound there).
 #[test]
 fn the_first_order_tongue_is_the_forced_cycles_lock_band_at_small_depth() {
-    use polywear::wear::lock::{is_locked, rotation_number};
-    use polywear::wear::window::{integrate_window, EpsilonTable, WindowRequest};
-    use polywear::wear::{Complex64, Feedback, WearZone};
     let p = worst(100.0);
     let w = solve_wheel(p, V, Wheel::Follower, &ClassifierOptions::default());
-    let m = w.model.as_ref().unwrap();
-    let nu = w.verdict.polygon_order;
-    let f_hz = nu * polywear::model::WheelModel::rotation_hz(&p);
-    let fb = Feedback::new(&p, m, WearZone::Trailing);
-    let locked_at = |radius_m: f64, detuning: f64| {
-        let mut h = vec![Complex64::new(0.0, 0.0); 64];
-        h[18] = Complex64::new(radius_m, 0.0);
-        let table = EpsilonTable::new(&fb, &h, 2048);
-        let rotation_hz = f_hz / (19.0 + detuning);
-        let win = integrate_window(&WindowRequest {
-            ode: &m.ode,
-            epsilon: &table,
-            rotation_hz,
-            start: start(&w).unwrap(),
-            skip_revs: 300,
-            revs: 40,
-            samples_per_rev: 64,
-            rtol: 1e-8,
-            period_s: 1.0 / f_hz,
-            max_steps: 10_000_000,
-        })
-        .unwrap();
-        let rho = rotation_number(&win.crossings_s, 1.0 / rotation_hz);
-        (is_locked(rho), rho)
-    };
+    let locked_at = |radius_m: f64, detuning: f64| locks_to_19(&p, &w, radius_m, detuning);
     let first_order = |radius_um: f64| {
         let q = Params {
             seed_runout_um: radius_um,
@@ -800,6 +804,58 @@ fn the_first_order_tongue_is_the_forced_cycles_lock_band_at_small_depth() {
     for x in [-0.9, 0.9] {
         let (locked, rho) = locked_at(2e-6, x * seed);
         assert!(!locked, "R 2 um, delta {x} delta_L ({seed}): rho {rho}");
+    }
+}
+
+/// The tongue at depth (MODEL.md#the-tongue-at-depth): the forced Hopf normal form read off the
+/// cycle's Floquet modes (`WheelGrowth::lock_band_kmh`) gives the brute-force lock band's
+/// half-width within 8% at R = 1, 2 and 4 µm of the default point's cycle, where first order
+/// is about 15%, 40% and 75% too wide; and at 1 µm both widen the same side (δ > 0, the
+/// speeds below V_19).
+#[test]
+fn the_normal_form_gives_the_lock_band_at_depth() {
+    let p = worst(100.0);
+    let w = solve_wheel(p, V, Wheel::Follower, &ClassifierOptions::default());
+    let g = growth(&p, &w);
+    let to_delta = 19.0 / p.speed_kmh;
+    let first_per_um = g.order(19).lock_halfwidth_kmh / p.seed_runout_um * to_delta;
+    for r_um in [1.0, 2.0, 4.0] {
+        let radius_m = r_um * 1e-6;
+        let first = first_per_um * r_um;
+        let (below_kmh, above_kmh) = g.lock_band_kmh(19, radius_m).expect("a cycle");
+        let normal_form = (-below_kmh * to_delta, above_kmh * to_delta);
+        // Each edge bisected between 0.3 and 1.5 first-order widths (locked and not).
+        let edge = |sign: f64| {
+            let (mut inside, mut outside) = (0.3 * first, 1.5 * first);
+            assert!(locks_to_19(&p, &w, radius_m, sign * inside).0);
+            assert!(!locks_to_19(&p, &w, radius_m, sign * outside).0);
+            for _ in 0..7 {
+                let mid = 0.5 * (inside + outside);
+                if locks_to_19(&p, &w, radius_m, sign * mid).0 {
+                    inside = mid;
+                } else {
+                    outside = mid;
+                }
+            }
+            0.5 * (inside + outside)
+        };
+        let brute = (edge(1.0), edge(-1.0));
+        let (half_brute, half_form) = (
+            0.5 * (brute.0 + brute.1),
+            0.5 * (normal_form.0 + normal_form.1),
+        );
+        assert!(
+            (half_form / half_brute - 1.0).abs() < 0.08,
+            "R {r_um} um: brute force {brute:?}, normal form {normal_form:?}, first order {first}"
+        );
+        if r_um >= 2.0 {
+            assert!(first / half_brute > 1.3, "R {r_um} um: {brute:?} {first}");
+        } else {
+            assert!(
+                brute.0 > brute.1 && normal_form.0 > normal_form.1,
+                "{brute:?} {normal_form:?}"
+            );
+        }
     }
 }
 

@@ -50,6 +50,7 @@ pub mod law;
 pub mod legs;
 pub mod lock;
 pub mod long_term;
+pub mod normal_form;
 pub mod periodic;
 pub mod profile;
 pub mod slip;

@@ -44,6 +44,12 @@ pub struct CycleResponse {
     pub transfer: PoleExpansion,
     /// |ĝ₋₁| \[s\]: the phase response's coupling to ε at the cycle's own frequency.
     pub phase_coupling_s: f64,
+    /// ĝ₋₁ itself \[s\] (its phase relative to the amplitude mode's coupling gives the shear).
+    pub phase_coupling: Complex64,
+    /// The slowest-decaying mode beside the phase mode (the amplitude mode), where its multiplier
+    /// is real and positive: its rate −μ \[1/s\] and Î₋₁, the harmonic e^{−iω_γ t} of q·b (its
+    /// scale is the eigenvector's, arbitrary; its phase is not).
+    pub amplitude_mode: Option<(f64, Complex64)>,
     /// The cycle's mean friction power P̄ \[W\].
     pub mean_power_w: f64,
     /// The amplitude of the power's harmonic at the cycle's own frequency over P̄, |P₁|/P̄: what a
@@ -169,7 +175,11 @@ impl CycleResponse {
             terms: Vec::with_capacity(3 * n),
         };
         let twiddle = Twiddles::new(n);
-        let mut phase_coupling_s = 0.0;
+        let mut phase_coupling = cplx(0.0);
+        let amplitude = (0..3)
+            .filter(|&j| j != phase_mode && ev[j].im == 0.0 && ev[j].re > 0.0)
+            .max_by(|&a, &b| ev[a].re.total_cmp(&ev[b].re));
+        let mut amplitude_mode = None;
         for (j, rho) in ev.iter().enumerate() {
             let mode: Mode = (r.column(j).into_owned(), l.row(j).into_owned());
             let phase = j == phase_mode;
@@ -184,6 +194,9 @@ impl CycleResponse {
             }
             let (beta, gamma) = data.mode_series(&mode, mu);
             let (bh, gh) = (twiddle.dft(&beta), twiddle.dft(&gamma));
+            if Some(j) == amplitude {
+                amplitude_mode = Some((-mu.re, bh[Twiddles::index(-1, n)]));
+            }
             let half = n as i64 / 2;
             for k in (1 - half)..half {
                 transfer.terms.push(PoleTerm {
@@ -197,7 +210,7 @@ impl CycleResponse {
                 let f0 = ode.rhs(&cycle.samples[0].x).map(cplx);
                 let f0 = Vector3::new(f0[0], f0[1], f0[2]);
                 let a = (f0.transpose() * mode.0)[0] / f0.norm_squared();
-                phase_coupling_s = (a * bh[Twiddles::index(-1, n)]).norm();
+                phase_coupling = a * bh[Twiddles::index(-1, n)];
             }
         }
         let largest = transfer
@@ -210,7 +223,9 @@ impl CycleResponse {
             .retain(|t| t.residue.norm() >= NEGLIGIBLE_RESIDUE * largest);
         Ok(CycleResponse {
             transfer,
-            phase_coupling_s,
+            phase_coupling_s: phase_coupling.norm(),
+            phase_coupling,
+            amplitude_mode,
             mean_power_w,
             power_harmonic_rel: data.power_harmonic_rel(),
             omega_rad_s: omega,

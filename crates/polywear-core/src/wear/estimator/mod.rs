@@ -28,6 +28,7 @@ use super::cycle::{SampledCycle, SAMPLES_PER_PERIOD};
 use super::feedback::Feedback;
 use super::fitted::{FittedConstants, WearAnswer};
 use super::law::{even_wear_m_per_m, MM_PER_1000KM_PER_M_PER_M, PER_1000KM_PER_PER_M};
+use super::normal_form::ForcedHopf;
 use super::periodic::CycleResponse;
 use super::slip::{SlipPower, WearPower};
 use super::transfer::{equilibrium_expansion, Linearisation, PoleExpansion};
@@ -226,6 +227,8 @@ struct Response {
     nu: f64,
     phase_coupling_s: f64,
     power_harmonic_rel: f64,
+    /// The cycle's forced Hopf normal form (None for a stable tread).
+    hopf: Option<ForcedHopf>,
 }
 
 fn response(inputs: &WearInputs, meter: &Meter) -> Result<Response, WearError> {
@@ -245,12 +248,14 @@ fn response(inputs: &WearInputs, meter: &Meter) -> Result<Response, WearError> {
                 nu: v.eig_freq_hz / WheelModel::rotation_hz(p),
                 phase_coupling_s: 0.0,
                 power_harmonic_rel: 0.0,
+                hopf: None,
             }
         }
         Class::LimitCycle | Class::Bistable => {
             let cycle = SampledCycle::of(ode, v, SAMPLES_PER_PERIOD, meter)?;
             let r = CycleResponse::of(ode, &cycle)?;
             Response {
+                hopf: ForcedHopf::of(&r),
                 transfer: r.transfer,
                 mean_power_w: r.mean_power_w,
                 nu: v.polygon_order,
@@ -621,6 +626,21 @@ impl WheelGrowth {
         let v = self.speed_mps;
         let lock_rev = r.nu * forcing.norm_sqr().sqrt() * radius_m * r.phase_coupling_s;
         (v * r.nu / n, v * lock_rev / n)
+    }
+
+    /// The speed band \[km/h\] in which the cycle locks to an order-`order` polygon of radius
+    /// |R_n| = `radius_m`, as offsets (below ≤ 0 ≤ above) from V_n = V ν/n, from the cycle's
+    /// forced Hopf normal form (MODEL.md#the-tongue-at-depth): the first-order ±V δ_L/n while
+    /// δ_L is small beside the amplitude mode's rate, narrower and lopsided as the polygon
+    /// deepens. None for a stable tread, or a cycle without an amplitude mode.
+    pub fn lock_band_kmh(&self, order: u32, radius_m: f64) -> Option<(f64, f64)> {
+        let hopf = self.response.hopf?;
+        let n = order as f64;
+        let (_, half_mps) = self.tongue_mps(n, self.feedback.forcing_per_radius(n), radius_m);
+        // The forcing's frequency Ω = n V/r_B moves with V: ΔV = (Ω − ω_γ) r_B/n.
+        let per_rad_s = self.r_b / n;
+        let (below, above) = hopf.lock_edges_rad_s(half_mps / per_rad_s);
+        Some((below * per_rad_s * 3.6, above * per_rad_s * 3.6))
     }
 
     /// The locked print as a growth rate \[1/m\]: a cycle locked to the order prints its power

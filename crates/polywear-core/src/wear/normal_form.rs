@@ -1,0 +1,167 @@
+//! The lock-in tongue at any depth, from the cycle's forced Hopf normal form
+//! (MODEL.md#the-tongue-at-depth). Phase reduction (Adler) gives the tongue's first-order
+//! half-width Δ₁ = δ_lock·2πf_rot; it holds only while Δ₁ is small beside the rate λ at which
+//! the cycle's amplitude mode relaxes. Beyond, the forcing also moves the amplitude, and the
+//! amplitude moves the phase through the isochrons' twist (the shear c). The forced
+//! Stuart–Landau oscillator keeps exactly those three numbers,
+//!
+//! ```text
+//! da/dτ = ½(1 − |a|²)(1 + ic)a − iya + x,   τ = λt, y = (Ω − ω_γ)/λ, x = Δ₁/(λ√(1 + c²)),
+//! ```
+//!
+//! a the cycle's complex amplitude (free: |a| = 1) in the frame of the forcing Ω, and it locks
+//! where it has a stable fixed point. All three are read off the cycle's Floquet decomposition
+//! ([`super::periodic::CycleResponse`]): λ = −μ of the amplitude mode, Δ₁ from the phase mode's
+//! coupling ĝ₋₁, and c from the phase of ĝ₋₁ against the amplitude mode's coupling Î₋₁, since
+//! in the normal form ĝ₋₁/Î₋₁ is a real multiple of c + i.
+
+use super::periodic::CycleResponse;
+use super::Complex64;
+use nalgebra::Matrix3;
+
+/// Steps outward from the tongue's centre, each this share of the first-order half-width,
+/// before the bisection of the last one.
+const OUTWARD_STEP: f64 = 0.02;
+/// The most steps outward: a tongue wider than this many first-order widths is cut there.
+const MOST_STEPS: usize = 10_000;
+/// Halvings of the bracket around each edge (2⁻⁴⁰ of a step).
+const BISECTIONS: usize = 40;
+
+/// A limit cycle's forced Hopf normal form: the amplitude mode's rate and the shear.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ForcedHopf {
+    /// λ = −μ of the amplitude mode \[1/s\].
+    pub amplitude_rate_per_s: f64,
+    /// c: how far the isochrons twist, the phase response to an amplitude change over that to
+    /// a phase change (dimensionless; its sign says which side of the tongue widens).
+    pub shear: f64,
+}
+
+impl ForcedHopf {
+    /// The normal form of the cycle whose response is `response` (None without an amplitude
+    /// mode of real positive multiplier, or without coupling).
+    pub fn of(response: &CycleResponse) -> Option<Self> {
+        let (rate, iso) = response.amplitude_mode?;
+        let ratio = response.phase_coupling / iso;
+        (rate > 0.0 && ratio.im != 0.0 && ratio.is_finite()).then(|| ForcedHopf {
+            amplitude_rate_per_s: rate,
+            shear: ratio.re / ratio.im,
+        })
+    }
+
+    /// The detunings Ω − ω_γ \[rad/s\] at which a cycle forced to a first-order half-width of
+    /// `first_order_rad_s` stops being locked, below and above its own frequency (below ≤ 0 ≤
+    /// above): from the centre outward to the first detuning without a stable fixed point.
+    pub fn lock_edges_rad_s(&self, first_order_rad_s: f64) -> (f64, f64) {
+        let lambda = self.amplitude_rate_per_s;
+        let c = self.shear;
+        let y1 = first_order_rad_s / lambda;
+        if y1.is_nan() || y1 <= 0.0 || y1.is_infinite() {
+            return (0.0, 0.0);
+        }
+        let x = y1 / (1.0 + c * c).sqrt();
+        let edge = |sign: f64| {
+            let locks = |y: f64| stable_fixed_point(c, x, sign * y);
+            let step = OUTWARD_STEP * y1;
+            let (mut inside, mut outside) = (0.0, f64::NAN);
+            for k in 1..=MOST_STEPS {
+                let y = k as f64 * step;
+                if locks(y) {
+                    inside = y;
+                } else {
+                    outside = y;
+                    break;
+                }
+            }
+            if outside.is_nan() {
+                return inside;
+            }
+            for _ in 0..BISECTIONS {
+                let mid = 0.5 * (inside + outside);
+                if locks(mid) {
+                    inside = mid;
+                } else {
+                    outside = mid;
+                }
+            }
+            inside
+        };
+        (-edge(-1.0) * lambda, edge(1.0) * lambda)
+    }
+}
+
+/// Whether da/dτ = ½(1 − |a|²)(1 + ic)a − iya + x has a stable fixed point. Its |a|² = R solves
+/// R((1 + c²)(1 − R)²/4 − cy(1 − R) + y²) = x²; one is stable where the trace 1 − 2R of the
+/// Jacobian is negative and its determinant |½(1 + ic)(1 − 2R) − iy|² − ¼(1 + c²)R² positive.
+fn stable_fixed_point(c: f64, x: f64, y: f64) -> bool {
+    let a = 0.25 * (1.0 + c * c);
+    // a R³ + (c y − 2a) R² + (a − c y + y²) R − x² = 0, monic.
+    let (p, q, r) = ((c * y - 2.0 * a) / a, (a - c * y + y * y) / a, -x * x / a);
+    let companion = Matrix3::new(-p, -q, -r, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0);
+    let Some(schur) = companion.try_schur(f64::EPSILON, 10_000) else {
+        return false;
+    };
+    schur
+        .complex_eigenvalues()
+        .iter()
+        .filter(|root: &&Complex64| root.im.abs() <= 1e-9 * root.re.abs().max(1.0))
+        .map(|root| root.re)
+        .any(|big_r| {
+            let d = Complex64::new(0.5 * (1.0 - 2.0 * big_r), 0.5 * c * (1.0 - 2.0 * big_r) - y);
+            big_r > 0.5 && d.norm_sqr() - a * big_r * big_r > 0.0
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// At small forcing the tongue is Adler's, ±Δ₁, whatever the shear; the shear only bends it
+    /// once Δ₁ is near λ.
+    #[test]
+    fn weak_forcing_gives_the_first_order_tongue() {
+        for c in [0.0, 1.0, -2.8] {
+            let form = ForcedHopf {
+                amplitude_rate_per_s: 4.0,
+                shear: c,
+            };
+            let first = 0.004;
+            let (below, above) = form.lock_edges_rad_s(first);
+            assert!((below / first + 1.0).abs() < 0.01, "c {c}: {below}");
+            assert!((above / first - 1.0).abs() < 0.01, "c {c}: {above}");
+        }
+    }
+
+    /// Without shear the amplitude's response moves no phase, and the tongue stays at least
+    /// the first order's; with the shear it narrows to about 1/√(1 + c²) of it plus the bare
+    /// coupling's share, far below first order.
+    #[test]
+    fn the_shear_narrows_a_strongly_forced_tongue() {
+        let strong = |c: f64| {
+            let form = ForcedHopf {
+                amplitude_rate_per_s: 1.0,
+                shear: c,
+            };
+            let (below, above) = form.lock_edges_rad_s(16.0);
+            0.5 * (above - below) / 16.0
+        };
+        assert!(strong(0.0) >= 0.99, "{}", strong(0.0));
+        let sheared = strong(-2.839);
+        assert!((0.4..0.6).contains(&sheared), "{sheared}");
+        // The shear's sign mirrors the tongue.
+        let mirror = |c: f64| {
+            ForcedHopf {
+                amplitude_rate_per_s: 1.0,
+                shear: c,
+            }
+            .lock_edges_rad_s(0.5)
+        };
+        let (b, a) = mirror(2.0);
+        let (b2, a2) = mirror(-2.0);
+        assert!(
+            (b + a2).abs() < 1e-9 && (a + b2).abs() < 1e-9,
+            "{b} {a} {b2} {a2}"
+        );
+        assert!(a2 < -b2, "c < 0 widens the side below: {b2} {a2}");
+    }
+}
