@@ -373,6 +373,12 @@ impl WheelGrowth {
         self.response.nu
     }
 
+    /// |P₁|/P̄ of the wheel's cycle, what it prints every revolution onto an order it is locked
+    /// to (MODEL.md#growth-of-a-vibrating-wheel); 0 for a stable tread.
+    pub fn cycle_power_harmonic_rel(&self) -> f64 {
+        self.response.power_harmonic_rel
+    }
+
     /// The even wear w′ at the sample's φ_s \[m/m\]: the lateral power's and the slip
     /// power's.
     pub fn even_wear_m_per_m(&self) -> f64 {

@@ -218,6 +218,13 @@ impl DepthGrid {
 }
 
 impl WheelGrowth {
+    /// f₀/f at the worn depths of [`WheelGrowth::life_profile`]'s grid of `intervals` equal
+    /// intervals (the tread frequency's drift, MODEL.md#the-ageing-tread): order n reads the
+    /// new tire's transfer at x = n·f₀/f there.
+    pub fn worn_frequency_ratios(&self, intervals: usize) -> Vec<f64> {
+        DepthGrid::of(self, intervals).ratios
+    }
+
     /// The wheel's [`LifeProfile`] for orders 1..=`max_order` on `intervals` equal intervals of
     /// the usable depth. Each order's integral of the linear loop is closed-form from the
     /// moments of the transfer's nodes (Ḡ linear between them, as the answer over the tread's

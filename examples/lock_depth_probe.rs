@@ -1,0 +1,236 @@
+//! A drive cycle's answer over the tread's life, each speed bin saturated on its own as
+//! `cycle --wear-estimate tread_life_saturated` gives it, against the same walk with a lock that
+//! widens with the depth (MODEL.md#the-tongue-at-depth): a vibrating bin locks to order n once
+//! the polygon's radius reaches the edge of its forced Hopf normal form's band at the bin's
+//! detuning ν − n·f₀/f (`WheelGrowth::lock_band_kmh`), and a locked bin prints the free cycle's
+//! harmonic |P₁|/P̄ (or, with `PW_LOCKED_PRINT=cap`, the sliding bound m_max) instead of its
+//! saturated linear print. Each order is walked in 32 midpoint substeps per interval of worn
+//! depth; without the lock the walk is the shipped answer. A cruising spread is a cycle of its
+//! 40 quantile speeds at equal distances.
+//!
+//! ```sh
+//! cargo run --release --example lock_depth_probe -- CYCLE.csv TOE_DEG PHI_S
+//! cargo run --release --example lock_depth_probe -- data/cycles/wltc_class3b.csv 0.3 1
+//! ```
+use polywear::classify::budget::Meter;
+use polywear::classify::ClassifierOptions;
+use polywear::evaluate::{solve_wheel, WearStage};
+use polywear::model::{Variant, Wheel};
+use polywear::params::Params;
+use polywear::wear::estimator::{print_log_ratio, SaturatedSteps, SLIDING_MODULATION_MAX};
+use polywear::wear::{
+    FittedConstants, LifeProfile, WearSettings, WheelGrowth, LIFE_PROFILE_INTERVALS,
+};
+use polywear_study::cycle::DriveCycle;
+use std::collections::BTreeMap;
+
+const ORDERS: u32 = 64;
+
+/// A speed's profile, its lock radii (as [`Bin::lock_radius`]) and its cycle's |P₁|/P̄.
+type Solved = (LifeProfile, Vec<Vec<f64>>, f64);
+
+struct Bin {
+    km: f64,
+    profile: LifeProfile,
+    /// Per order (index n−1), per interval j (1..=J): the radius [m] at which the bin locks
+    /// (inf: never).
+    lock_radius: Vec<Vec<f64>>,
+    power_harmonic: f64,
+}
+
+fn main() {
+    let a: Vec<String> = std::env::args().collect();
+    let path = std::path::Path::new(&a[1]);
+    let toe: f64 = a[2].parse().unwrap();
+    let phi: f64 = a[3].parse().unwrap();
+    let base = Params {
+        toe_deg: toe,
+        wear_share_straight: phi,
+        ..Params::default()
+    };
+    let variant = Variant::SlidingShare;
+    let opts = ClassifierOptions::default();
+    let stage = WearStage::for_run(&base, variant, WearSettings::default(), &opts).unwrap();
+    let cycle = DriveCycle::read(path).unwrap();
+    let kms = cycle.step_km();
+    let c = FittedConstants::of(&base);
+    let radii: Vec<f64> = (0..40)
+        .map(|i| 0.05e-6 * 10f64.powf(i as f64 * 4.0 / 39.0))
+        .collect();
+    for wheel in [Wheel::Follower, Wheel::Driving] {
+        let t0 = std::time::Instant::now();
+        let mut bins: BTreeMap<i64, Bin> = BTreeMap::new();
+        let mut cache: BTreeMap<u64, Option<Solved>> = BTreeMap::new();
+        for (i, &km) in kms.iter().enumerate() {
+            if cycle.standstill(i) || km <= 0.0 {
+                continue;
+            }
+            let p = cycle.step_params(&base, i);
+            let key = p.speed_kmh.to_bits();
+            let entry = cache.entry(key).or_insert_with(|| {
+                let w = solve_wheel(p, variant, wheel, &opts);
+                let g = WheelGrowth::new(&stage.inputs(&p, &w), &Meter::new(opts.budget)).ok()?;
+                let profile = g.life_profile(ORDERS, LIFE_PROFILE_INTERVALS);
+                let ratios = g.worn_frequency_ratios(LIFE_PROFILE_INTERVALS);
+                let nu = g.nu();
+                let mut lock =
+                    vec![vec![f64::INFINITY; LIFE_PROFILE_INTERVALS + 1]; ORDERS as usize];
+                if w.verdict.class.vibrates() {
+                    for n in 1..=ORDERS {
+                        let nf = n as f64;
+                        let deltas: Vec<f64> = (1..=LIFE_PROFILE_INTERVALS)
+                            .map(|j| nu - nf * 0.5 * (ratios[j - 1] + ratios[j]))
+                            .collect();
+                        if deltas.iter().all(|d| d.abs() > 4.0) {
+                            continue;
+                        }
+                        // The band in δ = ν − n at each radius.
+                        let table: Vec<(f64, f64)> = radii
+                            .iter()
+                            .map(|&r| match g.lock_band_kmh(n, r) {
+                                Some((below, above)) => {
+                                    (-above * nf / p.speed_kmh, -below * nf / p.speed_kmh)
+                                }
+                                None => (0.0, 0.0),
+                            })
+                            .collect();
+                        for (j, d) in deltas.iter().enumerate() {
+                            let inside = |k: usize| table[k].0 <= *d && *d <= table[k].1;
+                            if let Some(k) = (0..radii.len()).find(|&k| inside(k)) {
+                                lock[n as usize - 1][j + 1] = if k == 0 {
+                                    radii[0]
+                                } else {
+                                    // Between radii[k-1] (outside) and radii[k]: the side crossed.
+                                    let (lo0, hi0) = table[k - 1];
+                                    let (lo1, hi1) = table[k];
+                                    let t = if *d > hi0 {
+                                        (d - hi0) / (hi1 - hi0)
+                                    } else {
+                                        (lo0 - d) / (lo0 - lo1)
+                                    };
+                                    (radii[k - 1].ln()
+                                        + t.clamp(0.0, 1.0) * (radii[k] / radii[k - 1]).ln())
+                                    .exp()
+                                };
+                            }
+                        }
+                    }
+                }
+                Some((profile, lock, g.cycle_power_harmonic_rel()))
+            });
+            let Some((profile, lock, ph)) = entry else {
+                continue;
+            };
+            let bin = (p.speed_kmh / 0.1).round() as i64;
+            let b = bins.entry(bin).or_insert_with(|| Bin {
+                km: 0.0,
+                profile: LifeProfile::zero(profile.max_order, profile.intervals, profile.usable_m),
+                lock_radius: lock.clone(),
+                power_harmonic: *ph,
+            });
+            b.km += km;
+            b.profile.add(profile, km);
+        }
+        for b in bins.values_mut() {
+            let km = b.km;
+            b.profile.scale(1.0 / km);
+        }
+        let steps: Vec<(f64, LifeProfile)> =
+            bins.values().map(|b| (b.km, b.profile.clone())).collect();
+        let shipped = SaturatedSteps::new(steps).answer(&c, &base, SLIDING_MODULATION_MAX);
+        println!(
+            "{wheel:?}: {} bins, {:.1} s; shipped saturated: {:?}",
+            bins.len(),
+            t0.elapsed().as_secs_f64(),
+            shipped.answer
+        );
+        for locking in [false, true] {
+            let (km, n) = walk(&bins, &c, &base, locking);
+            println!("  own walk, lock at depth {locking}: {km:.0} km, order {n}");
+        }
+    }
+}
+
+/// Each order's u = D/2R⁰ over the depth grid, 32 midpoint substeps per interval:
+/// du/ds = Σ a_k (b_k u + [locked ? L_k : min(r_k u, cap_k)]).
+fn walk(bins: &BTreeMap<i64, Bin>, c: &FittedConstants, p: &Params, locking: bool) -> (f64, u32) {
+    let total: f64 = bins.values().map(|b| b.km).sum();
+    let like = &bins.values().next().unwrap().profile;
+    let mut mean = LifeProfile::zero(like.max_order, like.intervals, like.usable_m);
+    for b in bins.values() {
+        mean.add(&b.profile, b.km / total);
+    }
+    let wear = mean.tread_wear_m_per_m(c);
+    let target = print_log_ratio(p);
+    let visible = target.exp();
+    let seed_m = 2.0 * p.seed_runout_um * 1e-6;
+    let r0 = p.seed_runout_um * 1e-6;
+    let phi = c.wear_share_straight;
+    let intervals = like.intervals;
+    let dw = like.usable_m / intervals as f64;
+    let ds = dw / wear;
+    let sub = 32;
+    let mut best: (f64, u32) = (f64::INFINITY, 0);
+    for n in 1..=like.max_order {
+        let k = n as usize - 1;
+        let mut u = 1.0f64;
+        'walk: for j in 1..=intervals {
+            let terms: Vec<(f64, f64, f64, f64, f64, f64)> = bins
+                .values()
+                .map(|b| {
+                    let pr = &b.profile;
+                    let other = (1.0 - phi)
+                        * (pr.other_per_share.0 + c.wear_rate_driven_factor * pr.other_per_share.1);
+                    let base = phi * pr.base_per_share[k] - other;
+                    let rate =
+                        (phi * (pr.integral(n, j) - pr.integral(n, j - 1)) - other * dw) / dw;
+                    let cap = phi * pr.full_print_per_share[k] * SLIDING_MODULATION_MAX / seed_m;
+                    // PW_LOCKED_PRINT=cap: a locked step prints the sliding bound (m_max), else
+                    // the free cycle's |P₁|/P̄.
+                    let modulation = if std::env::var("PW_LOCKED_PRINT").is_ok_and(|v| v == "cap") {
+                        SLIDING_MODULATION_MAX
+                    } else {
+                        b.power_harmonic
+                    };
+                    let locked = phi * pr.full_print_per_share[k] * modulation / seed_m;
+                    (
+                        b.km / total,
+                        base,
+                        rate - base,
+                        cap,
+                        locked,
+                        b.lock_radius[k][j],
+                    )
+                })
+                .collect();
+            let f = |u: f64| -> f64 {
+                terms
+                    .iter()
+                    .map(|&(a, base, r, cap, locked, lock_r)| {
+                        let print = if locking && u * r0 >= lock_r {
+                            locked
+                        } else {
+                            (r * u).min(cap)
+                        };
+                        a * (base * u + print)
+                    })
+                    .sum()
+            };
+            let h = ds / sub as f64;
+            for s in 0..sub {
+                let mid = u + 0.5 * h * f(u);
+                let next = u + h * f(mid);
+                if next >= visible {
+                    let at =
+                        ((j - 1) as f64 * ds + (s as f64 + (visible - u) / (next - u)) * h) / 1e3;
+                    if at < best.0 {
+                        best = (at, n);
+                    }
+                    break 'walk;
+                }
+                u = next.max(1e-300);
+            }
+        }
+    }
+    best
+}
