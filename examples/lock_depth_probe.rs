@@ -3,8 +3,9 @@
 //! widens with the depth (MODEL.md#the-tongue-at-depth): a vibrating bin locks to order n once
 //! the polygon's radius reaches the edge of its forced Hopf normal form's band at the bin's
 //! detuning ν − n·f₀/f (`WheelGrowth::lock_band_kmh`), and a locked bin prints the free cycle's
-//! harmonic |P₁|/P̄ (or, with `PW_LOCKED_PRINT=cap`, the sliding bound m_max) instead of its
-//! saturated linear print. Each order is walked in 32 midpoint substeps per interval of worn
+//! harmonic |P₁|/P̄ (with `PW_LOCKED_PRINT=cap` the sliding bound m_max; with
+//! `PW_LOCKED_PRINT=amplitude` |P₁|/P̄ times the normal form's locked amplitude over the free
+//! cycle's, at most m_max) instead of its saturated linear print. Each order is walked in 32 midpoint substeps per interval of worn
 //! depth; without the lock the walk is the shipped answer. A cruising spread is a cycle of its
 //! 40 quantile speeds at equal distances.
 //!
@@ -26,8 +27,19 @@ use std::collections::BTreeMap;
 
 const ORDERS: u32 = 64;
 
-/// A speed's profile, its lock radii (as [`Bin::lock_radius`]) and its cycle's |P₁|/P̄.
-type Solved = (LifeProfile, Vec<Vec<f64>>, f64);
+/// A speed's profile, its lock radii (as [`Bin::lock_radius`]), its cycle's |P₁|/P̄ and what
+/// the locked amplitude needs.
+type Solved = (LifeProfile, Vec<Vec<f64>>, f64, Amplitude);
+
+/// What [`WheelGrowth::locked_amplitude`] needs at a bin: its growth, speed and ν, and f₀/f
+/// at each interval's middle.
+#[derive(Clone)]
+struct Amplitude {
+    growth: std::sync::Arc<WheelGrowth>,
+    speed_kmh: f64,
+    nu: f64,
+    mid_ratios: Vec<f64>,
+}
 
 struct Bin {
     km: f64,
@@ -36,6 +48,7 @@ struct Bin {
     /// (inf: never).
     lock_radius: Vec<Vec<f64>>,
     power_harmonic: f64,
+    amplitude: Amplitude,
 }
 
 fn main() {
@@ -116,9 +129,25 @@ fn main() {
                         }
                     }
                 }
-                Some((profile, lock, g.cycle_power_harmonic_rel()))
+                let mid_ratios = (0..=LIFE_PROFILE_INTERVALS)
+                    .map(|j| {
+                        if j == 0 {
+                            1.0
+                        } else {
+                            0.5 * (ratios[j - 1] + ratios[j])
+                        }
+                    })
+                    .collect();
+                let ph = g.cycle_power_harmonic_rel();
+                let amplitude = Amplitude {
+                    growth: std::sync::Arc::new(g),
+                    speed_kmh: p.speed_kmh,
+                    nu,
+                    mid_ratios,
+                };
+                Some((profile, lock, ph, amplitude))
             });
-            let Some((profile, lock, ph)) = entry else {
+            let Some((profile, lock, ph, amplitude)) = entry else {
                 continue;
             };
             let bin = (p.speed_kmh / 0.1).round() as i64;
@@ -127,6 +156,7 @@ fn main() {
                 profile: LifeProfile::zero(profile.max_order, profile.intervals, profile.usable_m),
                 lock_radius: lock.clone(),
                 power_harmonic: *ph,
+                amplitude: amplitude.clone(),
             });
             b.km += km;
             b.profile.add(profile, km);
@@ -175,7 +205,8 @@ fn walk(bins: &BTreeMap<i64, Bin>, c: &FittedConstants, p: &Params, locking: boo
         let k = n as usize - 1;
         let mut u = 1.0f64;
         'walk: for j in 1..=intervals {
-            let terms: Vec<(f64, f64, f64, f64, f64, f64)> = bins
+            let by_amplitude = std::env::var("PW_LOCKED_PRINT").is_ok_and(|v| v == "amplitude");
+            let terms: Vec<(f64, f64, f64, f64, f64, f64, &Bin)> = bins
                 .values()
                 .map(|b| {
                     let pr = &b.profile;
@@ -200,15 +231,26 @@ fn walk(bins: &BTreeMap<i64, Bin>, c: &FittedConstants, p: &Params, locking: boo
                         cap,
                         locked,
                         b.lock_radius[k][j],
+                        b,
                     )
                 })
                 .collect();
             let f = |u: f64| -> f64 {
                 terms
                     .iter()
-                    .map(|&(a, base, r, cap, locked, lock_r)| {
+                    .map(|&(a, base, r, cap, locked, lock_r, b)| {
                         let print = if locking && u * r0 >= lock_r {
-                            locked
+                            if by_amplitude {
+                                // PW_LOCKED_PRINT=amplitude: the free print times the locked
+                                // cycle's amplitude over the free one's, at most the bound.
+                                let m = &b.amplitude;
+                                let offset =
+                                    -(m.nu - n as f64 * m.mid_ratios[j]) * m.speed_kmh / n as f64;
+                                let grow = m.growth.locked_amplitude(n, u * r0, offset);
+                                (locked * grow.unwrap_or(1.0)).min(cap)
+                            } else {
+                                locked
+                            }
                         } else {
                             (r * u).min(cap)
                         };

@@ -90,23 +90,44 @@ impl ForcedHopf {
     }
 }
 
+impl ForcedHopf {
+    /// |a| of the locked cycle, its amplitude over the free cycle's, forced to a first-order
+    /// half-width of `first_order_rad_s` at the detuning Ω − ω_γ = `detuning_rad_s` (None where
+    /// that is outside the tongue): the stable fixed point's, the largest where there are two.
+    pub fn locked_amplitude(&self, first_order_rad_s: f64, detuning_rad_s: f64) -> Option<f64> {
+        let lambda = self.amplitude_rate_per_s;
+        let c = self.shear;
+        let x = first_order_rad_s / lambda / (1.0 + c * c).sqrt();
+        stable_fixed_points(c, x, detuning_rad_s / lambda)
+            .fold(None, |best: Option<f64>, r| {
+                Some(best.map_or(r, |b| b.max(r)))
+            })
+            .map(f64::sqrt)
+    }
+}
+
 /// Whether da/dτ = ½(1 − |a|²)(1 + ic)a − iya + x has a stable fixed point. Its |a|² = R solves
 /// R((1 + c²)(1 − R)²/4 − cy(1 − R) + y²) = x²; one is stable where the trace 1 − 2R of the
 /// Jacobian is negative and its determinant |½(1 + ic)(1 − 2R) − iy|² − ¼(1 + c²)R² positive.
 fn stable_fixed_point(c: f64, x: f64, y: f64) -> bool {
+    stable_fixed_points(c, x, y).next().is_some()
+}
+
+/// The |a|² of the stable fixed points of [`stable_fixed_point`]'s equation.
+fn stable_fixed_points(c: f64, x: f64, y: f64) -> impl Iterator<Item = f64> {
     let a = 0.25 * (1.0 + c * c);
     // a R³ + (c y − 2a) R² + (a − c y + y²) R − x² = 0, monic.
     let (p, q, r) = ((c * y - 2.0 * a) / a, (a - c * y + y * y) / a, -x * x / a);
     let companion = Matrix3::new(-p, -q, -r, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0);
-    let Some(schur) = companion.try_schur(f64::EPSILON, 10_000) else {
-        return false;
-    };
-    schur
-        .complex_eigenvalues()
-        .iter()
-        .filter(|root: &&Complex64| root.im.abs() <= 1e-9 * root.re.abs().max(1.0))
+    let roots: Vec<Complex64> = companion
+        .try_schur(f64::EPSILON, 10_000)
+        .map(|schur| schur.complex_eigenvalues().iter().copied().collect())
+        .unwrap_or_default();
+    roots
+        .into_iter()
+        .filter(|root| root.im.abs() <= 1e-9 * root.re.abs().max(1.0))
         .map(|root| root.re)
-        .any(|big_r| {
+        .filter(move |&big_r| {
             let d = Complex64::new(0.5 * (1.0 - 2.0 * big_r), 0.5 * c * (1.0 - 2.0 * big_r) - y);
             big_r > 0.5 && d.norm_sqr() - a * big_r * big_r > 0.0
         })
@@ -130,6 +151,27 @@ mod tests {
             assert!((below / first + 1.0).abs() < 0.01, "c {c}: {below}");
             assert!((above / first - 1.0).abs() < 0.01, "c {c}: {above}");
         }
+    }
+
+    /// The locked cycle is the free one under weak forcing (|a| → 1), grows with the forcing at
+    /// the tongue's centre (the forcing in phase with it), and is absent outside the tongue.
+    #[test]
+    fn the_locked_amplitude_grows_with_the_forcing() {
+        let form = ForcedHopf {
+            amplitude_rate_per_s: 4.0,
+            shear: -2.8,
+        };
+        let weak = form.locked_amplitude(0.004, 0.0).unwrap();
+        assert!((weak - 1.0).abs() < 1e-3, "{weak}");
+        let (mid, strong) = (
+            form.locked_amplitude(4.0, 0.0).unwrap(),
+            form.locked_amplitude(40.0, 0.0).unwrap(),
+        );
+        assert!(1.0 < mid && mid < strong, "{mid} {strong}");
+        let (below, above) = form.lock_edges_rad_s(4.0);
+        assert!(form.locked_amplitude(4.0, 1.01 * above).is_none());
+        assert!(form.locked_amplitude(4.0, 1.01 * below).is_none());
+        assert!(form.locked_amplitude(4.0, 0.99 * above).is_some());
     }
 
     /// Without shear the amplitude's response moves no phase, and the tongue stays at least

@@ -46,9 +46,10 @@ pub struct CycleResponse {
     pub phase_coupling_s: f64,
     /// ĝ₋₁ itself \[s\] (its phase relative to the amplitude mode's coupling gives the shear).
     pub phase_coupling: Complex64,
-    /// The slowest-decaying mode beside the phase mode (the amplitude mode), where its multiplier
-    /// is real and positive: its rate −μ \[1/s\] and Î₋₁, the harmonic e^{−iω_γ t} of q·b (its
-    /// scale is the eigenvector's, arbitrary; its phase is not).
+    /// The slowest-decaying mode beside the phase mode (the amplitude mode): its rate −μ \[1/s\]
+    /// and Î₋₁, the harmonic e^{−iω_γ t} of q·b (its scale is the eigenvector's, arbitrary; its
+    /// phase is not). None where no other mode has a real positive multiplier, or where it is
+    /// taken quasi-statically (multiplier below 10⁻⁸: it relaxes within the period).
     pub amplitude_mode: Option<(f64, Complex64)>,
     /// The cycle's mean friction power P̄ \[W\].
     pub mean_power_w: f64,

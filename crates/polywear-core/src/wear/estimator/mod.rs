@@ -638,15 +638,34 @@ impl WheelGrowth {
     /// |R_n| = `radius_m`, as offsets (below ≤ 0 ≤ above) from V_n = V ν/n, from the cycle's
     /// forced Hopf normal form (MODEL.md#the-tongue-at-depth): the first-order ±V δ_L/n while
     /// δ_L is small beside the amplitude mode's rate, narrower and lopsided as the polygon
-    /// deepens. None for a stable tread, or a cycle without an amplitude mode.
+    /// deepens. A cycle whose amplitude mode relaxes within a small part of its period (no
+    /// normal form read) keeps the first-order band, the normal form's limit there. None for a
+    /// stable tread.
     pub fn lock_band_kmh(&self, order: u32, radius_m: f64) -> Option<(f64, f64)> {
-        let hopf = self.response.hopf?;
         let n = order as f64;
         let (_, half_mps) = self.tongue_mps(n, self.feedback.forcing_per_radius(n), radius_m);
+        if self.response.phase_coupling_s <= 0.0 {
+            return None;
+        }
+        let Some(hopf) = self.response.hopf else {
+            return Some((-half_mps * 3.6, half_mps * 3.6));
+        };
         // The forcing's frequency Ω = n V/r_B moves with V: ΔV = (Ω − ω_γ) r_B/n.
         let per_rad_s = self.r_b / n;
         let (below, above) = hopf.lock_edges_rad_s(half_mps / per_rad_s);
         Some((below * per_rad_s * 3.6, above * per_rad_s * 3.6))
+    }
+
+    /// The locked cycle's amplitude over the free cycle's, at a polygon of order `order` and
+    /// radius `radius_m` with the speed `offset_kmh` from V_n = V ν/n (as
+    /// [`WheelGrowth::lock_band_kmh`]'s edges), from the forced Hopf normal form; None outside
+    /// the band, for a stable tread, or without a normal form.
+    pub fn locked_amplitude(&self, order: u32, radius_m: f64, offset_kmh: f64) -> Option<f64> {
+        let hopf = self.response.hopf?;
+        let n = order as f64;
+        let (_, half_mps) = self.tongue_mps(n, self.feedback.forcing_per_radius(n), radius_m);
+        let per_rad_s = self.r_b / n;
+        hopf.locked_amplitude(half_mps / per_rad_s, offset_kmh / 3.6 / per_rad_s)
     }
 
     /// The locked print as a growth rate \[1/m\]: a cycle locked to the order prints its power
