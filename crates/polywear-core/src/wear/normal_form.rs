@@ -32,8 +32,9 @@ const BISECTIONS: usize = 40;
 pub struct ForcedHopf {
     /// λ = −μ of the amplitude mode \[1/s\].
     pub amplitude_rate_per_s: f64,
-    /// c: how far the isochrons twist, the phase response to an amplitude change over that to
-    /// a phase change (dimensionless; its sign says which side of the tongue widens).
+    /// c: how far the isochrons twist, the cycle's frequency change per change of its squared
+    /// amplitude in units of λ/2 (dimensionless; its sign says which side of the tongue widens:
+    /// c < 0 widens the side below the cycle's frequency).
     pub shear: f64,
 }
 
@@ -88,9 +89,7 @@ impl ForcedHopf {
         };
         (-edge(-1.0) * lambda, edge(1.0) * lambda)
     }
-}
 
-impl ForcedHopf {
     /// |a| of the locked cycle, its amplitude over the free cycle's, forced to a first-order
     /// half-width of `first_order_rad_s` at the detuning Ω − ω_γ = `detuning_rad_s` (None where
     /// that is outside the tongue): the stable fixed point's, the largest where there are two.
