@@ -60,7 +60,7 @@ impl ForcedHopf {
         if y1.is_nan() || y1 <= 0.0 || y1.is_infinite() {
             return (0.0, 0.0);
         }
-        let x = y1 / (1.0 + c * c).sqrt();
+        let x = self.forcing(first_order_rad_s);
         let edge = |sign: f64| {
             let locks = |y: f64| stable_fixed_point(c, x, sign * y);
             let step = OUTWARD_STEP * y1;
@@ -90,14 +90,19 @@ impl ForcedHopf {
         (-edge(-1.0) * lambda, edge(1.0) * lambda)
     }
 
+    /// x, the normal form's forcing for a first-order half-width of `first_order_rad_s`:
+    /// Δ₁/(λ√(1 + c²)).
+    fn forcing(&self, first_order_rad_s: f64) -> f64 {
+        let c = self.shear;
+        first_order_rad_s / self.amplitude_rate_per_s / (1.0 + c * c).sqrt()
+    }
+
     /// |a| of the locked cycle, its amplitude over the free cycle's, forced to a first-order
     /// half-width of `first_order_rad_s` at the detuning Ω − ω_γ = `detuning_rad_s` (None where
     /// that is outside the tongue): the stable fixed point's, the largest where there are two.
     pub fn locked_amplitude(&self, first_order_rad_s: f64, detuning_rad_s: f64) -> Option<f64> {
-        let lambda = self.amplitude_rate_per_s;
-        let c = self.shear;
-        let x = first_order_rad_s / lambda / (1.0 + c * c).sqrt();
-        stable_fixed_points(c, x, detuning_rad_s / lambda)
+        let x = self.forcing(first_order_rad_s);
+        stable_fixed_points(self.shear, x, detuning_rad_s / self.amplitude_rate_per_s)
             .fold(None, |best: Option<f64>, r| {
                 Some(best.map_or(r, |b| b.max(r)))
             })
@@ -174,8 +179,8 @@ mod tests {
     }
 
     /// Without shear the amplitude's response moves no phase, and the tongue stays at least
-    /// the first order's; with the shear it narrows to about 1/√(1 + c²) of it plus the bare
-    /// coupling's share, far below first order.
+    /// the first order's; with the default point's shear, forced at 16 times λ, it narrows to
+    /// about half of it (0.47; MODEL.md#the-tongue-at-depth).
     #[test]
     fn the_shear_narrows_a_strongly_forced_tongue() {
         let strong = |c: f64| {

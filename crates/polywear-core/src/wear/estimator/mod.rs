@@ -642,18 +642,15 @@ impl WheelGrowth {
     /// normal form read) keeps the first-order band, the normal form's limit there. None for a
     /// stable tread.
     pub fn lock_band_kmh(&self, order: u32, radius_m: f64) -> Option<(f64, f64)> {
-        let n = order as f64;
-        let (_, half_mps) = self.tongue_mps(n, self.feedback.forcing_per_radius(n), radius_m);
         if self.response.phase_coupling_s <= 0.0 {
             return None;
         }
-        let Some(hopf) = self.response.hopf else {
-            return Some((-half_mps * 3.6, half_mps * 3.6));
+        let (first_rad_s, kmh_per_rad_s) = self.first_order_lock(order, radius_m);
+        let (below, above) = match self.response.hopf {
+            Some(hopf) => hopf.lock_edges_rad_s(first_rad_s),
+            None => (-first_rad_s, first_rad_s),
         };
-        // The forcing's frequency Ω = n V/r_B moves with V: ΔV = (Ω − ω_γ) r_B/n.
-        let per_rad_s = self.r_b / n;
-        let (below, above) = hopf.lock_edges_rad_s(half_mps / per_rad_s);
-        Some((below * per_rad_s * 3.6, above * per_rad_s * 3.6))
+        Some((below * kmh_per_rad_s, above * kmh_per_rad_s))
     }
 
     /// The locked cycle's amplitude over the free cycle's, at a polygon of order `order` and
@@ -662,10 +659,18 @@ impl WheelGrowth {
     /// the band, for a stable tread, or without a normal form.
     pub fn locked_amplitude(&self, order: u32, radius_m: f64, offset_kmh: f64) -> Option<f64> {
         let hopf = self.response.hopf?;
+        let (first_rad_s, kmh_per_rad_s) = self.first_order_lock(order, radius_m);
+        hopf.locked_amplitude(first_rad_s, offset_kmh / kmh_per_rad_s)
+    }
+
+    /// The first-order lock half-width Δ₁ = δ_L·2πf_rot \[rad/s\] of an order-`order` polygon
+    /// of radius `radius_m`, and the speed per unit of detuning around V_n \[km/h per rad/s\]:
+    /// the forcing's frequency Ω = n V/r_B moves with V, so ΔV = (Ω − ω_γ) r_B/n.
+    fn first_order_lock(&self, order: u32, radius_m: f64) -> (f64, f64) {
         let n = order as f64;
         let (_, half_mps) = self.tongue_mps(n, self.feedback.forcing_per_radius(n), radius_m);
-        let per_rad_s = self.r_b / n;
-        hopf.locked_amplitude(half_mps / per_rad_s, offset_kmh / 3.6 / per_rad_s)
+        let mps_per_rad_s = self.r_b / n;
+        (half_mps / mps_per_rad_s, mps_per_rad_s * 3.6)
     }
 
     /// The locked print as a growth rate \[1/m\]: a cycle locked to the order prints its power
