@@ -5,9 +5,11 @@
 //! detuning ν − n·f₀/f (`WheelGrowth::lock_band_kmh`), and a locked bin prints the free cycle's
 //! harmonic |P₁|/P̄ (with `PW_LOCKED_PRINT=cap` the sliding bound m_max; with
 //! `PW_LOCKED_PRINT=amplitude` |P₁|/P̄ times the normal form's locked amplitude over the free
-//! cycle's, at most m_max) instead of its saturated linear print. Each order is walked in 32 midpoint substeps per interval of worn
-//! depth; without the lock the walk is the shipped answer. A cruising spread is a cycle of its
-//! 40 quantile speeds at equal distances.
+//! cycle's, at most m_max; with `PW_LOCKED_PRINT=phase` |P₁|/P̄ times the share of the locked
+//! print that deepens the polygon, `WheelGrowth::locked_print_share`) instead of its saturated
+//! linear print. Each order is walked in 32 midpoint substeps per interval of worn depth;
+//! without the lock the walk is the shipped answer. A cruising spread is a cycle of its 40
+//! quantile speeds at equal distances.
 //!
 //! ```sh
 //! cargo run --release --example lock_depth_probe -- CYCLE.csv TOE_DEG PHI_S
@@ -206,6 +208,7 @@ fn walk(bins: &BTreeMap<i64, Bin>, c: &FittedConstants, p: &Params, locking: boo
         let mut u = 1.0f64;
         'walk: for j in 1..=intervals {
             let by_amplitude = std::env::var("PW_LOCKED_PRINT").is_ok_and(|v| v == "amplitude");
+            let by_phase = std::env::var("PW_LOCKED_PRINT").is_ok_and(|v| v == "phase");
             let terms: Vec<(f64, f64, f64, f64, f64, f64, &Bin)> = bins
                 .values()
                 .map(|b| {
@@ -240,12 +243,20 @@ fn walk(bins: &BTreeMap<i64, Bin>, c: &FittedConstants, p: &Params, locking: boo
                     .iter()
                     .map(|&(a, base, r, cap, locked, lock_r, b)| {
                         let print = if locking && u * r0 >= lock_r {
-                            if by_amplitude {
+                            let m = &b.amplitude;
+                            let offset =
+                                -(m.nu - n as f64 * m.mid_ratios[j]) * m.speed_kmh / n as f64;
+                            if by_phase {
+                                // PW_LOCKED_PRINT=phase: the free print times the share of the
+                                // locked print that deepens the polygon (its amplitude and
+                                // phase, WheelGrowth::locked_print_share).
+                                match m.growth.locked_print_share(n, u * r0, offset) {
+                                    Some(share) => (locked * share).min(cap),
+                                    None => (r * u).min(cap),
+                                }
+                            } else if by_amplitude {
                                 // PW_LOCKED_PRINT=amplitude: the free print times the locked
                                 // cycle's amplitude over the free one's, at most the bound.
-                                let m = &b.amplitude;
-                                let offset =
-                                    -(m.nu - n as f64 * m.mid_ratios[j]) * m.speed_kmh / n as f64;
                                 let grow = m.growth.locked_amplitude(n, u * r0, offset);
                                 (locked * grow.unwrap_or(1.0)).min(cap)
                             } else {

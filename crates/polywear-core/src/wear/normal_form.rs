@@ -101,12 +101,25 @@ impl ForcedHopf {
     /// half-width of `first_order_rad_s` at the detuning Ω − ω_γ = `detuning_rad_s` (None where
     /// that is outside the tongue): the stable fixed point's, the largest where there are two.
     pub fn locked_amplitude(&self, first_order_rad_s: f64, detuning_rad_s: f64) -> Option<f64> {
-        let x = self.forcing(first_order_rad_s);
-        stable_fixed_points(self.shear, x, detuning_rad_s / self.amplitude_rate_per_s)
-            .fold(None, |best: Option<f64>, r| {
-                Some(best.map_or(r, |b| b.max(r)))
-            })
-            .map(f64::sqrt)
+        self.locked_cycle(first_order_rad_s, detuning_rad_s)
+            .map(|a| a.norm())
+    }
+
+    /// The locked cycle against the forcing, forced as [`ForcedHopf::locked_amplitude`]: its
+    /// amplitude over the free cycle's, turned by its phase lead over the direction of the phase
+    /// coupling ĝ₋₁ε_n, so that a weak forcing gives Adler's e^{i arccos(δ/Δ₁)}, δ = Ω − ω_γ
+    /// (MODEL.md#the-locked-print). In the normal form the stable fixed point is
+    /// a = −x/(½(1 − |a|²)(1 + ic) − iy), and its phase reduction φ̇ = −y − x√(1 + c²) sin(φ +
+    /// arctan c) puts the weakly forced cycle at φ = −arctan c − arcsin(δ/Δ₁): turned by
+    /// i e^{i arctan c}, that is e^{i arccos(δ/Δ₁)}. None outside the tongue.
+    pub fn locked_cycle(&self, first_order_rad_s: f64, detuning_rad_s: f64) -> Option<Complex64> {
+        let (c, x) = (self.shear, self.forcing(first_order_rad_s));
+        let y = detuning_rad_s / self.amplitude_rate_per_s;
+        let big_r = stable_fixed_points(c, x, y).fold(None, |best: Option<f64>, r| {
+            Some(best.map_or(r, |b| b.max(r)))
+        })?;
+        let a = -x / Complex64::new(0.5 * (1.0 - big_r), 0.5 * (1.0 - big_r) * c - y);
+        Some(a * Complex64::new(0.0, 1.0) * Complex64::from_polar(1.0, c.atan()))
     }
 }
 
@@ -176,6 +189,29 @@ mod tests {
         assert!(form.locked_amplitude(4.0, 1.01 * above).is_none());
         assert!(form.locked_amplitude(4.0, 1.01 * below).is_none());
         assert!(form.locked_amplitude(4.0, 0.99 * above).is_some());
+    }
+
+    /// Weakly forced, the locked cycle is Adler's whatever the shear: the free amplitude, at
+    /// the phase e^{i arccos(δ/Δ₁)} (along the coupling at the upper edge, a quarter turn ahead
+    /// at the centre, half a turn at the lower edge).
+    #[test]
+    fn the_weakly_locked_cycle_is_adlers() {
+        for c in [0.0, 1.0, -2.8] {
+            let form = ForcedHopf {
+                amplitude_rate_per_s: 4.0,
+                shear: c,
+            };
+            let first = 0.004;
+            for s in [-0.9, -0.5, 0.0, 0.3, 0.8] {
+                let a = form.locked_cycle(first, s * first).unwrap();
+                let adler = Complex64::from_polar(1.0, f64::acos(s));
+                assert!(
+                    (a - adler).norm() < 0.01,
+                    "c {c}, δ/Δ₁ {s}: {a} against {adler}"
+                );
+            }
+            assert!(form.locked_cycle(first, 1.05 * first).is_none());
+        }
     }
 
     /// Without shear the amplitude's response moves no phase, and the tongue stays at least

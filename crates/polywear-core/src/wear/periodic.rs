@@ -56,6 +56,9 @@ pub struct CycleResponse {
     /// The amplitude of the power's harmonic at the cycle's own frequency over P̄, |P₁|/P̄: what a
     /// cycle locked to an order prints onto it every revolution.
     pub power_harmonic_rel: f64,
+    /// That harmonic itself, 2P̂₁/P̄ with P̂₁ the harmonic e^{iω_γ t} of P(t), from the same time
+    /// origin as ĝ₋₁ (its phase against ĝ₋₁'s places the locked print on the polygon).
+    pub power_harmonic: Complex64,
     /// Its angular frequency ω_γ = 2π/T \[rad/s\].
     pub omega_rad_s: f64,
 }
@@ -69,7 +72,6 @@ struct Linearised<'a> {
     c_phi: Vec<RowVector3<f64>>,
     /// Φ(t)⁻¹ b(t) at each sample.
     phi_inv_b: Vec<Vector3<f64>>,
-    mean_power_w: f64,
 }
 
 type Mode = (Vector3<Complex64>, RowVector3<Complex64>);
@@ -113,10 +115,10 @@ impl Linearised<'_> {
             / self.cycle.samples.len() as f64
     }
 
-    /// |P₁|/P̄, the power's harmonic at the cycle's frequency.
-    fn power_harmonic_rel(&self) -> f64 {
+    /// P̂₁, the power's harmonic e^{iω_γ t} \[W\].
+    fn power_first_harmonic_w(&self) -> Complex64 {
         let cycle = self.cycle;
-        let first: Complex64 = cycle
+        cycle
             .samples
             .iter()
             .zip(&self.lins)
@@ -124,8 +126,7 @@ impl Linearised<'_> {
                 Complex64::from_polar(l.power_w, -std::f64::consts::TAU * s.t_s / cycle.period_s)
             })
             .sum::<Complex64>()
-            / cycle.samples.len() as f64;
-        2.0 * first.norm() / self.mean_power_w
+            / cycle.samples.len() as f64
     }
 }
 
@@ -163,7 +164,6 @@ impl CycleResponse {
             lins,
             c_phi,
             phi_inv_b,
-            mean_power_w,
         };
         let omega = std::f64::consts::TAU / cycle.period_s;
         let ev = multipliers(&cycle.monodromy);
@@ -222,13 +222,15 @@ impl CycleResponse {
         transfer
             .terms
             .retain(|t| t.residue.norm() >= NEGLIGIBLE_RESIDUE * largest);
+        let first = data.power_first_harmonic_w();
         Ok(CycleResponse {
             transfer,
             phase_coupling_s: phase_coupling.norm(),
             phase_coupling,
             amplitude_mode,
             mean_power_w,
-            power_harmonic_rel: data.power_harmonic_rel(),
+            power_harmonic_rel: 2.0 * first.norm() / mean_power_w,
+            power_harmonic: 2.0 * first / mean_power_w,
             omega_rad_s: omega,
         })
     }

@@ -186,6 +186,26 @@ pub struct Window {
     pub rhs_evals: usize,
 }
 
+impl Window {
+    /// The print of order `order`: the harmonic of the energy laid per sample interval over the
+    /// measured revolutions, over its mean, with the intervals' averaging (sinc(πn/N)) taken
+    /// out, so that the power's stationary part P̄(1 + Re\[p e^{inθ}\]) gives p
+    /// (MODEL.md#the-locked-print).
+    pub fn print(&self, order: u32) -> Complex64 {
+        let Some(first) = self.energy_j.first() else {
+            return Complex64::new(0.0, 0.0);
+        };
+        let mut cells = vec![0.0; first.len()];
+        for rev in &self.energy_j {
+            cells.iter_mut().zip(rev).for_each(|(c, e)| *c += e);
+        }
+        let mean = cells.iter().sum::<f64>() / cells.len() as f64;
+        let x = std::f64::consts::PI * order as f64 / cells.len() as f64;
+        let harmonic = super::profile::harmonics_of(&cells, order as usize)[order as usize - 1];
+        harmonic / mean / (x.sin() / x)
+    }
+}
+
 /// Integrates one window (see [`WindowRequest`]).
 pub fn integrate_window(req: &WindowRequest<'_>) -> Result<Window, IntegrationError> {
     let t_rev = 1.0 / req.rotation_hz;

@@ -227,6 +227,9 @@ struct Response {
     nu: f64,
     phase_coupling_s: f64,
     power_harmonic_rel: f64,
+    /// The direction of 2P̂₁ĝ₋₁/P̄ (the product is free of the cycle's time origin): where the
+    /// locked print lies against the forcing (0 for a stable tread).
+    print_direction: Complex64,
     /// The cycle's forced Hopf normal form (None for a stable tread).
     hopf: Option<ForcedHopf>,
 }
@@ -248,6 +251,7 @@ fn response(inputs: &WearInputs, meter: &Meter) -> Result<Response, WearError> {
                 nu: v.eig_freq_hz / WheelModel::rotation_hz(p),
                 phase_coupling_s: 0.0,
                 power_harmonic_rel: 0.0,
+                print_direction: Complex64::new(0.0, 0.0),
                 hopf: None,
             }
         }
@@ -261,6 +265,7 @@ fn response(inputs: &WearInputs, meter: &Meter) -> Result<Response, WearError> {
                 nu: v.polygon_order,
                 phase_coupling_s: r.phase_coupling_s,
                 power_harmonic_rel: r.power_harmonic_rel,
+                print_direction: unit(r.power_harmonic * r.phase_coupling),
             }
         }
         Class::NoTraction | Class::Failed | Class::Standstill => {
@@ -274,6 +279,16 @@ fn response(inputs: &WearInputs, meter: &Meter) -> Result<Response, WearError> {
             "no tread frequency or no power (ν = {}, P̄ = {} W)",
             r.nu, r.mean_power_w
         )))
+    }
+}
+
+/// z/|z| (0 for z = 0).
+fn unit(z: Complex64) -> Complex64 {
+    let norm = z.norm();
+    if norm > 0.0 {
+        z / norm
+    } else {
+        Complex64::new(0.0, 0.0)
     }
 }
 
@@ -661,6 +676,37 @@ impl WheelGrowth {
         let hopf = self.response.hopf?;
         let (first_rad_s, kmh_per_rad_s) = self.first_order_lock(order, radius_m);
         hopf.locked_amplitude(first_rad_s, offset_kmh / kmh_per_rad_s)
+    }
+
+    /// The locked cycle's print onto an order-`order` polygon of radius `radius_m`, at the
+    /// speed `offset_kmh` from V_n (as [`WheelGrowth::locked_amplitude`]), as a share of the free
+    /// cycle's full print 2w′|H_w||P₁|/P̄ (MODEL.md#the-locked-print): the part of it that deepens
+    /// the polygon, its amplitude over the free cycle's times the cosine of its phase against
+    /// the polygon's. The cycle locks at a phase that turns across the tongue (Adler's arccos,
+    /// the normal form's fixed point at depth), and the power harmonic it carries turns with
+    /// it, so that only part of the print lies in the polygon's valleys; negative, it fills
+    /// them. A cycle without a normal form takes Adler's phase at the free amplitude. None
+    /// outside the band or for a stable tread.
+    pub fn locked_print_share(&self, order: u32, radius_m: f64, offset_kmh: f64) -> Option<f64> {
+        if self.response.phase_coupling_s <= 0.0 {
+            return None;
+        }
+        let n = order as f64;
+        let (first_rad_s, kmh_per_rad_s) = self.first_order_lock(order, radius_m);
+        let detuning_rad_s = offset_kmh / kmh_per_rad_s;
+        let locked = match self.response.hopf {
+            Some(hopf) => hopf.locked_cycle(first_rad_s, detuning_rad_s)?,
+            None => {
+                let s = detuning_rad_s / first_rad_s;
+                (s.abs() <= 1.0).then(|| Complex64::from_polar(1.0, s.acos()))?
+            }
+        };
+        // dR/ds = −w′ conj(H_w) p for the print p = δP/P̄ at the order (as the linear loop's
+        // Re(Ḡ · through)), and p = (2P̂₁/P̄) e^{iψ}, ψ − arg(ĝ₋₁e_n) = arg(locked).
+        let zone = self.feedback.zone.transfer(n, self.r_b);
+        let forcing = self.feedback.forcing_per_radius(n);
+        let towards = -unit(zone.conj()) * self.response.print_direction * unit(forcing);
+        Some((towards * locked).re)
     }
 
     /// The first-order lock half-width Δ₁ = δ_L·2πf_rot \[rad/s\] of an order-`order` polygon

@@ -1,0 +1,106 @@
+//! The locked cycle's print onto a polygon, brute force against the estimator
+//! (`WheelGrowth::locked_print_share`, MODEL.md#the-locked-print): the follower at the default
+//! point (φ_s = 1) near V_19, forced by one order-19 harmonic of radius R (real: its crests at
+//! tyre angle 0) at speeds across the lock band, the model rebuilt at each speed as the loop
+//! builds it. After 300 revolutions of settling, the harmonic 19 of the energy laid per cell
+//! over 40 revolutions, over its mean (`Window::print`), is the print p; what deepens
+//! the polygon is Re(−conj(H_w) p)/|H_w|, here over the free cycle's |P₁|/P̄.
+//!
+//! ```sh
+//! cargo run --release --example locked_print -- R_UM...
+//! cargo run --release --example locked_print -- 0.25 1 2 4
+//! ```
+use polywear::classify::budget::Meter;
+use polywear::classify::ClassifierOptions;
+use polywear::evaluate::{solve_wheel, WearStage};
+use polywear::model::{Variant, Wheel, WheelModel};
+use polywear::params::Params;
+use polywear::wear::lock::{is_locked, rotation_number};
+use polywear::wear::window::{integrate_window, EpsilonTable, WindowRequest};
+use polywear::wear::{Complex64, Feedback, WearSettings, WheelGrowth};
+
+const ORDER: u32 = 19;
+const SAMPLES_PER_REV: usize = 256;
+
+fn main() {
+    let radii_um: Vec<f64> = std::env::args()
+        .skip(1)
+        .map(|s| s.parse().unwrap())
+        .collect();
+    let variant = Variant::SlidingShare;
+    let opts = ClassifierOptions::default();
+    let settings = WearSettings::default();
+    let at = |speed_kmh: f64| Params {
+        speed_kmh,
+        wear_share_straight: 1.0,
+        speed_spread_kmh: 0.0,
+        ..Params::default()
+    };
+    let growth_at = |p: &Params| {
+        let stage = WearStage::for_run(p, variant, settings, &opts).unwrap();
+        let w = solve_wheel(*p, variant, Wheel::Follower, &opts);
+        let g = WheelGrowth::new(&stage.inputs(p, &w), &Meter::new(opts.budget)).unwrap();
+        (w, g)
+    };
+    // V_19, from ν at 100 km/h and once more at the estimate.
+    let (_, g100) = growth_at(&at(100.0));
+    let centre = 100.0 * g100.nu() / ORDER as f64;
+    let p0 = at(centre);
+    let (w0, g) = growth_at(&p0);
+    let centre = centre * g.nu() / ORDER as f64;
+    let free = g.cycle_power_harmonic_rel();
+    println!(
+        "follower, V_19 = {centre:.3} km/h, nu {:.4}, free |P1|/P {free:.4}",
+        g.nu()
+    );
+    let v0 = &w0.verdict;
+    let m0 = w0.model.as_ref().unwrap();
+    let start = [v0.section_z_m, m0.ode.equilibrium()[1], v0.section_v_mps];
+    let n = ORDER as f64;
+    for r_um in radii_um {
+        let r_m = r_um * 1e-6;
+        let Some((below, above)) = g.lock_band_kmh(ORDER, r_m) else {
+            println!("R {r_um} um: no band");
+            continue;
+        };
+        println!("R {r_um:5.2} um: band {below:+.4} … {above:+.4} km/h");
+        for share in [-0.9, -0.6, -0.3, 0.0, 0.3, 0.6, 0.9] {
+            let offset = if share < 0.0 {
+                -share * below
+            } else {
+                share * above
+            };
+            let p = at(centre + offset);
+            let model = WheelModel::build(&p, Wheel::Follower, variant).unwrap();
+            let fb = Feedback::new(&p, &model, settings.zone);
+            let mut h = vec![Complex64::new(0.0, 0.0); ORDER as usize];
+            h[ORDER as usize - 1] = Complex64::new(r_m, 0.0);
+            let table = EpsilonTable::new(&fb, &h, 2048);
+            let rotation_hz = WheelModel::rotation_hz(&p);
+            let win = integrate_window(&WindowRequest {
+                ode: &model.ode,
+                epsilon: &table,
+                rotation_hz,
+                start,
+                skip_revs: 300,
+                revs: 40,
+                samples_per_rev: SAMPLES_PER_REV,
+                rtol: 1e-8,
+                period_s: 1.0 / (g.nu() * rotation_hz),
+                max_steps: 50_000_000,
+            })
+            .unwrap();
+            let rho = rotation_number(&win.crossings_s, 1.0 / rotation_hz);
+            let print = win.print(ORDER);
+            let zone = fb.zone.transfer(n, p.r_b);
+            let brute = (-zone.conj() * print).re / zone.norm() / free;
+            let estimated = g.locked_print_share(ORDER, r_m, offset);
+            println!(
+                "  {offset:+.4} km/h  rho {rho:.4}{}  |p|/free {:.3}  brute force {brute:+.3}  estimator {}",
+                if is_locked(rho) { "" } else { " (unlocked)" },
+                print.norm() / free,
+                estimated.map_or("none".into(), |e| format!("{e:+.3}"))
+            );
+        }
+    }
+}
