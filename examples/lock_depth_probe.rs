@@ -1,8 +1,8 @@
 //! A drive cycle's answer over the tread's life, each speed bin saturated on its own as
 //! `cycle --wear-estimate tread_life_saturated` gives it, against the same walk with a lock that
 //! widens with the depth (MODEL.md#the-tongue-at-depth): a vibrating bin locks to order n once
-//! the polygon's radius reaches the edge of its forced Hopf normal form's band at the bin's
-//! detuning ν − n·f₀/f (`WheelGrowth::lock_band_kmh`), and a locked bin prints the free cycle's
+//! the polygon's radius reaches the least at which its forced Hopf normal form locks at the
+//! bin's detuning ν − n·f₀/f (`WheelGrowth::lock_radius_m`), and a locked bin prints the free cycle's
 //! harmonic |P₁|/P̄ (with `PW_LOCKED_PRINT=cap` the sliding bound m_max; with
 //! `PW_LOCKED_PRINT=amplitude` |P₁|/P̄ times the normal form's locked amplitude over the free
 //! cycle's, at most m_max; with `PW_LOCKED_PRINT=phase` |P₁|/P̄ times the share of the locked
@@ -11,9 +11,13 @@
 //! without the lock the walk is the shipped answer. A cruising spread is a cycle of its 40
 //! quantile speeds at equal distances.
 //!
+//! CYCLE is a drive cycle's CSV, or `cruise:V:SIGMA:LEGS`: cruising at V km/h with a spread of
+//! SIGMA km/h driven as the long-term loop drives it, LEGS quantile speeds at equal distances.
+//!
 //! ```sh
-//! cargo run --release --example lock_depth_probe -- CYCLE.csv TOE_DEG PHI_S
+//! cargo run --release --example lock_depth_probe -- CYCLE TOE_DEG PHI_S
 //! cargo run --release --example lock_depth_probe -- data/cycles/wltc_class3b.csv 0.3 1
+//! PW_LOCKED_PRINT=phase cargo run --release --example lock_depth_probe -- cruise:100:5:5 0.3 1
 //! ```
 use polywear::classify::budget::Meter;
 use polywear::classify::ClassifierOptions;
@@ -66,12 +70,12 @@ fn main() {
     let variant = Variant::SlidingShare;
     let opts = ClassifierOptions::default();
     let stage = WearStage::for_run(&base, variant, WearSettings::default(), &opts).unwrap();
-    let cycle = DriveCycle::read(path).unwrap();
+    let cycle = match a[1].strip_prefix("cruise:") {
+        Some(spec) => cruise_cycle(spec),
+        None => DriveCycle::read(path).unwrap(),
+    };
     let kms = cycle.step_km();
     let c = FittedConstants::of(&base);
-    let radii: Vec<f64> = (0..40)
-        .map(|i| 0.05e-6 * 10f64.powf(i as f64 * 4.0 / 39.0))
-        .collect();
     for wheel in [Wheel::Follower, Wheel::Driving] {
         let t0 = std::time::Instant::now();
         let mut bins: BTreeMap<i64, Bin> = BTreeMap::new();
@@ -99,34 +103,17 @@ fn main() {
                         if deltas.iter().all(|d| d.abs() > 4.0) {
                             continue;
                         }
-                        // The band in δ = ν − n at each radius.
-                        let table: Vec<(f64, f64)> = radii
-                            .iter()
-                            .map(|&r| match g.lock_band_kmh(n, r) {
-                                Some((below, above)) => {
-                                    (-above * nf / p.speed_kmh, -below * nf / p.speed_kmh)
-                                }
-                                None => (0.0, 0.0),
-                            })
-                            .collect();
+                        // The radius at which the bin's detuning locks (closed form).
                         for (j, d) in deltas.iter().enumerate() {
-                            let inside = |k: usize| table[k].0 <= *d && *d <= table[k].1;
-                            if let Some(k) = (0..radii.len()).find(|&k| inside(k)) {
-                                lock[n as usize - 1][j + 1] = if k == 0 {
-                                    radii[0]
-                                } else {
-                                    // Between radii[k-1] (outside) and radii[k]: the side crossed.
-                                    let (lo0, hi0) = table[k - 1];
-                                    let (lo1, hi1) = table[k];
-                                    let t = if *d > hi0 {
-                                        (d - hi0) / (hi1 - hi0)
-                                    } else {
-                                        (lo0 - d) / (lo0 - lo1)
-                                    };
-                                    (radii[k - 1].ln()
-                                        + t.clamp(0.0, 1.0) * (radii[k] / radii[k - 1]).ln())
-                                    .exp()
-                                };
+                            let offset_kmh = -d * p.speed_kmh / nf;
+                            // PW_LOCK_SIDE=below (a diagnostic): no lock above V_n.
+                            let below_only =
+                                std::env::var("PW_LOCK_SIDE").is_ok_and(|v| v == "below");
+                            if below_only && offset_kmh > 0.0 {
+                                continue;
+                            }
+                            if let Some(r) = g.lock_radius_m(n, offset_kmh) {
+                                lock[n as usize - 1][j + 1] = r;
                             }
                         }
                     }
@@ -208,7 +195,8 @@ fn walk(bins: &BTreeMap<i64, Bin>, c: &FittedConstants, p: &Params, locking: boo
         let mut u = 1.0f64;
         'walk: for j in 1..=intervals {
             let by_amplitude = std::env::var("PW_LOCKED_PRINT").is_ok_and(|v| v == "amplitude");
-            let by_phase = std::env::var("PW_LOCKED_PRINT").is_ok_and(|v| v == "phase");
+            let by_phase = std::env::var("PW_LOCKED_PRINT").is_ok_and(|v| v.starts_with("phase"));
+            let sliding = std::env::var("PW_LOCKED_PRINT").is_ok_and(|v| v == "phase_sliding");
             let terms: Vec<(f64, f64, f64, f64, f64, f64, &Bin)> = bins
                 .values()
                 .map(|b| {
@@ -251,6 +239,13 @@ fn walk(bins: &BTreeMap<i64, Bin>, c: &FittedConstants, p: &Params, locking: boo
                                 // locked print that deepens the polygon (its amplitude and
                                 // phase, WheelGrowth::locked_print_share).
                                 match m.growth.locked_print_share(n, u * r0, offset) {
+                                    Some(share) if sliding => {
+                                        // PW_LOCKED_PRINT=phase_sliding: the locked amplitude's
+                                        // power harmonic saturated as a sliding power's is.
+                                        let grow = m.growth.locked_amplitude(n, u * r0, offset);
+                                        let a = grow.unwrap_or(1.0) * b.power_harmonic;
+                                        locked * share * sliding_harmonic(a) / a
+                                    }
                                     Some(share) => (locked * share).min(cap),
                                     None => (r * u).min(cap),
                                 }
@@ -286,4 +281,36 @@ fn walk(bins: &BTreeMap<i64, Bin>, c: &FittedConstants, p: &Params, locking: boo
         }
     }
     best
+}
+
+/// 2⟨P cos θ⟩/⟨P⟩ for P ∝ |1 + a cos θ| (MODEL.md#the-forced-response-saturates): a below 1,
+/// at most 1.0528.
+fn sliding_harmonic(a: f64) -> f64 {
+    let m = 2048;
+    let (mut first, mut mean) = (0.0, 0.0);
+    for i in 0..m {
+        let t = std::f64::consts::TAU * (i as f64 + 0.5) / m as f64;
+        let p = (1.0 + a * t.cos()).abs();
+        first += p * t.cos();
+        mean += p;
+    }
+    2.0 * first / mean
+}
+
+/// The cycle of `V:SIGMA:LEGS` (see the header): each leg one row of 100 m.
+fn cruise_cycle(spec: &str) -> DriveCycle {
+    let f: Vec<f64> = spec.split(':').map(|x| x.parse().unwrap()).collect();
+    let legs = polywear::wear::legs::cruise_legs(f[0], f[1], f[2] as usize);
+    let mut csv = String::from("time_s,speed_kmh\n");
+    let mut t = 0.0;
+    for leg in &legs {
+        csv += &format!("{t},{}\n", leg.speed_kmh);
+        t += 100.0 / (leg.speed_kmh / 3.6);
+    }
+    csv += &format!("{t},0\n");
+    let path = std::env::temp_dir().join(format!("lock_depth_probe_{}.csv", std::process::id()));
+    std::fs::write(&path, csv).unwrap();
+    let cycle = DriveCycle::read(&path).unwrap();
+    let _ = std::fs::remove_file(&path);
+    cycle
 }

@@ -811,7 +811,8 @@ fn the_first_order_tongue_is_the_forced_cycles_lock_band_at_small_depth() {
 /// cycle's Floquet modes (`WheelGrowth::lock_band_kmh`) gives the brute-force lock band's
 /// half-width within 8% at R = 1, 2 and 4 µm of the default point's cycle, where first order
 /// is about 15%, 40% and 75% too wide; and at 1 µm both widen the same side (δ > 0, the
-/// speeds below V_19).
+/// speeds below V_19). `WheelGrowth::lock_radius_m` inverts the band: at its edges the radius
+/// at which the speed locks is R.
 #[test]
 fn the_normal_form_gives_the_lock_band_at_depth() {
     let p = worst(100.0);
@@ -824,6 +825,14 @@ fn the_normal_form_gives_the_lock_band_at_depth() {
         let first = first_per_um * r_um;
         let (below_kmh, above_kmh) = g.lock_band_kmh(19, radius_m).expect("a cycle");
         let normal_form = (-below_kmh * to_delta, above_kmh * to_delta);
+        // The radius at which a speed locks, in closed form, puts the band's edges at R.
+        for edge_kmh in [below_kmh, above_kmh] {
+            let at = |share: f64| g.lock_radius_m(19, share * edge_kmh).unwrap() / radius_m;
+            assert!(
+                at(0.999) <= 1.0 && at(1.001) > 1.0,
+                "R {r_um} um: {edge_kmh}"
+            );
+        }
         // Each edge bisected between 0.3 and 1.5 first-order widths (locked and not).
         let edge = |sign: f64| {
             let (mut inside, mut outside) = (0.3 * first, 1.5 * first);

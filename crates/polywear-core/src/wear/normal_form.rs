@@ -97,6 +97,18 @@ impl ForcedHopf {
         first_order_rad_s / self.amplitude_rate_per_s / (1.0 + c * c).sqrt()
     }
 
+    /// The least first-order half-width Δ₁ \[rad/s\] at which the cycle locks at the detuning
+    /// Ω − ω_γ = `detuning_rad_s`: x = Δ₁/(λ√(1 + c²)) with x² the least of G(½) and G at its
+    /// local minimum above ½, in closed form (MODEL.md#the-tongue-at-depth). A forcing that
+    /// deepens from zero locks the cycle there (it counts a detuning where the normal form
+    /// locks apart from the tongue's centre too; the band of [`ForcedHopf::lock_edges_rad_s`]
+    /// stops at the first detuning that does not).
+    pub fn locking_first_order_rad_s(&self, detuning_rad_s: f64) -> f64 {
+        let y = detuning_rad_s / self.amplitude_rate_per_s;
+        let c = self.shear;
+        least_locking_forcing_sq(c, y).sqrt() * self.amplitude_rate_per_s * (1.0 + c * c).sqrt()
+    }
+
     /// |a| of the locked cycle, its amplitude over the free cycle's, forced to a first-order
     /// half-width of `first_order_rad_s` at the detuning Ω − ω_γ = `detuning_rad_s` (None where
     /// that is outside the tongue): the stable fixed point's, the largest where there are two.
@@ -123,11 +135,29 @@ impl ForcedHopf {
     }
 }
 
-/// Whether da/dτ = ½(1 − |a|²)(1 + ic)a − iya + x has a stable fixed point. Its |a|² = R solves
-/// R((1 + c²)(1 − R)²/4 − cy(1 − R) + y²) = x²; one is stable where the trace 1 − 2R of the
-/// Jacobian is negative and its determinant |½(1 + ic)(1 − 2R) − iy|² − ¼(1 + c²)R² positive.
+/// Whether da/dτ = ½(1 − |a|²)(1 + ic)a − iya + x has a stable fixed point: x² at least
+/// [`least_locking_forcing_sq`].
 fn stable_fixed_point(c: f64, x: f64, y: f64) -> bool {
-    stable_fixed_points(c, x, y).next().is_some()
+    x * x >= least_locking_forcing_sq(c, y)
+}
+
+/// The least x² at which da/dτ = ½(1 − |a|²)(1 + ic)a − iya + x has a stable fixed point, in
+/// closed form. Its |a|² = R solves G(R) = R(A(1 − R)² − cy(1 − R) + y²) = x², A = ¼(1 + c²);
+/// one is stable where the trace 1 − 2R of the Jacobian is negative and its determinant
+/// |½(1 + ic)(1 − 2R) − iy|² − AR², which is G′(R), positive. The largest root has G′ ≥ 0 (G
+/// rises beyond its last turn), so a stable one exists exactly when some root lies above ½,
+/// that is when x² ≥ min over R ≥ ½ of G: G(½) (the torus line) or G at its local minimum, the
+/// larger root of G′(R) = 3AR² + (2cy − 4A)R + A − cy + y² (the saddle-node line).
+fn least_locking_forcing_sq(c: f64, y: f64) -> f64 {
+    let a = 0.25 * (1.0 + c * c);
+    let g = |r: f64| r * (a * (1.0 - r) * (1.0 - r) - c * y * (1.0 - r) + y * y);
+    let (qa, qb, qc) = (3.0 * a, 2.0 * c * y - 4.0 * a, a - c * y + y * y);
+    let disc = qb * qb - 4.0 * qa * qc;
+    let turn = (disc > 0.0).then(|| (-qb + disc.sqrt()) / (2.0 * qa));
+    match turn {
+        Some(r) if r > 0.5 => g(0.5).min(g(r)),
+        _ => g(0.5),
+    }
 }
 
 /// The |a|² of the stable fixed points of [`stable_fixed_point`]'s equation.
@@ -189,6 +219,51 @@ mod tests {
         assert!(form.locked_amplitude(4.0, 1.01 * above).is_none());
         assert!(form.locked_amplitude(4.0, 1.01 * below).is_none());
         assert!(form.locked_amplitude(4.0, 0.99 * above).is_some());
+    }
+
+    /// The closed-form test for a stable fixed point is the fixed points' own (the cubic's roots
+    /// by the companion matrix, each's trace and determinant) on a grid of shears, forcings and
+    /// detunings, and the least locking forcing is on the edge: the band's edges at a forcing
+    /// lock at it, and 0.1% beyond them they need more.
+    #[test]
+    fn the_closed_form_lock_is_the_fixed_points() {
+        let (mut differ, mut locked) = (0, 0);
+        for c in [-3.0, -1.0, 0.0, 0.5, 2.8] {
+            for ix in 0..40 {
+                let x = 0.02 * 1.2f64.powi(ix);
+                for iy in -60..=60 {
+                    let y = 0.05 * iy as f64 * (1.0 + x);
+                    let by_roots = stable_fixed_points(c, x, y).next().is_some();
+                    locked += usize::from(by_roots);
+                    if by_roots != stable_fixed_point(c, x, y) {
+                        // Only on the boundary itself, within the roots' rounding.
+                        let m = least_locking_forcing_sq(c, y);
+                        assert!((x * x / m - 1.0).abs() < 1e-6, "c {c} x {x} y {y}: {m}");
+                        differ += 1;
+                    }
+                }
+            }
+        }
+        // Of the 24,200 points, both kinds in numbers.
+        assert!(
+            differ < 5 && (5_000..19_200).contains(&locked),
+            "{differ} {locked}"
+        );
+        for c in [0.0, -2.86] {
+            let form = ForcedHopf {
+                amplitude_rate_per_s: 3.6,
+                shear: c,
+            };
+            for first in [0.5, 4.0, 40.0] {
+                let (below, above) = form.lock_edges_rad_s(first);
+                for edge in [below, above] {
+                    let need = form.locking_first_order_rad_s(edge);
+                    assert!(need <= first * (1.0 + 1e-9), "c {c}: {need} > {first}");
+                    let beyond = form.locking_first_order_rad_s(1.001 * edge);
+                    assert!(beyond > first, "c {c}, {first}: {beyond} at {edge}");
+                }
+            }
+        }
     }
 
     /// Weakly forced, the locked cycle is Adler's whatever the shear: the free amplitude, at

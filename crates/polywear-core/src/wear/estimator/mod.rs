@@ -668,6 +668,24 @@ impl WheelGrowth {
         Some((below * kmh_per_rad_s, above * kmh_per_rad_s))
     }
 
+    /// The radius |R_n| \[m\] of an order-`order` polygon at which the cycle locks to it at the
+    /// speed `offset_kmh` from V_n = V ν/n (as [`WheelGrowth::lock_band_kmh`]'s edges): the
+    /// normal form's least locking forcing in closed form
+    /// ([`ForcedHopf::locking_first_order_rad_s`]), Adler's |Ω − ω_γ| = Δ₁ without a normal
+    /// form. None for a stable tread.
+    pub fn lock_radius_m(&self, order: u32, offset_kmh: f64) -> Option<f64> {
+        if self.response.phase_coupling_s <= 0.0 {
+            return None;
+        }
+        let (per_m_rad_s, kmh_per_rad_s) = self.first_order_lock(order, 1.0);
+        let detuning_rad_s = offset_kmh / kmh_per_rad_s;
+        let needed = match self.response.hopf {
+            Some(hopf) => hopf.locking_first_order_rad_s(detuning_rad_s),
+            None => detuning_rad_s.abs(),
+        };
+        Some(needed / per_m_rad_s)
+    }
+
     /// The locked cycle's amplitude over the free cycle's, at a polygon of order `order` and
     /// radius `radius_m` with the speed `offset_kmh` from V_n = V ν/n (as
     /// [`WheelGrowth::lock_band_kmh`]'s edges), from the forced Hopf normal form; None outside
