@@ -2,14 +2,22 @@
 //! `cycle --wear-estimate tread_life_saturated` gives it, against the same walk with a lock that
 //! widens with the depth (MODEL.md#the-tongue-at-depth): a vibrating bin locks to order n once
 //! the polygon's radius reaches the least at which its forced Hopf normal form locks at the
-//! bin's detuning ν − n·f₀/f (`WheelGrowth::lock_radius_m`), and a locked bin prints the free cycle's
-//! harmonic |P₁|/P̄ (with `PW_LOCKED_PRINT=cap` the sliding bound m_max; with
-//! `PW_LOCKED_PRINT=amplitude` |P₁|/P̄ times the normal form's locked amplitude over the free
-//! cycle's, at most m_max; with `PW_LOCKED_PRINT=phase` |P₁|/P̄ times the share of the locked
-//! print that deepens the polygon, `WheelGrowth::locked_print_share`) instead of its saturated
-//! linear print. Each order is walked in 32 midpoint substeps per interval of worn depth;
-//! without the lock the walk is the shipped answer. A cruising spread is a cycle of its 40
-//! quantile speeds at equal distances.
+//! bin's detuning ν − n·f₀/f (`WheelGrowth::lock_radius_m`), and a locked bin prints, instead of
+//! its saturated linear print:
+//! - the free cycle's harmonic |P₁|/P̄ (the default);
+//! - the sliding bound m_max (`PW_LOCKED_PRINT=cap`);
+//! - |P₁|/P̄ times the normal form's locked amplitude over the free cycle's, at most m_max
+//!   (`PW_LOCKED_PRINT=amplitude`);
+//! - |P₁|/P̄ times the share of the locked print that deepens the polygon
+//!   (`WheelGrowth::locked_print_share`, at most m_max; `PW_LOCKED_PRINT=phase`), or with the
+//!   locked amplitude's power harmonic saturated as a sliding power's (`phase_sliding`).
+//!
+//! Each order is walked in 32 midpoint substeps per interval of worn depth; without the lock the
+//! walk is the shipped answer.
+//!
+//! `PW_LOCKED_PRINT=brute` takes order 19's lock and print from brute force instead, on a grid of
+//! speeds around V_19 and radii (about a minute per wheel; MODEL.md#the-locked-print), and
+//! `PW_LOCK_SIDE=below` (a diagnostic) locks no speed above V_n.
 //!
 //! CYCLE is a drive cycle's CSV, or `cruise:V:SIGMA:LEGS`: cruising at V km/h with a spread of
 //! SIGMA km/h driven as the long-term loop drives it, LEGS quantile speeds at equal distances.
@@ -42,6 +50,8 @@ type Solved = (LifeProfile, Vec<Vec<f64>>, f64, Amplitude);
 #[derive(Clone)]
 struct Amplitude {
     growth: std::sync::Arc<WheelGrowth>,
+    /// PW_LOCKED_PRINT=brute: the wheel's order-19 lock and print, brute force.
+    brute: Option<std::sync::Arc<BruteTable>>,
     speed_kmh: f64,
     nu: f64,
     mid_ratios: Vec<f64>,
@@ -76,8 +86,15 @@ fn main() {
     };
     let kms = cycle.step_km();
     let c = FittedConstants::of(&base);
+    let brute_mode = std::env::var("PW_LOCKED_PRINT").is_ok_and(|v| v == "brute");
     for wheel in [Wheel::Follower, Wheel::Driving] {
         let t0 = std::time::Instant::now();
+        let brute = brute_mode.then(|| {
+            let centre = a[1]
+                .strip_prefix("cruise:")
+                .map_or(100.0, |s| s.split(':').next().unwrap().parse().unwrap());
+            std::sync::Arc::new(BruteTable::new(&base, wheel, centre))
+        });
         let mut bins: BTreeMap<i64, Bin> = BTreeMap::new();
         let mut cache: BTreeMap<u64, Option<Solved>> = BTreeMap::new();
         for (i, &km) in kms.iter().enumerate() {
@@ -112,7 +129,9 @@ fn main() {
                             if below_only && offset_kmh > 0.0 {
                                 continue;
                             }
-                            if let Some(r) = g.lock_radius_m(n, offset_kmh) {
+                            if let (Some(t), 19) = (&brute, n) {
+                                lock[18][j + 1] = t.lock_radius(offset_kmh);
+                            } else if let Some(r) = g.lock_radius_m(n, offset_kmh) {
                                 lock[n as usize - 1][j + 1] = r;
                             }
                         }
@@ -130,6 +149,7 @@ fn main() {
                 let ph = g.cycle_power_harmonic_rel();
                 let amplitude = Amplitude {
                     growth: std::sync::Arc::new(g),
+                    brute: brute.clone(),
                     speed_kmh: p.speed_kmh,
                     nu,
                     mid_ratios,
@@ -234,7 +254,9 @@ fn walk(bins: &BTreeMap<i64, Bin>, c: &FittedConstants, p: &Params, locking: boo
                             let m = &b.amplitude;
                             let offset =
                                 -(m.nu - n as f64 * m.mid_ratios[j]) * m.speed_kmh / n as f64;
-                            if by_phase {
+                            if let (Some(t), 19) = (&m.brute, n) {
+                                locked * t.share(offset, u * r0)
+                            } else if by_phase {
                                 // PW_LOCKED_PRINT=phase: the free print times the share of the
                                 // locked print that deepens the polygon (its amplitude and
                                 // phase, WheelGrowth::locked_print_share).
@@ -313,4 +335,112 @@ fn cruise_cycle(spec: &str) -> DriveCycle {
     let cycle = DriveCycle::read(&path).unwrap();
     let _ = std::fs::remove_file(&path);
     cycle
+}
+
+/// Brute force's lock and locked print of order 19 on a grid of speed offsets from V_19 and
+/// radii (the model rebuilt at each speed, 300 revolutions settled, 40 read; the print's share
+/// as `examples/locked_print.rs` reads it, over the free cycle's |P₁|/P̄ at V_19).
+struct BruteTable {
+    offsets_kmh: Vec<f64>,
+    radii_m: Vec<f64>,
+    /// `[offset][radius]`: locked to 19, and the share.
+    cells: Vec<Vec<(bool, f64)>>,
+}
+
+impl BruteTable {
+    fn new(base: &Params, wheel: Wheel, near_kmh: f64) -> Self {
+        use polywear::model::WheelModel;
+        use polywear::wear::lock::{is_locked, rotation_number};
+        use polywear::wear::window::{integrate_window, EpsilonTable, WindowRequest};
+        use polywear::wear::{Complex64, Feedback};
+        use rayon::prelude::*;
+        let variant = Variant::SlidingShare;
+        let opts = ClassifierOptions::default();
+        let settings = WearSettings::default();
+        let at = |speed_kmh: f64| Params { speed_kmh, ..*base };
+        let growth_at = |p: &Params| {
+            let stage = WearStage::for_run(p, variant, settings, &opts).unwrap();
+            let w = solve_wheel(*p, variant, wheel, &opts);
+            let g = WheelGrowth::new(&stage.inputs(p, &w), &Meter::new(opts.budget)).unwrap();
+            (w, g)
+        };
+        let (_, g) = growth_at(&at(near_kmh));
+        let p0 = at(near_kmh * g.nu() / 19.0);
+        let (w0, g0) = growth_at(&p0);
+        let centre = p0.speed_kmh * g0.nu() / 19.0;
+        let free = g0.cycle_power_harmonic_rel();
+        let v0 = &w0.verdict;
+        let m0 = w0.model.as_ref().unwrap();
+        let start = [v0.section_z_m, m0.ode.equilibrium()[1], v0.section_v_mps];
+        let offsets_kmh: Vec<f64> = (-32..=32).map(|i| 0.5 * i as f64).collect();
+        let radii_m: Vec<f64> = (0..9).map(|i| 0.5e-6 * 2f64.powi(i)).collect();
+        let grid: Vec<(usize, usize)> = (0..offsets_kmh.len())
+            .flat_map(|i| (0..radii_m.len()).map(move |k| (i, k)))
+            .collect();
+        let values: Vec<(bool, f64)> = grid
+            .par_iter()
+            .map(|&(i, k)| {
+                let p = at(centre + offsets_kmh[i]);
+                let model = WheelModel::build(&p, wheel, variant).unwrap();
+                let fb = Feedback::new(&p, &model, settings.zone);
+                let mut h = vec![Complex64::new(0.0, 0.0); 19];
+                h[18] = Complex64::new(radii_m[k], 0.0);
+                let rotation_hz = WheelModel::rotation_hz(&p);
+                let Ok(win) = integrate_window(&WindowRequest {
+                    ode: &model.ode,
+                    epsilon: &EpsilonTable::new(&fb, &h, 2048),
+                    rotation_hz,
+                    start,
+                    skip_revs: 300,
+                    revs: 40,
+                    samples_per_rev: 256,
+                    rtol: 1e-8,
+                    period_s: 1.0 / (g0.nu() * rotation_hz),
+                    max_steps: 50_000_000,
+                }) else {
+                    return (false, 0.0);
+                };
+                let rho = rotation_number(&win.crossings_s, 1.0 / rotation_hz);
+                let zone = fb.zone.transfer(19.0, p.r_b);
+                let share = (-zone.conj() * win.print(19)).re / zone.norm() / free;
+                (is_locked(rho) && rho.round() as u32 == 19, share)
+            })
+            .collect();
+        let cells = values
+            .chunks(radii_m.len())
+            .map(<[(bool, f64)]>::to_vec)
+            .collect();
+        eprintln!("brute table for {wheel:?} around V_19 = {centre:.3} km/h");
+        BruteTable {
+            offsets_kmh,
+            radii_m,
+            cells,
+        }
+    }
+
+    fn nearest(&self, offset_kmh: f64) -> usize {
+        let i = ((offset_kmh - self.offsets_kmh[0]) / 0.5).round();
+        i.clamp(0.0, (self.offsets_kmh.len() - 1) as f64) as usize
+    }
+
+    /// The least tabled radius locked at the nearest offset (inf: none).
+    fn lock_radius(&self, offset_kmh: f64) -> f64 {
+        let row = &self.cells[self.nearest(offset_kmh)];
+        row.iter()
+            .position(|c| c.0)
+            .map_or(f64::INFINITY, |k| self.radii_m[k])
+    }
+
+    /// The share at the nearest offset, linear in ln R between locked radii.
+    fn share(&self, offset_kmh: f64, radius_m: f64) -> f64 {
+        let row = &self.cells[self.nearest(offset_kmh)];
+        let k = self.radii_m.partition_point(|&r| r <= radius_m).max(1) - 1;
+        let next = (k + 1).min(self.radii_m.len() - 1);
+        if next == k || !row[next].0 || !row[k].0 {
+            return row[k].1;
+        }
+        let t = ((radius_m / self.radii_m[k]).ln() / (self.radii_m[next] / self.radii_m[k]).ln())
+            .clamp(0.0, 1.0);
+        row[k].1 + t * (row[next].1 - row[k].1)
+    }
 }

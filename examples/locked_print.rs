@@ -4,7 +4,9 @@
 //! tyre angle 0) at speeds across the lock band, the model rebuilt at each speed as the loop
 //! builds it. After 300 revolutions of settling, the harmonic 19 of the energy laid per cell
 //! over 40 revolutions, over its mean (`Window::print`), is the print p; what deepens
-//! the polygon is Re(−conj(H_w) p)/|H_w|, here over the free cycle's |P₁|/P̄.
+//! the polygon is Re(−conj(H_w) p)/|H_w|, here over the free cycle's |P₁|/P̄. Beside it, the
+//! forced orbit's (`wear::forced_orbit`, by Newton from 30 revolutions settled), and whether
+//! it attracts.
 //!
 //! ```sh
 //! cargo run --release --example locked_print -- R_UM...
@@ -15,6 +17,7 @@ use polywear::classify::ClassifierOptions;
 use polywear::evaluate::{solve_wheel, WearStage};
 use polywear::model::{Variant, Wheel, WheelModel};
 use polywear::params::Params;
+use polywear::wear::forced_orbit;
 use polywear::wear::lock::{is_locked, rotation_number};
 use polywear::wear::window::{integrate_window, EpsilonTable, WindowRequest};
 use polywear::wear::{Complex64, Feedback, WearSettings, WheelGrowth};
@@ -77,7 +80,7 @@ fn main() {
             h[ORDER as usize - 1] = Complex64::new(r_m, 0.0);
             let table = EpsilonTable::new(&fb, &h, 2048);
             let rotation_hz = WheelModel::rotation_hz(&p);
-            let win = integrate_window(&WindowRequest {
+            let request = WindowRequest {
                 ode: &model.ode,
                 epsilon: &table,
                 rotation_hz,
@@ -88,17 +91,37 @@ fn main() {
                 rtol: 1e-8,
                 period_s: 1.0 / (g.nu() * rotation_hz),
                 max_steps: 50_000_000,
-            })
-            .unwrap();
+            };
+            let win = integrate_window(&request).unwrap();
             let rho = rotation_number(&win.crossings_s, 1.0 / rotation_hz);
             let print = win.print(ORDER);
             let zone = fb.zone.transfer(n, p.r_b);
             let brute = (-zone.conj() * print).re / zone.norm() / free;
             let estimated = g.locked_print_share(ORDER, r_m, offset);
+            // The forced orbit by Newton, from 30 revolutions settled.
+            let short = integrate_window(&WindowRequest {
+                skip_revs: 0,
+                revs: 30,
+                samples_per_rev: 16,
+                ..request
+            })
+            .unwrap();
+            let omega = std::f64::consts::TAU * n * rotation_hz;
+            let forcing = fb.forcing_per_radius(n) * r_m;
+            let orbit = match forced_orbit::solve(&model.ode, forcing, omega, short.end, 1e-10) {
+                Ok(o) => format!(
+                    "orbit {:+.3}{} ({} evals)",
+                    (-zone.conj() * o.print).re / zone.norm() / free,
+                    if o.locks() { "" } else { " (unstable)" },
+                    o.rhs_evals
+                ),
+                Err(e) => format!("orbit: {e:?}"),
+            };
             println!(
-                "  {offset:+.4} km/h  rho {rho:.4}{}  |p|/free {:.3}  brute force {brute:+.3}  estimator {}",
+                "  {offset:+.4} km/h  rho {rho:.4}{}  |p|/free {:.3}  brute force {brute:+.3} ({} evals)  estimator {}  {orbit}",
                 if is_locked(rho) { "" } else { " (unlocked)" },
                 print.norm() / free,
+                win.rhs_evals,
                 estimated.map_or("none".into(), |e| format!("{e:+.3}"))
             );
         }

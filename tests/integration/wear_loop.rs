@@ -868,53 +868,99 @@ fn the_normal_form_gives_the_lock_band_at_depth() {
     }
 }
 
-/// The locked print (MODEL.md#the-locked-print): the default point's follower near V_19, forced
-/// by one order-19 harmonic of radius 2 µm (its crests at tyre angle 0) with the model rebuilt at
-/// each speed, settled 300 revolutions; the harmonic 19 of the energy laid per cell over the next
-/// 40 is the print, and what deepens the polygon is Re(−conj(H_w) p)/|H_w|. Over the free
-/// cycle's |P₁|/P̄ it is `WheelGrowth::locked_print_share` within 0.05 at 0.9 of the band below
-/// V_19, at V_19 and at 0.6 of the band above (about 1.2 at the centre, 0.6 near the lower
-/// edge). Near the edge a quarter of the print is out of phase: its amplitude alone is not it.
-#[test]
-fn the_locked_print_deepens_the_polygon_by_its_phase() {
-    use polywear::model::WheelModel;
-    use polywear::wear::lock::{is_locked, rotation_number};
-    use polywear::wear::window::{integrate_window, EpsilonTable, WindowRequest};
-    use polywear::wear::{Complex64, Feedback};
-    let radius_m = 2e-6;
+/// The default point's follower at its speed V_19 (φ_s = 1): its growth there, the wheel and
+/// V_19 itself \[km/h\].
+fn near_v19() -> (WheelGrowth, WheelSolution, f64) {
     let near = worst(100.0);
     let w = solve_wheel(near, V, Wheel::Follower, &ClassifierOptions::default());
     let p0 = worst(100.0 * growth(&near, &w).nu() / 19.0);
     let w0 = solve_wheel(p0, V, Wheel::Follower, &ClassifierOptions::default());
     let g = growth(&p0, &w0);
     let centre_kmh = p0.speed_kmh * g.nu() / 19.0;
+    (g, w0, centre_kmh)
+}
+
+/// The cycle of `w0` forced by one order-19 harmonic of radius `radius_m` (its crests at tyre
+/// angle 0) at `offset_kmh` from V_19, the model rebuilt at that speed, by brute force (300
+/// revolutions settled, 40 read) and as the forced orbit (Newton from 30 revolutions
+/// settled): whether brute force locks to 19, its print's share (Re(−conj(H_w) p)/|H_w| over
+/// the free cycle's |P₁|/P̄) and |p| over |P₁|/P̄, and the orbit's lock and share.
+fn forced_near_v19(
+    g: &WheelGrowth,
+    w0: &WheelSolution,
+    centre_kmh: f64,
+    offset_kmh: f64,
+    radius_m: f64,
+) -> (bool, f64, f64, Option<(bool, f64)>) {
+    use polywear::model::WheelModel;
+    use polywear::wear::forced_orbit;
+    use polywear::wear::lock::{is_locked, rotation_number};
+    use polywear::wear::window::{integrate_window, EpsilonTable, WindowRequest};
+    use polywear::wear::{Complex64, Feedback};
     let free = g.cycle_power_harmonic_rel();
+    let p = worst(centre_kmh + offset_kmh);
+    let model = WheelModel::build(&p, Wheel::Follower, V).unwrap();
+    let fb = Feedback::new(&p, &model, WearSettings::default().zone);
+    let mut h = vec![Complex64::new(0.0, 0.0); 19];
+    h[18] = Complex64::new(radius_m, 0.0);
+    let rotation_hz = WheelModel::rotation_hz(&p);
+    let table = EpsilonTable::new(&fb, &h, 2048);
+    let request = WindowRequest {
+        ode: &model.ode,
+        epsilon: &table,
+        rotation_hz,
+        start: start(w0).unwrap(),
+        skip_revs: 300,
+        revs: 40,
+        samples_per_rev: 256,
+        rtol: 1e-8,
+        period_s: 1.0 / (g.nu() * rotation_hz),
+        max_steps: 10_000_000,
+    };
+    let win = integrate_window(&request).unwrap();
+    let rho = rotation_number(&win.crossings_s, 1.0 / rotation_hz);
+    let zone = fb.zone.transfer(19.0, p.r_b);
+    let share = |print: Complex64| (-zone.conj() * print).re / zone.norm() / free;
+    let print = win.print(19);
+    let settled = integrate_window(&WindowRequest {
+        skip_revs: 0,
+        revs: 30,
+        samples_per_rev: 16,
+        ..request
+    })
+    .unwrap();
+    let orbit = forced_orbit::solve(
+        &model.ode,
+        fb.forcing_per_radius(19.0) * radius_m,
+        std::f64::consts::TAU * 19.0 * rotation_hz,
+        settled.end,
+        1e-10,
+    )
+    .ok()
+    .map(|o| (o.locks(), share(o.print)));
+    (
+        is_locked(rho) && rho.round() == 19.0,
+        share(print),
+        print.norm() / free,
+        orbit,
+    )
+}
+
+/// The locked print (MODEL.md#the-locked-print): the default point's follower near V_19,
+/// forced by one order-19 harmonic of radius 2 µm by brute force ([`forced_near_v19`]). Over
+/// the free cycle's |P₁|/P̄ its share is `WheelGrowth::locked_print_share` within 0.05 at 0.9
+/// of the band below V_19, at V_19 and at 0.6 of the band above (about 1.2 at the centre, 0.6
+/// near the lower edge). Near the edge a quarter of the print is out of phase: its amplitude
+/// alone is not it.
+#[test]
+fn the_locked_print_deepens_the_polygon_by_its_phase() {
+    let radius_m = 2e-6;
+    let (g, w0, centre_kmh) = near_v19();
     let (below, above) = g.lock_band_kmh(19, radius_m).expect("a cycle");
     for offset_kmh in [0.9 * below, 0.0, 0.6 * above] {
-        let p = worst(centre_kmh + offset_kmh);
-        let model = WheelModel::build(&p, Wheel::Follower, V).unwrap();
-        let fb = Feedback::new(&p, &model, WearSettings::default().zone);
-        let mut h = vec![Complex64::new(0.0, 0.0); 19];
-        h[18] = Complex64::new(radius_m, 0.0);
-        let rotation_hz = WheelModel::rotation_hz(&p);
-        let win = integrate_window(&WindowRequest {
-            ode: &model.ode,
-            epsilon: &EpsilonTable::new(&fb, &h, 2048),
-            rotation_hz,
-            start: start(&w0).unwrap(),
-            skip_revs: 300,
-            revs: 40,
-            samples_per_rev: 256,
-            rtol: 1e-8,
-            period_s: 1.0 / (g.nu() * rotation_hz),
-            max_steps: 10_000_000,
-        })
-        .unwrap();
-        let rho = rotation_number(&win.crossings_s, 1.0 / rotation_hz);
-        assert!(is_locked(rho), "{offset_kmh} km/h: rho {rho}");
-        let print = win.print(19);
-        let zone = fb.zone.transfer(19.0, p.r_b);
-        let brute = (-zone.conj() * print).re / zone.norm() / free;
+        let (locked, brute, magnitude, _) =
+            forced_near_v19(&g, &w0, centre_kmh, offset_kmh, radius_m);
+        assert!(locked, "{offset_kmh} km/h");
         let estimated = g
             .locked_print_share(19, radius_m, offset_kmh)
             .expect("in the band");
@@ -923,7 +969,36 @@ fn the_locked_print_deepens_the_polygon_by_its_phase() {
             "{offset_kmh:+.3} km/h: brute force {brute:.3}, estimator {estimated:.3}"
         );
         if offset_kmh < 0.0 {
-            assert!(brute < 0.85 * print.norm() / free, "{brute} {print}");
+            assert!(brute < 0.85 * magnitude, "{brute} {magnitude}");
+        }
+    }
+}
+
+/// The forced orbit (`wear::forced_orbit`) is brute force's locked state: at 2 and 64 µm of
+/// radius, wherever brute force locks, the orbit attracts and its print's share is brute
+/// force's within 0.005 (at 64 µm the normal form's is 0.5 too high at V_19); at 64 µm and
+/// +4.35 km/h, where brute force does not lock and the normal form does, the orbit is unstable.
+#[test]
+fn the_forced_orbit_is_brute_forces_lock_and_print() {
+    let (g, w0, centre_kmh) = near_v19();
+    for (radius_um, offset_kmh, locks) in [
+        (2.0, -0.3, true),
+        (2.0, 0.0, true),
+        (2.0, 0.2, true),
+        (64.0, -4.55, true),
+        (64.0, 0.0, true),
+        (64.0, 4.35, false),
+    ] {
+        let radius_m = radius_um * 1e-6;
+        let (locked, brute, _, orbit) = forced_near_v19(&g, &w0, centre_kmh, offset_kmh, radius_m);
+        assert_eq!(locked, locks, "{radius_um} um, {offset_kmh} km/h");
+        let (stable, share) = orbit.expect("an orbit");
+        assert_eq!(stable, locks, "{radius_um} um, {offset_kmh} km/h");
+        if locks {
+            assert!(
+                (share - brute).abs() < 0.005,
+                "{radius_um} um, {offset_kmh:+} km/h: brute force {brute:.4}, orbit {share:.4}"
+            );
         }
     }
 }

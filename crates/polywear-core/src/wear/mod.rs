@@ -46,6 +46,7 @@ mod error;
 pub mod estimator;
 pub mod feedback;
 pub mod fitted;
+pub mod forced_orbit;
 pub mod law;
 pub mod legs;
 pub mod lock;
