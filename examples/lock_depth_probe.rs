@@ -15,9 +15,14 @@
 //! Each order is walked in 32 midpoint substeps per interval of worn depth; without the lock the
 //! walk is the shipped answer.
 //!
-//! `PW_LOCKED_PRINT=brute` takes order 19's lock and print from brute force instead, on a grid of
-//! speeds around V_19 and radii (about a minute per wheel; MODEL.md#the-locked-print), and
-//! `PW_LOCK_SIDE=below` (a diagnostic) locks no speed above V_n.
+//! `PW_LOCKED_PRINT=brute` takes the lock and print of order ⌊ν⌋ at the cycle's first speed (or
+//! `PW_TABLE_ORDER`) from brute force instead, on a grid of speeds around V_n and radii (about a
+//! minute per wheel; MODEL.md#the-locked-print);
+//! `PW_LOCKED_PRINT=orbit` from the forced orbit (`wear::forced_orbit`, from 30 revolutions
+//! settled) on the same grid; `PW_LOCK_SIDE=below` (a diagnostic) locks no speed above V_n.
+//! `PW_CAPTURE=1` locks an order at any depth where the tread's drift carries a vibrating speed's
+//! ν through it (MODEL.md#the-locked-print). `PW_VERBOSE=1` prints each order's distance and the
+//! first speed's lock radii, `PW_TRACE_ORDER=N` order N's radius interval by interval.
 //!
 //! CYCLE is a drive cycle's CSV, or `cruise:V:SIGMA:LEGS`: cruising at V km/h with a spread of
 //! SIGMA km/h driven as the long-term loop drives it, LEGS quantile speeds at equal distances.
@@ -86,7 +91,7 @@ fn main() {
     };
     let kms = cycle.step_km();
     let c = FittedConstants::of(&base);
-    let brute_mode = std::env::var("PW_LOCKED_PRINT").is_ok_and(|v| v == "brute");
+    let brute_mode = std::env::var("PW_LOCKED_PRINT").is_ok_and(|v| v == "brute" || v == "orbit");
     for wheel in [Wheel::Follower, Wheel::Driving] {
         let t0 = std::time::Instant::now();
         let brute = brute_mode.then(|| {
@@ -120,8 +125,17 @@ fn main() {
                         if deltas.iter().all(|d| d.abs() > 4.0) {
                             continue;
                         }
+                        // PW_CAPTURE (a trial): where the tread's drift carries ν through n
+                        // between two intervals, the order locks at any depth (its print widens
+                        // the tongue faster than the drift moves δ).
+                        let capture = std::env::var("PW_CAPTURE").is_ok();
+                        let crossed = |j: usize| j > 0 && deltas[j - 1] * deltas[j] <= 0.0;
                         // The radius at which the bin's detuning locks (closed form).
                         for (j, d) in deltas.iter().enumerate() {
+                            if capture && crossed(j) {
+                                lock[n as usize - 1][j + 1] = 0.0;
+                                continue;
+                            }
                             let offset_kmh = -d * p.speed_kmh / nf;
                             // PW_LOCK_SIDE=below (a diagnostic): no lock above V_n.
                             let below_only =
@@ -129,8 +143,8 @@ fn main() {
                             if below_only && offset_kmh > 0.0 {
                                 continue;
                             }
-                            if let (Some(t), 19) = (&brute, n) {
-                                lock[18][j + 1] = t.lock_radius(offset_kmh);
+                            if let Some(t) = brute.as_ref().filter(|t| t.order == n) {
+                                lock[n as usize - 1][j + 1] = t.lock_radius(offset_kmh);
                             } else if let Some(r) = g.lock_radius_m(n, offset_kmh) {
                                 lock[n as usize - 1][j + 1] = r;
                             }
@@ -173,6 +187,17 @@ fn main() {
         for b in bins.values_mut() {
             let km = b.km;
             b.profile.scale(1.0 / km);
+        }
+        if std::env::var("PW_VERBOSE").is_ok() {
+            if let Some(b) = bins.values().next() {
+                let m = &b.amplitude;
+                for n in m.nu.floor() as u32..=m.nu.floor() as u32 + 1 {
+                    let radii: Vec<String> = (1..=24)
+                        .map(|j| format!("{:.1}", b.lock_radius[n as usize - 1][j] * 1e6))
+                        .collect();
+                    eprintln!("  first bin, order {n}: lock radius [um] by interval: {radii:?}");
+                }
+            }
         }
         let steps: Vec<(f64, LifeProfile)> =
             bins.values().map(|b| (b.km, b.profile.clone())).collect();
@@ -254,12 +279,14 @@ fn walk(bins: &BTreeMap<i64, Bin>, c: &FittedConstants, p: &Params, locking: boo
                             let m = &b.amplitude;
                             let offset =
                                 -(m.nu - n as f64 * m.mid_ratios[j]) * m.speed_kmh / n as f64;
-                            if let (Some(t), 19) = (&m.brute, n) {
+                            if let Some(t) = m.brute.as_ref().filter(|t| t.order == n) {
                                 locked * t.share(offset, u * r0)
                             } else if by_phase {
                                 // PW_LOCKED_PRINT=phase: the free print times the share of the
                                 // locked print that deepens the polygon (its amplitude and
                                 // phase, WheelGrowth::locked_print_share).
+                                // A captured order (lock radius 0) is locked at δ = 0 itself.
+                                let offset = if lock_r == 0.0 { 0.0 } else { offset };
                                 match m.growth.locked_print_share(n, u * r0, offset) {
                                     Some(share) if sliding => {
                                         // PW_LOCKED_PRINT=phase_sliding: the locked amplitude's
@@ -293,12 +320,18 @@ fn walk(bins: &BTreeMap<i64, Bin>, c: &FittedConstants, p: &Params, locking: boo
                 if next >= visible {
                     let at =
                         ((j - 1) as f64 * ds + (s as f64 + (visible - u) / (next - u)) * h) / 1e3;
+                    if std::env::var("PW_VERBOSE").is_ok() {
+                        eprintln!("    order {n}: visible at {at:.0} km");
+                    }
                     if at < best.0 {
                         best = (at, n);
                     }
                     break 'walk;
                 }
                 u = next.max(1e-300);
+            }
+            if std::env::var("PW_TRACE_ORDER").is_ok_and(|v| v == n.to_string()) && j <= 24 {
+                eprintln!("    order {n}, interval {j}: R = {:.3} um", u * r0 * 1e6);
             }
         }
     }
@@ -337,10 +370,12 @@ fn cruise_cycle(spec: &str) -> DriveCycle {
     cycle
 }
 
-/// Brute force's lock and locked print of order 19 on a grid of speed offsets from V_19 and
+/// Brute force's lock and locked print of order n = ⌊ν⌋ on a grid of speed offsets from V_n and
 /// radii (the model rebuilt at each speed, 300 revolutions settled, 40 read; the print's share
 /// as `examples/locked_print.rs` reads it, over the free cycle's |P₁|/P̄ at V_19).
 struct BruteTable {
+    /// The order: ⌊ν⌋ at the cycle's centre speed, the one the loop grows.
+    order: u32,
     offsets_kmh: Vec<f64>,
     radii_m: Vec<f64>,
     /// `[offset][radius]`: locked to 19, and the share.
@@ -352,8 +387,9 @@ impl BruteTable {
         use polywear::model::WheelModel;
         use polywear::wear::lock::{is_locked, rotation_number};
         use polywear::wear::window::{integrate_window, EpsilonTable, WindowRequest};
-        use polywear::wear::{Complex64, Feedback};
+        use polywear::wear::{forced_orbit, Complex64, Feedback};
         use rayon::prelude::*;
+        let by_orbit = std::env::var("PW_LOCKED_PRINT").is_ok_and(|v| v == "orbit");
         let variant = Variant::SlidingShare;
         let opts = ClassifierOptions::default();
         let settings = WearSettings::default();
@@ -365,9 +401,12 @@ impl BruteTable {
             (w, g)
         };
         let (_, g) = growth_at(&at(near_kmh));
-        let p0 = at(near_kmh * g.nu() / 19.0);
+        let order =
+            std::env::var("PW_TABLE_ORDER").map_or(g.nu().floor() as u32, |n| n.parse().unwrap());
+        let nf = order as f64;
+        let p0 = at(near_kmh * g.nu() / nf);
         let (w0, g0) = growth_at(&p0);
-        let centre = p0.speed_kmh * g0.nu() / 19.0;
+        let centre = p0.speed_kmh * g0.nu() / nf;
         let free = g0.cycle_power_harmonic_rel();
         let v0 = &w0.verdict;
         let m0 = w0.model.as_ref().unwrap();
@@ -383,12 +422,13 @@ impl BruteTable {
                 let p = at(centre + offsets_kmh[i]);
                 let model = WheelModel::build(&p, wheel, variant).unwrap();
                 let fb = Feedback::new(&p, &model, settings.zone);
-                let mut h = vec![Complex64::new(0.0, 0.0); 19];
-                h[18] = Complex64::new(radii_m[k], 0.0);
+                let mut h = vec![Complex64::new(0.0, 0.0); order as usize];
+                h[order as usize - 1] = Complex64::new(radii_m[k], 0.0);
                 let rotation_hz = WheelModel::rotation_hz(&p);
-                let Ok(win) = integrate_window(&WindowRequest {
+                let table = EpsilonTable::new(&fb, &h, 2048);
+                let request = WindowRequest {
                     ode: &model.ode,
-                    epsilon: &EpsilonTable::new(&fb, &h, 2048),
+                    epsilon: &table,
                     rotation_hz,
                     start,
                     skip_revs: 300,
@@ -397,21 +437,44 @@ impl BruteTable {
                     rtol: 1e-8,
                     period_s: 1.0 / (g0.nu() * rotation_hz),
                     max_steps: 50_000_000,
-                }) else {
+                };
+                let zone = fb.zone.transfer(nf, p.r_b);
+                let share = |print: Complex64| (-zone.conj() * print).re / zone.norm() / free;
+                if by_orbit {
+                    // The forced orbit by Newton from 30 revolutions settled.
+                    let Ok(settled) = integrate_window(&WindowRequest {
+                        skip_revs: 0,
+                        revs: 30,
+                        samples_per_rev: 16,
+                        ..request
+                    }) else {
+                        return (false, 0.0);
+                    };
+                    let omega = std::f64::consts::TAU * nf * rotation_hz;
+                    let forcing = fb.forcing_per_radius(nf) * radii_m[k];
+                    return match forced_orbit::solve(&model.ode, forcing, omega, settled.end, 1e-10)
+                    {
+                        Ok(o) => (o.locks(), share(o.print)),
+                        Err(_) => (false, 0.0),
+                    };
+                }
+                let Ok(win) = integrate_window(&request) else {
                     return (false, 0.0);
                 };
                 let rho = rotation_number(&win.crossings_s, 1.0 / rotation_hz);
-                let zone = fb.zone.transfer(19.0, p.r_b);
-                let share = (-zone.conj() * win.print(19)).re / zone.norm() / free;
-                (is_locked(rho) && rho.round() as u32 == 19, share)
+                (
+                    is_locked(rho) && rho.round() as u32 == order,
+                    share(win.print(order)),
+                )
             })
             .collect();
         let cells = values
             .chunks(radii_m.len())
             .map(<[(bool, f64)]>::to_vec)
             .collect();
-        eprintln!("brute table for {wheel:?} around V_19 = {centre:.3} km/h");
+        eprintln!("lock table for {wheel:?}, order {order} around V_n = {centre:.3} km/h");
         BruteTable {
+            order,
             offsets_kmh,
             radii_m,
             cells,
