@@ -12,53 +12,29 @@
 //! cargo run --release --example locked_print -- R_UM...
 //! cargo run --release --example locked_print -- 0.25 1 2 4
 //! ```
-use polywear::classify::budget::Meter;
-use polywear::classify::ClassifierOptions;
-use polywear::evaluate::{solve_wheel, WearStage};
-use polywear::model::{Variant, Wheel, WheelModel};
-use polywear::params::Params;
+#[path = "common/near_v19.rs"]
+mod near_v19;
+
+use near_v19::{at, NearV19, ORDER, VARIANT};
+use polywear::model::{Wheel, WheelModel};
 use polywear::wear::forced_orbit;
 use polywear::wear::lock::{is_locked, rotation_number};
 use polywear::wear::window::{integrate_window, EpsilonTable, WindowRequest};
-use polywear::wear::{Complex64, Feedback, WearSettings, WheelGrowth};
+use polywear::wear::{Complex64, Feedback, WearSettings};
 
-const ORDER: u32 = 19;
 const SAMPLES_PER_REV: usize = 256;
 
 fn main() {
-    let radii_um: Vec<f64> = std::env::args()
-        .skip(1)
-        .map(|s| s.parse().unwrap())
-        .collect();
-    let variant = Variant::SlidingShare;
-    let opts = ClassifierOptions::default();
+    let radii_um = near_v19::radii_um();
     let settings = WearSettings::default();
-    let at = |speed_kmh: f64| Params {
-        speed_kmh,
-        wear_share_straight: 1.0,
-        speed_spread_kmh: 0.0,
-        ..Params::default()
-    };
-    let growth_at = |p: &Params| {
-        let stage = WearStage::for_run(p, variant, settings, &opts).unwrap();
-        let w = solve_wheel(*p, variant, Wheel::Follower, &opts);
-        let g = WheelGrowth::new(&stage.inputs(p, &w), &Meter::new(opts.budget)).unwrap();
-        (w, g)
-    };
-    // V_19, from ν at 100 km/h and once more at the estimate.
-    let (_, g100) = growth_at(&at(100.0));
-    let centre = 100.0 * g100.nu() / ORDER as f64;
-    let p0 = at(centre);
-    let (w0, g) = growth_at(&p0);
-    let centre = centre * g.nu() / ORDER as f64;
+    let near = NearV19::new();
+    let (g, centre) = (&near.growth, near.centre_kmh);
     let free = g.cycle_power_harmonic_rel();
     println!(
         "follower, V_19 = {centre:.3} km/h, nu {:.4}, free |P1|/P {free:.4}",
         g.nu()
     );
-    let v0 = &w0.verdict;
-    let m0 = w0.model.as_ref().unwrap();
-    let start = [v0.section_z_m, m0.ode.equilibrium()[1], v0.section_v_mps];
+    let start = near.free_start();
     let n = ORDER as f64;
     for r_um in radii_um {
         let r_m = r_um * 1e-6;
@@ -74,7 +50,7 @@ fn main() {
                 share * above
             };
             let p = at(centre + offset);
-            let model = WheelModel::build(&p, Wheel::Follower, variant).unwrap();
+            let model = WheelModel::build(&p, Wheel::Follower, VARIANT).unwrap();
             let fb = Feedback::new(&p, &model, settings.zone);
             let mut h = vec![Complex64::new(0.0, 0.0); ORDER as usize];
             h[ORDER as usize - 1] = Complex64::new(r_m, 0.0);
