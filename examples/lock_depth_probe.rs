@@ -280,7 +280,8 @@ fn walk(bins: &BTreeMap<i64, Bin>, c: &FittedConstants, p: &Params, locking: boo
                             let offset =
                                 -(m.nu - n as f64 * m.mid_ratios[j]) * m.speed_kmh / n as f64;
                             if let Some(t) = m.brute.as_ref().filter(|t| t.order == n) {
-                                locked * t.share(offset, u * r0)
+                                // The table's share is of its own centre's free print.
+                                locked / b.power_harmonic * t.free * t.share(offset, u * r0)
                             } else if by_phase {
                                 // PW_LOCKED_PRINT=phase: the free print times the share of the
                                 // locked print that deepens the polygon (its amplitude and
@@ -380,6 +381,8 @@ struct BruteTable {
     radii_m: Vec<f64>,
     /// `[offset][radius]`: locked to 19, and the share.
     cells: Vec<Vec<(bool, f64)>>,
+    /// The free cycle's |P₁|/P̄ at V_n, which the shares are of.
+    free: f64,
 }
 
 impl BruteTable {
@@ -475,6 +478,7 @@ impl BruteTable {
         eprintln!("lock table for {wheel:?}, order {order} around V_n = {centre:.3} km/h");
         BruteTable {
             order,
+            free,
             offsets_kmh,
             radii_m,
             cells,
