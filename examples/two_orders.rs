@@ -1,8 +1,8 @@
-//! A cycle forced by two neighbouring polygon orders at once, brute force (MODEL.md#the-locked-
-//! print): a wheel at 0.3° toe-in and φ_s = 1, forced by orders N and N + 1 of radii R_N and
-//! R_N+1 (their crests at tyre angle 0), 300 revolutions settled from the free cycle and 40
-//! read. Prints the rotation number (N when locked to N) and each order's print in phase with
-//! it, Re(−conj(H_w) p)/|H_w|, as a share of P̄.
+//! A cycle forced by two neighbouring polygon orders at once, brute force
+//! (MODEL.md#the-locked-print): a wheel at 0.3° toe-in and φ_s = 1, forced by orders N and
+//! N + 1 of radii R_N and R_N+1 (their crests at tyre angle 0), 300 revolutions settled from the
+//! free cycle and 40 read. Prints the rotation number (N when locked to N) and each order's print
+//! in phase with it, Re(−conj(H_w) p)/|H_w|, as a share of P̄.
 //!
 //! ```sh
 //! cargo run --release --example two_orders -- SPEED N R_N_UM R_N1_UM [follower|driving]
