@@ -441,8 +441,7 @@ impl BruteTable {
                     period_s: 1.0 / (g0.nu() * rotation_hz),
                     max_steps: 50_000_000,
                 };
-                let zone = fb.zone.transfer(nf, p.r_b);
-                let share = |print: Complex64| (-zone.conj() * print).re / zone.norm() / free;
+                let share = |print: Complex64| fb.in_phase_print(nf, print) / free;
                 if by_orbit {
                     // The forced orbit by Newton from 30 revolutions settled.
                     let Ok(settled) = integrate_window(&WindowRequest {

@@ -71,8 +71,7 @@ fn main() {
             let win = integrate_window(&request).unwrap();
             let rho = rotation_number(&win.crossings_s, 1.0 / rotation_hz);
             let print = win.print(ORDER);
-            let zone = fb.zone.transfer(n, p.r_b);
-            let brute = (-zone.conj() * print).re / zone.norm() / free;
+            let brute = fb.in_phase_print(n, print) / free;
             let estimated = g.locked_print_share(ORDER, r_m, offset);
             // The forced orbit by Newton, from 30 revolutions settled.
             let short = integrate_window(&WindowRequest {
@@ -87,7 +86,7 @@ fn main() {
             let orbit = match forced_orbit::solve(&model.ode, forcing, omega, short.end, 1e-10) {
                 Ok(o) => format!(
                     "orbit {:+.3}{} ({} evals)",
-                    (-zone.conj() * o.print).re / zone.norm() / free,
+                    fb.in_phase_print(n, o.print) / free,
                     if o.locks() { "" } else { " (unstable)" },
                     o.rhs_evals
                 ),

@@ -59,10 +59,7 @@ fn main() {
     })
     .unwrap();
     let rho = rotation_number(&win.crossings_s, 1.0 / rotation_hz);
-    let in_phase = |n: usize| {
-        let zone = fb.zone.transfer(n as f64, p.r_b);
-        (-zone.conj() * win.print(n as u32)).re / zone.norm()
-    };
+    let in_phase = |n: usize| fb.in_phase_print(n as f64, win.print(n as u32));
     println!(
         "{wheel:?} at {speed_kmh} km/h, nu {:.3}: R_{order} {r_n} um, R_{} {r_next} um: rho {rho:.4}; in phase, order {order} {:+.4}, order {} {:+.4}",
         v.polygon_order,

@@ -919,8 +919,7 @@ fn forced_near_v19(
     };
     let win = integrate_window(&request).unwrap();
     let rho = rotation_number(&win.crossings_s, 1.0 / rotation_hz);
-    let zone = fb.zone.transfer(19.0, p.r_b);
-    let share = |print: Complex64| (-zone.conj() * print).re / zone.norm() / free;
+    let share = |print: Complex64| fb.in_phase_print(19.0, print) / free;
     let print = win.print(19);
     let settled = integrate_window(&WindowRequest {
         skip_revs: 0,

@@ -79,6 +79,15 @@ impl Feedback {
             + self.radial_stiffness_n_per_m * pressure * self.load_sensitivity_per_n
     }
 
+    /// The part of a print p on order `order` (the power P̄(1 + Re\[p e^{inθ}\]) at the
+    /// order's frequency) that deepens a polygon whose crests lie at tyre angle 0, over |p|'s
+    /// full print: the wear zone lays dR/ds = −w′ conj(H_w) p, so Re(−conj(H_w) p)/|H_w|
+    /// (MODEL.md#the-locked-print).
+    pub fn in_phase_print(&self, order: f64, print: Complex64) -> f64 {
+        let zone = self.zone.transfer(order, self.r_b);
+        (-zone.conj() * print).re / zone.norm()
+    }
+
     /// ΔF_Z per metre of radius of the harmonic of `order` under the belt, k_r H_p(n) \[N/m\].
     pub fn load_per_radius(&self, order: f64) -> f64 {
         self.radial_stiffness_n_per_m * pressure_transfer(order, self.patch.length_m, self.r_b)

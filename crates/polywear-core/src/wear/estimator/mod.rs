@@ -719,12 +719,10 @@ impl WheelGrowth {
                 (s.abs() <= 1.0).then(|| Complex64::from_polar(1.0, s.acos()))?
             }
         };
-        // dR/ds = −w′ conj(H_w) p for the print p = δP/P̄ at the order (as the linear loop's
-        // Re(Ḡ · through)), and p = (2P̂₁/P̄) e^{iψ}, ψ − arg(ĝ₋₁e_n) = arg(locked).
-        let zone = self.feedback.zone.transfer(n, self.r_b);
+        // The print p = (2P̂₁/P̄) e^{iψ}, ψ − arg(ĝ₋₁e_n) = arg(locked), in units of |p|.
         let forcing = self.feedback.forcing_per_radius(n);
-        let towards = -unit(zone.conj()) * self.response.print_direction * unit(forcing);
-        Some((towards * locked).re)
+        let print = self.response.print_direction * unit(forcing) * locked;
+        Some(self.feedback.in_phase_print(n, print))
     }
 
     /// The first-order lock half-width Δ₁ = δ_L·2πf_rot \[rad/s\] of an order-`order` polygon
