@@ -92,7 +92,7 @@ impl ForcedHopf {
 
     /// x, the normal form's forcing for a first-order half-width of `first_order_rad_s`:
     /// Δ₁/(λ√(1 + c²)).
-    fn forcing(&self, first_order_rad_s: f64) -> f64 {
+    pub(crate) fn forcing(&self, first_order_rad_s: f64) -> f64 {
         let c = self.shear;
         first_order_rad_s / self.amplitude_rate_per_s / (1.0 + c * c).sqrt()
     }
@@ -127,9 +127,7 @@ impl ForcedHopf {
     pub fn locked_cycle(&self, first_order_rad_s: f64, detuning_rad_s: f64) -> Option<Complex64> {
         let (c, x) = (self.shear, self.forcing(first_order_rad_s));
         let y = detuning_rad_s / self.amplitude_rate_per_s;
-        let big_r = stable_fixed_points(c, x, y).fold(None, |best: Option<f64>, r| {
-            Some(best.map_or(r, |b| b.max(r)))
-        })?;
+        let big_r = largest_stable_fixed_point(c, x, y)?;
         let a = -x / Complex64::new(0.5 * (1.0 - big_r), 0.5 * (1.0 - big_r) * c - y);
         Some(a * Complex64::new(0.0, 1.0) * Complex64::from_polar(1.0, c.atan()))
     }
@@ -160,6 +158,76 @@ fn least_locking_forcing_sq(c: f64, y: f64) -> f64 {
     }
 }
 
+/// The largest |a|² among the stable fixed points of [`stable_fixed_point`]'s equation (None:
+/// none is stable). The largest real root R₃ of the cubic G(R) = x² has G′ ≥ 0, so it is the
+/// one wherever any is (a smaller stable root lies below it): taken in closed form and
+/// polished by Newton, it is stable where R₃ > ½ and G′(R₃) > 0; only a near-double root (G′
+/// within 10⁻⁶ of zero there, where the closed form keeps half the digits) falls back to all
+/// three roots. The saturated walk asks this at every midpoint step
+/// of a locked interval, where the companion matrix's Schur decomposition cost 90% of the
+/// walk.
+fn largest_stable_fixed_point(c: f64, x: f64, y: f64) -> Option<f64> {
+    let a = 0.25 * (1.0 + c * c);
+    let (p, q, r) = ((c * y - 2.0 * a) / a, (a - c * y + y * y) / a, -x * x / a);
+    let big_r = largest_real_root(p, q, r);
+    let slope = (3.0 * big_r + 2.0 * p) * big_r + q;
+    let stable = |big_r: f64| {
+        let d = Complex64::new(0.5 * (1.0 - 2.0 * big_r), 0.5 * c * (1.0 - 2.0 * big_r) - y);
+        big_r > 0.5 && d.norm_sqr() - a * big_r * big_r > 0.0
+    };
+    if !big_r.is_finite() || slope.abs() <= 1e-6 * (q.abs() + big_r * big_r + 1.0) {
+        return stable_fixed_points(c, x, y).fold(None, |best: Option<f64>, r| {
+            Some(best.map_or(r, |b| b.max(r)))
+        });
+    }
+    stable(big_r).then_some(big_r)
+}
+
+/// The largest real root of R³ + pR² + qR + r: Cardano's form where there is one real root
+/// (or the double root beside it where rounding hides a pair), the trigonometric one where
+/// there are three, then two Newton steps (each kept only where
+/// it lowers the residual).
+pub(crate) fn largest_real_root(p: f64, q: f64, r: f64) -> f64 {
+    let shift = p / 3.0;
+    // t = R + p/3: t³ + P t + Q = 0.
+    let big_p = q - p * shift;
+    let big_q = 2.0 * shift * shift * shift - shift * q + r;
+    let disc = 0.25 * big_q * big_q + big_p * big_p * big_p / 27.0;
+    let t = if disc > 0.0 {
+        let s = disc.sqrt();
+        let single = (-0.5 * big_q + s).cbrt() + (-0.5 * big_q - s).cbrt();
+        // Near a double root (disc ≈ 0 by rounding) the other root, −3Q/2P, may be the
+        // larger: take it where it is a root to within rounding.
+        let double = -1.5 * big_q / big_p;
+        let depressed = |t: f64| (t * t + big_p) * t + big_q;
+        let scale = big_p.abs().powf(1.5) + big_q.abs();
+        if big_p < 0.0 && double > single && depressed(double).abs() <= 1e-9 * scale {
+            double
+        } else {
+            single
+        }
+    } else if big_p < 0.0 {
+        let m = 2.0 * (-big_p / 3.0).sqrt();
+        let cos3 = (1.5 * big_q / big_p * (-3.0 / big_p).sqrt()).clamp(-1.0, 1.0);
+        m * (cos3.acos() / 3.0).cos()
+    } else {
+        0.0
+    };
+    let cubic = |x: f64| ((x + p) * x + q) * x + r;
+    let mut root = t - shift;
+    for _ in 0..2 {
+        let slope = (3.0 * root + 2.0 * p) * root + q;
+        if slope == 0.0 {
+            break;
+        }
+        let next = root - cubic(root) / slope;
+        if cubic(next).abs() < cubic(root).abs() {
+            root = next;
+        }
+    }
+    root
+}
+
 /// The |a|² of the stable fixed points of [`stable_fixed_point`]'s equation.
 fn stable_fixed_points(c: f64, x: f64, y: f64) -> impl Iterator<Item = f64> {
     let a = 0.25 * (1.0 + c * c);
@@ -183,6 +251,36 @@ fn stable_fixed_points(c: f64, x: f64, y: f64) -> impl Iterator<Item = f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The closed-form largest stable fixed point is the largest of the companion matrix's
+    /// stable roots, over shears, detunings and forcings on both sides of every edge.
+    #[test]
+    fn the_closed_form_root_is_the_companion_s() {
+        let mut stable = 0;
+        for c in [-3.0, -1.2, -0.3, 0.0, 0.4, 2.0] {
+            for k in -40..=40 {
+                let y = k as f64 * 0.1;
+                for m in 0..=60 {
+                    let x = m as f64 * 0.05;
+                    let want = stable_fixed_points(c, x, y).fold(None, |best: Option<f64>, r| {
+                        Some(best.map_or(r, |b: f64| b.max(r)))
+                    });
+                    let got = largest_stable_fixed_point(c, x, y);
+                    match (want, got) {
+                        (Some(w), Some(g)) => {
+                            assert!((w - g).abs() <= 1e-9 * w.max(1.0), "{c} {y} {x}: {w} {g}");
+                            stable += 1;
+                        }
+                        (None, None) => {}
+                        // On the torus line R = ½ itself, rounding decides.
+                        (Some(r), None) | (None, Some(r)) if (r - 0.5).abs() < 1e-9 => {}
+                        _ => panic!("c {c}, y {y}, x {x}: {want:?} against {got:?}"),
+                    }
+                }
+            }
+        }
+        assert!(stable > 5_000, "only {stable} stable points");
+    }
 
     /// At small forcing the tongue is Adler's, ±Δ₁, whatever the shear; the shear only bends it
     /// once Δ₁ is near λ.

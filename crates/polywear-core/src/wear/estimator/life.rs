@@ -27,8 +27,10 @@ use crate::wear::law::MM_PER_1000KM_PER_M_PER_M;
 use crate::wear::spread::NormalSpeeds;
 use crate::wear::transfer::PoleExpansion;
 
+mod depth_lock;
 mod profile;
 mod saturated;
+pub use depth_lock::DepthLock;
 pub use profile::{
     answer_saturated_per_step, LifeProfile, PiecewiseRate, SaturatedSteps, SpeedTerm,
     LIFE_PROFILE_INTERVALS, SLIDING_MODULATION_MAX,

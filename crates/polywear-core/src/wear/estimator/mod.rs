@@ -41,8 +41,8 @@ use crate::params::Params;
 
 mod life;
 pub use life::{
-    answer_saturated_per_step, LifeAnswer, LifeProfile, PiecewiseRate, SaturatedSteps, SpeedTerm,
-    LIFE_PROFILE_INTERVALS, SATURATED_SPEED_LEGS, SLIDING_MODULATION_MAX,
+    answer_saturated_per_step, DepthLock, LifeAnswer, LifeProfile, PiecewiseRate, SaturatedSteps,
+    SpeedTerm, LIFE_PROFILE_INTERVALS, SATURATED_SPEED_LEGS, SLIDING_MODULATION_MAX,
 };
 
 /// A share of the spread inside the tongue below which the locked print is left out (its

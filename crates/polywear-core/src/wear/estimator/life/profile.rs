@@ -9,7 +9,8 @@
 //! cumulative integrals of B_n at φ_s = 1 on a grid of w, and the constant terms, so that a
 //! cycle sums them once and every calibrated set reads its answer off the sums.
 
-use super::{LifeAnswer, Nodes, TransferNodes, TreadDrift, WORN_DEGREE};
+use super::depth_lock::{LockedInterval, OrderLocks};
+use super::{DepthLock, LifeAnswer, Nodes, TransferNodes, TreadDrift, WORN_DEGREE};
 use crate::params::Params;
 use crate::wear::estimator::{print_log_ratio, tread_life_km, Complex64, WheelGrowth};
 use crate::wear::fitted::{FittedConstants, WearAnswer};
@@ -55,6 +56,10 @@ pub struct LifeProfile {
     /// Per order, 2 w′ |H_w| per unit φ_s \[m/m\]: the rise of D_n per metre when the zone's
     /// power is modulated by its whole mean (|δP_n|/P̄ = 1), the lateral power's w′ alone.
     pub full_print_per_share: Vec<f64>,
+    /// A vibrating wheel's lock at depth at the profile's speed (None: a stable tread, or a sum
+    /// of steps without one): where its orders lock as they deepen and what the locked cycle
+    /// then prints ([`DepthLock`], MODEL.md#the-locked-print).
+    pub lock: Option<DepthLock>,
 }
 
 impl LifeProfile {
@@ -70,12 +75,15 @@ impl LifeProfile {
             other_per_share: (0.0, 0.0),
             base_per_share: vec![0.0; max_order as usize],
             full_print_per_share: vec![0.0; max_order as usize],
+            lock: None,
         }
     }
 
     /// Adds `weight` times `other` (a step's profile by its distance): every term is linear in
     /// the profiles, so the weighted mean of a cycle's steps is their sum over the total
-    /// weight ([`LifeProfile::scale`]). Panics where the grids differ.
+    /// weight ([`LifeProfile::scale`]). The lock is not a sum: a profile without one takes
+    /// `other`'s (a cycle's bin sums the steps of one speed, which share it). Panics where the
+    /// grids differ.
     pub fn add(&mut self, other: &LifeProfile, weight: f64) {
         assert_eq!(
             (self.max_order, self.intervals),
@@ -99,6 +107,9 @@ impl LifeProfile {
             .zip(&other.full_print_per_share)
         {
             *a += weight * b;
+        }
+        if self.lock.is_none() {
+            self.lock.clone_from(&other.lock);
         }
     }
 
@@ -419,6 +430,7 @@ impl WheelGrowth {
             other_per_share: (other(0.0), other(1.0) - other(0.0)),
             base_per_share,
             full_print_per_share,
+            lock: DepthLock::of(self, q, ratios, from_order..=max_order, profiled),
         }
     }
 }
@@ -431,7 +443,8 @@ impl WheelGrowth {
 /// power a deep polygon can make its own order print (a test computes it).
 pub const SLIDING_MODULATION_MAX: f64 = 1.0528;
 
-/// One speed's part of an order's rate at depth u: share · (base · u + min(growth · u, bound)).
+/// One speed's part of an order's rate at depth u: share · (base · u + min(growth · u +
+/// floor, bound)).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpeedTerm {
     /// The speed's share of the distance.
@@ -442,6 +455,9 @@ pub struct SpeedTerm {
     pub growth_per_m: f64,
     /// The bound on that growth's print, in seeds 2R⁰ per metre.
     pub bound_per_m: f64,
+    /// A print that does not grow with u, at most the bound, in seeds 2R⁰ per metre: 0 in the
+    /// walk; in its upper bound, the most a locked cycle can print (MODEL.md#the-locked-print).
+    pub floor_per_m: f64,
 }
 
 /// du/ds = F(u) with F continuous and linear on each piece: slope·u + offset on
@@ -457,8 +473,9 @@ pub struct PiecewiseRate {
 }
 
 impl PiecewiseRate {
-    /// Σ_k a_k (b_k u + min(r_k u, cap_k)) over `terms`: each term linear below its knot
-    /// u*_k = cap_k/r_k (r_k > 0) and b_k u + cap_k above it.
+    /// Σ_k a_k (b_k u + min(r_k u + L_k, cap_k)) over `terms` (L_k ≤ cap_k the floor): each
+    /// term linear below its knot u*_k = (cap_k − L_k)/r_k (r_k > 0) and b_k u + cap_k above
+    /// it.
     pub fn of_terms(terms: &[SpeedTerm]) -> Self {
         let mut rate = PiecewiseRate {
             knots: Vec::new(),
@@ -472,13 +489,15 @@ impl PiecewiseRate {
     /// [`PiecewiseRate::of_terms`] into `self`, its buffers and `knots` (scratch) reused: an
     /// order's walk forms one rate for every interval of the depth grid.
     pub fn refill(&mut self, terms: &[SpeedTerm], knots: &mut Vec<(f64, f64, f64)>) {
-        let mut slope = 0.0;
+        let (mut slope, mut offset) = (0.0, 0.0);
         knots.clear();
         for t in terms {
             let (a, b, r, cap) = (t.share, t.base_per_m, t.growth_per_m, t.bound_per_m);
+            let floor = t.floor_per_m.min(cap);
             slope += a * (b + r);
+            offset += a * floor;
             if r > 0.0 {
-                knots.push(((cap / r).max(0.0), a * r, a * cap));
+                knots.push((((cap - floor) / r).max(0.0), a * r, a * (cap - floor)));
             }
         }
         knots.sort_by(|x, y| x.0.total_cmp(&y.0));
@@ -487,8 +506,7 @@ impl PiecewiseRate {
         self.offset.clear();
         self.knots.push(0.0);
         self.slope.push(slope);
-        self.offset.push(0.0);
-        let mut offset = 0.0;
+        self.offset.push(offset);
         for &(at, dr, dc) in knots.iter() {
             slope -= dr;
             offset += dc;
@@ -571,8 +589,13 @@ impl PiecewiseRate {
 /// of the distance, with every step's print saturated on its own: each order's depth obeys
 /// dD/ds = Σ_k a_k (b_k D + min(r_k D, m_max · φ_s 2 w′_k |H_w|)), b_k the step's levelling
 /// and r_k its growth through the tread on the interval (read off its integrals), solved
-/// exactly on each interval of the depth grid (MODEL.md#the-forced-response-saturates). The
-/// steps must share one grid. With `modulation_max` = +inf it is the summed profile's
+/// exactly on each interval of the depth grid (MODEL.md#the-forced-response-saturates). A
+/// vibrating step's order locks at depth (its [`DepthLock`]): where u R⁰ reaches the radius at
+/// which the step's cycle locks at the interval's detuning, or at any depth where the tread's
+/// drift carries ν through the order, the step prints the locked cycle's in-phase share of its
+/// free print, at most the bound, each share held over short stretches at their predicted
+/// middles (MODEL.md#the-locked-print). The steps must share one grid. With `modulation_max` = +inf
+/// (no bound, and no lock at depth: the unsaturated reading) it is the summed profile's
 /// [`LifeProfile::answer`]. [`SaturatedSteps`] prepares the steps once for many sets.
 pub fn answer_saturated_per_step(
     steps: &[(f64, &LifeProfile)],
@@ -615,7 +638,7 @@ impl SaturatedSteps {
 
 /// The steps' mean profile, each weighed by its share of their total (the grid of the first;
 /// an empty profile of no orders without steps).
-fn steps_mean(steps: &[(f64, &LifeProfile)]) -> LifeProfile {
+pub(super) fn steps_mean(steps: &[(f64, &LifeProfile)]) -> LifeProfile {
     let total: f64 = steps.iter().map(|(a, _)| a).sum();
     let Some(&(_, like)) = steps.first() else {
         return LifeProfile::zero(0, 1, 0.0);
@@ -627,6 +650,38 @@ fn steps_mean(steps: &[(f64, &LifeProfile)]) -> LifeProfile {
     mean
 }
 
+/// The least distance \[m\] at which order k (index `k`) of `steps` can reach u = `visible`
+/// from u = 1 under any print that keeps to the sliding bound: every step's print, free or
+/// locked, is at most its bound cap, so that du/ds ≤ B u + C with B = Σ a b the steps'
+/// levelling and C = Σ a cap (+inf: never; 0 without a bound).
+fn bound_reach_m(
+    steps: &[(f64, &LifeProfile)],
+    others: &[f64],
+    k: usize,
+    phi: f64,
+    modulation_max: f64,
+    seed_m: f64,
+    visible: f64,
+) -> f64 {
+    if !modulation_max.is_finite() {
+        return 0.0;
+    }
+    let total: f64 = steps.iter().map(|(a, _)| a).sum();
+    let (mut b, mut c) = (0.0, 0.0);
+    for (&(a, pr), &other) in steps.iter().zip(others) {
+        b += a / total * (phi * pr.base_per_share[k] - other);
+        c += a / total * phi * pr.full_print_per_share[k] * modulation_max / seed_m;
+    }
+    let (from, to) = (b + c, b * visible + c);
+    if from <= 0.0 || to <= 0.0 {
+        f64::INFINITY
+    } else if b == 0.0 {
+        (visible - 1.0) / c
+    } else {
+        (to / from).ln() / b
+    }
+}
+
 /// [`answer_saturated_per_step`] of `steps` whose mean is `mean` ([`steps_mean`]).
 fn saturated_walk(
     steps: &[(f64, &LifeProfile)],
@@ -634,6 +689,22 @@ fn saturated_walk(
     c: &FittedConstants,
     p: &Params,
     modulation_max: f64,
+) -> LifeAnswer {
+    saturated_walk_substeps(steps, mean, c, p, modulation_max, None, true)
+}
+
+/// [`saturated_walk`], each interval where an order is locked by the midpoint rule on
+/// `midpoint_steps` steps where given (the reference), leaving out the orders that cannot beat
+/// the answer so far where `screen` (else driving every order: what the screen is tested
+/// against).
+pub(super) fn saturated_walk_substeps(
+    steps: &[(f64, &LifeProfile)],
+    mean: &LifeProfile,
+    c: &FittedConstants,
+    p: &Params,
+    modulation_max: f64,
+    midpoint_steps: Option<usize>,
+    screen: bool,
 ) -> LifeAnswer {
     let total: f64 = steps.iter().map(|(a, _)| a).sum();
     let Some(&(_, like)) = steps.first() else {
@@ -692,14 +763,35 @@ fn saturated_walk(
     );
     // (Within a relative 10⁻⁹: where no knot is reached the two are one value, rounded twice.)
     let rest = (1..=like.max_order).filter(|&n| Some(n) != leader);
+    let r0 = 0.5 * seed_m;
+    let mut locks = OrderLocks::new(midpoint_steps);
+    let mut locked = Vec::with_capacity(steps.len());
     for n in leader.into_iter().chain(rest) {
         let k = n as usize - 1;
-        let hopeless = match (first, unsaturated[k]) {
-            (Some((m, _)), (at, _)) => at.is_none_or(|at| at > m * (1.0 + 1e-9)),
-            (None, (None, peak)) => peak + 1e-9 < deepest.0,
-            (None, (Some(_), _)) => false,
+        // An order no step profiled (the legs lay only the orders that can matter) has no
+        // print: it only levels from the seed.
+        if steps
+            .iter()
+            .all(|(_, pr)| pr.full_print_per_share[k] == 0.0)
+        {
+            continue;
+        }
+        // An order some step can lock before it is visible may outgrow its unsaturated path
+        // (a locked cycle prints at once what the linear loop grows to); it is screened by the
+        // bound on every print, the sliding bound.
+        let lockable =
+            modulation_max.is_finite() && locks.gather(steps, n, intervals, visible * r0);
+        let hopeless = if lockable {
+            let bound = bound_reach_m(steps, &others, k, phi, modulation_max, seed_m, visible);
+            first.is_some_and(|(m, _)| bound > m * (1.0 + 1e-9))
+        } else {
+            match (first, unsaturated[k]) {
+                (Some((m, _)), (at, _)) => at.is_none_or(|at| at > m * (1.0 + 1e-9)),
+                (None, (None, peak)) => peak + 1e-9 < deepest.0,
+                (None, (Some(_), _)) => false,
+            }
         };
-        if hopeless {
+        if hopeless && screen {
             continue;
         }
         // What each step gives this order at every depth: its share, levelling and bound;
@@ -714,8 +806,35 @@ fn saturated_walk(
                     base_per_m: phi * pr.base_per_share[k] - other,
                     growth_per_m: 0.0,
                     bound_per_m: phi * pr.full_print_per_share[k] * modulation_max / seed_m,
+                    floor_per_m: 0.0,
                 }),
         );
+        // Each step's locked print at the free amplitude (seeds per metre).
+        if lockable {
+            locked.clear();
+            locked.extend(steps.iter().map(|&(_, pr)| {
+                let ph = pr.lock.as_ref().map_or(0.0, |l| l.power_harmonic_rel);
+                phi * pr.full_print_per_share[k] * ph / seed_m
+            }));
+        }
+        // An order that cannot reach the visible depth even with every step that can lock it
+        // printing the most a locked cycle can (or not before the answer so far) is walked
+        // without the lock: its answer is the same, and its peak the unlocked one.
+        let lockable = lockable && {
+            let growth = |j: usize, terms: &mut [SpeedTerm]| {
+                for (t, (&(_, pr), &other)) in terms.iter_mut().zip(steps.iter().zip(&others)) {
+                    let rate =
+                        (phi * (pr.integral(n, j) - pr.integral(n, j - 1)) - other * dw) / dw;
+                    t.growth_per_m = rate - t.base_per_m;
+                }
+            };
+            let reach = locks.upper_reach_m(&terms, &locked, growth, ds, visible);
+            match (reach, first) {
+                (None, _) => false,
+                (Some(at), Some((m, _))) if screen && at > m * (1.0 + 1e-9) => continue,
+                _ => true,
+            }
+        };
         let (mut u, mut peak, mut s) = (1.0_f64, 1.0_f64, 0.0);
         for j in 1..=intervals {
             for (t, (&(_, pr), &other)) in terms.iter_mut().zip(steps.iter().zip(&others)) {
@@ -723,7 +842,21 @@ fn saturated_walk(
                 t.growth_per_m = rate - t.base_per_m;
             }
             rate.refill(&terms, &mut knots);
-            let (end, cross) = rate.evolve(u, ds, visible);
+            let (mut end, mut cross) = rate.evolve(u, ds, visible);
+            // A step whose order locks within reach of this interval's path turns its print to
+            // the locked one there: the rate is no longer piecewise linear in u.
+            if lockable && locks.reached(n, j, u.max(end), r0) {
+                let at = LockedInterval {
+                    n,
+                    j,
+                    terms: &terms,
+                    locked: &locked,
+                    ds,
+                    visible,
+                    r0,
+                };
+                (end, cross) = locks.evolve(&at, u);
+            }
             if let Some(t) = cross {
                 let at = s + t;
                 if first.is_none_or(|(m, o)| at < m || (at == m && n < o)) {
@@ -1031,6 +1164,7 @@ pub(super) mod tests {
     #[test]
     fn piecewise_rate_evolves_as_its_ode() {
         let term = |share, base_per_m, growth_per_m, bound_per_m| SpeedTerm {
+            floor_per_m: 0.0,
             share,
             base_per_m,
             growth_per_m,
