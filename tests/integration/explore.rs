@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use crate::common::polywear;
-use crate::parquet_rows::rows_in_dir;
+use crate::parquet_rows::{self, rows_in_dir};
 
 fn tmp(name: &str) -> PathBuf {
     let d = common::fresh_dir(&format!("explore-{name}"));
@@ -321,5 +321,62 @@ fn shipped_studies_parse() {
     ] {
         let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(f)).unwrap();
         polywear::study::Study::parse(&text).unwrap_or_else(|e| panic!("{f}: {e}"));
+    }
+}
+
+/// A study that draws wear_share_straight (φ_s) writes it once: the wear stage's column of that
+/// name carries the drawn value, and a second column of the same name left the chunks
+/// unreadable by name (pyarrow: "Multiple matches for FieldRef.Name(wear_share_straight)") and
+/// the run's own analysis failing with "duplicate column". Without the wear stage the drawn
+/// column is the only one.
+#[test]
+fn a_drawn_wear_share_is_one_column() {
+    let dir = tmp("drawn-share");
+    let study = dir.join("share.toml");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        &study,
+        r#"name = "share"
+seed = 5
+samples = 12
+[params]
+speed_kmh = { dist = "uniform", min = 90, max = 130 }
+toe_deg = { dist = "uniform", min = 0.2, max = 0.5 }
+wear_share_straight = { dist = "uniform", min = 0.1, max = 0.9 }
+"#,
+    )
+    .unwrap();
+    for (name, extra) in [("wear", None), ("no-wear", Some("--no-wear"))] {
+        let out = dir.join(name);
+        let study = study.to_str().unwrap();
+        let mut args = vec![
+            study,
+            "--out",
+            out.to_str().unwrap(),
+            "--calibration-band",
+            "off",
+        ];
+        args.extend(extra);
+        explore(&args);
+        let chunk = out.join("chunk-0000000.parquet");
+        let rows = parquet_rows::rows(&chunk);
+        let reader =
+            parquet::file::reader::SerializedFileReader::new(std::fs::File::open(&chunk).unwrap())
+                .unwrap();
+        use parquet::file::reader::FileReader;
+        let schema = reader.metadata().file_metadata().schema_descr_ptr();
+        let names: Vec<String> = schema
+            .columns()
+            .iter()
+            .map(|c| c.name().to_string())
+            .collect();
+        let shares = names.iter().filter(|n| *n == "wear_share_straight").count();
+        assert_eq!(shares, 1, "{name}: {names:?}");
+        // Each row's φ_s is its own draw (not one shared value).
+        let drawn: std::collections::BTreeSet<String> = rows
+            .iter()
+            .map(|r| r["wear_share_straight"].to_string())
+            .collect();
+        assert!(drawn.len() > 6, "{name}: {drawn:?}");
     }
 }

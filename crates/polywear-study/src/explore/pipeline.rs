@@ -187,7 +187,7 @@ pub fn evaluate_params(
 /// Columns of a chunk: sample_id, the operating-point row (1-based, as error messages count
 /// the file's rows) and the passed-through columns when the study has one, the scenario when
 /// the study has scenarios, the drawn values that are not record columns (as the row's
-/// scenario changed them), then the record columns.
+/// scenario changed them; none shares a record column's name), then the record columns.
 pub fn chunk_columns(study: &Study, rows: &[SampleRows]) -> Vec<Column> {
     // A sample's records are blocks of one per variant and wheel: the baseline's, then each
     // scenario's.
@@ -235,10 +235,15 @@ pub fn chunk_columns(study: &Study, rows: &[SampleRows]) -> Vec<Column> {
         }
     };
     let changed: Vec<Vec<f64>> = flat.iter().map(|(s, b, _)| values(s, *b)).collect();
-    // The operating axes are record columns already. A length in m gets a column whose name
-    // says so, its parameter's name kept beside it for one version (`deprecated` metadata).
+    let records: Vec<WheelRecord> = flat.iter().map(|(_, _, r)| (*r).clone()).collect();
+    let record_cols = record_columns(&records);
+    // The operating axes are record columns already, and so is a drawn wear_share_straight
+    // where the wear stage ran (its figures are the drawn value's): a file never holds one
+    // name twice. A length in m gets a column whose name says so, its parameter's name kept
+    // beside it for one version (`deprecated` metadata).
     for (k, id) in names.iter().enumerate() {
-        if !id.is_operating_axis() {
+        let recorded = record_cols.iter().any(|c| c.name == id.name());
+        if !id.is_operating_axis() && !recorded {
             let v: Vec<f64> = changed.iter().map(|row| row[k]).collect();
             if let Some(name) = polywear_core::records::unit_named_column(*id) {
                 cols.push(Column::f64(name, id.spec().unit, v.clone()));
@@ -246,7 +251,6 @@ pub fn chunk_columns(study: &Study, rows: &[SampleRows]) -> Vec<Column> {
             cols.push(Column::f64(id.name(), id.spec().unit, v));
         }
     }
-    let records: Vec<WheelRecord> = flat.iter().map(|(_, _, r)| (*r).clone()).collect();
-    cols.extend(record_columns(&records));
+    cols.extend(record_cols);
     cols
 }
