@@ -1,5 +1,5 @@
 //! The lock at depth and the drift's capture in the walk over the tread's life
-//! (MODEL.md#the-locked-print).
+//! (MODEL.md#the-lock-at-depth-in-the-estimator).
 //!
 //! A profile's tongue is the seed's: the cycle locks to an order only while ν stays within the
 //! first-order band of a polygon 2R⁰ deep. But the band widens with the polygon: a vibrating
@@ -36,7 +36,7 @@ pub struct DepthLock {
 }
 
 impl DepthLock {
-    /// The lock of `g`'s cycle at `speed_scale` times its speed, for orders `from..=to` that
+    /// The lock of `g`'s cycle at `speed_scale` times its speed, for the `orders` that
     /// `profiled` accepts, on the grid of f₀/f `ratios`; None for a stable tread. The normal
     /// form, the band per metre and the print's direction are the wheel's (a leg of a spread
     /// reads the wheel's own model, MODEL.md#the-speed-spread): Δ₁ ∝ V ν is the same at every
@@ -295,10 +295,12 @@ impl<'a> OrderLocks<'a> {
         self.lock_m[at]
     }
 
-    /// The distance \[m\] at which the gathered order reaches u = `visible` from u = 1 on a path that
-    /// is never below the walk's (None: it does not, over the grid): each step that can lock
-    /// the order on an interval prints there at least its free growth (max(r, 0) u) and at
-    /// most the most a locked cycle can print, `locked[i]` |a|_max, within its bound;
+    /// The distance \[m\] at which the gathered order reaches u = `visible` from u = 1 on a
+    /// path that is never below the walk's (None: it does not, over the grid): each step that
+    /// can lock the order on an interval prints there at least its free growth (max(r, 0) u)
+    /// and at most the most a locked cycle can print, `locked[i]` |a|_max, within its bound,
+    /// and every other at most max(r, 0) u and its bound: summed over the steps, one term
+    /// min(B u + R⁺ u + C, B u + Cap), cheap where a cycle has hundreds of speed bins.
     /// `terms` are the steps' shares, levelling and bounds, `growth` sets their growth on an
     /// interval. |a|² ≤ R_max, the largest root of R(R − 1)² = 4x² at the visible radius's
     /// forcing x: G(R) ≥ R(1 − R)²/4 at every detuning (Adler's |a| = 1).
@@ -310,19 +312,32 @@ impl<'a> OrderLocks<'a> {
         ds: f64,
         visible: f64,
     ) -> Option<f64> {
-        let mut upper = terms.to_vec();
+        let mut steps = terms.to_vec();
         let (mut rate, mut knots) = (super::PiecewiseRate::of_terms(&[]), Vec::new());
         let (mut u, mut s) = (1.0_f64, 0.0);
         for j in 1..=self.intervals {
-            growth(j, &mut upper);
-            for (i, t) in upper.iter_mut().enumerate() {
-                t.floor_per_m = 0.0;
-                if self.least_m[i * self.intervals + j - 1].is_finite() {
-                    t.growth_per_m = t.growth_per_m.max(0.0);
-                    t.floor_per_m = (locked[i] * self.most_amplitude[i]).min(t.bound_per_m);
-                }
+            growth(j, &mut steps);
+            // Σ a (b u + min(r⁺ u + L, cap)) ≤ min(B u + R⁺ u + C, B u + Cap): one term.
+            let mut upper = super::SpeedTerm {
+                share: 1.0,
+                base_per_m: 0.0,
+                growth_per_m: 0.0,
+                bound_per_m: 0.0,
+                floor_per_m: 0.0,
+            };
+            for (i, t) in steps.iter().enumerate() {
+                let lockable = self.least_m[i * self.intervals + j - 1].is_finite();
+                let floor = if lockable {
+                    (locked[i] * self.most_amplitude[i]).min(t.bound_per_m)
+                } else {
+                    0.0
+                };
+                upper.base_per_m += t.share * t.base_per_m;
+                upper.growth_per_m += t.share * t.growth_per_m.max(0.0);
+                upper.floor_per_m += t.share * floor;
+                upper.bound_per_m += t.share * t.bound_per_m;
             }
-            rate.refill(&upper, &mut knots);
+            rate.refill(std::slice::from_ref(&upper), &mut knots);
             let (end, cross) = rate.evolve(u, ds, visible);
             if let Some(t) = cross {
                 return Some(s + t);
@@ -344,8 +359,9 @@ impl<'a> OrderLocks<'a> {
     }
 
     /// u after `at.ds` \[m\] from `u` and the distance at which it first reaches `at.visible`
-    /// (None: not within the interval), with each step's print locked where u R⁰ is at least its
-    /// lock radius: there the step prints `at.locked[i]` (its free print, seeds per metre) times its in-phase share (MODEL.md#the-locked-print), at most its bound; below,
+    /// (None: not within the interval), with each step's print locked where u R⁰ is at least
+    /// its lock radius: there the step prints `at.locked[i]` (its free print, seeds per metre)
+    /// times its in-phase share (MODEL.md#the-locked-print), at most its bound; below,
     /// min(growth u, bound) as [`super::PiecewiseRate`] has it. The share turns slowly with the
     /// radius, so it is held over each stretch, read at its start and again at the predicted
     /// stretch's middle (a predictor–corrector, second order), and the rate is then piecewise
