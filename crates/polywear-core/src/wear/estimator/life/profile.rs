@@ -460,6 +460,23 @@ pub struct SpeedTerm {
     pub floor_per_m: f64,
 }
 
+impl SpeedTerm {
+    /// Its line below its knot, slope a(b + r) and value a L at u = 0 (L the floor, at most
+    /// the cap), and where r > 0 the knot u* = (cap − L)/r (at least 0), with what crossing it
+    /// takes off the slope (a r) and adds to the value (a (cap − L)).
+    fn line_and_knot(&self) -> (f64, f64, Option<(f64, f64, f64)>) {
+        let (a, b, r, cap) = (
+            self.share,
+            self.base_per_m,
+            self.growth_per_m,
+            self.bound_per_m,
+        );
+        let floor = self.floor_per_m.min(cap);
+        let knot = (r > 0.0).then(|| (((cap - floor) / r).max(0.0), a * r, a * (cap - floor)));
+        (a * (b + r), a * floor, knot)
+    }
+}
+
 /// du/ds = F(u) with F continuous and linear on each piece: slope·u + offset on
 /// \[`knots[i]`, `knots[i + 1]`), the last piece to +inf (u = D/2R⁰, s in metres).
 #[derive(Debug, Clone, PartialEq)]
@@ -492,21 +509,13 @@ impl PiecewiseRate {
         let (mut slope, mut offset) = (0.0, 0.0);
         knots.clear();
         for t in terms {
-            let (a, b, r, cap) = (t.share, t.base_per_m, t.growth_per_m, t.bound_per_m);
-            let floor = t.floor_per_m.min(cap);
-            slope += a * (b + r);
-            offset += a * floor;
-            if r > 0.0 {
-                knots.push((((cap - floor) / r).max(0.0), a * r, a * (cap - floor)));
-            }
+            let (line_slope, line_offset, knot) = t.line_and_knot();
+            slope += line_slope;
+            offset += line_offset;
+            knots.extend(knot);
         }
         knots.sort_by(|x, y| x.0.total_cmp(&y.0));
-        self.knots.clear();
-        self.slope.clear();
-        self.offset.clear();
-        self.knots.push(0.0);
-        self.slope.push(slope);
-        self.offset.push(offset);
+        self.first_piece(slope, offset);
         for &(at, dr, dc) in knots.iter() {
             slope -= dr;
             offset += dc;
@@ -521,10 +530,84 @@ impl PiecewiseRate {
         }
     }
 
+    /// Empties the rate down to its first piece, from u = 0: slope·u + offset.
+    fn first_piece(&mut self, slope: f64, offset: f64) {
+        self.knots.clear();
+        self.slope.clear();
+        self.offset.clear();
+        self.knots.push(0.0);
+        self.slope.push(slope);
+        self.offset.push(offset);
+    }
+
+    /// [`PiecewiseRate::refill`] then [`PiecewiseRate::evolve`], bit for bit, but laying out
+    /// only the first piece where the path from `u` stays below every knot (the usual case: a
+    /// print saturates far above the seed), without sorting the knots: a drive cycle's
+    /// hundreds of speed bins are each a term, and sorting them on every interval of every
+    /// order was a third of `polywear cycle`'s time.
+    pub fn refill_evolve(
+        &mut self,
+        terms: &[SpeedTerm],
+        knots: &mut Vec<(f64, f64, f64)>,
+        u: f64,
+        ds: f64,
+        visible: f64,
+    ) -> (f64, Option<f64>) {
+        // The first piece as `refill` sums it: every term's line, then (in the terms' order,
+        // as the stable sort leaves them) the terms whose knot is at 0.
+        let (mut slope, mut offset, mut least, mut at_zero) = (0.0, 0.0, f64::INFINITY, false);
+        for t in terms {
+            let (line_slope, line_offset, knot) = t.line_and_knot();
+            slope += line_slope;
+            offset += line_offset;
+            match knot {
+                Some((at, _, _)) if at > 0.0 => least = least.min(at),
+                Some(_) => at_zero = true,
+                None => {}
+            }
+        }
+        if at_zero {
+            for (_, dr, dc) in terms
+                .iter()
+                .filter_map(|t| t.line_and_knot().2)
+                .filter(|&(at, _, _)| at <= 0.0)
+            {
+                slope -= dr;
+                offset += dc;
+            }
+        }
+        if u < least {
+            self.first_piece(slope, offset);
+            if least.is_finite() {
+                self.knots.push(least);
+            }
+            if let Some(done) = self.evolve_within(u, ds, visible, 1) {
+                return done;
+            }
+        }
+        self.refill(terms, knots);
+        self.evolve(u, ds, visible)
+    }
+
     /// u after `ds` from `u` (u > 0), exactly on each piece, and the distance at which u
     /// first reaches `visible` (None: not within `ds`).
-    pub fn evolve(&self, mut u: f64, ds: f64, visible: f64) -> (f64, Option<f64>) {
+    pub fn evolve(&self, u: f64, ds: f64, visible: f64) -> (f64, Option<f64>) {
+        self.evolve_within(u, ds, visible, usize::MAX)
+            .expect("every piece is laid out")
+    }
+
+    /// [`PiecewiseRate::evolve`] on the first `known` pieces (None: the path leaves them).
+    fn evolve_within(
+        &self,
+        mut u: f64,
+        ds: f64,
+        visible: f64,
+        known: usize,
+    ) -> Option<(f64, Option<f64>)> {
         let mut i = self.knots.partition_point(|&k| k <= u).saturating_sub(1);
+        if i >= known {
+            return None;
+        }
         let (mut t, mut left) = (0.0, ds);
         for _ in 0..2 * self.knots.len() + 4 {
             if left <= 0.0 {
@@ -565,11 +648,14 @@ impl PiecewiseRate {
             };
             let to_edge = edge.map_or(f64::INFINITY, reach);
             if to_visible <= left.min(to_edge) {
-                return (visible, Some(t + to_visible));
+                return Some((visible, Some(t + to_visible)));
             }
             if let Some(at) = edge.filter(|_| to_edge <= left) {
                 u = at;
                 i = if rising { i + 1 } else { i - 1 };
+                if i >= known {
+                    return None;
+                }
                 t += to_edge;
                 left -= to_edge;
                 continue;
@@ -581,7 +667,7 @@ impl PiecewiseRate {
             };
             break;
         }
-        (u, None)
+        Some((u, None))
     }
 }
 
@@ -650,35 +736,62 @@ pub(super) fn steps_mean(steps: &[(f64, &LifeProfile)]) -> LifeProfile {
     mean
 }
 
-/// The least distance \[m\] at which order k (index `k`) of `steps` can reach u = `visible`
-/// from u = 1 under any print that keeps to the sliding bound: every step's print, free or
-/// locked, is at most its bound cap, so that du/ds ≤ B u + C with B = Σ a b the steps'
-/// levelling and C = Σ a cap (+inf: never; 0 without a bound).
-fn bound_reach_m(
-    steps: &[(f64, &LifeProfile)],
-    others: &[f64],
-    k: usize,
-    phi: f64,
-    modulation_max: f64,
-    seed_m: f64,
-    visible: f64,
-) -> f64 {
-    if !modulation_max.is_finite() {
-        return 0.0;
+/// The path of order k (index `k`) of `steps` under the most any print can give: every
+/// step's print, free or locked, is at most its bound cap, so that du/ds ≤ B u + C with
+/// B = Σ a b the steps' levelling and C = Σ a cap, from u = 1. The walk's u is never above
+/// it: where it reaches a depth and how deep it gets screen an order before it is walked.
+#[derive(Debug, Clone, Copy)]
+struct BoundPath {
+    /// B \[1/m\].
+    levelling_per_m: f64,
+    /// C \[1/m\].
+    cap_per_m: f64,
+}
+
+impl BoundPath {
+    fn of(
+        steps: &[(f64, &LifeProfile)],
+        others: &[f64],
+        k: usize,
+        phi: f64,
+        modulation_max: f64,
+        seed_m: f64,
+    ) -> Self {
+        let total: f64 = steps.iter().map(|(a, _)| a).sum();
+        let (mut b, mut c) = (0.0, 0.0);
+        for (&(a, pr), &other) in steps.iter().zip(others) {
+            b += a / total * (phi * pr.base_per_share[k] - other);
+            c += a / total * phi * pr.full_print_per_share[k] * modulation_max / seed_m;
+        }
+        BoundPath {
+            levelling_per_m: b,
+            cap_per_m: c,
+        }
     }
-    let total: f64 = steps.iter().map(|(a, _)| a).sum();
-    let (mut b, mut c) = (0.0, 0.0);
-    for (&(a, pr), &other) in steps.iter().zip(others) {
-        b += a / total * (phi * pr.base_per_share[k] - other);
-        c += a / total * phi * pr.full_print_per_share[k] * modulation_max / seed_m;
+
+    /// The least distance \[m\] at which it reaches u = `visible` (+inf: never).
+    fn reach_m(&self, visible: f64) -> f64 {
+        let (b, c) = (self.levelling_per_m, self.cap_per_m);
+        let (from, to) = (b + c, b * visible + c);
+        if from <= 0.0 || to <= 0.0 {
+            f64::INFINITY
+        } else if b == 0.0 {
+            (visible - 1.0) / c
+        } else {
+            (to / from).ln() / b
+        }
     }
-    let (from, to) = (b + c, b * visible + c);
-    if from <= 0.0 || to <= 0.0 {
-        f64::INFINITY
-    } else if b == 0.0 {
-        (visible - 1.0) / c
-    } else {
-        (to / from).ln() / b
+
+    /// Its largest ln u over the first `distance_m` metres (the path is monotone: its start
+    /// or its end).
+    fn log_peak(&self, distance_m: f64) -> f64 {
+        let (b, c) = (self.levelling_per_m, self.cap_per_m);
+        let end = if b == 0.0 {
+            1.0 + c * distance_m
+        } else {
+            (1.0 + c / b) * (b * distance_m).exp() - c / b
+        };
+        end.max(1.0).ln()
     }
 }
 
@@ -728,6 +841,7 @@ pub(super) fn saturated_walk_substeps(
     let intervals = like.intervals;
     let dw = like.usable_m / intervals as f64;
     let ds = dw / wear;
+    let grid_m = ds * intervals as f64;
     // Each order unsaturated, from the mean profile: where it first reaches the visible depth
     // (in metres) and its largest ln(D/2R⁰). The saturated order is never earlier or deeper,
     // so an order that cannot beat the answer so far is not driven, and the order visible
@@ -776,22 +890,39 @@ pub(super) fn saturated_walk_substeps(
         {
             continue;
         }
+        // Every print, free or locked, keeps to the sliding bound: an order whose bound cannot
+        // beat the answer so far is not driven, nor laid out for the lock (its peak does not
+        // count once there is an answer).
+        let bounded = modulation_max.is_finite();
+        let bound = bounded.then(|| BoundPath::of(steps, &others, k, phi, modulation_max, seed_m));
+        let bound_reach = bound.map_or(0.0, |b| b.reach_m(visible));
+        let out_of_reach = match first {
+            Some((m, _)) => bound_reach > m * (1.0 + 1e-9),
+            None => bound.is_some_and(|b| b.log_peak(grid_m) + 1e-9 < deepest.0),
+        };
+        if screen && out_of_reach {
+            continue;
+        }
+        // The unsaturated screen: the saturated, unlocked order is never earlier or deeper.
+        let unsaturated_hopeless = match (first, unsaturated[k]) {
+            (Some((m, _)), (at, _)) => at.is_none_or(|at| at > m * (1.0 + 1e-9)),
+            // Not deeper than the deepest so far; or never above its seed unsaturated, so at
+            // best tied at the seed with a lower order, to which the tie goes (without this,
+            // every order of a levelling wheel was walked: most of `polywear cycle`'s time).
+            (None, (None, peak)) => {
+                peak + 1e-9 < deepest.0 || (peak <= 0.0 && deepest.0 >= 0.0 && n > deepest.1)
+            }
+            (None, (Some(_), _)) => false,
+        };
         // An order some step can lock before it is visible may outgrow its unsaturated path
         // (a locked cycle prints at once what the linear loop grows to); it is screened by the
-        // bound on every print, the sliding bound.
-        let lockable =
-            modulation_max.is_finite() && locks.gather(steps, n, intervals, visible * r0);
-        let hopeless = if lockable {
-            let bound = bound_reach_m(steps, &others, k, phi, modulation_max, seed_m, visible);
-            first.is_some_and(|(m, _)| bound > m * (1.0 + 1e-9))
-        } else {
-            match (first, unsaturated[k]) {
-                (Some((m, _)), (at, _)) => at.is_none_or(|at| at > m * (1.0 + 1e-9)),
-                (None, (None, peak)) => peak + 1e-9 < deepest.0,
-                (None, (Some(_), _)) => false,
-            }
-        };
-        if hopeless && screen {
+        // bound above and by the locked walk's upper path below. One whose bound does not reach
+        // the visible depth within the tread's life is walked unlocked without laying out its
+        // lock: the upper path, never above the bound, would say the same.
+        let lockable = bounded
+            && bound_reach <= grid_m * (1.0 + 1e-9)
+            && locks.gather(steps, n, intervals, visible * r0);
+        if !lockable && unsaturated_hopeless && screen {
             continue;
         }
         // What each step gives this order at every depth: its share, levelling and bound;
@@ -830,6 +961,8 @@ pub(super) fn saturated_walk_substeps(
             };
             let reach = locks.upper_reach_m(&terms, &locked, growth, ds, visible);
             match (reach, first) {
+                // Walked unlocked, the unsaturated screen holds again.
+                (None, _) if screen && unsaturated_hopeless => continue,
                 (None, _) => false,
                 (Some(at), Some((m, _))) if screen && at > m * (1.0 + 1e-9) => continue,
                 _ => true,
@@ -841,8 +974,7 @@ pub(super) fn saturated_walk_substeps(
                 let rate = (phi * (pr.integral(n, j) - pr.integral(n, j - 1)) - other * dw) / dw;
                 t.growth_per_m = rate - t.base_per_m;
             }
-            rate.refill(&terms, &mut knots);
-            let (mut end, mut cross) = rate.evolve(u, ds, visible);
+            let (mut end, mut cross) = rate.refill_evolve(&terms, &mut knots, u, ds, visible);
             // A step whose order locks within reach of this interval's path turns its print to
             // the locked one there: the rate is no longer piecewise linear in u.
             if lockable && locks.reached(n, j, u.max(end), r0) {
@@ -1238,6 +1370,64 @@ pub(super) mod tests {
         }
         let (settled, _) = PiecewiseRate::of_terms(&cases[1].0).evolve(1.0, 200.0, 50.0);
         assert!((settled - 10.0).abs() < 1e-6, "{settled}");
+    }
+
+    /// The lazy first piece is the full rate, bit for bit: random terms (some with their knot
+    /// at 0, a floor at the cap, an unbounded one), started below, between and above their
+    /// knots, over distances that stay on the first piece and that leave it, both ways.
+    #[test]
+    fn refill_evolve_is_refill_then_evolve_bit_for_bit() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(40);
+        let (mut lazy, mut full) = (PiecewiseRate::of_terms(&[]), PiecewiseRate::of_terms(&[]));
+        let (mut knots, mut first_piece, mut left_it) = (Vec::new(), 0, 0);
+        for case in 0..20_000 {
+            let terms: Vec<SpeedTerm> = (0..rng.random_range(1..12))
+                .map(|_| {
+                    let cap = match rng.random_range(0..10) {
+                        0 => f64::INFINITY,
+                        _ => rng.random_range(0.0..5.0),
+                    };
+                    SpeedTerm {
+                        share: rng.random_range(0.0..1.0),
+                        base_per_m: rng.random_range(-1.0..0.5),
+                        growth_per_m: rng.random_range(-0.5..2.0),
+                        bound_per_m: cap,
+                        floor_per_m: match rng.random_range(0..4) {
+                            0 => cap,
+                            1 => rng.random_range(0.0..3.0),
+                            _ => 0.0,
+                        },
+                    }
+                })
+                .collect();
+            let u = rng.random_range(0.05..6.0);
+            let (ds, visible) = (rng.random_range(0.01..5.0), rng.random_range(1.0..60.0));
+            full.refill(&terms, &mut knots);
+            let want = full.evolve(u, ds, visible);
+            let got = lazy.refill_evolve(&terms, &mut knots, u, ds, visible);
+            assert_eq!(
+                got.0.to_bits(),
+                want.0.to_bits(),
+                "case {case}: {terms:?} from {u}"
+            );
+            assert_eq!(
+                got.1.map(f64::to_bits),
+                want.1.map(f64::to_bits),
+                "case {case}"
+            );
+            if full.knots.len() > 1 && u < full.knots[1] {
+                match full.evolve_within(u, ds, visible, 1) {
+                    Some(_) => first_piece += 1,
+                    None => left_it += 1,
+                }
+            }
+        }
+        // Both branches taken often.
+        assert!(
+            first_piece > 1_000 && left_it > 1_000,
+            "{first_piece} {left_it}"
+        );
     }
 
     /// Unbounded, the saturated answer is the profile's own (the exact exponential on each

@@ -309,6 +309,55 @@ mod tests {
         );
     }
 
+    /// Where no order becomes visible, the screens keep the whole answer, deepest order and
+    /// its peak included: at the shipped constants (stable and vibrating treads, a speed
+    /// spread of 0, 2 and 5 km/h, which lays several legs), the screened walk is the walk of
+    /// every order, bit for bit. Among them are wheels whose every order levels from its seed
+    /// (the deepest ln u is 0, a tie that goes to the lowest order), which the screens skip
+    /// without walking them (on a drive cycle, four fifths of `polywear cycle`'s time).
+    #[test]
+    fn the_screens_keep_a_levelling_wheel_s_deepest_order() {
+        let cal = calibrate_wear(
+            &Params::default(),
+            Variant::SlidingShare,
+            &ClassifierOptions::default(),
+        )
+        .unwrap();
+        let (mut none, mut at_seed) = (0, 0);
+        for speed_kmh in [70.0, 90.0, 110.0, 130.0] {
+            for spread_kmh in [0.0, 2.0, 5.0] {
+                let p = Params {
+                    speed_kmh,
+                    speed_spread_kmh: spread_kmh,
+                    ..Params::default()
+                };
+                let c = FittedConstants::of(&p);
+                for wheel in Wheel::BOTH {
+                    let here = format!("{speed_kmh} km/h sigma {spread_kmh} {wheel}");
+                    let g = growth_at(&p, &cal, wheel).0;
+                    let legs = g.spread_leg_profiles(spread_kmh / 3.6);
+                    let steps: Vec<(f64, &LifeProfile)> =
+                        legs.iter().map(|(a, pr)| (*a, pr)).collect();
+                    let mean = steps_mean(&steps);
+                    let m = SLIDING_MODULATION_MAX;
+                    let got = saturated_walk_substeps(&steps, &mean, &c, &p, m, None, true);
+                    let every = saturated_walk_substeps(&steps, &mean, &c, &p, m, None, false);
+                    assert_eq!(got, every, "{here}");
+                    if got.answer.distance_to_visible_km.is_infinite() {
+                        none += 1;
+                        if got.peak_share_of_visible == (-print_log_ratio(&p)).exp() {
+                            at_seed += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            none >= 20 && at_seed >= 10,
+            "{none} without a polygon, {at_seed} at the seed"
+        );
+    }
+
     /// Highway points at 0.45–0.6° toe-in with the calibration of the default point, both
     /// wheels (stable and vibrating among them), with a speed spread.
     fn highway_wheels(spread_kmh: f64) -> Vec<(String, Params, WheelGrowth)> {
