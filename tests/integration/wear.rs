@@ -645,7 +645,8 @@ fn far_orders_level_out_and_the_order_below_nu_grows() {
 
 /// P8, measured and reported (a finding, not a target): on 300 samples of the default study at
 /// the shipped constants, the share of paired samples whose driving wheel grows its dominant
-/// order no faster than the follower. Printed; the test holds only the pairing.
+/// order (the new tire's fastest) no faster than the follower. Printed; the test holds only the
+/// pairing.
 #[test]
 fn driving_against_follower_growth_is_measured() {
     use polywear::study::{Study, DEFAULT_STUDY};
@@ -670,7 +671,20 @@ fn driving_against_follower_growth_is_measured() {
                     calibration: &cal,
                 };
                 let e = estimate(&inputs, &Meter::new(opts.budget));
-                (e.growth_rate_per_1000km, e.distance_to_visible_km)
+                // The growth of the new tire's fastest order: over the tread's life a wheel
+                // whose every order levels has no order and no growth.
+                let new_tire = WearSettings {
+                    estimate: polywear::wear::EstimateLevel::NewTire,
+                    ..WearSettings::default()
+                };
+                let growth = estimate(
+                    &WearInputs {
+                        settings: &new_tire,
+                        ..inputs
+                    },
+                    &Meter::new(opts.budget),
+                );
+                (growth.growth_rate_per_1000km, e.distance_to_visible_km)
             })
             .collect();
         let [(follower, sf), (driving, sd)] = [growth[0], growth[1]];

@@ -86,8 +86,12 @@ fn explore_writes_the_wear_columns_and_no_wear_leaves_exactly_the_vibration_colu
             "standstill" => assert!(d.is_nan() && !reason.is_empty(), "{class} {d} {reason}"),
             "stable" | "limit_cycle" | "bistable" => {
                 assert!(d > 0.0 && reason.is_empty(), "{class} {d} {reason}");
+                // NaN only where no order rises above its seed (so none is visible).
                 let n = float(&ra["polygon_order_dominant"]);
-                assert!(n >= 1.0 && n.fract() == 0.0, "{n}");
+                assert!(
+                    (n >= 1.0 && n.fract() == 0.0) || (n.is_nan() && d.is_infinite()),
+                    "{n} {d}"
+                );
                 assert_eq!(float(&ra["wear_calibration_share"]), 0.12);
                 if class != "stable" {
                     vibrating_growth += 1;

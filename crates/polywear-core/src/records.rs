@@ -198,7 +198,7 @@ define_record! {
     fn wear_columns;
     extra {}
     WearEvenMmPer1000km wear_even_mm_per_1000km: f64, F64, "mm/1000km", "Even wear rate w' at the point (MODEL.md#step-10-wear-law).";
-    PolygonOrderWear polygon_order_wear: f64, F64, "-", "The wear's polygon order: the profile order that grows fastest over the speed spread (NaN where undefined); the vibration's is polygon_order.";
+    PolygonOrderWear polygon_order_wear: f64, F64, "-", "The wear's polygon order: on the new tire's level the profile order that grows fastest over the speed spread; over the tread's life the order visible first, else the one that got deepest, NaN where no order rises above its seed (every order levels); NaN where undefined. The vibration's is polygon_order.";
     DetuningRev detuning_rev: f64, F64, "-", "Its detuning nu - n from the tread frequency, in orders per revolution.";
     GrowthRatePer1000km growth_rate_per_1000km: f64, F64, "1/1000km", "Its closed-loop growth rate beta (> 0: the polygon grows; < 0: it levels out).";
     DistanceToVisibleKm distance_to_visible_km: f64, F64, "km", "Cruising distance at the point, with the speed spread, until the polygon is visible_depth_mm deep; inf when every order levels out.";

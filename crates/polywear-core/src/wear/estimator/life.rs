@@ -485,10 +485,23 @@ pub struct LifeAnswer {
 }
 
 impl LifeAnswer {
+    /// Its figures' bits, to compare answers exactly (NaN, an order where every order
+    /// levels, equal to itself).
+    #[cfg(test)]
+    pub(crate) fn bits(&self) -> [u64; 4] {
+        [
+            self.answer.polygon_order_wear.to_bits(),
+            self.answer.distance_to_visible_km.to_bits(),
+            self.answer.tread_life_km.to_bits(),
+            self.peak_share_of_visible.to_bits(),
+        ]
+    }
+
     /// The answer of a walk over a wheel's orders: the first polygon `first` (distance \[km\],
     /// order) if any, else none and the order that got deepest, `deepest` (its largest
-    /// ln(D/2R⁰), order); a seed already visible (`target` = ln(d_visible/2R⁰) ≤ 0) is
-    /// visible at once, as order `lowest`.
+    /// ln(D/2R⁰), order), NaN where no order rose above its seed (every order levels: which
+    /// one "got deepest" would be only the lowest walked); a seed already visible (`target` =
+    /// ln(d_visible/2R⁰) ≤ 0) is visible at once, as order `lowest`.
     pub(crate) fn of_walk(
         first: Option<(f64, u32)>,
         deepest: (f64, u32),
@@ -497,13 +510,14 @@ impl LifeAnswer {
         lowest: u32,
     ) -> Self {
         let (distance_to_visible_km, order) = match first {
-            _ if target <= 0.0 => (0.0, lowest),
-            Some((km, n)) => (km, n),
-            None => (f64::INFINITY, deepest.1),
+            _ if target <= 0.0 => (0.0, lowest as f64),
+            Some((km, n)) => (km, n as f64),
+            None if deepest.0 <= 0.0 => (f64::INFINITY, f64::NAN),
+            None => (f64::INFINITY, deepest.1 as f64),
         };
         LifeAnswer {
             answer: WearAnswer {
-                polygon_order_wear: order as f64,
+                polygon_order_wear: order,
                 distance_to_visible_km,
                 tread_life_km,
             },
@@ -1017,8 +1031,8 @@ mod table_tests {
 
     /// The estimate on the level over the tread's life (`wear_estimate = "tread_life"`, what
     /// explore writes) is the life answer under the sample's own constants, with the new tire's
-    /// growth of its order in the growth columns and the life answer's peak share (NaN on the
-    /// new tire's level); and it is not the new tire's (at φ_s = 0.28,
+    /// growth of its order in the growth columns (none where every order levels) and the life
+    /// answer's peak share (NaN on the new tire's level); and it is not the new tire's (at φ_s = 0.28,
     /// σ_V = 10 km/h, where the follower at 120 km/h and 0.45° gets a polygon on both levels).
     #[test]
     fn the_estimate_over_the_tread_s_life_is_the_life_answer() {
@@ -1074,13 +1088,26 @@ mod table_tests {
                     life.distance_to_visible_km.to_bits(),
                     "{here}"
                 );
-                assert_eq!(e.polygon_order_dominant, life.polygon_order_wear, "{here}");
-                let order = g.order(life.polygon_order_wear as u32);
                 assert_eq!(
-                    e.growth_rate_per_1000km, order.growth_rate_per_1000km,
+                    e.polygon_order_dominant.to_bits(),
+                    life.polygon_order_wear.to_bits(),
                     "{here}"
                 );
-                assert_eq!(e.orders, vec![order], "{here}");
+                if life.polygon_order_wear.is_nan() {
+                    // Every order levels from its seed: no order, no growth.
+                    assert!(
+                        e.growth_rate_per_1000km.is_nan() && e.orders.is_empty(),
+                        "{here}"
+                    );
+                    assert!(life.distance_to_visible_km.is_infinite(), "{here}");
+                } else {
+                    let order = g.order(life.polygon_order_wear as u32);
+                    assert_eq!(
+                        e.growth_rate_per_1000km, order.growth_rate_per_1000km,
+                        "{here}"
+                    );
+                    assert_eq!(e.orders, vec![order], "{here}");
+                }
                 let (new_tire, _) = at(EstimateLevel::NewTire);
                 assert!(new_tire.peak_share_of_visible.is_nan(), "{here}");
                 if life.distance_to_visible_km.is_finite() {
@@ -1181,7 +1208,11 @@ mod table_tests {
             let together = g.life_answers_with(&sets);
             assert_eq!(together.len(), sets.len());
             for (c, got) in sets.iter().zip(&together) {
-                assert_eq!(*got, g.life_answer(c), "{speed} km/h {wheel} {c:?}");
+                assert_eq!(
+                    got.bits(),
+                    g.life_answer(c).bits(),
+                    "{speed} km/h {wheel} {c:?}"
+                );
                 visible += usize::from(got.answer.distance_to_visible_km.is_finite());
             }
         }

@@ -931,7 +931,8 @@ const FRAC_1_SQRT_2PI: f64 = 0.398_942_280_401_432_7;
 
 /// The estimator for one wheel, on the level `inputs.settings.estimate` names: the new tire's
 /// fastest order and its distance, or the order visible first over the tread's life and its
-/// distance there (the growth columns then the new tire's growth of that order). Adds no RHS
+/// distance there (the growth columns then the new tire's growth of that order; NaN where
+/// no order rises above its seed over the life, every order levelling). Adds no RHS
 /// evaluation to a stable wheel; a vibrating one spends, at each sample of its cycle, one
 /// evaluation of the vector field and its Jacobian that the linearisation reads too, and one at
 /// the period's end (17, the period read off shooting's last iteration), or integrates the
@@ -958,7 +959,7 @@ pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
                 return WearEstimate::undefined(share, "no order to evaluate".into());
             };
             (
-                top,
+                Some(top),
                 orders,
                 distance_to_visible_km(p, top.growth_rate_per_1000km),
                 f64::NAN,
@@ -973,10 +974,13 @@ pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
             } else {
                 growth.saturated_answer(&c)
             };
-            let top = growth.order(life.answer.polygon_order_wear as u32);
+            // No order rose above its seed (NaN): none is the wear's order, and no order's
+            // growth fills the growth columns.
+            let order = life.answer.polygon_order_wear;
+            let top = (!order.is_nan()).then(|| growth.order(order as u32));
             (
                 top,
-                vec![top],
+                top.into_iter().collect(),
                 life.answer.distance_to_visible_km,
                 life.peak_share_of_visible,
             )
@@ -985,9 +989,9 @@ pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
     let even = growth.even_wear_m_per_m();
     WearEstimate {
         wear_even_mm_per_1000km: even * MM_PER_1000KM_PER_M_PER_M,
-        polygon_order_dominant: top.order as f64,
-        detuning_rev: top.detuning_rev,
-        growth_rate_per_1000km: top.growth_rate_per_1000km,
+        polygon_order_dominant: top.map_or(f64::NAN, |t| t.order as f64),
+        detuning_rev: top.map_or(f64::NAN, |t| t.detuning_rev),
+        growth_rate_per_1000km: top.map_or(f64::NAN, |t| t.growth_rate_per_1000km),
         distance_to_visible_km: distance_km,
         peak_share_of_visible: peak_share,
         wear_calibration_share: share,

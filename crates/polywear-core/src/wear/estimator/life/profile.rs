@@ -906,12 +906,10 @@ pub(super) fn saturated_walk_substeps(
         // The unsaturated screen: the saturated, unlocked order is never earlier or deeper.
         let unsaturated_hopeless = match (first, unsaturated[k]) {
             (Some((m, _)), (at, _)) => at.is_none_or(|at| at > m * (1.0 + 1e-9)),
-            // Not deeper than the deepest so far; or never above its seed unsaturated, so at
-            // best tied at the seed with a lower order, to which the tie goes (without this,
-            // every order of a levelling wheel was walked: most of `polywear cycle`'s time).
-            (None, (None, peak)) => {
-                peak + 1e-9 < deepest.0 || (peak <= 0.0 && deepest.0 >= 0.0 && n > deepest.1)
-            }
+            // Not deeper than the deepest so far; or never above its seed unsaturated, once an
+            // order has been walked: at the seed no order is the wear's (without this, every
+            // order of a levelling wheel was walked: most of `polywear cycle`'s time).
+            (None, (None, peak)) => peak + 1e-9 < deepest.0 || (peak <= 0.0 && deepest.0 >= 0.0),
             (None, (Some(_), _)) => false,
         };
         // An order some step can lock before it is visible may outgrow its unsaturated path
