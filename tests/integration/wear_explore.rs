@@ -49,6 +49,15 @@ fn explore(study: &std::path::Path, out: &std::path::Path, extra: &[&str]) -> (i
     (code, stderr)
 }
 
+/// A fresh folder `name` holding [`STUDY`] as `s.toml`: (folder, study).
+fn with_study(name: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let dir = fresh_dir(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let study = dir.join("s.toml");
+    std::fs::write(&study, STUDY).unwrap();
+    (dir, study)
+}
+
 const STUDY: &str = "name = \"w\"\nsamples = 24\nchunk_size = 12\n[params]\nspeed_kmh = { dist = \"uniform\", min = 20, max = 160 }\ntoe_deg = { dist = \"uniform\", min = 0.05, max = 0.6 }\n";
 
 #[test]
@@ -875,10 +884,7 @@ fn bad_driven_factors_and_wear_powers_are_refused() {
 /// no `_lock` behind (a killed one leaves it, and the next run takes it over).
 #[test]
 fn quiet_still_prints_the_answer_and_a_finished_run_leaves_no_lock() {
-    let dir = fresh_dir("wear-explore-quiet");
-    std::fs::create_dir_all(&dir).unwrap();
-    let study = dir.join("s.toml");
-    std::fs::write(&study, STUDY).unwrap();
+    let (dir, study) = with_study("wear-explore-quiet");
     let out = dir.join("out");
     let (code, stdout, stderr) = polywear(&[
         "explore",
@@ -911,4 +917,66 @@ fn quiet_still_prints_the_answer_and_a_finished_run_leaves_no_lock() {
     ]);
     assert_eq!(code, 0, "{stderr}");
     assert!(!out.join("_lock").exists());
+}
+
+/// Over the tread's life a wheel whose every order levels from its seed has no wear order: its
+/// order and growth are NaN and its distance +inf. The report counts it as never growing, not
+/// as unknown: `wear_severity.csv`'s growth rows hold those wheels at `pos_inf`, and as unknown
+/// only the rows without a figure.
+#[test]
+fn a_wheel_whose_every_order_levels_has_no_order_and_never_grows() {
+    let (dir, study) = with_study("wear-explore-levels");
+    let out = dir.join("run");
+    let (code, stderr) = explore(&study, &out, &["--calibration-band", "off"]);
+    assert_eq!(code, 0, "{stderr}");
+    let mut chunks: Vec<_> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .unwrap()
+                .to_str()
+                .unwrap()
+                .starts_with("chunk-")
+        })
+        .collect();
+    chunks.sort();
+    let (mut levelling, mut unknown) = (0, 0);
+    for r in chunks.iter().flat_map(|c| rows(c)) {
+        let (order, growth) = (
+            float(&r["polygon_order_wear"]),
+            float(&r["growth_rate_per_1000km"]),
+        );
+        let distance = float(&r["distance_to_visible_km"]);
+        if order.is_nan() && distance.is_infinite() {
+            assert!(growth.is_nan() && text(&r["wear_reason"]).is_empty());
+            levelling += 1;
+        } else if growth.is_nan() {
+            unknown += 1;
+        }
+    }
+    assert!(
+        levelling >= 5,
+        "{levelling} wheels whose every order levels"
+    );
+    let report = dir.join("report");
+    let (code, _, stderr) = polywear(&[
+        "analyze",
+        out.to_str().unwrap(),
+        "--out",
+        report.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let table = std::fs::read_to_string(report.join("wear_severity.csv")).unwrap();
+    let header: Vec<&str> = table.lines().next().unwrap().split(',').collect();
+    let at = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (mut never, mut unknown_rows) = (0, 0);
+    for line in table.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        if f[at("quantity")] == "growth_rate_per_1000km" {
+            never += f[at("pos_inf")].parse::<usize>().unwrap();
+            unknown_rows += f[at("unknown")].parse::<usize>().unwrap();
+        }
+    }
+    assert_eq!((never, unknown_rows), (levelling, unknown), "{table}");
 }

@@ -336,8 +336,9 @@ fn growth(s: &mut String, w: &WearAnalysis, figures: &Figures) {
     let _ = writeln!(
         s,
         "Over every wheel with a figure: the growth rate of its dominant order (per 1000 km; \
-         ≤ 0: every order levels out) and the finite distances to a visible polygon, beside the \
-         share that never gets one (+inf). The distances are the point's, as if the tread never \
+         ≤ 0: it levels out; \"never\": every order levels out from its seed over the tread's \
+         life, so no order is the wear's) and the finite distances to a visible polygon, beside \
+         the share that never gets one (+inf). The distances are the point's, as if the tread never \
          ran out; the probabilities above count only those before the tire is worn out \
          (`tread_life_km`). Tables: `wear_severity.csv`, `wear_severity.parquet`.\n"
     );
@@ -355,7 +356,7 @@ fn growth(s: &mut String, w: &WearAnalysis, figures: &Figures) {
             }
         };
         let unit = v.quantity.column.unit();
-        let never = if v.quantity.log {
+        let never = if v.quantity.log || v.spread.pos_inf > 0 {
             pct(v.share_inf())
         } else {
             "–".into()

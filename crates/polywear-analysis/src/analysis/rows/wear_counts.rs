@@ -43,7 +43,9 @@ pub struct WearSpread {
     pub wheel: Wheel,
     /// Rows with a finite value.
     pub finite: u64,
-    /// Rows at +inf (a distance: every order levels out).
+    /// Rows at +inf (a distance: every order levels out), and for any other column the rows
+    /// without a value whose distance is +inf: over the tread's life, where every order
+    /// levels from its seed, no order is the wear's and its growth is NaN.
     pub pos_inf: u64,
     /// Rows with NaN (undefined).
     pub unknown: u64,
@@ -205,14 +207,22 @@ impl Rows {
     ) -> Result<(Vec<WearSpread>, (f64, f64)), AnalysisError> {
         let x = col(column).cast(DataType::Float64);
         let count = |e: Expr| e.cast(DataType::Int64).sum();
+        let missing = x.clone().is_nan().or(x.clone().is_null());
+        let levels = if column == DISTANCE {
+            lit(false)
+        } else {
+            missing
+                .clone()
+                .and(col(DISTANCE).cast(DataType::Float64).eq(lit(f64::INFINITY)))
+        };
         let df = collect(
             self.lf
                 .clone()
                 .group_by([col("variant"), col("wheel")])
                 .agg([
                     count(x.clone().is_finite()).alias("finite"),
-                    count(x.clone().eq(lit(f64::INFINITY))).alias("pos_inf"),
-                    count(x.clone().is_nan().or(x.clone().is_null())).alias("unknown"),
+                    count(x.clone().eq(lit(f64::INFINITY)).or(levels.clone())).alias("pos_inf"),
+                    count(missing.and(levels.not())).alias("unknown"),
                     x.clone().filter(x.clone().is_finite()).min().alias("lo"),
                     x.clone().filter(x.is_finite()).max().alias("hi"),
                 ]),
