@@ -602,6 +602,35 @@ impl WheelGrowth {
         let end = drift.at_end();
         let lo = (nu.floor() - 2.0).max(1.0) as u32;
         let hi = ((nu / end).ceil() + 2.0).max(lo as f64) as u32;
+        self.life_orders_over(drift, lo, hi)
+    }
+
+    /// Each order's largest ln(D/2R⁰) over the life on the plain walk
+    /// ([`WheelGrowth::life_answers_and_peaks`]), for the orders `lo..=hi` alone (any orders,
+    /// not only those ν passes) under each set of `sets`, all of the speed spread
+    /// `spread_mps` \[m/s\]: what screens the saturated level's legs of orders beyond the plain
+    /// walk's (the nodes of Ḡ laid over these orders alone).
+    pub(super) fn life_peaks_over(
+        &self,
+        lo: u32,
+        hi: u32,
+        spread_mps: f64,
+        sets: &[&FittedConstants],
+    ) -> Vec<Vec<f64>> {
+        let orders = self.life_orders_over(TreadDrift::of(&self.params, &self.patch), lo, hi);
+        let at = self.life_nodes(&orders, spread_mps, Nodes::Adaptive);
+        sets.iter()
+            .map(|c| {
+                let mut peaks = Vec::with_capacity(orders.fixed.len());
+                self.life_walk(&orders, &at, c, Some(&mut peaks));
+                peaks
+            })
+            .collect()
+    }
+
+    /// [`WheelGrowth::life_orders`] of the orders `lo..=hi` on the tread's `drift`.
+    fn life_orders_over(&self, drift: TreadDrift, lo: u32, hi: u32) -> LifeOrders {
+        let end = drift.at_end();
         // Each order's zone transfer H_w(n), forcing e_n, and tongue (centre and half-width,
         // m/s): the tongue at x: a worn tread's ν is ν₀·f/f₀, so order n locks as the new
         // tire's order x does, in a band of speeds around V ν/x, ±V δ_L/x (δ_L of order n). The

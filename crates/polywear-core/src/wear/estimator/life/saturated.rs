@@ -31,6 +31,17 @@ use crate::wear::estimator::{per_spread, WheelGrowth};
 use crate::wear::fitted::FittedConstants;
 use crate::wear::legs::cruise_legs;
 
+/// A spread's legs ([`WheelGrowth::spread_legs`]): each one's share of the distance and its
+/// speed over the sample's, q; the slowest and fastest q; and the orders the legs lay, from the
+/// lowest ν passes at the fastest leg to the highest at the slowest.
+struct SpreadLegs {
+    scales: Vec<(f64, f64)>,
+    slowest: f64,
+    fastest: f64,
+    from: u32,
+    to: u32,
+}
+
 /// Legs of the speed spread the saturated answer drives: the long-term loop's spreads settle
 /// from about 40 (`polywear wear --speed-nodes 40`; at 110 km/h, σ_V = 5 km/h the loop moves
 /// by 14% and 16% from 5 legs to 40).
@@ -70,21 +81,14 @@ impl WheelGrowth {
         spread_mps: f64,
         profiled: impl Fn(u32) -> bool + Copy,
     ) -> Vec<(f64, LifeProfile)> {
-        let v = self.speed_mps;
-        let legs = cruise_legs(v * 3.6, spread_mps * 3.6, SATURATED_SPEED_LEGS);
-        let scales: Vec<(f64, f64)> = legs
-            .iter()
-            .map(|l| (l.share, (l.speed_kmh / 3.6 / v).max(LOWEST_LEG_SHARE)))
-            .collect();
-        let (slowest, fastest) = scales
-            .iter()
-            .fold((f64::INFINITY, 0.0_f64), |(lo, hi), &(_, q)| {
-                (lo.min(q), hi.max(q))
-            });
+        let SpreadLegs {
+            scales,
+            slowest,
+            fastest,
+            from,
+            to,
+        } = self.spread_legs(grid, spread_mps);
         let end = grid.drift.at_end().min(1.0);
-        let nu = self.nu();
-        let from = ((nu / fastest).floor() - 2.0).max(1.0) as u32;
-        let to = ((nu / slowest / end).ceil() + 2.0).max(from as f64) as u32;
         let transfer = TransferNodes::new(
             self,
             from as f64 * end * slowest,
@@ -101,14 +105,41 @@ impl WheelGrowth {
             .collect()
     }
 
+    /// The legs of a spread of `spread_mps` \[m/s\] and the orders they lay.
+    fn spread_legs(&self, grid: &DepthGrid, spread_mps: f64) -> SpreadLegs {
+        let v = self.speed_mps;
+        let legs = cruise_legs(v * 3.6, spread_mps * 3.6, SATURATED_SPEED_LEGS);
+        let scales: Vec<(f64, f64)> = legs
+            .iter()
+            .map(|l| (l.share, (l.speed_kmh / 3.6 / v).max(LOWEST_LEG_SHARE)))
+            .collect();
+        let (slowest, fastest) = scales
+            .iter()
+            .fold((f64::INFINITY, 0.0_f64), |(lo, hi), &(_, q)| {
+                (lo.min(q), hi.max(q))
+            });
+        let end = grid.drift.at_end().min(1.0);
+        let nu = self.nu();
+        let from = ((nu / fastest).floor() - 2.0).max(1.0) as u32;
+        let to = ((nu / slowest / end).ceil() + 2.0).max(from as f64) as u32;
+        SpreadLegs {
+            scales,
+            slowest,
+            fastest,
+            from,
+            to,
+        }
+    }
+
     /// [`WheelGrowth::life_answers_with`] with each leg's print saturated
     /// ([`answer_saturated_per_step`], m_max = [`SLIDING_MODULATION_MAX`]) under every set of
     /// `sets`: a set whose plain answer has no polygon keeps it (the saturated one is never
     /// earlier or deeper), the others are driven on the legs of their spread, built once per
     /// spread for the orders that come within a factor e² of the visible depth on the plain
-    /// answer under some set of that spread, and those the plain answer does not walk (the
-    /// saturated answer is never deeper, and the legs' unsaturated mean is the plain answer's
-    /// spread, by quadrature; the answer is that of every order's legs, tested).
+    /// walk under some set of that spread with a polygon (the saturated answer is never deeper,
+    /// and the legs' unsaturated mean is the plain answer's spread, by quadrature; the answer
+    /// is that of every order's legs, tested). The legs' orders beyond the plain answer's are
+    /// walked plainly on their own for that screen, for the sets with a polygon alone.
     pub fn saturated_answers_with(&self, sets: &[FittedConstants]) -> Vec<LifeAnswer> {
         self.saturated_answers_screened(sets, SCREEN_LOG_MARGIN)
     }
@@ -121,37 +152,92 @@ impl WheelGrowth {
         if walks.iter().all(|(a, _)| !visible(a)) {
             return walks.into_iter().map(|(a, _)| a).collect();
         }
-        // Per spread, the orders of the plain walk (lowest ..= highest) that some set of the
-        // spread with a polygon brings near. The legs reach orders the plain walk does not
-        // (⌊ν⌋ − 2 … ⌈ν f₀/f_end⌉ + 2 at the sample's own speed): those are always profiled.
+        // Each set with a polygon: every order of its spread's legs (from ..= to) with its
+        // peak on the plain walk. The legs reach orders the plain walk does not (it walks
+        // ⌊ν⌋ − 2 … ⌈ν f₀/f_end⌉ + 2 at the sample's own speed): those are walked plainly on
+        // their own, for the spread's sets with a polygon.
         let target = self.print_log_ratio;
         let highest = lowest + walks.first().map_or(0, |(_, p)| p.len() as u32).max(1) - 1;
-        let mut near: Vec<(u64, Vec<bool>)> = Vec::new();
-        for (c, (answer, peaks)) in sets.iter().zip(&walks) {
+        let grid = DepthGrid::of(self, LIFE_PROFILE_INTERVALS);
+        let mut spreads: Vec<(u64, u32, u32)> = Vec::new();
+        let mut set_peaks: Vec<Option<Vec<f64>>> = vec![None; sets.len()];
+        for ((c, (answer, peaks)), set_peaks) in sets.iter().zip(&walks).zip(&mut set_peaks) {
             if !visible(answer) {
                 continue;
             }
             let key = (c.speed_spread_kmh / 3.6).to_bits();
-            let k = match near.iter().position(|(k, _)| *k == key) {
-                Some(k) => k,
+            let (from, to) = match spreads.iter().find(|(k, ..)| *k == key) {
+                Some(&(_, from, to)) => (from, to),
                 None => {
-                    near.push((key, vec![false; peaks.len()]));
-                    near.len() - 1
+                    let legs = self.spread_legs(&grid, f64::from_bits(key));
+                    spreads.push((key, legs.from, legs.to));
+                    (legs.from, legs.to)
                 }
             };
-            for (is_near, &peak) in near[k].1.iter_mut().zip(peaks) {
-                *is_near |= peak >= target - margin;
+            let mut over_legs = vec![f64::NEG_INFINITY; (to - from + 1) as usize];
+            for (n, &peak) in (lowest..).zip(peaks) {
+                if let Some(at) = n
+                    .checked_sub(from)
+                    .and_then(|i| over_legs.get_mut(i as usize))
+                {
+                    *at = peak;
+                }
+            }
+            *set_peaks = Some(over_legs);
+        }
+        if margin.is_finite() {
+            for &(key, from, to) in &spreads {
+                let of_spread: Vec<usize> = (0..sets.len())
+                    .filter(|&i| {
+                        set_peaks[i].is_some() && (sets[i].speed_spread_kmh / 3.6).to_bits() == key
+                    })
+                    .collect();
+                let constants: Vec<&FittedConstants> =
+                    of_spread.iter().map(|&i| &sets[i]).collect();
+                let below = from..=to.min(lowest.saturating_sub(1));
+                let above = from.max(highest + 1)..=to;
+                for orders in [below, above] {
+                    if orders.is_empty() {
+                        continue;
+                    }
+                    let (a, b) = (*orders.start(), *orders.end());
+                    let walked = self.life_peaks_over(a, b, f64::from_bits(key), &constants);
+                    for (&i, peaks) in of_spread.iter().zip(walked) {
+                        let over_legs = set_peaks[i].as_mut().expect("a set with a polygon");
+                        for (n, peak) in (a..).zip(peaks) {
+                            over_legs[(n - from) as usize] = peak;
+                        }
+                    }
+                }
             }
         }
-        let grid = DepthGrid::of(self, LIFE_PROFILE_INTERVALS);
+        // The legs are laid, once per spread, for the orders that some set of the spread
+        // brings within the margin of the visible depth.
+        let near: Vec<(u64, u32, Vec<bool>)> = spreads
+            .iter()
+            .map(|&(key, from, to)| {
+                let mut is_near = vec![!margin.is_finite(); (to - from + 1) as usize];
+                for (c, peaks) in sets.iter().zip(&set_peaks) {
+                    if let Some(peaks) = peaks
+                        .as_ref()
+                        .filter(|_| (c.speed_spread_kmh / 3.6).to_bits() == key)
+                    {
+                        for (is_near, &peak) in is_near.iter_mut().zip(peaks) {
+                            *is_near |= peak >= target - margin;
+                        }
+                    }
+                }
+                (key, from, is_near)
+            })
+            .collect();
         let mut next = walks.into_iter();
         per_spread(
             sets,
             |spread_mps| {
                 let near = near
                     .iter()
-                    .find(|(k, _)| *k == spread_mps.to_bits())
-                    .map(|(_, near)| near.as_slice());
+                    .find(|(k, ..)| *k == spread_mps.to_bits())
+                    .map(|(_, from, near)| (*from, near.as_slice()));
                 (
                     spread_mps,
                     near,
@@ -166,10 +252,11 @@ impl WheelGrowth {
                 // The legs and their mean are laid once per spread, for every set on it.
                 let legs = legs.get_or_init(|| {
                     let profiled = |n: u32| {
-                        !margin.is_finite()
-                            || n < lowest
-                            || n > highest
-                            || near.is_none_or(|near| near[(n - lowest) as usize])
+                        near.is_none_or(|(from, near)| {
+                            n.checked_sub(from)
+                                .and_then(|i| near.get(i as usize))
+                                .is_some_and(|&is_near| is_near)
+                        })
                     };
                     SaturatedSteps::new(self.spread_leg_profiles_of(&grid, *spread_mps, profiled))
                 });
@@ -590,11 +677,12 @@ mod tests {
     }
 
     /// The legs are built only for the orders the plain answer brings within
-    /// [`SCREEN_LOG_MARGIN`] of the visible depth (and for those it does not walk), and the
-    /// answer is that of every order's legs, bit for bit: at highway points, at 62 km/h with a
-    /// spread wide enough for its fast legs to reach orders below the plain walk's, under a
-    /// band of sets on several spreads. A screen that keeps none of the plain walk's orders
-    /// changes answers: the test can tell.
+    /// [`SCREEN_LOG_MARGIN`] of the visible depth (the legs' orders beyond the plain answer's
+    /// by their own plain walk), and the answer is that of every order's legs, bit for bit: at
+    /// highway points, at 62 km/h with a spread wide enough for its fast legs to reach orders
+    /// below the plain walk's, under a band of sets on several spreads. A screen that keeps
+    /// none of the plain walk's orders changes answers, and so does one that leaves out the
+    /// orders beyond them: the test can tell.
     #[test]
     fn the_screened_legs_give_every_order_s_answer() {
         let mut wheels = highway_wheels(5.0);
