@@ -677,6 +677,42 @@ fn wear_drives_a_shipped_cycle() {
     );
 }
 
+/// The loop's default budget grows with the speeds it drives (each integrates its own
+/// windows): 1e9 on the default 5, 8e9 on 40, as the metadata records it; a budget given is
+/// kept whatever the speeds.
+#[test]
+fn the_loop_s_default_budget_grows_with_its_speeds() {
+    let dir = fresh_dir("wear-budget");
+    let budget_of = |extra: &[&str], name: &str| -> f64 {
+        let out = dir.join(name);
+        let mut args = vec![
+            "wear",
+            "--quiet",
+            "--distance-km",
+            "50",
+            "--calibration-band",
+            "off",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let (code, _, err) = polywear(&args);
+        assert_eq!(code, 0, "{err}");
+        let settings =
+            crate::parquet_rows::footer_json(&out.join("wear_summary.parquet"), "wear_loop");
+        settings["max_rhs_evals"].as_f64().unwrap()
+    };
+    assert_eq!(budget_of(&[], "five"), 1e9);
+    assert_eq!(budget_of(&["--speed-nodes", "40"], "forty"), 8e9);
+    assert_eq!(
+        budget_of(
+            &["--speed-nodes", "40", "--loop-max-rhs-evals", "3e9"],
+            "given"
+        ),
+        3e9
+    );
+}
+
 /// P2 on the loop's own windows: a cycle locks to a single polygon of order 19 only inside a
 /// tongue of speeds around V_19 = V ν/19, whose half-width grows with the depth (×3.2 for ×4
 /// from 4 to 16 µm). At 4 µm deep (R = 2 µm) it is the fixed-model lock band of
