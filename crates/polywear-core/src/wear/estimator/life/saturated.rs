@@ -152,84 +152,65 @@ impl WheelGrowth {
         if walks.iter().all(|(a, _)| !visible(a)) {
             return walks.into_iter().map(|(a, _)| a).collect();
         }
-        // Each set with a polygon: every order of its spread's legs (from ..= to) with its
-        // peak on the plain walk. The legs reach orders the plain walk does not (it walks
-        // ⌊ν⌋ − 2 … ⌈ν f₀/f_end⌉ + 2 at the sample's own speed): those are walked plainly on
-        // their own, for the spread's sets with a polygon.
+        // Per spread with a polygon under some set, the orders of its legs (from ..= to) that
+        // some such set brings within the margin of the visible depth on the plain walk: the
+        // legs are laid for those alone, once per spread. The legs reach orders the plain walk
+        // does not (it walks ⌊ν⌋ − 2 … ⌈ν f₀/f_end⌉ + 2 at the sample's own speed): those are
+        // walked plainly on their own, for the spread's sets with a polygon.
         let target = self.print_log_ratio;
         let highest = lowest + walks.first().map_or(0, |(_, p)| p.len() as u32).max(1) - 1;
         let grid = DepthGrid::of(self, LIFE_PROFILE_INTERVALS);
-        let mut spreads: Vec<(u64, u32, u32)> = Vec::new();
-        let mut set_peaks: Vec<Option<Vec<f64>>> = vec![None; sets.len()];
-        for ((c, (answer, peaks)), set_peaks) in sets.iter().zip(&walks).zip(&mut set_peaks) {
+        let mut near: Vec<(u64, u32, Vec<bool>)> = Vec::new();
+        for (c, (answer, peaks)) in sets.iter().zip(&walks) {
             if !visible(answer) {
                 continue;
             }
             let key = (c.speed_spread_kmh / 3.6).to_bits();
-            let (from, to) = match spreads.iter().find(|(k, ..)| *k == key) {
-                Some(&(_, from, to)) => (from, to),
+            let k = match near.iter().position(|(k, ..)| *k == key) {
+                Some(k) => k,
                 None => {
                     let legs = self.spread_legs(&grid, f64::from_bits(key));
-                    spreads.push((key, legs.from, legs.to));
-                    (legs.from, legs.to)
+                    let orders = (legs.to - legs.from + 1) as usize;
+                    near.push((key, legs.from, vec![!margin.is_finite(); orders]));
+                    near.len() - 1
                 }
             };
-            let mut over_legs = vec![f64::NEG_INFINITY; (to - from + 1) as usize];
+            let (_, from, is_near) = &mut near[k];
             for (n, &peak) in (lowest..).zip(peaks) {
-                if let Some(at) = n
-                    .checked_sub(from)
-                    .and_then(|i| over_legs.get_mut(i as usize))
+                if let Some(is_near) = n
+                    .checked_sub(*from)
+                    .and_then(|i| is_near.get_mut(i as usize))
                 {
-                    *at = peak;
+                    *is_near |= peak >= target - margin;
                 }
             }
-            *set_peaks = Some(over_legs);
         }
         if margin.is_finite() {
-            for &(key, from, to) in &spreads {
-                let of_spread: Vec<usize> = (0..sets.len())
-                    .filter(|&i| {
-                        set_peaks[i].is_some() && (sets[i].speed_spread_kmh / 3.6).to_bits() == key
+            for (key, from, is_near) in &mut near {
+                let to = *from + is_near.len() as u32 - 1;
+                let with_polygon: Vec<&FittedConstants> = sets
+                    .iter()
+                    .zip(&walks)
+                    .filter(|(c, (a, _))| {
+                        (c.speed_spread_kmh / 3.6).to_bits() == *key && visible(a)
                     })
+                    .map(|(c, _)| c)
                     .collect();
-                let constants: Vec<&FittedConstants> =
-                    of_spread.iter().map(|&i| &sets[i]).collect();
-                let below = from..=to.min(lowest.saturating_sub(1));
-                let above = from.max(highest + 1)..=to;
+                let below = *from..=to.min(lowest.saturating_sub(1));
+                let above = (*from).max(highest + 1)..=to;
                 for orders in [below, above] {
                     if orders.is_empty() {
                         continue;
                     }
                     let (a, b) = (*orders.start(), *orders.end());
-                    let walked = self.life_peaks_over(a, b, f64::from_bits(key), &constants);
-                    for (&i, peaks) in of_spread.iter().zip(walked) {
-                        let over_legs = set_peaks[i].as_mut().expect("a set with a polygon");
+                    for peaks in self.life_peaks_over(a, b, f64::from_bits(*key), &with_polygon) {
                         for (n, peak) in (a..).zip(peaks) {
-                            over_legs[(n - from) as usize] = peak;
+                            is_near[(n - *from) as usize] |= peak >= target - margin;
                         }
                     }
                 }
             }
         }
-        // The legs are laid, once per spread, for the orders that some set of the spread
-        // brings within the margin of the visible depth.
-        let near: Vec<(u64, u32, Vec<bool>)> = spreads
-            .iter()
-            .map(|&(key, from, to)| {
-                let mut is_near = vec![!margin.is_finite(); (to - from + 1) as usize];
-                for (c, peaks) in sets.iter().zip(&set_peaks) {
-                    if let Some(peaks) = peaks
-                        .as_ref()
-                        .filter(|_| (c.speed_spread_kmh / 3.6).to_bits() == key)
-                    {
-                        for (is_near, &peak) in is_near.iter_mut().zip(peaks) {
-                            *is_near |= peak >= target - margin;
-                        }
-                    }
-                }
-                (key, from, is_near)
-            })
-            .collect();
         let mut next = walks.into_iter();
         per_spread(
             sets,
