@@ -110,7 +110,7 @@ fn negative_and_absurd_integer_flags_name_their_range() {
             &["explore", "--seed", "-1"],
             &["--seed", "[0, 4398046510080]"],
         ),
-        (&["explore", "--seed", "1e3"], &["--seed", "whole number"]),
+        (&["explore", "--seed", "1.5"], &["--seed", "whole number"]),
         (&["explore", "--threads", "-2"], &["--threads", "[1, 1024]"]),
         (&["explore", "--threads", "0"], &["--threads", "[1, 1024]"]),
         (

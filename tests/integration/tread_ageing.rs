@@ -208,3 +208,54 @@ fn a_study_refuses_a_bad_tread_depth_fixed_in_a_parameter_file_or_reachable_by_i
     let wide = std::fs::read_to_string("studies/wide_structure.toml").unwrap();
     assert!(polywear::study::Study::parse(&wide).is_ok());
 }
+
+/// A tread whose usable depth is all of it (15 mm of a 15 mm tread, worn out at 0 mm) is
+/// accepted and handled: its frequency is unbounded at the end (no mass left), and the walk over
+/// the tread's life once laid out every order ν passes (an allocation of 206 GB, exit 134, in
+/// `wear`, `explore` and `cycle` alike). Each command now answers.
+#[test]
+fn a_tread_worn_to_nothing_is_answered_by_every_command() {
+    let dir = fresh_dir("worn-to-nothing");
+    std::fs::create_dir_all(&dir).unwrap();
+    let sets = [
+        "--set",
+        "tread_depth_new_mm=15",
+        "--set",
+        "tread_depth_worn_out_mm=0",
+    ];
+    let out = dir.join("wear");
+    let mut args = vec!["wear", "--distance-km", "100", "--estimate"];
+    args.extend(sets);
+    args.extend(["--calibration-band", "off", "--out", out.to_str().unwrap()]);
+    let (code, stdout, stderr) = polywear(&args);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("life, saturated") && stdout.contains("worn out at"),
+        "{stdout}"
+    );
+    let study = dir.join("study.toml");
+    std::fs::write(
+        &study,
+        "name = \"worn_to_nothing\"\nsamples = 6\n[params]\nspeed_kmh = { dist = \"uniform\", min = 90, max = 140 }\ntoe_deg = { dist = \"uniform\", min = 0.3, max = 0.7 }\ntread_depth_new_mm = 15\ntread_depth_worn_out_mm = 0\n",
+    )
+    .unwrap();
+    let run = dir.join("run");
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        "--quiet",
+        "--no-report",
+        study.to_str().unwrap(),
+        "--out",
+        run.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let cycle = dir.join("cycle.csv");
+    std::fs::write(&cycle, "time_s,speed_kmh\n0,100\n60,120\n120,110\n").unwrap();
+    let mut args = vec!["cycle", cycle.to_str().unwrap()];
+    args.extend(sets);
+    let cyc_out = dir.join("cycle_out");
+    args.extend(["--quiet", "--out", cyc_out.to_str().unwrap()]);
+    let (code, stdout, stderr) = polywear(&args);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("worn out at"), "{stdout}");
+}

@@ -166,11 +166,38 @@ pub fn parse_assignment(s: &str) -> Result<(String, f64), String> {
         .split_once('=')
         .ok_or_else(|| format!("expected NAME=VALUE, got `{s}`"))?;
     let name = name.trim();
-    let value: f64 = value
-        .trim()
-        .parse()
-        .map_err(|_| format!("value of `{name}` is not a number: `{}`", value.trim()))?;
+    let value: f64 = value.trim().parse().map_err(|_| match setting(name) {
+        Some((flag, accepted, commands)) => format!(
+            "`{name}` is a setting, not a parameter (--set takes numbers): {commands} take it as {flag} {} (accepted: {})",
+            value.trim(),
+            accepted.join(", ")
+        ),
+        None => format!("value of `{name}` is not a number: `{}`", value.trim()),
+    })?;
     Ok((name.to_string(), value))
+}
+
+/// A setting's flag, accepted names and the commands that take it, for a study key that is no
+/// parameter (`wear_zone`).
+fn setting(name: &str) -> Option<(&'static str, &'static [&'static str], &'static str)> {
+    use polywear_core::wear::{EstimateLevel, WearPower, WearZone};
+    use strum::VariantNames;
+    const WEAR: &str = "explore, cycle and wear";
+    match name {
+        "wear_zone" => Some(("--wear-zone", WearZone::VARIANTS, WEAR)),
+        "wear_power" => Some(("--wear-power", WearPower::VARIANTS, WEAR)),
+        "wear_estimate" => Some((
+            "--wear-estimate",
+            EstimateLevel::VARIANTS,
+            "explore and cycle",
+        )),
+        "variant" | "variants" => Some((
+            "--variant",
+            polywear_core::model::Variant::VARIANTS,
+            "simulate, cycle, wear, chart, classify and bifurcation",
+        )),
+        _ => None,
+    }
 }
 
 pub use polywear_study::param_sources::{
@@ -280,13 +307,24 @@ pub fn whole_in<T: TryFrom<u64>>(
     hi: u64,
 ) -> impl Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static {
     move |s: &str| {
-        s.trim()
-            .parse::<u64>()
-            .ok()
+        whole_number(s)
             .filter(|v| (lo..=hi).contains(v))
             .and_then(|v| T::try_from(v).ok())
             .ok_or_else(|| format!("{flag} `{s}` must be a whole number in [{lo}, {hi}]"))
     }
+}
+
+/// A whole number as people type one: `20000`, `2e4`, `20_000` or `2.0e4` (a count written as
+/// a number is the same count); None for a fraction, a sign, or what is no number.
+fn whole_number(s: &str) -> Option<u64> {
+    let t = s.trim().replace('_', "");
+    if let Ok(v) = t.parse::<u64>() {
+        return Some(v);
+    }
+    let x: f64 = t.parse().ok()?;
+    // Below 2^53 every whole f64 is exact, so a count read this way is the count typed.
+    (x.is_finite() && x >= 0.0 && x.fract() == 0.0 && x < 9_007_199_254_740_992.0)
+        .then_some(x as u64)
 }
 
 /// A count given as a number (so `1e9` is accepted) checked for `flag`: a whole number within
@@ -444,6 +482,21 @@ pub fn calibration_band(
 #[cfg(test)]
 mod tests {
     use super::whole_count;
+
+    #[test]
+    fn a_count_flag_takes_a_count_written_as_a_number() {
+        let band = super::whole_in::<u64>("--band-samples", 100, 1_000_000);
+        for typed in ["20000", "2e4", "20_000", "2.0e4", " 2E4 "] {
+            assert_eq!(band(typed), Ok(20_000), "{typed}");
+        }
+        for bad in ["150.5", "-2e4", "2e7", "1e400", "nan", "lots", "2e-1"] {
+            let e = band(bad).unwrap_err();
+            assert_eq!(
+                e,
+                format!("--band-samples `{bad}` must be a whole number in [100, 1000000]")
+            );
+        }
+    }
 
     #[test]
     fn whole_count_takes_whole_numbers_in_range_and_names_the_flag_otherwise() {

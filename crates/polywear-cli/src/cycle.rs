@@ -15,7 +15,7 @@ use polywear_analysis::render::cycle::summary_lines;
 use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::WearStage;
 use polywear_core::model::Variant;
-use polywear_core::params::Params;
+use polywear_core::params::{ParamId, Params};
 use polywear_core::wear::{EstimateLevel, FittedConstants, WearSettings};
 use polywear_study::cycle::structures::{draw_structures, study_metadata, CommandLine, Structures};
 use polywear_study::cycle::{classify_cycles, ClassifiedCycle, DriveCycle};
@@ -233,6 +233,13 @@ fn resolve(args: &CycleArgs) -> CliResult<CycleRequest> {
     }
     let mut base = line.file;
     for t in &line.set {
+        if t.id == ParamId::SpeedSpreadKmh {
+            return Err(CliError(format!(
+                "--set {}: {}; leave it out",
+                t.id,
+                polywear_study::cycle::NO_SPREAD
+            )));
+        }
         base.try_set(t.id, t.value)?;
     }
     let mut metadata = base_metadata(&base, variant);
@@ -304,7 +311,17 @@ fn write(
         life,
         metadata: request.metadata,
         fleet,
-        wear_bases: if wear { structures.bases } else { Vec::new() },
+        // The lifetime verdict reads the tire's life constants as its steps do: a cycle's
+        // constant column of one of them is the whole life's.
+        wear_bases: if wear {
+            structures
+                .bases
+                .iter()
+                .map(|b| request.cycle.whole_life(b))
+                .collect()
+        } else {
+            Vec::new()
+        },
         band_sets,
     };
     let summaries = run.summaries();

@@ -112,9 +112,9 @@ pub struct ExploreArgs {
     #[arg(long, value_name = "FILE|off")]
     pub calibration_band: Option<String>,
     /// Samples of the run the calibration band is evaluated on (all of them when the run has
-    /// fewer), accepted [100, 1000000]
-    #[arg(long, value_name = "N", default_value_t = polywear_study::calibration_band::evaluate::DEFAULT_BAND_SAMPLES, value_parser = super::common::whole_in::<u64>("--band-samples", 100, 1_000_000))]
-    pub band_samples: u64,
+    /// fewer), accepted [100, 1000000]; default 20000
+    #[arg(long, value_name = "N", value_parser = super::common::whole_in::<u64>("--band-samples", 100, 1_000_000))]
+    pub band_samples: Option<u64>,
     /// Skip the analysis report (risk maps, probabilities) written to DIR/_report at the end
     #[arg(long)]
     pub no_report: bool,
@@ -134,6 +134,7 @@ pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
     for line in &prepared.redone {
         eprintln!("resume: {line}");
     }
+    band::prepare(&plan, band.as_ref())?;
     let todo = prepared.pending_samples(&plan);
     let progress = Progress::new(
         args.quiet,
@@ -152,8 +153,6 @@ pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
     let result = pool
         .install(|| plan.run_until(&prepared, &|n| progress.add(n), &|| stop.signal().is_some()));
     progress.finish();
-    // From here on a signal ends the program at once: the rows are saved.
-    stop.disarm();
     let summary = result.map_err(|e| match e {
         ExploreError::Write(_) => write_failure(args, &plan, &e),
         e => explore_error(e),
@@ -171,10 +170,20 @@ pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
         eprintln!("resume with: {}", resume_command(args, &plan));
         return Ok(ExitCode::from((128 + signal) as u8));
     }
-    match &band {
-        Some(choice) => band::run(args, &plan, choice, &pool)?,
-        None => band::clear(&plan)?,
+    if let Some(choice) = &band {
+        if let band::BandEnd::Stopped(signal) = band::run(args, &plan, choice, &pool, &stop)? {
+            drop(prepared);
+            eprintln!(
+                "\nstopped by {} during the calibration band: every sample's rows are saved in {}; the band is not finished, and analyze refuses the run until it is",
+                signal_name(signal),
+                plan.out_dir.display()
+            );
+            eprintln!("finish it with: {}", resume_command(args, &plan));
+            return Ok(ExitCode::from((128 + signal) as u8));
+        }
     }
+    // From here on a signal ends the program at once: the rows and the band are saved.
+    stop.disarm();
     finish(args, &plan, &summary, secs).map(|()| ExitCode::SUCCESS)
 }
 

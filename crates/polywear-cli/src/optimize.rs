@@ -63,11 +63,11 @@ pub struct OptimizeArgs {
     #[arg(long, value_name = "FILE|off")]
     pub calibration_band: Option<String>,
     /// Samples the calibration band's sets are evaluated on (every sample where --samples is at
-    /// most this), accepted [100, 1000000]. Under each set a setting's objective is then the
+    /// most this), accepted [100, 1000000], default 2000. Under each set a setting's objective is then the
     /// nominal constants' on every sample plus the set's paired difference on this subsample (a
     /// control variate), at that share of the band's work
-    #[arg(long, value_name = "N", default_value_t = polywear_study::optimize::DEFAULT_BAND_SAMPLES, value_parser = super::common::whole_in::<u64>("--band-samples", 100, 1_000_000))]
-    pub band_samples: u64,
+    #[arg(long, value_name = "N", value_parser = super::common::whole_in::<u64>("--band-samples", 100, 1_000_000))]
+    pub band_samples: Option<u64>,
     /// Samples of the study every setting is evaluated on (1e4 and 10_000 work), accepted
     /// [1, 1e7]
     #[arg(long, value_name = "N", default_value = "10000", allow_negative_numbers = true, value_parser = parse_samples)]
@@ -355,13 +355,21 @@ fn problem(args: &OptimizeArgs) -> CliResult<Problem> {
             keep: args.keep,
         },
         accept_implausible: args.accept_implausible,
-        band: super::common::calibration_band(args.calibration_band.as_deref())?.map(
-            |(sets, source)| ProblemBand {
+        band: match super::common::calibration_band(args.calibration_band.as_deref())? {
+            None if args.band_samples.is_some() => {
+                return Err(CliError(format!(
+                    "--band-samples {}: the calibration band is off (--calibration-band off), so it would not be used; leave it out",
+                    args.band_samples.unwrap_or_default()
+                )))
+            }
+            band => band.map(|(sets, source)| ProblemBand {
                 sets,
                 source,
                 given: args.calibration_band.is_some(),
-                samples: args.band_samples,
-            },
-        ),
+                samples: args
+                    .band_samples
+                    .unwrap_or(polywear_study::optimize::DEFAULT_BAND_SAMPLES),
+            }),
+        },
     })?)
 }

@@ -23,6 +23,25 @@ pub fn plain(x: f64, significant: usize) -> String {
     trim_zeros(&format!("{rounded:.decimals$}"))
 }
 
+/// `x` in a data file (CSV, TOML): the shortest digits that read back to the same double, in
+/// exponent form outside \[1e-5, 1e16) (`1e300`, never 301 digits), `NaN`, `inf` and `-inf`
+/// spelled so. Every CSV polywear writes takes its numbers from here; people's words take
+/// theirs from [`plain`].
+pub fn data_number(x: f64) -> String {
+    if x.is_nan() {
+        return "NaN".into();
+    }
+    if x.is_infinite() {
+        return if x > 0.0 { "inf" } else { "-inf" }.into();
+    }
+    let a = x.abs();
+    if a != 0.0 && !(1e-5..1e16).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
 fn trim_zeros(s: &str) -> String {
     if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.').to_string()
@@ -41,6 +60,36 @@ pub fn snippet(s: &str) -> String {
     let head: String = s.chars().take(MAX_CHARS).collect();
     let escaped: String = head.escape_debug().collect();
     format!("`{escaped}{}`", if cut { "…" } else { "" })
+}
+
+/// Text from a file (a band's `method`) as one line of at most `max_chars` characters:
+/// control characters (line breaks among them) written escaped (`\n`), the rest cut with `…`,
+/// so that no file can add lines, headings or pages to a summary or a report.
+pub fn one_line(text: &str, max_chars: usize) -> String {
+    let cut = text.chars().count() > max_chars;
+    let mut out: String = text
+        .chars()
+        .take(max_chars)
+        .flat_map(|c| {
+            let escaped: Vec<char> = if c.is_control() {
+                c.escape_debug().collect()
+            } else {
+                vec![c]
+            };
+            escaped
+        })
+        .collect();
+    if cut {
+        out.push('…');
+    }
+    out
+}
+
+/// `text` for Markdown: `&`, `<` and `>` as entities, so that a quoted text cannot open HTML.
+pub fn markdown_text(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }
 
 /// The candidate closest to `typed` by edit distance (Levenshtein with a swap of two neighbouring
@@ -113,6 +162,44 @@ pub fn km(x: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_data_number_reads_back_exactly_and_never_runs_to_hundreds_of_digits() {
+        for x in [
+            0.0,
+            1.0,
+            -2.5,
+            0.1,
+            0.22999999999999998,
+            1e300,
+            -1e-300,
+            1e16,
+            9.999e15,
+            1e-5,
+            9.99e-6,
+            123456.789,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            5e-324,
+        ] {
+            let t = data_number(x);
+            assert_eq!(t.parse::<f64>().unwrap().to_bits(), x.to_bits(), "{x}: {t}");
+            assert!(t.len() <= 24, "{x}: {t}");
+        }
+        assert_eq!(data_number(1e300), "1e300");
+        assert_eq!(data_number(4000.0), "4000");
+        assert_eq!(
+            (data_number(f64::NAN), data_number(f64::NEG_INFINITY)),
+            ("NaN".to_string(), "-inf".to_string())
+        );
+    }
+
+    #[test]
+    fn a_file_s_text_is_quoted_as_one_bounded_line() {
+        assert_eq!(one_line("a\n# b\u{7}", 40), "a\\n# b\\u{7}");
+        assert_eq!(one_line(&"x".repeat(10), 4), "xxxx…");
+        assert_eq!(markdown_text("a <b> & c"), "a &lt;b&gt; &amp; c");
+    }
 
     #[test]
     fn distances_read_with_thousands_separators() {

@@ -185,7 +185,7 @@ fn number(x: f64) -> String {
     if x.fract() == 0.0 && x.abs() < 1e15 {
         polywear_core::wording::thousands(x)
     } else {
-        format!("{x}")
+        polywear_core::wording::plain(x, 12)
     }
 }
 

@@ -258,7 +258,8 @@ pub fn write_table_digest(
 
 /// Writes the same table as CSV through the `csv` crate (RFC 4180 quoting, `\n` line ends): a
 /// field holding a comma, a double quote or a line break is quoted, with inner quotes doubled;
-/// numbers are written in full precision as Rust prints them (`NaN` for a missing value).
+/// numbers are written in full precision ([`polywear_core::wording::data_number`]: the shortest
+/// digits that read back exactly, `1e300` rather than 301 digits, `NaN` for a missing value).
 pub fn write_csv(path: &Path, columns: &[Column]) -> Result<(), WriteError> {
     let err = |e: &dyn std::fmt::Display| WriteError(format!("{}: {e}", path.display()));
     let file = NewFile::create(path).map_err(|e| err(&e))?;
@@ -270,7 +271,7 @@ pub fn write_csv(path: &Path, columns: &[Column]) -> Result<(), WriteError> {
     let n = columns.first().map_or(0, |c| c.data.len());
     for row in 0..n {
         let cells = columns.iter().map(|c| match &c.data {
-            ColumnData::F64(v) => format!("{}", v[row]),
+            ColumnData::F64(v) => polywear_core::wording::data_number(v[row]),
             ColumnData::I64(v) => v[row].to_string(),
             ColumnData::Str(v) => v[row].clone(),
         });
@@ -301,7 +302,7 @@ mod csv_tests {
         std::fs::remove_file(&path).ok();
         assert_eq!(
             written,
-            "text,x\npaper,0.1\n\"a,b\",0.0000001\n\"say \"\"hi\"\"\",NaN\n\"two\nlines\",-2\n,1000000000000000000000\n"
+            "text,x\npaper,0.1\n\"a,b\",1e-7\n\"say \"\"hi\"\"\",NaN\n\"two\nlines\",-2\n,1e21\n"
         );
     }
 }

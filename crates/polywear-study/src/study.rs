@@ -228,6 +228,19 @@ impl Study {
         serde_json::Value::Array(self.drawn.iter().map(DrawnParam::to_json).collect())
     }
 
+    /// The value the study file gives the top-level `key`, as written (a string without its
+    /// quotes), or None where it gives none: what a flag that overrides it names in its note.
+    pub fn key_text(&self, key: &str) -> Option<String> {
+        let table = toml_input::parse(&self.source).ok()?;
+        table.get(key).map(|v| match v {
+            toml::Value::String(s) => s.clone(),
+            toml::Value::Integer(i) => i.to_string(),
+            toml::Value::Float(x) => polywear_core::wording::plain(*x, 12),
+            toml::Value::Boolean(b) => b.to_string(),
+            v => format!("{v:?}"),
+        })
+    }
+
     /// A stable fingerprint of the study text (64-bit FNV-1a, hex), written into every chunk's
     /// metadata as `study_hash` so that files of different studies are told apart cheaply.
     pub fn source_hash(&self) -> String {

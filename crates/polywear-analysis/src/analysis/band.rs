@@ -7,7 +7,7 @@
 //! variate: the subsample's sampling error cancels in the difference), its range over the sets.
 //! Which wheel is more exposed is said only where the sign holds under every set.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use super::footer::FileFooter;
 use super::rows::{band_counts, BandCount, OutcomeColumn};
@@ -15,8 +15,11 @@ use super::scenarios::ScenarioEffect;
 use super::wear_risk::{sample_weight, WearAnalysis};
 use super::{AnalysisError, RunInfo};
 use polywear_core::model::{Variant, Wheel};
-use polywear_study::calibration_band::evaluate::{verify, BAND_FILE, RUN_SET};
-use polywear_study::calibration_band::{constant_ranges, CalibratedSet};
+use polywear_core::wording::{one_line, plain};
+use polywear_study::calibration_band::evaluate::{
+    band_state, BandState, BAND_DIGEST, BAND_FILE, RUN_SET,
+};
+use polywear_study::calibration_band::{constant_ranges, CalibratedSet, MAX_TEXT_CHARS};
 use polywear_study::study::BASELINE;
 
 /// The range of a figure over the calibrated sets.
@@ -154,9 +157,9 @@ impl CalibrationBand {
             .map(|&(id, lo, hi)| {
                 let spec = id.spec();
                 let range = if lo == hi {
-                    format!("{lo}")
+                    plain(lo, 6)
                 } else {
-                    format!("{lo}–{hi}")
+                    format!("{}–{}", plain(lo, 6), plain(hi, 6))
                 };
                 let unit = if spec.unit == "-" {
                     String::new()
@@ -171,47 +174,112 @@ impl CalibrationBand {
 }
 
 /// The band file of the run: [`BAND_FILE`] in the first directory of its chunk files that
-/// holds one, checked to be of this run (study, seed, samples); None where none does.
+/// holds a band or its digest, verified against the digest and checked to be of this run (every
+/// setting the run's footer records: study, seed, samples, design, variants, parameters, the
+/// wear stage and its level, the version); None where the run has none. A band asked for and
+/// not finished, a band that changed, or one of another run is refused with what to do.
 pub(super) fn band_file(info: &RunInfo) -> Result<Option<FileFooter>, AnalysisError> {
-    let Some(path) = info
+    let Some(dir) = info
         .files
         .iter()
         .filter_map(|f| f.parent())
-        .map(|d| d.join(BAND_FILE))
-        .find(|p| p.is_file())
+        .find(|d| band_state(d) != BandState::Absent)
+        .map(Path::to_path_buf)
     else {
         return Ok(None);
     };
-    let dir = path.parent().expect("a file in a directory").to_path_buf();
+    let path = dir.join(BAND_FILE);
+    let resume = format!("polywear explore --resume --out {}", dir.display());
     let refuse = |why: String| {
-        AnalysisError::Metadata {
+        AnalysisError::Band {
         path: path.clone(),
         message: format!(
-            "the calibration band cannot be used: {why}; write it again with `polywear explore --resume --out {}` (it keeps the chunks), or remove it",
-            dir.display()
+            "the calibration band cannot be used: {why}; write it again with `{resume}` (it keeps the chunks), or remove it"
         ),
     }
     };
-    if let Some(why) = verify(&dir) {
-        return Err(refuse(why));
+    match band_state(&dir) {
+        BandState::Verified => {}
+        BandState::Pending => {
+            return Err(AnalysisError::Band {
+                path: dir.join(BAND_DIGEST),
+                message: format!(
+                    "the run's calibration band was asked for and is not finished (the run stopped before or during its band pass); finish it with `{resume}` (it keeps the chunks)"
+                ),
+            })
+        }
+        BandState::Refused(why) => return Err(refuse(why)),
+        BandState::Absent => unreachable!("a directory with a band was found"),
     }
     let footer = FileFooter::read(&path).map_err(|e| refuse(e.to_string()))?;
-    let run = footer.run()?;
-    let theirs = (
-        run.study_hash.clone().unwrap_or_default(),
-        run.seed,
-        run.samples,
-    );
-    if theirs != (info.study_hash.clone(), info.seed, info.samples) {
-        return Err(AnalysisError::Metadata {
-            path,
-            message: format!(
-                "the calibration band belongs to another run (study {}, seed {}, {} samples; the rows': study {}, seed {}, {} samples); remove it, or rerun explore",
-                theirs.0, theirs.1, theirs.2, info.study_hash, info.seed, info.samples
-            ),
-        });
+    let rows_footer = FileFooter::read(&info.files[0])?;
+    for key in RUN_IDENTITY_KEYS {
+        let (theirs, ours) = (footer.value(key), rows_footer.value(key));
+        if theirs != ours {
+            let (key, theirs, ours) = first_difference(key, theirs, ours);
+            let shown = |v: Option<String>| v.map_or("none".to_string(), |v| snippet_long(&v));
+            return Err(AnalysisError::Band {
+                path,
+                message: format!(
+                    "the calibration band belongs to another run: its `{key}` is {}, the rows' {}; remove it, or rerun explore",
+                    shown(theirs),
+                    shown(ours)
+                ),
+            });
+        }
     }
     Ok(Some(footer))
+}
+
+/// Where two recorded values of `key` differ: for JSON objects the first field that does
+/// (`wear.wear_estimate`), else the values themselves.
+fn first_difference(
+    key: &str,
+    a: Option<&str>,
+    b: Option<&str>,
+) -> (String, Option<String>, Option<String>) {
+    let json = |v: Option<&str>| v.and_then(|t| serde_json::from_str::<serde_json::Value>(t).ok());
+    if let (Some(serde_json::Value::Object(x)), Some(serde_json::Value::Object(y))) =
+        (json(a), json(b))
+    {
+        let fields: std::collections::BTreeSet<&String> = x.keys().chain(y.keys()).collect();
+        for f in fields {
+            if x.get(f) != y.get(f) {
+                let text = |v: Option<&serde_json::Value>| {
+                    v.map(|v| v.as_str().map_or(v.to_string(), str::to_string))
+                };
+                return (format!("{key}.{f}"), text(x.get(f)), text(y.get(f)));
+            }
+        }
+    }
+    (
+        key.to_string(),
+        a.map(str::to_string),
+        b.map(str::to_string),
+    )
+}
+
+/// The footer keys that say which run a band is of: a band evaluated under any other value of
+/// one of them (another wear level, another parameter set) answers another question.
+const RUN_IDENTITY_KEYS: [&str; 11] = [
+    "polywear_version",
+    "study_name",
+    "study_hash",
+    "seed",
+    "samples",
+    "design",
+    "variant",
+    "params",
+    "wear",
+    "operating_points",
+    "scenarios",
+];
+
+/// A recorded value as a message quotes it: at most 80 characters, escaped.
+fn snippet_long(v: &str) -> String {
+    let cut = v.chars().count() > 80;
+    let head: String = v.chars().take(80).collect();
+    format!("`{}{}`", head.escape_debug(), if cut { "…" } else { "" })
 }
 
 /// The full run's probability `full` moved under each set of `ids` by that set's difference
@@ -382,8 +450,10 @@ pub(super) fn band(
     }
     Ok(CalibrationBand {
         file: path.clone(),
-        source: meta("band_source")?,
-        method: meta("band_method")?,
+        // What a file says of itself is quoted as one bounded line (a band file's `method`
+        // is checked so when explore reads it; a footer is taken as it is found).
+        source: one_line(&meta("band_source")?, MAX_TEXT_CHARS),
+        method: one_line(&meta("band_method")?, MAX_TEXT_CHARS),
         sets,
         samples,
         occurrence,

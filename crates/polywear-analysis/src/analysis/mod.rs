@@ -270,6 +270,15 @@ pub enum AnalysisError {
         /// What is wrong.
         message: String,
     },
+    /// The run's calibration band cannot be used: unfinished, changed, of another run, or not
+    /// a file explore wrote (the message says what to do).
+    #[error("{}: {message}", path.display())]
+    Band {
+        /// The band's file or digest.
+        path: PathBuf,
+        /// What is wrong, and what to do.
+        message: String,
+    },
     /// Two inputs of different runs.
     #[error("{} and {} do not belong together: their `{key}` differs ({ours} vs {theirs}); analyze one run at a time", first.display(), other.display())]
     Mismatch {

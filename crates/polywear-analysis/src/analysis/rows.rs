@@ -556,9 +556,9 @@ pub(crate) fn reason_counts(
 /// Rows of a Parquet file, from its footer (0 when it cannot be read: the scan then says why).
 fn file_rows(path: &Path) -> u64 {
     use parquet::file::reader::{FileReader, SerializedFileReader};
-    std::fs::File::open(path)
+    polywear_study::safe_read::open(path, polywear_study::safe_read::Limit::Chunk)
         .ok()
-        .and_then(|f| SerializedFileReader::new(f).ok())
+        .and_then(|(f, _)| SerializedFileReader::new(f).ok())
         .map(|r| r.metadata().file_metadata().num_rows() as u64)
         .unwrap_or(0)
 }

@@ -123,19 +123,25 @@ impl CycleRun<'_> {
                 idx.iter().map(|r| dt[r.1]).collect(),
             ),
         ]);
+        let records: Vec<_> = rows.iter().map(|s| s.record.clone()).collect();
+        let record_cols = record_columns(&records);
+        // A file never holds one name twice: the operating axes are record columns already, and
+        // so is a wear constant the wear stage writes (`wear_share_straight`): the record's
+        // column is the step's value.
+        let recorded = |id: &ParamId| record_cols.iter().any(|c| c.name == id.name());
         for (j, id) in self.structure_names.iter().enumerate() {
-            let v = idx.iter().map(|r| self.structure_values[r.0][j]).collect();
-            cols.push(Column::f64(id.name(), id.spec().unit, v));
+            if !recorded(id) {
+                let v = idx.iter().map(|r| self.structure_values[r.0][j]).collect();
+                cols.push(Column::f64(id.name(), id.spec().unit, v));
+            }
         }
-        // The operating axes are record columns already.
         for (j, id) in c.names.iter().enumerate() {
-            if !OPERATING_AXES.contains(id) {
+            if !OPERATING_AXES.contains(id) && !recorded(id) {
                 let v = idx.iter().map(|r| c.values[r.1][j]).collect();
                 cols.push(Column::f64(id.name(), id.spec().unit, v));
             }
         }
-        let records: Vec<_> = rows.iter().map(|s| s.record.clone()).collect();
-        cols.extend(record_columns(&records));
+        cols.extend(record_cols);
         cols.push(Column::f64(
             "tread_time_constant_s",
             "s",

@@ -2,7 +2,7 @@
 //! sampling interval, its range over the calibrated sets of fitted constants, and the report's
 //! section that says what the band is and which set gives each end.
 
-use polywear_core::wording::capitalise;
+use polywear_core::wording::{capitalise, markdown_text};
 use std::fmt::Write as _;
 
 use crate::analysis::band::{BandRange, CalibrationBand, PairedBand};
@@ -109,7 +109,7 @@ pub fn section(s: &mut String, a: &Analysis) {
          run's own constants on the same samples; its range over the sets is the calibration \
          band, beside the 95% Wilson interval (sampling only). The band's rows: `{}` \
          (MODEL.md#the-calibration-band).\n",
-        about(b, a.info.estimate),
+        markdown_text(&about(b, a.info.estimate)),
         b.file
             .file_name()
             .map_or(String::new(), |n| n.to_string_lossy().to_string())

@@ -127,8 +127,12 @@ fn wear_line(all: &[[WheelSummary; 2]], w: usize, seed_share: f64) -> Option<Str
     // The level the cycle answered on (MODEL.md#along-a-drive-cycle): over the tread's life a
     // wheel has how near its deepest order came; as the new tire it has none.
     let over_life = wear.iter().any(|c| !c.peak_share_of_visible.is_nan());
+    let no_figures = wear.iter().all(|c| c.distance_to_visible_km.is_nan());
     let life = if over_life {
         "driving this cycle all its life, its tread wearing"
+    } else if no_figures {
+        // Without a figure the level answered on cannot be told from the answers: none is said.
+        "driving this cycle all its life"
     } else {
         "driving this cycle all its life, as the new tire"
     };

@@ -272,7 +272,7 @@ fn decodings_table(s: &mut String, a: &Analysis) {
             d.variant,
             d.values
                 .iter()
-                .map(|v| format!("{v}"))
+                .map(|v| polywear_core::wording::plain(*v, 12))
                 .collect::<Vec<_>>()
                 .join(" | "),
             pct(d.follower.p()),

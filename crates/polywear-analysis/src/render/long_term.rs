@@ -3,9 +3,10 @@
 //! loop's, the tread's and the estimator's figures, as `polywear wear` prints them.
 
 use polywear_core::long_term::{LongTermProblem, LongTermSolution, WheelLongTerm};
-use polywear_core::model::WheelModel;
+use polywear_core::model::{Wheel, WheelModel};
 use polywear_core::params::Params;
 use polywear_core::wear::long_term::RunEnd;
+use polywear_core::wear::LifeAnswer;
 use polywear_core::wording::plain;
 
 /// The verdict of one wheel in words.
@@ -49,11 +50,21 @@ fn verdict_words(o: &WheelLongTerm, p: &Params, distance_km: f64) -> String {
         ),
         RunEnd::Distance => {
             let s = run.distance_to_visible_km(p.visible_depth_mm * 1e-3);
+            let life = run.tread_life_km(p.usable_wear_m());
             if s.is_infinite() {
                 format!(
                     "{}: no polygon in {} km, every order levels out ({lock})",
                     o.wheel,
                     thousands(distance_km)
+                )
+            } else if s > life {
+                // No extrapolation past the tire's life: it wears out first.
+                format!(
+                    "{}: no polygon in {} km; order {n} still grows, but at its growth it would be visible only after about {} km, and the tire is worn out at about {} km at its wear so far ({lock})",
+                    o.wheel,
+                    thousands(distance_km),
+                    thousands(s),
+                    thousands(life)
                 )
             } else {
                 format!(
@@ -145,7 +156,20 @@ pub fn lines(
                 }
             ));
         }
-        if estimate {
+        if estimate && !problem.is_cruise() {
+            // A drive cycle's estimates are its speeds', not the point's.
+            let legs = problem.legs.len();
+            for (label, reading, note) in [
+                ("life     ", &w.life, format!(" on the cycle's {legs} speeds")),
+                (
+                    "life, saturated",
+                    &w.life_saturated,
+                    format!(" on the cycle's {legs} speeds, each saturating on its own (the tread_life_saturated level)"),
+                ),
+            ] {
+                out.push(life_line(w.wheel, label, reading.as_ref(), &note));
+            }
+        } else if estimate {
             out.push(match &w.solution.wear {
                 Some(e) => format!(
                     "  {}: new tire  dominant order {}, growth {} per 1000 km, distance {} km{}",
@@ -176,27 +200,30 @@ pub fn lines(
                 ),
                 ("saturated", &w.saturated, saturated.as_str()),
             ] {
-                out.push(match reading {
-                    Some(l) if l.answer.distance_to_visible_km.is_finite() => format!(
-                        "  {}: {label} order {}, distance {} km over the tread's life (the tire worn out at {} km){note}",
-                        w.wheel,
-                        plain(l.answer.polygon_order_wear, 4),
-                        plain(l.answer.distance_to_visible_km.round(), 8),
-                        plain(l.answer.tread_life_km.round(), 8)
-                    ),
-                    Some(l) => format!(
-                        "  {}: {label} none before the tire is worn out at {} km over the tread's life (order {} deepest, at {} of the visible depth){note}",
-                        w.wheel,
-                        plain(l.answer.tread_life_km.round(), 8),
-                        plain(l.answer.polygon_order_wear, 4),
-                        plain(l.peak_share_of_visible, 2)
-                    ),
-                    None => format!("  {}: {label} none", w.wheel),
-                });
+                out.push(life_line(w.wheel, label, reading.as_ref(), note));
             }
         }
     }
     out
+}
+
+/// One estimate's line over the tread's life: `label`, the answer, then `note`.
+fn life_line(wheel: Wheel, label: &str, reading: Option<&LifeAnswer>, note: &str) -> String {
+    match reading {
+        Some(l) if l.answer.distance_to_visible_km.is_finite() => format!(
+            "  {wheel}: {label} order {}, distance {} km over the tread's life (the tire worn out at {} km){note}",
+            plain(l.answer.polygon_order_wear, 4),
+            plain(l.answer.distance_to_visible_km.round(), 8),
+            plain(l.answer.tread_life_km.round(), 8)
+        ),
+        Some(l) => format!(
+            "  {wheel}: {label} none before the tire is worn out at {} km over the tread's life (order {} deepest, at {} of the visible depth){note}",
+            plain(l.answer.tread_life_km.round(), 8),
+            plain(l.answer.polygon_order_wear, 4),
+            plain(l.peak_share_of_visible, 2)
+        ),
+        None => format!("  {wheel}: {label} none"),
+    }
 }
 
 /// One wheel's loop verdict as the band ranks it: the distance to a visible polygon (the

@@ -3,7 +3,9 @@
 
 use super::{answer_words, band};
 use crate::analysis::Analysis;
-use polywear_core::wear::EstimateLevel;
+use polywear_core::params::Params;
+use polywear_core::wear::{EstimateLevel, FittedConstants};
+use polywear_core::wording::plain;
 
 /// The analysis in a few lines, as `analyze` and `explore` print it: failures first when they
 /// are many, the samples present, the wear answer, then vibration, fleet and scenarios.
@@ -99,9 +101,33 @@ fn print_wear(a: &Analysis, lines: &mut Vec<String>) {
             "fitted to the field on the new tire's answers",
         ),
     };
+    // The label says whose constants these are: the fitted ones, or the run's own (a study's
+    // or --set's φ_s = 1 is no fit, and the band's sets replace it).
+    let own = FittedConstants::of(&a.info.params);
+    let drawn = a
+        .info
+        .drawn_names
+        .iter()
+        .any(|id| FittedConstants::PARAMS.contains(id));
+    let departures = own.departures_from(&FittedConstants::of(&Params::default()));
+    let fitted = if drawn {
+        "drawn by the study, not the fitted constants".to_string()
+    } else if departures.is_empty() {
+        fitted.to_string()
+    } else {
+        let given: Vec<String> = departures
+            .iter()
+            .map(|(id, v, f)| format!("{id} = {} where the fit has {}", plain(*v, 6), plain(*f, 6)))
+            .collect();
+        format!(
+            "as the run gives them, not the fitted constants: {}",
+            given.join(", ")
+        )
+    };
     lines.push(format!(
         "P(visible polygonal wear within X km, before the tire is worn out), {how} (phi_s = {}, sigma_V = {} km/h, {fitted}), with 95% Wilson interval:",
-        w.share_straight, w.speed_spread_kmh
+        plain(w.share_straight, 6),
+        plain(w.speed_spread_kmh, 6)
     ));
     let rows = w.occurrence_rows();
     let start = lines.len();

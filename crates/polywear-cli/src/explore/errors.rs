@@ -18,6 +18,7 @@ pub(super) fn explore_error(e: ExploreError) -> CliError {
         | ExploreError::NothingToResume { dir, .. }
         | ExploreError::UnreadableManifest { dir, .. }
         | ExploreError::OtherGenerator { dir, .. }
+        | ExploreError::OtherVersion { dir, .. }
         | ExploreError::OtherStudy { dir, .. }
         | ExploreError::OperatingPointsChanged { dir, .. }
         | ExploreError::DifferentRun { dir, .. }
@@ -41,7 +42,9 @@ pub(super) fn explore_error(e: ExploreError) -> CliError {
             ),
             DirState::Unreadable(_) => format!("{what}; choose another --out"),
         },
-        ExploreError::OtherGenerator { .. } | ExploreError::OperatingPointsChanged { .. } => {
+        ExploreError::OtherGenerator { .. }
+        | ExploreError::OtherVersion { .. }
+        | ExploreError::OperatingPointsChanged { .. } => {
             format!("--resume: {what}")
         }
         ExploreError::OtherStudy { .. } => format!(

@@ -29,8 +29,8 @@ pub(super) fn resume_command(args: &ExploreArgs, plan: &RunPlan) -> String {
     if let Some(b) = &args.calibration_band {
         words.extend(["--calibration-band".into(), b.clone()]);
     }
-    if args.band_samples != polywear_study::calibration_band::evaluate::DEFAULT_BAND_SAMPLES {
-        words.extend(["--band-samples".into(), args.band_samples.to_string()]);
+    if let Some(n) = args.band_samples {
+        words.extend(["--band-samples".into(), n.to_string()]);
     }
     words
         .iter()

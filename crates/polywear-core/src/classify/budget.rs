@@ -136,6 +136,15 @@ impl Meter {
         self.timed_out.get()
     }
 
+    /// The meter's wall-clock limit, to carry into work that holds no meter: the wear stage's
+    /// walks over the tread's life, which read no RHS and may run on other threads.
+    pub fn deadline(&self) -> Deadline {
+        Deadline {
+            start: self.start,
+            max_seconds: self.budget.max_wheel_seconds,
+        }
+    }
+
     /// `Some(reason)` once either limit is exceeded.
     pub fn exceeded(&self) -> Option<String> {
         let b = &self.budget;
@@ -157,5 +166,47 @@ impl Meter {
             ));
         }
         None
+    }
+}
+
+/// A wheel's wall-clock limit ([`Meter::deadline`]): the same `max_wheel_seconds`, counted from
+/// the same start, for work that runs no integration (the wear stage's walks over the tread's
+/// life, the calibration band's sets), so that no wheel outlasts its budget silently.
+#[derive(Debug, Clone, Copy)]
+pub struct Deadline {
+    start: Instant,
+    max_seconds: f64,
+}
+
+impl Deadline {
+    /// A deadline that never passes (probes and tests that time nothing).
+    pub fn never() -> Self {
+        Deadline {
+            start: Instant::now(),
+            max_seconds: f64::INFINITY,
+        }
+    }
+
+    /// Whether the limit has passed.
+    pub fn passed(&self) -> bool {
+        self.start.elapsed().as_secs_f64() > self.max_seconds
+    }
+
+    /// The reason a wheel's wear figures are missing once it has: as [`Meter::exceeded`] says
+    /// it, naming the stage.
+    pub fn reason(&self) -> String {
+        format!(
+            "budget exceeded (max_wheel_seconds = {} s; {:.3} s spent, in the wear stage)",
+            self.max_seconds,
+            self.start.elapsed().as_secs_f64()
+        )
+    }
+}
+
+/// Every deadline is equal to every other: when a wheel's work must end is not part of what
+/// the work is (a wheel's growth compared with another's compares its physics).
+impl PartialEq for Deadline {
+    fn eq(&self, _: &Self) -> bool {
+        true
     }
 }

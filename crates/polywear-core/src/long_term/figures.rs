@@ -32,12 +32,12 @@ pub struct LongTermFigures {
     pub ended: Option<RunEnd>,
     /// Where the tread lost its usable depth \[km\] (NaN where it did not).
     pub worn_out_km: f64,
-    /// The tread height at the end \[mm\].
+    /// The tread height at the end, at least the worn-out tyre's \[mm\].
     pub tread_height_end_mm: f64,
     /// The tread's linear frequency (step 8) of the new tyre at the point's speed \[Hz\].
     pub tread_freq_start_hz: f64,
     /// The same at the end's tread height, the worn tread block of MODEL.md#the-ageing-tread
-    /// \[Hz\].
+    /// \[Hz\]; +inf for a tread worn to nothing (no mass left).
     pub tread_freq_end_hz: f64,
 }
 
@@ -77,10 +77,20 @@ impl WheelLongTerm {
             Ok(Some(t)) => t.halfwidth_hz,
             _ => nan,
         };
+        // The last step runs past the worn-out depth (so that it reaches it): the tread's end
+        // is the worn-out tyre's. A tread worn to nothing has no mass left, and its frequency
+        // √(K/m) is unbounded.
+        let end_height_m = e
+            .tread_height_m
+            .max(p.tread_height - p.usable_wear_m())
+            .max(0.0);
         let freq_at = |height_m: f64| {
             let Ok(m) = &self.solution.model else {
                 return nan;
             };
+            if height_m <= 0.0 {
+                return f64::INFINITY;
+            }
             WheelModel::build_worn(p, height_m, self.wheel, m.variant)
                 .map_or(nan, |m| m.ode.linear_stability().eig_freq_hz)
         };
@@ -96,9 +106,9 @@ impl WheelLongTerm {
             distance_to_visible_km: run.distance_to_visible_km(p.visible_depth_mm * 1e-3),
             ended: Some(run.ended()),
             worn_out_km: run.worn_out_km.unwrap_or(nan),
-            tread_height_end_mm: e.tread_height_m * 1e3,
+            tread_height_end_mm: end_height_m * 1e3,
             tread_freq_start_hz: freq_at(p.tread_height),
-            tread_freq_end_hz: freq_at(e.tread_height_m),
+            tread_freq_end_hz: freq_at(end_height_m),
         }
     }
 }

@@ -11,8 +11,8 @@ use crate::model::{ModelFailure, Variant, Wheel};
 use crate::params::{ParamId, Params};
 use crate::wear::estimator::{answer_saturated_per_step, SLIDING_MODULATION_MAX};
 use crate::wear::long_term::{
-    first_step_tread_s, run_wheel, slowest_cruise_kmh, Leg, LoopInputs, LoopSettings, WheelWear,
-    FEEDBACK_ORDERS, FIRST_STEP_REVS, MAX_FIRST_STEP_TREAD_S,
+    cruise_legs, first_step_tread_s, run_wheel, slowest_cruise_kmh, Leg, LoopInputs, LoopSettings,
+    WheelWear, FEEDBACK_ORDERS, FIRST_STEP_REVS, MAX_FIRST_STEP_TREAD_S,
 };
 use crate::wear::profile::SEED_ORDERS;
 use crate::wear::tongue::{self, Tongue, TongueRequest};
@@ -130,6 +130,14 @@ impl LongTermProblem {
             classifier,
         })
     }
+
+    /// Whether the legs are a cruise at the point's speed with its speed spread (the point's
+    /// per-sample estimates answer for it), not a drive cycle's speeds (whose estimates are
+    /// the legs' own, MODEL.md#along-a-drive-cycle).
+    pub fn is_cruise(&self) -> bool {
+        let p = &self.params;
+        self.legs == cruise_legs(p.speed_kmh, p.speed_spread_kmh, self.legs.len())
+    }
 }
 
 /// The distance rule of [`LongTermProblem::new`] on its own, for a caller that refuses a bad
@@ -177,12 +185,13 @@ pub struct WheelLongTerm {
     /// or why it could not be.
     pub tongue: Result<Option<Tongue>, WheelRunFailure>,
     /// The per-sample estimator over the tread's life at the point's constants
-    /// (MODEL.md#the-estimator-over-the-treads-life); `None` where the wheel has no wear
-    /// figures.
+    /// (MODEL.md#the-estimator-over-the-treads-life), on a drive cycle its legs' mean profile's
+    /// answer; `None` where the wheel has no wear figures.
     pub life: Option<LifeAnswer>,
     /// The per-sample estimator over the tread's life with each speed's print saturated (the
     /// `tread_life_saturated` level, MODEL.md#the-forced-response-saturates): the point's
-    /// spread on the estimator's own legs; `None` where the wheel has no wear figures.
+    /// spread on the estimator's own legs, on a drive cycle the cycle's legs each saturating on
+    /// its own; `None` where the wheel has no wear figures.
     pub life_saturated: Option<LifeAnswer>,
     /// The answer over the tread's life on the loop's own legs, each leg's print saturating on
     /// its own (MODEL.md#the-forced-response-saturates): the reading that accounts for the
@@ -276,9 +285,21 @@ pub fn solve(
             )
             .ok();
             let c = FittedConstants::of(&p);
-            let life = growth.as_ref().map(|g| g.life_answer(&c));
-            let life_saturated = growth.as_ref().map(|g| g.saturated_answer(&c));
-            let saturated = saturated_on_legs(problem, &stage, Wheel::BOTH[i]);
+            let on_legs = answers_on_legs(problem, &stage, Wheel::BOTH[i]);
+            let saturated = on_legs.map(|(_, saturated)| saturated);
+            let (life, life_saturated) = if problem.is_cruise() {
+                let life = growth.as_ref().map(|g| g.life_answer(&c));
+                let life_saturated = growth.as_ref().map(|g| g.saturated_answer(&c));
+                // Past the wheel's wall-clock limit the estimates are not given.
+                match growth.as_ref().is_some_and(|g| g.out_of_time().is_none()) {
+                    true => (life, life_saturated),
+                    false => (None, None),
+                }
+            } else {
+                // A drive cycle's estimates are its speeds', not the point's: its legs' mean
+                // profile, and each leg saturating on its own.
+                (on_legs.map(|(life, _)| life), saturated)
+            };
             WheelLongTerm {
                 wheel: Wheel::BOTH[i],
                 solution,
@@ -293,14 +314,14 @@ pub fn solve(
     Ok(LongTermSolution { params: p, wheels })
 }
 
-/// The answer over the tread's life of `wheel` on the problem's legs, each leg's print
-/// saturated on its own (MODEL.md#the-forced-response-saturates); `None` where no leg has wear
-/// figures.
-fn saturated_on_legs(
+/// The answers over the tread's life of `wheel` on the problem's legs: their distance-weighted
+/// mean profile's (each speed's print unbounded), and each leg's print saturating on its own
+/// (MODEL.md#the-forced-response-saturates); `None` where no leg has wear figures.
+fn answers_on_legs(
     problem: &LongTermProblem,
     stage: &WearStage,
     wheel: Wheel,
-) -> Option<LifeAnswer> {
+) -> Option<(LifeAnswer, LifeAnswer)> {
     let p = problem.params;
     let profiles = leg_profiles(
         &p,
@@ -314,12 +335,10 @@ fn saturated_on_legs(
         return None;
     }
     let steps: Vec<(f64, &LifeProfile)> = profiles.iter().map(|(a, pr)| (*a, pr)).collect();
-    Some(answer_saturated_per_step(
-        &steps,
-        &FittedConstants::of(&p),
-        &p,
-        SLIDING_MODULATION_MAX,
-    ))
+    let c = FittedConstants::of(&p);
+    let unbounded = answer_saturated_per_step(&steps, &c, &p, f64::INFINITY);
+    let saturated = answer_saturated_per_step(&steps, &c, &p, SLIDING_MODULATION_MAX);
+    Some((unbounded, saturated))
 }
 
 /// Each leg's share and the life profile of `wheel` at the leg's own speed with no further
@@ -344,10 +363,12 @@ pub fn leg_profiles(
             let w = evaluate::solve_wheel(at, variant, wheel, classifier);
             let growth =
                 WheelGrowth::new(&stage.inputs(&at, &w), &Meter::new(classifier.budget)).ok()?;
-            Some((
-                leg.share,
-                growth.life_profile(SEED_ORDERS as u32, LIFE_PROFILE_INTERVALS),
-            ))
+            let profile = growth.life_profile(SEED_ORDERS as u32, LIFE_PROFILE_INTERVALS);
+            // Past the wheel's wall-clock limit the leg has no figures.
+            growth
+                .out_of_time()
+                .is_none()
+                .then_some((leg.share, profile))
         })
         .collect()
 }

@@ -43,6 +43,17 @@ impl FittedConstants {
         }
     }
 
+    /// Where these constants differ from `fitted`'s: each parameter with (this value, the
+    /// fitted one), in [`FittedConstants::PARAMS`] order (empty where they are the same).
+    pub fn departures_from(&self, fitted: &FittedConstants) -> Vec<(ParamId, f64, f64)> {
+        Self::PARAMS
+            .iter()
+            .zip(self.values().into_iter().zip(fitted.values()))
+            .filter(|(_, (a, b))| a != b)
+            .map(|(&id, (a, b))| (id, a, b))
+            .collect()
+    }
+
     /// The values in [`FittedConstants::PARAMS`] order.
     pub fn values(&self) -> [f64; 3] {
         [

@@ -166,6 +166,22 @@ impl WheelWear {
         }
     }
 
+    /// The tread's life \[km\]: where the run wore out its `usable_m` of tread, else that depth
+    /// over the run's mean rate of wear (the tread height's fall over the distance run); +inf
+    /// where the height did not fall (a loop that holds it, or no distance).
+    pub fn tread_life_km(&self, usable_m: f64) -> f64 {
+        if let Some(km) = self.worn_out_km {
+            return km;
+        }
+        let (start, e) = (&self.history[0], self.end());
+        let worn_m = start.tread_height_m - e.tread_height_m;
+        if worn_m > 0.0 && e.distance_km > 0.0 {
+            usable_m / worn_m * e.distance_km
+        } else {
+            f64::INFINITY
+        }
+    }
+
     /// The depth \[m\] at which the dominant order stopped growing: its depth at the end where
     /// its growth fell below a tenth of its largest, NaN where it still grows or never grew.
     pub fn saturation_depth_m(&self) -> f64 {

@@ -118,15 +118,18 @@ impl BandPlan<'_> {
     /// Evaluates the subsample on the worker pool; `progress` is called with 1 for each
     /// finished sample. The rows are the same whatever the threads.
     pub fn evaluate(&self, progress: &(dyn Fn(u64) + Sync)) -> Vec<BandSample> {
-        self.evaluate_indices(&self.indices(), progress)
+        self.evaluate_indices(&self.indices(), progress, &|| false)
+            .expect("never stopped")
     }
 
-    /// [`BandPlan::evaluate`] of the samples `indices` only.
+    /// [`BandPlan::evaluate`] of the samples `indices` only; None once `stop` says so (asked
+    /// before each sample, so a stop waits for the samples in flight alone).
     fn evaluate_indices(
         &self,
         indices: &[u64],
         progress: &(dyn Fn(u64) + Sync),
-    ) -> Vec<BandSample> {
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Option<Vec<BandSample>> {
         let sampler = self.study.sampler(self.seed, self.samples);
         let opts = ClassifierOptions {
             budget: self.study.budget,
@@ -135,10 +138,13 @@ impl BandPlan<'_> {
         indices
             .par_iter()
             .map(|&i| {
+                if stop() {
+                    return None;
+                }
                 let (p, _) = sampler.sample(i);
                 let s = self.sample(i, &p, &opts);
                 progress(1);
-                s
+                Some(s)
             })
             .collect()
     }
@@ -281,27 +287,31 @@ impl BandPlan<'_> {
 
     /// Evaluates the subsample and streams its rows crash-safely to `dir`/[`BAND_FILE`], one
     /// row group per [`BATCH_SAMPLES`] samples (so memory stays flat in the subsample's size),
-    /// then writes its digest ([`BAND_DIGEST`]); the old digest goes first, so a run killed in
-    /// between leaves a band that `analyze` refuses as unverified, never one it trusts.
-    /// `progress` is called with 1 for each finished sample.
+    /// then writes its digest ([`BAND_DIGEST`]); the digest says `pending` until then
+    /// ([`mark_pending`]), so a run stopped in between leaves a band that `analyze` refuses as
+    /// unfinished, never one it trusts. `progress` is called with 1 for each finished sample;
+    /// `stop` is asked between batches, and a stop leaves the band pending.
     pub fn write(
         &self,
         dir: &Path,
         run_metadata: Vec<(String, String)>,
         progress: &(dyn Fn(u64) + Sync),
-    ) -> Result<PathBuf, String> {
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<PathBuf, BandWriteError> {
         let path = dir.join(BAND_FILE);
         let digest_path = dir.join(BAND_DIGEST);
-        let at = |p: &Path, e: &dyn std::fmt::Display| format!("{}: {e}", p.display());
-        match std::fs::remove_file(&digest_path) {
-            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(at(&digest_path, &e)),
-            _ => {}
-        }
+        let at = |p: &Path, e: &dyn std::fmt::Display| {
+            BandWriteError::Io(format!("{}: {e}", p.display()))
+        };
+        mark_pending(dir, &self.band_source).map_err(BandWriteError::Io)?;
         let indices = self.indices();
         let meta = self.metadata(run_metadata);
         let mut writer: Option<crate::parquet_out::TableWriter> = None;
         for batch in indices.chunks(BATCH_SAMPLES) {
-            let cols = self.columns(&self.evaluate_indices(batch, progress));
+            let rows = self
+                .evaluate_indices(batch, progress, stop)
+                .ok_or(BandWriteError::Stopped)?;
+            let cols = self.columns(&rows);
             if writer.is_none() {
                 writer = Some(
                     crate::parquet_out::TableWriter::create(&path, &cols, &meta)
@@ -310,6 +320,9 @@ impl BandPlan<'_> {
             }
             let w = writer.as_mut().expect("created above");
             w.write(&cols).map_err(|e| at(&path, &e))?;
+        }
+        if stop() {
+            return Err(BandWriteError::Stopped);
         }
         let digest = writer
             .ok_or_else(|| at(&path, &"no sample to evaluate"))?
@@ -326,34 +339,118 @@ impl BandPlan<'_> {
     }
 }
 
-/// Checks `dir`'s band file against its digest: None when it matches, else why not.
-pub fn verify(dir: &Path) -> Option<String> {
+/// Why the band was not written.
+#[derive(Debug, thiserror::Error)]
+pub enum BandWriteError {
+    /// Stopped (a signal) between batches: the band stays pending, `--resume` writes it.
+    #[error("stopped before the calibration band was finished")]
+    Stopped,
+    /// A file could not be written (the message names it).
+    #[error("{0}")]
+    Io(String),
+}
+
+/// What the band's digest says of the band ([`band_state`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum BandState {
+    /// Neither a band nor its digest: the run asked for none (`--calibration-band off`, no
+    /// wear stage), or polywear before the digest was written at the run's start.
+    Absent,
+    /// The digest says the band was asked for and is not finished: the run stopped before or
+    /// during its band pass (`--resume` writes it).
+    Pending,
+    /// The band file matches its digest.
+    Verified,
+    /// The band or its digest cannot be trusted, and why.
+    Refused(String),
+}
+
+/// The band's state in `dir` from its digest: the digest is written `pending` before the run's
+/// first chunk where a band is asked for, and with the band file's size and CRC-32 once the
+/// band is written, so that a run stopped anywhere never leaves a band (or its absence) that
+/// `analyze` takes for finished. Only regular files are read, within a small bound: a link, a
+/// FIFO or a device in the digest's or the band's place is refused, never followed or read.
+pub fn band_state(dir: &Path) -> BandState {
     let digest_path = dir.join(BAND_DIGEST);
-    let text = match std::fs::read_to_string(&digest_path) {
-        Ok(t) => t,
-        Err(_) => {
-            return Some(format!(
-                "no {BAND_DIGEST} beside it (the run was stopped while writing it)"
-            ))
+    let band_path = dir.join(BAND_FILE);
+    let present = |p: &Path| std::fs::symlink_metadata(p).ok();
+    let (digest_meta, band_meta) = (present(&digest_path), present(&band_path));
+    for (name, meta) in [(BAND_DIGEST, &digest_meta), (BAND_FILE, &band_meta)] {
+        if let Some(m) = meta {
+            if !m.file_type().is_file() {
+                return BandState::Refused(format!(
+                    "{name} is {}, not the regular file explore writes",
+                    crate::safe_read::kind_name(&m.file_type())
+                ));
+            }
         }
+    }
+    let Some(digest_meta) = digest_meta else {
+        return match band_meta {
+            None => BandState::Absent,
+            Some(_) => BandState::Refused(format!(
+                "no {BAND_DIGEST} beside it (the run was stopped while writing it)"
+            )),
+        };
     };
-    let recorded: serde_json::Value = match serde_json::from_str(&text) {
-        Ok(v) => v,
-        Err(e) => return Some(format!("{BAND_DIGEST} is damaged: {e}")),
-    };
-    let found = match crate::parquet_out::FileDigest::of_file(&dir.join(BAND_FILE)) {
-        Ok(d) => d,
-        Err(e) => return Some(e.to_string()),
-    };
-    let (bytes, crc) = (recorded["bytes"].as_u64(), recorded["crc32"].as_u64());
-    if bytes != Some(found.bytes) || crc != Some(u64::from(found.crc32)) {
-        return Some(format!(
-            "its size and CRC-32 ({} bytes, {:08x}) differ from those recorded in {BAND_DIGEST} ({} bytes, {:08x}): the file changed after the run",
-            found.bytes,
-            found.crc32,
-            bytes.unwrap_or(0),
-            crc.unwrap_or(0)
+    if digest_meta.len() > MAX_DIGEST_BYTES {
+        return BandState::Refused(format!(
+            "{BAND_DIGEST} is damaged: {} bytes, where explore writes under {MAX_DIGEST_BYTES}",
+            digest_meta.len()
         ));
     }
-    None
+    let recorded = match crate::safe_read::read_text(&digest_path, crate::safe_read::Limit::Text)
+        .map_err(|e| e.reason())
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).map_err(|e| e.to_string()))
+    {
+        Ok(v) => v,
+        Err(e) => return BandState::Refused(format!("{BAND_DIGEST} is damaged: {e}")),
+    };
+    if recorded.get("status").and_then(|s| s.as_str()) == Some(PENDING) {
+        return BandState::Pending;
+    }
+    let (bytes, crc) = (recorded["bytes"].as_u64(), recorded["crc32"].as_u64());
+    let (Some(bytes), Some(crc)) = (bytes, crc) else {
+        return BandState::Refused(format!(
+            "{BAND_DIGEST} is damaged: it records neither `status` = \"{PENDING}\" nor the band's `bytes` and `crc32`"
+        ));
+    };
+    if band_meta.is_none() {
+        return BandState::Refused(format!(
+            "{BAND_FILE} is missing where {BAND_DIGEST} records it"
+        ));
+    }
+    let found = match crate::parquet_out::FileDigest::of_file(&band_path) {
+        Ok(d) => d,
+        Err(e) => return BandState::Refused(e.to_string()),
+    };
+    if bytes != found.bytes || crc != u64::from(found.crc32) {
+        return BandState::Refused(format!(
+            "its size and CRC-32 ({} bytes, {:08x}) differ from those recorded in {BAND_DIGEST} ({bytes} bytes, {crc:08x}): the file changed after the run",
+            found.bytes, found.crc32,
+        ));
+    }
+    BandState::Verified
+}
+
+/// The digest's `status` while the band is asked for and not written.
+const PENDING: &str = "pending";
+
+/// The largest digest explore writes is under 200 bytes: one far larger is not its.
+const MAX_DIGEST_BYTES: u64 = 4096;
+
+/// Marks `dir`'s band as asked for and not finished (its digest `pending`, the old band file
+/// removed): written before the run's chunks, so that a run stopped anywhere before the band is
+/// whole leaves a band `analyze` refuses with the command that finishes it.
+pub fn mark_pending(dir: &Path, band_source: &str) -> Result<(), String> {
+    let at = |p: &Path, e: &dyn std::fmt::Display| format!("{}: {e}", p.display());
+    let json = serde_json::json!({ "status": PENDING, "band_source": band_source });
+    let digest_path = dir.join(BAND_DIGEST);
+    crate::safe_write::write_durably(&digest_path, format!("{json}\n").as_bytes())
+        .map_err(|e| at(&digest_path, &e))?;
+    let band_path = dir.join(BAND_FILE);
+    match std::fs::remove_file(&band_path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(at(&band_path, &e)),
+        _ => Ok(()),
+    }
 }

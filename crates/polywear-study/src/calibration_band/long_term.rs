@@ -13,8 +13,9 @@ use polywear_core::classify::budget::Meter;
 use polywear_core::evaluate::WearStage;
 use polywear_core::long_term::{self, LongTermError, LongTermProblem, LongTermSolution};
 use polywear_core::params::Params;
+use polywear_core::wear::estimator::{SaturatedSteps, SLIDING_MODULATION_MAX};
 use polywear_core::wear::long_term::Leg;
-use polywear_core::wear::{FittedConstants, WearSettings, WheelGrowth};
+use polywear_core::wear::{FittedConstants, WearAnswer, WearSettings, WheelGrowth};
 
 use rayon::prelude::*;
 
@@ -81,16 +82,37 @@ pub fn chosen(
         .collect();
     let mut picked: Vec<(usize, String)> = Vec::new();
     for w in &run.wheels {
-        let Ok(growth) = WheelGrowth::new(
-            &stage.inputs(p, &w.solution),
-            &Meter::new(problem.classifier.budget),
-        ) else {
-            continue;
+        // A cruise's sets are ranked by the point's estimate; a drive cycle's by its legs'
+        // answers (each leg saturating on its own), since the point is not what it drives.
+        let answers: Vec<WearAnswer> = if problem.is_cruise() {
+            let Ok(growth) = WheelGrowth::new(
+                &stage.inputs(p, &w.solution),
+                &Meter::new(problem.classifier.budget),
+            ) else {
+                continue;
+            };
+            growth.answers_with(&constants)
+        } else {
+            let legs = long_term::leg_profiles(
+                p,
+                problem.variant,
+                w.wheel,
+                &problem.legs,
+                &stage,
+                &problem.classifier,
+            );
+            if legs.is_empty() {
+                continue;
+            }
+            let steps = SaturatedSteps::new(legs);
+            constants
+                .iter()
+                .map(|c| steps.answer(c, p, SLIDING_MODULATION_MAX).answer)
+                .collect()
         };
         // Ranked by the distance to a visible polygon, then (where none grows, as at most
         // points) by the tread's life: the band's ends are then the tire's shortest and
         // longest life.
-        let answers = growth.answers_with(&constants);
         let order = |a: &usize, b: &usize| {
             let (x, y) = (&answers[*a], &answers[*b]);
             x.distance_to_visible_km

@@ -15,6 +15,7 @@ use std::collections::BTreeSet;
 
 use polywear_core::params::{ParamId, Params};
 use polywear_core::wear::FittedConstants;
+use polywear_core::wording::plain;
 
 /// The shipped sets.
 pub const SHIPPED: &str = include_str!("../../../../data/calibration_band.toml");
@@ -104,7 +105,17 @@ impl CalibrationBand {
             return Err(refuse("empty file; accepted: TOML with `method`, `generated_by` and one `[[set]]` per calibrated set".into()));
         }
         let band: CalibrationBand =
-            toml::from_str(text).map_err(|e| refuse(e.message().to_string()))?;
+            toml::from_str(text).map_err(|e| refuse(toml_refusal(text, &e)))?;
+        for (key, value) in [
+            ("method", &band.method),
+            ("generated_by", &band.generated_by),
+        ] {
+            if let Some(why) = not_a_plain_line(value) {
+                return Err(refuse(format!(
+                    "`{key}` {why}; accepted: one line of printable text, at most {MAX_TEXT_CHARS} characters"
+                )));
+            }
+        }
         if band.sets.is_empty() {
             return Err(refuse("no [[set]]: a band needs at least one".into()));
         }
@@ -127,6 +138,12 @@ impl CalibrationBand {
                     "{at}: `id` must be non-empty letters, digits, `_`, `-` or `.`"
                 )));
             }
+            if s.id == evaluate::RUN_SET {
+                return Err(refuse(format!(
+                    "{at}: `id` = `{}` is reserved for the run's own constants in the band's rows; choose another id",
+                    evaluate::RUN_SET
+                )));
+            }
             if !ids.insert(s.id.clone()) {
                 return Err(refuse(format!("{at}: `id` repeats an earlier set's")));
             }
@@ -134,8 +151,9 @@ impl CalibrationBand {
                 let spec = id.spec();
                 if spec.check(v).is_err() {
                     return Err(refuse(format!(
-                        "{at}: `{}` = {v}: accepted {} ({})",
+                        "{at}: `{}` = {}: accepted {} ({})",
                         spec.name,
+                        plain(v, 12),
                         spec.range_text(),
                         spec.unit
                     )));
@@ -149,6 +167,56 @@ impl CalibrationBand {
             )));
         }
         Ok(band)
+    }
+
+    /// Refuses a band whose sets a scenario of `study` takes outside a parameter's accepted
+    /// range: a scenario's changes are made to each set's constants as to the run's
+    /// ([`evaluate::BandPlan`]), so `wear_share_straight = { scale = 5 }` takes a set at
+    /// φ_s = 0.23 to 1.15, outside (0, 1], even where the run's own value stays inside. Named:
+    /// the file, the scenario's key, the set and the range.
+    pub fn check_scenarios(
+        &self,
+        study: &crate::study::Study,
+        file: &str,
+    ) -> Result<(), BandError> {
+        for scenario in &study.scenarios {
+            for change in &scenario.changes {
+                let Some(k) = FittedConstants::PARAMS
+                    .iter()
+                    .position(|&id| id == change.param)
+                else {
+                    continue;
+                };
+                let spec = change.param.spec();
+                let out: Vec<(&CalibratedSet, f64, f64)> = self
+                    .sets
+                    .iter()
+                    .map(|set| {
+                        let from = set.constants().values()[k];
+                        (set, from, change.change.apply(from))
+                    })
+                    .filter(|(_, _, to)| spec.check(*to).is_err())
+                    .collect();
+                if let Some(&(set, from, to)) = out.first() {
+                    return Err(BandError {
+                        file: file.to_string(),
+                        what: format!(
+                            "{}: {} takes {} of the band's {} sets outside the accepted range {} of `{}` (set `{}` from {} to {}); change the scenario, or give another band (--calibration-band FILE or off)",
+                            scenario.key(change.param),
+                            change.words(),
+                            out.len(),
+                            self.sets.len(),
+                            spec.range_text(),
+                            spec.name,
+                            set.id,
+                            plain(from, 12),
+                            plain(to, 12),
+                        ),
+                    });
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The nominal set.
@@ -205,6 +273,44 @@ impl CalibrationBand {
     }
 }
 
+/// The most characters of a band file's `method` and `generated_by`: what the report quotes
+/// (a sentence, a command), never a document.
+pub const MAX_TEXT_CHARS: usize = 400;
+
+/// Why `text` is not one plain line for the report and the summary (a line break, a control
+/// character, or more than [`MAX_TEXT_CHARS`]), or None.
+fn not_a_plain_line(text: &str) -> Option<String> {
+    let n = text.chars().count();
+    if n > MAX_TEXT_CHARS {
+        return Some(format!("holds {n} characters"));
+    }
+    if text.trim().is_empty() {
+        return Some("is empty".into());
+    }
+    text.chars()
+        .find(|c| c.is_control())
+        .map(|c| format!("holds the control character {:?}", c))
+}
+
+/// A TOML error of a band file in words: where (line, and the `[[set]]` it falls in) and what.
+fn toml_refusal(text: &str, e: &toml::de::Error) -> String {
+    let what = e.message().trim_end().to_string();
+    let Some(span) = e.span() else {
+        return what;
+    };
+    let before = &text[..span.start.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let sets_before = before
+        .lines()
+        .filter(|l| l.trim_start().starts_with("[[set]]"))
+        .count();
+    if sets_before == 0 {
+        format!("line {line}: {what}")
+    } else {
+        format!("line {line} (set {sets_before}): {what}")
+    }
+}
+
 /// Each constant's (lowest, highest) over `sets`, in [`FittedConstants::PARAMS`] order.
 pub fn constant_ranges(sets: &[CalibratedSet]) -> Vec<(ParamId, f64, f64)> {
     FittedConstants::PARAMS
@@ -229,8 +335,13 @@ fn toml_number(x: f64) -> String {
     } else if x == x.trunc() && x.abs() < 1e15 {
         format!("{x:.1}")
     } else {
-        format!("{x}")
+        plain_data(x)
     }
+}
+
+/// A TOML float: [`polywear_core::wording::data_number`] (exact, `1e300` not 301 digits).
+fn plain_data(x: f64) -> String {
+    polywear_core::wording::data_number(x)
 }
 
 #[cfg(test)]

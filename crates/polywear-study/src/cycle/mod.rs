@@ -114,6 +114,28 @@ pub enum CycleError {
         /// The tire structures asked for.
         structures: u64,
     },
+    /// A constant of the tire's life that changes from step to step.
+    #[error("{at}: `{name}` = {} differs from the first step's {}: it is a constant of the tire's whole life (the lifetime verdict reads it once), so a cycle gives it one value: a column constant over the cycle, or `--set {name}=...`", plain(*value, 12), plain(*first, 12))]
+    VaryingLifeConstant {
+        /// File, row and column.
+        at: String,
+        /// The parameter.
+        name: &'static str,
+        /// The first step's value.
+        first: f64,
+        /// This step's.
+        value: f64,
+    },
+    /// A parameter a drive cycle does not use.
+    #[error("{}: column `{name}`: {why}; leave it out", path.display())]
+    UnusedColumn {
+        /// The cycle file.
+        path: PathBuf,
+        /// The column.
+        name: &'static str,
+        /// Why the cycle does not use it.
+        why: &'static str,
+    },
     /// A value outside its parameter's range, or a step whose parameters do not fit together.
     #[error("{at}: {source}")]
     Param {
@@ -147,6 +169,25 @@ const BATCH_BLOCKS: usize = 64;
 /// stage, its growth of each order and the calibration band's, 1.32 GB at 200,000 steps), so a larger run is refused before any work instead
 /// of exhausting the memory hours in. A million steps is 11.6 days of driving logged at 1 Hz.
 pub const STEP_EVALUATIONS_MAX: u64 = 1_000_000;
+
+/// The parameters a cycle's lifetime verdict reads once for the tire's whole life
+/// (MODEL.md#along-a-drive-cycle): the steps share one tread, so its depths, its seed, what
+/// counts as visible and the fitted constants that share its even wear cannot change from step
+/// to step. A column of one of them must hold one value, which the whole life then takes.
+pub const LIFE_CONSTANTS: [ParamId; 9] = [
+    ParamId::WearShareStraight,
+    ParamId::WearRateDrivenFactor,
+    ParamId::WearRateRef,
+    ParamId::SeedRunoutUm,
+    ParamId::VisibleDepthMm,
+    ParamId::LimitDepthMm,
+    ParamId::TreadDepthNewMm,
+    ParamId::TreadDepthWornOutMm,
+    ParamId::CarcassShare,
+];
+
+/// Why a drive cycle does not use `speed_spread_kmh`: its speeds are its spread.
+pub const NO_SPREAD: &str = "a drive cycle does not use the speed spread: its steps' speeds are its spread (MODEL.md#along-a-drive-cycle)";
 
 /// A checked drive cycle.
 #[derive(Debug, Clone)]
@@ -251,6 +292,27 @@ impl DriveCycle {
                 step.push(row[j]);
             }
             values.push(step);
+        }
+        for (k, (&j, &id)) in cols.iter().zip(&names).enumerate() {
+            if id == ParamId::SpeedSpreadKmh {
+                return Err(CycleError::UnusedColumn {
+                    path: path.to_path_buf(),
+                    name: id.name(),
+                    why: NO_SPREAD,
+                });
+            }
+            if !LIFE_CONSTANTS.contains(&id) {
+                continue;
+            }
+            let first = values[0][k];
+            if let Some(i) = values.iter().position(|step| step[k] != first) {
+                return Err(CycleError::VaryingLifeConstant {
+                    at: t.at(i, j),
+                    name: id.name(),
+                    first,
+                    value: values[i][k],
+                });
+            }
         }
         let cycle = DriveCycle {
             path: path.to_path_buf(),
@@ -370,6 +432,19 @@ impl DriveCycle {
         }
         if !self.standstill(i) {
             p.speed_kmh = self.speed_kmh[i];
+        }
+        p
+    }
+
+    /// `base` with the cycle's columns of [`LIFE_CONSTANTS`] (each one value over the cycle):
+    /// the parameters of the tire's whole life, which its lifetime verdict reads (the seed, the
+    /// visible depth, the usable tread, the fitted constants), as every step reads them.
+    pub fn whole_life(&self, base: &Params) -> Params {
+        let mut p = *base;
+        for (k, &id) in self.names.iter().enumerate() {
+            if LIFE_CONSTANTS.contains(&id) {
+                p[id] = self.values[0][k];
+            }
         }
         p
     }

@@ -102,11 +102,17 @@ pub fn step_growth(
         full_share_per_1000km: at(1.0),
         other_levelling_per_1000km: (a, growth.other_levelling_per_1000km(1.0) - a),
     };
+    let life = (stage.settings.estimate != EstimateLevel::NewTire)
+        .then(|| growth.life_profile(CYCLE_ORDERS_MAX, LIFE_PROFILE_INTERVALS));
+    // Past the wheel's wall-clock limit the step has no figures, as a failed step (its
+    // distance counted as without figures), never a profile laid out in part.
+    if growth.out_of_time().is_some() {
+        return StepGrowth::default();
+    }
     StepGrowth {
         orders_per_1000km: at(p.wear_share_straight),
         band: Some(band),
-        life: (stage.settings.estimate != EstimateLevel::NewTire)
-            .then(|| growth.life_profile(CYCLE_ORDERS_MAX, LIFE_PROFILE_INTERVALS)),
+        life,
     }
 }
 

@@ -137,6 +137,15 @@ pub enum ExploreError {
         /// The generator the run recorded.
         recorded: Option<String>,
     },
+    /// The recorded run was written by another polywear version: its rows might not be this
+    /// build's, so it is not continued (resuming it again would say the same).
+    #[error("{}: this run was written by polywear {recorded}; polywear {} cannot continue it (its rows could differ from the {recorded} rows already saved): finish it with polywear {recorded}, or start a new run in another --out", dir.display(), crate::provenance::POLYWEAR_VERSION)]
+    OtherVersion {
+        /// The output directory.
+        dir: PathBuf,
+        /// The version the run recorded.
+        recorded: String,
+    },
     /// The recorded run is of another study text.
     #[error("{}: this directory holds a run of another study; the lines that differ (- the run's, + this one's):\n    {}", dir.display(), lines.join("\n    "))]
     OtherStudy {

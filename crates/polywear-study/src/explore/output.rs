@@ -139,6 +139,12 @@ impl RunPlan {
                 recorded: old.rng,
             });
         }
+        if old.polywear_version != new.polywear_version {
+            return Err(ExploreError::OtherVersion {
+                dir: dir.clone(),
+                recorded: old.polywear_version,
+            });
+        }
         if old.study != new.study {
             return Err(ExploreError::OtherStudy {
                 dir: dir.clone(),
@@ -168,17 +174,12 @@ impl RunPlan {
         } else {
             None
         };
-        let what = change(
-            "polywear_version",
-            &old.polywear_version,
-            &new.polywear_version,
-        )
-        .or(what)
-        .or_else(|| change("seed", &old.seed, &new.seed))
-        .or_else(|| change("samples", &old.samples, &new.samples))
-        .or_else(|| change("chunk_size", &old.chunk_size, &new.chunk_size))
-        .or_else(|| change("shard", &old.shard.to_string(), &new.shard.to_string()))
-        .or_else(|| change("wear stage", &old.wear, &new.wear));
+        let what = what
+            .or_else(|| change("seed", &old.seed, &new.seed))
+            .or_else(|| change("samples", &old.samples, &new.samples))
+            .or_else(|| change("chunk_size", &old.chunk_size, &new.chunk_size))
+            .or_else(|| change("shard", &old.shard.to_string(), &new.shard.to_string()))
+            .or_else(|| change("wear stage", &old.wear, &new.wear));
         if let Some(what) = what {
             return Err(ExploreError::DifferentRun {
                 dir: dir.clone(),

@@ -106,8 +106,11 @@ impl ExploreRequest {
             accept,
         )?);
         study.wear = wear_settings(args, &study, recorded.as_ref().map(|(_, run)| run))?;
+        notes.extend(overridden_wear_keys(args, &study, &origin));
         let wear = RunPlan::wear_stage(&study).map_err(|e| Refusal(format!("{origin}: {e}")))?;
-        study.budget = budget(study.budget)?;
+        let asked = budget(study.budget)?;
+        notes.extend(overridden_budget_keys(&study, &asked, &origin));
+        study.budget = asked;
         let recorded_samples = recorded
             .as_ref()
             .map(|(_, run)| run.samples / study.evaluations(1));
@@ -231,6 +234,50 @@ fn wear_settings(
         }
         _ => Ok(run.wear),
     }
+}
+
+/// One line for each of the study's wear settings a flag replaces ("no silent override": the
+/// flag wins, and the run says so).
+fn overridden_wear_keys(args: &ExploreRequest, study: &Study, origin: &str) -> Vec<String> {
+    let flags = [
+        ("wear_zone", args.wear_zone.map(|z| z.to_string())),
+        ("wear_power", args.wear_power.map(|p| p.to_string())),
+        ("wear_estimate", args.wear_estimate.map(|e| e.to_string())),
+    ];
+    flags
+        .into_iter()
+        .filter_map(|(key, flag)| {
+            let (flag, theirs) = (flag?, study.key_text(key)?);
+            (flag != theirs).then(|| {
+                format!(
+                    "note: --{} {flag} overrides {origin}'s {key} = \"{theirs}\"",
+                    key.replace('_', "-")
+                )
+            })
+        })
+        .collect()
+}
+
+/// One line for each of the study's work limits the budget flags replace.
+fn overridden_budget_keys(study: &Study, asked: &WheelBudget, origin: &str) -> Vec<String> {
+    let mut notes = Vec::new();
+    if let Some(theirs) = study.key_text("max_rhs_evals") {
+        if asked.max_rhs_evals != study.budget.max_rhs_evals {
+            notes.push(format!(
+                "note: --max-rhs-evals {} overrides {origin}'s max_rhs_evals = {theirs}",
+                asked.max_rhs_evals
+            ));
+        }
+    }
+    if let Some(theirs) = study.key_text("max_wheel_seconds") {
+        if asked.max_wheel_seconds != study.budget.max_wheel_seconds {
+            notes.push(format!(
+                "note: --max-wheel-seconds {} overrides {origin}'s max_wheel_seconds = {theirs}",
+                polywear_core::wording::plain(asked.max_wheel_seconds, 12)
+            ));
+        }
+    }
+    notes
 }
 
 /// The wear flags given, as typed: "--wear-zone Z", "--wear-power P", "--wear-estimate E".

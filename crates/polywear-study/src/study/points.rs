@@ -114,7 +114,7 @@ impl Sampler<'_> {
     /// [`Sampler::sample`], with the operating-point row the sample drew (0-based), if any; the
     /// values are in [`Study::value_names`] order.
     pub fn sample_with_row(&self, index: u64) -> (Params, Vec<f64>, Option<usize>) {
-        let (mut p, mut values) = self.sample(index);
+        let (mut p, mut values) = self.design_sample(index);
         let Some(op) = &self.study.operating_points else {
             return (p, values, None);
         };

@@ -49,9 +49,19 @@ pub struct Sampler<'a> {
 }
 
 impl Sampler<'_> {
-    /// Parameter set of sample `index`, and the drawn values in the study's `drawn` order
-    /// (without the operating-point row: see [`Sampler::sample_with_row`]).
+    /// Parameter set of sample `index`, and its values in [`Study::value_names`] order: the
+    /// drawn parameters, then the operating-point row's columns where the study has
+    /// `[operating_points]` ([`Sampler::sample_with_row`] names the row). Every evaluation of a
+    /// run's sample (its rows, the calibration band, optimize) draws it here, so that none
+    /// leaves the fleet's row out.
     pub fn sample(&self, index: u64) -> (Params, Vec<f64>) {
+        let (p, values, _) = self.sample_with_row(index);
+        (p, values)
+    }
+
+    /// The design's values of sample `index` alone, in the study's `drawn` order, on the
+    /// study's base (without the operating-point row).
+    pub(super) fn design_sample(&self, index: u64) -> (Params, Vec<f64>) {
         let mut p = self.study.base;
         let values: Vec<f64> = if self.study.design == Design::Grid {
             let sizes: Vec<usize> = self.grid.iter().map(Vec::len).collect();

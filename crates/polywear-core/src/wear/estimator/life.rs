@@ -24,6 +24,7 @@ use crate::model::ContactPatch;
 use crate::params::Params;
 use crate::wear::fitted::{FittedConstants, WearAnswer};
 use crate::wear::law::MM_PER_1000KM_PER_M_PER_M;
+use crate::wear::long_term::FEEDBACK_ORDERS;
 use crate::wear::spread::NormalSpeeds;
 use crate::wear::transfer::PoleExpansion;
 
@@ -309,6 +310,20 @@ impl TransferNodes {
         let base = self.moments[k - 1];
         (g, std::array::from_fn(|m| base[m] + seg[m]))
     }
+}
+
+/// The orders ν passes over the tread's life, ⌊ν₀⌋ − 2 (at least 1) … ⌈ν₀ f_end/f₀⌉ + 2, for a
+/// new tire's `nu_new` and f₀/f_end = `end_ratio`; the last no higher than the orders the
+/// long-term loop resolves ([`FEEDBACK_ORDERS`]: its profile feeds back no higher order, the
+/// zone filtering what lies beyond) or, where ν₀ itself lies beyond them, than ⌈ν₀⌉ + 2
+/// (MODEL.md#the-estimator-over-the-treads-life). The ceiling bounds the walk's work whatever
+/// the depths: a tread worn to nothing has f_end = ∞ (its mass ρabh is gone), and ν would
+/// pass every order.
+pub(in crate::wear::estimator) fn passed_orders(nu_new: f64, end_ratio: f64) -> (u32, u32) {
+    let lo = (nu_new.floor() - 2.0).max(1.0);
+    let ceiling = (FEEDBACK_ORDERS as f64).max(nu_new.ceil() + 2.0);
+    let hi = ((nu_new / end_ratio).ceil() + 2.0).min(ceiling).max(lo);
+    (lo as u32, hi as u32)
 }
 
 /// f₀/f(h₀ − w) over the worn depth w ∈ \[0, usable\]: the new tread's undamped frequency
@@ -598,10 +613,7 @@ impl WheelGrowth {
     /// orders ν passes, each with its zone transfer H_w(n), forcing e_n and tongue.
     fn life_orders(&self) -> LifeOrders {
         let drift = TreadDrift::of(&self.params, &self.patch);
-        let nu = self.nu();
-        let end = drift.at_end();
-        let lo = (nu.floor() - 2.0).max(1.0) as u32;
-        let hi = ((nu / end).ceil() + 2.0).max(lo as f64) as u32;
+        let (lo, hi) = passed_orders(self.nu(), drift.at_end());
         self.life_orders_over(drift, lo, hi)
     }
 
@@ -736,6 +748,11 @@ impl WheelGrowth {
                 .at(order, centre_mps, half_mps)
         };
         for (n, &(zone, forcing, (centre_mps, half_mps))) in (lo..=hi).zip(fixed) {
+            // Past the wheel's wall-clock limit no answer is given (the callers ask
+            // out_of_time): the walk stops.
+            if self.deadline.passed() {
+                break;
+            }
             let order = n as f64;
             let order_loop = self.order_loop(zone, forcing, share, other_per_share);
             let (centre_at_n, half_at_n) = (centre_mps * order, half_mps * order);

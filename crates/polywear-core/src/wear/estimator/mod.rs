@@ -34,7 +34,7 @@ use super::slip::{SlipPower, WearPower};
 use super::transfer::{equilibrium_expansion, Linearisation, PoleExpansion};
 use super::zone::WearZone;
 use super::{Complex64, WearError};
-use crate::classify::budget::Meter;
+use crate::classify::budget::{Deadline, Meter};
 use crate::classify::{Class, WheelVerdict};
 use crate::model::{ModelFailure, WheelModel};
 use crate::params::Params;
@@ -330,6 +330,9 @@ pub struct WheelGrowth {
     /// The contact patch, whose tread block ages in the answer over the tread's life (its
     /// drift is built there, off the new tire's path).
     patch: crate::model::ContactPatch,
+    /// The wheel's wall-clock limit (the meter's it was built with): every walk polls it, and
+    /// an answer given after it passed is unknown, with its reason ([`WheelGrowth::out_of_time`]).
+    deadline: Deadline,
 }
 
 impl WheelGrowth {
@@ -380,7 +383,15 @@ impl WheelGrowth {
             share: p.wear_share_straight,
             spread_mps: p.speed_spread_kmh / 3.6,
             patch: model.patch,
+            deadline: meter.deadline(),
         })
+    }
+
+    /// Why the wheel's answers are unknown, once its wall-clock limit (`max_wheel_seconds`)
+    /// has passed: a walk that finds it passed stops, and every answer given after it is
+    /// replaced by this reason, never by a figure walked only in part.
+    pub fn out_of_time(&self) -> Option<String> {
+        self.deadline.passed().then(|| self.deadline.reason())
     }
 
     /// ν = f/f_rot.
@@ -446,7 +457,7 @@ impl WheelGrowth {
     /// the answers of [`WheelGrowth::life_answers_with`] over the tread's life, and of
     /// [`WheelGrowth::saturated_answers_with`] saturated.
     pub fn answers_on(&self, level: EstimateLevel, sets: &[FittedConstants]) -> Vec<WearAnswer> {
-        match level {
+        let answers = match level {
             EstimateLevel::NewTire => self.answers_with(sets),
             EstimateLevel::TreadLife => self
                 .life_answers_with(sets)
@@ -458,7 +469,11 @@ impl WheelGrowth {
                 .into_iter()
                 .map(|a| a.answer)
                 .collect(),
+        };
+        if self.out_of_time().is_some() {
+            return vec![WearAnswer::UNKNOWN; sets.len()];
         }
+        answers
     }
 
     /// The answer under `c` from its spread's terms, one per order of [`orders_around`] ν.
@@ -986,6 +1001,9 @@ pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
             )
         }
     };
+    if let Some(reason) = growth.out_of_time() {
+        return WearEstimate::undefined(share, reason);
+    }
     let even = growth.even_wear_m_per_m();
     WearEstimate {
         wear_even_mm_per_1000km: even * MM_PER_1000KM_PER_M_PER_M,
@@ -1068,3 +1086,6 @@ mod band_tests {
         );
     }
 }
+
+#[cfg(test)]
+mod bounds_tests;

@@ -317,8 +317,9 @@ impl WheelGrowth {
             (from_order..=max_order).zip(self.feedback.zones_and_forcings(from_order))
         {
             // (The zones are taken by rotation from `from_order` on, so an order's figures do
-            // not depend on which orders are profiled.)
-            if !profiled(n) {
+            // not depend on which orders are profiled.) Past the wheel's wall-clock limit no
+            // order is laid out: the callers ask out_of_time and give no answer.
+            if !profiled(n) || self.deadline.passed() {
                 integrals.extend(std::iter::repeat_n(0.0, points));
                 base_per_share.push(0.0);
                 full_print_per_share.push(0.0);

@@ -24,8 +24,8 @@
 use super::answer_saturated_per_step;
 use super::profile::DepthGrid;
 use super::{
-    LifeAnswer, LifeProfile, Nodes, SaturatedSteps, TransferNodes, LIFE_PROFILE_INTERVALS,
-    SLIDING_MODULATION_MAX,
+    passed_orders, LifeAnswer, LifeProfile, Nodes, SaturatedSteps, TransferNodes,
+    LIFE_PROFILE_INTERVALS, SLIDING_MODULATION_MAX,
 };
 use crate::wear::estimator::{per_spread, WheelGrowth};
 use crate::wear::fitted::FittedConstants;
@@ -120,8 +120,8 @@ impl WheelGrowth {
             });
         let end = grid.drift.at_end().min(1.0);
         let nu = self.nu();
-        let from = ((nu / fastest).floor() - 2.0).max(1.0) as u32;
-        let to = ((nu / slowest / end).ceil() + 2.0).max(from as f64) as u32;
+        let from = passed_orders(nu / fastest, end).0;
+        let to = passed_orders(nu / slowest, end).1.max(from);
         SpreadLegs {
             scales,
             slowest,
