@@ -8,7 +8,7 @@ use std::os::unix::fs::symlink;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use crate::common::{fresh_dir, polywear, polywear_within};
+use crate::common::{fresh_dir, polywear, polywear_within, Mount};
 use polywear::calibration_band::evaluate::{BandPlan, BAND_DIGEST, BAND_FILE};
 use polywear::calibration_band::CalibrationBand;
 use polywear::params::Params;
@@ -345,4 +345,34 @@ fn a_band_stopped_midway_is_finished_by_resume_and_never_taken_for_done() {
     assert_eq!(code, 0, "{stderr}");
     assert!(stdout.contains("calibration band 0"), "{stdout}");
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A full disk during the band's pass said no more than the error: it now says that every
+/// sample's rows are saved and gives the command that finishes the band.
+#[test]
+fn a_full_disk_during_the_band_says_how_to_finish_it() {
+    let dir = fresh_dir("band-full-disk");
+    // The run's chunk (about 110 KB) fits, its band (about 130 KB) does not.
+    let Some(_m) = Mount::tmpfs(&dir, "200k", false) else {
+        return;
+    };
+    let out = dir.join("run");
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        "-q",
+        "--no-report",
+        "--samples",
+        "300",
+        "--band-samples",
+        "300",
+        "--out",
+        &s(&out),
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("the disk is full")
+            && stderr.contains("every sample's rows are saved")
+            && stderr.contains(&format!("explore --resume --out {}", out.display())),
+        "{stderr}"
+    );
 }

@@ -8,7 +8,7 @@ use std::os::unix::fs::symlink;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use crate::common::{fresh_dir, polywear, polywear_within};
+use crate::common::{fresh_dir, polywear, polywear_within, Mount};
 use crate::parquet_rows;
 
 const STUDY: &str = r#"name = "links"
@@ -382,38 +382,6 @@ fn a_damaged_chunk_is_refused_by_analyze_with_the_file_and_the_way_back() {
     let (code, _, stderr) = polywear(&["explore", "--resume", "--out", &s(&run), "-q"]);
     assert_eq!(code, 0, "{stderr}");
     std::fs::remove_dir_all(&dir).ok();
-}
-
-/// A tmpfs of `size` mounted at `at` (read-only when `ro`) for as long as the value lives; None
-/// when this process may not mount (not root), and the test then says so and passes.
-struct Mount(PathBuf);
-
-impl Mount {
-    fn tmpfs(at: &Path, size: &str, ro: bool) -> Option<Mount> {
-        std::fs::create_dir_all(at).unwrap();
-        let opts = format!("size={size}{}", if ro { ",ro" } else { "" });
-        let ok = std::process::Command::new("mount")
-            .args(["-t", "tmpfs", "-o", &opts, "tmpfs", &s(at)])
-            .stderr(std::process::Stdio::null())
-            .status()
-            .is_ok_and(|st| st.success());
-        if !ok {
-            eprintln!(
-                "skipped: cannot mount a tmpfs at {} (needs root)",
-                at.display()
-            );
-            return None;
-        }
-        Some(Mount(at.to_path_buf()))
-    }
-}
-
-impl Drop for Mount {
-    fn drop(&mut self) {
-        let _ = std::process::Command::new("umount")
-            .args(["-l", &s(&self.0)])
-            .status();
-    }
 }
 
 #[test]

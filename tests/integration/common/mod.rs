@@ -117,4 +117,37 @@ pub fn polywear_within(limit: std::time::Duration, args: &[&str]) -> (i32, Strin
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
 }
+/// A tmpfs of `size` mounted at `at` (read-only when `ro`) for as long as the value lives; None
+/// when this process may not mount (not root), and the test then says so and passes.
+#[allow(dead_code)]
+pub struct Mount(std::path::PathBuf);
+
+#[allow(dead_code)]
+impl Mount {
+    pub fn tmpfs(at: &std::path::Path, size: &str, ro: bool) -> Option<Mount> {
+        std::fs::create_dir_all(at).unwrap();
+        let opts = format!("size={size}{}", if ro { ",ro" } else { "" });
+        let ok = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", &opts, "tmpfs"])
+            .arg(at)
+            .stderr(std::process::Stdio::null())
+            .status()
+            .is_ok_and(|st| st.success());
+        if !ok {
+            eprintln!(
+                "skipped: cannot mount a tmpfs at {} (needs root)",
+                at.display()
+            );
+            return None;
+        }
+        Some(Mount(at.to_path_buf()))
+    }
+}
+
+impl Drop for Mount {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg("-l").arg(&self.0).status();
+    }
+}
+
 pub mod svg;
