@@ -1,5 +1,5 @@
 //! A drive cycle's answer over the tread's life, each speed bin saturated on its own as
-//! `cycle --wear-estimate tread_life_saturated` gives it, against the same walk with a lock that
+//! `cycle` gives it, against the same walk with a lock that
 //! widens with the depth (MODEL.md#the-tongue-at-depth): a vibrating bin locks to order n once
 //! the polygon's radius reaches the least at which its forced Hopf normal form locks at the
 //! bin's detuning ν − n·f₀/f (`WheelGrowth::lock_radius_m`), and a locked bin prints, instead of

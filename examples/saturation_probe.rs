@@ -4,7 +4,7 @@
 //! - `cargo run --release --example saturation_probe -- M_MAX PHI_S`: steady points at 0.45°,
 //!   60, 93 and 110 km/h, no spread;
 //! - `... -- M_MAX PHI_S CYCLE.csv TOE`: a drive cycle's steps, each on its own and summed by
-//!   speed bins of 0.1, 0.25, 0.5 and 1 km/h (as `cycle --wear-estimate tread_life_saturated`);
+//!   speed bins of 0.1, 0.25, 0.5 and 1 km/h (as `cycle` gives it);
 //! - `... -- M_MAX PHI_S spread V SIGMA K [TOE]`: a cruising spread as K equal-distance legs at
 //!   its quantiles, each with its own model, as the long-term loop drives it;
 //! - `... -- M_MAX PHI_S rows CSV SIGMA K`: every follower row of a CSV (explore's columns) so.
@@ -18,7 +18,7 @@ use polywear::model::{Variant, Wheel};
 use polywear::params::Params;
 use polywear::wear::estimator::answer_saturated_per_step;
 use polywear::wear::{FittedConstants, LifeProfile, WearSettings};
-use polywear_study::cycle::wear::step_growth;
+use polywear_study::cycle::wear::step_life;
 use polywear_study::cycle::DriveCycle;
 
 fn main() {
@@ -104,7 +104,7 @@ fn main() {
                 }
                 let p = cycle.step_params(&base, i);
                 let w = solve_wheel(p, Variant::SlidingShare, wheel, &opts);
-                let Some(life) = step_growth(&p, &w, &stage, &opts).life else {
+                let Some(life) = step_life(&p, &w, &stage, &opts) else {
                     continue;
                 };
                 sum.get_or_insert_with(|| {
@@ -139,7 +139,7 @@ fn main() {
             WearStage::for_run(&p, Variant::SlidingShare, WearSettings::default(), &opts).unwrap();
         for wheel in Wheel::BOTH {
             let w = solve_wheel(p, Variant::SlidingShare, wheel, &opts);
-            let life = step_growth(&p, &w, &stage, &opts).life.unwrap();
+            let life = step_life(&p, &w, &stage, &opts).unwrap();
             report(&format!("{speed_kmh} km/h 0.45° {wheel}"), &life, &p);
             let n = if speed_kmh < 70.0 {
                 32

@@ -5,23 +5,10 @@
 //! cargo run --release --example wear_field -- fit [SAMPLES]      # the (φ_s, σ_V) table
 //! cargo run --release --example wear_field -- check [SAMPLES]    # the shipped constants
 //! cargo run --release --example wear_field -- spread-error       # spread mean vs per-speed loops
-//! cargo run --release --example wear_field -- band [SAMPLES] [OUT] # the calibrated sets
-//! cargo run --release --example wear_field -- band-life [SAMPLES] [PHIS] [SIGMAS] # the fit over the tread's life
-//! cargo run --release --example wear_field -- exposure [SAMPLES] # which wheel, on both levels
 //! ```
 //!
-//! `exposure` is issue 40's question on both levels of the model: over the default study's
-//! samples at the shipped φ_s and k_d, with the speed spread at 2, 5 and 10 km/h, the share of
-//! follower and driving wheels with a visible polygon within 25,000, 40,000 and 60,000 km
-//! (before the tire is worn out), by the new tire's estimate (explore's answer) and over the
-//! tread's life (the reading that agrees with the long-term loop), with the samples where only
-//! one of the two wheels has one.
-//!
-//! `band` is the calibration with its uncertainty (MODEL.md#the-calibration-band): history
-//! matching over φ_s, σ_V and k_d against the field facts' targets
-//! (`polywear::calibration_band::fit`), every grid point printed with what it gives, the
-//! accepted ones written as the file of calibrated sets (`data/calibration_band.toml` when OUT
-//! is not given).
+//! These are the new tire's figures, a diagnostic: the shipped answer and its calibration are
+//! over the tread's life (`cargo run --release --example calibrate_band`).
 //!
 //! `fit` evaluates each wheel's loop once (its response to ε does not depend on φ_s or σ_V) and
 //! then every (φ_s, σ_V) of the grid: for the highway follower with excessive toe-in (0.40,
@@ -207,17 +194,8 @@ fn main() {
             );
         }
         "spread-error" => spread_error(),
-        "band" => band(
-            samples,
-            args.get(2)
-                .map_or("data/calibration_band.toml", String::as_str),
-        ),
-        "band-life" => band_life(samples, args.get(2), args.get(3)),
-        "exposure" => exposure(samples),
         other => {
-            eprintln!(
-                "unknown mode `{other}`; accepted: fit, check, spread-error, band, band-life, exposure"
-            )
+            eprintln!("unknown mode `{other}`; accepted: fit, check, spread-error");
         }
     }
 }
@@ -273,145 +251,6 @@ fn spread_error() {
                 println!(
                     "{speed} km/h {toe} deg | {spread} | {n} | {est:.4} | {brute:.4} | {:+.4}",
                     est - brute
-                );
-            }
-        }
-    }
-}
-
-/// The calibrated sets: the grid with each target's figure, then the accepted sets written.
-/// The history matching of `band` on the level over the tread's life
-/// (MODEL.md#the-estimator-over-the-treads-life), on a coarser grid (each grid point integrates
-/// every wheel's orders over its life): what every grid point gives, and which are accepted.
-fn band_life(samples: u64, shares: Option<&String>, spreads: Option<&String>) {
-    use polywear::calibration_band::fit::{fit, FitOptions};
-    use polywear::field_facts::FieldFacts;
-    use polywear::wear::EstimateLevel;
-    let facts = FieldFacts::shipped();
-    let base = Params::default();
-    let list = |given: Option<&String>, default: &str| -> Vec<f64> {
-        given
-            .map_or(default, String::as_str)
-            .split(',')
-            .map(|x| x.parse().expect("a comma-separated list of numbers"))
-            .collect()
-    };
-    let opts = FitOptions {
-        shares: list(shares, "0.08,0.12,0.16,0.2,0.25,0.3,0.4,0.5"),
-        spreads_kmh: list(spreads, "2,5,10"),
-        driven_factors: vec![1.75],
-        level: EstimateLevel::TreadLife,
-        ..FitOptions::shipped(samples, &facts)
-    };
-    let f = fit(&base, &facts, &opts).expect("fit");
-    print_grid(&f, samples);
-    println!(
-        "{} of {} grid points accepted",
-        f.accepted().count(),
-        f.points.len()
-    );
-}
-
-fn print_grid(f: &polywear::calibration_band::fit::Fit, samples: u64) {
-    println!(
-        "{} highway followers, {} default-study wheels ({samples} samples)",
-        f.highway_wheels, f.fleet_wheels
-    );
-    println!("phi_s sigma_V k_d | highway median km | fleet median km | visible <= 60k | 10-20 sides | accepted");
-    for g in &f.points {
-        let c = g.constants;
-        println!(
-            "{:.3} {:4} {:4} | {:9.0} | {:9.0} | {:5.1}% | {:5.1}% | {}",
-            c.wear_share_straight,
-            c.speed_spread_kmh,
-            c.wear_rate_driven_factor,
-            g.highway_median_km,
-            g.fleet_median_km,
-            100.0 * g.fleet_visible_share,
-            100.0 * g.sides_share,
-            if g.accepted { "yes" } else { "" }
-        );
-    }
-}
-
-fn band(samples: u64, out: &str) {
-    use polywear::calibration_band::fit::{fit, FitOptions};
-    use polywear::field_facts::FieldFacts;
-    use polywear::wear::FittedConstants;
-    let facts = FieldFacts::shipped();
-    let base = Params::default();
-    let f = fit(&base, &facts, &FitOptions::shipped(samples, &facts)).expect("fit");
-    print_grid(&f, samples);
-    let generated_by = format!("cargo run --release --example wear_field -- band {samples}");
-    let band = f
-        .band(&FittedConstants::of(&base), &generated_by)
-        .expect("the shipped defaults meet the targets");
-    std::fs::write(out, band.to_toml()).expect("write the sets");
-    println!("{} accepted sets written to {out}", band.sets.len());
-}
-
-/// Which wheel wears polygonal, on both levels (see the module's documentation).
-fn exposure(samples: u64) {
-    use polywear::wear::{FittedConstants, WearAnswer};
-    let base = Params::default();
-    let cal = polywear::evaluate::calibrate_wear(
-        &base,
-        Variant::SlidingShare,
-        &ClassifierOptions::default(),
-    )
-    .expect("reference point");
-    let study = Study::parse_with_base(DEFAULT_STUDY, base).expect("default study");
-    let sampler = study.sampler(study.seed, samples);
-    let pairs: Vec<(Params, Option<WheelGrowth>, Option<WheelGrowth>)> = (0..samples)
-        .into_par_iter()
-        .map(|i| {
-            let (p, _) = sampler.sample(i);
-            let follower = growth(&p, Wheel::Follower, &cal);
-            let driving = growth(&p, Wheel::Driving, &cal);
-            (p, follower, driving)
-        })
-        .collect();
-    let distances = [25_000.0, 40_000.0, 60_000.0];
-    println!(
-        "default study, {samples} samples (both wheels), shipped phi_s and k_d; visible within X km before the tire is worn out"
-    );
-    println!("sigma_V level     X km | follower | driving | only follower | only driving");
-    for spread_kmh in [2.0, 5.0, 10.0] {
-        for life in [false, true] {
-            let answer = |p: &Params, g: &Option<WheelGrowth>| -> Option<WearAnswer> {
-                let c = FittedConstants {
-                    speed_spread_kmh: spread_kmh,
-                    ..FittedConstants::of(p)
-                };
-                g.as_ref().map(|g| {
-                    if life {
-                        g.life_answer(&c).answer
-                    } else {
-                        g.answer_with(&c)
-                    }
-                })
-            };
-            let answers: Vec<(Option<WearAnswer>, Option<WearAnswer>)> = pairs
-                .par_iter()
-                .map(|(p, f, d)| (answer(p, f), answer(p, d)))
-                .collect();
-            for x in distances {
-                let seen =
-                    |a: &Option<WearAnswer>| a.is_some_and(|a| a.visible_within(x) == Some(true));
-                let (mut f, mut d, mut only_f, mut only_d) = (0, 0, 0, 0);
-                for (a, b) in &answers {
-                    let (sf, sd) = (seen(a), seen(b));
-                    f += usize::from(sf);
-                    d += usize::from(sd);
-                    only_f += usize::from(sf && !sd);
-                    only_d += usize::from(sd && !sf);
-                }
-                let pct = |k: usize| 100.0 * k as f64 / samples as f64;
-                println!(
-                    "{spread_kmh:4} {:9} {x:6.0} | {:7.3}% | {:6.3}% | {only_f:13} | {only_d:12}",
-                    if life { "life" } else { "new tire" },
-                    pct(f),
-                    pct(d)
                 );
             }
         }

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The long-term loop's answer over its field-fitted constants (MODEL.md#the-loops-constants-searched):
+# The long-term loop's answer over its field-fitted constants (docs/lab/2026-12-07-two-levels-and-the-first-calibration.md#the-loops-constants-searched):
 # `polywear wear` at the calibration point (110 km/h, 0.45 deg) and at the default study's median
 # point (115 km/h, 0.25 deg), the nominal tire at the default load and pressure, for each
 # (phi_s, sigma_V, carcass_share) of the design below; one CSV line per run on stdout:

@@ -294,11 +294,12 @@ fn shards_with_other_parameters_or_stage_settings_are_refused_naming_the_key() {
         &["--shard", "1/3", "--wear-zone", "whole_patch"],
     );
     let same = explore_study(&dir, "s1", SMALL, &["--shard", "1/3"]);
+    let nominal = format!(
+        "({} vs 1.0)",
+        polywear::params::Params::default().wear_share_straight
+    );
     for (other, words) in [
-        (
-            &with_params,
-            ["`params.wear_share_straight`", "(0.12 vs 1.0)"],
-        ),
+        (&with_params, ["`params.wear_share_straight`", &nominal]),
         (&zone, ["`wear.wear_zone`", "(trailing vs whole_patch)"]),
     ] {
         let report = dir.join("report");

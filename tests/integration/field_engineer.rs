@@ -195,9 +195,8 @@ fn wear_run(dir: &std::path::Path) -> PathBuf {
     let study = dir.join("t3.toml");
     std::fs::write(
         &study,
-        // The new tire's level: over the tread's life none of these 24 samples' 48 wheels has
-        // a visible polygon, and the outcome test needs both words.
-        "name = \"t3\"\nseed = 3\nsamples = 24\nwear = true\nwear_estimate = \"new_tire\"\n[params]\n\
+        // Highway points with much toe-in: the outcome test needs both words.
+        "name = \"t3\"\nseed = 3\nsamples = 24\nwear = true\n[params]\n\
          speed_kmh = { dist = \"uniform\", min = 80, max = 160 }\n\
          toe_deg = { dist = \"uniform\", min = 0.1, max = 0.6 }\n\
          tread_height = { dist = \"uniform\", min = 0.012, max = 0.016 }\n",
@@ -241,6 +240,7 @@ fn the_rows_say_the_wear_outcome_in_words_and_renamed_columns_keep_their_old_nam
         Field::Str(s) => s.clone(),
         other => panic!("{other:?}"),
     };
+    let defaults = polywear::params::Params::default();
     let mut seen = std::collections::BTreeSet::new();
     for file in chunk_files(&run) {
         for r in crate::parquet_rows::rows(&file) {
@@ -249,10 +249,10 @@ fn the_rows_say_the_wear_outcome_in_words_and_renamed_columns_keep_their_old_nam
             let life = f64_of(&r["tread_life_km"]);
             // The shipped usable tread (8 mm new, worn out at 1.6 mm) over the position's whole
             // even wear: w' and the rest of the position's wear, (1 - phi_s) w'_pos, with
-            // w'_pos = 0.12 mm/1000 km, times 1.75 on the driving wheel.
+            // w'_pos = 0.12 mm/1000 km, times k_d on the driving wheel.
             let share = f64_of(&r["wear_share_straight"]);
             let position = match str_of(&r["wheel"]).as_str() {
-                "driving" => 1.75 * 0.12,
+                "driving" => defaults.wear_rate_driven_factor * 0.12,
                 _ => 0.12,
             };
             let whole = even + (1.0 - share) * position;
@@ -283,7 +283,10 @@ fn the_rows_say_the_wear_outcome_in_words_and_renamed_columns_keep_their_old_nam
                 let (a, b) = (f64_of(&r[old]), f64_of(&r[new]));
                 assert!(a == b || (a.is_nan() && b.is_nan()), "{old} {a} {new} {b}");
             }
-            assert_eq!(f64_of(&r["wear_share_straight"]), 0.12);
+            assert_eq!(
+                f64_of(&r["wear_share_straight"]),
+                defaults.wear_share_straight
+            );
         }
         let map = crate::parquet_rows::footer_json(&file, "deprecated");
         assert_eq!(map["polygon_order_dominant"], "polygon_order_wear");

@@ -124,7 +124,10 @@ print("agree", b, c)
         page.contains("cruising at its sample's operating point"),
         "{page}"
     );
-    assert!(page.contains("field-fitted"), "{page}");
+    assert!(
+        page.contains("Constants are calibrated, not measured"),
+        "{page}"
+    );
     // It says that a polygon counts only before the tire is worn out, and that the distances'
     // quantiles are the point's own.
     assert!(

@@ -101,7 +101,10 @@ fn explore_writes_the_wear_columns_and_no_wear_leaves_exactly_the_vibration_colu
                     (n >= 1.0 && n.fract() == 0.0) || (n.is_nan() && d.is_infinite()),
                     "{n} {d}"
                 );
-                assert_eq!(float(&ra["wear_calibration_share"]), 0.12);
+                assert_eq!(
+                    float(&ra["wear_calibration_share"]),
+                    polywear::params::Params::default().wear_share_straight
+                );
                 if class != "stable" {
                     vibrating_growth += 1;
                     assert!(matches!(ra["wear_rhs_evals"], Field::Long(k) if k > 0 && k <= 1000));
@@ -174,13 +177,13 @@ fn the_study_sets_the_wear_stage_and_a_resume_keeps_it() {
 mod along_a_cycle {
     use crate::common::{fresh_dir, polywear};
     use polywear::classify::ClassifierOptions;
-    use polywear::cycle::wear::{cycle_wear, step_growth};
+    use polywear::cycle::wear::step_life;
     use polywear::cycle::{classify_cycle, ClassifiedCycle, DriveCycle};
     use polywear::evaluate::{self, PointProblem, WearStage};
     use polywear::model::Variant;
     use polywear::params::Params;
     use polywear::wear::estimator::tread_life_km;
-    use polywear::wear::{EstimateLevel, FittedConstants, WearSettings};
+    use polywear::wear::{FittedConstants, WearSettings};
 
     /// `c` classified with the wear stage `stage` on one thread and on two.
     fn on_one_and_two_threads(
@@ -207,97 +210,8 @@ mod along_a_cycle {
         DriveCycle::read(&path).unwrap()
     }
 
-    /// The worst case (φ_s = 1, no spread) at the paper's constants, where the follower grows.
-    fn worst() -> Params {
-        Params {
-            wear_share_straight: 1.0,
-            speed_spread_kmh: 0.0,
-            ..Params::r0()
-        }
-    }
-
-    #[test]
-    fn a_cycle_held_at_one_speed_is_the_per_sample_estimate_without_spread() {
-        let opts = ClassifierOptions::default();
-        let p = worst();
-        // A cycle answers as the new tire does (MODEL.md#along-a-drive-cycle): compared on
-        // that level.
-        let settings = WearSettings {
-            estimate: polywear::wear::EstimateLevel::NewTire,
-            ..WearSettings::default()
-        };
-        let stage = WearStage::for_run(&p, Variant::SlidingShare, settings, &opts).unwrap();
-        let c = cycle(
-            "wear-cycle-held",
-            "time_s,speed_kmh\n0,100\n600,100\n1200,100\n",
-        );
-        let steps = classify_cycle(&c, &p, Variant::SlidingShare, &opts, Some(&stage)).steps;
-        let point = evaluate::solve(
-            &PointProblem::new(p, &[Variant::SlidingShare], &opts).with_wear(Some(&stage)),
-        );
-        for w in 0..2 {
-            let lifetime = cycle_wear(&c, &steps, w, &p);
-            let e = point.wheels[w].wear.as_ref().unwrap();
-            assert_eq!(
-                lifetime.dominant_order, e.polygon_order_dominant,
-                "wheel {w}"
-            );
-            let (a, b) = (lifetime.growth_rate_per_1000km, e.growth_rate_per_1000km);
-            assert!(
-                (a - b).abs() <= 1e-9 * b.abs().max(1.0),
-                "wheel {w}: {a} vs {b}"
-            );
-            // The cycle's mean of three equal steps may round differently: the same tolerance.
-            let (a, b) = (lifetime.distance_to_visible_km, e.distance_to_visible_km);
-            assert!((a - b).abs() <= 1e-9 * b.abs(), "wheel {w}: {a} vs {b} km");
-            assert!(
-                lifetime.distance_to_visible_km.is_finite(),
-                "the worst case grows"
-            );
-            assert_eq!(lifetime.unknown_distance_share, 0.0);
-        }
-    }
-
-    #[test]
-    fn a_lifetime_weighs_each_speed_by_the_distance_driven_at_it() {
-        let opts = ClassifierOptions::default();
-        let p = worst();
-        let stage =
-            WearStage::for_run(&p, Variant::SlidingShare, WearSettings::default(), &opts).unwrap();
-        // 2 s at 50 km/h and 1 s at 100 km/h cover the same distance; the standstill covers none.
-        let c = cycle(
-            "wear-cycle-two",
-            "time_s,speed_kmh\n0,50\n2,100\n3,0\n4,0\n",
-        );
-        let steps = classify_cycle(&c, &p, Variant::SlidingShare, &opts, Some(&stage)).steps;
-        let at = |v: f64| {
-            let q = Params { speed_kmh: v, ..p };
-            let s = evaluate::solve(&PointProblem::new(q, &[Variant::SlidingShare], &opts));
-            [0, 1].map(|w| step_growth(&q, &s.wheels[w], &stage, &opts).orders_per_1000km)
-        };
-        let (slow, fast) = (at(50.0), at(100.0));
-        for w in 0..2 {
-            let mean: Vec<f64> = slow[w]
-                .iter()
-                .zip(&fast[w])
-                .map(|(a, b)| 0.5 * (a + b))
-                .collect();
-            let (k, best) = mean
-                .iter()
-                .enumerate()
-                .max_by(|a, b| a.1.total_cmp(b.1))
-                .unwrap();
-            let lifetime = cycle_wear(&c, &steps, w, &p);
-            assert_eq!(lifetime.dominant_order, k as f64 + 1.0, "wheel {w}");
-            assert!(
-                (lifetime.growth_rate_per_1000km - best).abs() < 1e-12,
-                "wheel {w}"
-            );
-        }
-    }
-
-    /// Over the tread's life (`tread_life`) a cycle held at one speed is explore's answer
-    /// over the tread's life at that point without a speed spread: the same order, the
+    /// A cycle held at one speed is explore's answer at that point without a speed spread: the
+    /// same order, the
     /// distance within 1% (the cycle's profile is read on a grid of the worn depth, the
     /// sample's on nodes of x), the same tread life; at points where a polygon becomes visible
     /// and where none does. Its sums do not depend on the number of threads.
@@ -313,11 +227,9 @@ mod along_a_cycle {
                 speed_spread_kmh: 0.0,
                 ..Params::default()
             };
-            let settings = WearSettings {
-                estimate: EstimateLevel::TreadLife,
-                ..WearSettings::default()
-            };
-            let stage = WearStage::for_run(&p, Variant::SlidingShare, settings, &opts).unwrap();
+            let stage =
+                WearStage::for_run(&p, Variant::SlidingShare, WearSettings::default(), &opts)
+                    .unwrap();
             let c = cycle(
                 &format!("wear-cycle-life-{speed_kmh}"),
                 &format!("time_s,speed_kmh\n0,{speed_kmh}\n600,{speed_kmh}\n1200,{speed_kmh}\n"),
@@ -372,7 +284,8 @@ mod along_a_cycle {
     /// their own: its answer is `answer_saturated_per_step` over every moving step's own profile
     /// (its speed bins of 0.1 km/h hold one speed each here, and a repeated step the same
     /// profile twice), at least 10% later than the summed profile's where the print saturates
-    /// (φ_s = 1, 0.45°: 22% and 16%); and its sums do not depend on the number of threads.
+    /// (φ_s = 1, 0.45°: the follower 51% later, the driving wheel 5%); and its sums do not
+    /// depend on the number of threads.
     #[test]
     fn a_saturated_cycle_is_its_steps_each_saturated_on_its_own() {
         use polywear::wear::estimator::{answer_saturated_per_step, SLIDING_MODULATION_MAX};
@@ -383,11 +296,8 @@ mod along_a_cycle {
             wear_share_straight: 1.0,
             ..Params::default()
         };
-        let settings = WearSettings {
-            estimate: EstimateLevel::TreadLifeSaturated,
-            ..WearSettings::default()
-        };
-        let stage = WearStage::for_run(&p, Variant::SlidingShare, settings, &opts).unwrap();
+        let stage =
+            WearStage::for_run(&p, Variant::SlidingShare, WearSettings::default(), &opts).unwrap();
         let speeds = [
             88.0, 90.5, 93.0, 93.0, 95.5, 98.0, 101.0, 104.0, 104.0, 108.0,
         ];
@@ -410,7 +320,7 @@ mod along_a_cycle {
                 .map(|i| {
                     let q = c.step_params(&p, i);
                     let s = evaluate::solve(&PointProblem::new(q, &[Variant::SlidingShare], &opts));
-                    let life = step_growth(&q, &s.wheels[w], &stage, &opts).life.unwrap();
+                    let life = step_life(&q, &s.wheels[w], &stage, &opts).unwrap();
                     (km[i], life)
                 })
                 .collect();
@@ -426,9 +336,11 @@ mod along_a_cycle {
                 slowed += 1;
             }
         }
-        assert_eq!(slowed, 2, "the print saturates on both wheels");
+        assert!(slowed >= 1, "the print saturates on no wheel");
     }
 
+    /// `cycle` gives each wheel's distance over the tread's life in words and in its summary,
+    /// with the tire's life and how near the deepest order came; `--no-wear` leaves them out.
     #[test]
     fn cycle_says_the_lifetime_distance_and_no_wear_leaves_it_out() {
         let dir = fresh_dir("wear-cycle-cli");
@@ -438,71 +350,45 @@ mod along_a_cycle {
             "data/cycles/hwfet.csv",
             "--set",
             "wear_share_straight=1",
-            "--wear-estimate",
-            "new_tire",
             "--out",
             out.to_str().unwrap(),
         ]);
         assert_eq!(code, 0, "{stderr}");
+        // Both wheels' lines give the one answer over the tread's life, with the tire's life.
         assert_eq!(
             stdout
-                .matches("driving this cycle all its life, as the new tire: a ")
+                .matches("driving this cycle all its life, its tread wearing: a ")
                 .count(),
             2,
             "{stdout}"
         );
         assert!(
-            stdout.contains("-sided polygon becomes visible after"),
+            stdout.contains("-sided polygon becomes visible after")
+                && stdout.contains("(the tire is worn out at "),
             "{stdout}"
         );
         let summary = std::fs::read_to_string(out.join("cycle_summary.csv")).unwrap();
-        assert!(
-            summary
-                .lines()
-                .next()
-                .unwrap()
-                .contains("distance_to_visible_km"),
-            "{summary}"
-        );
-        // The wear's order under explore's name, and under its old one for one version.
         let lines: Vec<Vec<&str>> = summary.lines().map(|l| l.split(',').collect()).collect();
-        let at = |name: &str| lines[0].iter().position(|h| *h == name).unwrap();
+        let at = |name: &str| {
+            lines[0]
+                .iter()
+                .position(|h| *h == name)
+                .unwrap_or_else(|| panic!("no {name} in {summary}"))
+        };
         for row in &lines[1..] {
+            // The wear's order under explore's name, and under its old one for one version.
             assert_eq!(
                 row[at("polygon_order_wear")],
                 row[at("wear_dominant_order")]
             );
-        }
-        // The default level, over the tread's life: both wheels' lines say it, and the
-        // summary has the tread's life and how near the deepest order came; on the new tire's
-        // level those are NaN.
-        let life = dir.join("life");
-        let (code, stdout, stderr) = polywear(&[
-            "cycle",
-            "data/cycles/hwfet.csv",
-            "--set",
-            "wear_share_straight=0.28",
-            "--out",
-            life.to_str().unwrap(),
-        ]);
-        assert_eq!(code, 0, "{stderr}");
-        assert_eq!(
-            stdout
-                .matches("driving this cycle all its life, its tread wearing: ")
-                .count(),
-            2,
-            "{stdout}"
-        );
-        assert!(stdout.contains("worn out at"), "{stdout}");
-        for (dir, finite) in [(&life, true), (&out, false)] {
-            let summary = std::fs::read_to_string(dir.join("cycle_summary.csv")).unwrap();
-            let lines: Vec<Vec<&str>> = summary.lines().map(|l| l.split(',').collect()).collect();
-            let at = |name: &str| lines[0].iter().position(|h| *h == name).unwrap();
-            for row in &lines[1..] {
-                for name in ["tread_life_km", "wear_peak_share_of_visible"] {
-                    let x: f64 = row[at(name)].parse().unwrap_or(f64::NAN);
-                    assert_eq!(x.is_finite(), finite, "{name} in {summary}");
-                }
+            // The distance, the tread's life and how near the deepest order came.
+            for name in [
+                "distance_to_visible_km",
+                "tread_life_km",
+                "wear_peak_share_of_visible",
+            ] {
+                let x: f64 = row[at(name)].parse().unwrap_or(f64::NAN);
+                assert!(x.is_finite(), "{name} in {summary}");
             }
         }
         let out = dir.join("without");
@@ -554,20 +440,19 @@ fn discordant(rows: &[std::collections::HashMap<String, Field>], km: f64) -> (u6
     (f, d)
 }
 
-/// The built-in study's answer on the new tire's level (MODEL.md#the-driving-wheels-slip-power):
-/// with the driving wheel's slip power and its position's faster even wear, the follower gets a
-/// visible polygon more often than the driving wheel at 25,000, 40,000 and 60,000 km, by a clear
-/// majority of the discordant samples; on the lateral-only reading the driving wheel leads at
-/// 60,000 km, as it did before the slip power was counted. The follower's rows are the same
-/// under both. (Over the tread's life, the shipped level, too few wheels of 6,000 samples have
-/// a polygon to show the lateral-only reversal; its sign is held by
-/// `wear_loop::over_the_tread_s_life_the_follower_is_more_exposed`.)
+/// The built-in study's one wear answer (MODEL.md#the-driving-wheels-slip-power): with the
+/// driving wheel's slip power and its position's faster even wear, the follower gets a visible
+/// polygon more often than the driving wheel at 25,000, 40,000 and 60,000 km, by a clear
+/// majority of the discordant samples (on 4,000 samples: 163, 249 and 250 only-follower
+/// samples against none); on the lateral-only reading the driving wheel leads at 60,000 km (22
+/// against 7), as it did before the slip power was counted. The follower's rows are the same
+/// under both.
 #[test]
 fn the_follower_wears_polygonal_more_often_than_the_driving_wheel() {
     let dir = fresh_dir("wear-explore-field");
     let study = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/default.toml");
     let (with, without) = (dir.join("with"), dir.join("without"));
-    let n = ["--samples", "6000", "--wear-estimate", "new_tire"];
+    let n = ["--samples", "4000", "--calibration-band", "off"];
     assert_eq!(explore(&study, &with, &n).0, 0);
     let lateral = [n[0], n[1], n[2], n[3], "--wear-power", "lateral_only"];
     assert_eq!(explore(&study, &without, &lateral).0, 0);
@@ -594,94 +479,23 @@ fn the_follower_wears_polygonal_more_often_than_the_driving_wheel() {
     }
 }
 
-/// The saturated level (`--wear-estimate tread_life_saturated`,
-/// MODEL.md#the-forced-response-saturates) is recorded, keeps every row of the answer over the
-/// tread's life that has no polygon (the saturated one is never earlier, so the plain answer
-/// screens), and moves the polygons later or out: at φ_s = 0.28 on highway points, some by a
-/// tenth or more, none earlier by more than the legs' quadrature of the spread (5%).
+/// One wear answer per sample (MODEL.md#one-wear-answer): the run records it, its peaks say
+/// how near the others came, and the retired levels are refused before any work, as a flag, a
+/// study key or a resume's flag, naming what replaced them; a run written on a retired level
+/// (tests/data/retired_level_run, 4 samples written by polywear 0.5.0 at 40a1633 with
+/// `--wear-estimate new_tire`) is refused by `analyze` and `--resume`.
 #[test]
-fn the_saturated_level_keeps_the_rows_without_a_polygon_and_delays_the_rest() {
-    let dir = fresh_dir("wear-explore-saturated");
-    std::fs::create_dir_all(&dir).unwrap();
-    let study = dir.join("s.toml");
-    std::fs::write(
-        &study,
-        "name = \"w\"\nsamples = 48\nchunk_size = 48\n[params]\nwear_share_straight = 0.28\nspeed_spread_kmh = 5\nspeed_kmh = { dist = \"uniform\", min = 100, max = 130 }\ntoe_deg = { dist = \"uniform\", min = 0.4, max = 0.6 }\n",
-    )
-    .unwrap();
-    let (life, saturated) = (dir.join("life"), dir.join("saturated"));
-    let (code, stderr) = explore(&study, &life, &["--wear-estimate", "tread_life"]);
-    assert_eq!(code, 0, "{stderr}");
-    let (code, stderr) = explore(
-        &study,
-        &saturated,
-        &["--wear-estimate", "tread_life_saturated"],
-    );
-    assert_eq!(code, 0, "{stderr}");
-    let manifest = std::fs::read_to_string(saturated.join("_manifest.json")).unwrap();
-    assert!(
-        manifest.contains("\"wear_estimate\": \"tread_life_saturated\""),
-        "{manifest}"
-    );
-    let answers = |out: &std::path::Path| -> Vec<(f64, f64, f64)> {
-        rows(&first_chunk(out))
-            .iter()
-            .map(|r| {
-                (
-                    float(&r["distance_to_visible_km"]),
-                    float(&r["polygon_order_wear"]),
-                    float(&r["wear_peak_share_of_visible"]),
-                )
-            })
-            .collect()
-    };
-    let (plain, bounded) = (answers(&life), answers(&saturated));
-    assert_eq!(plain.len(), bounded.len());
-    let (mut with_polygon, mut later) = (0, 0);
-    for (i, (a, b)) in plain.iter().zip(&bounded).enumerate() {
-        if a.0.is_finite() {
-            with_polygon += 1;
-            assert!(
-                b.0.is_infinite() || b.0 >= 0.95 * a.0,
-                "row {i}: {b:?} against {a:?}"
-            );
-            if b.0 > 1.1 * a.0 {
-                later += 1;
-            }
-        } else {
-            assert!(
-                (a.0 == b.0 || (a.0.is_nan() && b.0.is_nan()))
-                    && (a.1 == b.1 || (a.1.is_nan() && b.1.is_nan())),
-                "row {i}: {b:?} against {a:?}"
-            );
-        }
-    }
-    assert!(
-        with_polygon >= 5 && later >= 2,
-        "{with_polygon} polygons, {later} later"
-    );
-}
-
-/// The answer's level is a setting (`--wear-estimate`, the study's `wear_estimate`; over the
-/// tread's life by default): the run records it, its rows differ from the new tire's, a resume
-/// keeps it and refuses the other, and a misspelt or contradicted one is refused before any
-/// work.
-#[test]
-fn the_estimate_level_is_recorded_kept_on_resume_and_refused_when_wrong() {
+fn one_wear_answer_is_recorded_and_the_retired_levels_are_refused() {
     let dir = fresh_dir("wear-explore-level");
     std::fs::create_dir_all(&dir).unwrap();
-    // Highway points at a share and spread where the follower gets polygons on both levels.
+    // Highway points with much toe-in, where the follower gets polygons.
     let study = dir.join("s.toml");
     std::fs::write(
         &study,
-        "name = \"w\"\nsamples = 24\nchunk_size = 12\n[params]\nwear_share_straight = 0.28\nspeed_spread_kmh = 10\nspeed_kmh = { dist = \"uniform\", min = 100, max = 130 }\ntoe_deg = { dist = \"uniform\", min = 0.4, max = 0.6 }\n",
+        "name = \"w\"\nsamples = 24\nchunk_size = 12\n[params]\nspeed_kmh = { dist = \"uniform\", min = 100, max = 130 }\ntoe_deg = { dist = \"uniform\", min = 0.4, max = 0.6 }\n",
     )
     .unwrap();
-    let (new_tire, life) = (dir.join("new"), dir.join("life"));
-    assert_eq!(
-        explore(&study, &new_tire, &["--wear-estimate", "new_tire"]).0,
-        0
-    );
+    let life = dir.join("life");
     let (code, stderr) = explore(&study, &life, &[]);
     assert_eq!(code, 0, "{stderr}");
     let manifest = std::fs::read_to_string(life.join("_manifest.json")).unwrap();
@@ -689,45 +503,45 @@ fn the_estimate_level_is_recorded_kept_on_resume_and_refused_when_wrong() {
         manifest.contains("\"wear_estimate\": \"tread_life_saturated\""),
         "{manifest}"
     );
-    let manifest = std::fs::read_to_string(new_tire.join("_manifest.json")).unwrap();
+    // How near the deepest order came: in (0, 1], 1 exactly where a polygon is visible before
+    // the tire is worn out.
+    let peaks: Vec<(f64, String)> = rows(&first_chunk(&life))
+        .iter()
+        .map(|r| {
+            (
+                float(&r["wear_peak_share_of_visible"]),
+                text(&r["wear_outcome"]),
+            )
+        })
+        .collect();
     assert!(
-        manifest.contains("\"wear_estimate\": \"new_tire\""),
-        "{manifest}"
-    );
-    let distances = |out: &std::path::Path| -> Vec<f64> {
-        rows(&first_chunk(out))
-            .iter()
-            .map(|r| float(&r["distance_to_visible_km"]))
-            .collect()
-    };
-    let (a, b) = (distances(&new_tire), distances(&life));
-    assert_eq!(a.len(), b.len());
-    // How near the deepest order came, over the tread's life only: in (0, 1], 1 exactly where
-    // a polygon is visible before the tire is worn out; NaN on the new tire's level.
-    let peaks = |out: &std::path::Path| -> Vec<(f64, String)> {
-        rows(&first_chunk(out))
-            .iter()
-            .map(|r| {
-                (
-                    float(&r["wear_peak_share_of_visible"]),
-                    text(&r["wear_outcome"]),
-                )
-            })
-            .collect()
-    };
-    assert!(peaks(&new_tire).iter().all(|(p, _)| p.is_nan()));
-    let life_peaks = peaks(&life);
-    assert!(
-        life_peaks
+        peaks
             .iter()
             .filter(|(_, o)| o != "unknown")
             .all(|(p, o)| *p > 0.0 && *p <= 1.0 && (*p == 1.0) == (o == "visible")),
-        "{life_peaks:?}"
+        "{peaks:?}"
     );
-    assert!(
-        a.iter().zip(&b).any(|(x, y)| x != y),
-        "the same distances on both levels"
-    );
+    let retired = |stderr: &str, level: &str| {
+        assert!(
+            stderr.contains(&format!("the wear answer `{level}` was retired"))
+                && stderr.contains("tread_life_saturated"),
+            "{stderr}"
+        );
+    };
+    for level in ["new_tire", "tread_life"] {
+        let out = dir.join(level);
+        let (code, stderr) = explore(&study, &out, &["--wear-estimate", level]);
+        assert_eq!(code, 2, "{stderr}");
+        retired(&stderr, level);
+        assert!(!out.exists(), "nothing written before the refusal");
+        let keyed = dir.join(format!("{level}.toml"));
+        std::fs::write(&keyed, format!("wear_estimate = \"{level}\"\n{STUDY}")).unwrap();
+        let (code, stderr) = explore(&keyed, &out, &[]);
+        assert_eq!(code, 2, "{stderr}");
+        retired(&stderr, level);
+        assert!(stderr.contains("wear_estimate"), "{stderr}");
+        assert!(!out.exists(), "nothing written before the refusal");
+    }
     let o = life.to_str().unwrap();
     let (code, _, stderr) = polywear(&[
         "explore",
@@ -738,26 +552,19 @@ fn the_estimate_level_is_recorded_kept_on_resume_and_refused_when_wrong() {
         "--wear-estimate",
         "new_tire",
     ]);
-    assert_eq!(code, 2);
-    assert!(
-        stderr.contains("--wear-estimate new_tire contradicts the run")
-            && stderr.contains("--wear-estimate tread_life_saturated"),
-        "{stderr}"
-    );
+    assert_eq!(code, 2, "{stderr}");
+    retired(&stderr, "new_tire");
     let (code, _, stderr) =
         polywear(&["explore", "--resume", "--out", o, "--quiet", "--no-report"]);
     assert_eq!(code, 0, "{stderr}");
     let (code, stderr) = explore(&study, &dir.join("typo"), &["--wear-estimate", "tread"]);
     assert_eq!(code, 2);
-    assert!(stderr.contains("did you mean `tread_life`"), "{stderr}");
-    assert!(
-        !dir.join("typo").exists(),
-        "nothing written before the refusal"
-    );
+    assert!(stderr.contains("tread_life_saturated"), "{stderr}");
+    assert!(!dir.join("typo").exists());
     let off = dir.join("off.toml");
     std::fs::write(
         &off,
-        format!("wear = false\nwear_estimate = \"tread_life\"\n{STUDY}"),
+        format!("wear = false\nwear_estimate = \"tread_life_saturated\"\n{STUDY}"),
     )
     .unwrap();
     let (code, stderr) = explore(&off, &dir.join("off"), &[]);
@@ -766,7 +573,41 @@ fn the_estimate_level_is_recorded_kept_on_resume_and_refused_when_wrong() {
         stderr.contains("`wear_estimate` is set but `wear = false`"),
         "{stderr}"
     );
-    // The summary and the report say which level they show.
+    // A run written on a retired level: refused by analyze and by resume, nothing written.
+    let old = dir.join("old");
+    std::fs::create_dir_all(&old).unwrap();
+    let fixture =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/retired_level_run");
+    for f in std::fs::read_dir(&fixture).unwrap() {
+        let f = f.unwrap().path();
+        std::fs::copy(&f, old.join(f.file_name().unwrap())).unwrap();
+    }
+    let report = dir.join("old-report");
+    let (code, _, stderr) = polywear(&[
+        "analyze",
+        old.to_str().unwrap(),
+        "--out",
+        report.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("`wear.wear_estimate` = \"new_tire\"") && stderr.contains("was retired"),
+        "{stderr}"
+    );
+    assert!(!report.exists());
+    let (code, _, stderr) = polywear(&[
+        "explore",
+        "--resume",
+        "--out",
+        old.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("`wear.wear_estimate` = \"new_tire\"") && stderr.contains("was retired"),
+        "{stderr}"
+    );
+    // The summary and the report give the one answer, over the tread's life.
     let reported = dir.join("reported");
     let (code, stdout, stderr) = polywear(&[
         "explore",
@@ -778,8 +619,7 @@ fn the_estimate_level_is_recorded_kept_on_resume_and_refused_when_wrong() {
     assert_eq!(code, 0, "{stderr}");
     assert!(
         stdout.contains("over the tread's life at each sample's operating point")
-            && stdout.contains("km/h, as the run gives them, not the fitted constants: wear_share_straight = 0.28 where the fit has 0.12")
-            && stdout.contains("fitted on the new tire's answers, not on this run's"),
+            && !stdout.contains("new tire"),
         "{stdout}"
     );
     let report = std::fs::read_to_string(reported.join("_report/report.md")).unwrap();
@@ -788,7 +628,7 @@ fn the_estimate_level_is_recorded_kept_on_resume_and_refused_when_wrong() {
         "{report}"
     );
     // How near the others came: the wheels whose peak reached the visible depth are those
-    // visible in the rows, per wheel; the new tire's level has no such section.
+    // visible in the rows, per wheel.
     assert!(report.contains("### How near the others came"), "{report}");
     let table = std::fs::read_to_string(reported.join("_report/wear_near_misses.csv")).unwrap();
     let mut lines = table.lines();
@@ -816,29 +656,6 @@ fn the_estimate_level_is_recorded_kept_on_resume_and_refused_when_wrong() {
         seen += 1;
     }
     assert_eq!(seen, 2, "{table}");
-    let analysed = dir.join("new_analysed");
-    let (code, _, stderr) = polywear(&[
-        "analyze",
-        new_tire.to_str().unwrap(),
-        "--out",
-        analysed.to_str().unwrap(),
-        "--format",
-        "svg",
-    ]);
-    assert_eq!(code, 0, "{stderr}");
-    let report = std::fs::read_to_string(analysed.join("report.md")).unwrap();
-    assert!(!report.contains("How near the others came"), "{report}");
-    assert!(!analysed.join("wear_near_misses.csv").exists());
-    // The study's key reaches the manifest as the flag does.
-    let keyed = dir.join("keyed.toml");
-    std::fs::write(&keyed, format!("wear_estimate = \"new_tire\"\n{STUDY}")).unwrap();
-    let out = dir.join("keyed");
-    assert_eq!(explore(&keyed, &out, &[]).0, 0);
-    let manifest = std::fs::read_to_string(out.join("_manifest.json")).unwrap();
-    assert!(
-        manifest.contains("\"wear_estimate\": \"new_tire\""),
-        "{manifest}"
-    );
 }
 
 /// The slip power's inputs are refused before any work, naming the key and its range.

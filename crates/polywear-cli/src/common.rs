@@ -180,15 +180,15 @@ pub fn parse_assignment(s: &str) -> Result<(String, f64), String> {
 /// A setting's flag, accepted names and the commands that take it, for a study key that is no
 /// parameter (`wear_zone`).
 fn setting(name: &str) -> Option<(&'static str, &'static [&'static str], &'static str)> {
-    use polywear_core::wear::{EstimateLevel, WearPower, WearZone};
+    use polywear_core::wear::{WearPower, WearZone, SHIPPED_LEVEL};
     use strum::VariantNames;
     const WEAR: &str = "explore, cycle and wear";
     match name {
         "wear_zone" => Some(("--wear-zone", WearZone::VARIANTS, WEAR)),
         "wear_power" => Some(("--wear-power", WearPower::VARIANTS, WEAR)),
         "wear_estimate" => Some((
-            "--wear-estimate",
-            EstimateLevel::VARIANTS,
+            "--wear-estimate (retired: one answer is given)",
+            &[SHIPPED_LEVEL],
             "explore and cycle",
         )),
         "variant" | "variants" => Some((

@@ -16,7 +16,7 @@ use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::WearStage;
 use polywear_core::model::Variant;
 use polywear_core::params::{ParamId, Params};
-use polywear_core::wear::{EstimateLevel, FittedConstants, WearSettings};
+use polywear_core::wear::FittedConstants;
 use polywear_study::cycle::structures::{draw_structures, study_metadata, CommandLine, Structures};
 use polywear_study::cycle::{classify_cycles, ClassifiedCycle, DriveCycle};
 use polywear_study::study::Study;
@@ -91,19 +91,11 @@ pub struct CycleArgs {
     /// Leave the wear stage out: no distance to a visible polygon, no wear columns
     #[arg(long, conflicts_with_all = ["wear_zone", "wear_estimate"])]
     pub no_wear: bool,
-    /// Which answer the cycle's polygon gets (MODEL.md#along-a-drive-cycle):
-    /// tread_life_saturated (the default, as explore's: the steps share one tread whose
-    /// frequency rises as it wears, every order it passes grows while it is near, until one is
-    /// visible or the tire is worn out, and the steps summed by 0.1 km/h of speed each print at
-    /// most what sliding friction can modulate, MODEL.md#the-forced-response-saturates),
-    /// tread_life (the same with the print growing without bound) or new_tire (the new tire
-    /// driving the cycle for ever, the level the field calibration was fitted on)
-    #[arg(long, value_name = "LEVEL", value_parser = |s: &str| s.parse::<EstimateLevel>().map_err(|e| e.to_string()))]
-    pub wear_estimate: Option<EstimateLevel>,
     /// The calibration band of the distance to a visible polygon: a file of calibrated sets of
     /// the fitted wear constants (as data/calibration_band.toml, the default), or `off`. Each
     /// set's phi_s and k_d give the distance again in closed form (sigma_V does not enter: the
-    /// cycle's speeds are its spread), and its range is printed beside it
+    /// cycle's speeds are its spread; the carcass and belt shares stay the run's, the steps'
+    /// profiles being laid out at them), and its range is printed beside it
     #[arg(long, value_name = "FILE|off", conflicts_with = "no_wear")]
     pub calibration_band: Option<String>,
     #[command(flatten)]
@@ -122,17 +114,14 @@ pub fn run(args: &CycleArgs) -> CliResult {
     // The band's file is read before any work; without the wear stage there is none.
     let band = super::common::calibration_band(args.calibration_band.as_deref())?;
     let wear = wear_stage(args, &request.base, request.variant)?;
-    if wear
-        .as_ref()
-        .is_some_and(|s| s.settings.estimate == EstimateLevel::TreadLifeSaturated)
-    {
+    if wear.is_some() {
         let per_wheel = polywear_study::cycle::wear::saturated_bins_bytes(&request.cycle);
         let bases = request.structures.bases.len() as u64;
         let bytes = 2 * bases * per_wheel;
         if bytes > SATURATED_BINS_MAX_BYTES {
             let most = SATURATED_BINS_MAX_BYTES / (2 * per_wheel).max(1);
             return Err(CliError(format!(
-                "--wear-estimate tread_life_saturated: {bases} structures would hold {:.1} GiB of speed bins on this cycle ({:.0} MB a structure); accepted: at most {most} structures (--structure-samples), or --wear-estimate tread_life",
+                "--structure-samples: {bases} structures would hold {:.1} GiB of speed bins on this cycle ({:.0} MB a structure); accepted: at most {most} structures, or --no-wear",
                 bytes as f64 / (1u64 << 30) as f64,
                 (2 * per_wheel) as f64 / 1e6
             )));
@@ -345,11 +334,12 @@ fn wear_stage(args: &CycleArgs, base: &Params, variant: Variant) -> CliResult<Op
     if args.no_wear {
         return Ok(None);
     }
-    let settings = WearSettings {
-        estimate: args.wear_estimate.unwrap_or_default(),
-        ..args.wear.settings()
-    };
-    WearStage::for_run(base, variant, settings, &ClassifierOptions::default())
-        .map(Some)
-        .map_err(|e| CliError(format!("the wear stage: {e} (leave it out with --no-wear)")))
+    WearStage::for_run(
+        base,
+        variant,
+        args.wear.settings(),
+        &ClassifierOptions::default(),
+    )
+    .map(Some)
+    .map_err(|e| CliError(format!("the wear stage: {e} (leave it out with --no-wear)")))
 }

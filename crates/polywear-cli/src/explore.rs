@@ -15,7 +15,6 @@ use super::batch::{signal_name, Interrupt, Progress};
 use super::common::{BudgetArgs, CliError, CliResult};
 use crate::wear_reading::WearReadingArgs;
 use errors::{explore_error, write_failure};
-use polywear_core::wear::EstimateLevel;
 use polywear_core::wording::plain;
 use polywear_study::explore::recorded_run::shell_word;
 use polywear_study::explore::{
@@ -92,20 +91,10 @@ pub struct ExploreArgs {
     pub no_wear: bool,
     #[command(flatten)]
     pub wear: WearReadingArgs,
-    /// Which answer each sample gets (MODEL.md#the-estimator-over-the-treads-life):
-    /// tread_life_saturated (the default: every order the tread frequency passes as the tread
-    /// wears, until one is visible or the tire is worn out, the speed spread driven on 40 legs
-    /// and a deep order's print at each held to what sliding friction can modulate,
-    /// MODEL.md#the-forced-response-saturates; the level that agrees with `polywear wear`'s
-    /// long-term loop), tread_life (the same with the print growing without bound: 30-84% short
-    /// of the loop where the wear is fast) or new_tire (the new tire cruising for ever, the
-    /// level the field calibration and its band were fitted on, which the loop contradicts at
-    /// highway points); a study can say `wear_estimate = "..."`
-    #[arg(long, value_name = "LEVEL", value_parser = |s: &str| s.parse::<EstimateLevel>().map_err(|e| e.to_string()))]
-    pub wear_estimate: Option<EstimateLevel>,
     /// The calibration band: a file of calibrated sets of the fitted wear constants (phi_s,
-    /// sigma_V, k_d; TOML as data/calibration_band.toml, which `cargo run --release --example
-    /// wear_field -- band` regenerates), or `off` for the nominal constants' answer alone.
+    /// sigma_V, k_d, carcass_share, belt_mass_share; TOML as data/calibration_band.toml, which
+    /// `cargo run --release --example calibrate_band -- 1024 2000` regenerates), or `off` for
+    /// the nominal constants' answer alone.
     /// Default: the shipped sets. Every wear figure is re-evaluated under each set on
     /// --band-samples of the run's own samples, and its range printed beside its sampling
     /// interval
@@ -201,7 +190,6 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
         no_wear: args.no_wear,
         wear_zone: args.wear.wear_zone,
         wear_power: args.wear.wear_power,
-        wear_estimate: args.wear_estimate,
     };
     let (plan, notes) = request.plan(&|b| args.budget.apply(b).map_err(|e| Refusal(e.0)))?;
     if !args.quiet {

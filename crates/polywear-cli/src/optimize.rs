@@ -56,8 +56,8 @@ pub struct OptimizeArgs {
     #[arg(long, value_name = "NAME<=V|NAME>=V")]
     pub constraint: Vec<String>,
     /// The calibration band: a file of calibrated sets of the fitted wear constants (phi_s,
-    /// sigma_V, k_d; TOML as data/calibration_band.toml), or `off` for the nominal constants'
-    /// answer alone. Default: the shipped sets, when the objective or a constraint weighs wear.
+    /// sigma_V, k_d, carcass_share, belt_mass_share; TOML as data/calibration_band.toml), or
+    /// `off` for the nominal constants' answer alone. Default: the shipped sets, when the objective or a constraint weighs wear.
     /// Every setting's wear answer is re-evaluated under each set on the same samples (closed
     /// form, no second classification), and the optimum under each set is reported
     #[arg(long, value_name = "FILE|off")]

@@ -78,12 +78,13 @@ pub struct WearArgs {
     #[arg(long, value_name = "FILE|off")]
     pub calibration_band: Option<String>,
     /// Which calibrated sets the loop runs under: `ends` (for each wheel, the sets with the
-    /// shortest and the longest distance by the new tire's per-sample estimate at this point: a
-    /// few runs) or `all` (every set: as many runs as the band has sets)
+    /// shortest and the longest distance by the per-sample wear answer at this point: a few
+    /// runs) or `all` (every set: as many runs as the band has sets)
     #[arg(long, value_name = "ends|all", default_value = "ends", value_parser = parse_band_sets)]
     pub band_sets: LoopSets,
-    /// Also print the per-sample estimator's figures on both levels (the new tire's, and over
-    /// the tread's life: explore's default) and add `estimate_*` columns
+    /// Also print the per-sample wear answer at this point (explore's, over the tread's life
+    /// with each speed's print saturated) beside the loop's verdict, and for a cruise the same
+    /// answer on the loop's own speeds, and add `estimate_*` columns
     #[arg(long)]
     pub estimate: bool,
     /// Format of the figure
@@ -436,7 +437,7 @@ pub fn run(args: &WearArgs) -> CliResult {
                 .collect();
             let chosen = match args.band_sets {
                 LoopSets::Ends => format!(
-                    "{source}: for each wheel the sets with the shortest and the longest new-tire estimate here, a level the loop does not confirm, so --band-sets all checks every set"
+                    "{source}: for each wheel the sets with the shortest and the longest per-sample wear answer here; the loop's own ends may lie at other sets, which --band-sets all checks"
                 ),
                 LoopSets::All => format!("{source}: every set"),
             };

@@ -7,6 +7,9 @@
 pub enum ColumnData {
     /// Floating-point values.
     F64(Vec<f64>),
+    /// Single-precision values: where seven digits are all a figure has (the calibration
+    /// band's distances, one column per set), at half the bytes.
+    F32(Vec<f32>),
     /// Integers.
     I64(Vec<i64>),
     /// Strings (UTF-8).
@@ -18,6 +21,7 @@ impl ColumnData {
     pub fn len(&self) -> usize {
         match self {
             ColumnData::F64(v) => v.len(),
+            ColumnData::F32(v) => v.len(),
             ColumnData::I64(v) => v.len(),
             ColumnData::Str(v) => v.len(),
         }
@@ -47,6 +51,14 @@ impl Column {
             name: name.into(),
             unit,
             data: ColumnData::F64(data),
+        }
+    }
+    /// A single-precision column.
+    pub fn f32(name: impl Into<String>, unit: &'static str, data: Vec<f32>) -> Self {
+        Column {
+            name: name.into(),
+            unit,
+            data: ColumnData::F32(data),
         }
     }
     /// An integer column.

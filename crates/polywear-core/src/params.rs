@@ -291,10 +291,10 @@ define_params! {
         None, "Driven wheels sharing the drive force.";
     WearRateRef wear_rate_ref_mm_per_1000km: "w'_0", "mm/1000 km", 0.12, Published, Wear, 0.0, true, 10.0, false,
         None, "Even-wear rate of a tire at the reference point (tread-life figures, range 0.08..0.21).";
-    WearRateDrivenFactor wear_rate_driven_factor: "k_d", "-", 1.75, Published, Wear, 0.0, true, 10.0, false,
-        None, "Even-wear rate of a driven-axle tyre over a free-rolling one's, under wear_power = with_slip (front-wheel-drive cars: front tyres wear 1.5 to 2 times as fast, tyre-rotation guidance; near 1 for a rear-driven axle).";
-    WearShareStraight wear_share_straight: "phi_s", "-", 0.12, FieldFitted, Wear, 0.0, true, 1.0, false,
-        None, "Share of the even wear that straight running with toe causes, the share the vibration couples to (1 = worst case).";
+    WearRateDrivenFactor wear_rate_driven_factor: "k_d", "-", 1.76306, FieldFitted, Wear, 0.0, true, 10.0, false,
+        None, "Even-wear rate of a driven-axle tyre over a free-rolling one's, under wear_power = with_slip (front-wheel-drive cars: front tyres wear 1.5 to 2 times as fast, tyre-rotation guidance; near 1 for a rear-driven axle); the calibration's nominal within that range (data/calibration_band.toml).";
+    WearShareStraight wear_share_straight: "phi_s", "-", 0.25309, FieldFitted, Wear, 0.0, true, 1.0, false,
+        None, "Share of the even wear that straight running with toe causes, the share the vibration couples to (1 = worst case); the calibration's nominal (data/calibration_band.toml; 0.18-0.35 accepted).";
     FoundationFactor foundation_stiffness_factor: "E_c/G", "-", 3.0, Judgement, Wear, 0.0, false, 1000.0, false,
         None, "Tread foundation stiffness k_t = factor * G / h (3 = incompressible rubber; 0 switches the local pressure feedback off).";
     RadialStiffnessFactor radial_stiffness_factor: "k_r/k_r0", "-", 1.0, Judgement, Wear, 0.0, false, 100.0, false,
@@ -305,14 +305,16 @@ define_params! {
         None, "Peak-to-valley depth at which a polygon counts as visible (heard).";
     LimitDepthMm limit_depth_mm: "d_limit", "mm", 1.5, Published, Wear, 0.0, true, 100.0, false,
         None, "Peak-to-valley depth of the service limit on radial run-out (at least visible_depth_mm).";
-    SpeedSpreadKmh speed_spread_kmh: "sigma_V", "km/h", 5.0, FieldFitted, Wear, 0.0, false, 100.0, false,
-        None, "Standard deviation of the cruising speed around the operating point's speed (a normal spread).";
+    SpeedSpreadKmh speed_spread_kmh: "sigma_V", "km/h", 6.83021, FieldFitted, Wear, 0.0, false, 100.0, false,
+        None, "Standard deviation of the cruising speed around the operating point's speed (a normal spread); the calibration's nominal (data/calibration_band.toml; searched 2-10 km/h).";
     TreadDepthNewMm tread_depth_new_mm: "d_new", "mm", 8.0, Published, Wear, 0.0, true, 200.0, false,
         None, "Usable groove depth of the new tire's tread (the rubber the long-term loop may wear away; new passenger tires: 7-8 mm in DEKRA's 2022 tests, 10/32-11/32 in = 7.9-8.7 mm in US practice; at most tread_height).";
     TreadDepthWornOutMm tread_depth_worn_out_mm: "d_out", "mm", 1.6, Published, Wear, 0.0, false, 200.0, false,
         None, "Groove depth at which the tire is worn out and the loop ends (the legal minimum: 1.6 mm in the EU, Council Directive 89/459/EEC; 2/32 in = 1.6 mm in US inspection rules; below tread_depth_new_mm).";
-    CarcassShare carcass_share: "c", "-", 0.5, Judgement, Wear, 0.0, false, 1.0, false,
-        None, "Share of the new tire's contact lateral compliance 1/K_s that is carcass and belt, not tread: the worn tire's 1/K_s = c/K_s0 + (1 - c)/K_t(h), K_t of Eq. 16 at the worn height (no figure found, bounded 0.3..0.7; 0 = the tread alone, f nearly as 1/h).";
+    CarcassShare carcass_share: "c", "-", 0.539057, FieldFitted, Wear, 0.0, false, 1.0, false,
+        None, "Share of the new tire's contact lateral compliance 1/K_s that is carcass and belt, not tread: the worn tire's 1/K_s = c/K_s0 + (1 - c)/K_t(h), K_t of Eq. 16 at the worn height (no figure found, bounded 0.3..0.7 by judgement; the calibration's nominal within it; 0 = the tread alone, f nearly as 1/h).";
+    BeltMassShare belt_mass_share: "mu_b", "-", 0.316235, FieldFitted, Wear, 0.0, false, 1.0, false,
+        None, "Share of the tread mode's mass that does not wear, the belt and carcass moving with the tread: the worn tire's m = m0 (mu_b + (1 - mu_b) h/h0) (no measurement found, bounded 0..0.7 by judgement in MODEL.md#the-ageing-tread; the calibration's nominal within it; 0 = the tread rubber alone, m = rho a b h). The new tire is the paper's at any share.";
 }
 
 /// The reference constants R0 (MODEL.md#r0-and-the-shipped-defaults) where the shipped defaults

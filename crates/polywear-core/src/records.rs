@@ -198,13 +198,13 @@ define_record! {
     fn wear_columns;
     extra {}
     WearEvenMmPer1000km wear_even_mm_per_1000km: f64, F64, "mm/1000km", "Even wear rate w' at the point (MODEL.md#step-10-wear-law).";
-    PolygonOrderWear polygon_order_wear: f64, F64, "-", "The wear's polygon order: on the new tire's level the profile order that grows fastest over the speed spread; over the tread's life the order visible first, else the one that got deepest, NaN where no order rises above its seed (every order levels); NaN where undefined. The vibration's is polygon_order.";
+    PolygonOrderWear polygon_order_wear: f64, F64, "-", "The wear's polygon order over the tread's life: the order visible first, else the one that got deepest, NaN where no order rises above its seed (every order levels); NaN where undefined. The vibration's is polygon_order.";
     DetuningRev detuning_rev: f64, F64, "-", "Its detuning nu - n from the tread frequency, in orders per revolution.";
     GrowthRatePer1000km growth_rate_per_1000km: f64, F64, "1/1000km", "Its closed-loop growth rate beta (> 0: the polygon grows; < 0: it levels out).";
     DistanceToVisibleKm distance_to_visible_km: f64, F64, "km", "Cruising distance at the point, with the speed spread, until the polygon is visible_depth_mm deep; inf when every order levels out.";
     TreadLifeKm tread_life_km: f64, F64, "km", "Cruising distance at the point until the position's whole even wear leaves tread_depth_worn_out_mm: (tread_depth_new_mm - tread_depth_worn_out_mm) / (w' + (1 - phi_s) w'_pos).";
     WearOutcome wear_outcome: String, Str, "", "The wear answer in words: visible (distance_to_visible_km within tread_life_km), not_within_life (later, or never), unknown (no figures; wear_reason says why).";
-    WearPeakShareOfVisible wear_peak_share_of_visible: f64, F64, "-", "Over the tread's life (wear_estimate = tread_life_saturated or tread_life): the deepest order's largest depth before the tire is worn out, as a share of visible_depth_mm (1 where a polygon is visible): how near a wheel without one came (saturated, where the unsaturated walk has a polygon; else that walk's, an upper bound). NaN on the new tire's level.";
+    WearPeakShareOfVisible wear_peak_share_of_visible: f64, F64, "-", "The deepest order's largest depth over the tread's life before the tire is worn out, as a share of visible_depth_mm (1 where a polygon is visible): how near a wheel without one came (saturated, where the unsaturated walk has a polygon; else that walk's, an upper bound).";
     WearLockedShare wear_locked_share: f64, F64, "-", "Share of the speed spread inside the dominant order's lock-in band (0 for a stable wheel).";
     WearShareStraight wear_share_straight: f64, F64, "-", "phi_s, the parameter wear_share_straight: the share of the reference wear that straight running couples to (field-fitted).";
     WearRhsEvals wear_rhs_evals: u64, I64, "", "Right-hand-side evaluations the wear stage spent on the wheel (0 for a stable one).";

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use parquet::basic::{Compression, ZstdLevel};
-use parquet::data_type::{ByteArray, ByteArrayType, DoubleType, Int64Type};
+use parquet::data_type::{ByteArray, ByteArrayType, DoubleType, FloatType, Int64Type};
 use parquet::file::metadata::KeyValue;
 use parquet::file::properties::WriterProperties;
 use parquet::file::writer::SerializedFileWriter;
@@ -29,6 +29,7 @@ pub use polywear_core::columns::{Column, ColumnData};
 fn physical(data: &ColumnData) -> &'static str {
     match data {
         ColumnData::F64(_) => "DOUBLE",
+        ColumnData::F32(_) => "FLOAT",
         ColumnData::I64(_) => "INT64",
         ColumnData::Str(_) => "BYTE_ARRAY",
     }
@@ -111,7 +112,7 @@ pub const ZSTD_LEVEL: i32 = 3;
 /// the repeat in the plain bytes as well (docs/book/src/maintainers/benchmarks.md#output-size). Byte-stream-split
 /// encoding measured larger still: it cuts the repeated 8-byte values apart.
 fn dictionary_encoded(data: &ColumnData) -> bool {
-    !matches!(data, ColumnData::F64(_))
+    !matches!(data, ColumnData::F64(_) | ColumnData::F32(_))
 }
 
 /// Streams row groups into one Parquet file. The file is written under a temporary name and
@@ -207,6 +208,7 @@ impl TableWriter {
                 .ok_or_else(|| err(&"fewer columns than the schema"))?;
             match &c.data {
                 ColumnData::F64(v) => col.typed::<DoubleType>().write_batch(v, None, None),
+                ColumnData::F32(v) => col.typed::<FloatType>().write_batch(v, None, None),
                 ColumnData::I64(v) => col.typed::<Int64Type>().write_batch(v, None, None),
                 ColumnData::Str(v) => {
                     let b: Vec<ByteArray> = v.iter().map(|s| ByteArray::from(s.as_str())).collect();
@@ -272,6 +274,7 @@ pub fn write_csv(path: &Path, columns: &[Column]) -> Result<(), WriteError> {
     for row in 0..n {
         let cells = columns.iter().map(|c| match &c.data {
             ColumnData::F64(v) => polywear_core::wording::data_number(v[row]),
+            ColumnData::F32(v) => polywear_core::wording::data_number(f64::from(v[row])),
             ColumnData::I64(v) => v[row].to_string(),
             ColumnData::Str(v) => v[row].clone(),
         });

@@ -17,7 +17,7 @@ use super::{AnalysisError, RunInfo};
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::wording::{one_line, plain};
 use polywear_study::calibration_band::evaluate::{
-    band_state, BandState, BAND_DIGEST, BAND_FILE, RUN_SET,
+    band_state, set_column, BandState, BAND_DIGEST, BAND_FILE, RUN_SET,
 };
 use polywear_study::calibration_band::{constant_ranges, CalibratedSet, MAX_TEXT_CHARS};
 use polywear_study::study::BASELINE;
@@ -101,6 +101,9 @@ pub struct CalibrationBand {
     pub source: String,
     /// How they were found.
     pub method: String,
+    /// Where the calibration's accepted region lies, in one sentence (empty for a band that
+    /// recorded none).
+    pub region: String,
     /// The sets.
     pub sets: Vec<CalibratedSet>,
     /// Samples of the subsample.
@@ -212,6 +215,15 @@ pub(super) fn band_file(info: &RunInfo) -> Result<Option<FileFooter>, AnalysisEr
         BandState::Absent => unreachable!("a directory with a band was found"),
     }
     let footer = FileFooter::read(&path).map_err(|e| refuse(e.to_string()))?;
+    if !footer.has_column(&set_column(RUN_SET)) {
+        return Err(AnalysisError::Band {
+            path,
+            message: format!(
+                "the calibration band is in the format of an older polywear (a row per set, no column `{}`); write it again with `{resume}`, or remove it",
+                set_column(RUN_SET)
+            ),
+        });
+    }
     let rows_footer = FileFooter::read(&info.files[0])?;
     for key in RUN_IDENTITY_KEYS {
         let (theirs, ours) = (footer.value(key), rows_footer.value(key));
@@ -349,7 +361,10 @@ pub(super) fn band(
     if !within.contains(&scenario_within_km) {
         within.push(scenario_within_km);
     }
-    let counts = band_counts(&path, &within, sample_weight(info))?;
+    let set_ids: Vec<&str> = std::iter::once(RUN_SET)
+        .chain(sets.iter().map(|s| s.id.as_str()))
+        .collect();
+    let counts = band_counts(&path, &within, sample_weight(info), &set_ids)?;
     let p = |scenario: &str, variant: Variant, wheel: Wheel, set: &str, k: usize| {
         counts
             .iter()
@@ -454,6 +469,7 @@ pub(super) fn band(
         // is checked so when explore reads it; a footer is taken as it is found).
         source: one_line(&meta("band_source")?, MAX_TEXT_CHARS),
         method: one_line(&meta("band_method")?, MAX_TEXT_CHARS),
+        region: one_line(footer.value("band_region").unwrap_or(""), MAX_TEXT_CHARS),
         sets,
         samples,
         occurrence,

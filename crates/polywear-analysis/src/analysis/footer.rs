@@ -156,6 +156,11 @@ impl FileFooter {
     /// Refuses a column the analysis reads that is missing or of another type than explore
     /// writes: the drawn values and cycle quantities as doubles, `sample_id` as int64, the
     /// names as text.
+    /// Whether the file has a column `name`.
+    pub(super) fn has_column(&self, name: &str) -> bool {
+        self.columns.iter().any(|(c, _)| c == name)
+    }
+
     pub(super) fn check_columns(
         &self,
         drawn: &[ParamId],

@@ -11,7 +11,6 @@ use super::AnalysisError;
 use polywear_core::model::Variant;
 use polywear_core::params::{ParamId, Params};
 use polywear_core::sampling::design::Design;
-use polywear_core::wear::EstimateLevel;
 use polywear_study::explore::manifest::OperatingPointsRecord;
 use polywear_study::explore::RunManifest;
 use polywear_study::study::{text_hash, Scenario, Study};
@@ -59,9 +58,6 @@ pub struct RunInfo {
     /// The study's scenarios (`scenarios` metadata), in the order of each sample's row blocks
     /// after the baseline's; empty for a study without scenarios.
     pub scenarios: Vec<Scenario>,
-    /// Which answer the wear columns hold (the wear stage's `wear_estimate`; the new tire's
-    /// for a run recorded before it was a setting, or without the stage).
-    pub estimate: EstimateLevel,
 }
 
 impl RunInfo {
@@ -183,18 +179,24 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
     // does not parse is one this version cannot read, or whose operating-point file moved: only
     // the nominal curves of the risk maps need it, and they are then left out.
     let study = Study::parse_at(&study_text, run.params, &dir).ok();
-    let estimate = match run
-        .wear
-        .as_ref()
-        .and_then(|w| w.get("wear_estimate"))
-        .and_then(|e| e.as_str())
-    {
-        None => EstimateLevel::NewTire,
-        Some(e) => e.parse().map_err(|e| AnalysisError::Metadata {
-            path: first.path.clone(),
-            message: format!("`wear.wear_estimate`: {e}"),
-        })?,
-    };
+    // The wear columns of a run written on a retired wear answer (`wear_estimate` other than
+    // the one polywear gives, or none: before it was a setting, the new tire's) are not this
+    // version's answer, and are not analysed as if they were.
+    if let Some(w) = &run.wear {
+        let level = w
+            .get("wear_estimate")
+            .and_then(|e| e.as_str())
+            .unwrap_or("new_tire");
+        if let Some(why) = polywear_core::wear::retired_level(level) {
+            return Err(AnalysisError::Metadata {
+                path: first.path.clone(),
+                message: format!(
+                    "`wear.wear_estimate` = \"{level}\": {why}; run explore again for this version's answer, or analyze it with the polywear that wrote it ({})",
+                    run.polywear_version
+                ),
+            });
+        }
+    }
     Ok(RunInfo {
         study_name: run.study_name.clone(),
         study_text,
@@ -216,7 +218,6 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
         params: run.params,
         operating_points: run.operating_points.clone(),
         scenarios,
-        estimate,
     })
 }
 

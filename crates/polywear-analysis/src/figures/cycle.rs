@@ -13,7 +13,7 @@ use polywear_core::params::{ParamId, Params, OPERATING_AXES};
 use polywear_core::records::{record_columns, OPERATING_POINT_ROW, SAMPLE_ID};
 use polywear_core::wear::FittedConstants;
 use polywear_study::cycle::summary::{summarise, summary_columns, WheelSummary};
-use polywear_study::cycle::wear::{cycle_wear, cycle_wear_band, CycleLife};
+use polywear_study::cycle::wear::CycleLife;
 use polywear_study::cycle::{DriveCycle, StepWheel};
 use polywear_study::operating_points::OperatingPoints;
 use polywear_study::parquet_out::{write_csv, write_table, Column};
@@ -31,7 +31,7 @@ pub struct CycleRun<'a> {
     /// `steps[k][i]`: sample k, step i, both wheels.
     pub steps: Vec<Vec<[StepWheel; 2]>>,
     /// `life[k][w]`: sample k's wheel w over the tread's life, its steps' profiles summed by
-    /// distance (None on the new tire's level or without the wear stage); empty for none.
+    /// distance (None without the wear stage); empty for none.
     pub life: Vec<[Option<CycleLife>; 2]>,
     /// Written into every file (version, command, parameters, variant, cycle, study).
     pub metadata: Vec<(String, String)>,
@@ -74,10 +74,6 @@ impl CycleRun<'_> {
                             let mut all = life.wear_with(base, &sets).into_iter();
                             (all.next(), all.collect())
                         }
-                        (Some(base), None) => (
-                            Some(cycle_wear(self.cycle, s, w, base)),
-                            cycle_wear_band(self.cycle, s, w, base, &self.band_sets),
-                        ),
                         _ => (None, Vec::new()),
                     };
                     WheelSummary {

@@ -11,7 +11,6 @@ use crate::plot::surface::{marker, surface_curve, surface_map, MapPoint, VLine};
 use crate::plot::FigureFile;
 use crate::plot::{FigureFormat, PlotError};
 use polywear_core::model::Wheel;
-use polywear_core::wear::EstimateLevel;
 use polywear_core::wording::plain;
 use polywear_study::optimize::{Problem, Solution};
 use polywear_study::parquet_out::{write_csv, write_table, Column};
@@ -84,20 +83,6 @@ pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
         )),
         best.objective.n
     ));
-    // Which level answered the wear objective, said either way: the two differ by orders of
-    // magnitude at the shipped constants (MODEL.md#the-estimator-over-the-treads-life).
-    match problem.wear.map(|w| w.settings.estimate) {
-        Some(EstimateLevel::TreadLife) => lines.push(
-            "wear answered over the tread's life (wear_estimate = \"tread_life\"); the calibration band's sets were fitted on the new tire's answers".into(),
-        ),
-        Some(EstimateLevel::TreadLifeSaturated) => lines.push(
-            "wear answered over the tread's life with each speed's print saturated (wear_estimate = \"tread_life_saturated\"); the calibration band's sets were fitted on the new tire's answers".into(),
-        ),
-        Some(EstimateLevel::NewTire) => lines.push(
-            "wear answered as the new tire cruising for ever (wear_estimate = \"new_tire\"), the level the field calibration was fitted on; the long-term loop contradicts it at highway points".into(),
-        ),
-        None => {}
-    }
     let within = solution.within_best();
     let spans: Vec<String> = axes
         .iter()
@@ -441,6 +426,8 @@ fn band_columns(problem: &Problem, solution: &Solution) -> Option<Vec<Column>> {
         f("wear_rate_driven_factor", "-", &|k| {
             sets[k].wear_rate_driven_factor
         }),
+        f("carcass_share", "-", &|k| sets[k].carcass_share),
+        f("belt_mass_share", "-", &|k| sets[k].belt_mass_share),
     ];
     for (j, a) in problem.axes.iter().enumerate() {
         cols.push(f(a.param.name(), a.param.spec().unit, &|k| {

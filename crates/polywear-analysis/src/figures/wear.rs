@@ -157,6 +157,8 @@ pub fn write_band(
         f("wear_rate_driven_factor", "-", &|k| {
             set(rows[k].0).wear_rate_driven_factor
         }),
+        f("carcass_share", "-", &|k| set(rows[k].0).carcass_share),
+        f("belt_mass_share", "-", &|k| set(rows[k].0).belt_mass_share),
         Column::str(
             "verdict",
             verdicts.iter().map(|v| v.kind.to_string()).collect(),

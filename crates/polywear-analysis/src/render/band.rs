@@ -8,7 +8,6 @@ use std::fmt::Write as _;
 use crate::analysis::band::{BandRange, CalibrationBand, PairedBand};
 use crate::analysis::Analysis;
 use polywear_core::model::Wheel;
-use polywear_core::wear::EstimateLevel;
 use polywear_core::wording::km;
 
 /// "calibration band 6.1–11.8%" for a probability.
@@ -69,17 +68,17 @@ pub fn paired_words(p: &PairedBand, sets: usize) -> String {
     }
 }
 
-/// What the band is, in one sentence, for a run whose answers are on `level` (the shipped
-/// sets are fitted on the new tire's: over the tread's life, the sentence says so).
-pub fn about(b: &CalibrationBand, level: EstimateLevel) -> String {
-    let fitted_on = match level {
-        EstimateLevel::NewTire => "",
-        EstimateLevel::TreadLife | EstimateLevel::TreadLifeSaturated => {
-            "; fitted on the new tire's answers, not on this run's over the tread's life"
-        }
+/// What the band is, in one sentence: how many sets, their constants' ranges, the method and
+/// the file, the subsample, and where the calibration's accepted region lies (the file's own
+/// words, the finding an engineer quotes beside the band).
+pub fn about(b: &CalibrationBand) -> String {
+    let region = if b.region.is_empty() {
+        String::new()
+    } else {
+        format!("; the calibration's finding: {}", b.region)
     };
     format!(
-        "{} calibrated sets ({}; {}, {}{fitted_on}), re-evaluated on {} of the run's samples",
+        "{} calibrated sets ({}; {}, {}), re-evaluated on {} of the run's samples{region}",
         b.sets.len(),
         b.constants_words(),
         b.method,
@@ -102,14 +101,15 @@ pub fn section(s: &mut String, a: &Analysis) {
     };
     let _ = writeln!(
         s,
-        "The wear answer rests on constants fitted to field facts, not measured: φ_s \
-         (`wear_share_straight`), σ_V (`speed_spread_kmh`) and the driven axle's wear rate k_d \
-         (`wear_rate_driven_factor`, a published range). The field facts do not fix them to a \
-         point: {}. Each figure below is the run's, moved by each set's difference from the \
+        "The wear answer rests on five constants fitted to field facts, not measured: φ_s \
+         (`wear_share_straight`), σ_V (`speed_spread_kmh`), the driven axle's wear rate k_d \
+         (`wear_rate_driven_factor`, a published range) and the ageing tread's carcass and belt \
+         shares c and μ_b (`carcass_share`, `belt_mass_share`, bounded by judgement). The field \
+         facts do not fix them to a point: {}. Each figure below is the run's, moved by each set's difference from the \
          run's own constants on the same samples; its range over the sets is the calibration \
          band, beside the 95% Wilson interval (sampling only). The band's rows: `{}` \
          (MODEL.md#the-calibration-band).\n",
-        markdown_text(&about(b, a.info.estimate)),
+        markdown_text(&about(b)),
         b.file
             .file_name()
             .map_or(String::new(), |n| n.to_string_lossy().to_string())

@@ -180,7 +180,7 @@ fn wear_line(all: &[[WheelSummary; 2]], w: usize, seed_share: f64) -> Option<Str
             .distance_band_km()
             .map_or(String::new(), |(lo, hi)| {
                 format!(
-                    " (calibration band {} to {} over {} calibrated sets)",
+                    " (calibration band {} to {} over {} calibrated sets, their phi_s and k_d)",
                     shown_km(lo),
                     shown_km(hi),
                     all[0][w].wear_band.len()

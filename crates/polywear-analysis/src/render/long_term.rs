@@ -156,51 +156,22 @@ pub fn lines(
                 }
             ));
         }
-        if estimate && !problem.is_cruise() {
-            // A drive cycle's estimates are its speeds', not the point's.
+        if estimate {
             let legs = problem.legs.len();
-            for (label, reading, note) in [
-                ("life     ", &w.life, format!(" on the cycle's {legs} speeds")),
-                (
-                    "life, saturated",
-                    &w.life_saturated,
-                    format!(" on the cycle's {legs} speeds, each saturating on its own (the tread_life_saturated level)"),
-                ),
-            ] {
-                out.push(life_line(w.wheel, label, reading.as_ref(), &note));
-            }
-        } else if estimate {
-            out.push(match &w.solution.wear {
-                Some(e) => format!(
-                    "  {}: new tire  dominant order {}, growth {} per 1000 km, distance {} km{}",
-                    w.wheel,
-                    plain(e.polygon_order_dominant, 4),
-                    plain(e.growth_rate_per_1000km, 3),
-                    plain(e.distance_to_visible_km.round(), 8),
-                    if e.reason.is_empty() {
-                        String::new()
-                    } else {
-                        format!(" ({})", e.reason)
-                    }
-                ),
-                None => format!("  {}: new tire  none", w.wheel),
-            });
-            let legs = problem.legs.len();
-            let saturated = if legs == 1 {
-                ", saturated at the loop's one speed (not shipped)".to_string()
+            let speeds = if legs == 1 {
+                "the loop's one speed".to_string()
             } else {
-                format!(", each of the loop's {legs} speeds saturating on its own (not shipped)")
+                format!("each of the loop's {legs} speeds saturating on its own")
             };
-            for (label, reading, note) in [
-                ("life     ", &w.life, ""),
-                (
-                    "life, saturated",
-                    &w.life_saturated,
-                    " (the tread_life_saturated level)",
-                ),
-                ("saturated", &w.saturated, saturated.as_str()),
-            ] {
-                out.push(life_line(w.wheel, label, reading.as_ref(), note));
+            if problem.is_cruise() {
+                let note = " (the one wear answer, the spread on the estimator's 40 legs)";
+                out.push(life_line(w.wheel, "estimate ", w.estimate.as_ref(), note));
+                let check = format!(" ({speeds}: a check of the estimator's legs)");
+                out.push(life_line(w.wheel, "on legs  ", w.on_legs.as_ref(), &check));
+            } else {
+                // A drive cycle's answer is its speeds', not the point's.
+                let note = format!(" (the one wear answer on the cycle's speeds: {speeds})");
+                out.push(life_line(w.wheel, "estimate ", w.estimate.as_ref(), &note));
             }
         }
     }
@@ -215,6 +186,11 @@ fn life_line(wheel: Wheel, label: &str, reading: Option<&LifeAnswer>, note: &str
             plain(l.answer.polygon_order_wear, 4),
             plain(l.answer.distance_to_visible_km.round(), 8),
             plain(l.answer.tread_life_km.round(), 8)
+        ),
+        // NaN order: no order rose above its seed (LifeAnswer::of_walk), so none is named.
+        Some(l) if l.answer.polygon_order_wear.is_nan() => format!(
+            "  {wheel}: {label} none before the tire is worn out at {} km over the tread's life (every order stays below its seed run-out){note}",
+            plain(l.answer.tread_life_km.round(), 8),
         ),
         Some(l) => format!(
             "  {wheel}: {label} none before the tire is worn out at {} km over the tread's life (order {} deepest, at {} of the visible depth){note}",

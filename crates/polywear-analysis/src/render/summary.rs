@@ -4,7 +4,7 @@
 use super::{answer_words, band};
 use crate::analysis::Analysis;
 use polywear_core::params::Params;
-use polywear_core::wear::{EstimateLevel, FittedConstants};
+use polywear_core::wear::FittedConstants;
 use polywear_core::wording::plain;
 
 /// The analysis in a few lines, as `analyze` and `explore` print it: failures first when they
@@ -84,23 +84,10 @@ fn print_wear(a: &Analysis, lines: &mut Vec<String>) {
         lines.push("wear: the wear stage was left out of this run (--no-wear or `wear = false`); vibration only".to_string());
         return;
     };
-    // The constants are fitted to the field on the new tire's answers: over the tread's life (the
-    // default) the line says so rather than "field-fitted", and the new tire's line names its
-    // level, which is no longer the default.
-    let (how, fitted) = match a.info.estimate {
-        EstimateLevel::NewTire => (
-            "the new tire cruising at each sample's operating point (wear_estimate = new_tire)",
-            "field-fitted",
-        ),
-        EstimateLevel::TreadLife => (
-            "over the tread's life at each sample's operating point, the print unbounded (wear_estimate = tread_life)",
-            "fitted to the field on the new tire's answers",
-        ),
-        EstimateLevel::TreadLifeSaturated => (
-            "over the tread's life at each sample's operating point, each speed's print saturated (wear_estimate = tread_life_saturated)",
-            "fitted to the field on the new tire's answers",
-        ),
-    };
+    let (how, fitted) = (
+        "over the tread's life at each sample's operating point, each speed's print saturated",
+        "calibrated on these answers",
+    );
     // The label says whose constants these are: the fitted ones, or the run's own (a study's
     // or --set's φ_s = 1 is no fit, and the band's sets replace it).
     let own = FittedConstants::of(&a.info.params);
@@ -149,10 +136,7 @@ fn print_wear(a: &Analysis, lines: &mut Vec<String>) {
             line.push_str(&format!("; {}", band::paired_words(pb, b.sets.len())));
         }
     }
-    lines.push(format!(
-        "  calibration band: {}",
-        band::about(b, a.info.estimate)
-    ));
+    lines.push(format!("  calibration band: {}", band::about(b)));
 }
 
 /// When more than 1% of the rows have no verdict, the first thing printed: how many, and why.

@@ -15,7 +15,6 @@ use crate::analysis::wear_risk::{WearAnalysis, HEADLINE_WITHIN_KM, ORDERS_WITHIN
 use crate::analysis::Analysis;
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::ParamId;
-use polywear_core::wear::EstimateLevel;
 use polywear_core::wording::plain;
 use polywear_study::stats::format_p;
 
@@ -147,42 +146,15 @@ fn meaning(s: &mut String, a: &Analysis, w: &WearAnalysis) {
             format!("{}{unit}", plain(x, 4))
         }
     };
-    let level_words = match a.info.estimate {
-        EstimateLevel::NewTire => {
-            "**These distances are the new tire's** \
-             (`wear_estimate = \"new_tire\"`, not the default): they \
-             leave out how the tread's frequency rises as it wears. The long-term loop (`polywear \
-             wear`), which follows it, and the default estimate over the tread's life, which agrees \
-             with the loop, give far fewer polygons at these constants (on the built-in study's \
-             main job 0.039% of followers within 60,000 km, against 10% by this estimate): read \
-             these figures as the \
-             more pessimistic of the model's two levels, the one the constants were fitted to the \
-             field on (MODEL.md#the-estimator-over-the-treads-life)."
-        }
-        EstimateLevel::TreadLife => {
-            "**These distances are over the tread's life, the print unbounded** \
-             (`wear_estimate = \"tread_life\"`, not the default): every order the tread \
-             frequency passes as the tread wears grows from the seed, each order's print growing \
-             with its depth without bound, so where the wear is fast they are 30–84% short of the \
-             long-term loop (`polywear wear`; MODEL.md#the-forced-response-saturates). The two \
-             constants and the calibration band were fitted on the new tire's answers, not on \
-             these. **On this level the model disagrees with the field**: its polygons come \
-             before about 25,000 km or not at all, where the field sees them after \
-             25,000–40,000 km (MODEL.md#fitted-over-the-treads-life)."
-        }
-        EstimateLevel::TreadLifeSaturated => {
-            "**These distances are over the tread's life, each speed's print saturated** \
-             (`wear_estimate = \"tread_life_saturated\"`, the default): every order the tread \
-             frequency passes as the tread wears grows from the seed, the speed spread driven on \
-             40 legs and a deep order's print at each held to what sliding friction can modulate \
-             (MODEL.md#the-forced-response-saturates): the level that agrees with the long-term \
-             loop (`polywear wear`). The two constants and the calibration band were fitted on \
-             the new tire's answers, not on these. **On this level the model disagrees with the \
-             field**: its polygons come before about 25,000 km or not at all, where the field \
-             sees them after 25,000–40,000 km (MODEL.md#fitted-over-the-treads-life). The new \
-             tire's answer, which the constants were fitted on, is `--wear-estimate new_tire`."
-        }
-    };
+    let level_words =
+        "**These distances are over the tread's life, each speed's print saturated**: every \
+         order the tread frequency passes as the tread wears grows from the seed, the speed \
+         spread driven on 40 legs and a deep order's print at each held to what sliding \
+         friction can modulate (MODEL.md#the-forced-response-saturates), the one answer, which \
+         agrees with the long-term loop (`polywear wear`). The five constants no measurement \
+         fixes (φ_s, σ_V, k_d and the carcass and belt shares, which set how fast the tread \
+         frequency drifts) are calibrated on these answers, and the calibration band is their \
+         range (where the field's facts hold: the band's section).";
     let _ = writeln!(
         s,
         "**What the distance means.** A wheel's distance to a visible polygon is the distance it \
@@ -191,11 +163,11 @@ fn meaning(s: &mut String, a: &Analysis, w: &WearAnalysis) {
          out never gets one (+inf). A polygon counts as visible within a distance only if it \
          comes **before the tire is worn out** (`tread_life_km`: the position's whole even wear \
          down to the worn-out depth; a driven tire wears faster and is often replaced first), \
-         the rows' `wear_outcome` \"visible\". **Two constants are field-fitted, not measured**: φ_s = {} \
+         the rows' `wear_outcome` \"visible\". **Constants are calibrated, not measured**: φ_s = {} \
          (`wear_share_straight`, the share of the even wear that straight running with toe \
-         causes, to which the vibration couples) and σ_V. They are fitted so that a highway \
-         follower with excessive toe-in shows a polygon after 25,000–40,000 km, as Sueoka's \
-         survey of passenger cars found, and most tires never do (MODEL.md#calibration-to-the-field); \
+         causes, to which the vibration couples), σ_V and three more. They are held to a highway \
+         follower with excessive toe-in showing a polygon after 25,000–40,000 km, as Sueoka's \
+         survey of passenger cars found, and to most tires never doing so (MODEL.md#calibration-to-the-field); \
          φ_s = 1 with no spread is the worst case. {level_words}\n",
         value(ParamId::SpeedSpreadKmh, w.speed_spread_kmh, " km/h"),
         value(ParamId::WearShareStraight, w.share_straight, ""),

@@ -3,10 +3,7 @@
 
 use super::{LongTermFigures, LongTermSolution, WheelLongTerm};
 use crate::columns::Column;
-use crate::wear::WearEstimate;
-
-/// An `estimate_*` column: name, unit and how it reads a wheel's estimate.
-type EstimateColumn = (&'static str, &'static str, fn(&WearEstimate) -> f64);
+use crate::wear::LifeAnswer;
 
 impl LongTermSolution {
     /// One row per wheel: class, orders, lock, rates, the distance to a visible polygon, how the
@@ -87,59 +84,7 @@ impl LongTermSolution {
             ),
         ];
         if estimate {
-            let est = |get: &dyn Fn(&WearEstimate) -> f64| -> Vec<f64> {
-                wheels
-                    .iter()
-                    .map(|w| w.solution.wear.as_ref().map_or(f64::NAN, get))
-                    .collect()
-            };
-            let columns: [EstimateColumn; 4] = [
-                ("estimate_polygon_order_wear", "", |e| {
-                    e.polygon_order_dominant
-                }),
-                ("estimate_detuning_rev", "", |e| e.detuning_rev),
-                ("estimate_growth_rate_per_1000km", "1/1000 km", |e| {
-                    e.growth_rate_per_1000km
-                }),
-                ("estimate_distance_to_visible_km", "km", |e| {
-                    e.distance_to_visible_km
-                }),
-            ];
-            for (name, unit, get) in columns {
-                cols.push(Column::f64(name, unit, est(&get)));
-            }
-            // The estimator over the tread's life (MODEL.md#the-estimator-over-the-treads-life),
-            // the same with each speed saturated (the `tread_life_saturated` level), and saturated
-            // on the loop's own legs (MODEL.md#the-forced-response-saturates).
-            type Reading = fn(&WheelLongTerm) -> Option<&crate::wear::LifeAnswer>;
-            let readings: [(&str, Reading); 3] = [
-                ("life", |w| w.life.as_ref()),
-                ("life_saturated", |w| w.life_saturated.as_ref()),
-                ("saturated", |w| w.saturated.as_ref()),
-            ];
-            for (level, reading) in readings {
-                let of = |get: &dyn Fn(&crate::wear::LifeAnswer) -> f64| -> Vec<f64> {
-                    wheels
-                        .iter()
-                        .map(|w| reading(w).map_or(f64::NAN, get))
-                        .collect()
-                };
-                cols.push(Column::f64(
-                    format!("estimate_{level}_polygon_order_wear"),
-                    "",
-                    of(&|l| l.answer.polygon_order_wear),
-                ));
-                cols.push(Column::f64(
-                    format!("estimate_{level}_distance_to_visible_km"),
-                    "km",
-                    of(&|l| l.answer.distance_to_visible_km),
-                ));
-                cols.push(Column::f64(
-                    format!("estimate_{level}_peak_share_of_visible"),
-                    "",
-                    of(&|l| l.peak_share_of_visible),
-                ));
-            }
+            cols.extend(self.estimate_columns());
         }
         // The summary's old names, copies kept for one version (in RENAMED_COLUMNS, so the
         // Parquet footer's `deprecated` lists them), at the end so the new names keep their
@@ -155,6 +100,60 @@ impl LongTermSolution {
                 cols.push(alias);
             }
         }
+        cols
+    }
+
+    /// The estimator's columns beside the loop's: the one wear answer (`estimate_*`, for a
+    /// drive cycle its legs', MODEL.md#the-forced-response-saturates) and the same on the loop's
+    /// own legs (`estimate_on_legs_*`); the new tire's detuning and growth of the answer's
+    /// order at a cruise's point (NaN on a cycle, whose point is not what it drives).
+    fn estimate_columns(&self) -> Vec<Column> {
+        let wheels = &self.wheels;
+        let mut cols = Vec::new();
+        type Reading = fn(&WheelLongTerm) -> Option<&LifeAnswer>;
+        let readings: [(&str, Reading); 2] = [
+            ("estimate", |w| w.estimate.as_ref()),
+            ("estimate_on_legs", |w| w.on_legs.as_ref()),
+        ];
+        for (prefix, reading) in readings {
+            let of = |get: &dyn Fn(&LifeAnswer) -> f64| -> Vec<f64> {
+                wheels
+                    .iter()
+                    .map(|w| reading(w).map_or(f64::NAN, get))
+                    .collect()
+            };
+            type Field = fn(&LifeAnswer) -> f64;
+            let named: [(&str, &'static str, Field); 4] = [
+                ("polygon_order_wear", "", |l| l.answer.polygon_order_wear),
+                ("distance_to_visible_km", "km", |l| {
+                    l.answer.distance_to_visible_km
+                }),
+                ("tread_life_km", "km", |l| l.answer.tread_life_km),
+                ("peak_share_of_visible", "", |l| l.peak_share_of_visible),
+            ];
+            for (name, unit, get) in named {
+                cols.push(Column::f64(format!("{prefix}_{name}"), unit, of(&get)));
+            }
+        }
+        let point = |get: fn(&crate::wear::WearEstimate) -> f64| -> Vec<f64> {
+            wheels
+                .iter()
+                .map(|w| match (&w.solution.wear, w.estimate.is_some()) {
+                    (Some(e), true) if self.cruise => get(e),
+                    _ => f64::NAN,
+                })
+                .collect()
+        };
+        cols.push(Column::f64(
+            "estimate_detuning_rev",
+            "",
+            point(|e| e.detuning_rev),
+        ));
+        cols.push(Column::f64(
+            "estimate_growth_rate_per_1000km",
+            "1/1000 km",
+            point(|e| e.growth_rate_per_1000km),
+        ));
         cols
     }
 

@@ -184,20 +184,14 @@ pub struct WheelLongTerm {
     /// The lock-in tongue measured at the end where a leg is locked (`None` where none is),
     /// or why it could not be.
     pub tongue: Result<Option<Tongue>, WheelRunFailure>,
-    /// The per-sample estimator over the tread's life at the point's constants
-    /// (MODEL.md#the-estimator-over-the-treads-life), on a drive cycle its legs' mean profile's
-    /// answer; `None` where the wheel has no wear figures.
-    pub life: Option<LifeAnswer>,
-    /// The per-sample estimator over the tread's life with each speed's print saturated (the
-    /// `tread_life_saturated` level, MODEL.md#the-forced-response-saturates): the point's
-    /// spread on the estimator's own legs, on a drive cycle the cycle's legs each saturating on
-    /// its own; `None` where the wheel has no wear figures.
-    pub life_saturated: Option<LifeAnswer>,
-    /// The answer over the tread's life on the loop's own legs, each leg's print saturating on
-    /// its own (MODEL.md#the-forced-response-saturates): the reading that accounts for the
-    /// loop's deep, constant prints, measured beside it and not yet the shipped estimate;
-    /// `None` where no leg has wear figures.
-    pub saturated: Option<LifeAnswer>,
+    /// The one wear answer (MODEL.md#the-forced-response-saturates): for a cruise the point's,
+    /// its speed spread on the estimator's own legs; for a drive cycle the cycle's legs', each
+    /// saturating on its own; `None` where the wheel has no wear figures.
+    pub estimate: Option<LifeAnswer>,
+    /// The same reading on the loop's own legs, each leg's print saturating on its own: for a
+    /// cruise the check that the estimator's legs stand for the loop's; `None` where no leg has
+    /// wear figures.
+    pub on_legs: Option<LifeAnswer>,
 }
 
 /// Both wheels' runs, in [`Wheel::BOTH`] order.
@@ -205,6 +199,9 @@ pub struct WheelLongTerm {
 pub struct LongTermSolution {
     /// The point's parameters.
     pub params: Params,
+    /// Whether the legs are a cruise at the point ([`LongTermProblem::is_cruise`]), not a drive
+    /// cycle's speeds.
+    pub cruise: bool,
     /// One per wheel.
     pub wheels: Vec<WheelLongTerm>,
 }
@@ -224,9 +221,6 @@ pub fn solve(
         WearSettings {
             zone: settings.zone,
             power: settings.power,
-            // The loop's per-point estimate is the new tire's; `--estimate` prints the one over
-            // the tread's life beside it.
-            estimate: crate::wear::EstimateLevel::NewTire,
         },
         &problem.classifier,
     )?;
@@ -285,43 +279,39 @@ pub fn solve(
             )
             .ok();
             let c = FittedConstants::of(&p);
-            let on_legs = answers_on_legs(problem, &stage, Wheel::BOTH[i]);
-            let saturated = on_legs.map(|(_, saturated)| saturated);
-            let (life, life_saturated) = if problem.is_cruise() {
-                let life = growth.as_ref().map(|g| g.life_answer(&c));
-                let life_saturated = growth.as_ref().map(|g| g.saturated_answer(&c));
-                // Past the wheel's wall-clock limit the estimates are not given.
-                match growth.as_ref().is_some_and(|g| g.out_of_time().is_none()) {
-                    true => (life, life_saturated),
-                    false => (None, None),
-                }
+            let on_legs = saturated_on_legs(problem, &stage, Wheel::BOTH[i]);
+            let estimate = if problem.is_cruise() {
+                // Past the wheel's wall-clock limit the answer is unknown (NaN), never partial.
+                growth.as_ref().map(|g| g.saturated_answer(&c))
             } else {
-                // A drive cycle's estimates are its speeds', not the point's: its legs' mean
-                // profile, and each leg saturating on its own.
-                (on_legs.map(|(life, _)| life), saturated)
+                // A drive cycle's answer is its speeds', not the point's.
+                on_legs
             };
             WheelLongTerm {
                 wheel: Wheel::BOTH[i],
                 solution,
                 run,
                 tongue,
-                life,
-                life_saturated,
-                saturated,
+                estimate,
+                on_legs,
             }
         })
         .collect();
-    Ok(LongTermSolution { params: p, wheels })
+    Ok(LongTermSolution {
+        params: p,
+        cruise: problem.is_cruise(),
+        wheels,
+    })
 }
 
-/// The answers over the tread's life of `wheel` on the problem's legs: their distance-weighted
-/// mean profile's (each speed's print unbounded), and each leg's print saturating on its own
-/// (MODEL.md#the-forced-response-saturates); `None` where no leg has wear figures.
-fn answers_on_legs(
+/// The answer over the tread's life of `wheel` on the problem's legs, each leg's print
+/// saturating on its own (MODEL.md#the-forced-response-saturates); `None` where no leg has wear
+/// figures.
+fn saturated_on_legs(
     problem: &LongTermProblem,
     stage: &WearStage,
     wheel: Wheel,
-) -> Option<(LifeAnswer, LifeAnswer)> {
+) -> Option<LifeAnswer> {
     let p = problem.params;
     let profiles = leg_profiles(
         &p,
@@ -335,10 +325,12 @@ fn answers_on_legs(
         return None;
     }
     let steps: Vec<(f64, &LifeProfile)> = profiles.iter().map(|(a, pr)| (*a, pr)).collect();
-    let c = FittedConstants::of(&p);
-    let unbounded = answer_saturated_per_step(&steps, &c, &p, f64::INFINITY);
-    let saturated = answer_saturated_per_step(&steps, &c, &p, SLIDING_MODULATION_MAX);
-    Some((unbounded, saturated))
+    Some(answer_saturated_per_step(
+        &steps,
+        &FittedConstants::of(&p),
+        &p,
+        SLIDING_MODULATION_MAX,
+    ))
 }
 
 /// Each leg's share and the life profile of `wheel` at the leg's own speed with no further

@@ -73,9 +73,11 @@ fn block_stiffness_n_per_m(p: &Params, patch: &ContactPatch, height_m: f64) -> f
 /// `p.tread_height` being the new tyre's h₀. The new tyre's contact lateral compliance 1/K_s0
 /// (Eq. 16 at h₀, the paper's) is the carcass and belt's share c = `carcass_share` in series
 /// with the tread block's 1 − c; only the block's part follows the height, as Eq. 16 does:
-/// 1/K_s(h) = c/K_s0 + (1 − c)/K_t(h), K_t(h) being Eq. 16 at h, so K_s(h₀) = K_s0. The mass is
-/// the tread rubber that is left, m = ρ a b h. At h = h₀ this is the new tyre's tread block
-/// exactly, and with c = 0 it is Eq. 16 at h exactly (the tread alone).
+/// 1/K_s(h) = c/K_s0 + (1 − c)/K_t(h), K_t(h) being Eq. 16 at h, so K_s(h₀) = K_s0. Of the mode's
+/// mass m₀ = ρ a b h₀ the share μ_b = `belt_mass_share` is belt and carcass, which does not wear,
+/// and the rest the tread rubber that is left: m = m₀ (μ_b + (1 − μ_b) h/h₀). At h = h₀ this is
+/// the new tyre's tread block exactly, whatever the shares, and with c = 0 and μ_b = 0 it is
+/// Eq. 16 at h exactly (the tread alone).
 pub fn worn_tread_block(p: &Params, patch: &ContactPatch, height_m: f64) -> TreadBlock {
     if height_m == p.tread_height {
         return tread_block(p, patch);
@@ -88,9 +90,16 @@ pub fn worn_tread_block(p: &Params, patch: &ContactPatch, height_m: f64) -> Trea
         let new = block_stiffness_n_per_m(p, patch, p.tread_height);
         1.0 / (c / new + (1.0 - c) / block)
     };
+    // The belt and carcass's share of the mode's mass moves with the tread and does not wear.
+    let mu = p.belt_mass_share;
+    let mass_height_m = if mu == 0.0 {
+        height_m
+    } else {
+        mu * p.tread_height + (1.0 - mu) * height_m
+    };
     TreadBlock {
         stiffness_n_per_m,
-        mass_kg: p.rho * patch.length_m * patch.width_m * height_m,
+        mass_kg: p.rho * patch.length_m * patch.width_m * mass_height_m,
     }
 }
 
@@ -105,15 +114,43 @@ mod tests {
     #[test]
     fn the_new_tyre_is_the_papers_tread_block_bit_for_bit() {
         for c in [0.0, 0.3, 0.5, 0.7, 1.0] {
+            for mu in [0.0, 0.2, 0.5, 0.7, 1.0] {
+                let p = Params {
+                    carcass_share: c,
+                    belt_mass_share: mu,
+                    ..Params::default()
+                };
+                let a = patch(&p);
+                assert_eq!(
+                    worn_tread_block(&p, &a, p.tread_height),
+                    tread_block(&p, &a)
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_belt_s_share_of_the_mass_does_not_wear() {
+        let h = 0.0086;
+        for mu in [0.0, 0.3, 0.7, 1.0] {
             let p = Params {
-                carcass_share: c,
+                belt_mass_share: mu,
                 ..Params::default()
             };
             let a = patch(&p);
-            assert_eq!(
-                worn_tread_block(&p, &a, p.tread_height),
-                tread_block(&p, &a)
+            let (m0, worn) = (tread_block(&p, &a).mass_kg, worn_tread_block(&p, &a, h));
+            let want = mu + (1.0 - mu) * h / p.tread_height;
+            assert!((worn.mass_kg / m0 - want).abs() < 1e-14, "{mu}");
+            // The stiffness is the carcass's and the block's, whatever the mass.
+            let none = worn_tread_block(
+                &Params {
+                    belt_mass_share: 0.0,
+                    ..p
+                },
+                &a,
+                h,
             );
+            assert_eq!(worn.stiffness_n_per_m, none.stiffness_n_per_m);
         }
     }
 
@@ -121,6 +158,7 @@ mod tests {
     fn no_carcass_share_is_the_block_alone_at_the_worn_height() {
         let p = Params {
             carcass_share: 0.0,
+            belt_mass_share: 0.0,
             ..Params::default()
         };
         let a = patch(&p);
@@ -134,7 +172,10 @@ mod tests {
 
     #[test]
     fn the_carcass_is_in_series_with_the_worn_block() {
-        let p = Params::default();
+        let p = Params {
+            belt_mass_share: 0.0,
+            ..Params::default()
+        };
         let a = patch(&p);
         let h = 0.0086;
         let k0 = tread_block(&p, &a).stiffness_n_per_m;

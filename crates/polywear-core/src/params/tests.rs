@@ -8,7 +8,7 @@ fn defaults_are_valid_and_match_specs() {
     for s in SPECS {
         assert_eq!(p.get(s.name), Some(s.default), "{}", s.name);
     }
-    assert_eq!(SPECS.len(), 39);
+    assert_eq!(SPECS.len(), 40);
     assert_eq!(ParamId::ALL.len(), SPECS.len());
 }
 
@@ -55,7 +55,7 @@ fn unknown_name_lists_the_accepted_and_the_closest() {
     assert!(e.to_string().contains("did you mean `speed_kmh`?"));
     assert!(
         e.to_string().ends_with(
-            "speed_spread_kmh, tread_depth_new_mm, tread_depth_worn_out_mm, carcass_share"
+            "speed_spread_kmh, tread_depth_new_mm, tread_depth_worn_out_mm, carcass_share, belt_mass_share"
         ),
         "{e}"
     );

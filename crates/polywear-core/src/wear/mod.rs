@@ -66,8 +66,8 @@ pub mod zone;
 pub use calibration::Calibration;
 pub use error::WearError;
 pub use estimator::{
-    estimate, EstimateLevel, LifeAnswer, LifeProfile, WearEstimate, WearInputs, WearSettings,
-    WheelGrowth, LIFE_PROFILE_INTERVALS,
+    estimate, retired_level, LifeAnswer, LifeProfile, WearEstimate, WearInputs, WearSettings,
+    WheelGrowth, LIFE_PROFILE_INTERVALS, SHIPPED_LEVEL,
 };
 pub use feedback::Feedback;
 pub use fitted::{FittedConstants, WearAnswer};
@@ -76,7 +76,7 @@ pub use zone::{WearZone, ZoneGeometry};
 
 /// The wear stage's category settings as rows of `polywear params`: name, default,
 /// provenance, accepted names, meaning.
-pub fn setting_rows() -> [[String; 5]; 3] {
+pub fn setting_rows() -> [[String; 5]; 2] {
     fn row(
         name: &str,
         default: &str,
@@ -109,16 +109,6 @@ pub fn setting_rows() -> [[String; 5]; 3] {
             <WearPower as strum::VariantNames>::VARIANTS,
             "Which friction power wears the tread",
             WearPower::ALL
-                .iter()
-                .map(|z| format!("{} = {}", z.as_str(), z.description()))
-                .collect(),
-        ),
-        row(
-            "wear_estimate",
-            EstimateLevel::DEFAULT.as_str(),
-            <EstimateLevel as strum::VariantNames>::VARIANTS,
-            "Which answer each sample gets (explore)",
-            EstimateLevel::ALL
                 .iter()
                 .map(|z| format!("{} = {}", z.as_str(), z.description()))
                 .collect(),

@@ -45,6 +45,26 @@ pub const BATCH_SAMPLES: usize = 1024;
 /// The name of the run's own constants among the band's sets.
 pub const RUN_SET: &str = "run";
 
+/// The band's column of a set's distances is this prefix and the set's id (`d_run`,
+/// `d_nominal`).
+pub const SET_COLUMN_PREFIX: &str = "d_";
+
+/// The band's column of set `id`.
+pub fn set_column(id: &str) -> String {
+    format!("{SET_COLUMN_PREFIX}{id}")
+}
+
+/// What a band column holds for an answer: its distance to a visible polygon where that comes
+/// before the tire is worn out, +inf where it does not (later, or never), NaN where unknown (a
+/// distance threshold then reads it as the rows' `wear_outcome` does).
+fn visible_km(a: &WearAnswer) -> f64 {
+    match a.outcome() {
+        polywear_core::wear::fitted::WearOutcome::Visible => a.distance_to_visible_km,
+        polywear_core::wear::fitted::WearOutcome::NotWithinLife => f64::INFINITY,
+        polywear_core::wear::fitted::WearOutcome::Unknown => f64::NAN,
+    }
+}
+
 /// Stream of the subsample's choice, apart from every stream of the draws.
 const SUBSAMPLE_STREAM: u64 = 0xBA4D_0000_0000_0001;
 
@@ -170,7 +190,7 @@ impl BandPlan<'_> {
                 let growth =
                     WheelGrowth::new(&self.stage.inputs(&point, w), &Meter::new(opts.budget)).ok();
                 let answers = match &growth {
-                    Some(g) => g.answers_on(self.stage.settings.estimate, &constants),
+                    Some(g) => g.answers_on(&constants),
                     None => vec![WearAnswer::UNKNOWN; constants.len()],
                 };
                 wheels.push(BandWheel {
@@ -185,28 +205,22 @@ impl BandPlan<'_> {
         BandSample { sample_id, wheels }
     }
 
-    /// The rows as columns, one row per sample, scenario, variant, wheel and set (the run's own
-    /// constants first, as [`RUN_SET`]).
+    /// The rows as columns: one row per sample, scenario, variant and wheel, and one column per
+    /// set (the run's own constants first, as [`RUN_SET`]) holding the wheel's distance to a
+    /// visible polygon before the tire is worn out under it ([`set_column`]): what every later
+    /// question of a band needs (any distance, any bins or map through `sample_id`, each
+    /// scenario, the fleet's weights through `speed_kmh`, either wheel) in a fraction of the
+    /// bytes of a row per set.
     pub fn columns(&self, rows: &[BandSample]) -> Vec<Column> {
         let names = self.study.scenario_names();
         let sets: Vec<&str> = std::iter::once(RUN_SET)
             .chain(self.band.sets.iter().map(|s| s.id.as_str()))
             .collect();
-        let flat: Vec<(u64, &BandWheel, usize, &WearAnswer)> = rows
+        let flat: Vec<(u64, &BandWheel)> = rows
             .iter()
-            .flat_map(|s| {
-                s.wheels.iter().flat_map(move |w| {
-                    w.answers
-                        .iter()
-                        .enumerate()
-                        .map(move |(k, a)| (s.sample_id, w, k, a))
-                })
-            })
+            .flat_map(|s| s.wheels.iter().map(move |w| (s.sample_id, w)))
             .collect();
-        let f = |name: &str, unit: &'static str, get: &dyn Fn(&WearAnswer) -> f64| {
-            Column::f64(name, unit, flat.iter().map(|r| get(r.3)).collect())
-        };
-        vec![
+        let mut cols = vec![
             Column::i64("sample_id", "", flat.iter().map(|r| r.0 as i64).collect()),
             Column::str(
                 "scenario",
@@ -220,24 +234,20 @@ impl BandPlan<'_> {
                 "wheel",
                 flat.iter().map(|r| r.1.wheel.to_string()).collect(),
             ),
-            Column::str("set", flat.iter().map(|r| sets[r.2].to_string()).collect()),
             Column::f64(
                 "speed_kmh",
                 "km/h",
                 flat.iter().map(|r| r.1.speed_kmh).collect(),
             ),
-            f("distance_to_visible_km", "km", &|a| {
-                a.distance_to_visible_km
-            }),
-            f("tread_life_km", "km", &|a| a.tread_life_km),
-            f("polygon_order_wear", "-", &|a| a.polygon_order_wear),
-            Column::str(
-                "wear_outcome",
-                flat.iter()
-                    .map(|r| r.3.outcome().as_str().to_string())
-                    .collect(),
-            ),
-        ]
+        ];
+        for (k, set) in sets.iter().enumerate() {
+            let km = flat
+                .iter()
+                .map(|r| visible_km(&r.1.answers[k]) as f32)
+                .collect();
+            cols.push(Column::f32(set_column(set), "km", km));
+        }
+        cols
     }
 
     /// What the band's footer records beside the run's own keys (`run`): the sets, their
@@ -254,6 +264,8 @@ impl BandPlan<'_> {
                     "wear_share_straight": s.wear_share_straight,
                     "speed_spread_kmh": s.speed_spread_kmh,
                     "wear_rate_driven_factor": s.wear_rate_driven_factor,
+                    "carcass_share": s.carcass_share,
+                    "belt_mass_share": s.belt_mass_share,
                 })
             })
             .collect();
@@ -265,6 +277,7 @@ impl BandPlan<'_> {
             ("band_source".to_string(), self.band_source.clone()),
             ("band_method".to_string(), self.band.method.clone()),
             ("band_generated_by".to_string(), self.band.generated_by.clone()),
+            ("band_region".to_string(), self.band.fit.region.clone()),
             ("band_samples".to_string(), self.indices().len().to_string()),
             (
                 "band_subsample".to_string(),
@@ -279,7 +292,7 @@ impl BandPlan<'_> {
             ),
             (
                 "columns".to_string(),
-                format!("one row per sample, scenario ({BASELINE}: none), variant, wheel and set; set `{RUN_SET}` is the run's own constants, as its rows"),
+                format!("one row per sample, scenario ({BASELINE}: none), variant and wheel; a column `{SET_COLUMN_PREFIX}SET` per set, the distance to a visible polygon before the tire is worn out under it [km] (+inf: none before it is worn out, NaN: unknown); set `{RUN_SET}` is the run's own constants, as its rows"),
             ),
         ]);
         meta

@@ -5,9 +5,8 @@
 //! distance), so every set costs one more run. By default the sets run are the band's ends *at
 //! this point* as the per-sample estimator ranks them (for each wheel the set with the shortest
 //! and the one with the longest distance, or tread life where no polygon grows), a few runs;
-//! [`LoopSets::All`] runs every set. The estimator and the loop do not yet agree
-//! (MODEL.md#the-two-levels-measured), so the loop's own extremes may lie at other sets: `All`
-//! is the check.
+//! [`LoopSets::All`] runs every set. The estimator and the loop agree within their measured
+//! error, not exactly, so the loop's own extremes may lie at other sets: `All` is the check.
 
 use polywear_core::classify::budget::Meter;
 use polywear_core::evaluate::WearStage;
@@ -71,7 +70,6 @@ pub fn chosen(
         WearSettings {
             zone: problem.settings.zone,
             power: problem.settings.power,
-            estimate: polywear_core::wear::EstimateLevel::NewTire,
         },
         &problem.classifier,
     )?;
@@ -82,7 +80,7 @@ pub fn chosen(
         .collect();
     let mut picked: Vec<(usize, String)> = Vec::new();
     for w in &run.wheels {
-        // A cruise's sets are ranked by the point's estimate; a drive cycle's by its legs'
+        // A cruise's sets are ranked by the point's answer; a drive cycle's by its legs'
         // answers (each leg saturating on its own), since the point is not what it drives.
         let answers: Vec<WearAnswer> = if problem.is_cruise() {
             let Ok(growth) = WheelGrowth::new(
@@ -91,7 +89,7 @@ pub fn chosen(
             ) else {
                 continue;
             };
-            growth.answers_with(&constants)
+            growth.answers_on(&constants)
         } else {
             let legs = long_term::leg_profiles(
                 p,

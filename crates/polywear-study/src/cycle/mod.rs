@@ -27,7 +27,6 @@ use polywear_core::evaluate::{self, PointProblem, WearStage};
 use polywear_core::model::Variant;
 use polywear_core::params::{ParamError, ParamId, Params};
 use polywear_core::records::WheelRecord;
-use polywear_core::wear::EstimateLevel;
 use polywear_core::wording::{plain, thousands};
 
 /// Why a drive cycle is refused (before any work, naming the file, row and column) or its
@@ -497,12 +496,6 @@ pub struct StepWheel {
     pub stability_change_time_s: f64,
     /// τ ≤ T (true where not assessed).
     pub quasi_static: bool,
-    /// β_n \[1/1000 km\] of orders 1..=[`wear::CYCLE_ORDERS_MAX`] at this step
-    /// ([`wear::step_growth`]); empty without the wear stage or without figures.
-    pub order_growth_per_1000km: Vec<f64>,
-    /// The same step's growth for the calibration band ([`wear::BandGrowth`]); None where
-    /// `order_growth_per_1000km` is empty.
-    pub band_growth: Option<wear::BandGrowth>,
 }
 
 impl StepWheel {
@@ -526,7 +519,7 @@ pub struct ClassifiedCycle {
     /// Both wheels at every step.
     pub steps: Vec<[StepWheel; 2]>,
     /// Per wheel, the steps' profiles over the tread's life ([`wear::CycleLife`]); None
-    /// without the wear stage or on the new tire's level.
+    /// without the wear stage.
     pub life: [Option<wear::CycleLife>; 2],
 }
 
@@ -572,12 +565,11 @@ pub fn classify_cycles(
         .flat_map(|k| (0..per_base).map(move |b| (k, b)))
         .collect();
     let km = cycle.step_km();
-    let level = wear.map_or(EstimateLevel::NewTire, |s| s.settings.estimate);
-    let life_level = level != EstimateLevel::NewTire;
+    let with_wear = wear.is_some();
     let mut rows: Vec<Vec<[StepRow; 2]>> = bases.iter().map(|_| Vec::with_capacity(n)).collect();
     let mut life: Vec<[wear::CycleLife; 2]> = bases
         .iter()
-        .map(|_| [wear::CycleLife::on(level), wear::CycleLife::on(level)])
+        .map(|_| [wear::CycleLife::default(), wear::CycleLife::default()])
         .collect();
     for batch in jobs.chunks(BATCH_BLOCKS) {
         let block = |j: usize| {
@@ -600,13 +592,11 @@ pub fn classify_cycles(
             let mut steps: Vec<[StepWheel; 2]> = records
                 .into_iter()
                 .map(|pair| {
-                    pair.map(|(record, growth)| StepWheel {
+                    pair.map(|(record, _)| StepWheel {
                         record,
                         tread_time_constant_s: f64::NAN,
                         stability_change_time_s: f64::NAN,
                         quasi_static: true,
-                        order_growth_per_1000km: growth.orders_per_1000km,
-                        band_growth: growth.band,
                     })
                 })
                 .collect();
@@ -615,7 +605,7 @@ pub fn classify_cycles(
             }
             ClassifiedCycle {
                 steps,
-                life: life.map(|l| life_level.then_some(l)),
+                life: life.map(|l| with_wear.then_some(l)),
             }
         })
         .collect()
@@ -637,8 +627,7 @@ fn classify_block(
     let lo = b * BLOCK_STEPS;
     let hi = (lo + BLOCK_STEPS).min(cycle.len());
     let mut out: Vec<[StepRow; 2]> = Vec::with_capacity(hi - lo);
-    let level = wear.map_or(EstimateLevel::NewTire, |s| s.settings.estimate);
-    let mut life: [wear::CycleLife; 2] = [wear::CycleLife::on(level), wear::CycleLife::on(level)];
+    let mut life: [wear::CycleLife; 2] = [wear::CycleLife::default(), wear::CycleLife::default()];
     // The previous step's profiles, for a repeated step: the rows do not keep them (66 KB a
     // wheel; the block's sums are what the cycle reads).
     let mut last_life: [Option<polywear_core::wear::LifeProfile>; 2] = [None, None];
@@ -667,8 +656,8 @@ fn classify_block(
             hints = solution.hints();
         }
         let growth = |w: &evaluate::WheelSolution| match wear {
-            Some(stage) if !cycle.standstill(i) => wear::step_growth(&p, w, stage, opts),
-            _ => wear::StepGrowth::default(),
+            Some(stage) if !cycle.standstill(i) => wear::step_life(&p, w, stage, opts),
+            _ => None,
         };
         let [mut f, mut d]: [StepRow; 2] = solution
             .wheels
@@ -680,7 +669,7 @@ fn classify_block(
             .collect::<Vec<_>>()
             .try_into()
             .expect("two wheels");
-        last_life = [f.1.life.take(), d.1.life.take()];
+        last_life = [f.1.take(), d.1.take()];
         for (w, last) in last_life.iter().enumerate() {
             life[w].add_step(last.as_ref(), step_km, p.speed_kmh);
         }
@@ -689,8 +678,8 @@ fn classify_block(
     (out, life)
 }
 
-/// One wheel's row at one step and its wear growth ([`wear::step_growth`]).
-type StepRow = (WheelRecord, wear::StepGrowth);
+/// One wheel's row at one step and its profile over the tread's life ([`wear::step_life`]).
+type StepRow = (WheelRecord, Option<polywear_core::wear::LifeProfile>);
 
 /// Fills τ, T and the quasi-static flag of wheel `w` at every step (see the module docs).
 fn assess_quasi_static(time_s: &[f64], steps: &mut [[StepWheel; 2]], w: usize) {

@@ -49,8 +49,6 @@ fn quasi_static_fails_where_re_lambda_changes_faster_than_its_square() {
                 tread_time_constant_s: f64::NAN,
                 stability_change_time_s: f64::NAN,
                 quasi_static: true,
-                order_growth_per_1000km: Vec::new(),
-                band_growth: None,
             };
             [w.clone(), w]
         })
@@ -91,8 +89,6 @@ fn summary_shares_stretches_and_orders() {
                 tread_time_constant_s: f64::NAN,
                 stability_change_time_s: f64::NAN,
                 quasi_static: i != 3,
-                order_growth_per_1000km: Vec::new(),
-                band_growth: None,
             };
             [w.clone(), w]
         })

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use super::{RunManifest, Shard};
 use crate::output_dir::{self, MANIFEST};
 use polywear_core::params::Params;
-use polywear_core::wear::{EstimateLevel, WearPower, WearSettings, WearZone};
+use polywear_core::wear::{retired_level, WearPower, WearSettings, WearZone};
 
 /// The run recorded in an output directory's manifest.
 #[derive(Debug, Clone, PartialEq)]
@@ -46,6 +46,9 @@ pub struct ManifestReadError {
     pub path: PathBuf,
     /// What is wrong.
     pub message: String,
+    /// The run was answered on a retired wear level: it can neither continue nor be read, and
+    /// no other check of the directory says more (MODEL.md#one-wear-answer).
+    pub retired_level: bool,
 }
 
 /// How much of a recorded run the journal holds.
@@ -76,6 +79,7 @@ impl RecordedRun {
         let bad = |message: String| ManifestReadError {
             path: path.clone(),
             message,
+            retired_level: false,
         };
         let text = match crate::safe_read::read_text(&path, crate::safe_read::Limit::Text) {
             Ok(t) => t,
@@ -97,7 +101,10 @@ impl RecordedRun {
             operating_points_dir: m.operating_points.as_ref().and_then(|o| o.dir()),
             wear: match &m.wear {
                 None => None,
-                Some(w) => Some(recorded_wear(w).map_err(|e| bad(e.0))?),
+                Some(w) => Some(recorded_wear(w).map_err(|e| ManifestReadError {
+                    retired_level: retired_level(recorded_level(w)).is_some(),
+                    ..bad(e.0)
+                })?),
             },
         }))
     }
@@ -255,6 +262,14 @@ pub fn shell_word(s: &str) -> String {
     }
 }
 
+/// The wear answer a manifest's `wear` object records: a run recorded before the level was a
+/// setting answered as the new tire.
+fn recorded_level(w: &serde_json::Value) -> &str {
+    w.get("wear_estimate")
+        .and_then(|z| z.as_str())
+        .unwrap_or("new_tire")
+}
+
 /// The wear settings of a manifest's `wear` object (its `wear_zone`), or the key that is not.
 fn recorded_wear(w: &serde_json::Value) -> Result<WearSettings, Refusal> {
     let zone = w
@@ -272,18 +287,14 @@ fn recorded_wear(w: &serde_json::Value) -> Result<WearSettings, Refusal> {
             .parse()
             .map_err(|e| Refusal(format!("`wear.wear_power`: {e}")))?,
     };
-    // A run recorded before the level was a setting answered as the new tire.
-    let estimate = match w.get("wear_estimate").and_then(|z| z.as_str()) {
-        None => EstimateLevel::NewTire,
-        Some(s) => s
-            .parse()
-            .map_err(|e| Refusal(format!("`wear.wear_estimate`: {e}")))?,
-    };
-    Ok(WearSettings {
-        zone,
-        power,
-        estimate,
-    })
+    // A run that recorded a retired level was answered so, and no longer continues or reads.
+    let level = recorded_level(w);
+    if let Some(why) = retired_level(level) {
+        return Err(Refusal(format!(
+            "`wear.wear_estimate` = \"{level}\": {why}; run explore again for this version's answer"
+        )));
+    }
+    Ok(WearSettings { zone, power })
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use polywear_core::classify::WheelBudget;
-use polywear_core::wear::{EstimateLevel, WearPower, WearSettings, WearZone};
+use polywear_core::wear::{WearPower, WearSettings, WearZone};
 
 use super::recorded_run::{changed_lines, param_changes, shell_word, RecordedRun};
 use super::{ExploreError, RunPlan, Shard};
@@ -39,9 +39,6 @@ pub struct ExploreRequest {
     pub wear_zone: Option<WearZone>,
     /// Which friction power wears the tread, over the study's.
     pub wear_power: Option<WearPower>,
-    /// Which answer each sample gets (the new tire's, or over the tread's life), over the
-    /// study's.
-    pub wear_estimate: Option<EstimateLevel>,
 }
 
 impl ExploreRequest {
@@ -58,10 +55,13 @@ impl ExploreRequest {
         // A manifest this build cannot read back (damaged, or from a version that recorded less) is
         // left to `prepare_output`, which says how the directory differs from this run.
         let recorded = match (&args.out, args.resume) {
-            (Some(dir), true) => RecordedRun::read(dir)
-                .ok()
-                .flatten()
-                .map(|run| (dir.clone(), run)),
+            (Some(dir), true) => match RecordedRun::read(dir) {
+                Ok(run) => run.map(|run| (dir.clone(), run)),
+                // A run on a retired wear answer cannot continue: that is the whole story, not
+                // how its recorded parameters differ from today's defaults.
+                Err(e) if e.retired_level => return Err(Refusal(format!("--resume: {e}"))),
+                Err(_) => None,
+            },
             _ => None,
         };
         let (source, origin) = match (&args.study, &recorded) {
@@ -179,7 +179,7 @@ fn check_new_inputs(
         .collect())
 }
 
-/// The run's wear stage: `--no-wear`, or `--wear-zone`, `--wear-power` and `--wear-estimate`
+/// The run's wear stage: `--no-wear`, or `--wear-zone` and `--wear-power`
 /// over the study's wear settings; a resumed run keeps the stage it started with, and a flag
 /// that contradicts it is refused.
 fn wear_settings(
@@ -188,8 +188,7 @@ fn wear_settings(
     recorded: Option<&RecordedRun>,
 ) -> Result<Option<WearSettings>, Refusal> {
     let flags = asked_flags(args);
-    let any_flag =
-        args.wear_zone.is_some() || args.wear_power.is_some() || args.wear_estimate.is_some();
+    let any_flag = args.wear_zone.is_some() || args.wear_power.is_some();
     let asked = match (args.no_wear, any_flag) {
         (true, _) => Some(None),
         (false, false) => None,
@@ -206,7 +205,6 @@ fn wear_settings(
             Some(Some(WearSettings {
                 zone: args.wear_zone.unwrap_or(base.zone),
                 power: args.wear_power.unwrap_or(base.power),
-                estimate: args.wear_estimate.unwrap_or(base.estimate),
             }))
         }
     };
@@ -219,8 +217,8 @@ fn wear_settings(
                 .wear
                 .map_or("no wear stage (--no-wear)".to_string(), |w| {
                     format!(
-                        "the wear stage with --wear-zone {} --wear-power {} --wear-estimate {}",
-                        w.zone, w.power, w.estimate
+                        "the wear stage with --wear-zone {} --wear-power {}",
+                        w.zone, w.power
                     )
                 });
             let flag = if args.no_wear {
@@ -242,7 +240,6 @@ fn overridden_wear_keys(args: &ExploreRequest, study: &Study, origin: &str) -> V
     let flags = [
         ("wear_zone", args.wear_zone.map(|z| z.to_string())),
         ("wear_power", args.wear_power.map(|p| p.to_string())),
-        ("wear_estimate", args.wear_estimate.map(|e| e.to_string())),
     ];
     flags
         .into_iter()
@@ -280,7 +277,7 @@ fn overridden_budget_keys(study: &Study, asked: &WheelBudget, origin: &str) -> V
     notes
 }
 
-/// The wear flags given, as typed: "--wear-zone Z", "--wear-power P", "--wear-estimate E".
+/// The wear flags given, as typed: "--wear-zone Z", "--wear-power P".
 fn asked_flags(args: &ExploreRequest) -> String {
     let mut f = Vec::new();
     if let Some(z) = args.wear_zone {
@@ -288,9 +285,6 @@ fn asked_flags(args: &ExploreRequest) -> String {
     }
     if let Some(p) = args.wear_power {
         f.push(format!("--wear-power {p}"));
-    }
-    if let Some(e) = args.wear_estimate {
-        f.push(format!("--wear-estimate {e}"));
     }
     f.join(" ")
 }

@@ -251,7 +251,7 @@ fn banded_outcomes(
         let growth =
             WheelGrowth::new(&stage.inputs(p, w), &Meter::new(problem.classifier.budget)).ok();
         let answers = match &growth {
-            Some(g) => g.answers_on(stage.settings.estimate, &constants),
+            Some(g) => g.answers_on(&constants),
             None => vec![WearAnswer::UNKNOWN; constants.len()],
         };
         for (o, a) in under.iter_mut().zip(&answers) {

@@ -14,6 +14,15 @@ pub enum StudyError {
     /// stage is off.
     #[error("`{0}` is set but `wear = false` leaves the wear stage out; remove one of the two")]
     WearSettingWithoutWear(&'static str),
+    /// `wear_estimate` names a retired wear answer, or none polywear gives (the message says
+    /// what replaced it).
+    #[error("`wear_estimate` = \"{given}\": {why}; remove the key")]
+    RetiredWearLevel {
+        /// The value given.
+        given: String,
+        /// Why it is refused, and what replaced it.
+        why: String,
+    },
     /// A per-wheel budget key out of its accepted range (the message names the key).
     #[error("{0}")]
     Budget(#[from] polywear_core::classify::BudgetError),

@@ -15,7 +15,7 @@ use polywear_core::model::Variant;
 use polywear_core::params::{ParamId, ParamSpec, Params};
 use polywear_core::sampling::design::Design;
 use polywear_core::sampling::distribution::Distribution;
-use polywear_core::wear::{EstimateLevel, WearPower, WearSettings, WearZone};
+use polywear_core::wear::{WearPower, WearSettings, WearZone};
 
 mod scenario_table;
 mod toe;
@@ -43,7 +43,7 @@ pub(super) struct StudyFile {
     wear: Option<bool>,
     wear_zone: Option<WearZone>,
     wear_power: Option<WearPower>,
-    wear_estimate: Option<EstimateLevel>,
+    wear_estimate: Option<String>,
     pub(super) params: Option<BTreeMap<ParamKey, ParamEntry>>,
     pub(super) operating_points: Option<OperatingPointsSection>,
     pub(super) scenarios: Option<ScenarioTables>,
@@ -293,6 +293,9 @@ impl StudyFile {
             budget.max_wheel_seconds = x;
         }
         budget.check()?;
+        if let Some(given) = &self.wear_estimate {
+            refuse_wear_level(given)?;
+        }
         Ok(Header {
             name,
             description: self.description.clone().unwrap_or_default(),
@@ -317,7 +320,6 @@ impl StudyFile {
                 _ => Some(WearSettings {
                     zone: self.wear_zone.unwrap_or_default(),
                     power: self.wear_power.unwrap_or_default(),
-                    estimate: self.wear_estimate.unwrap_or_default(),
                 }),
             },
         })
@@ -605,6 +607,25 @@ fn check_support(s: &ParamSpec, d: &Distribution) -> Result<(), StudyError> {
         }
     }
     Ok(())
+}
+
+/// A study's `wear_estimate`: the one answer polywear gives is accepted (studies written for 0.5
+/// said it), a retired one is refused with what replaced it, anything else with what is
+/// accepted.
+pub(crate) fn refuse_wear_level(given: &str) -> Result<(), StudyError> {
+    use polywear_core::wear::{retired_level, SHIPPED_LEVEL};
+    if given == SHIPPED_LEVEL {
+        return Ok(());
+    }
+    let why = retired_level(given).unwrap_or_else(|| {
+        format!(
+            "no such wear answer; the one answer is `{SHIPPED_LEVEL}`, and the key may be left out"
+        )
+    });
+    Err(StudyError::RetiredWearLevel {
+        given: given.to_string(),
+        why,
+    })
 }
 
 #[cfg(test)]

@@ -1,7 +1,8 @@
 //! The calibration band's query ([`crate::analysis::band`]): per scenario, variant, wheel and
 //! calibrated set, the weight of the wheels with a known wear answer and of those with a
 //! visible polygon within each distance, before the tire is worn out, from the band's file
-//! (`_calibration_band.parquet`, one row per sample, scenario, variant, wheel and set).
+//! (`_calibration_band.parquet`: one row per sample, scenario, variant and wheel, a column of
+//! distances per set).
 
 use std::path::Path;
 
@@ -10,6 +11,7 @@ use polars::prelude::*;
 use super::{collect, ints, pl_err, strs, variant_wheel, SampleWeight, WEIGHT_UNITS_PER_KMH};
 use crate::analysis::AnalysisError;
 use polywear_core::model::{Variant, Wheel};
+use polywear_study::calibration_band::evaluate::set_column;
 
 /// One group's weights.
 #[derive(Debug, Clone, PartialEq)]
@@ -28,11 +30,16 @@ pub struct BandCount {
     pub visible: Vec<i64>,
 }
 
-/// The band's counts at each of `within_km`, weighed as the run's rows are.
+/// The band's counts at each of `within_km` under each of `sets` (their ids, [`RUN_SET`]
+/// among them), weighed as the run's rows are. A set's column holds the distance to a visible
+/// polygon before the tire is worn out (+inf: none; NaN: unknown).
+///
+/// [`RUN_SET`]: polywear_study::calibration_band::evaluate::RUN_SET
 pub fn band_counts(
     file: &Path,
     within_km: &[f64],
     weight: SampleWeight,
+    sets: &[&str],
 ) -> Result<Vec<BandCount>, AnalysisError> {
     let lf = LazyFrame::scan_parquet(
         PlRefPath::new(file.to_string_lossy().as_ref()),
@@ -45,48 +52,52 @@ pub fn band_counts(
             (col("speed_kmh") * lit(WEIGHT_UNITS_PER_KMH) + lit(0.5)).cast(DataType::Int64)
         }
     };
-    let d = col("distance_to_visible_km");
-    let life = col("tread_life_km");
-    let unknown = |e: Expr| e.clone().is_null().or(e.is_nan());
-    let known = unknown(d.clone()).or(unknown(life.clone())).not();
-    let mut aggs = vec![when(known.clone())
-        .then(w.clone())
-        .otherwise(lit(0i64))
-        .sum()
-        .alias("known")];
-    for (k, km) in within_km.iter().enumerate() {
-        let visible = known
-            .clone()
-            .and(d.clone().lt_eq(lit(*km)))
-            .and(d.clone().lt_eq(life.clone()));
+    let mut aggs = Vec::new();
+    for (j, set) in sets.iter().enumerate() {
+        let d = col(set_column(set)).cast(DataType::Float64);
+        let known = d.clone().is_null().or(d.clone().is_nan()).not();
         aggs.push(
-            when(visible)
+            when(known.clone())
                 .then(w.clone())
                 .otherwise(lit(0i64))
                 .sum()
-                .alias(format!("visible_{k}")),
+                .alias(format!("known_{j}")),
         );
+        for (k, km) in within_km.iter().enumerate() {
+            let visible = known.clone().and(d.clone().lt_eq(lit(*km)));
+            aggs.push(
+                when(visible)
+                    .then(w.clone())
+                    .otherwise(lit(0i64))
+                    .sum()
+                    .alias(format!("visible_{j}_{k}")),
+            );
+        }
     }
-    let keys = [col("scenario"), col("variant"), col("wheel"), col("set")];
+    let keys = [col("scenario"), col("variant"), col("wheel")];
     let df = collect(
         lf.group_by(keys.clone())
             .agg(aggs)
             .sort_by_exprs(keys, SortMultipleOptions::default()),
     )?;
-    let (scenario, set) = (strs(&df, "scenario")?, strs(&df, "set")?);
+    let scenario = strs(&df, "scenario")?;
     let vw = variant_wheel(&df)?;
-    let known = ints(&df, "known")?;
-    let visible: Vec<Vec<i64>> = (0..within_km.len())
-        .map(|k| ints(&df, &format!("visible_{k}")))
-        .collect::<Result<_, _>>()?;
-    Ok((0..df.height())
-        .map(|i| BandCount {
-            scenario: scenario[i].clone(),
-            variant: vw[i].0,
-            wheel: vw[i].1,
-            set: set[i].clone(),
-            known: known[i],
-            visible: visible.iter().map(|v| v[i]).collect(),
-        })
-        .collect())
+    let mut out = Vec::with_capacity(df.height() * sets.len());
+    for (j, set) in sets.iter().enumerate() {
+        let known = ints(&df, &format!("known_{j}"))?;
+        let visible: Vec<Vec<i64>> = (0..within_km.len())
+            .map(|k| ints(&df, &format!("visible_{j}_{k}")))
+            .collect::<Result<_, _>>()?;
+        for i in 0..df.height() {
+            out.push(BandCount {
+                scenario: scenario[i].clone(),
+                variant: vw[i].0,
+                wheel: vw[i].1,
+                set: set.to_string(),
+                known: known[i],
+                visible: visible.iter().map(|v| v[i]).collect(),
+            });
+        }
+    }
+    Ok(out)
 }

@@ -8,7 +8,7 @@ use crate::classify::ClassifierOptions;
 use crate::evaluate::{calibrate_wear, solve_wheel};
 use crate::model::{Variant, Wheel};
 use crate::wear::long_term::FEEDBACK_ORDERS;
-use crate::wear::{EstimateLevel, WearInputs, WearSettings};
+use crate::wear::{WearInputs, WearSettings};
 
 /// A tread worn to nothing has f_end = ∞ (f₀/f_end = 0): ν passes every order, and the walk
 /// laid them all out (an allocation of 206 GB). The orders walked stop at the loop's.
@@ -34,10 +34,7 @@ fn estimate_at(p: &Params, budget: WheelBudget, wait: std::time::Duration) -> We
     let opts = ClassifierOptions::default();
     let cal = calibrate_wear(&Params::default(), Variant::SlidingShare, &opts).unwrap();
     let w = solve_wheel(*p, Variant::SlidingShare, Wheel::Follower, &opts);
-    let settings = WearSettings {
-        estimate: EstimateLevel::TreadLifeSaturated,
-        ..WearSettings::default()
-    };
+    let settings = WearSettings::default();
     let inputs = WearInputs {
         params: p,
         model: &w.model,

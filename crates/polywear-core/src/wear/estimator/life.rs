@@ -500,6 +500,12 @@ pub struct LifeAnswer {
 }
 
 impl LifeAnswer {
+    /// A wheel without figures (past its wall-clock limit).
+    pub const UNKNOWN: LifeAnswer = LifeAnswer {
+        answer: WearAnswer::UNKNOWN,
+        peak_share_of_visible: f64::NAN,
+    };
+
     /// Its figures' bits, to compare answers exactly (NaN, an order where every order
     /// levels, equal to itself).
     #[cfg(test)]
@@ -561,7 +567,8 @@ impl WheelGrowth {
     /// from the seed over the drifting tread frequency, until it is visible or the tire is worn
     /// out.
     pub fn life_answer(&self, c: &FittedConstants) -> LifeAnswer {
-        self.life(c, Nodes::Adaptive)
+        let answer = self.aged(c).life(c, Nodes::Adaptive);
+        self.in_time(vec![answer]).remove(0)
     }
 
     /// [`WheelGrowth::life_answer`] with Ḡ(x) at the `nodes` given. Order n's x = n·f₀/f runs
@@ -581,12 +588,24 @@ impl WheelGrowth {
     /// per distinct speed spread: a set then costs the walk of its orders (what a calibration
     /// band of many sets on a few spreads needs).
     pub fn life_answers_with(&self, sets: &[FittedConstants]) -> Vec<LifeAnswer> {
-        let orders = self.life_orders();
-        per_spread(
-            sets,
-            |spread_mps| self.life_nodes(&orders, spread_mps, Nodes::Adaptive),
-            |at, c| self.life_from(&orders, at, c),
-        )
+        let answers = self.per_ageing(sets, |g, sets| {
+            let orders = g.life_orders();
+            per_spread(
+                sets,
+                |spread_mps| g.life_nodes(&orders, spread_mps, Nodes::Adaptive),
+                |at, c| g.life_from(&orders, at, c),
+            )
+        });
+        self.in_time(answers)
+    }
+
+    /// `answers`, or unknown ones where the wheel's wall-clock limit passed while they were
+    /// walked (a walk that finds it passed stops: what it gives is not an answer).
+    pub(super) fn in_time(&self, answers: Vec<LifeAnswer>) -> Vec<LifeAnswer> {
+        match self.out_of_time() {
+            None => answers,
+            Some(_) => vec![LifeAnswer::UNKNOWN; answers.len()],
+        }
     }
 
     /// [`WheelGrowth::life_answers_with`], each answer with every order's largest ln(D/2R⁰)
@@ -990,16 +1009,25 @@ mod tests {
     /// slope the orders' integrals weigh Ḡ with is its derivative.
     #[test]
     fn the_drift_follows_the_ageing_tread() {
-        for c in [0.0, 0.3, 0.5, 0.7] {
+        for (c, mu) in [
+            (0.0, 0.0),
+            (0.3, 0.0),
+            (0.5, 0.0),
+            (0.7, 0.0),
+            (0.5, 0.3),
+            (0.3, 0.7),
+        ] {
             let p = Params {
                 carcass_share: c,
-                ..Params::default()
+                belt_mass_share: mu,
+                ..crate::wear::fitted::pinned_params()
             };
             let patch = contact_patch(&p).unwrap();
             let drift = TreadDrift::of(&p, &patch);
             let usable = p.usable_wear_m();
             let h = (p.tread_height - usable) / p.tread_height;
-            let law = ((1.0 / h) / (c + (1.0 - c) * h)).sqrt();
+            // The mass's fall (the belt's share of it not wearing) over the compliance's.
+            let law = ((1.0 / (mu + (1.0 - mu) * h)) / (c + (1.0 - c) * h)).sqrt();
             let end = 1.0 / drift.at_end();
             assert!(
                 (end / law - 1.0).abs() < 0.01,
@@ -1048,12 +1076,12 @@ mod table_tests {
     use crate::classify::ClassifierOptions;
     use crate::evaluate::{calibrate_wear, solve_wheel};
     use crate::model::{Variant, Wheel};
-    use crate::wear::{EstimateLevel, WearInputs, WearSettings};
+    use crate::wear::{WearInputs, WearSettings};
 
     /// A wheel's closed loop at a highway point (140 km/h 0.35°: the follower vibrates).
     fn growth(speed_kmh: f64, toe_deg: f64, wheel: Wheel) -> (WheelGrowth, bool) {
         let opts = ClassifierOptions::default();
-        let base = Params::default();
+        let base = crate::wear::fitted::pinned_params();
         let cal = calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
         let p = Params {
             speed_kmh,
@@ -1075,18 +1103,17 @@ mod table_tests {
         (g, w.verdict.class.vibrates())
     }
 
-    /// The estimate on the level over the tread's life (`wear_estimate = "tread_life"`, what
-    /// explore writes) is the life answer under the sample's own constants, with the new tire's
-    /// growth of its order in the growth columns (none where every order levels) and the life
-    /// answer's peak share (NaN on the new tire's level); and it is not the new tire's (at φ_s = 0.28,
-    /// σ_V = 10 km/h, where the follower at 120 km/h and 0.45° gets a polygon on both levels).
+    /// The estimate (what explore writes) is the saturated answer over the tread's life under
+    /// the sample's own constants, with the new tire's growth of its order in the growth columns
+    /// (none where every order levels) and the answer's peak share (at φ_s = 0.28, σ_V = 10
+    /// km/h, where the follower at 120 km/h and 0.45° gets a polygon).
     #[test]
-    fn the_estimate_over_the_tread_s_life_is_the_life_answer() {
+    fn the_estimate_is_the_saturated_answer() {
         let opts = ClassifierOptions::default();
         let base = Params {
             wear_share_straight: 0.28,
             speed_spread_kmh: 10.0,
-            ..Params::default()
+            ..crate::wear::fitted::pinned_params()
         };
         let cal = calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
         let mut finite = 0;
@@ -1098,11 +1125,8 @@ mod table_tests {
             };
             for wheel in Wheel::BOTH {
                 let w = solve_wheel(p, Variant::SlidingShare, wheel, &opts);
-                let at = |estimate| {
-                    let settings = WearSettings {
-                        estimate,
-                        ..WearSettings::default()
-                    };
+                let at = || {
+                    let settings = WearSettings::default();
                     let inputs = WearInputs {
                         params: &p,
                         model: &w.model,
@@ -1113,8 +1137,8 @@ mod table_tests {
                     let g = WheelGrowth::new(&inputs, &Meter::new(opts.budget)).unwrap();
                     (crate::wear::estimate(&inputs, &Meter::new(opts.budget)), g)
                 };
-                let (e, g) = at(EstimateLevel::TreadLife);
-                let whole = g.life_answer(&FittedConstants::of(&p));
+                let (e, g) = at();
+                let whole = g.saturated_answer(&FittedConstants::of(&p));
                 let life = whole.answer;
                 let here = format!("{speed_kmh} km/h {toe_deg}° {wheel}");
                 // How near the deepest order came is the life answer's, 1 where visible.
@@ -1154,14 +1178,8 @@ mod table_tests {
                     );
                     assert_eq!(e.orders, vec![order], "{here}");
                 }
-                let (new_tire, _) = at(EstimateLevel::NewTire);
-                assert!(new_tire.peak_share_of_visible.is_nan(), "{here}");
                 if life.distance_to_visible_km.is_finite() {
                     finite += 1;
-                    assert_ne!(
-                        new_tire.distance_to_visible_km, life.distance_to_visible_km,
-                        "{here}"
-                    );
                 }
             }
         }
@@ -1236,11 +1254,16 @@ mod table_tests {
         for spread in [5.0, 2.0, 5.0, 10.0] {
             for phi in [0.12, 0.25, 0.28] {
                 for k_d in [1.0, 1.75] {
-                    sets.push(FittedConstants {
-                        wear_share_straight: phi,
-                        speed_spread_kmh: spread,
-                        wear_rate_driven_factor: k_d,
-                    });
+                    // Two ways the tread ages, in an order that returns to the first.
+                    for (carcass_share, belt_mass_share) in [(0.5, 0.0), (0.6, 0.4), (0.5, 0.0)] {
+                        sets.push(FittedConstants {
+                            wear_share_straight: phi,
+                            speed_spread_kmh: spread,
+                            wear_rate_driven_factor: k_d,
+                            carcass_share,
+                            belt_mass_share,
+                        });
+                    }
                 }
             }
         }
@@ -1302,7 +1325,7 @@ mod table_tests {
     #[test]
     fn the_adaptive_nodes_give_the_fine_integral() {
         let opts = ClassifierOptions::default();
-        let base = Params::default();
+        let base = crate::wear::fitted::pinned_params();
         let cal = calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
         let settings = WearSettings::default();
         let (mut visible, mut vibrating) = (0, 0);
@@ -1344,6 +1367,7 @@ mod table_tests {
                         wear_share_straight: phi,
                         speed_spread_kmh: spread,
                         wear_rate_driven_factor: 1.75,
+                        ..FittedConstants::of(&g.params)
                     };
                     let (t, d) = (g.life(&c, Nodes::Adaptive), g.life(&c, Nodes::UniformFine));
                     let at = format!("{speed_kmh} km/h {toe_deg} deg {wheel} {c:?}: {t:?} {d:?}");

@@ -53,72 +53,43 @@ const NEGLIGIBLE_LOCKED_SHARE: f64 = 1e-6;
 pub(crate) const ORDERS_AROUND_NU: u32 = 2;
 
 /// The wear stage's settings that are categories, not numbers (the numbers are parameters).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+/// Every sample gets one wear answer, over the tread's life with each speed's print saturated
+/// (MODEL.md#the-forced-response-saturates): the level that agrees with the long-term loop. The
+/// new tire's answer and the unsaturated one were retired as answers (`wear_estimate` of a run
+/// recorded by polywear 0.5 and before); the walks they were made of serve the shipped one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct WearSettings {
     /// Where the friction power wears the tread.
-    #[serde(rename = "wear_zone")]
     pub zone: WearZone,
     /// Which friction power wears it: the lateral alone, or with the driving wheel's slip.
-    #[serde(rename = "wear_power")]
     pub power: WearPower,
-    /// Which answer each sample gets: the new tire's, or over the tread's life.
-    #[serde(rename = "wear_estimate")]
-    pub estimate: EstimateLevel,
 }
 
-crate::named_enum! {
-    /// Which answer the per-sample estimator gives each wheel (the `wear_estimate` setting;
-    /// MODEL.md#the-estimator-over-the-treads-life).
-    pub enum EstimateLevel: "wear estimate" {
-        /// The new tire cruising for ever: the fastest order around ν at the new tread's
-        /// growth rate ([`WheelGrowth::answer_with`]). The level the field calibration and
-        /// its band were fitted on; it contradicts the long-term loop at highway points.
-        NewTire,
-        /// Over the tread's life: every order ν passes as the tread wears, from the seed until
-        /// one is visible or the tire is worn out ([`WheelGrowth::life_answer`]); each order's
-        /// print grows with its depth without bound, so where the wear is fast it is 30–84%
-        /// short of the long-term loop. The default before `TreadLifeSaturated`.
-        TreadLife,
-        /// Over the tread's life with each speed's forced response saturated: the spread
-        /// driven on 40 legs, each order's print held to m_max · 2 w′ |H_w| at each
-        /// ([`WheelGrowth::saturated_answers_with`], MODEL.md#the-forced-response-saturates).
-        /// Never earlier than `TreadLife`; within 25% of the long-term loop at every cruising
-        /// polygon compared. The shipped default: the level that agrees with the loop (one
-        /// answer, issue 40).
-        TreadLifeSaturated,
+/// Written as a run records its wear stage: `wear_zone`, `wear_power`, and the one answer's
+/// name as `wear_estimate` (what a reader of the run, and polywear, tell it apart by from a
+/// run of a retired answer).
+impl serde::Serialize for WearSettings {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(Some(3))?;
+        m.serialize_entry("wear_estimate", SHIPPED_LEVEL)?;
+        m.serialize_entry("wear_power", &self.power)?;
+        m.serialize_entry("wear_zone", &self.zone)?;
+        m.end()
     }
 }
 
-impl EstimateLevel {
-    /// Every level, in the order of the declaration.
-    pub const ALL: [EstimateLevel; 3] = [
-        EstimateLevel::NewTire,
-        EstimateLevel::TreadLife,
-        EstimateLevel::TreadLifeSaturated,
-    ];
-    /// The level every command uses unless told otherwise.
-    pub const DEFAULT: EstimateLevel = EstimateLevel::TreadLifeSaturated;
+/// The name polywear 0.5 and before recorded for the one answer it now gives (`wear_estimate`
+/// in a run's `wear` metadata): a run that recorded another was answered on a retired level.
+pub const SHIPPED_LEVEL: &str = "tread_life_saturated";
 
-    /// What the level is, in a sentence (for messages and `polywear params`).
-    pub fn description(self) -> &'static str {
-        match self {
-            EstimateLevel::NewTire => {
-                "the new tire cruising for ever: the fastest order at the new tread's growth rate"
-            }
-            EstimateLevel::TreadLife => {
-                "over the tread's life: every order the tread frequency passes as the tread wears, until one is visible or the tire is worn out, each order's print growing without bound (short of the long-term loop where the wear is fast)"
-            }
-            EstimateLevel::TreadLifeSaturated => {
-                "over the tread's life with each speed's print saturated: the speed spread on 40 legs, a deep order's print at each held to what sliding friction can modulate (agrees with the long-term loop)"
-            }
-        }
-    }
-}
-
-impl Default for EstimateLevel {
-    fn default() -> Self {
-        EstimateLevel::DEFAULT
-    }
+/// The answers retired, with what replaced them, for a run, a study or a flag that names one.
+pub fn retired_level(name: &str) -> Option<String> {
+    matches!(name, "new_tire" | "tread_life").then(|| {
+        format!(
+            "the wear answer `{name}` was retired: every sample carries one wear answer, over the tread's life with each speed's print saturated (`{SHIPPED_LEVEL}`, the level that agrees with the long-term loop)"
+        )
+    })
 }
 
 impl Default for WearZone {
@@ -387,11 +358,61 @@ impl WheelGrowth {
         })
     }
 
+    /// The wheel without a wall-clock limit: for a caller that keeps it and asks it many
+    /// answers over minutes (the calibration's fit), whose own budget is its design's size.
+    pub fn untimed(mut self) -> Self {
+        self.deadline = Deadline::never();
+        self
+    }
+
     /// Why the wheel's answers are unknown, once its wall-clock limit (`max_wheel_seconds`)
     /// has passed: a walk that finds it passed stops, and every answer given after it is
     /// replaced by this reason, never by a figure walked only in part.
     pub fn out_of_time(&self) -> Option<String> {
         self.deadline.passed().then(|| self.deadline.reason())
+    }
+
+    /// The wheel with its tread ageing as `c` says (its carcass and belt shares,
+    /// MODEL.md#the-ageing-tread): only the drift of the tread frequency over the life reads
+    /// them, so the new tire's closed loop is kept and only the parameters change.
+    pub(crate) fn aged(&self, c: &FittedConstants) -> std::borrow::Cow<'_, WheelGrowth> {
+        if c.ages_as(&self.params) {
+            return std::borrow::Cow::Borrowed(self);
+        }
+        let mut aged = self.clone();
+        aged.params.carcass_share = c.carcass_share;
+        aged.params.belt_mass_share = c.belt_mass_share;
+        std::borrow::Cow::Owned(aged)
+    }
+
+    /// `answer` of each group of `sets` that ages the tread alike, on the wheel aged so
+    /// ([`WheelGrowth::aged`]), its answers back in the order of `sets`: what every answer over
+    /// the tread's life under many sets is made of (a group shares its drift, and within it the
+    /// speed spread's nodes, [`per_spread`]).
+    pub(crate) fn per_ageing<A>(
+        &self,
+        sets: &[FittedConstants],
+        answer: impl Fn(&WheelGrowth, &[FittedConstants]) -> Vec<A>,
+    ) -> Vec<A> {
+        let key = |c: &FittedConstants| (c.carcass_share.to_bits(), c.belt_mass_share.to_bits());
+        let mut groups: Vec<((u64, u64), Vec<usize>)> = Vec::new();
+        for (k, c) in sets.iter().enumerate() {
+            match groups.iter_mut().find(|(g, _)| *g == key(c)) {
+                Some((_, members)) => members.push(k),
+                None => groups.push((key(c), vec![k])),
+            }
+        }
+        let mut out: Vec<Option<A>> = (0..sets.len()).map(|_| None).collect();
+        for (_, members) in groups {
+            let group: Vec<FittedConstants> = members.iter().map(|&k| sets[k]).collect();
+            let g = self.aged(&group[0]);
+            for (k, a) in members.into_iter().zip(answer(&g, &group)) {
+                out[k] = Some(a);
+            }
+        }
+        out.into_iter()
+            .map(|a| a.expect("one answer per set"))
+            .collect()
     }
 
     /// ν = f/f_rot.
@@ -452,24 +473,15 @@ impl WheelGrowth {
         )
     }
 
-    /// The wheel's answers under every set of `sets` on `level`, as [`estimate`] gives a
-    /// sample whose constants are the set's: [`WheelGrowth::answers_with`] for the new tire,
-    /// the answers of [`WheelGrowth::life_answers_with`] over the tread's life, and of
-    /// [`WheelGrowth::saturated_answers_with`] saturated.
-    pub fn answers_on(&self, level: EstimateLevel, sets: &[FittedConstants]) -> Vec<WearAnswer> {
-        let answers = match level {
-            EstimateLevel::NewTire => self.answers_with(sets),
-            EstimateLevel::TreadLife => self
-                .life_answers_with(sets)
-                .into_iter()
-                .map(|a| a.answer)
-                .collect(),
-            EstimateLevel::TreadLifeSaturated => self
-                .saturated_answers_with(sets)
-                .into_iter()
-                .map(|a| a.answer)
-                .collect(),
-        };
+    /// The wheel's answers under every set of `sets`, as [`estimate`] gives a sample whose
+    /// constants are the set's ([`WheelGrowth::saturated_answers_with`]); unknown past the
+    /// wheel's wall-clock limit.
+    pub fn answers_on(&self, sets: &[FittedConstants]) -> Vec<WearAnswer> {
+        let answers: Vec<WearAnswer> = self
+            .saturated_answers_with(sets)
+            .into_iter()
+            .map(|a| a.answer)
+            .collect();
         if self.out_of_time().is_some() {
             return vec![WearAnswer::UNKNOWN; sets.len()];
         }
@@ -960,47 +972,17 @@ pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
         Ok(g) => g,
         Err(e) => return WearEstimate::undefined(share, e.to_string()),
     };
-    // The order each level answers with, the orders it evaluated, the distance, and (over the
-    // tread's life) how near the deepest order came.
-    let (top, orders, distance_km, peak_share) = match inputs.settings.estimate {
-        EstimateLevel::NewTire => {
-            let orders: Vec<OrderGrowth> = orders_around(growth.nu())
-                .map(|n| growth.order(n))
-                .collect();
-            let Some(top) = orders.iter().copied().max_by(|a, b| {
-                a.growth_rate_per_1000km
-                    .total_cmp(&b.growth_rate_per_1000km)
-            }) else {
-                return WearEstimate::undefined(share, "no order to evaluate".into());
-            };
-            (
-                Some(top),
-                orders,
-                distance_to_visible_km(p, top.growth_rate_per_1000km),
-                f64::NAN,
-            )
-        }
-        // The order visible first over the tread's life (or the deepest), with the new tire's
-        // growth of it in the growth columns.
-        EstimateLevel::TreadLife | EstimateLevel::TreadLifeSaturated => {
-            let c = FittedConstants::of(p);
-            let life = if inputs.settings.estimate == EstimateLevel::TreadLife {
-                growth.life_answer(&c)
-            } else {
-                growth.saturated_answer(&c)
-            };
-            // No order rose above its seed (NaN): none is the wear's order, and no order's
-            // growth fills the growth columns.
-            let order = life.answer.polygon_order_wear;
-            let top = (!order.is_nan()).then(|| growth.order(order as u32));
-            (
-                top,
-                top.into_iter().collect(),
-                life.answer.distance_to_visible_km,
-                life.peak_share_of_visible,
-            )
-        }
-    };
+    // The order visible first over the tread's life (or the deepest), with the new tire's
+    // growth of it in the growth columns. No order rose above its seed (NaN): none is the
+    // wear's order, and no order's growth fills the growth columns.
+    let life = growth.saturated_answer(&FittedConstants::of(p));
+    let order = life.answer.polygon_order_wear;
+    let top = (!order.is_nan()).then(|| growth.order(order as u32));
+    let (orders, distance_km, peak_share): (Vec<OrderGrowth>, f64, f64) = (
+        top.into_iter().collect(),
+        life.answer.distance_to_visible_km,
+        life.peak_share_of_visible,
+    );
     if let Some(reason) = growth.out_of_time() {
         return WearEstimate::undefined(share, reason);
     }

@@ -1109,7 +1109,7 @@ pub(super) mod tests {
         let base = Params {
             wear_share_straight: 0.28,
             speed_spread_kmh: 0.0,
-            ..Params::default()
+            ..crate::wear::fitted::pinned_params()
         };
         let cal = calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
         let (mut visible, mut none, mut vibrating) = (0, 0, 0);
@@ -1199,7 +1199,7 @@ pub(super) mod tests {
     #[test]
     fn far_orders_by_their_cubic_are_the_exact_integrals() {
         let opts = ClassifierOptions::default();
-        let base = Params::default();
+        let base = crate::wear::fitted::pinned_params();
         let cal = calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
         for (speed_kmh, toe_deg) in [(110.0, 0.45), (140.0, 0.35), (30.0, 0.3)] {
             let p = Params {
@@ -1440,7 +1440,7 @@ pub(super) mod tests {
         let base = Params {
             speed_spread_kmh: 0.0,
             toe_deg: 0.45,
-            ..Params::default()
+            ..crate::wear::fitted::pinned_params()
         };
         let cal = calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
         for (speed_kmh, share) in [(60.0, 1.0), (93.0, 1.0), (110.0, 1.0), (110.0, 0.12)] {

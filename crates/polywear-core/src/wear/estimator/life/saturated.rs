@@ -141,7 +141,10 @@ impl WheelGrowth {
     /// is that of every order's legs, tested). The legs' orders beyond the plain answer's are
     /// walked plainly on their own for that screen, for the sets with a polygon alone.
     pub fn saturated_answers_with(&self, sets: &[FittedConstants]) -> Vec<LifeAnswer> {
-        self.saturated_answers_screened(sets, SCREEN_LOG_MARGIN)
+        let answers = self.per_ageing(sets, |g, sets| {
+            g.saturated_answers_screened(sets, SCREEN_LOG_MARGIN)
+        });
+        self.in_time(answers)
     }
 
     /// [`WheelGrowth::saturated_answers_with`] with the legs built for the orders whose plain
@@ -274,7 +277,7 @@ mod tests {
     /// with the default point's calibration: (where, parameters, growth) per wheel.
     fn vibrating_wheels(points: &[(f64, f64)]) -> Vec<(String, Params, WheelGrowth)> {
         let cal = calibrate_wear(
-            &Params::default(),
+            &crate::wear::fitted::pinned_params(),
             Variant::SlidingShare,
             &ClassifierOptions::default(),
         )
@@ -286,7 +289,7 @@ mod tests {
                 toe_deg: 0.3,
                 wear_share_straight: 1.0,
                 speed_spread_kmh: spread_kmh,
-                ..Params::default()
+                ..crate::wear::fitted::pinned_params()
             };
             for wheel in Wheel::BOTH {
                 let (g, vibrates) = growth_at(&p, &cal, wheel);
@@ -387,7 +390,7 @@ mod tests {
     #[test]
     fn the_screens_keep_a_levelling_wheel_s_deepest_order() {
         let cal = calibrate_wear(
-            &Params::default(),
+            &crate::wear::fitted::pinned_params(),
             Variant::SlidingShare,
             &ClassifierOptions::default(),
         )
@@ -398,7 +401,7 @@ mod tests {
                 let p = Params {
                     speed_kmh,
                     speed_spread_kmh: spread_kmh,
-                    ..Params::default()
+                    ..crate::wear::fitted::pinned_params()
                 };
                 let c = FittedConstants::of(&p);
                 for wheel in Wheel::BOTH {
@@ -434,7 +437,7 @@ mod tests {
         let base = Params {
             toe_deg: 0.45,
             speed_spread_kmh: spread_kmh,
-            ..Params::default()
+            ..crate::wear::fitted::pinned_params()
         };
         let cal =
             calibrate_wear(&base, Variant::SlidingShare, &ClassifierOptions::default()).unwrap();
@@ -672,7 +675,7 @@ mod tests {
             speed_kmh: 62.0,
             wear_share_straight: 0.25,
             speed_spread_kmh: 10.0,
-            ..Params::default()
+            ..crate::wear::fitted::pinned_params()
         };
         let cal =
             calibrate_wear(&base, Variant::SlidingShare, &ClassifierOptions::default()).unwrap();
@@ -691,6 +694,7 @@ mod tests {
                         wear_share_straight: phi,
                         speed_spread_kmh: sigma,
                         wear_rate_driven_factor: k_d,
+                        ..FittedConstants::of(&crate::wear::fitted::pinned_params())
                     })
                 })
             })
