@@ -177,7 +177,7 @@ impl Fit {
         )
     }
 
-    /// The accepted points as a file of calibrated sets ([`Fit::shipped`]); where none is
+    /// The accepted points as a file of calibrated sets (`Fit::shipped` chooses them); where none is
     /// accepted, `fallback` (the constants shipped before) alone, the file saying so.
     pub fn band(
         &self,

@@ -2,7 +2,7 @@
 //! the field facts allow, and every wear answer re-evaluated under each of them on the same
 //! samples.
 //!
-//! One file per job: this one holds the band's types; [`file`] reads, checks and writes a file
+//! One file per job: this one holds the band's types; [`mod@file`] reads, checks and writes a file
 //! of calibrated sets (the shipped one is `data/calibration_band.toml`); [`fit`] finds the sets
 //! by a space-filling design with a hard cut on the field facts' targets and writes that file;
 //! [`evaluate`] re-evaluates a run's subsample under every set, into rows that `analyze` turns

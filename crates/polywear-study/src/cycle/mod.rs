@@ -548,8 +548,8 @@ pub fn classify_cycle(
 /// 64 blocks at a time; within a block each wheel starts from its own cycle at the
 /// previous step, and a step with the same parameters as the previous one takes its verdict.
 /// With `wear`, every step also runs the wear stage (its columns in the records, each order's
-/// growth for [`wear::cycle_wear`] and, over the tread's life, its profile for
-/// [`wear::CycleLife`]). `progress` hears the steps of each block as it finishes (from the
+/// growth and, over the tread's life, its profile for [`wear::CycleLife`]). `progress` hears
+/// the steps of each block as it finishes (from the
 /// worker threads).
 pub fn classify_cycles(
     cycle: &DriveCycle,
