@@ -181,14 +181,16 @@ fi
 
 if want cycle-life; then
   section "cycle-life"
-  say "Command: \`polywear cycle data/cycles/wltc_class3b.csv --study studies/default.toml --structure-samples $CYCLE_STRUCTURES -q --wear-estimate L\`, L = new_tire then tread_life, two alternating pairs (the cycle's polygon as the new tire, and over the tread's life: each step's profile in the worn depth)."
+  say "Command: \`polywear cycle data/cycles/wltc_class3b.csv --study studies/default.toml --structure-samples $CYCLE_STRUCTURES -q [--no-wear]\`, two alternating pairs (the vibration alone, and with the one wear answer: each step's profile over the tread's life)."
   say ""
   for pair in 1 2; do
-    for level in new_tire tread_life; do
+    for stage in no-wear wear; do
+      flag=()
+      [ "$stage" = no-wear ] && flag=(--no-wear)
       timed_cpu "$bin" cycle data/cycles/wltc_class3b.csv --study studies/default.toml \
-        --structure-samples "$CYCLE_STRUCTURES" -q --wear-estimate "$level" \
-        --out "$work/cycle-$level" > /dev/null 2> "$work/cycle.err"
-      echo "pair $pair, $level: $(tail -1 "$work/cycle.err")"
+        --structure-samples "$CYCLE_STRUCTURES" -q "${flag[@]}" \
+        --out "$work/cycle-$stage" > /dev/null 2> "$work/cycle.err"
+      echo "pair $pair, $stage: $(tail -1 "$work/cycle.err")"
     done
   done | block
 fi
