@@ -3,11 +3,10 @@
 //! calibration band.
 //!
 //! Each wheel of a subsample's point is classified as in the run and its closed loop solved once
-//! ([`WheelGrowth`]); its answers under the run's own constants and under every set then cost
-//! a few order evaluations per distinct speed spread, and a little arithmetic per set
-//! ([`WheelGrowth::answers_with`]); over the tread's life (`wear_estimate = "tread_life"`), the
-//! walk of its orders per set, the nodes of Ḡ once per spread
-//! ([`WheelGrowth::life_answers_with`]). The run's own answer equals the run's rows (tested), which
+//! ([`WheelGrowth`]); its one wear answer under the run's own constants and under every set is
+//! then the saturated walk over the tread's life per set, the ageing taken once per (c, μ_b)
+//! and the legs built only where a set's plain answer has a polygon
+//! ([`WheelGrowth::answers_on`]). The run's own answer equals the run's rows (tested), which
 //! is what lets the report move the full run's figures by the band's differences on the
 //! subsample.
 

@@ -42,6 +42,23 @@ pub struct ExploreRequest {
 }
 
 impl ExploreRequest {
+    /// `--resume --out DIR` continues the run recorded there: its study, parameters, samples,
+    /// seed and shard are the defaults, and a flag that contradicts them is refused. A manifest
+    /// this build cannot read back (damaged, or from a version that recorded less) is left to
+    /// `prepare_output`, which says how the directory differs from this run; a run on a retired
+    /// wear answer is refused here, since that is the whole story, not how its recorded
+    /// parameters differ from today's defaults.
+    fn recorded_run(&self) -> Result<Option<(PathBuf, RecordedRun)>, Refusal> {
+        match (&self.out, self.resume) {
+            (Some(dir), true) => match RecordedRun::read(dir) {
+                Ok(run) => Ok(run.map(|run| (dir.clone(), run))),
+                Err(e) if e.retired_level => Err(Refusal(format!("--resume: {e}"))),
+                Err(_) => Ok(None),
+            },
+            _ => Ok(None),
+        }
+    }
+
     /// The run asked for: the study (the file, the one recorded in `--resume --out DIR`, or
     /// the built-in one), its base parameters, samples, seed, shard and output directory.
     pub fn plan(
@@ -50,20 +67,7 @@ impl ExploreRequest {
     ) -> Result<(RunPlan, Vec<String>), Refusal> {
         let args = self;
         let mut notes = Vec::new();
-        // `--resume --out DIR` continues the run recorded there: its study, parameters, samples,
-        // seed and shard are the defaults, and a flag that contradicts them is refused.
-        // A manifest this build cannot read back (damaged, or from a version that recorded less) is
-        // left to `prepare_output`, which says how the directory differs from this run.
-        let recorded = match (&args.out, args.resume) {
-            (Some(dir), true) => match RecordedRun::read(dir) {
-                Ok(run) => run.map(|run| (dir.clone(), run)),
-                // A run on a retired wear answer cannot continue: that is the whole story, not
-                // how its recorded parameters differ from today's defaults.
-                Err(e) if e.retired_level => return Err(Refusal(format!("--resume: {e}"))),
-                Err(_) => None,
-            },
-            _ => None,
-        };
+        let recorded = args.recorded_run()?;
         let (source, origin) = match (&args.study, &recorded) {
             (Some(path), _) => (
                 crate::safe_read::read_text(path, crate::safe_read::Limit::Text)
