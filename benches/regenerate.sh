@@ -147,7 +147,7 @@ fi
 
 if want wear-life; then
   section "wear-life"
-  say "Command: \`cargo bench --bench wear_life -- $LIFE_N [studies/excess_toe.toml]\` (the study classified, with the new tire's wear answer, with the answer over the tread's life as well, with it instead, and with the saturated one instead (the default), interleaved, best of 2; the wheels each gives a visible polygon within 60,000 km), on the default study and on one where polygons are common."
+  say "Command: \`cargo bench --bench wear_life -- $LIFE_N [studies/excess_toe.toml]\` (the study classified, with the plain answer over the tread's life, and with the shipped (saturated) answer instead, interleaved, best of 2; the wheels each gives a visible polygon within 60,000 km), on the default study and on one where polygons are common."
   say ""
   cargo bench --quiet --bench wear_life -- "$LIFE_N" 2>/dev/null | block
   cargo bench --quiet --bench wear_life -- "$LIFE_N" studies/excess_toe.toml 2>/dev/null | block

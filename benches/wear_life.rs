@@ -1,12 +1,11 @@
-//! What the estimator over the tread's life (MODEL.md#the-estimator-over-the-treads-life) would
-//! cost explore, side by side on the same samples of the shipped default study: samples/s of
-//! classifying both wheels (A), with the new tire's wear answer (B: each wheel's closed loop
-//! solved once, then its answer), with the answer over the tread's life as well (C), and with
-//! the life answer instead of the new tire's (D: `--wear-estimate tread_life`), and with the
-//! saturated answer over the tread's life instead (E: the shipped default,
-//! `tread_life_saturated`), the five interleaved twice on all threads. Explore's bar for its
-//! wear stage is half of A. A study file given after the sample count replaces the default
-//! study (`studies/excess_toe.toml`: one where polygons are common, and E builds its legs).
+//! What the wear answer over the tread's life (MODEL.md#the-estimator-over-the-treads-life)
+//! costs explore, side by side on the same samples of the shipped default study: samples/s of
+//! classifying both wheels (A), with the plain answer over the tread's life (B: each speed's
+//! print not saturated, the walk the shipped answer screens its orders with), and with the
+//! shipped answer (C: each speed's print saturated), the three interleaved twice on all
+//! threads. Explore's bar for its wear stage is half of A. A study file given after the sample
+//! count replaces the default study (`studies/excess_toe.toml`: one where polygons are common,
+//! and C builds its legs).
 //!
 //! Run: `cargo bench --bench wear_life -- [SAMPLES=4000] [STUDY.toml]`.
 
@@ -19,6 +18,8 @@ use polywear::classify::ClassifierOptions;
 use polywear::evaluate::{self, PointProblem, WearStage};
 use polywear::study::{Study, DEFAULT_STUDY};
 use polywear::wear::{FittedConstants, WearAnswer, WheelGrowth};
+
+const LEVELS: u8 = 3;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -46,17 +47,16 @@ fn main() {
         &opts,
     )
     .expect("the reference point calibrates");
-    // 0: classify; 1: and the new tire's answer; 2: and the answer over the tread's life;
-    // 3: and the answer over the tread's life alone; 4: and the saturated one alone.
-    // Returns how many wheels saw a visible polygon within 60,000 km (before the tire is worn
-    // out), new tire, life and saturated.
-    let run = |level: u8| -> (usize, usize, usize) {
+    // 0: classify; 1: and the plain answer over the tread's life; 2: and the shipped
+    // (saturated) one instead. Returns how many wheels saw a visible polygon within 60,000 km
+    // (before the tire is worn out), plain and saturated.
+    let run = |level: u8| -> (usize, usize) {
         (0..samples)
             .into_par_iter()
             .map(|i| {
                 let (p, _) = sampler.sample(i);
                 let point = evaluate::solve(&PointProblem::new(p, &variants, &opts));
-                let mut seen = (0, 0, 0);
+                let mut seen = (0, 0);
                 if level == 0 {
                     return seen;
                 }
@@ -70,53 +70,44 @@ fn main() {
                     // counts.
                     let visible =
                         |a: WearAnswer| usize::from(a.visible_within(60_000.0) == Some(true));
-                    if level <= 2 {
-                        seen.0 += visible(g.answer_with(&c));
-                    }
-                    if level == 2 || level == 3 {
-                        seen.1 += visible(g.life_answer(&c).answer);
-                    }
-                    if level == 4 {
-                        seen.2 += visible(g.saturated_answer(&c).answer);
+                    if level == 1 {
+                        seen.0 += visible(g.life_answer(&c).answer);
+                    } else {
+                        seen.1 += visible(g.saturated_answer(&c).answer);
                     }
                 }
                 seen
             })
-            .reduce(|| (0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2))
+            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
     };
-    let mut rates = [0.0_f64; 5];
-    let mut seen = (0, 0, 0);
+    let mut rates = [0.0_f64; LEVELS as usize];
+    let mut seen = (0, 0);
     for _round in 0..2 {
-        for level in 0..5u8 {
+        for level in 0..LEVELS {
             let t0 = Instant::now();
             let s = run(level);
             let rate = samples as f64 / t0.elapsed().as_secs_f64();
             rates[level as usize] = rates[level as usize].max(rate);
             match level {
-                2 => (seen.0, seen.1) = (s.0, s.1),
-                4 => seen.2 = s.2,
+                1 => seen.0 = s.0,
+                2 => seen.1 = s.1,
                 _ => {}
             }
         }
     }
     println!(
-        "{study_name}, {samples} samples on {} threads (best of 2): classify {:.0} samples/s; with the new tire's answer {:.0} ({:.0}% kept); with the answer over the tread's life too {:.0} ({:.0}% kept); with the life answer instead of the new tire's {:.0} ({:.0}% kept); with the saturated one instead (the default) {:.0} ({:.0}% kept)",
+        "{study_name}, {samples} samples on {} threads (best of 2): classify {:.0} samples/s; with the plain answer over the tread's life {:.0} ({:.0}% kept); with the shipped (saturated) answer instead {:.0} ({:.0}% kept)",
         rayon::current_num_threads(),
         rates[0],
         rates[1],
         100.0 * rates[1] / rates[0],
         rates[2],
-        100.0 * rates[2] / rates[0],
-        rates[3],
-        100.0 * rates[3] / rates[0],
-        rates[4],
-        100.0 * rates[4] / rates[0]
+        100.0 * rates[2] / rates[0]
     );
     println!(
-        "  wheels with a visible polygon within 60,000 km, before the tire is worn out: new tire {}, over the tread's life {}, saturated {} (of {})",
+        "  wheels with a visible polygon within 60,000 km, before the tire is worn out: plain {}, saturated (shipped) {} (of {})",
         seen.0,
         seen.1,
-        seen.2,
         2 * samples
     );
 }

@@ -7,10 +7,10 @@ use polywear::classify::budget::Meter;
 use polywear::classify::{classify_point, ClassifierOptions, WheelVerdict};
 use polywear::model::{Variant, Wheel, WheelModel};
 use polywear::params::Params;
-use polywear::wear::calibration::reference_params;
-use polywear::wear::cycle::SampledCycle;
-use polywear::wear::law::{deposit_revolution, friction_force_n, friction_power_w};
-use polywear::wear::zone::{parabolic_gain, pressure_transfer, sinc};
+use polywear::wear::physics::calibration::reference_params;
+use polywear::wear::physics::cycle::SampledCycle;
+use polywear::wear::physics::law::{deposit_revolution, friction_force_n, friction_power_w};
+use polywear::wear::physics::zone::{parabolic_gain, pressure_transfer, sinc};
 use polywear::wear::{WearZone, WheelGrowth, ZoneGeometry};
 
 /// R0 with the wear constants of these tests.
@@ -77,7 +77,7 @@ fn friction_power_is_positive_and_balances_on_the_reference_cycle() {
 /// ∝ P̄/V, P̄ from an independent sampling of the cycle (vibrating) or U² g/w_t (stable).
 #[test]
 fn even_wear_reproduces_its_calibration() {
-    use polywear::wear::law::{even_wear_m_per_m, MM_PER_1000KM_PER_M_PER_M};
+    use polywear::wear::physics::law::{even_wear_m_per_m, MM_PER_1000KM_PER_M_PER_M};
     let opts = ClassifierOptions::default();
     let mean_power = |m: &WheelModel, v: &WheelVerdict, samples: usize| {
         if v.class.vibrates() {
@@ -97,7 +97,7 @@ fn even_wear_reproduces_its_calibration() {
             let (m, v) = classified(p, Wheel::Follower);
             let w = even_wear_m_per_m(
                 cal.gamma_m3_per_j(p),
-                mean_power(&m, &v, polywear::wear::cycle::SAMPLES_PER_PERIOD),
+                mean_power(&m, &v, polywear::wear::physics::cycle::SAMPLES_PER_PERIOD),
                 m.patch.width_m,
                 p.speed_mps(),
                 p.r_b,
@@ -223,10 +223,11 @@ fn patch_filter_transfers() {
 
 // --- The per-sample estimator (MODEL.md#the-per-sample-estimator) ---
 
-use polywear::wear::feedback::ForcedTread;
-use polywear::wear::periodic::CycleResponse;
-use polywear::wear::transfer::Linearisation;
-use polywear::wear::{estimate, Complex64, WearEstimate, WearInputs, WearPower, WearSettings};
+use polywear::numeric::Complex64;
+use polywear::wear::physics::feedback::ForcedTread;
+use polywear::wear::response::periodic::CycleResponse;
+use polywear::wear::response::transfer::Linearisation;
+use polywear::wear::{estimate, WearEstimate, WearInputs, WearPower, WearSettings};
 
 /// The wheel's estimate and its loop, with R0's calibration for `base`.
 fn estimated(p: &Params, wheel: Wheel, zone: WearZone) -> (WearEstimate, WheelGrowth, u64) {
@@ -390,7 +391,7 @@ fn estimator_work_is_bounded() {
 #[test]
 fn the_cycle_read_off_shootings_path_is_the_cycle_integrated_again() {
     use polywear::classify::Scales;
-    use polywear::wear::periodic::CycleResponse;
+    use polywear::wear::response::periodic::CycleResponse;
     let opts = ClassifierOptions::default();
     let points = [
         Params {
@@ -876,7 +877,7 @@ fn driving_growth(power: WearPower) -> (WheelGrowth, WheelModel, f64) {
 /// ratio up to G_x); the position's other wear is what levels.
 #[test]
 fn slip_power_adds_its_even_wear_and_two_levelling_terms() {
-    use polywear::wear::slip::SlipPower;
+    use polywear::wear::physics::slip::SlipPower;
     let p = Params::default();
     let (with, model, gamma_per_share) = driving_growth(WearPower::WithSlip);
     let (without, _, _) = driving_growth(WearPower::LateralOnly);

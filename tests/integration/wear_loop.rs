@@ -5,14 +5,15 @@
 
 use polywear::classify::ClassifierOptions;
 use polywear::evaluate::{calibrate_wear, solve_wheel, WheelSolution};
-use polywear::model::{Variant, Wheel};
-use polywear::params::Params;
-use polywear::wear::accelerated::{run_oracle, OracleSettings};
-use polywear::wear::estimator::{WearInputs, WearSettings, WheelGrowth};
-use polywear::wear::long_term::{
+use polywear::long_term::wheel_loop::{
     cruise_legs, run_wheel, LoopInputs, LoopSettings, RunEnd, WheelWear, SPEED_NODES,
 };
-use polywear::wear::{law, Calibration};
+use polywear::model::{Variant, Wheel};
+use polywear::params::Params;
+use polywear::wear::estimator::{WearInputs, WearSettings, WheelGrowth};
+use polywear::wear::physics::law;
+use polywear::wear::Calibration;
+use polywear_lab::accelerated::{run_oracle, OracleSettings};
 
 use crate::common::{fresh_dir, polywear};
 
@@ -240,7 +241,7 @@ fn growth_does_not_depend_on_the_grid() {
     }
 }
 
-/// Issue 40: 20,000 km at the shipped defaults and at the calibration point (110 km/h, 0.45°,
+/// 20,000 km at the shipped defaults and at the calibration point (110 km/h, 0.45°,
 /// where the driving wheel's zone is 4.9 cells long) leave no harmonic above the feedback
 /// orders deeper than 5% of the deepest order 1..=128, at every saved distance, on both
 /// wheels. With 256 energy samples on 1024 cells the sample comb held order 256 at 0.12–0.26
@@ -248,9 +249,9 @@ fn growth_does_not_depend_on_the_grid() {
 /// (MODEL.md#the-long-term-loop).
 #[test]
 fn the_profile_holds_nothing_above_the_feedback_orders() {
+    use polywear::long_term::profile::harmonics_of;
+    use polywear::long_term::wheel_loop::FEEDBACK_ORDERS;
     use polywear::long_term::{solve, LongTermProblem};
-    use polywear::wear::long_term::FEEDBACK_ORDERS;
-    use polywear::wear::profile::harmonics_of;
     for (speed_kmh, toe_deg) in [(100.0, 0.3), (110.0, 0.45)] {
         let p = Params {
             speed_kmh,
@@ -722,7 +723,7 @@ fn the_loop_s_default_budget_grows_with_its_speeds() {
 /// then held 0.35–0.7; it fails on that settling.
 #[test]
 fn the_loop_locks_only_inside_a_tongue_that_widens_with_the_depth() {
-    use polywear::wear::tongue::{measure, TongueRequest};
+    use polywear::long_term::tongue::{measure, TongueRequest};
     let p = worst(100.0);
     let w = solve_wheel(p, V, Wheel::Follower, &ClassifierOptions::default());
     let nu = w.verdict.polygon_order;
@@ -775,9 +776,10 @@ fn the_loop_locks_only_inside_a_tongue_that_widens_with_the_depth() {
 /// radius `radius_m`, with the rotation moved so that δ = ν − 19 is `detuning`, settled 300
 /// revolutions; whether ρ is 19 over the next 40, and ρ.
 fn locks_to_19(p: &Params, w: &WheelSolution, radius_m: f64, detuning: f64) -> (bool, f64) {
-    use polywear::wear::lock::{is_locked, rotation_number};
-    use polywear::wear::window::{integrate_window, EpsilonTable, WindowRequest};
-    use polywear::wear::{Complex64, Feedback, WearZone};
+    use polywear::long_term::lock::{is_locked, rotation_number};
+    use polywear::long_term::window::{integrate_window, EpsilonTable, WindowRequest};
+    use polywear::numeric::Complex64;
+    use polywear::wear::{Feedback, WearZone};
     let m = w.model.as_ref().unwrap();
     let f_hz = w.verdict.polygon_order * polywear::model::WheelModel::rotation_hz(p);
     let fb = Feedback::new(p, m, WearZone::Trailing);
@@ -928,11 +930,12 @@ fn forced_near_v19(
     offset_kmh: f64,
     radius_m: f64,
 ) -> (bool, f64, f64, Option<(bool, f64)>) {
+    use polywear::long_term::lock::{is_locked, rotation_number};
+    use polywear::long_term::window::{integrate_window, EpsilonTable, WindowRequest};
     use polywear::model::WheelModel;
-    use polywear::wear::forced_orbit;
-    use polywear::wear::lock::{is_locked, rotation_number};
-    use polywear::wear::window::{integrate_window, EpsilonTable, WindowRequest};
-    use polywear::wear::{Complex64, Feedback};
+    use polywear::numeric::Complex64;
+    use polywear::wear::Feedback;
+    use polywear_lab::forced_orbit;
     let free = g.cycle_power_harmonic_rel();
     let p = worst(centre_kmh + offset_kmh);
     let model = WheelModel::build(&p, Wheel::Follower, V).unwrap();
@@ -1009,7 +1012,7 @@ fn the_locked_print_deepens_the_polygon_by_its_phase() {
     }
 }
 
-/// The forced orbit (`wear::forced_orbit`) is brute force's locked state: at 2 and 64 µm of
+/// The forced orbit (`polywear_lab::forced_orbit`) is brute force's locked state: at 2 and 64 µm of
 /// radius, wherever brute force locks, the orbit attracts and its print's share is brute
 /// force's within 0.005 (at 64 µm the normal form's is 0.5 too high at V_19); at 64 µm and
 /// +4.35 km/h, where brute force does not lock and the normal form does, the orbit is unstable.

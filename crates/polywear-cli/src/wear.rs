@@ -13,12 +13,12 @@ use polywear_analysis::figures::wear::LongTermFiles;
 use polywear_analysis::figures::FilesError;
 use polywear_analysis::plot::FigureFormat;
 use polywear_core::classify::ClassifierOptions;
+use polywear_core::long_term::wheel_loop::{
+    cruise_legs, Leg, LoopSettings, FIRST_STEP_REVS, MAX_FIRST_STEP_TREAD_S, SPEED_NODES,
+};
 use polywear_core::long_term::{self, LongTermError, LongTermProblem};
 use polywear_core::model::Variant;
 use polywear_core::params::{ParamId, Params};
-use polywear_core::wear::long_term::{
-    cruise_legs, Leg, LoopSettings, FIRST_STEP_REVS, MAX_FIRST_STEP_TREAD_S, SPEED_NODES,
-};
 use polywear_core::wear::FittedConstants;
 use polywear_core::wording::plain;
 use polywear_study::calibration_band::{self, long_term::LoopSets, CalibrationBand};

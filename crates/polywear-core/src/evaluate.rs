@@ -84,13 +84,13 @@ impl WearStage {
 }
 
 /// The wear calibration of a run whose nominal tire is `base`: its reference follower
-/// ([`wear::calibration::reference_params`]) evaluated on the one road, without a wear stage.
+/// ([`wear::physics::calibration::reference_params`]) evaluated on the one road, without a wear stage.
 pub fn calibrate_wear(
     base: &Params,
     variant: Variant,
     options: &ClassifierOptions,
 ) -> Result<Calibration, WearError> {
-    let reference = wear::calibration::reference_params(base);
+    let reference = wear::physics::calibration::reference_params(base);
     let w = solve_wheel(reference, variant, Wheel::Follower, options);
     Calibration::of_reference(base, &w.model, &w.verdict, options.budget)
 }

@@ -7,6 +7,10 @@
 //! differ from this iteration's, and every Hopf point, chart seed and calibration result is
 //! pinned to this iteration bit for bit.
 
+/// Complex numbers of the wear stage's transfers and profiles (nalgebra's, which the
+/// eigenvalues already use).
+pub type Complex64 = nalgebra::Complex<f64>;
+
 /// Brent's method for a root of `f` in `[a, b]`, where `f(a)` and `f(b)` differ in sign.
 /// Converges to `xtol` absolute plus a few ulps relative. Returns `None` without a sign change.
 pub fn brent(

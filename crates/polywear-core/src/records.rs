@@ -213,7 +213,7 @@ define_record! {
     WearCalibrationShare wear_calibration_share: f64, F64, "-", "Deprecated: wear_share_straight under its old name, kept for one version (the `deprecated` metadata lists it).";
 }
 
-pub use crate::wear::fitted::WearOutcome;
+pub use crate::wear::physics::fitted::WearOutcome;
 
 /// Output columns renamed, as (old, new): the rows carry both for one version, the files'
 /// `deprecated` metadata lists the pairs, and `analyze` reads a file with only the old name

@@ -7,8 +7,8 @@ use std::path::Path;
 use super::FilesError;
 use crate::plot::wear::{wear_figure, WearTrace};
 use crate::plot::{FigureFile, FigureFormat};
+use polywear_core::long_term::wheel_loop::{WheelWear, FEEDBACK_ORDERS};
 use polywear_core::long_term::LongTermSolution;
-use polywear_core::wear::long_term::{WheelWear, FEEDBACK_ORDERS};
 use polywear_study::parquet_out::{write_csv, write_table};
 
 /// Orders drawn in the figure: the deepest at the end, per wheel.

@@ -2,10 +2,10 @@
 //! wheel (a polygon visible, the tyre worn out before one, or none in the distance run) and the
 //! loop's, the tread's and the estimator's figures, as `polywear wear` prints them.
 
+use polywear_core::long_term::wheel_loop::RunEnd;
 use polywear_core::long_term::{LongTermProblem, LongTermSolution, WheelLongTerm};
 use polywear_core::model::{Wheel, WheelModel};
 use polywear_core::params::Params;
-use polywear_core::wear::long_term::RunEnd;
 use polywear_core::wear::LifeAnswer;
 use polywear_core::wording::plain;
 

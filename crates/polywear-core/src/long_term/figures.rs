@@ -2,9 +2,9 @@
 
 use super::WheelLongTerm;
 use crate::classify::Class;
+use crate::long_term::wheel_loop::RunEnd;
 use crate::model::WheelModel;
 use crate::params::Params;
-use crate::wear::long_term::RunEnd;
 
 /// The summary's figures of one wheel (NaN where undefined: no run, no tongue).
 #[derive(Debug, Clone, Copy, PartialEq)]

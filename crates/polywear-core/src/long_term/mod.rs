@@ -1,28 +1,38 @@
 //! The long-term loop as a problem (MODEL.md#the-long-term-loop): one operating point driven
 //! over a distance on both wheels, `LongTermProblem` → [`solve`] → [`LongTermSolution`]. Above
-//! [`crate::evaluate`] (each wheel starts from its verdict) and [`crate::wear::long_term`] (the
+//! [`crate::evaluate`] (each wheel starts from its verdict) and [`crate::long_term::wheel_loop`] (the
 //! loop of one wheel), which is why it is a module of its own and not a part of `wear`.
 
 use crate::classify::budget::Meter;
 use crate::classify::{Class, ClassifierOptions};
 use crate::ensemble::{self, Control};
 use crate::evaluate::{self, PointProblem, WearStage, WheelSolution};
-use crate::model::{ModelFailure, Variant, Wheel};
-use crate::params::{ParamId, Params};
-use crate::wear::estimator::{answer_saturated_per_step, SLIDING_MODULATION_MAX};
-use crate::wear::long_term::{
+use crate::long_term::profile::SEED_ORDERS;
+use crate::long_term::wheel_loop::{
     cruise_legs, first_step_tread_s, run_wheel, slowest_cruise_kmh, Leg, LoopInputs, LoopSettings,
     WheelWear, FEEDBACK_ORDERS, FIRST_STEP_REVS, MAX_FIRST_STEP_TREAD_S,
 };
-use crate::wear::profile::SEED_ORDERS;
-use crate::wear::tongue::{self, Tongue, TongueRequest};
+use crate::model::{ModelFailure, Variant, Wheel};
+use crate::params::{ParamId, Params};
+use crate::wear::estimator::{answer_saturated_per_step, SLIDING_MODULATION_MAX};
 use crate::wear::{
     FittedConstants, LifeAnswer, LifeProfile, WearError, WearSettings, WheelGrowth,
     LIFE_PROFILE_INTERVALS,
 };
+use tongue::{Tongue, TongueRequest};
 
 mod columns;
+pub mod deposit;
+pub mod edge;
 mod figures;
+pub mod first_step;
+pub mod lock;
+pub mod profile;
+mod step_rule;
+pub mod tongue;
+pub mod wheel_loop;
+pub mod wheel_wear;
+pub mod window;
 pub use figures::LongTermFigures;
 
 /// The largest distance a long-term problem accepts \[km\].
@@ -374,7 +384,7 @@ fn start_of(w: &WheelSolution) -> Option<[f64; 3]> {
 }
 
 /// The lock-in tongue at the run's end, measured at its final profile around its locked leg
-/// (`wear::tongue`); `None` where no leg is locked at the end.
+/// ([`tongue`]); `None` where no leg is locked at the end.
 fn measured_tongue(
     run: &WheelWear,
     inputs: &LoopInputs<'_>,

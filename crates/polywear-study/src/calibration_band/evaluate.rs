@@ -58,9 +58,9 @@ pub fn set_column(id: &str) -> String {
 /// distance threshold then reads it as the rows' `wear_outcome` does).
 fn visible_km(a: &WearAnswer) -> f64 {
     match a.outcome() {
-        polywear_core::wear::fitted::WearOutcome::Visible => a.distance_to_visible_km,
-        polywear_core::wear::fitted::WearOutcome::NotWithinLife => f64::INFINITY,
-        polywear_core::wear::fitted::WearOutcome::Unknown => f64::NAN,
+        polywear_core::wear::physics::fitted::WearOutcome::Visible => a.distance_to_visible_km,
+        polywear_core::wear::physics::fitted::WearOutcome::NotWithinLife => f64::INFINITY,
+        polywear_core::wear::physics::fitted::WearOutcome::Unknown => f64::NAN,
     }
 }
 

@@ -10,10 +10,10 @@
 
 use polywear_core::classify::budget::Meter;
 use polywear_core::evaluate::WearStage;
+use polywear_core::long_term::wheel_loop::Leg;
 use polywear_core::long_term::{self, LongTermError, LongTermProblem, LongTermSolution};
 use polywear_core::params::Params;
 use polywear_core::wear::estimator::{SaturatedSteps, SLIDING_MODULATION_MAX};
-use polywear_core::wear::long_term::Leg;
 use polywear_core::wear::{FittedConstants, WearAnswer, WearSettings, WheelGrowth};
 
 use rayon::prelude::*;

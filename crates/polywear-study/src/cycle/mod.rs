@@ -385,14 +385,15 @@ impl DriveCycle {
     /// The cycle as the long-term loop's legs (MODEL.md#the-long-term-loop): `nodes` speeds,
     /// each an equal share of the distance at the distance-weighted quantiles; with the
     /// cycle's length \[km\]. No legs where every step stands still.
-    pub fn wear_legs(&self, nodes: usize) -> (Vec<polywear_core::wear::long_term::Leg>, f64) {
+    pub fn wear_legs(&self, nodes: usize) -> (Vec<polywear_core::long_term::wheel_loop::Leg>, f64) {
         let distances_m: Vec<f64> = self
             .step_durations_s()
             .iter()
             .zip(&self.speed_kmh)
             .map(|(dt, v)| dt * v / 3.6)
             .collect();
-        let legs = polywear_core::wear::long_term::cycle_legs(&self.speed_kmh, &distances_m, nodes);
+        let legs =
+            polywear_core::long_term::wheel_loop::cycle_legs(&self.speed_kmh, &distances_m, nodes);
         (legs, distances_m.iter().sum::<f64>() / 1e3)
     }
 

@@ -17,7 +17,7 @@ use polywear_core::evaluate::{WearStage, WheelSolution};
 use polywear_core::params::Params;
 use polywear_core::wear::estimator::{print_log_ratio, tread_life_km};
 use polywear_core::wear::estimator::{SaturatedSteps, SLIDING_MODULATION_MAX};
-use polywear_core::wear::law::MM_PER_1000KM_PER_M_PER_M;
+use polywear_core::wear::physics::law::MM_PER_1000KM_PER_M_PER_M;
 use polywear_core::wear::{FittedConstants, LifeProfile, WheelGrowth, LIFE_PROFILE_INTERVALS};
 
 /// The highest order followed along a cycle: the seed's band (MODEL.md#step-12-feedback). A step

@@ -19,14 +19,14 @@ use super::{
     band_share, per_spread, tread_life_km, Complex64, NarrowBand, WheelGrowth,
     NARROW_BAND_DEVIATIONS, NEGLIGIBLE_LOCKED_SHARE,
 };
+use crate::long_term::wheel_loop::FEEDBACK_ORDERS;
 use crate::model::tire::worn_tread_block;
 use crate::model::ContactPatch;
 use crate::params::Params;
-use crate::wear::fitted::{FittedConstants, WearAnswer};
-use crate::wear::law::MM_PER_1000KM_PER_M_PER_M;
-use crate::wear::long_term::FEEDBACK_ORDERS;
-use crate::wear::spread::NormalSpeeds;
-use crate::wear::transfer::PoleExpansion;
+use crate::wear::physics::fitted::{FittedConstants, WearAnswer};
+use crate::wear::physics::law::MM_PER_1000KM_PER_M_PER_M;
+use crate::wear::response::spread::NormalSpeeds;
+use crate::wear::response::transfer::PoleExpansion;
 
 mod depth_lock;
 mod profile;
@@ -91,7 +91,7 @@ const CHEBYSHEV_POINTS: usize = 12;
 /// poles are summed at every node after all (far inside [`faddeeva_fast`]'s 10⁻⁴; against the
 /// smallest |Ḡ| every wheel fell back, Ḡ passing near zero).
 ///
-/// [`faddeeva_fast`]: crate::wear::spread
+/// [`faddeeva_fast`]: crate::wear::response::spread
 const CHEBYSHEV_TOLERANCE: f64 = 1e-7;
 
 /// A smooth complex function of x on \[lo, hi\] from its values at the [`CHEBYSHEV_POINTS`]
@@ -475,7 +475,7 @@ struct LifeOrders {
     /// Each order's zone transfer, forcing, and tongue (centre and half-width at x = 1, m/s).
     fixed: Vec<(Complex64, Complex64, (f64, f64))>,
     /// The transfer's uniform means over the widest tongue, once an order asks.
-    tongue_means: std::cell::OnceCell<crate::wear::transfer::TongueMeans>,
+    tongue_means: std::cell::OnceCell<crate::wear::response::transfer::TongueMeans>,
 }
 
 /// ... and what it takes from the speed spread: the nodes of Ḡ(x).
@@ -583,22 +583,6 @@ impl WheelGrowth {
         self.life_from(&orders, &at, c)
     }
 
-    /// [`WheelGrowth::life_answer`] under every set of `sets`, in order, each equal to it bit
-    /// for bit. The orders' zones, forcings and tongues are taken once, and the nodes of Ḡ once
-    /// per distinct speed spread: a set then costs the walk of its orders (what a calibration
-    /// band of many sets on a few spreads needs).
-    pub fn life_answers_with(&self, sets: &[FittedConstants]) -> Vec<LifeAnswer> {
-        let answers = self.per_ageing(sets, |g, sets| {
-            let orders = g.life_orders();
-            per_spread(
-                sets,
-                |spread_mps| g.life_nodes(&orders, spread_mps, Nodes::Adaptive),
-                |at, c| g.life_from(&orders, at, c),
-            )
-        });
-        self.in_time(answers)
-    }
-
     /// `answers`, or unknown ones where the wheel's wall-clock limit passed while they were
     /// walked (a walk that finds it passed stops: what it gives is not an answer).
     pub(super) fn in_time(&self, answers: Vec<LifeAnswer>) -> Vec<LifeAnswer> {
@@ -608,7 +592,8 @@ impl WheelGrowth {
         }
     }
 
-    /// [`WheelGrowth::life_answers_with`], each answer with every order's largest ln(D/2R⁰)
+    /// [`WheelGrowth::life_answer`] under each set of `sets`, each answer with every order's
+    /// largest ln(D/2R⁰)
     /// over the life (orders from `.0`; [`WheelGrowth::life_walk`]): what the saturated level
     /// screens its orders with.
     pub(super) fn life_answers_and_peaks(
@@ -1020,7 +1005,7 @@ mod tests {
             let p = Params {
                 carcass_share: c,
                 belt_mass_share: mu,
-                ..crate::wear::fitted::pinned_params()
+                ..crate::wear::physics::fitted::pinned_params()
             };
             let patch = contact_patch(&p).unwrap();
             let drift = TreadDrift::of(&p, &patch);
@@ -1081,7 +1066,7 @@ mod table_tests {
     /// A wheel's closed loop at a highway point (140 km/h 0.35°: the follower vibrates).
     fn growth(speed_kmh: f64, toe_deg: f64, wheel: Wheel) -> (WheelGrowth, bool) {
         let opts = ClassifierOptions::default();
-        let base = crate::wear::fitted::pinned_params();
+        let base = crate::wear::physics::fitted::pinned_params();
         let cal = calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
         let p = Params {
             speed_kmh,
@@ -1113,7 +1098,7 @@ mod table_tests {
         let base = Params {
             wear_share_straight: 0.28,
             speed_spread_kmh: 10.0,
-            ..crate::wear::fitted::pinned_params()
+            ..crate::wear::physics::fitted::pinned_params()
         };
         let cal = calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
         let mut finite = 0;
@@ -1244,51 +1229,6 @@ mod table_tests {
         assert!(fitted > 0);
     }
 
-    /// The answers of many sets at once are each set's own answer, bit for bit: the nodes of
-    /// one spread serve every set on it, and those of another spread are not mixed in (sets on
-    /// three spreads, in an order that returns to an earlier one), at a vibrating and a stable
-    /// follower and a driving wheel (whose k_d moves its even wear).
-    #[test]
-    fn the_answers_of_many_sets_are_each_sets_answer() {
-        let mut sets = Vec::new();
-        for spread in [5.0, 2.0, 5.0, 10.0] {
-            for phi in [0.12, 0.25, 0.28] {
-                for k_d in [1.0, 1.75] {
-                    // Two ways the tread ages, in an order that returns to the first.
-                    for (carcass_share, belt_mass_share) in [(0.5, 0.0), (0.6, 0.4), (0.5, 0.0)] {
-                        sets.push(FittedConstants {
-                            wear_share_straight: phi,
-                            speed_spread_kmh: spread,
-                            wear_rate_driven_factor: k_d,
-                            carcass_share,
-                            belt_mass_share,
-                        });
-                    }
-                }
-            }
-        }
-        let mut visible = 0;
-        for (speed, toe, wheel) in [
-            (140.0, 0.35, Wheel::Follower),
-            (110.0, 0.45, Wheel::Follower),
-            (110.0, 0.45, Wheel::Driving),
-        ] {
-            let (g, _) = growth(speed, toe, wheel);
-            let together = g.life_answers_with(&sets);
-            assert_eq!(together.len(), sets.len());
-            for (c, got) in sets.iter().zip(&together) {
-                assert_eq!(
-                    got.bits(),
-                    g.life_answer(c).bits(),
-                    "{speed} km/h {wheel} {c:?}"
-                );
-                visible += usize::from(got.answer.distance_to_visible_km.is_finite());
-            }
-        }
-        // Some sets see a polygon, so the walk's every branch is compared.
-        assert!(visible > 0);
-    }
-
     /// The tongue's means from [`TongueMeans`] (far poles as one series in λ²) are the
     /// transfer's uniform means over the band, within 10⁻⁹ relative, at every order a
     /// vibrating wheel's answer over its life takes and half-widths up to the widest.
@@ -1325,7 +1265,7 @@ mod table_tests {
     #[test]
     fn the_adaptive_nodes_give_the_fine_integral() {
         let opts = ClassifierOptions::default();
-        let base = crate::wear::fitted::pinned_params();
+        let base = crate::wear::physics::fitted::pinned_params();
         let cal = calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
         let settings = WearSettings::default();
         let (mut visible, mut vibrating) = (0, 0);

@@ -21,23 +21,26 @@
 //! Over the speed spread the wheel's linearisation at the sample's speed is kept and ω_n moves
 //! with the speed: the mean over the normal spread is then exact pole by pole.
 
-use super::calibration::{
-    driven_position, position_rate_m_per_m, wear_rate_ref_m_per_m, Calibration,
-};
-use super::cycle::{SampledCycle, SAMPLES_PER_PERIOD};
-use super::feedback::Feedback;
-use super::fitted::{FittedConstants, WearAnswer};
-use super::law::{even_wear_m_per_m, MM_PER_1000KM_PER_M_PER_M, PER_1000KM_PER_PER_M};
-use super::normal_form::ForcedHopf;
-use super::periodic::CycleResponse;
-use super::slip::{SlipPower, WearPower};
-use super::transfer::{equilibrium_expansion, Linearisation, PoleExpansion};
-use super::zone::WearZone;
-use super::{Complex64, WearError};
+use super::WearError;
 use crate::classify::budget::{Deadline, Meter};
 use crate::classify::{Class, WheelVerdict};
 use crate::model::{ModelFailure, WheelModel};
+use crate::numeric::Complex64;
 use crate::params::Params;
+use crate::wear::physics::calibration::{
+    driven_position, position_rate_m_per_m, wear_rate_ref_m_per_m, Calibration,
+};
+use crate::wear::physics::cycle::{SampledCycle, SAMPLES_PER_PERIOD};
+use crate::wear::physics::feedback::Feedback;
+use crate::wear::physics::fitted::{FittedConstants, WearAnswer};
+use crate::wear::physics::law::{
+    even_wear_m_per_m, MM_PER_1000KM_PER_M_PER_M, PER_1000KM_PER_PER_M,
+};
+use crate::wear::physics::slip::{SlipPower, WearPower};
+use crate::wear::physics::zone::WearZone;
+use crate::wear::response::normal_form::ForcedHopf;
+use crate::wear::response::periodic::CycleResponse;
+use crate::wear::response::transfer::{equilibrium_expansion, Linearisation, PoleExpansion};
 
 mod life;
 pub use life::{
@@ -442,37 +445,6 @@ impl WheelGrowth {
         self.order_with(order, self.share, self.spread_mps)
     }
 
-    /// The wheel's wear answer under other fitted constants: the fastest order, its distance to
-    /// a visible polygon and the tread's life, as [`estimate`] gives them for a sample whose
-    /// φ_s, σ_V and k_d are `c`'s. φ_s enters in closed form, σ_V through the poles' normal
-    /// means and k_d through λ_other and the life: the loop is not solved again, so the
-    /// calibration band costs a few order evaluations per set (MODEL.md#the-calibration-band).
-    pub fn answer_with(&self, c: &FittedConstants) -> WearAnswer {
-        self.answers_with(std::slice::from_ref(c))
-            .pop()
-            .expect("one set, one answer")
-    }
-
-    /// [`WheelGrowth::answer_with`] of every set in `sets`, in order, each equal to it bit for
-    /// bit. What depends on the speed spread alone (the poles' normal means, the share of the
-    /// spread in the tongue) is evaluated once per distinct σ_V, so a band of many sets on a
-    /// few spreads costs little more than those spreads (the shipped band: 96 sets, 9 spreads).
-    pub fn answers_with(&self, sets: &[FittedConstants]) -> Vec<WearAnswer> {
-        let fixed: Vec<OrderFixed> = orders_around(self.nu())
-            .map(|n| self.order_fixed(n))
-            .collect();
-        per_spread(
-            sets,
-            |spread_mps| -> Vec<SpreadTerms> {
-                fixed
-                    .iter()
-                    .map(|f| self.spread_terms(f, spread_mps))
-                    .collect()
-            },
-            |terms, c| self.answer_from(c, terms),
-        )
-    }
-
     /// The wheel's answers under every set of `sets`, as [`estimate`] gives a sample whose
     /// constants are the set's ([`WheelGrowth::saturated_answers_with`]); unknown past the
     /// wheel's wall-clock limit.
@@ -486,30 +458,6 @@ impl WheelGrowth {
             return vec![WearAnswer::UNKNOWN; sets.len()];
         }
         answers
-    }
-
-    /// The answer under `c` from its spread's terms, one per order of [`orders_around`] ν.
-    fn answer_from(&self, c: &FittedConstants, terms: &[SpreadTerms]) -> WearAnswer {
-        let share = c.wear_share_straight;
-        let other_per_share =
-            self.position_rate(c.wear_rate_driven_factor) * self.feedback.local_per_m;
-        let top = terms
-            .iter()
-            .map(|t| self.order_from(t, share, other_per_share))
-            .max_by(|a, b| {
-                a.growth_rate_per_1000km
-                    .total_cmp(&b.growth_rate_per_1000km)
-            })
-            .expect("orders_around gives at least one order");
-        let tread_wear_mm_per_1000km = self.tread_wear_with(c) * MM_PER_1000KM_PER_M_PER_M;
-        WearAnswer {
-            polygon_order_wear: top.order as f64,
-            distance_to_visible_km: distance_to_visible_km(
-                &self.params,
-                top.growth_rate_per_1000km,
-            ),
-            tread_life_km: tread_life_km(&self.params, tread_wear_mm_per_1000km),
-        }
     }
 
     /// w′_pos with the driven axle's rate `wear_rate_driven_factor` \[m/m\]: the position's

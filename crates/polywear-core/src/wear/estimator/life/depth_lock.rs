@@ -12,7 +12,7 @@
 //! interval, at which radius the order locks and what share of the free print it then lays.
 
 use super::super::{unit, Complex64, WheelGrowth};
-use crate::wear::normal_form::{largest_real_root, ForcedHopf};
+use crate::wear::response::normal_form::{largest_real_root, ForcedHopf};
 
 /// A vibrating wheel's lock at depth at one speed: its normal form, where its ν is and how the
 /// locked cycle's print lies on each order.

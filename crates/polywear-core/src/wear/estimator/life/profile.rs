@@ -13,8 +13,8 @@ use super::depth_lock::{LockedInterval, OrderLocks};
 use super::{DepthLock, LifeAnswer, Nodes, TransferNodes, TreadDrift, WORN_DEGREE};
 use crate::params::Params;
 use crate::wear::estimator::{print_log_ratio, tread_life_km, Complex64, WheelGrowth};
-use crate::wear::fitted::{FittedConstants, WearAnswer};
-use crate::wear::law::MM_PER_1000KM_PER_M_PER_M;
+use crate::wear::physics::fitted::{FittedConstants, WearAnswer};
+use crate::wear::physics::law::MM_PER_1000KM_PER_M_PER_M;
 
 /// Intervals of the usable depth a drive cycle's profiles are laid on: the integrals are exact
 /// at the grid's points, and the crossing of the visible depth is read linearly between them;
@@ -1024,8 +1024,8 @@ pub(super) mod tests {
     use crate::classify::ClassifierOptions;
     use crate::evaluate::{calibrate_wear, solve_wheel};
     use crate::model::{Variant, Wheel};
-    use crate::wear::calibration::Calibration;
-    use crate::wear::law::PER_1000KM_PER_PER_M;
+    use crate::wear::physics::calibration::Calibration;
+    use crate::wear::physics::law::PER_1000KM_PER_PER_M;
     use crate::wear::{WearInputs, WearSettings};
 
     /// One wheel's closed loop at the point `p`, the wear stage calibrated as `cal`, and whether
@@ -1109,7 +1109,7 @@ pub(super) mod tests {
         let base = Params {
             wear_share_straight: 0.28,
             speed_spread_kmh: 0.0,
-            ..crate::wear::fitted::pinned_params()
+            ..crate::wear::physics::fitted::pinned_params()
         };
         let cal = calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
         let (mut visible, mut none, mut vibrating) = (0, 0, 0);
@@ -1199,7 +1199,7 @@ pub(super) mod tests {
     #[test]
     fn far_orders_by_their_cubic_are_the_exact_integrals() {
         let opts = ClassifierOptions::default();
-        let base = crate::wear::fitted::pinned_params();
+        let base = crate::wear::physics::fitted::pinned_params();
         let cal = calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
         for (speed_kmh, toe_deg) in [(110.0, 0.45), (140.0, 0.35), (30.0, 0.3)] {
             let p = Params {
@@ -1440,7 +1440,7 @@ pub(super) mod tests {
         let base = Params {
             speed_spread_kmh: 0.0,
             toe_deg: 0.45,
-            ..crate::wear::fitted::pinned_params()
+            ..crate::wear::physics::fitted::pinned_params()
         };
         let cal = calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
         for (speed_kmh, share) in [(60.0, 1.0), (93.0, 1.0), (110.0, 1.0), (110.0, 0.12)] {

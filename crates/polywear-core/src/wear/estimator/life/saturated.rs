@@ -28,8 +28,8 @@ use super::{
     LIFE_PROFILE_INTERVALS, SLIDING_MODULATION_MAX,
 };
 use crate::wear::estimator::{per_spread, WheelGrowth};
-use crate::wear::fitted::FittedConstants;
-use crate::wear::legs::cruise_legs;
+use crate::wear::physics::fitted::FittedConstants;
+use crate::wear::response::legs::cruise_legs;
 
 /// A spread's legs ([`WheelGrowth::spread_legs`]): each one's share of the distance and its
 /// speed over the sample's, q; the slowest and fastest q; and the orders the legs lay, from the
@@ -131,7 +131,7 @@ impl WheelGrowth {
         }
     }
 
-    /// [`WheelGrowth::life_answers_with`] with each leg's print saturated
+    /// [`WheelGrowth::life_answer`] under every set of `sets` with each leg's print saturated
     /// ([`answer_saturated_per_step`], m_max = [`SLIDING_MODULATION_MAX`]) under every set of
     /// `sets`: a set whose plain answer has no polygon keeps it (the saturated one is never
     /// earlier or deeper), the others are driven on the legs of their spread, built once per
@@ -277,7 +277,7 @@ mod tests {
     /// with the default point's calibration: (where, parameters, growth) per wheel.
     fn vibrating_wheels(points: &[(f64, f64)]) -> Vec<(String, Params, WheelGrowth)> {
         let cal = calibrate_wear(
-            &crate::wear::fitted::pinned_params(),
+            &crate::wear::physics::fitted::pinned_params(),
             Variant::SlidingShare,
             &ClassifierOptions::default(),
         )
@@ -289,7 +289,7 @@ mod tests {
                 toe_deg: 0.3,
                 wear_share_straight: 1.0,
                 speed_spread_kmh: spread_kmh,
-                ..crate::wear::fitted::pinned_params()
+                ..crate::wear::physics::fitted::pinned_params()
             };
             for wheel in Wheel::BOTH {
                 let (g, vibrates) = growth_at(&p, &cal, wheel);
@@ -390,7 +390,7 @@ mod tests {
     #[test]
     fn the_screens_keep_a_levelling_wheel_s_deepest_order() {
         let cal = calibrate_wear(
-            &crate::wear::fitted::pinned_params(),
+            &crate::wear::physics::fitted::pinned_params(),
             Variant::SlidingShare,
             &ClassifierOptions::default(),
         )
@@ -401,7 +401,7 @@ mod tests {
                 let p = Params {
                     speed_kmh,
                     speed_spread_kmh: spread_kmh,
-                    ..crate::wear::fitted::pinned_params()
+                    ..crate::wear::physics::fitted::pinned_params()
                 };
                 let c = FittedConstants::of(&p);
                 for wheel in Wheel::BOTH {
@@ -437,7 +437,7 @@ mod tests {
         let base = Params {
             toe_deg: 0.45,
             speed_spread_kmh: spread_kmh,
-            ..crate::wear::fitted::pinned_params()
+            ..crate::wear::physics::fitted::pinned_params()
         };
         let cal =
             calibrate_wear(&base, Variant::SlidingShare, &ClassifierOptions::default()).unwrap();
@@ -552,7 +552,7 @@ mod tests {
         let target = print_log_ratio(p);
         let tread_life = crate::wear::estimator::tread_life_km(
             p,
-            wear * crate::wear::law::MM_PER_1000KM_PER_M_PER_M,
+            wear * crate::wear::physics::law::MM_PER_1000KM_PER_M_PER_M,
         );
         let seed_m = 2.0 * p.seed_runout_um * 1e-6;
         let phi = c.wear_share_straight;
@@ -675,7 +675,7 @@ mod tests {
             speed_kmh: 62.0,
             wear_share_straight: 0.25,
             speed_spread_kmh: 10.0,
-            ..crate::wear::fitted::pinned_params()
+            ..crate::wear::physics::fitted::pinned_params()
         };
         let cal =
             calibrate_wear(&base, Variant::SlidingShare, &ClassifierOptions::default()).unwrap();
@@ -694,7 +694,7 @@ mod tests {
                         wear_share_straight: phi,
                         speed_spread_kmh: sigma,
                         wear_rate_driven_factor: k_d,
-                        ..FittedConstants::of(&crate::wear::fitted::pinned_params())
+                        ..FittedConstants::of(&crate::wear::physics::fitted::pinned_params())
                     })
                 })
             })
