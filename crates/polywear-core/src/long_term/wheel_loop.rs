@@ -57,6 +57,9 @@ use crate::wear::physics::zone::WearZone;
 pub use crate::wear::response::legs::{cruise_legs, cycle_legs, Leg, SPEED_NODES};
 use crate::wear::WearError;
 
+mod steps;
+use steps::{edge_resolution_m, step_after, step_to_take_m, LoopRecord};
+
 /// Profile cells M of the shipped loop (1.95 mm each at r_B = 0.317 m, under a quarter of the
 /// trailing zone's length).
 pub const CELLS: usize = 1024;
@@ -520,10 +523,8 @@ pub fn run_wheel(
     let seed_m = p.seed_runout_um * 1e-6;
     let orders = FEEDBACK_ORDERS.min(settings.cells / 2 - 1);
     let (mut run, start, band_area_m2) = Run::start(inputs, settings, orders)?;
-    let mut history = vec![start];
-    let mut profiles = vec![(0.0, run.state.profile.depth_m.clone())];
+    let mut record = LoopRecord::new(start, &run.state);
     let total_m = settings.distance_km * 1e3;
-    let visible_m = p.visible_depth_mm * 1e-3;
     let min_step_m = settings.min_step_km * 1e3;
     let mut step_m = min_step_m;
     // The state before the last accepted step, its length, the signature it was taken at and
@@ -535,87 +536,53 @@ pub fn run_wheel(
     // resolution that change needs.
     let mut edge: Option<(f64, f64)> = None;
     let shares: Vec<f64> = inputs.legs.iter().map(|l| l.share).collect();
-    let (mut steps, mut redone) = (0usize, 0usize);
-    let mut visible = None;
     let usable_m = p.usable_wear_m();
-    let mut worn_out_km = None;
     // The mean wear rate of the last accepted step \[m/m\].
     let mut wear_rate_m_per_m = 0.0f64;
-    while run.state.distance_m < total_m * (1.0 - 1e-12) && steps < MAX_STEPS {
-        let mut this_m = bracketed_step_m(step_m, run.state.distance_m, &mut edge)
-            .min(total_m - run.state.distance_m);
-        if wear_rate_m_per_m > 0.0 {
-            // The tyre's last step ends where its usable tread runs out (1% and 1 m past at the
-            // last step's rate, so that it does).
-            let to_out_m = (usable_m - run.state.worn_m) / wear_rate_m_per_m;
-            this_m = this_m.min(1.01 * to_out_m + 1.0);
-        }
+    while run.state.distance_m < total_m * (1.0 - 1e-12) && record.steps < MAX_STEPS {
+        let this_m = step_to_take_m(
+            step_m,
+            &run.state,
+            total_m,
+            usable_m,
+            wear_rate_m_per_m,
+            &mut edge,
+        );
         let before = run.state.clone();
         let (rate, rho, locked, measured) = run.step(this_m, remeasured.take().as_deref())?;
         let sig = signature(&rho, &locked);
         if let Some((prev_state, prev_m, prev_sig, prev_measured)) = last.take() {
             let half = 0.5 * prev_m;
-            let resolution_m = if prev_sig == sig {
-                f64::INFINITY
-            } else {
-                let sides = EdgeSides {
-                    shares: &shares,
-                    signatures: [&prev_sig, &sig],
-                    rates_m_per_m: [rates_of(&prev_measured), rates_of(&measured)],
-                    profile: &before.profile,
-                    seed_depth_m: 2.0 * seed_m,
-                };
-                sides.resolution_m(min_step_m)
+            let sides = EdgeSides {
+                shares: &shares,
+                signatures: [&prev_sig, &sig],
+                rates_m_per_m: [rates_of(&prev_measured), rates_of(&measured)],
+                profile: &before.profile,
+                seed_depth_m: 2.0 * seed_m,
             };
+            let resolution_m = edge_resolution_m(&sides, min_step_m);
             if half >= resolution_m * (1.0 - 1e-12) {
                 // The previous step changed a lock flag or an order, and the change is not yet
                 // placed as finely as its print needs: redo it at half length, laying again
                 // what its windows measured at the same state.
                 edge = Some((before.distance_m, resolution_m));
                 run.state = prev_state;
-                history.truncate(run.state.history_len);
-                profiles.retain(|(km, _)| *km <= run.state.distance_m / 1e3);
+                record.history.truncate(run.state.history_len);
+                record
+                    .profiles
+                    .retain(|(km, _)| *km <= run.state.distance_m / 1e3);
                 step_m = half;
                 remeasured = Some(prev_measured);
-                redone += 1;
+                record.redone += 1;
                 continue;
             }
         }
-        steps += 1;
-        let prev_depths = history.last().expect("the start").depths_m.clone();
         let point = history_point(&before, &run.state, &rate, orders, rho, locked);
-        let mean = rate.iter().sum::<f64>() / rate.len() as f64;
-        wear_rate_m_per_m = mean;
-        let spread = rate.iter().fold(0.0f64, |m, r| m.max((r - mean).abs()));
-        step_m = next_step_m(
-            (settings.min_step_km, settings.max_step_km),
-            (
-                &point.depths_m,
-                &point.depth_rate_m_per_m,
-                &point.growth_per_m,
-            ),
-            spread,
-        );
-        if visible.is_none() {
-            visible = crossing(&prev_depths, &point.depths_m, visible_m, &before, this_m);
-        }
-        if run.state.worn_m >= usable_m {
-            worn_out_km = Some(worn_out_at_km(&before, &run.state, usable_m));
-            // A polygon that would be visible only later in this step comes after the tyre's
-            // end: the tyre is worn out before it.
-            if matches!(visible, Some((_, km)) if km > worn_out_km.unwrap_or(f64::INFINITY)) {
-                visible = None;
-            }
-        }
-        history.push(point);
-        run.state.history_len = history.len();
-        profiles.push((
-            run.state.distance_m / 1e3,
-            run.state.profile.depth_m.clone(),
-        ));
+        (step_m, wear_rate_m_per_m) = step_after(&point, &rate, settings);
+        record.accept(point, &before, &mut run.state, this_m, p);
         progress(this_m / 1e3);
         last = Some((before, this_m, sig, measured));
-        if (visible.is_some() && settings.stop_at_visible) || worn_out_km.is_some() {
+        if (record.visible.is_some() && settings.stop_at_visible) || record.worn_out_km.is_some() {
             break;
         }
     }
@@ -623,53 +590,18 @@ pub fn run_wheel(
     Ok(WheelWear {
         wheel: inputs.wheel,
         legs: inputs.legs.to_vec(),
-        profiles: pick_profiles(profiles, 5),
-        visible,
-        worn_out_km,
+        profiles: pick_profiles(record.profiles, 5),
+        visible: record.visible,
+        worn_out_km: record.worn_out_km,
         energy_j: run.state.energy_j,
         straight_volume_m3: run.state.straight_volume_m3,
         band_area_m2,
         even_wear_m_per_m: run.state.straight_volume_m3 / (band_area_m2 * distance_m.max(1e-300)),
         seed_m,
         rhs_evals: run.rhs_evals,
-        steps,
-        redone,
+        steps: record.steps,
+        redone: record.redone,
         end_states: run.state.x.clone(),
-        history,
+        history: record.history,
     })
-}
-
-/// Where in the step from `before` to `after` the worn depth reached `usable_m` \[km\] (linear
-/// within the step: the even wear's rate moves little over one).
-fn worn_out_at_km(before: &RunState, after: &RunState, usable_m: f64) -> f64 {
-    let (w0, w1) = (before.worn_m, after.worn_m);
-    let share = if w1 > w0 {
-        ((usable_m - w0) / (w1 - w0)).clamp(0.0, 1.0)
-    } else {
-        1.0
-    };
-    (before.distance_m + share * (after.distance_m - before.distance_m)) / 1e3
-}
-
-/// The first order whose depth crossed `visible_m` in a step of `step_m` from `before`, and
-/// where (exponential interpolation between the depths at the step's ends) \[km\].
-fn crossing(
-    prev: &[f64],
-    now: &[f64],
-    visible_m: f64,
-    before: &RunState,
-    step_m: f64,
-) -> Option<(u32, f64)> {
-    let (n, (d0, d1)) = prev
-        .iter()
-        .zip(now)
-        .enumerate()
-        .filter(|(_, (_, d1))| **d1 >= visible_m)
-        .max_by(|a, b| (a.1 .1).total_cmp(b.1 .1))?;
-    let share = if *d0 > 0.0 && d1 > d0 && *d0 < visible_m {
-        (visible_m / d0).ln() / (d1 / d0).ln()
-    } else {
-        1.0
-    };
-    Some(((n + 1) as u32, (before.distance_m + share * step_m) / 1e3))
 }

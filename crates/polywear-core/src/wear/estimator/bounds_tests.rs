@@ -6,8 +6,8 @@ use super::*;
 use crate::classify::budget::{Meter, WheelBudget};
 use crate::classify::ClassifierOptions;
 use crate::evaluate::{calibrate_wear, solve_wheel};
-use crate::long_term::wheel_loop::FEEDBACK_ORDERS;
 use crate::model::{Variant, Wheel};
+use crate::wear::physics::feedback::FEEDBACK_ORDERS;
 use crate::wear::{WearInputs, WearSettings};
 
 /// A tread worn to nothing has f_end = ∞ (f₀/f_end = 0): ν passes every order, and the walk
