@@ -365,104 +365,14 @@ pub(super) fn band(
         .chain(sets.iter().map(|s| s.id.as_str()))
         .collect();
     let counts = band_counts(&path, &within, sample_weight(info), &set_ids)?;
-    let p = |scenario: &str, variant: Variant, wheel: Wheel, set: &str, k: usize| {
-        counts
-            .iter()
-            .find(|c| {
-                (c.scenario.as_str(), c.variant, c.wheel, c.set.as_str())
-                    == (scenario, variant, wheel, set)
-            })
-            .map_or(f64::NAN, |c: &BandCount| {
-                if c.known > 0 {
-                    c.visible[k] as f64 / c.known as f64
-                } else {
-                    f64::NAN
-                }
-            })
-    };
     let ids: Vec<&str> = sets.iter().map(|s| s.id.as_str()).collect();
-    // The range of figures under the sets, and the sets at its ends.
-    let range_of = |full: f64, mut moved: Vec<(f64, &str)>| -> Option<BandRange> {
-        moved.retain(|(x, _)| x.is_finite());
-        if moved.is_empty() || !full.is_finite() {
-            return None;
-        }
-        moved.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let (first, last) = (moved[0], moved[moved.len() - 1]);
-        Some(BandRange {
-            lo: first.0,
-            lo_set: first.1.to_string(),
-            hi: last.0,
-            hi_set: last.1.to_string(),
-        })
-    };
-    let mut occurrence = Vec::new();
-    for (km, o) in wear.occurrence_rows() {
-        let k = within.iter().position(|x| *x == km).expect("asked");
-        let of = |set: &str| p(BASELINE, o.variant, o.wheel, set, k);
-        if let Some(r) = range_of(o.p(), moved_under_sets(&ids, o.p(), &of)) {
-            occurrence.push(OccurrenceBand {
-                variant: o.variant,
-                wheel: o.wheel,
-                within_km: km,
-                range: r,
-            });
-        }
-    }
-    let mut paired = Vec::new();
-    for (km, pr) in wear.paired_rows() {
-        let k = within.iter().position(|x| *x == km).expect("asked");
-        let v = pr.variant;
-        let Some(answer) = wear.by_distance.iter().find(|d| d.within_km == km) else {
-            continue;
-        };
-        let at = |wheel| answer.answer.occurrence_of(v, wheel);
-        let (f, d) = match (at(Wheel::Follower), at(Wheel::Driving)) {
-            (Some(f), Some(d)) => (f.p(), d.p()),
-            _ => continue,
-        };
-        let of = |wheel: Wheel| move |set: &str| p(BASELINE, v, wheel, set, k);
-        let differences =
-            difference_under_sets(&ids, (f, d), &of(Wheel::Follower), &of(Wheel::Driving));
-        let ahead = |sign: f64| differences.iter().filter(|(x, _)| x * sign > 0.0).count();
-        let (follower_ahead, driving_ahead) = (ahead(1.0), ahead(-1.0));
-        if let Some(r) = range_of(f - d, differences) {
-            paired.push(PairedBand {
-                variant: v,
-                within_km: km,
-                follower_minus_driving: r,
-                follower_ahead,
-                driving_ahead,
-            });
-        }
-    }
+    let occurrence = occurrence_bands(wear, &counts, &within, &ids);
+    let paired = paired_bands(wear, &counts, &within, &ids);
     let k = within
         .iter()
         .position(|x| *x == scenario_within_km)
         .expect("asked");
-    let mut scenarios = Vec::new();
-    for e in effects {
-        if !matches!(e.outcome, OutcomeColumn::WithinKm { km, .. } if km == scenario_within_km) {
-            continue;
-        }
-        let under_scenario = |set: &str| p(&e.scenario, e.variant, e.wheel, set, k);
-        let under_reference = |set: &str| p(&e.reference, e.variant, e.wheel, set, k);
-        let differences = difference_under_sets(
-            &ids,
-            (e.p_scenario(), e.p_baseline()),
-            &under_scenario,
-            &under_reference,
-        );
-        if let Some(r) = range_of(e.difference(), differences) {
-            scenarios.push(EffectBand {
-                scenario: e.scenario.clone(),
-                variant: e.variant,
-                wheel: e.wheel,
-                within_km: scenario_within_km,
-                range: r,
-            });
-        }
-    }
+    let scenarios = scenario_effect_bands(effects, &counts, k, scenario_within_km, &ids);
     Ok(CalibrationBand {
         file: path.clone(),
         // What a file says of itself is quoted as one bounded line (a band file's `method`
@@ -476,6 +386,148 @@ pub(super) fn band(
         paired,
         scenarios,
     })
+}
+
+/// The share of the known samples of `scenario`, `variant`, `wheel` under the set `set` that
+/// show a visible polygon within the `k`-th distance of the band counts; NaN where there is no
+/// such count or it knows no sample.
+fn visible_share(
+    counts: &[BandCount],
+    scenario: &str,
+    variant: Variant,
+    wheel: Wheel,
+    set: &str,
+    k: usize,
+) -> f64 {
+    counts
+        .iter()
+        .find(|c| {
+            (c.scenario.as_str(), c.variant, c.wheel, c.set.as_str())
+                == (scenario, variant, wheel, set)
+        })
+        .map_or(f64::NAN, |c: &BandCount| {
+            if c.known > 0 {
+                c.visible[k] as f64 / c.known as f64
+            } else {
+                f64::NAN
+            }
+        })
+}
+
+/// The range of figures under the sets, and the sets at its ends: None where the full run's
+/// figure `full` or every moved figure is not finite.
+fn range_over_sets(full: f64, mut moved: Vec<(f64, &str)>) -> Option<BandRange> {
+    moved.retain(|(x, _)| x.is_finite());
+    if moved.is_empty() || !full.is_finite() {
+        return None;
+    }
+    moved.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (first, last) = (moved[0], moved[moved.len() - 1]);
+    Some(BandRange {
+        lo: first.0,
+        lo_set: first.1.to_string(),
+        hi: last.0,
+        hi_set: last.1.to_string(),
+    })
+}
+
+/// The band of the headline P(visible polygon within a distance) of each wheel at each of the
+/// wear answer's distances, on the baseline.
+fn occurrence_bands(
+    wear: &WearAnalysis,
+    counts: &[BandCount],
+    within: &[f64],
+    ids: &[&str],
+) -> Vec<OccurrenceBand> {
+    let mut occurrence = Vec::new();
+    for (km, o) in wear.occurrence_rows() {
+        let k = within.iter().position(|x| *x == km).expect("asked");
+        let of = |set: &str| visible_share(counts, BASELINE, o.variant, o.wheel, set, k);
+        if let Some(r) = range_over_sets(o.p(), moved_under_sets(ids, o.p(), &of)) {
+            occurrence.push(OccurrenceBand {
+                variant: o.variant,
+                wheel: o.wheel,
+                within_km: km,
+                range: r,
+            });
+        }
+    }
+    occurrence
+}
+
+/// The band of follower against driving wheel at each of the wear answer's distances, on the
+/// baseline, with how many sets put each wheel ahead.
+fn paired_bands(
+    wear: &WearAnalysis,
+    counts: &[BandCount],
+    within: &[f64],
+    ids: &[&str],
+) -> Vec<PairedBand> {
+    let mut paired = Vec::new();
+    for (km, pr) in wear.paired_rows() {
+        let k = within.iter().position(|x| *x == km).expect("asked");
+        let v = pr.variant;
+        let Some(answer) = wear.by_distance.iter().find(|d| d.within_km == km) else {
+            continue;
+        };
+        let at = |wheel| answer.answer.occurrence_of(v, wheel);
+        let (f, d) = match (at(Wheel::Follower), at(Wheel::Driving)) {
+            (Some(f), Some(d)) => (f.p(), d.p()),
+            _ => continue,
+        };
+        let of = |wheel: Wheel| move |set: &str| visible_share(counts, BASELINE, v, wheel, set, k);
+        let differences =
+            difference_under_sets(ids, (f, d), &of(Wheel::Follower), &of(Wheel::Driving));
+        let ahead = |sign: f64| differences.iter().filter(|(x, _)| x * sign > 0.0).count();
+        let (follower_ahead, driving_ahead) = (ahead(1.0), ahead(-1.0));
+        if let Some(r) = range_over_sets(f - d, differences) {
+            paired.push(PairedBand {
+                variant: v,
+                within_km: km,
+                follower_minus_driving: r,
+                follower_ahead,
+                driving_ahead,
+            });
+        }
+    }
+    paired
+}
+
+/// The band of each scenario's effect on the wear outcome at the scenarios' distance
+/// `scenario_within_km` (the `k`-th of the band counts); effects on other outcomes have none.
+fn scenario_effect_bands(
+    effects: &[ScenarioEffect],
+    counts: &[BandCount],
+    k: usize,
+    scenario_within_km: f64,
+    ids: &[&str],
+) -> Vec<EffectBand> {
+    let mut scenarios = Vec::new();
+    for e in effects {
+        if !matches!(e.outcome, OutcomeColumn::WithinKm { km, .. } if km == scenario_within_km) {
+            continue;
+        }
+        let under_scenario =
+            |set: &str| visible_share(counts, &e.scenario, e.variant, e.wheel, set, k);
+        let under_reference =
+            |set: &str| visible_share(counts, &e.reference, e.variant, e.wheel, set, k);
+        let differences = difference_under_sets(
+            ids,
+            (e.p_scenario(), e.p_baseline()),
+            &under_scenario,
+            &under_reference,
+        );
+        if let Some(r) = range_over_sets(e.difference(), differences) {
+            scenarios.push(EffectBand {
+                scenario: e.scenario.clone(),
+                variant: e.variant,
+                wheel: e.wheel,
+                within_km: scenario_within_km,
+                range: r,
+            });
+        }
+    }
+    scenarios
 }
 
 #[cfg(test)]

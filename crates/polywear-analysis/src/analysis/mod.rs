@@ -513,37 +513,20 @@ pub fn run_with_progress(
         Vec::new()
     };
     let wear = if has_wear {
-        let drawn: Vec<&RiskMap> = vibration
-            .maps
-            .iter()
-            .filter(|m| !is_sparse(&sparse_maps, m))
-            .collect();
-        let inputs = wear_risk::WearInputs {
-            axis_bins: &axis_bins,
-            maps: drawn,
-            batch_rows: PAIRED_BATCH_ROWS,
-        };
-        Some(wear_risk::wear(
+        Some(wear_on_drawn_maps(
             &rows,
             &info,
-            &opts.within_km,
-            &inputs,
+            opts,
+            &axis_bins,
+            &vibration.maps,
+            &sparse_maps,
             progress,
         )?)
     } else {
         None
     };
     progress(Step::Wear);
-    let band = match (&wear, band::band_file(&info)?) {
-        (Some(w), Some(footer)) => Some(band::band(
-            &footer,
-            &info,
-            w,
-            &scenarios,
-            opts.scenario_within_km,
-        )?),
-        _ => None,
-    };
+    let band = calibration_band(wear.as_ref(), &info, &scenarios, opts)?;
     Ok(Analysis {
         info,
         options: opts.clone(),
@@ -561,6 +544,47 @@ pub fn run_with_progress(
         wear,
         band,
         notes,
+    })
+}
+
+/// The wear answer on the maps that are drawn (the sparse ones left out), at each of the
+/// options' distances.
+fn wear_on_drawn_maps(
+    rows: &Rows,
+    info: &RunInfo,
+    opts: &AnalysisOptions,
+    axis_bins: &[(ParamId, Bins)],
+    maps: &[RiskMap],
+    sparse_maps: &[SparseMap],
+    progress: &mut dyn FnMut(Step),
+) -> Result<WearAnalysis, AnalysisError> {
+    let drawn: Vec<&RiskMap> = maps.iter().filter(|m| !is_sparse(sparse_maps, m)).collect();
+    let inputs = wear_risk::WearInputs {
+        axis_bins,
+        maps: drawn,
+        batch_rows: PAIRED_BATCH_ROWS,
+    };
+    wear_risk::wear(rows, info, &opts.within_km, &inputs, progress)
+}
+
+/// The calibration band of the wear answer `wear` and the scenarios' effects, where the run
+/// has both a wear answer and a band file (the band file is looked for, and checked, either
+/// way).
+fn calibration_band(
+    wear: Option<&WearAnalysis>,
+    info: &RunInfo,
+    scenarios: &[ScenarioEffect],
+    opts: &AnalysisOptions,
+) -> Result<Option<band::CalibrationBand>, AnalysisError> {
+    Ok(match (wear, band::band_file(info)?) {
+        (Some(w), Some(footer)) => Some(band::band(
+            &footer,
+            info,
+            w,
+            scenarios,
+            opts.scenario_within_km,
+        )?),
+        _ => None,
     })
 }
 

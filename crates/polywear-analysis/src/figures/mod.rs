@@ -5,6 +5,7 @@ pub mod bifurcation;
 pub mod chart;
 pub mod cycle;
 pub mod optimize;
+mod optimize_figure;
 pub mod trajectory;
 pub mod wear;
 

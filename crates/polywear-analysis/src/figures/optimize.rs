@@ -6,11 +6,9 @@
 use polywear_core::wording::capitalise;
 use std::path::{Path, PathBuf};
 
-use crate::plot::maps::Overlay;
-use crate::plot::surface::{marker, surface_curve, surface_map, MapPoint, VLine};
+use super::optimize_figure;
 use crate::plot::FigureFile;
 use crate::plot::{FigureFormat, PlotError};
-use polywear_core::model::Wheel;
 use polywear_core::wording::plain;
 use polywear_study::optimize::{Problem, Solution};
 use polywear_study::parquet_out::{write_csv, write_table, Column};
@@ -33,9 +31,6 @@ pub enum OutputError {
     #[error("{0}")]
     Figure(#[from] PlotError),
 }
-
-/// The figure shows the objective in %, as the text says it ([`pct`]).
-const PERCENT: f64 = 100.0;
 
 /// A probability or objective as people read it: 12.3%.
 fn pct(x: f64) -> String {
@@ -63,13 +58,38 @@ pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
         ));
         return lines;
     };
-    let best = &solution.settings[b];
-    let at: Vec<String> = axes
+    lines.push(optimum_line(problem, &solution.settings[b]));
+    lines.push(flatness_line(problem, solution, b));
+    // A box over which the objective does not move at all (over the tread's life at a workshop
+    // toe-in, 0.0% everywhere) has no minimum: the best is the first of equals, and its edge
+    // says nothing about what lies beyond the box.
+    let flat = flat_value(solution, |s| Some(s.objective.value));
+    if let Some(v) = flat {
+        lines.push(format!(
+            "the objective is {} at every setting of the box: no setting is better than another, so the optimum above only breaks a tie and its place (an edge or not) means nothing",
+            pct(v)
+        ));
+    }
+    for (k, side) in solution.on_edge().into_iter().filter(|_| flat.is_none()) {
+        lines.push(edge_line(problem, &axes[k], k, side));
+    }
+    lines.extend(band_lines(problem, solution));
+    if let Some(note) = &problem.band_note {
+        lines.push(note.clone());
+    }
+    lines
+}
+
+/// The optimum in words: where it lies, its objective with the 95% interval (and the
+/// calibration band where there is one), and over how many samples.
+fn optimum_line(problem: &Problem, best: &polywear_study::optimize::Setting) -> String {
+    let at: Vec<String> = problem
+        .axes
         .iter()
         .zip(&best.values)
         .map(|(a, v)| format!("{} = {}", a.param, plain(*v, 4)))
         .collect();
-    lines.push(format!(
+    format!(
         "optimum: {}: {} {} (95% interval {} to {}{}) over {} samples",
         at.join(", "),
         problem.objective.text(),
@@ -82,9 +102,16 @@ pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
             100.0 * hi
         )),
         best.objective.n
-    ));
+    )
+}
+
+/// How flat the objective is around the best setting `b`: the settings within its interval and
+/// their span, those that cannot be told from it, and the objective's range over the box.
+fn flatness_line(problem: &Problem, solution: &Solution, b: usize) -> String {
+    let best = &solution.settings[b];
     let within = solution.within_best();
-    let spans: Vec<String> = axes
+    let spans: Vec<String> = problem
+        .axes
         .iter()
         .enumerate()
         .map(|(k, a)| {
@@ -106,7 +133,7 @@ pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
             i != b && lo <= 0.0 && hi >= 0.0
         })
         .count();
-    lines.push(format!(
+    format!(
         "how flat: {} of {} settings lie within the best's interval (objective at most {}), spanning {}; {} of them cannot be told from the best (their paired difference's 95% interval holds 0); over the box the objective runs from {} to {}",
         within.len(),
         solution.settings.len(),
@@ -115,44 +142,36 @@ pub fn summary(problem: &Problem, solution: &Solution) -> Vec<String> {
         indistinct,
         pct(best.objective.value),
         pct(worst)
-    ));
-    // A box over which the objective does not move at all (over the tread's life at a workshop
-    // toe-in, 0.0% everywhere) has no minimum: the best is the first of equals, and its edge
-    // says nothing about what lies beyond the box.
-    let flat = flat_value(solution, |s| Some(s.objective.value));
-    if let Some(v) = flat {
-        lines.push(format!(
-            "the objective is {} at every setting of the box: no setting is better than another, so the optimum above only breaks a tie and its place (an edge or not) means nothing",
-            pct(v)
-        ));
-    }
-    for (k, side) in solution.on_edge().into_iter().filter(|_| flat.is_none()) {
-        let a = &axes[k];
-        let lower = side == "lower";
-        let end = if lower { a.lo } else { a.hi };
-        let next = match problem.widened(k, lower) {
-            Some((lo, hi)) => format!(
-                "next step: widen the box there, `--vary {}={}..{}` (the other --vary as they were)",
-                a.param,
-                plain(lo, 4),
-                plain(hi, 4)
-            ),
-            None => format!(
-                "the box already reaches {}'s plausible limit there, so that limit is the answer",
-                a.param
-            ),
-        };
-        lines.push(format!(
-            "the optimum sits on the box's {side} edge of {} ({}): the minimum may lie beyond the box; {next}",
+    )
+}
+
+/// The optimum on the box's `side` edge of axis `a` (the `k`-th), in words, with the next step:
+/// the widened box to search, or that the parameter's plausible limit is the answer.
+fn edge_line(
+    problem: &Problem,
+    a: &polywear_study::optimize::Axis,
+    k: usize,
+    side: &str,
+) -> String {
+    let lower = side == "lower";
+    let end = if lower { a.lo } else { a.hi };
+    let next = match problem.widened(k, lower) {
+        Some((lo, hi)) => format!(
+            "next step: widen the box there, `--vary {}={}..{}` (the other --vary as they were)",
             a.param,
-            plain(end, 6)
-        ));
-    }
-    lines.extend(band_lines(problem, solution));
-    if let Some(note) = &problem.band_note {
-        lines.push(note.clone());
-    }
-    lines
+            plain(lo, 4),
+            plain(hi, 4)
+        ),
+        None => format!(
+            "the box already reaches {}'s plausible limit there, so that limit is the answer",
+            a.param
+        ),
+    };
+    format!(
+        "the optimum sits on the box's {side} edge of {} ({}): the minimum may lie beyond the box; {next}",
+        a.param,
+        plain(end, 6)
+    )
 }
 
 /// The value the objective takes at every feasible setting, where it takes one value only
@@ -205,19 +224,7 @@ fn band_lines(problem: &Problem, solution: &Solution) -> Vec<String> {
     let mut lines = Vec::new();
     let none = sets - found.len();
     let staying = found.iter().filter(|&&i| i == b).count();
-    let places: Vec<String> = problem
-        .axes
-        .iter()
-        .enumerate()
-        .map(|(k, a)| {
-            let (lo, hi) = span(found.iter().map(|&i| solution.settings[i].values[k]));
-            if lo == hi {
-                format!("{} = {}", a.param, plain(lo, 4))
-            } else {
-                format!("{} from {} to {}", a.param, plain(lo, 4), plain(hi, 4))
-            }
-        })
-        .collect();
+    let places = optimum_places_under_sets(problem, solution, &found);
     let held = (0..sets)
         .filter(|&k| {
             let Some(o) = optima[k] else { return false };
@@ -245,6 +252,43 @@ fn band_lines(problem: &Problem, solution: &Solution) -> Vec<String> {
             String::new()
         }
     ));
+    lines.extend(band_edge_line(problem, solution, &optima, &found));
+    lines
+}
+
+/// Where the sets' optima (`found`, the settings they pick) lie along each axis: one value, or
+/// the range they span.
+fn optimum_places_under_sets(
+    problem: &Problem,
+    solution: &Solution,
+    found: &[usize],
+) -> Vec<String> {
+    problem
+        .axes
+        .iter()
+        .enumerate()
+        .map(|(k, a)| {
+            let (lo, hi) = span(found.iter().map(|&i| solution.settings[i].values[k]));
+            if lo == hi {
+                format!("{} = {}", a.param, plain(lo, 4))
+            } else {
+                format!("{} from {} to {}", a.param, plain(lo, 4), plain(hi, 4))
+            }
+        })
+        .collect()
+}
+
+/// The box's edge under the calibrated sets, in words: flat under every set, the edge every
+/// set whose objective moves puts the optimum on, or how many sets put it on some edge (None
+/// where none does). `optima` is each set's optimum, `found` those that exist.
+fn band_edge_line(
+    problem: &Problem,
+    solution: &Solution,
+    optima: &[Option<usize>],
+    found: &[usize],
+) -> Option<String> {
+    let sets = optima.len();
+    let none = sets - found.len();
     // The box's edge in words, where every set's optimum sits on it as the run's does. A set
     // whose objective is flat over the box has a tie for its optimum, not an edge: the edge is
     // named from the sets whose objective moves, and the flat ones are counted.
@@ -272,25 +316,14 @@ fn band_lines(problem: &Problem, solution: &Solution) -> Vec<String> {
         run_edges
     };
     if flat_sets == sets {
-        lines.push(
+        Some(
             "under every calibrated set the objective is flat over the box too: no setting is better than another under any of them".into(),
-        );
+        )
     } else if !edges.is_empty()
         && none == 0
         && moving.iter().all(|&i| solution.edges_of(i) == edges)
     {
-        let words: Vec<String> = edges
-            .iter()
-            .map(|&(k, side)| {
-                let a = &problem.axes[k];
-                let (how, end) = if side == "lower" {
-                    ("little", a.lo)
-                } else {
-                    ("much", a.hi)
-                };
-                format!("as {how} {} as the box allows ({})", a.param, plain(end, 6))
-            })
-            .collect();
+        let words = box_edge_words(problem, &edges);
         let which = if flat_sets == 0 {
             "under every calibrated set".to_string()
         } else {
@@ -299,22 +332,36 @@ fn band_lines(problem: &Problem, solution: &Solution) -> Vec<String> {
                 sets - flat_sets
             )
         };
-        lines.push(format!(
+        Some(format!(
             "{which} the answer is the edge of the box: {}",
             words.join(", ")
-        ));
+        ))
     } else {
         let on_edge = found
             .iter()
             .filter(|&&i| !solution.edges_of(i).is_empty())
             .count();
-        if on_edge > 0 {
-            lines.push(format!(
-                "{on_edge} of {sets} calibrated sets put the optimum on the box's edge"
-            ));
-        }
+        (on_edge > 0).then(|| {
+            format!("{on_edge} of {sets} calibrated sets put the optimum on the box's edge")
+        })
     }
-    lines
+}
+
+/// The box's `edges` (axis, side) as the answer in words: "as little x as the box allows (lo)"
+/// or "as much x as the box allows (hi)".
+fn box_edge_words(problem: &Problem, edges: &[(usize, &'static str)]) -> Vec<String> {
+    edges
+        .iter()
+        .map(|&(k, side)| {
+            let a = &problem.axes[k];
+            let (how, end) = if side == "lower" {
+                ("little", a.lo)
+            } else {
+                ("much", a.hi)
+            };
+            format!("as {how} {} as the box allows ({})", a.param, plain(end, 6))
+        })
+        .collect()
 }
 
 /// Writes every file into `dir`; `metadata` (version, command, parameters, variant, study,
@@ -353,7 +400,7 @@ pub fn write(
         }
     }
     let picture = FigureFile::named(dir, "surface", format);
-    let drawn = draw(problem, solution, &picture)?;
+    let drawn = optimize_figure::draw(problem, solution, &picture)?;
     let text = page(problem, solution, drawn.then_some(picture.path.as_path()));
     if drawn {
         written.push(picture.path);
@@ -508,146 +555,6 @@ fn surface_columns(problem: &Problem, solution: &Solution) -> Vec<Column> {
         cols.push(f(&name, &|i| s[i].constrained[k].value));
     }
     cols
-}
-
-/// The picture: a map over two parameters with the nominal tire's Hopf curves, or a curve over
-/// one with its Hopf points.
-/// Draws the figure; false where no setting has an objective to draw.
-fn draw(problem: &Problem, solution: &Solution, file: &FigureFile) -> Result<bool, OutputError> {
-    let axes = &problem.axes;
-    let label = |k: usize| {
-        polywear_core::params::axis_label(axes[k].param.name(), axes[k].param.spec().unit)
-    };
-    let title = format!(
-        "{} over the study's samples (variant {})",
-        problem.objective.text(),
-        problem.variant
-    );
-    let best = solution.best.map(|b| &solution.settings[b]);
-    if axes.len() == 1 {
-        // Where no setting meets the constraints, the curve shows them all: the answer is a NaN
-        // optimum, and the picture says how far the box is from meeting them.
-        let any_feasible = solution
-            .settings
-            .iter()
-            .any(|s| s.feasible && s.objective.value.is_finite());
-        let mut pts: Vec<(f64, f64, f64, f64)> = solution
-            .settings
-            .iter()
-            .filter(|s| (s.feasible || !any_feasible) && s.objective.value.is_finite())
-            .map(|s| {
-                (
-                    s.values[0],
-                    PERCENT * s.objective.value,
-                    PERCENT * s.objective.low,
-                    PERCENT * s.objective.high,
-                )
-            })
-            .collect();
-        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        if pts.is_empty() {
-            return Ok(false);
-        }
-        let lines = nominal_points(problem);
-        surface_curve(
-            file,
-            &title,
-            (&label(0), "objective [%]"),
-            &pts,
-            best.map(|s| (s.values[0], PERCENT * s.objective.value)),
-            &lines,
-        )?;
-        return Ok(true);
-    }
-    let (xb, yb) = ((axes[0].lo, axes[0].hi), (axes[1].lo, axes[1].hi));
-    let points: Vec<MapPoint> = solution
-        .settings
-        .iter()
-        .map(|s| MapPoint {
-            x: s.values[0],
-            y: s.values[1],
-            value: if s.feasible {
-                PERCENT * s.objective.value
-            } else {
-                f64::NAN
-            },
-        })
-        .collect();
-    let mut overlay = nominal_curves(problem);
-    let within: Vec<Vec<(f64, f64)>> = solution
-        .within_best()
-        .iter()
-        .flat_map(|&i| {
-            let s = &solution.settings[i];
-            marker((s.values[0], s.values[1]), xb, yb, 0.008, false)
-        })
-        .collect();
-    overlay.push(Overlay {
-        label: "within the best's 95% interval".into(),
-        color: plotters::style::RGBColor(255, 140, 0),
-        lines: within,
-    });
-    if let Some(s) = best {
-        overlay.push(Overlay {
-            label: "optimum".into(),
-            color: plotters::style::RGBColor(220, 20, 60),
-            lines: marker((s.values[0], s.values[1]), xb, yb, 0.02, true),
-        });
-    }
-    surface_map(
-        file,
-        &title,
-        (&label(0), &label(1)),
-        xb,
-        yb,
-        &points,
-        &overlay,
-        &format!("{} [%]", problem.objective.text()),
-    )?;
-    Ok(true)
-}
-
-/// The nominal tire's Hopf curves over the box (white: follower, black: driving wheel).
-fn nominal_curves(problem: &Problem) -> Vec<Overlay> {
-    let (x, y) = (&problem.axes[0], &problem.axes[1]);
-    let curves = polywear_study::chart::nominal_curves(
-        &problem.study,
-        problem.variant,
-        x.param.name(),
-        y.param.name(),
-        &[x.lo, x.hi],
-        &[y.lo, y.hi],
-    )
-    .unwrap_or_default();
-    curves
-        .iter()
-        .map(|c| Overlay {
-            label: format!("{} stability boundary of the nominal tire", c.wheel),
-            color: match c.wheel {
-                Wheel::Follower => plotters::style::WHITE,
-                Wheel::Driving => plotters::style::BLACK,
-            },
-            lines: c
-                .curves
-                .curves
-                .iter()
-                .map(|k| k.points.iter().map(|d| (d.p[0], d.p[1])).collect())
-                .collect(),
-        })
-        .collect()
-}
-
-/// The nominal tire's stability boundaries along the one axis, as lines.
-fn nominal_points(problem: &Problem) -> Vec<VLine> {
-    problem
-        .nominal_stability_changes()
-        .into_iter()
-        .map(|(wheel, x)| VLine {
-            x,
-            label: format!("{wheel} stability boundary of the nominal tire"),
-            color: 2 + Wheel::BOTH.iter().position(|w| *w == wheel).unwrap_or(0),
-        })
-        .collect()
 }
 
 /// `report.md`: the question, the answer in words, the picture and the files.

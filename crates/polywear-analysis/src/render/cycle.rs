@@ -106,24 +106,7 @@ fn wear_line(all: &[[WheelSummary; 2]], w: usize, seed_share: f64) -> Option<Str
     let mut d: Vec<f64> = wear.iter().map(|c| c.distance_to_visible_km).collect();
     d.sort_by(f64::total_cmp);
     let q = quantile;
-    let mut orders: Vec<f64> = wear
-        .iter()
-        .map(|c| c.dominant_order)
-        .filter(|n| n.is_finite())
-        .collect();
-    orders.sort_by(f64::total_cmp);
-    let unknown = wear
-        .iter()
-        .map(|c| c.unknown_distance_share)
-        .fold(0.0, f64::max);
-    let unknown = if unknown > 0.0 {
-        format!(
-            "; {}% of the distance has no wear figures (failed or no traction) and is left out",
-            plain(100.0 * unknown, 2)
-        )
-    } else {
-        String::new()
-    };
+    let unknown = unknown_distance_note(&wear);
     // The level the cycle answered on (MODEL.md#along-a-drive-cycle): over the tread's life a
     // wheel has how near its deepest order came; as the new tire it has none.
     let over_life = wear.iter().any(|c| !c.peak_share_of_visible.is_nan());
@@ -137,55 +120,8 @@ fn wear_line(all: &[[WheelSummary; 2]], w: usize, seed_share: f64) -> Option<Str
         "driving this cycle all its life, as the new tire"
     };
     if d.len() == 1 {
-        let c = wear[0];
-        let what = if c.distance_to_visible_km.is_nan() {
-            "no wear figures at any step".to_string()
-        } else if over_life
-            && c.distance_to_visible_km.is_infinite()
-            && c.peak_share_of_visible <= seed_share * (1.0 + 1e-9)
-        {
-            format!(
-                "no polygon before the tire is worn out at {}: every order levels out from its seed as the tread wears",
-                km(c.tread_life_km)
-            )
-        } else if over_life && c.distance_to_visible_km.is_infinite() {
-            format!(
-                "no polygon before the tire is worn out at {} (the deepest order, {:.0}, reached {}% of the visible depth)",
-                km(c.tread_life_km),
-                c.dominant_order,
-                plain(100.0 * c.peak_share_of_visible, 2)
-            )
-        } else if over_life {
-            format!(
-                "a {:.0}-sided polygon becomes visible after {} (the tire is worn out at {})",
-                c.dominant_order,
-                km(c.distance_to_visible_km),
-                km(c.tread_life_km)
-            )
-        } else if c.distance_to_visible_km.is_infinite() {
-            format!(
-                "no polygon ever: every order levels out (the slowest, order {:.0}, at {} per 1000 km)",
-                c.dominant_order,
-                plain(c.growth_rate_per_1000km, 3)
-            )
-        } else {
-            format!(
-                "a {:.0}-sided polygon becomes visible after {} (growth {} per 1000 km)",
-                c.dominant_order,
-                km(c.distance_to_visible_km),
-                plain(c.growth_rate_per_1000km, 3)
-            )
-        };
-        let band = all[0][w]
-            .distance_band_km()
-            .map_or(String::new(), |(lo, hi)| {
-                format!(
-                    " (calibration band {} to {} over {} calibrated sets, their phi_s and k_d)",
-                    shown_km(lo),
-                    shown_km(hi),
-                    all[0][w].wear_band.len()
-                )
-            });
+        let what = one_structure_polygon(wear[0], over_life, seed_share);
+        let band = one_structure_band_note(&all[0][w]);
         return Some(format!("{life}: {what}{band}{unknown}"));
     }
     let never = d.iter().filter(|x| x.is_infinite()).count() as f64 / d.len() as f64;
@@ -198,7 +134,109 @@ fn wear_line(all: &[[WheelSummary; 2]], w: usize, seed_share: f64) -> Option<Str
             km(x)
         }
     };
-    let order = if over_life {
+    let order = structures_order_note(&wear, over_life, seed_share);
+    let band = median_band_note(all, w);
+    Some(format!(
+        "{life}: distance to a visible polygon {} (median over the structures; 90% interval {} to {}{band}); {}% of the structures {}{order}{unknown}",
+        shown(q(&d, 0.5)),
+        shown(q(&d, 0.05)),
+        shown(q(&d, 0.95)),
+        plain(100.0 * never, 3),
+        if over_life {
+            "show none before the tire is worn out"
+        } else {
+            "never show one"
+        }
+    ))
+}
+
+/// The note on the distance left out of the wear figures (failed steps or no traction): the
+/// largest share over the structures, or nothing when every step has figures.
+fn unknown_distance_note(wear: &[CycleWear]) -> String {
+    let unknown = wear
+        .iter()
+        .map(|c| c.unknown_distance_share)
+        .fold(0.0, f64::max);
+    if unknown > 0.0 {
+        format!(
+            "; {}% of the distance has no wear figures (failed or no traction) and is left out",
+            plain(100.0 * unknown, 2)
+        )
+    } else {
+        String::new()
+    }
+}
+
+/// The polygon of a lifetime on the cycle for a single structure, in words: when it becomes
+/// visible and of what order, or, where it never does, why (the tread wears out first, or every
+/// order levels out).
+fn one_structure_polygon(c: CycleWear, over_life: bool, seed_share: f64) -> String {
+    let km = |x: f64| format!("{} km", thousands(x));
+    if c.distance_to_visible_km.is_nan() {
+        "no wear figures at any step".to_string()
+    } else if over_life
+        && c.distance_to_visible_km.is_infinite()
+        && c.peak_share_of_visible <= seed_share * (1.0 + 1e-9)
+    {
+        format!(
+            "no polygon before the tire is worn out at {}: every order levels out from its seed as the tread wears",
+            km(c.tread_life_km)
+        )
+    } else if over_life && c.distance_to_visible_km.is_infinite() {
+        format!(
+            "no polygon before the tire is worn out at {} (the deepest order, {:.0}, reached {}% of the visible depth)",
+            km(c.tread_life_km),
+            c.dominant_order,
+            plain(100.0 * c.peak_share_of_visible, 2)
+        )
+    } else if over_life {
+        format!(
+            "a {:.0}-sided polygon becomes visible after {} (the tire is worn out at {})",
+            c.dominant_order,
+            km(c.distance_to_visible_km),
+            km(c.tread_life_km)
+        )
+    } else if c.distance_to_visible_km.is_infinite() {
+        format!(
+            "no polygon ever: every order levels out (the slowest, order {:.0}, at {} per 1000 km)",
+            c.dominant_order,
+            plain(c.growth_rate_per_1000km, 3)
+        )
+    } else {
+        format!(
+            "a {:.0}-sided polygon becomes visible after {} (growth {} per 1000 km)",
+            c.dominant_order,
+            km(c.distance_to_visible_km),
+            plain(c.growth_rate_per_1000km, 3)
+        )
+    }
+}
+
+/// The calibration band of a single structure's distance to a visible polygon, over the
+/// calibrated sets' phi_s and k_d; nothing when the wheel has no band.
+fn one_structure_band_note(s: &WheelSummary) -> String {
+    s.distance_band_km().map_or(String::new(), |(lo, hi)| {
+        format!(
+            " (calibration band {} to {} over {} calibrated sets, their phi_s and k_d)",
+            shown_km(lo),
+            shown_km(hi),
+            s.wear_band.len()
+        )
+    })
+}
+
+/// The polygon order named over several structures: over the tread's life the deepest order of
+/// the wheels that grew past the seed (with the median peak share reached), as the new tire the
+/// median fastest order.
+fn structures_order_note(wear: &[CycleWear], over_life: bool, seed_share: f64) -> String {
+    let q = quantile;
+    let mut orders: Vec<f64> = wear
+        .iter()
+        .map(|c| c.dominant_order)
+        .filter(|n| n.is_finite())
+        .collect();
+    orders.sort_by(f64::total_cmp);
+    if over_life {
         // Over the tread's life the order named is the one visible first or, where none is,
         // the deepest: only wheels whose orders grew past the seed have one worth naming.
         let grown: Vec<&CycleWear> = wear
@@ -220,10 +258,16 @@ fn wear_line(all: &[[WheelSummary; 2]], w: usize, seed_share: f64) -> Option<Str
         orders.get(orders.len() / 2).map_or(String::new(), |n| {
             format!("; the fastest order mostly {n:.0}")
         })
-    };
+    }
+}
+
+/// The calibration band of the median distance over several structures; nothing when the wheel
+/// has no calibrated sets or no set has a median.
+fn median_band_note(all: &[[WheelSummary; 2]], w: usize) -> String {
+    let q = quantile;
     // The band of the median: the median over the structures under each set, its range.
     let sets = all[0][w].wear_band.len();
-    let band = (sets > 0)
+    (sets > 0)
         .then(|| {
             let medians: Vec<f64> = (0..sets)
                 .map(|k| {
@@ -248,17 +292,5 @@ fn wear_line(all: &[[WheelSummary; 2]], w: usize, seed_share: f64) -> Option<Str
             })
         })
         .flatten()
-        .unwrap_or_default();
-    Some(format!(
-        "{life}: distance to a visible polygon {} (median over the structures; 90% interval {} to {}{band}); {}% of the structures {}{order}{unknown}",
-        shown(q(&d, 0.5)),
-        shown(q(&d, 0.05)),
-        shown(q(&d, 0.95)),
-        plain(100.0 * never, 3),
-        if over_life {
-            "show none before the tire is worn out"
-        } else {
-            "never show one"
-        }
-    ))
+        .unwrap_or_default()
 }

@@ -63,48 +63,11 @@ pub fn solve(problem: &Problem, progress: &Progress<'_>) -> Solution {
     let mut settings: Vec<Setting> = Vec::new();
     let mut eval = |units: &[Vec<f64>], level: usize| -> Vec<Value> {
         (progress.level)(level, (units.len() * n) as u64);
-        let values: Vec<Vec<f64>> = units
-            .iter()
-            .map(|u| {
-                problem
-                    .axes
-                    .iter()
-                    .zip(u)
-                    .map(|(a, &x)| a.value(x))
-                    .collect()
-            })
-            .collect();
-        let changes: Vec<Vec<ParamChange>> = values
-            .iter()
-            .map(|v| {
-                problem
-                    .axes
-                    .iter()
-                    .zip(v)
-                    .map(|(a, &x)| a.change(x))
-                    .collect()
-            })
-            .collect();
+        let values = setting_values(problem, units);
+        let changes = setting_changes(problem, &values);
         let outcome = |j: usize| {
-            let mut p = base[j % n];
-            for c in &changes[j / n] {
-                p[c.param] = c.change.apply(p[c.param]);
-            }
-            match (&sets, problem.wear.as_ref()) {
-                (Some(sets), Some(stage)) if in_band[j % n] => {
-                    banded_outcomes(problem, stage, &p, sets)
-                }
-                _ => {
-                    let records = evaluate_params(
-                        &p,
-                        &[problem.variant],
-                        &problem.classifier,
-                        problem.wear.as_ref(),
-                    );
-                    let o = outcomes_of(&records, wear.then_some(problem.within_km));
-                    (o, Box::default())
-                }
-            }
+            let sets = sets.as_deref().filter(|_| in_band[j % n]);
+            sample_outcomes(problem, base[j % n], &changes[j / n], sets, wear)
         };
         let control = Control {
             progress: progress.done,
@@ -123,33 +86,7 @@ pub fn solve(problem: &Problem, progress: &Progress<'_>) -> Solution {
             .zip(band.chunks(n))
         {
             let (objective, constrained, feasible) = judged(problem, o);
-            let run_sub: Vec<Outcomes> = if every {
-                Vec::new()
-            } else {
-                subsample.iter().map(|&i| o[i]).collect()
-            };
-            let band: Vec<SetEstimate> = (0..set_count)
-                .map(|k| {
-                    if every {
-                        let under: Vec<Outcomes> = b.iter().map(|x| x[k]).collect();
-                        let (objective, _, feasible) = judged(problem, &under);
-                        return SetEstimate {
-                            objective,
-                            feasible,
-                        };
-                    }
-                    let set_sub: Vec<Outcomes> = subsample.iter().map(|&i| b[i][k]).collect();
-                    let shifted =
-                        |objective: &Objective| control_variate(objective, o, &run_sub, &set_sub);
-                    SetEstimate {
-                        objective: shifted(&problem.objective),
-                        feasible: problem
-                            .constraints
-                            .iter()
-                            .all(|c| c.holds(&shifted(&c.objective()))),
-                    }
-                })
-                .collect();
+            let band = set_estimates(problem, o, b, &subsample, every, set_count);
             out.push(Value {
                 value: objective.value,
                 high: objective.high,
@@ -179,6 +116,106 @@ pub fn solve(problem: &Problem, progress: &Progress<'_>) -> Solution {
     };
     let points = search(problem.axes.len(), problem.search, &mut eval, &canonical);
     collect(&points, settings, &problem.objective)
+}
+
+/// The value of each varied parameter at each setting of `units` (points of the unit box), in
+/// axis order.
+fn setting_values(problem: &Problem, units: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    units
+        .iter()
+        .map(|u| {
+            problem
+                .axes
+                .iter()
+                .zip(u)
+                .map(|(a, &x)| a.value(x))
+                .collect()
+        })
+        .collect()
+}
+
+/// The changes to a sample's parameters that make each setting of `values`.
+fn setting_changes(problem: &Problem, values: &[Vec<f64>]) -> Vec<Vec<ParamChange>> {
+    values
+        .iter()
+        .map(|v| {
+            problem
+                .axes
+                .iter()
+                .zip(v)
+                .map(|(a, &x)| a.change(x))
+                .collect()
+        })
+        .collect()
+}
+
+/// One sample `p` under one setting's `changes`: its outcomes, and under each calibrated set
+/// of `sets` (where the sample is in the band's subsample and the run has a wear stage) its
+/// outcomes under that set's constants; without them, no set's outcomes. `wear`: whether the
+/// objective or a constraint reads the wear outcome.
+fn sample_outcomes(
+    problem: &Problem,
+    mut p: Params,
+    changes: &[ParamChange],
+    sets: Option<&[FittedConstants]>,
+    wear: bool,
+) -> (Outcomes, Box<[Outcomes]>) {
+    for c in changes {
+        p[c.param] = c.change.apply(p[c.param]);
+    }
+    match (sets, problem.wear.as_ref()) {
+        (Some(sets), Some(stage)) => banded_outcomes(problem, stage, &p, sets),
+        _ => {
+            let records = evaluate_params(
+                &p,
+                &[problem.variant],
+                &problem.classifier,
+                problem.wear.as_ref(),
+            );
+            let o = outcomes_of(&records, wear.then_some(problem.within_km));
+            (o, Box::default())
+        }
+    }
+}
+
+/// A setting's objective and feasibility under each of the `set_count` calibrated sets, from
+/// its samples' outcomes `o` and their outcomes under each set `b`: judged on the sets' own
+/// outcomes where every sample is in the band (`every`), else the run's figure moved by each
+/// set's difference from it on the `subsample` (a control variate).
+fn set_estimates(
+    problem: &Problem,
+    o: &[Outcomes],
+    b: &[Box<[Outcomes]>],
+    subsample: &[usize],
+    every: bool,
+    set_count: usize,
+) -> Vec<SetEstimate> {
+    let run_sub: Vec<Outcomes> = if every {
+        Vec::new()
+    } else {
+        subsample.iter().map(|&i| o[i]).collect()
+    };
+    (0..set_count)
+        .map(|k| {
+            if every {
+                let under: Vec<Outcomes> = b.iter().map(|x| x[k]).collect();
+                let (objective, _, feasible) = judged(problem, &under);
+                return SetEstimate {
+                    objective,
+                    feasible,
+                };
+            }
+            let set_sub: Vec<Outcomes> = subsample.iter().map(|&i| b[i][k]).collect();
+            let shifted = |objective: &Objective| control_variate(objective, o, &run_sub, &set_sub);
+            SetEstimate {
+                objective: shifted(&problem.objective),
+                feasible: problem
+                    .constraints
+                    .iter()
+                    .all(|c| c.holds(&shifted(&c.objective()))),
+            }
+        })
+        .collect()
 }
 
 /// A setting's objective, its constraints' estimates and whether they all hold, from its
