@@ -703,7 +703,7 @@ fn driving_against_follower_growth_is_measured() {
 /// with its own class, cycle and linearisation, for the dominant order of the highway follower
 /// with excessive toe-in (stable) and of the default point's (vibrating), σ_V = 2 and 5 km/h,
 /// φ_s = 1: within 15% (measured −4% to +12%, the largest next to the vibrating wheel's lock;
-/// `examples/wear_field.rs spread-error` prints every order). And, from σ_V = 2 km/h on, the fastest order slows as the spread widens (P3, level B);
+/// `crates/polywear-lab/examples/wear_field.rs spread-error` prints every order). And, from σ_V = 2 km/h on, the fastest order slows as the spread widens (P3, level B);
 /// below that a spread can speed it up (the order spends part of its time nearer its
 /// resonance: 4.70 → 6.36 per 1000 km from 0 to 1 km/h at 0.45°).
 #[test]

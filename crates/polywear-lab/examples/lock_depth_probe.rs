@@ -28,9 +28,9 @@
 //! SIGMA km/h driven as the long-term loop drives it, LEGS quantile speeds at equal distances.
 //!
 //! ```sh
-//! cargo run --release --example lock_depth_probe -- CYCLE TOE_DEG PHI_S
-//! cargo run --release --example lock_depth_probe -- data/cycles/wltc_class3b.csv 0.3 1
-//! PW_LOCKED_PRINT=phase cargo run --release --example lock_depth_probe -- cruise:100:5:5 0.3 1
+//! cargo run --release -p polywear-lab --example lock_depth_probe -- CYCLE TOE_DEG PHI_S
+//! cargo run --release -p polywear-lab --example lock_depth_probe -- data/cycles/wltc_class3b.csv 0.3 1
+//! PW_LOCKED_PRINT=phase cargo run --release -p polywear-lab --example lock_depth_probe -- cruise:100:5:5 0.3 1
 //! ```
 use polywear::classify::budget::Meter;
 use polywear::classify::ClassifierOptions;
@@ -373,7 +373,7 @@ fn cruise_cycle(spec: &str) -> DriveCycle {
 
 /// Brute force's lock and locked print of order n = ⌊ν⌋ on a grid of speed offsets from V_n and
 /// radii (the model rebuilt at each speed, 300 revolutions settled, 40 read; the print's share
-/// as `examples/locked_print.rs` reads it, over the free cycle's |P₁|/P̄ at V_19).
+/// as `crates/polywear-lab/examples/locked_print.rs` reads it, over the free cycle's |P₁|/P̄ at V_19).
 struct BruteTable {
     /// The order: ⌊ν⌋ at the cycle's centre speed, the one the loop grows.
     order: u32,

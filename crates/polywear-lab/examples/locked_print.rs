@@ -9,8 +9,8 @@
 //! it attracts.
 //!
 //! ```sh
-//! cargo run --release --example locked_print -- R_UM...
-//! cargo run --release --example locked_print -- 0.25 1 2 4
+//! cargo run --release -p polywear-lab --example locked_print -- R_UM...
+//! cargo run --release -p polywear-lab --example locked_print -- 0.25 1 2 4
 //! ```
 #[path = "common/near_v19.rs"]
 mod near_v19;

@@ -7,8 +7,8 @@
 //! (MODEL.md#the-locked-print).
 //!
 //! ```sh
-//! cargo run --release --example orbit_tongue -- R_UM...
-//! cargo run --release --example orbit_tongue -- 0.25 0.5 1 2 4 8 16 32 64 125
+//! cargo run --release -p polywear-lab --example orbit_tongue -- R_UM...
+//! cargo run --release -p polywear-lab --example orbit_tongue -- 0.25 0.5 1 2 4 8 16 32 64 125
 //! ```
 #[path = "common/near_v19.rs"]
 mod near_v19;

@@ -1,7 +1,7 @@
 //! The answer over the tread's life with the zone's power modulation saturated, against the
 //! plain one (MODEL.md#the-forced-response-saturates), at the bound M_MAX (1.0528) and φ_s:
 //!
-//! - `cargo run --release --example saturation_probe -- M_MAX PHI_S`: steady points at 0.45°,
+//! - `cargo run --release -p polywear-lab --example saturation_probe -- M_MAX PHI_S`: steady points at 0.45°,
 //!   60, 93 and 110 km/h, no spread;
 //! - `... -- M_MAX PHI_S CYCLE.csv TOE`: a drive cycle's steps, each on its own and summed by
 //!   speed bins of 0.1, 0.25, 0.5 and 1 km/h (as `cycle` gives it);

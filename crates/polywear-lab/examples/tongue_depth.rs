@@ -4,8 +4,8 @@
 //! (MODEL.md#the-tongue-at-depth). The default point's follower, φ_s = 1, at SPEED km/h:
 //!
 //! ```sh
-//! cargo run --release --example tongue_depth -- SPEED R_UM...
-//! cargo run --release --example tongue_depth -- 100 0.25 0.5 1 2 4 8 16
+//! cargo run --release -p polywear-lab --example tongue_depth -- SPEED R_UM...
+//! cargo run --release -p polywear-lab --example tongue_depth -- 100 0.25 0.5 1 2 4 8 16
 //! ```
 use polywear::classify::budget::Meter;
 use polywear::classify::ClassifierOptions;

@@ -4,9 +4,9 @@
 //! (MODEL.md#growth-of-a-vibrating-wheel):
 //!
 //! ```sh
-//! cargo run --release --example tongue_scan -- R_M SETTLE_REVS HALF_RANGE STEP
-//! cargo run --release --example tongue_scan -- 0.25e-6 300 0.04 0.0025
-//! cargo run --release --example tongue_scan -- 2e-6 100 0.3 0.02
+//! cargo run --release -p polywear-lab --example tongue_scan -- R_M SETTLE_REVS HALF_RANGE STEP
+//! cargo run --release -p polywear-lab --example tongue_scan -- 0.25e-6 300 0.04 0.0025
+//! cargo run --release -p polywear-lab --example tongue_scan -- 2e-6 100 0.3 0.02
 //! ```
 use polywear::classify::budget::Meter;
 use polywear::classify::ClassifierOptions;

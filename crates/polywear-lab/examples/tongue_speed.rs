@@ -6,9 +6,9 @@
 //!
 //! ```sh
 //! # scan ±RANGE km/h in steps of STEP
-//! cargo run --release --example tongue_speed -- R_M SETTLE REVS RANGE STEP [speed|fixed]
+//! cargo run --release -p polywear-lab --example tongue_speed -- R_M SETTLE REVS RANGE STEP [speed|fixed]
 //! # both edges: outward in steps of STEP km/h (RANGE unused), then six halvings
-//! cargo run --release --example tongue_speed -- 2e-6 300 40 0 0.08 speed edges
+//! cargo run --release -p polywear-lab --example tongue_speed -- 2e-6 300 40 0 0.08 speed edges
 //! ```
 //!
 //! `fixed` holds the model (and the forcing's coupling) at V_19 and moves only the rotation, as

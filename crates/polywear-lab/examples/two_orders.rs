@@ -5,8 +5,8 @@
 //! in phase with it, Re(−conj(H_w) p)/|H_w|, as a share of P̄.
 //!
 //! ```sh
-//! cargo run --release --example two_orders -- SPEED N R_N_UM R_N1_UM [follower|driving]
-//! cargo run --release --example two_orders -- 90 21 18 13 driving
+//! cargo run --release -p polywear-lab --example two_orders -- SPEED N R_N_UM R_N1_UM [follower|driving]
+//! cargo run --release -p polywear-lab --example two_orders -- 90 21 18 13 driving
 //! ```
 use polywear::classify::ClassifierOptions;
 use polywear::evaluate::solve_wheel;

@@ -2,9 +2,9 @@
 //! of its speed-spread approximation (MODEL.md#the-speed-spread), reproducibly.
 //!
 //! ```sh
-//! cargo run --release --example wear_field -- fit [SAMPLES]      # the (φ_s, σ_V) table
-//! cargo run --release --example wear_field -- check [SAMPLES]    # the shipped constants
-//! cargo run --release --example wear_field -- spread-error       # spread mean vs per-speed loops
+//! cargo run --release -p polywear-lab --example wear_field -- fit [SAMPLES]      # the (φ_s, σ_V) table
+//! cargo run --release -p polywear-lab --example wear_field -- check [SAMPLES]    # the shipped constants
+//! cargo run --release -p polywear-lab --example wear_field -- spread-error       # spread mean vs per-speed loops
 //! ```
 //!
 //! These are the new tire's figures, a diagnostic: the shipped answer and its calibration are

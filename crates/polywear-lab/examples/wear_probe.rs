@@ -1,4 +1,4 @@
-//! A quick look at the long-term loop at one point: `cargo run --release --example wear_probe
+//! A quick look at the long-term loop at one point: `cargo run --release -p polywear-lab --example wear_probe
 //! -- SPEED PHI_S SPREAD WHEEL(f|d) DISTANCE_KM`. Prints the time, the steps and the dominant
 //! order's history. PW_SKIP sets the revolutions settled after each profile update (default 2).
 use polywear::classify::ClassifierOptions;

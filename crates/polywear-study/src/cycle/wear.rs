@@ -27,7 +27,7 @@ pub const CYCLE_ORDERS_MAX: u32 = 64;
 
 /// The width of the speed bins whose steps saturate together \[km/h\]: a bin's steps share one bound (the min of their sum, weaker than each
 /// step's own). A step's resonance is sharp in speed, so the bins must be fine: against every
-/// step on its own on HWFET at φ_s = 1 (`examples/saturation_probe.rs`), bins of 1 km/h put the
+/// step on its own on HWFET at φ_s = 1 (`crates/polywear-lab/examples/saturation_probe.rs`), bins of 1 km/h put the
 /// polygon 5–7% early, 0.5 km/h 2–3%, 0.25 km/h under 0.5%, and 0.1 km/h (a cycle's own
 /// resolution: HWFET's 766 steps hold 250 speeds) not at all. A bin holds one profile a wheel
 /// (66 KB).
