@@ -23,51 +23,51 @@ use polywear_core::params::ParamId;
     "  polywear analyze results/shard-*\n",
     "\nGuide: docs/book/src/reference/analyze.md#analyze"
 ))]
-pub struct AnalyzeArgs {
+pub(crate) struct AnalyzeArgs {
     /// Explore output: a directory of chunk files, a Parquet file, or several (e.g. shard
     /// directories)
     #[arg(value_name = "DIR", required = true)]
-    pub inputs: Vec<PathBuf>,
+    pub(crate) inputs: Vec<PathBuf>,
     /// Where the report goes, created when missing [default: <first input>/_report]
     #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
+    pub(crate) out: Option<PathBuf>,
     /// Bins per axis for conditional probabilities, accepted [2, 200]
     #[arg(long, default_value_t = AnalysisOptions::DEFAULT_BINS, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--bins", 2, 200))]
-    pub bins: usize,
+    pub(crate) bins: usize,
     /// Bins per axis for risk maps, accepted [2, 200]
     #[arg(long, default_value_t = AnalysisOptions::DEFAULT_MAP_BINS, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--map-bins", 2, 200))]
-    pub map_bins: usize,
+    pub(crate) map_bins: usize,
     /// Cells and bins with fewer samples are shown as "too few", accepted [1, 1e9]
     #[arg(long, default_value_t = AnalysisOptions::DEFAULT_MIN_COUNT, allow_negative_numbers = true, value_parser = super::common::whole_in::<u64>("--min-count", 1, 1_000_000_000))]
-    pub min_count: u64,
+    pub(crate) min_count: u64,
     /// Extra risk map over two drawn parameters, e.g. `--pair g_mod,load_n` (repeatable); the
     /// maps speed_kmh,toe_deg and load_n,pressure_kpa are always drawn
     #[arg(long, value_name = "X,Y", value_parser = parse_pair)]
-    pub pair: Vec<(ParamId, ParamId)>,
+    pub(crate) pair: Vec<(ParamId, ParamId)>,
     /// Bootstrap resamples for the Sobol indices' intervals, accepted [10, 100000]
     #[arg(long, default_value_t = AnalysisOptions::DEFAULT_BOOTSTRAP, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--bootstrap", 10, 100_000))]
-    pub bootstrap: usize,
+    pub(crate) bootstrap: usize,
     /// A run with scenarios compares each with its reference (the baseline, or its
     /// `compare_to`) on the risk of a visible polygon within this distance [km] (and on
     /// vibration); the report's first-order indices of the wear outcome use it too. Accepted
     /// (0, 1e6]
     #[arg(long, value_name = "KM", default_value_t = AnalysisOptions::DEFAULT_SCENARIO_WITHIN_KM, allow_negative_numbers = true, value_parser = parse_km)]
-    pub scenario_within_km: f64,
+    pub(crate) scenario_within_km: f64,
     /// P(visible polygonal wear within each distance) per wheel [km], comma-separated, each
     /// within (0, 1e6]; 40000 (the headline) is always added
     #[arg(long, value_name = "KM,...", default_value = "10000,25000,40000,60000", allow_negative_numbers = true, value_parser = parse_km_list)]
-    pub within_km: KmList,
+    pub(crate) within_km: KmList,
     /// File type of the figures
     #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
-    pub format: FigureFormat,
+    pub(crate) format: FigureFormat,
 }
 
 /// The distances of `--within-km` \[km\].
 #[derive(Debug, Clone, PartialEq)]
-pub struct KmList(pub Vec<f64>);
+pub(crate) struct KmList(pub Vec<f64>);
 
 /// Parses `--within-km`: distances in km within (0, 1e6], comma-separated.
-pub fn parse_km_list(s: &str) -> Result<KmList, String> {
+pub(crate) fn parse_km_list(s: &str) -> Result<KmList, String> {
     let km: Vec<f64> = s
         .split(',')
         .map(|v| {
@@ -80,7 +80,7 @@ pub fn parse_km_list(s: &str) -> Result<KmList, String> {
 }
 
 /// Parses a distance in km within (0, 1e6].
-pub fn parse_km(s: &str) -> Result<f64, String> {
+pub(crate) fn parse_km(s: &str) -> Result<f64, String> {
     s.trim()
         .replace('_', "")
         .parse::<f64>()
@@ -105,12 +105,12 @@ fn parse_pair(s: &str) -> Result<(ParamId, ParamId), String> {
     Ok((a, b))
 }
 
-pub fn run(args: &AnalyzeArgs) -> CliResult {
+pub(crate) fn run(args: &AnalyzeArgs) -> CliResult {
     run_with(args, true)
 }
 
 /// Runs the analysis; prints the summary when `verbose`.
-pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
+pub(crate) fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
     for (flag, v, lo, hi) in [
         ("--bins", args.bins as u64, 2, 200),
         ("--map-bins", args.map_bins as u64, 2, 200),
@@ -161,7 +161,7 @@ pub fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
 }
 
 /// An analysis error in the words of the command line.
-pub fn analysis_error(e: AnalysisError) -> CliError {
+pub(crate) fn analysis_error(e: AnalysisError) -> CliError {
     match e {
         AnalysisError::NoRows { inputs } => CliError(format!(
             "{inputs} hold no rows: every directory is an explore output without chunk files (empty shards or a run stopped before its first chunk; `polywear explore --resume --out DIR` continues one)"
@@ -174,7 +174,7 @@ pub fn analysis_error(e: AnalysisError) -> CliError {
 /// inputs that do not belong together stop here, before any work), runs the analysis, writes
 /// the report, and prints the summary when `verbose`. `explore` calls it for its closing
 /// report. A report that cannot be written ends with `elsewhere`, how to write it elsewhere.
-pub fn report(
+pub(crate) fn report(
     inputs: &[PathBuf],
     opts: &AnalysisOptions,
     render: &RenderOptions,

@@ -12,7 +12,7 @@ use super::common::{CliError, CliResult};
 use polywear_core::wording::plain;
 
 /// Progress lines on stderr: `progress: 1216 of 6000 samples (20.3%), 412 samples/s, ETA 12 s`.
-pub struct ProgressLog {
+pub(crate) struct ProgressLog {
     total: u64,
     /// What is counted, plural: `samples`, `steps`.
     unit: &'static str,
@@ -23,7 +23,7 @@ pub struct ProgressLog {
 }
 
 impl ProgressLog {
-    pub fn new(total: u64, unit: &'static str, every: Duration) -> ProgressLog {
+    pub(crate) fn new(total: u64, unit: &'static str, every: Duration) -> ProgressLog {
         let start = Instant::now();
         ProgressLog {
             total,
@@ -37,7 +37,7 @@ impl ProgressLog {
 
     /// Counts `n` more; prints a line when the interval has passed (one worker prints,
     /// the others do not wait for it).
-    pub fn add(&self, n: u64) {
+    pub(crate) fn add(&self, n: u64) {
         let done = self.done.fetch_add(n, Ordering::Relaxed) + n;
         let now = Instant::now();
         let Ok(mut next) = self.next.try_lock() else {
@@ -69,13 +69,13 @@ impl ProgressLog {
 
 /// Progress of a long run counted in `unit`s: a bar with rate and ETA on a terminal, a
 /// [`ProgressLog`] line every `every` in a log (stderr not a terminal), nothing when quiet.
-pub struct Progress {
+pub(crate) struct Progress {
     bar: ProgressBar,
     log: Option<ProgressLog>,
 }
 
 impl Progress {
-    pub fn new(quiet: bool, total: u64, unit: &'static str, every: Duration) -> Progress {
+    pub(crate) fn new(quiet: bool, total: u64, unit: &'static str, every: Duration) -> Progress {
         let log = (!quiet && !std::io::stderr().is_terminal())
             .then(|| ProgressLog::new(total, unit, every));
         let bar = if quiet || log.is_some() {
@@ -100,7 +100,7 @@ impl Progress {
     }
 
     /// Counts `n` more (from any thread).
-    pub fn add(&self, n: u64) {
+    pub(crate) fn add(&self, n: u64) {
         self.bar.inc(n);
         if let Some(log) = &self.log {
             log.add(n);
@@ -108,13 +108,13 @@ impl Progress {
     }
 
     /// Clears the bar before the results are printed.
-    pub fn finish(&self) {
+    pub(crate) fn finish(&self) {
         self.bar.finish_and_clear();
     }
 }
 
 /// Seconds written as people read them: `42 s`, `3 min 20 s`, `2 h 05 min`.
-pub fn duration_text(secs: f64) -> String {
+pub(crate) fn duration_text(secs: f64) -> String {
     let s = secs.max(0.0).round() as u64;
     match s {
         0..60 => format!("{s} s"),
@@ -126,13 +126,13 @@ pub fn duration_text(secs: f64) -> String {
 /// SIGINT and SIGTERM while a run is in progress: the first sets a flag the workers read (no new
 /// chunk starts, see `RunPlan::run_until`); a second one, or any after [`Interrupt::disarm`],
 /// ends the program at once with 128 + the signal number, as the default action would.
-pub struct Interrupt {
+pub(crate) struct Interrupt {
     signal: Arc<AtomicUsize>,
     armed: Arc<AtomicBool>,
 }
 
 impl Interrupt {
-    pub fn install() -> CliResult<Interrupt> {
+    pub(crate) fn install() -> CliResult<Interrupt> {
         use signal_hook::consts::{SIGINT, SIGTERM};
         let signal = Arc::new(AtomicUsize::new(0));
         let armed = Arc::new(AtomicBool::new(false));
@@ -149,7 +149,7 @@ impl Interrupt {
     }
 
     /// The signal that asked the run to stop, if one did.
-    pub fn signal(&self) -> Option<i32> {
+    pub(crate) fn signal(&self) -> Option<i32> {
         match self.signal.load(Ordering::SeqCst) {
             0 => None,
             s => Some(s as i32),
@@ -157,7 +157,7 @@ impl Interrupt {
     }
 
     /// From now on a signal ends the program at once.
-    pub fn disarm(&self) {
+    pub(crate) fn disarm(&self) {
         self.armed.store(true, Ordering::SeqCst);
     }
 }
@@ -166,7 +166,7 @@ impl Interrupt {
 /// SIGTERM prints "COMMAND: stopped by SIGNAL; WORDS" and ends the program with 128 + the signal
 /// number, as the default action would, but not without a word. A watcher thread reads the flag
 /// the handler sets (a handler itself must not print).
-pub fn say_and_exit_on_signal(command: &'static str, words: String) -> CliResult {
+pub(crate) fn say_and_exit_on_signal(command: &'static str, words: String) -> CliResult {
     use signal_hook::consts::{SIGINT, SIGTERM};
     let signal = Arc::new(AtomicUsize::new(0));
     for sig in [SIGINT, SIGTERM] {
@@ -185,7 +185,7 @@ pub fn say_and_exit_on_signal(command: &'static str, words: String) -> CliResult
 }
 
 /// `SIGINT (Ctrl-C)` or `SIGTERM`.
-pub fn signal_name(sig: i32) -> &'static str {
+pub(crate) fn signal_name(sig: i32) -> &'static str {
     match sig {
         signal_hook::consts::SIGINT => "SIGINT (Ctrl-C)",
         signal_hook::consts::SIGTERM => "SIGTERM",

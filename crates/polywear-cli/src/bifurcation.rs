@@ -23,39 +23,39 @@ use polywear_study::parquet_out::{write_table, Column};
     "  polywear bifurcation --param toe_deg --from 0.05 --to 1 --params studies/params_r0.toml\n",
     "\nGuide: docs/book/src/reference/bifurcation.md#bifurcation"
 ))]
-pub struct BifurcationArgs {
+pub(crate) struct BifurcationArgs {
     /// Parameter to sweep, by name (see `polywear params`), e.g. speed_kmh, toe_deg, load_n
     #[arg(long, value_name = "NAME")]
-    pub param: String,
+    pub(crate) param: String,
     /// First value of the sweep (in the parameter's unit)
     #[arg(long, allow_negative_numbers = true)]
-    pub from: f64,
+    pub(crate) from: f64,
     /// Last value of the sweep
     #[arg(long, allow_negative_numbers = true)]
-    pub to: f64,
+    pub(crate) to: f64,
     /// Number of values, accepted [2, 100000]
     #[arg(long, default_value_t = 101, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--steps", 2, 100_000))]
-    pub steps: usize,
+    pub(crate) steps: usize,
     #[command(flatten)]
-    pub point: PointArgs,
+    pub(crate) point: PointArgs,
     /// Hard-excitation check at each value (lateral velocity amplitude [m/s])
     #[arg(long, value_name = "MPS")]
-    pub kick: Option<f64>,
+    pub(crate) kick: Option<f64>,
     #[command(flatten)]
-    pub budget: BudgetArgs,
+    pub(crate) budget: BudgetArgs,
     /// Output prefix: writes PREFIX.parquet and PREFIX.png (or .svg); a missing folder is
     /// created [default: data/bifurcation_<param>]
     #[arg(long, value_name = "PREFIX")]
-    pub out: Option<PathBuf>,
+    pub(crate) out: Option<PathBuf>,
     /// File type of the figure
     #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
-    pub format: FigureFormat,
+    pub(crate) format: FigureFormat,
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
-    pub threads: Option<usize>,
+    pub(crate) threads: Option<usize>,
 }
 
-pub fn run(args: &BifurcationArgs) -> CliResult {
+pub(crate) fn run(args: &BifurcationArgs) -> CliResult {
     let req = resolve(args)?;
     let values = linspace(args.from, args.to, args.steps);
     let pool = super::common::thread_pool(args.threads)?;

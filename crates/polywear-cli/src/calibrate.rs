@@ -22,33 +22,33 @@ use polywear_study::calibrate::{
     "  polywear simulate --params data/fit.toml\n",
     "\nGuide: docs/book/src/reference/calibrate.md#calibrate"
 ))]
-pub struct CalibrateArgs {
+pub(crate) struct CalibrateArgs {
     /// Targets file (TOML; see studies/paper_targets.toml)
     #[arg(value_name = "TARGETS.toml")]
-    pub targets: PathBuf,
+    pub(crate) targets: PathBuf,
     /// Parameters to fit, comma-separated (overrides the file's `fit`)
     #[arg(long, value_name = "A,B,...", value_delimiter = ',')]
-    pub fit: Vec<String>,
+    pub(crate) fit: Vec<String>,
     /// Where the fitted parameter file goes (a missing folder is created)
     #[arg(
         long,
         value_name = "FILE",
         default_value = "data/calibrated_params.toml"
     )]
-    pub out: PathBuf,
+    pub(crate) out: PathBuf,
     /// Write the parameter file even when a target is not met within its tolerance (by default
     /// such a fit writes no file and exits 1)
     #[arg(long)]
-    pub write_anyway: bool,
+    pub(crate) write_anyway: bool,
     /// Start from [params] values outside their plausible ranges (`polywear params`) anyway
     #[arg(long)]
-    pub accept_implausible: bool,
+    pub(crate) accept_implausible: bool,
 }
 
 /// Reads and checks the targets and flags, fits, prints the fit, then writes the parameter file;
 /// exit code 1 (not the 2 of bad input) when the fit misses a target and `--write-anyway` is not
 /// given.
-pub fn run(args: &CalibrateArgs) -> CliResult<ExitCode> {
+pub(crate) fn run(args: &CalibrateArgs) -> CliResult<ExitCode> {
     let problem = resolve(args)?;
     let start = Instant::now();
     let fit = calibrate(&problem);

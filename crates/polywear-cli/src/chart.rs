@@ -36,48 +36,48 @@ const BAND_CELLS: usize = 100;
     "      --study studies/default.toml --structure-samples 64 --out data/chart_band.parquet\n",
     "\nGuide: docs/book/src/reference/chart.md#stability-charts"
 ))]
-pub struct ChartArgs {
+pub(crate) struct ChartArgs {
     /// Parameter on the horizontal axis, by name (see `polywear params`), e.g. speed_kmh
     #[arg(long, value_name = "NAME")]
-    pub x: String,
+    pub(crate) x: String,
     /// Lower end of the horizontal axis (in the parameter's unit)
     #[arg(long = "x-from", value_name = "VALUE", allow_negative_numbers = true)]
-    pub x_from: f64,
+    pub(crate) x_from: f64,
     /// Upper end of the horizontal axis
     #[arg(long = "x-to", value_name = "VALUE", allow_negative_numbers = true)]
-    pub x_to: f64,
+    pub(crate) x_to: f64,
     /// Parameter on the vertical axis, e.g. toe_deg
     #[arg(long, value_name = "NAME")]
-    pub y: String,
+    pub(crate) y: String,
     /// Lower end of the vertical axis
     #[arg(long = "y-from", value_name = "VALUE", allow_negative_numbers = true)]
-    pub y_from: f64,
+    pub(crate) y_from: f64,
     /// Upper end of the vertical axis
     #[arg(long = "y-to", value_name = "VALUE", allow_negative_numbers = true)]
-    pub y_to: f64,
+    pub(crate) y_to: f64,
     /// Which wheel's curves to trace
     #[arg(long, value_enum, default_value_t = WheelArg::Both)]
-    pub wheel: WheelArg,
+    pub(crate) wheel: WheelArg,
     /// The operating point and other parameters; the nominal point marked on the chart
     #[command(flatten)]
-    pub point: PointArgs,
+    pub(crate) point: PointArgs,
     /// Output table FILE.parquet; FILE.csv, FILE_special.parquet/.csv and FILE.png are written
     /// beside it
     #[arg(long, value_name = "FILE.parquet")]
-    pub out: PathBuf,
+    pub(crate) out: PathBuf,
     /// Study file whose distributions of the non-operating parameters (tire structure,
     /// friction, vehicle; not the chart's axes) are drawn for the boundary's uncertainty band
     #[arg(long, value_name = "STUDY.toml", requires = "structure_samples")]
-    pub study: Option<PathBuf>,
+    pub(crate) study: Option<PathBuf>,
     /// Number of tire structures drawn from --study, accepted [2, 10000]; the chart then shows
     /// where 5% to 95% of them put each wheel's boundary, and FILE_band.parquet/.csv hold the
     /// unstable share per grid cell
     #[arg(long, value_name = "K", requires = "study", allow_negative_numbers = true,
           value_parser = super::common::whole_in::<u64>("--structure-samples", 2, 10_000))]
-    pub structure_samples: Option<u64>,
+    pub(crate) structure_samples: Option<u64>,
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
-    pub threads: Option<usize>,
+    pub(crate) threads: Option<usize>,
 }
 
 /// An axis: its parameter, checked by name, range and plausibility (unless `accept`), with the
@@ -107,7 +107,7 @@ fn axis(name: &str, from: f64, to: f64, flag: &str, accept: bool) -> CliResult<P
 }
 
 /// Checks the request and builds it, before any work.
-pub fn request(args: &ChartArgs) -> CliResult<(ChartRequest, Resolved)> {
+pub(crate) fn request(args: &ChartArgs) -> CliResult<(ChartRequest, Resolved)> {
     let accept = args.point.accept_implausible;
     let x = axis(&args.x, args.x_from, args.x_to, "x", accept)?;
     let y = axis(&args.y, args.y_from, args.y_to, "y", accept)?;
@@ -157,7 +157,7 @@ fn sibling(out: &Path, suffix: &str, ext: &str) -> PathBuf {
     out.with_file_name(format!("{stem}{suffix}.{ext}"))
 }
 
-pub fn run(args: &ChartArgs) -> CliResult {
+pub(crate) fn run(args: &ChartArgs) -> CliResult {
     let (req, resolved) = request(args)?;
     let band_plan = match (&args.study, args.structure_samples) {
         (Some(path), Some(k)) => Some((

@@ -26,42 +26,42 @@ use polywear_study::point_file::{output_columns, read_points, PointFile};
     "  polywear classify studies/fleet_telematics.csv --weight hours --out data/fleet_points.csv\n",
     "\nGuide: docs/book/src/reference/classify.md#classify"
 ))]
-pub struct ClassifyArgs {
+pub(crate) struct ClassifyArgs {
     /// CSV or Parquet with a header of parameter names (e.g. speed_kmh,toe_deg,load_n,pressure_kpa)
     /// and one operating point per row; other columns need --weight or --pass-through, missing
     /// parameters keep their defaults
     #[arg(value_name = "POINTS.csv")]
-    pub points: PathBuf,
+    pub(crate) points: PathBuf,
     /// Output: FILE.csv or FILE.parquet, one row per point and wheel (column `point` = row index);
     /// a missing folder is created
     #[arg(long, value_name = "FILE")]
-    pub out: PathBuf,
+    pub(crate) out: PathBuf,
     /// Friction variant: sliding_share (default), paper or combined (see `simulate --help`)
     #[arg(long, value_enum, default_value_t = VariantArg::SlidingShare)]
-    pub variant: VariantArg,
+    pub(crate) variant: VariantArg,
     /// Parameter file for the parameters the file does not give (one it gives is refused)
     #[arg(long, value_name = "FILE")]
-    pub params: Option<PathBuf>,
+    pub(crate) params: Option<PathBuf>,
     /// The file's weight column (hours or km driven at each point; `km` without a km column is
     /// computed as hours * speed_kmh), carried into the output beside each point
     #[arg(long, value_name = "COLUMN")]
-    pub weight: Option<String>,
+    pub(crate) weight: Option<String>,
     /// Columns that are no parameters (vehicle ids, a second weight), carried into the output
     /// unchanged, comma-separated
     #[arg(long, value_name = "A,B,...", value_delimiter = ',')]
-    pub pass_through: Vec<String>,
+    pub(crate) pass_through: Vec<String>,
     /// Run values outside their plausible ranges (`polywear params`) anyway: a cell such as
     /// pressure_kpa = 2.4 (bar, not kPa) is refused before any work without it
     #[arg(long)]
-    pub accept_implausible: bool,
+    pub(crate) accept_implausible: bool,
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
-    pub threads: Option<usize>,
+    pub(crate) threads: Option<usize>,
     #[command(flatten)]
-    pub budget: BudgetArgs,
+    pub(crate) budget: BudgetArgs,
 }
 
-pub fn run(args: &ClassifyArgs) -> CliResult {
+pub(crate) fn run(args: &ClassifyArgs) -> CliResult {
     let request = resolve(args)?;
     let pool = super::common::thread_pool(args.threads)?;
     let start = Instant::now();

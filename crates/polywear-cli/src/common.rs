@@ -6,15 +6,14 @@ use clap::builder::TypedValueParser as _;
 use clap::{Args, ValueEnum};
 use strum::VariantNames as _;
 
-use polywear_analysis::plot::{FigureFile, FigureFormat};
-use polywear_core::classify::WheelBudget;
+use polywear_analysis::plot::FigureFormat;
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::{ParamError, ParamId, Params};
 use polywear_study::param_sources::{Refusal, Typed};
 
 /// An error that ends the program: printed as `error: …`, exit code 2.
 #[derive(Debug)]
-pub struct CliError(pub String);
+pub(crate) struct CliError(pub String);
 
 impl std::fmt::Display for CliError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -46,11 +45,11 @@ impl From<polywear_study::parquet_out::WriteError> for CliError {
     }
 }
 
-pub type CliResult<T = ()> = Result<T, CliError>;
+pub(crate) type CliResult<T = ()> = Result<T, CliError>;
 
 /// The text of an input file (a regular file within `limit`, see `polywear_study::safe_read`), refused
 /// as `{prefix}FILE: why` (`prefix` names the flag, e.g. `"--params "`, or is empty).
-pub fn read_input(
+pub(crate) fn read_input(
     path: &Path,
     prefix: &str,
     limit: polywear_study::safe_read::Limit,
@@ -60,17 +59,17 @@ pub fn read_input(
 
 /// The operating point and any other model parameter.
 #[derive(Debug, Args, Clone)]
-pub struct PointArgs {
+pub(crate) struct PointArgs {
     #[arg(long, value_name = "KMH", allow_hyphen_values = true, help = flag_help(ParamId::SpeedKmh))]
-    pub speed: Option<f64>,
+    pub(crate) speed: Option<f64>,
     #[arg(long, value_name = "DEG", allow_hyphen_values = true, help = flag_help(ParamId::ToeDeg))]
-    pub toe: Option<f64>,
+    pub(crate) toe: Option<f64>,
     /// Toe-in in mm at the rim's edge across rim_diameter_mm (default 381 mm, a 15-inch rim;
     /// `--set rim_diameter_mm=406.4` for 16 inch), converted to the per-wheel angle
     /// atan(mm / D_rim)
     #[arg(long = "toe-mm", value_name = "MM", allow_hyphen_values = true,
           conflicts_with_all = ["toe", "toe_total"])]
-    pub toe_mm: Option<f64>,
+    pub(crate) toe_mm: Option<f64>,
     /// Toe-in as the axle's total toe (both wheels) [deg], converted to the per-wheel angle
     /// (half of it)
     #[arg(
@@ -79,33 +78,33 @@ pub struct PointArgs {
         allow_hyphen_values = true,
         conflicts_with = "toe"
     )]
-    pub toe_total: Option<f64>,
+    pub(crate) toe_total: Option<f64>,
     #[arg(long, value_name = "N", allow_hyphen_values = true, help = flag_help(ParamId::LoadN))]
-    pub load: Option<f64>,
+    pub(crate) load: Option<f64>,
     #[arg(long, value_name = "KPA", allow_hyphen_values = true, help = flag_help(ParamId::PressureKpa))]
-    pub pressure: Option<f64>,
+    pub(crate) pressure: Option<f64>,
     /// Any model parameter by name, e.g. `--set g_mod=0.9e6` (repeatable; `polywear params`
     /// lists names, units, defaults and ranges)
     #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_assignment)]
-    pub set: Vec<(String, f64)>,
+    pub(crate) set: Vec<(String, f64)>,
     /// Parameter file (TOML `[params]` table, e.g. from `polywear calibrate`); --set and the
     /// operating-point flags replace its values, each replacement said in a note
     #[arg(long, value_name = "FILE")]
-    pub params: Option<std::path::PathBuf>,
+    pub(crate) params: Option<std::path::PathBuf>,
     /// Run values outside their plausible ranges (`polywear params`) anyway; without it a
     /// likely unit mix-up (pressure 2.4: bar, not kPa) is refused before any work
     #[arg(long)]
-    pub accept_implausible: bool,
+    pub(crate) accept_implausible: bool,
     /// Friction variant (differs for the driving wheel only): `sliding_share` (default; 2-D LuGre
     /// with the patch-mean longitudinal sliding speed, reproduces the paper's driving-wheel
     /// results), `paper` (the paper's literal Eq. 21, w_t = |w|) or `combined` (2-D LuGre with
     /// the full longitudinal sliding speed)
     #[arg(long, value_enum, default_value_t = VariantArg::SlidingShare)]
-    pub variant: VariantArg,
+    pub(crate) variant: VariantArg,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
-pub enum VariantArg {
+pub(crate) enum VariantArg {
     Paper,
     Combined,
     #[value(name = "sliding_share", alias = "sliding-share")]
@@ -124,7 +123,7 @@ impl From<VariantArg> for Variant {
 
 /// `--format`'s parser: the library's figure formats by name (`png`, `svg`), listed in help
 /// and in the refusal of any other name.
-pub fn figure_formats() -> impl clap::builder::TypedValueParser<Value = FigureFormat> {
+pub(crate) fn figure_formats() -> impl clap::builder::TypedValueParser<Value = FigureFormat> {
     clap::builder::PossibleValuesParser::new(FigureFormat::VARIANTS.iter().copied()).map(|name| {
         name.parse::<FigureFormat>()
             .expect("a possible value is a format")
@@ -132,14 +131,14 @@ pub fn figure_formats() -> impl clap::builder::TypedValueParser<Value = FigureFo
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
-pub enum WheelArg {
+pub(crate) enum WheelArg {
     Follower,
     Driving,
     Both,
 }
 
 impl WheelArg {
-    pub fn wheels(self) -> Vec<Wheel> {
+    pub(crate) fn wheels(self) -> Vec<Wheel> {
         match self {
             WheelArg::Follower => vec![Wheel::Follower],
             WheelArg::Driving => vec![Wheel::Driving],
@@ -161,7 +160,7 @@ fn flag_help(id: ParamId) -> String {
     )
 }
 
-pub fn parse_assignment(s: &str) -> Result<(String, f64), String> {
+pub(crate) fn parse_assignment(s: &str) -> Result<(String, f64), String> {
     let (name, value) = s
         .split_once('=')
         .ok_or_else(|| format!("expected NAME=VALUE, got `{s}`"))?;
@@ -200,20 +199,18 @@ fn setting(name: &str) -> Option<(&'static str, &'static [&'static str], &'stati
     }
 }
 
-pub use polywear_study::param_sources::{
-    param_file, refuse_file_overlap, refuse_reserved_names, ParamSources as Resolved,
-};
+pub(crate) use polywear_study::param_sources::{param_file, ParamSources as Resolved};
 
 impl PointArgs {
     /// Defaults, then `--params`, then `--set` and the four named flags; everything validated
     /// before work starts (see [`PointArgs::resolve`]).
-    pub fn params(&self) -> CliResult<Params> {
+    pub(crate) fn params(&self) -> CliResult<Params> {
         self.resolve().map(|r| r.params)
     }
 
     /// The parameters with their sources ([`Resolved::resolve`]: the one-place rule), the
     /// notes printed on stderr.
-    pub fn resolve(&self) -> CliResult<Resolved> {
+    pub(crate) fn resolve(&self) -> CliResult<Resolved> {
         use polywear_core::params::toe::ToeInput;
         let plain = |x: f64| polywear_core::wording::plain(x, 12);
         let rim = polywear_study::toe_input::rim_diameter_mm(
@@ -281,203 +278,23 @@ impl PointArgs {
 }
 
 /// The defaults, with the `--params` file applied when one is given (see [`param_file`]).
-pub fn base_params(path: Option<&Path>, accept_implausible: bool) -> CliResult<Params> {
+pub(crate) fn base_params(path: Option<&Path>, accept_implausible: bool) -> CliResult<Params> {
     Ok(param_file(path, accept_implausible).map(|(p, _)| p)?)
 }
 
 /// A parameter the command itself varies (a sweep, a chart's axis): typed too it is refused;
 /// a `--params` file's value is replaced, and a note says so.
-pub fn sweep_owns(id: ParamId, owner: &str, resolved: &Resolved) -> CliResult {
+pub(crate) fn sweep_owns(id: ParamId, owner: &str, resolved: &Resolved) -> CliResult {
     if let Some(note) = resolved.owned_by(id, owner)? {
         eprintln!("{note}");
     }
     Ok(())
 }
 
-/// Accepted range of `--threads`, the same in every command.
-pub const THREADS_MAX: usize = 1024;
+pub(crate) use polywear_study::provenance::run_metadata as base_metadata;
 
-/// Parses a whole number for `flag` within [lo, hi]; anything else (negative, fractional, not a
-/// number, out of range) is refused with the accepted range. Use with
-/// `allow_negative_numbers = true`, so that `-5` reaches this message instead of clap's
-/// "unexpected argument".
-pub fn whole_in<T: TryFrom<u64>>(
-    flag: &'static str,
-    lo: u64,
-    hi: u64,
-) -> impl Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static {
-    move |s: &str| {
-        whole_number(s)
-            .filter(|v| (lo..=hi).contains(v))
-            .and_then(|v| T::try_from(v).ok())
-            .ok_or_else(|| format!("{flag} `{s}` must be a whole number in [{lo}, {hi}]"))
-    }
-}
-
-/// A whole number as people type one: `20000`, `2e4`, `20_000` or `2.0e4` (a count written as
-/// a number is the same count); None for a fraction, a sign, or what is no number.
-fn whole_number(s: &str) -> Option<u64> {
-    let t = s.trim().replace('_', "");
-    if let Ok(v) = t.parse::<u64>() {
-        return Some(v);
-    }
-    let x: f64 = t.parse().ok()?;
-    // Below 2^53 every whole f64 is exact, so a count read this way is the count typed.
-    (x.is_finite() && x >= 0.0 && x.fract() == 0.0 && x < 9_007_199_254_740_992.0)
-        .then_some(x as u64)
-}
-
-/// A count given as a number (so `1e9` is accepted) checked for `flag`: a whole number within
-/// [lo, hi], else refused with the accepted range, powers of ten written short (`1e12`).
-pub fn whole_count(flag: &str, n: f64, (lo, hi): (u64, u64)) -> CliResult<u64> {
-    if n.fract() == 0.0 && n >= lo as f64 && n <= hi as f64 {
-        return Ok(n as u64);
-    }
-    let short = |v: u64| {
-        let digits = v.to_string();
-        match digits.trim_end_matches('0') {
-            "1" if v >= 1_000_000 => format!("1e{}", digits.len() - 1),
-            _ => digits,
-        }
-    };
-    Err(CliError(format!(
-        "{flag} = {n} must be a whole number in [{}, {}]",
-        short(lo),
-        short(hi)
-    )))
-}
-
-/// Parses `--threads`: a whole number in [1, THREADS_MAX].
-pub fn parse_threads(s: &str) -> Result<usize, String> {
-    whole_in("--threads", 1, THREADS_MAX as u64)(s)
-}
-
-/// Prepares an output file before any work starts: a missing folder is created (as every
-/// command does with its output paths), a directory given as the file is refused.
-pub fn check_out_file(path: &Path, flag: &str) -> CliResult {
-    if path.is_dir() {
-        return Err(CliError(format!(
-            "{flag} {}: is a directory; accepted: a file name",
-            path.display()
-        )));
-    }
-    let parent = path.parent().filter(|d| !d.as_os_str().is_empty());
-    if let Some(dir) = parent {
-        polywear_study::safe_write::create_dir(dir).map_err(|e| {
-            CliError(format!(
-                "{flag} {}: cannot create the folder {}: {e}",
-                path.display(),
-                dir.display()
-            ))
-        })?;
-    }
-    Ok(())
-}
-
-/// The worker pool of `--threads` (None: all cores).
-pub fn thread_pool(threads: Option<usize>) -> CliResult<rayon::ThreadPool> {
-    if let Some(t) = threads {
-        if !(1..=THREADS_MAX).contains(&t) {
-            return Err(CliError(format!(
-                "--threads = {t} is outside its accepted range [1, {THREADS_MAX}]"
-            )));
-        }
-    }
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.unwrap_or(0))
-        .build()
-        .map_err(|e| CliError(format!("cannot start threads: {e}")))
-}
-
-/// A figure file named in full (`--plot FILE`): its format is its extension, refused with the
-/// accepted ones before any work starts.
-pub fn figure_file(path: &Path, flag: &str) -> CliResult<FigureFile> {
-    let format = FigureFormat::of_path(path)
-        .ok_or_else(|| extension_refusal(path, flag, FigureFormat::VARIANTS))?;
-    Ok(FigureFile {
-        path: path.to_path_buf(),
-        format,
-    })
-}
-
-/// Refuses output paths whose extension we cannot write, before any work starts.
-pub fn check_extension(path: &Path, accepted: &[&str], flag: &str) -> CliResult {
-    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-    if accepted.contains(&ext) {
-        Ok(())
-    } else {
-        Err(extension_refusal(path, flag, accepted))
-    }
-}
-
-/// The refusal of `path`'s extension, naming the flag and the accepted ones.
-fn extension_refusal(path: &Path, flag: &str, accepted: &[&str]) -> CliError {
-    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-    CliError(format!(
-        "{flag} {}: unsupported file type `.{ext}`; accepted: {}",
-        path.display(),
-        accepted
-            .iter()
-            .map(|e| format!(".{e}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    ))
-}
-
-pub use polywear_study::provenance::run_metadata as base_metadata;
-
-/// The per-wheel work budget flags, shared by every command that classifies.
-#[derive(Debug, Args, Clone, Default)]
-pub struct BudgetArgs {
-    /// Most RHS evaluations one wheel may take; a wheel that needs more becomes a `failed` row
-    /// with reason `budget exceeded (...)`. Accepted [100, 1e12]; default: the study's
-    /// `max_rhs_evals`, else 20000000 (a limit cycle takes about a thousand)
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
-    pub max_rhs_evals: Option<f64>,
-    /// Most wall-clock seconds one wheel may take (a safety net; normal wheels take
-    /// milliseconds). Accepted [0.001, 86400]; default: the study's `max_wheel_seconds`, else 60
-    #[arg(long, value_name = "S", allow_negative_numbers = true)]
-    pub max_wheel_seconds: Option<f64>,
-}
-
-impl BudgetArgs {
-    /// `base` (defaults or the study's) with the flags given applied, checked.
-    pub fn apply(&self, base: WheelBudget) -> CliResult<WheelBudget> {
-        let mut b = base;
-        if let Some(n) = self.max_rhs_evals {
-            b.max_rhs_evals = whole_count("--max-rhs-evals", n, WheelBudget::RHS_EVALS_RANGE)?;
-        }
-        if let Some(s) = self.max_wheel_seconds {
-            b.max_wheel_seconds = s;
-        }
-        b.check()
-            .map_err(|e| CliError(format!("--{} {}", e.key().replace('_', "-"), e.refusal())))?;
-        Ok(b)
-    }
-}
-
-/// The calibration band `--calibration-band` asks for: the shipped sets when absent, none for
-/// `off`, else the file's (refused here, before any work, when it cannot be read or is not a
-/// file of calibrated sets). Returns the sets and where they come from.
-pub fn calibration_band(
-    asked: Option<&str>,
-) -> CliResult<Option<(polywear_study::calibration_band::CalibrationBand, String)>> {
-    use polywear_study::calibration_band::{CalibrationBand, SHIPPED_NAME};
-    match asked {
-        Some("off") => Ok(None),
-        None => Ok(Some((CalibrationBand::shipped(), SHIPPED_NAME.to_string()))),
-        Some(file) => {
-            let text = read_input(
-                std::path::Path::new(file),
-                "--calibration-band ",
-                polywear_study::safe_read::Limit::Text,
-            )?;
-            let band = CalibrationBand::parse(&text, file)
-                .map_err(|e| CliError(format!("--calibration-band {e}")))?;
-            Ok(Some((band, file.to_string())))
-        }
-    }
-}
+mod flags;
+pub(crate) use flags::*;
 
 #[cfg(test)]
 mod tests {

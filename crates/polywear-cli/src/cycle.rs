@@ -39,72 +39,72 @@ const SATURATED_BINS_MAX_BYTES: u64 = 4 << 30;
     "      --out data/hwfet\n",
     "\nGuide: docs/book/src/reference/cycle.md#drive-cycles-polywear-cycle"
 ))]
-pub struct CycleArgs {
+pub(crate) struct CycleArgs {
     /// Drive cycle (CSV or Parquet): `time_s` (increasing) and `speed_kmh` (0 = standstill),
     /// optionally a column per step for any parameter of `polywear params` (toe_deg, load_n,
     /// pressure_kpa, ...). Standard cycles: data/cycles/. At most 1,000,000 steps (steps x
     /// --structure-samples, for a distribution): every step's records stay in memory until the
     /// files are written: about 3 KB a step, 7 KB with the wear stage
     #[arg(value_name = "CYCLE.csv")]
-    pub cycle: PathBuf,
+    pub(crate) cycle: PathBuf,
     /// Output directory: cycle.parquet, cycle_summary.csv (+ .parquet), cycle.png
     #[arg(long, value_name = "DIR")]
-    pub out: PathBuf,
+    pub(crate) out: PathBuf,
     /// Friction variant: sliding_share (default), paper or combined (see `simulate --help`)
     #[arg(long, value_enum, default_value_t = VariantArg::SlidingShare)]
-    pub variant: VariantArg,
+    pub(crate) variant: VariantArg,
     /// Any model parameter for the whole cycle, e.g. `--set toe_deg=0.3` (repeatable); one the
     /// cycle file gives per step is refused. The toe-in may also be given in mm at the rim
     /// (`--set toe_mm=2`, across rim_diameter_mm) or as total toe (`--set toe_total_deg=0.6`)
     #[arg(long = "set", value_name = "NAME=VALUE", value_parser = super::common::parse_assignment)]
-    pub set: Vec<(String, f64)>,
+    pub(crate) set: Vec<(String, f64)>,
     /// Parameter file (TOML `[params]`, e.g. from `polywear calibrate`), applied first; a
     /// parameter the cycle file or --study also sets is refused
     #[arg(long, value_name = "FILE")]
-    pub params: Option<PathBuf>,
+    pub(crate) params: Option<PathBuf>,
     /// Run values outside their plausible ranges (`polywear params`) anyway: a cycle column,
     /// --set, --params or --study value such as pressure_kpa = 2.4 (bar, not kPa) is refused
     /// before any work without it
     #[arg(long)]
-    pub accept_implausible: bool,
+    pub(crate) accept_implausible: bool,
     /// Study whose drawn tire-structure, friction and vehicle parameters give the tire
     /// structures; with [operating_points] each structure sample also draws a row of the
     /// fleet, whose load, pressure and toe-in hold for the whole cycle (the cycle gives the
     /// speed). Its drawn speed, toe, load and pressure distributions are not used (said before
     /// the results); needs --structure-samples
     #[arg(long, value_name = "STUDY.toml", requires = "structure_samples")]
-    pub study: Option<PathBuf>,
+    pub(crate) study: Option<PathBuf>,
     /// Tire structures drawn from --study (samples 0..K of its design and seed): every share
     /// becomes a distribution, reported as mean and 90% interval. Accepted [2, 100000], and at
     /// most 1,000,000 steps in all (555 structures over the WLTC's 1,801 steps)
     #[arg(long, value_name = "K", requires = "study", allow_negative_numbers = true,
           value_parser = super::common::whole_in::<u64>("--structure-samples", 2, STRUCTURE_SAMPLES_MAX))]
-    pub structure_samples: Option<u64>,
+    pub(crate) structure_samples: Option<u64>,
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
-    pub threads: Option<usize>,
+    pub(crate) threads: Option<usize>,
     /// No progress bar or progress lines, no notes and no list of the files written; the
     /// answer (the summary per wheel) is still printed, as ripgrep's and cargo's -q silence
     /// progress, not the result
     #[arg(long, short)]
-    pub quiet: bool,
+    pub(crate) quiet: bool,
     /// Leave the wear stage out: no distance to a visible polygon, no wear columns
     #[arg(long, conflicts_with_all = ["wear_zone", "wear_estimate"])]
-    pub no_wear: bool,
+    pub(crate) no_wear: bool,
     /// The calibration band of the distance to a visible polygon: a file of calibrated sets of
     /// the fitted wear constants (as data/calibration_band.toml, the default), or `off`. Each
     /// set's phi_s and k_d give the distance again in closed form (sigma_V does not enter: the
     /// cycle's speeds are its spread; the carcass and belt shares stay the run's, the steps'
     /// profiles being laid out at them), and its range is printed beside it
     #[arg(long, value_name = "FILE|off", conflicts_with = "no_wear")]
-    pub calibration_band: Option<String>,
+    pub(crate) calibration_band: Option<String>,
     #[command(flatten)]
-    pub wear: WearReadingArgs,
+    pub(crate) wear: WearReadingArgs,
     #[command(flatten)]
-    pub budget: BudgetArgs,
+    pub(crate) budget: BudgetArgs,
 }
 
-pub fn run(args: &CycleArgs) -> CliResult {
+pub(crate) fn run(args: &CycleArgs) -> CliResult {
     let mut request = resolve(args)?;
     if !args.quiet {
         for l in &request.structures.said {

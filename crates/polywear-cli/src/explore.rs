@@ -2,7 +2,8 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::{Duration, Instant};
+use std::sync::OnceLock;
+use std::time::Instant;
 
 use clap::Args;
 use polywear_analysis::plot::FigureFormat;
@@ -10,20 +11,23 @@ use polywear_analysis::plot::FigureFormat;
 mod band;
 mod errors;
 mod resume;
+mod shown;
 
 use super::batch::{signal_name, Interrupt, Progress};
 use super::common::{BudgetArgs, CliError, CliResult};
 use crate::wear_reading::WearReadingArgs;
-use errors::{explore_error, write_failure};
+use errors::{explore_error, session_error};
 use polywear_core::wording::plain;
+use polywear_study::calibration_band::evaluate::DEFAULT_BAND_SAMPLES;
 use polywear_study::explore::recorded_run::shell_word;
 use polywear_study::explore::{
-    chunk_size_warning, empty_shard_report, ExploreError, ExploreRequest, PreparedOutput, RunPlan,
-    RunSummary, Shard,
+    chunk_size_warning, empty_shard_report, ExploreEnd, ExploreRequest, ExploreSession,
+    PreparedOutput, RunPlan, RunSummary, Shard,
 };
 use polywear_study::param_sources::Refusal;
 use polywear_study::study::{Study, SEED_MAX};
 use resume::resume_command;
+use shown::{every, Shown};
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -36,61 +40,61 @@ use resume::resume_command;
     "  polywear explore studies/wide_structure.toml --shard 0/4 --out results/shard-0\n",
     "\nGuide: docs/book/src/reference/explore.md#explore"
 ))]
-pub struct ExploreArgs {
+pub(crate) struct ExploreArgs {
     /// Study file (TOML; see studies/ and docs/book/src/how-to/studies.md#studies). Without it: the built-in highway-fleet study
     /// (studies/default.toml)
     #[arg(value_name = "STUDY.toml")]
-    pub study: Option<PathBuf>,
+    pub(crate) study: Option<PathBuf>,
     /// Number of samples (1e6, 1_000_000 and 1000000 all work); default: the study's `samples`.
     /// For a grid design it must equal the grid's size; for a saltelli design it counts base
     /// points (each takes k + 2 evaluations for k drawn parameters)
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = parse_samples)]
-    pub samples: Option<u64>,
+    pub(crate) samples: Option<u64>,
     /// Seed; default: the study's `seed`. Same study + seed = same rows, whatever the threads.
     /// Accepted [0, 4398046510080]
     #[arg(long, allow_negative_numbers = true, value_parser = super::common::whole_in::<u64>("--seed", 0, SEED_MAX))]
-    pub seed: Option<u64>,
+    pub(crate) seed: Option<u64>,
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
-    pub threads: Option<usize>,
+    pub(crate) threads: Option<usize>,
     /// Output directory, created when missing (must be empty or absent unless --resume)
     /// [default: data/explore_<study>_seed<seed>]
     #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
+    pub(crate) out: Option<PathBuf>,
     /// Continue a stopped run in --out with its own study, parameters, samples, seed and shard
     /// (`polywear explore --resume --out DIR`; repeating them is accepted, contradicting them is
     /// refused). Complete chunk files are kept, the rest is redone; starts the run if --out is
     /// absent or empty. SIGINT/SIGTERM stop a run cleanly and print this command
     #[arg(long)]
-    pub resume: bool,
+    pub(crate) resume: bool,
     /// Evaluate only shard k of N (k from 0), e.g. `--shard $SLURM_ARRAY_TASK_ID/16`; the N
     /// shards' files together are the single-machine output
     #[arg(long, value_name = "k/N", allow_hyphen_values = true, value_parser = parse_shard)]
-    pub shard: Option<Shard>,
+    pub(crate) shard: Option<Shard>,
     /// Parameter file (TOML `[params]`, e.g. from `polywear calibrate`): values for parameters
     /// the study does not name (one the study or its operating-point file sets too is refused)
     #[arg(long, value_name = "FILE")]
-    pub params: Option<PathBuf>,
+    pub(crate) params: Option<PathBuf>,
     /// Run values outside their plausible ranges (`polywear params`) anyway: a study value,
     /// distribution bound or operating-point cell such as pressure_kpa = 2.4 (bar, not kPa) is
     /// refused before any work without it (a study can say `accept_implausible = true`)
     #[arg(long)]
-    pub accept_implausible: bool,
+    pub(crate) accept_implausible: bool,
     /// No progress bar, progress lines or chatter; the answer (the analysis summary) is still
     /// printed, as ripgrep's and cargo's -q silence progress, not the result
     #[arg(long, short)]
-    pub quiet: bool,
+    pub(crate) quiet: bool,
     /// When stderr is not a terminal (a batch log), print a progress line (done, rate, ETA)
     /// every S seconds instead of the bar, accepted [0.1, 86400]
     #[arg(long, value_name = "S", default_value_t = 5.0, value_parser = parse_log_every)]
-    pub log_every: f64,
+    pub(crate) log_every: f64,
     /// Leave the wear stage out: the rows then carry no wear columns (distance to a visible
     /// polygon, growth rate, dominant order) and the run is about as fast as vibration alone.
     /// A study can say `wear = false`
     #[arg(long, conflicts_with_all = ["wear_zone", "wear_power", "wear_estimate"])]
-    pub no_wear: bool,
+    pub(crate) no_wear: bool,
     #[command(flatten)]
-    pub wear: WearReadingArgs,
+    pub(crate) wear: WearReadingArgs,
     /// The calibration band: a file of calibrated sets of the fitted wear constants (phi_s,
     /// sigma_V, k_d, carcass_share, belt_mass_share; TOML as data/calibration_band.toml, which
     /// `cargo run --release --example calibrate_band -- 1024 2000` regenerates), or `off` for
@@ -99,22 +103,22 @@ pub struct ExploreArgs {
     /// --band-samples of the run's own samples, and its range printed beside its sampling
     /// interval
     #[arg(long, value_name = "FILE|off")]
-    pub calibration_band: Option<String>,
+    pub(crate) calibration_band: Option<String>,
     /// Samples of the run the calibration band is evaluated on (all of them when the run has
     /// fewer), accepted [100, 1000000]; default 20000
     #[arg(long, value_name = "N", value_parser = super::common::whole_in::<u64>("--band-samples", 100, 1_000_000))]
-    pub band_samples: Option<u64>,
+    pub(crate) band_samples: Option<u64>,
     /// Skip the analysis report (risk maps, probabilities) written to DIR/_report at the end
     #[arg(long)]
-    pub no_report: bool,
+    pub(crate) no_report: bool,
     /// File type of the report's figures
     #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
-    pub format: FigureFormat,
+    pub(crate) format: FigureFormat,
     #[command(flatten)]
-    pub budget: BudgetArgs,
+    pub(crate) budget: BudgetArgs,
 }
 
-pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
+pub(crate) fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
     let plan = resolve(args)?;
     let band = band::choose(args, &plan)?;
     let pool = super::common::thread_pool(args.threads)?;
@@ -123,14 +127,7 @@ pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
     for line in &prepared.redone {
         eprintln!("resume: {line}");
     }
-    band::prepare(&plan, band.as_ref())?;
     let todo = prepared.pending_samples(&plan);
-    let progress = Progress::new(
-        args.quiet,
-        todo,
-        "samples",
-        Duration::from_secs_f64(args.log_every),
-    );
     if !args.quiet {
         if let Some(w) = chunk_size_warning(plan.study.chunk_size) {
             eprintln!("{w}");
@@ -138,29 +135,39 @@ pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
         announce(&plan, &prepared, &pool, todo);
     }
     let stop = Interrupt::install()?;
+    let shown = Shown {
+        args,
+        rows: Progress::new(args.quiet, todo, "samples", every(args)),
+        band: OnceLock::new(),
+        stop: &stop,
+    };
+    let session = ExploreSession {
+        plan: &plan,
+        prepared: &prepared,
+        band: band.as_ref(),
+        band_samples: args.band_samples.unwrap_or(DEFAULT_BAND_SAMPLES),
+    };
     let start = Instant::now();
-    let result = pool
-        .install(|| plan.run_until(&prepared, &|n| progress.add(n), &|| stop.signal().is_some()));
-    progress.finish();
-    let summary = result.map_err(|e| match e {
-        ExploreError::Write(_) => write_failure(args, &plan, &e),
-        e => explore_error(e),
-    })?;
+    let end = pool
+        .install(|| session.run(&shown))
+        .map_err(|e| session_error(args, &plan, e))?;
     let secs = start.elapsed().as_secs_f64();
-    if let Some(signal) = stop.signal() {
-        drop(prepared);
-        let saved = summary.samples_skipped + summary.samples_evaluated;
-        eprintln!(
-            "\nstopped by {}: {saved} of {} samples are saved in {}; the chunks in flight were dropped and are redone on resume",
-            signal_name(signal),
-            plan.owned_samples(),
-            plan.out_dir.display()
-        );
-        eprintln!("resume with: {}", resume_command(args, &plan));
-        return Ok(ExitCode::from((128 + signal) as u8));
-    }
-    if let Some(choice) = &band {
-        if let band::BandEnd::Stopped(signal) = band::run(args, &plan, choice, &pool, &stop)? {
+    let signal = stop.signal().unwrap_or(0);
+    let summary = match end {
+        ExploreEnd::Finished(summary) => summary,
+        ExploreEnd::StoppedInRows(summary) => {
+            drop(prepared);
+            let saved = summary.samples_skipped + summary.samples_evaluated;
+            eprintln!(
+                "\nstopped by {}: {saved} of {} samples are saved in {}; the chunks in flight were dropped and are redone on resume",
+                signal_name(signal),
+                plan.owned_samples(),
+                plan.out_dir.display()
+            );
+            eprintln!("resume with: {}", resume_command(args, &plan));
+            return Ok(ExitCode::from((128 + signal) as u8));
+        }
+        ExploreEnd::StoppedInBand(_) => {
             drop(prepared);
             eprintln!(
                 "\nstopped by {} during the calibration band: every sample's rows are saved in {}; the band is not finished, and analyze refuses the run until it is",
@@ -170,7 +177,7 @@ pub fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
             eprintln!("finish it with: {}", resume_command(args, &plan));
             return Ok(ExitCode::from((128 + signal) as u8));
         }
-    }
+    };
     // From here on a signal ends the program at once: the rows and the band are saved.
     stop.disarm();
     finish(args, &plan, &summary, secs).map(|()| ExitCode::SUCCESS)
@@ -307,7 +314,7 @@ fn print_scenarios(study: &Study) {
 }
 
 /// Parses `--shard k/N` (k counted from 0, as Slurm array and Kubernetes indexed-job indices).
-pub fn parse_shard(s: &str) -> Result<Shard, String> {
+pub(crate) fn parse_shard(s: &str) -> Result<Shard, String> {
     let (k, n) = s
         .split_once('/')
         .ok_or_else(|| format!("--shard `{s}`: expected k/N, e.g. 0/4"))?;
@@ -332,7 +339,7 @@ fn parse_log_every(s: &str) -> Result<f64, String> {
 }
 
 /// Parses `--samples`: 1e6, 1_000_000 and 1000000 all mean one million.
-pub fn parse_samples(s: &str) -> Result<u64, String> {
+pub(crate) fn parse_samples(s: &str) -> Result<u64, String> {
     let t = s.trim().replace('_', "");
     let x: f64 = t
         .parse()

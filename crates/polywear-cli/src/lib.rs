@@ -8,22 +8,22 @@
 // would print the backslashes in --help.
 #![allow(rustdoc::broken_intra_doc_links, rustdoc::invalid_html_tags)]
 
-pub mod analyze;
-pub mod batch;
-pub mod bifurcation;
-pub mod calibrate;
-pub mod chart;
-pub mod classify;
-pub mod common;
-pub mod cycle;
-pub mod explore;
-pub mod optimize;
-pub mod params;
-pub mod reproduce;
-pub mod simulate;
-pub mod validate;
-pub mod wear;
-pub mod wear_reading;
+pub(crate) mod analyze;
+pub(crate) mod batch;
+pub(crate) mod bifurcation;
+pub(crate) mod calibrate;
+pub(crate) mod chart;
+pub(crate) mod classify;
+pub(crate) mod common;
+pub(crate) mod cycle;
+pub(crate) mod explore;
+pub(crate) mod optimize;
+pub(crate) mod params;
+pub(crate) mod reproduce;
+pub(crate) mod simulate;
+pub(crate) mod validate;
+pub(crate) mod wear;
+pub(crate) mod wear_reading;
 
 use std::process::ExitCode;
 

@@ -28,90 +28,90 @@ use polywear_study::study::{Study, DEFAULT_STUDY, SEED_MAX};
     "      --objective vibration --wheel follower --constraint pressure_kpa>=230 --samples 2000 --out data/optimum_vib\n",
     "\nGuide: docs/book/src/reference/optimize.md#optimize"
 ))]
-pub struct OptimizeArgs {
+pub(crate) struct OptimizeArgs {
     /// Study file (TOML): every setting is evaluated on its samples. Without it: the built-in
     /// highway-fleet study (studies/default.toml)
     #[arg(value_name = "STUDY.toml")]
-    pub study: Option<PathBuf>,
+    pub(crate) study: Option<PathBuf>,
     /// A parameter and its range, `NAME=LO..HI` (once or twice; names as `polywear params`
     /// lists them). For a parameter the study fixes, a setting is its value; for a drawn one,
     /// the centre of its distribution (every sample moved by the same amount, the spread kept;
     /// a lognormal's median, every sample scaled)
     #[arg(long, value_name = "NAME=LO..HI", required = true, allow_hyphen_values = true, value_parser = parse_vary)]
-    pub vary: Vec<(ParamId, f64, f64)>,
+    pub(crate) vary: Vec<(ParamId, f64, f64)>,
     /// What is minimised: `wear` (a visible polygon within --within-km), `vibration`, or a
     /// weighted sum such as `0.7*wear+0.3*vibration`
     #[arg(long, default_value = "wear", allow_hyphen_values = true, value_parser = parse_objective)]
-    pub objective: Terms,
+    pub(crate) objective: Terms,
     /// Which wheel: `follower`, `driving`, `both` (the mean of the two) or `worst` (a sample
     /// counts when either wheel has it)
     #[arg(long, default_value = "worst", value_parser = parse_wheel)]
-    pub wheel: WheelChoice,
+    pub(crate) wheel: WheelChoice,
     /// The distance within which a visible polygon counts [km], accepted (0, 1e6]
     #[arg(long, value_name = "KM", default_value_t = 40_000.0, allow_negative_numbers = true, value_parser = super::analyze::parse_km)]
-    pub within_km: f64,
+    pub(crate) within_km: f64,
     /// A bound a setting must meet (repeatable): on a varied parameter (`pressure_kpa>=230`,
     /// which narrows the box), or on a risk, `wear` or `vibration`, optionally of a wheel
     /// (`vibration:driving<=0.3`, a probability in [0, 1])
     #[arg(long, value_name = "NAME<=V|NAME>=V")]
-    pub constraint: Vec<String>,
+    pub(crate) constraint: Vec<String>,
     /// The calibration band: a file of calibrated sets of the fitted wear constants (phi_s,
     /// sigma_V, k_d, carcass_share, belt_mass_share; TOML as data/calibration_band.toml), or
     /// `off` for the nominal constants' answer alone. Default: the shipped sets, when the objective or a constraint weighs wear.
     /// Every setting's wear answer is re-evaluated under each set on the same samples (closed
     /// form, no second classification), and the optimum under each set is reported
     #[arg(long, value_name = "FILE|off")]
-    pub calibration_band: Option<String>,
+    pub(crate) calibration_band: Option<String>,
     /// Samples the calibration band's sets are evaluated on (every sample where --samples is at
     /// most this), accepted [100, 1000000], default 2000. Under each set a setting's objective is then the
     /// nominal constants' on every sample plus the set's paired difference on this subsample (a
     /// control variate), at that share of the band's work
     #[arg(long, value_name = "N", value_parser = super::common::whole_in::<u64>("--band-samples", 100, 1_000_000))]
-    pub band_samples: Option<u64>,
+    pub(crate) band_samples: Option<u64>,
     /// Samples of the study every setting is evaluated on (1e4 and 10_000 work), accepted
     /// [1, 1e7]
     #[arg(long, value_name = "N", default_value = "10000", allow_negative_numbers = true, value_parser = parse_samples)]
-    pub samples: u64,
+    pub(crate) samples: u64,
     /// Seed; default: the study's `seed`. Accepted [0, 4398046510080]
     #[arg(long, allow_negative_numbers = true, value_parser = super::common::whole_in::<u64>("--seed", 0, SEED_MAX))]
-    pub seed: Option<u64>,
+    pub(crate) seed: Option<u64>,
     /// Points per axis of the coarse grid, accepted [2, 65]
     #[arg(long, value_name = "N", default_value_t = SearchOptions::DEFAULT.grid, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--grid", 2, 65))]
-    pub grid: usize,
+    pub(crate) grid: usize,
     /// Refinements after the coarse grid, each halving the step, accepted [0, 6]
     #[arg(long, value_name = "N", default_value_t = SearchOptions::DEFAULT.levels, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--levels", 0, 6))]
-    pub levels: usize,
+    pub(crate) levels: usize,
     /// Settings refined around at each level (the best ones within the best's interval),
     /// accepted [1, 100]
     #[arg(long, value_name = "N", default_value_t = SearchOptions::DEFAULT.keep, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--keep", 1, 100))]
-    pub keep: usize,
+    pub(crate) keep: usize,
     /// Output directory, created when missing; its files are replaced
     /// [default: data/optimize_<study>_seed<seed>]
     #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
+    pub(crate) out: Option<PathBuf>,
     /// Parameter file (TOML `[params]`): values for every parameter the study does not name
     #[arg(long, value_name = "FILE")]
-    pub params: Option<PathBuf>,
+    pub(crate) params: Option<PathBuf>,
     /// Run values outside their plausible ranges (`polywear params`) anyway: a study value or a
     /// box end such as pressure_kpa = 2.4 (bar, not kPa) is refused before any work without it
     #[arg(long)]
-    pub accept_implausible: bool,
+    pub(crate) accept_implausible: bool,
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
-    pub threads: Option<usize>,
+    pub(crate) threads: Option<usize>,
     /// No progress bar
     #[arg(long, short)]
-    pub quiet: bool,
+    pub(crate) quiet: bool,
     /// File type of the picture
     #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
-    pub format: FigureFormat,
+    pub(crate) format: FigureFormat,
     #[command(flatten)]
-    pub budget: BudgetArgs,
+    pub(crate) budget: BudgetArgs,
 }
 
 /// The terms of `--objective`.
 #[derive(Debug, Clone)]
-pub struct Terms(pub Vec<(f64, Term)>);
+pub(crate) struct Terms(pub Vec<(f64, Term)>);
 
 fn parse_objective(s: &str) -> Result<Terms, String> {
     parse_terms(s)
@@ -178,7 +178,7 @@ fn parse_vary(s: &str) -> Result<(ParamId, f64, f64), String> {
     Ok((id, lo, hi))
 }
 
-pub fn run(args: &OptimizeArgs) -> CliResult {
+pub(crate) fn run(args: &OptimizeArgs) -> CliResult {
     let problem = problem(args)?;
     let pool = super::common::thread_pool(args.threads)?;
     let out_dir = args.out.clone().unwrap_or_else(|| {

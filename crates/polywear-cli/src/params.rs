@@ -4,7 +4,7 @@
 use polywear_core::params::{ParamSpec, SPECS};
 use polywear_core::wear::setting_rows;
 
-pub fn run(markdown: bool) {
+pub(crate) fn run(markdown: bool) {
     if markdown {
         print!("{}", markdown_table());
         return;
@@ -36,7 +36,7 @@ pub fn run(markdown: bool) {
 
 /// The parameter table as Markdown (MODEL.md#parameter-table embeds exactly this; tests/integration/docs.rs
 /// keeps them equal).
-pub fn markdown_table() -> String {
+pub(crate) fn markdown_table() -> String {
     let mut out = String::from(
         "| name | symbol | unit | default | provenance | accepted range | plausible range | meaning |\n|---|---|---|---|---|---|---|---|\n",
     );

@@ -17,33 +17,33 @@ use super::common::{CliError, CliResult};
     "  polywear reproduce --params studies/params_r0.toml --out data/paper_r0\n",
     "\nGuide: docs/book/src/reference/reproduce.md#reproduce"
 ))]
-pub struct ReproduceArgs {
+pub(crate) struct ReproduceArgs {
     /// Output directory, created when missing
     #[arg(long, value_name = "DIR", default_value = "data/paper_2014")]
-    pub out: PathBuf,
+    pub(crate) out: PathBuf,
     /// Values per bifurcation sweep, accepted [11, 2001]
     #[arg(long, default_value_t = 161, allow_negative_numbers = true, value_parser = super::common::whole_in::<usize>("--steps", 11, 2001))]
-    pub steps: usize,
+    pub(crate) steps: usize,
     /// Samples of the default study for the paired driving-vs-follower comparison, accepted
     /// [10, 1000000]
     #[arg(long, value_name = "N", default_value_t = 4000)]
-    pub paired_samples: u64,
+    pub(crate) paired_samples: u64,
     /// Parameter file (e.g. from `polywear calibrate`, or studies/params_r0.toml for the reference
     /// constants R0, MODEL.md#r0-and-the-shipped-defaults) instead of the defaults
     #[arg(long, value_name = "FILE")]
-    pub params: Option<PathBuf>,
+    pub(crate) params: Option<PathBuf>,
     /// Run --params values outside their plausible ranges (`polywear params`) anyway
     #[arg(long)]
-    pub accept_implausible: bool,
+    pub(crate) accept_implausible: bool,
     /// File type of the figures
     #[arg(long, default_value_t = FigureFormat::Png, value_parser = super::common::figure_formats())]
-    pub format: FigureFormat,
+    pub(crate) format: FigureFormat,
     /// Worker threads (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
-    pub threads: Option<usize>,
+    pub(crate) threads: Option<usize>,
 }
 
-pub fn run(args: &ReproduceArgs) -> CliResult {
+pub(crate) fn run(args: &ReproduceArgs) -> CliResult {
     if !(11..=2001).contains(&args.steps) {
         return Err(CliError(format!(
             "--steps = {} is outside its accepted range [11, 2001]",

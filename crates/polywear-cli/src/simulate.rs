@@ -29,12 +29,12 @@ use polywear_study::trajectory::{series_columns, time_series, Samples};
     "  polywear simulate --plot data/point.png --out data/point.parquet\n",
     "\nGuide: docs/book/src/reference/simulate.md#simulate"
 ))]
-pub struct SimulateArgs {
+pub(crate) struct SimulateArgs {
     #[command(flatten)]
-    pub point: PointArgs,
+    pub(crate) point: PointArgs,
     /// Which wheel(s) to evaluate
     #[arg(long, value_enum, default_value_t = WheelArg::Both)]
-    pub wheel: WheelArg,
+    pub(crate) wheel: WheelArg,
     /// Simulated time of the time series [s], accepted (0, 600]
     #[arg(
         long,
@@ -42,30 +42,30 @@ pub struct SimulateArgs {
         default_value_t = 5.0,
         allow_negative_numbers = true
     )]
-    pub duration: f64,
+    pub(crate) duration: f64,
     /// Sampling rate of the written/plotted time series [Hz], accepted [100, 1e6]
     #[arg(long, value_name = "HZ", default_value_t = 20_000.0)]
-    pub sample_rate: f64,
+    pub(crate) sample_rate: f64,
     /// Hard-excitation check: also start at this lateral velocity amplitude [m/s] to find a
     /// limit cycle coexisting with a stable equilibrium (class `bistable`)
     #[arg(long, value_name = "MPS", allow_hyphen_values = true)]
-    pub kick: Option<f64>,
+    pub(crate) kick: Option<f64>,
     #[command(flatten)]
-    pub budget: BudgetArgs,
+    pub(crate) budget: BudgetArgs,
     /// Print one JSON object per wheel (the columns of tests/data/points.csv and more)
     #[arg(long)]
-    pub json: bool,
+    pub(crate) json: bool,
     /// Write the time series (t, wheel, z, y, v) to FILE.parquet or FILE.csv (a missing folder
     /// is created)
     #[arg(long, value_name = "FILE")]
-    pub out: Option<PathBuf>,
+    pub(crate) out: Option<PathBuf>,
     /// Draw time history, phase portrait and spectrum of v to FILE.png or FILE.svg (a missing
     /// folder is created)
     #[arg(long, value_name = "FILE")]
-    pub plot: Option<PathBuf>,
+    pub(crate) plot: Option<PathBuf>,
 }
 
-pub fn run(args: &SimulateArgs) -> CliResult {
+pub(crate) fn run(args: &SimulateArgs) -> CliResult {
     let request = resolve(args)?;
     let simulated = simulate(&request);
     write(args, &request, &simulated)

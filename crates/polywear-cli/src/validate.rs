@@ -16,24 +16,24 @@ use polywear_study::validation::{compare_with, comparison_columns};
     "  polywear validate --points 340 --seed 1 --out data/validate_340.csv\n",
     "\nGuide: docs/book/src/reference/validate.md#validate"
 ))]
-pub struct ValidateArgs {
+pub(crate) struct ValidateArgs {
     /// Random operating points (each evaluated for 2 wheels × 3 variants), accepted [1, 100000]
     #[arg(long, default_value_t = 300, allow_negative_numbers = true, value_parser = super::common::whole_in::<u64>("--points", 1, 100_000))]
-    pub points: u64,
+    pub(crate) points: u64,
     /// Seed of the point set, accepted [0, 4398046510080]
     #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = super::common::whole_in::<u64>("--seed", 0, polywear_study::study::SEED_MAX))]
-    pub seed: u64,
+    pub(crate) seed: u64,
     /// Worker threads for the reference (default: all cores), accepted [1, 1024]
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = super::common::parse_threads)]
-    pub threads: Option<usize>,
+    pub(crate) threads: Option<usize>,
     /// Per-wheel results as CSV
     #[arg(long, value_name = "FILE.csv")]
-    pub out: Option<PathBuf>,
+    pub(crate) out: Option<PathBuf>,
     #[command(flatten)]
-    pub budget: BudgetArgs,
+    pub(crate) budget: BudgetArgs,
 }
 
-pub fn run(args: &ValidateArgs) -> CliResult {
+pub(crate) fn run(args: &ValidateArgs) -> CliResult {
     if !(1..=100_000).contains(&args.points) {
         return Err(CliError(format!(
             "--points = {} is outside [1, 100000]",

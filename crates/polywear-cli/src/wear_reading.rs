@@ -6,21 +6,21 @@ use polywear_core::wear::{WearPower, WearSettings, WearZone};
 
 /// `--wear-zone` and `--wear-power`.
 #[derive(Debug, Clone, Default, Args)]
-pub struct WearReadingArgs {
+pub(crate) struct WearReadingArgs {
     /// Where the friction power wears the tread (MODEL.md#step-11-wear-zone): trailing (the
     /// default), whole_patch or whole_patch_uniform; a study can say `wear_zone = "..."`
     #[arg(long, value_name = "ZONE", value_parser = |s: &str| s.parse::<WearZone>().map_err(|e| e.to_string()))]
-    pub wear_zone: Option<WearZone>,
+    pub(crate) wear_zone: Option<WearZone>,
     /// Which friction power wears it (MODEL.md#the-driving-wheels-slip-power): with_slip (the
     /// default: the driving wheel's longitudinal slip power too, and its position's faster even
     /// wear) or lateral_only; a study can say `wear_power = "..."`
     #[arg(long, value_name = "POWER", value_parser = |s: &str| s.parse::<WearPower>().map_err(|e| e.to_string()))]
-    pub wear_power: Option<WearPower>,
+    pub(crate) wear_power: Option<WearPower>,
     /// Retired: every sample carries one wear answer, over the tread's life with each speed's
     /// print saturated. `tread_life_saturated` is accepted (it changes nothing); `new_tire` and
     /// `tread_life` are refused, naming what replaced them
     #[arg(long, value_name = "LEVEL", hide = true, value_parser = parse_retired_level)]
-    pub wear_estimate: Option<String>,
+    pub(crate) wear_estimate: Option<String>,
 }
 
 /// `--wear-estimate`: the one answer, accepted; a retired one, refused with what replaced it.
@@ -36,7 +36,7 @@ fn parse_retired_level(s: &str) -> Result<String, String> {
 
 impl WearReadingArgs {
     /// The settings asked for, the defaults where a flag is not given.
-    pub fn settings(&self) -> WearSettings {
+    pub(crate) fn settings(&self) -> WearSettings {
         WearSettings {
             zone: self.wear_zone.unwrap_or_default(),
             power: self.wear_power.unwrap_or_default(),

@@ -102,7 +102,7 @@ pub fn run_oracle(
         distance_km: 0.0,
         reason,
     };
-    check_samples(s.samples_per_rev, s.cells).map_err(fail)?;
+    check_samples(s.samples_per_rev, s.cells).map_err(|e| fail(e.to_string()))?;
     let model = WheelModel::build(p, wheel, variant).map_err(|e| fail(e.to_string()))?;
     let fb = Feedback::new(p, &model, s.zone);
     let rotation_hz = WheelModel::rotation_hz(p);

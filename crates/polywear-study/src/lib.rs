@@ -13,6 +13,7 @@ pub mod cycle;
 pub mod explore;
 pub mod field_facts;
 pub(crate) mod key_value;
+pub mod long_term_request;
 pub mod operating_points;
 pub mod optimize;
 pub mod output_dir;

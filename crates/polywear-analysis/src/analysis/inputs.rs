@@ -183,10 +183,7 @@ pub fn check_inputs(inputs: &[PathBuf]) -> Result<RunInfo, AnalysisError> {
     // the one polywear gives, or none: before it was a setting, the new tire's) are not this
     // version's answer, and are not analysed as if they were.
     if let Some(w) = &run.wear {
-        let level = w
-            .get("wear_estimate")
-            .and_then(|e| e.as_str())
-            .unwrap_or("new_tire");
+        let level = &w.wear_estimate;
         if let Some(why) = polywear_core::wear::retired_level(level) {
             return Err(AnalysisError::Metadata {
                 path: first.path.clone(),

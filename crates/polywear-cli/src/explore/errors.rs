@@ -5,7 +5,7 @@ use super::resume::resume_command;
 use super::ExploreArgs;
 use crate::common::CliError;
 use polywear_study::explore::recorded_run::{shell_word, DirState, RecordedRun};
-use polywear_study::explore::{ExploreError, RunPlan};
+use polywear_study::explore::{ExploreError, ExploreSessionError, RunPlan};
 
 /// An explore error in the words of the command line: the output directory as `--out`, a
 /// resume's refusals as `--resume`'s, each with the flags that get on.
@@ -90,4 +90,31 @@ pub(super) fn write_failure(args: &ExploreArgs, plan: &RunPlan, e: &ExploreError
         "{cause}{text}\n{saved}; free space or fix the folder, then resume with: {}",
         resume_command(args, plan)
     ))
+}
+
+/// A run's failure in the command line's words: a chunk that cannot be written, or the band's
+/// file, with what is saved and the command that goes on.
+pub(super) fn session_error(
+    args: &ExploreArgs,
+    plan: &RunPlan,
+    e: ExploreSessionError,
+) -> CliError {
+    match e {
+        ExploreSessionError::Rows(e @ ExploreError::Write(_)) => write_failure(args, plan, &e),
+        ExploreSessionError::Rows(e) => explore_error(e),
+        ExploreSessionError::BandWrite(e) => {
+            let cause = if e.contains("No space left") {
+                "the disk is full: "
+            } else {
+                ""
+            };
+            CliError(format!(
+                "{cause}cannot write the calibration band: {e}
+every sample's rows are saved in {}; the band is not finished: free space or fix the folder, then finish it with: {}",
+                plan.out_dir.display(),
+                resume_command(args, plan)
+            ))
+        }
+        e => CliError(e.to_string()),
+    }
 }

@@ -30,15 +30,24 @@ pub struct DepositPlan {
 /// multiple of `cells`: only then is the plan the same for every cell, shifted, so that an even
 /// power wears every cell alike (the sample comb's harmonics, multiples of M, integrate to 0
 /// over each cell).
-pub fn check_samples(samples: usize, cells: usize) -> Result<(), String> {
+pub fn check_samples(samples: usize, cells: usize) -> Result<(), SampleCombError> {
     if cells > 0 && samples > 0 && samples % cells == 0 {
         Ok(())
     } else {
-        Err(format!(
-            "{samples} energy samples per revolution are not a whole multiple of the {cells} \
-             cells: the samples' comb would print orders the cells resolve"
-        ))
+        Err(SampleCombError { samples, cells })
     }
+}
+
+/// Energy samples per revolution that are not a whole multiple of the profile's cells.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{samples} energy samples per revolution are not a whole multiple of the {cells} cells: the samples' comb would print orders the cells resolve"
+)]
+pub struct SampleCombError {
+    /// Energy samples per revolution.
+    pub samples: usize,
+    /// Cells of the profile.
+    pub cells: usize,
 }
 
 impl DepositPlan {

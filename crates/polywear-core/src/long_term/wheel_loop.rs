@@ -515,10 +515,10 @@ pub fn run_wheel(
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<WheelWear, WearError> {
     let p = inputs.params;
-    check_samples(settings.samples_per_rev, settings.cells).map_err(|reason| WearError::Loop {
+    check_samples(settings.samples_per_rev, settings.cells).map_err(|e| WearError::Loop {
         speed_kmh: inputs.legs.first().map_or(p.speed_kmh, |l| l.speed_kmh),
         distance_km: 0.0,
-        reason,
+        reason: e.to_string(),
     })?;
     let seed_m = p.seed_runout_um * 1e-6;
     let orders = FEEDBACK_ORDERS.min(settings.cells / 2 - 1);

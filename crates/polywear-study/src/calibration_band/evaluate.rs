@@ -315,7 +315,7 @@ impl BandPlan<'_> {
         let at = |p: &Path, e: &dyn std::fmt::Display| {
             BandWriteError::Io(format!("{}: {e}", p.display()))
         };
-        mark_pending(dir, &self.band_source).map_err(BandWriteError::Io)?;
+        mark_pending(dir, &self.band_source).map_err(|e| BandWriteError::Io(e.to_string()))?;
         let indices = self.indices();
         let meta = self.metadata(run_metadata);
         let mut writer: Option<crate::parquet_out::TableWriter> = None;
@@ -454,15 +454,37 @@ const MAX_DIGEST_BYTES: u64 = 4096;
 /// Marks `dir`'s band as asked for and not finished (its digest `pending`, the old band file
 /// removed): written before the run's chunks, so that a run stopped anywhere before the band is
 /// whole leaves a band `analyze` refuses with the command that finishes it.
-pub fn mark_pending(dir: &Path, band_source: &str) -> Result<(), String> {
-    let at = |p: &Path, e: &dyn std::fmt::Display| format!("{}: {e}", p.display());
+pub fn mark_pending(dir: &Path, band_source: &str) -> Result<(), BandFileError> {
     let json = serde_json::json!({ "status": PENDING, "band_source": band_source });
     let digest_path = dir.join(BAND_DIGEST);
     crate::safe_write::write_durably(&digest_path, format!("{json}\n").as_bytes())
-        .map_err(|e| at(&digest_path, &e))?;
-    let band_path = dir.join(BAND_FILE);
-    match std::fs::remove_file(&band_path) {
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(at(&band_path, &e)),
+        .map_err(|e| BandFileError::at(&digest_path, e))?;
+    remove_band_file(&dir.join(BAND_FILE))
+}
+
+/// Removes the band file `path` (absent is removed).
+pub fn remove_band_file(path: &Path) -> Result<(), BandFileError> {
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(BandFileError::at(path, e)),
         _ => Ok(()),
+    }
+}
+
+/// A band file or digest that cannot be written or removed.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {error}", path.display())]
+pub struct BandFileError {
+    /// The file.
+    pub path: std::path::PathBuf,
+    /// What the file system said.
+    pub error: std::io::Error,
+}
+
+impl BandFileError {
+    fn at(path: &Path, error: std::io::Error) -> Self {
+        BandFileError {
+            path: path.to_path_buf(),
+            error,
+        }
     }
 }

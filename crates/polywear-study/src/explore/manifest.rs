@@ -11,9 +11,11 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use super::Shard;
 use crate::key_value::{self, KeyValueError};
 use crate::operating_points::OperatingPoints;
+use polywear_core::evaluate::WearStage;
 use polywear_core::model::Variant;
 use polywear_core::params::{ParamId, Params};
 use polywear_core::sampling::design::Design;
+use polywear_core::wear::{Calibration, WearPower, WearSettings, WearZone, SHIPPED_LEVEL};
 
 /// What a run is: written once into the manifest and into every chunk's footer. Fields that
 /// only one of the two holds are `None` in the other (and then left out when written).
@@ -91,7 +93,68 @@ pub struct RunManifest {
     /// The wear stage (its zone and calibration), when the run has one; absent for a run
     /// without wear columns (`--no-wear`, `wear = false`, and runs of polywear before 0.6.0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub wear: Option<serde_json::Value>,
+    pub wear: Option<WearRecord>,
+}
+
+/// The wear stage as a run records it (`wear` in the manifest and in every chunk's footer):
+/// the answer's name, where and which friction power wore the tread, and the calibration of γ.
+/// Read once, here, with one default for each thing older runs did not record: a run from
+/// before the answer had a name answered as the new tire (`new_tire`, a retired level), one
+/// from before the slip power counted wore by the lateral power alone (`lateral_only`).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+pub struct WearRecord {
+    /// The wear answer's name (`wear_estimate`): the one polywear gives, or a retired one.
+    #[serde(default = "WearRecord::unnamed_level")]
+    pub wear_estimate: String,
+    /// Where the friction power wore the tread.
+    pub wear_zone: WearZone,
+    /// Which friction power wore it.
+    #[serde(default = "WearRecord::before_slip_power")]
+    pub wear_power: WearPower,
+    /// The calibration of γ on the run's reference follower.
+    pub calibration: Calibration,
+}
+
+impl WearRecord {
+    /// The record of a run's wear stage.
+    pub fn of(stage: &WearStage) -> Self {
+        WearRecord {
+            wear_estimate: SHIPPED_LEVEL.to_string(),
+            wear_zone: stage.settings.zone,
+            wear_power: stage.settings.power,
+            calibration: stage.calibration,
+        }
+    }
+
+    /// The settings it records.
+    pub fn settings(&self) -> WearSettings {
+        WearSettings {
+            zone: self.wear_zone,
+            power: self.wear_power,
+        }
+    }
+
+    fn unnamed_level() -> String {
+        "new_tire".into()
+    }
+
+    fn before_slip_power() -> WearPower {
+        WearPower::LateralOnly
+    }
+}
+
+/// Written as one JSON object with its keys sorted (the calibration's too), as every run has
+/// written it.
+impl Serialize for WearRecord {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        serde_json::json!({
+            "calibration": self.calibration,
+            "wear_estimate": self.wear_estimate,
+            "wear_power": self.wear_power,
+            "wear_zone": self.wear_zone,
+        })
+        .serialize(s)
+    }
 }
 
 /// An operating-point file as the run recorded it. Fields in alphabetical order, as the

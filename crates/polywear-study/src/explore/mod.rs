@@ -23,11 +23,13 @@ mod output;
 mod pipeline;
 pub mod recorded_run;
 mod request;
+mod session;
 
-pub use manifest::{OperatingPointsRecord, RunManifest};
+pub use manifest::{OperatingPointsRecord, RunManifest, WearRecord};
 pub use output::PreparedOutput;
 pub use pipeline::{chunk_columns, evaluate_params, evaluate_sample, SampleRows, CHUNKS_IN_FLIGHT};
 pub use request::{chunk_size_warning, default_out_dir, empty_shard_report, ExploreRequest};
+pub use session::{BandChoice, ExploreEnd, ExploreObserver, ExploreSession, ExploreSessionError};
 
 /// The part of a run one machine evaluates: the chunks whose index ≡ `index` (mod `count`),
 /// shard k of N with k counted from 0 (as Slurm array and Kubernetes indexed-job indices).
@@ -287,7 +289,7 @@ impl RunPlan {
             checksum: Some("CRC-32 (IEEE) of each whole chunk file".to_string()),
             columns: None,
             scenarios: None,
-            wear: self.wear.as_ref().map(wear_json),
+            wear: self.wear.as_ref().map(WearRecord::of),
         }
     }
 
@@ -320,11 +322,6 @@ impl RunPlan {
         let blocks = 1 + self.study.scenarios.len() as u64;
         self.chunk_len(chunk) * blocks * 2 * self.study.variants.len() as u64
     }
-}
-
-/// The wear stage as the manifest records it: the zone and the calibration.
-pub fn wear_json(stage: &WearStage) -> serde_json::Value {
-    serde_json::to_value(stage).expect("the wear stage serializes")
 }
 
 /// The parameters of a sample's drawn values, in [`Study::value_names`] order: the drawn

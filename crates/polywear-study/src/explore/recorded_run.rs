@@ -7,10 +7,11 @@
 use crate::param_sources::Refusal;
 use std::path::{Path, PathBuf};
 
+use super::WearRecord;
 use super::{RunManifest, Shard};
 use crate::output_dir::{self, MANIFEST};
 use polywear_core::params::Params;
-use polywear_core::wear::{retired_level, WearPower, WearSettings, WearZone};
+use polywear_core::wear::{retired_level, WearSettings};
 
 /// The run recorded in an output directory's manifest.
 #[derive(Debug, Clone, PartialEq)]
@@ -102,7 +103,7 @@ impl RecordedRun {
             wear: match &m.wear {
                 None => None,
                 Some(w) => Some(recorded_wear(w).map_err(|e| ManifestReadError {
-                    retired_level: retired_level(recorded_level(w)).is_some(),
+                    retired_level: retired_level(&w.wear_estimate).is_some(),
                     ..bad(e.0)
                 })?),
             },
@@ -262,39 +263,16 @@ pub fn shell_word(s: &str) -> String {
     }
 }
 
-/// The wear answer a manifest's `wear` object records: a run recorded before the level was a
-/// setting answered as the new tire.
-fn recorded_level(w: &serde_json::Value) -> &str {
-    w.get("wear_estimate")
-        .and_then(|z| z.as_str())
-        .unwrap_or("new_tire")
-}
-
-/// The wear settings of a manifest's `wear` object (its `wear_zone`), or the key that is not.
-fn recorded_wear(w: &serde_json::Value) -> Result<WearSettings, Refusal> {
-    let zone = w
-        .get("wear_zone")
-        .and_then(|z| z.as_str())
-        .ok_or_else(|| Refusal("`wear.wear_zone` is missing".to_string()))?;
-    let zone: WearZone = zone
-        .parse()
-        .map_err(|e| Refusal(format!("`wear.wear_zone`: {e}")))?;
-    // A run recorded before the slip power was counted has no `wear_power`: it ran the
-    // lateral power alone, and its resume goes on so.
-    let power = match w.get("wear_power").and_then(|z| z.as_str()) {
-        None => WearPower::LateralOnly,
-        Some(s) => s
-            .parse()
-            .map_err(|e| Refusal(format!("`wear.wear_power`: {e}")))?,
-    };
-    // A run that recorded a retired level was answered so, and no longer continues or reads.
-    let level = recorded_level(w);
+/// The wear settings a run recorded, refused where it was answered on a retired level (it no
+/// longer continues or reads).
+fn recorded_wear(w: &WearRecord) -> Result<WearSettings, Refusal> {
+    let level = &w.wear_estimate;
     if let Some(why) = retired_level(level) {
         return Err(Refusal(format!(
             "`wear.wear_estimate` = \"{level}\": {why}; run explore again for this version's answer"
         )));
     }
-    Ok(WearSettings { zone, power })
+    Ok(w.settings())
 }
 
 #[cfg(test)]

@@ -22,7 +22,7 @@ use crate::params::{ParamId, Params, OPERATING_AXES};
 use crate::wear::error::WearError;
 
 /// The reference point's friction energy, from which γ follows for any φ_s and w′₀.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Calibration {
     /// Mean friction power of the reference follower P̄_ref \[W\].
     pub reference_power_w: f64,
