@@ -2,7 +2,7 @@
 //! of vibration, or a weighted sum) over a study's samples.
 
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Args;
@@ -200,41 +200,7 @@ pub(crate) fn run(args: &OptimizeArgs) -> CliResult {
         ),
     )?;
     if !args.quiet {
-        match (&problem.band, &problem.band_note) {
-            (Some(b), _) if b.samples < problem.samples => eprintln!(
-                "calibration band: {} sets from {}, each setting's wear answer under every set on the same {} of its {} samples (--band-samples), moved by the nominal constants' answer on all of them",
-                b.sets.sets.len(),
-                b.source,
-                b.samples,
-                problem.samples
-            ),
-            (Some(b), _) => eprintln!(
-                "calibration band: {} sets from {}, each setting's wear answer under every set on the same samples",
-                b.sets.sets.len(),
-                b.source
-            ),
-            (None, Some(note)) => eprintln!("note: {note}"),
-            (None, None) if args.calibration_band.as_deref() == Some("off") => eprintln!(
-                "calibration band: off (--calibration-band off): the optimum is the nominal constants' alone, with its sampling interval only"
-            ),
-            (None, None) => {}
-        }
-        eprintln!(
-            "{}: {} of {} samples (seed {}, variant {}), {}, {} threads -> {}",
-            problem.study.name,
-            problem.objective.text(),
-            problem.samples,
-            problem.seed,
-            problem.variant,
-            problem
-                .axes
-                .iter()
-                .map(|a| format!("{} {}..{}", a.param, plain(a.lo, 6), plain(a.hi, 6)))
-                .collect::<Vec<_>>()
-                .join(", "),
-            pool.current_num_threads(),
-            out_dir.display()
-        );
+        announce(args, &problem, &pool, &out_dir);
     }
     let bar = progress_bar(args.quiet);
     let start = Instant::now();
@@ -289,6 +255,45 @@ pub(crate) fn run(args: &OptimizeArgs) -> CliResult {
         println!("files in {}: {}", out_dir.display(), names.join(", "));
     }
     Ok(())
+}
+
+/// The search's first lines: the band it moves under, then what is evaluated where.
+fn announce(args: &OptimizeArgs, problem: &Problem, pool: &rayon::ThreadPool, out_dir: &Path) {
+    match (&problem.band, &problem.band_note) {
+        (Some(b), _) if b.samples < problem.samples => eprintln!(
+            "calibration band: {} sets from {}, each setting's wear answer under every set on the same {} of its {} samples (--band-samples), moved by the nominal constants' answer on all of them",
+            b.sets.sets.len(),
+            b.source,
+            b.samples,
+            problem.samples
+        ),
+        (Some(b), _) => eprintln!(
+            "calibration band: {} sets from {}, each setting's wear answer under every set on the same samples",
+            b.sets.sets.len(),
+            b.source
+        ),
+        (None, Some(note)) => eprintln!("note: {note}"),
+        (None, None) if args.calibration_band.as_deref() == Some("off") => eprintln!(
+            "calibration band: off (--calibration-band off): the optimum is the nominal constants' alone, with its sampling interval only"
+        ),
+        (None, None) => {}
+    }
+    eprintln!(
+        "{}: {} of {} samples (seed {}, variant {}), {}, {} threads -> {}",
+        problem.study.name,
+        problem.objective.text(),
+        problem.samples,
+        problem.seed,
+        problem.variant,
+        problem
+            .axes
+            .iter()
+            .map(|a| format!("{} {}..{}", a.param, plain(a.lo, 6), plain(a.hi, 6)))
+            .collect::<Vec<_>>()
+            .join(", "),
+        pool.current_num_threads(),
+        out_dir.display()
+    );
 }
 
 /// The progress bar: evaluations done of those the levels so far take, rate and ETA.
