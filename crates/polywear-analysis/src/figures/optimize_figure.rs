@@ -5,10 +5,9 @@
 use crate::plot::maps::Overlay;
 use crate::plot::surface::{marker, surface_curve, surface_map, MapPoint, VLine};
 use crate::plot::FigureFile;
+use crate::plot::PlotError;
 use polywear_core::model::Wheel;
 use polywear_study::optimize::{Problem, Solution};
-
-use super::optimize::OutputError;
 
 /// The figure shows the objective in %, as the text says it (`pct` in [`super::optimize`]).
 const PERCENT: f64 = 100.0;
@@ -20,7 +19,7 @@ pub(super) fn draw(
     problem: &Problem,
     solution: &Solution,
     file: &FigureFile,
-) -> Result<bool, OutputError> {
+) -> Result<bool, PlotError> {
     let axes = &problem.axes;
     let label = |k: usize| {
         polywear_core::params::axis_label(axes[k].param.name(), axes[k].param.spec().unit)

@@ -9,7 +9,6 @@
 //! cumulative integrals of B_n at φ_s = 1 on a grid of w, and the constant terms, so that a
 //! cycle sums them once and every calibrated set reads its answer off the sums.
 
-use super::saturate::answer_saturated_per_step;
 use super::{DepthLock, LifeAnswer, Nodes, TransferNodes, TreadDrift, WORN_DEGREE};
 use crate::params::Params;
 use crate::wear::estimator::{print_log_ratio, tread_life_km, Complex64, OrderLoop, WheelGrowth};
@@ -174,17 +173,6 @@ impl LifeProfile {
             tread_life,
             1,
         )
-    }
-
-    /// [`LifeProfile::answer`] with the zone's power modulation held to at most
-    /// `modulation_max` of its mean: [`answer_saturated_per_step`] of this profile alone.
-    pub fn answer_saturated(
-        &self,
-        c: &FittedConstants,
-        p: &Params,
-        modulation_max: f64,
-    ) -> LifeAnswer {
-        answer_saturated_per_step(&[(1.0, self)], c, p, modulation_max)
     }
 
     /// ∫₀^{w_j} B_n dw of order `n` at grid point `j`.

@@ -301,6 +301,19 @@ impl SaturatedSteps {
     }
 }
 
+impl LifeProfile {
+    /// [`LifeProfile::answer`] with the zone's power modulation held to at most
+    /// `modulation_max` of its mean: [`answer_saturated_per_step`] of this profile alone.
+    pub fn answer_saturated(
+        &self,
+        c: &FittedConstants,
+        p: &Params,
+        modulation_max: f64,
+    ) -> LifeAnswer {
+        answer_saturated_per_step(&[(1.0, self)], c, p, modulation_max)
+    }
+}
+
 /// The steps' mean profile, each weighed by its share of their total (the grid of the first;
 /// an empty profile of no orders without steps).
 pub(super) fn steps_mean(steps: &[(f64, &LifeProfile)]) -> LifeProfile {
