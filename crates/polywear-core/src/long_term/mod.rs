@@ -1,7 +1,14 @@
-//! The long-term loop as a problem (MODEL.md#the-long-term-loop): one operating point driven
-//! over a distance on both wheels, `LongTermProblem` → [`solve`] → [`LongTermSolution`]. Above
-//! [`crate::evaluate`] (each wheel starts from its verdict) and [`crate::long_term::wheel_loop`] (the
-//! loop of one wheel), which is why it is a module of its own and not a part of `wear`.
+//! The long-term loop, the wear stage's brute-force check, in its one home
+//! (MODEL.md#the-long-term-loop): one operating point driven over a distance on both wheels,
+//! `LongTermProblem` → [`solve`] → [`LongTermSolution`], above [`crate::evaluate`] (each wheel
+//! starts from its verdict). One file per job: [`wheel_loop`] (the loop of one wheel),
+//! [`profile`] (the worn depth on cells, the seed), [`window`] (a few revolutions at a fixed
+//! profile), [`lock`] (the rotation number and the weights of the mean revolution), [`deposit`]
+//! (the energy laid element by element), [`edge`] (how finely a lock edge is placed),
+//! [`first_step`] (the revolutions the first step integrates), [`wheel_wear`] (what the loop
+//! found for one wheel), [`tongue`] (the lock-in tongue at the end of a run), and the columns
+//! and figures of a solution. Built on the wear physics and response
+//! ([`crate::wear::physics`], [`crate::wear::response`]).
 
 use crate::classify::budget::Meter;
 use crate::classify::{Class, ClassifierOptions};
