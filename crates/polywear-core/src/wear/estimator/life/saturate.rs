@@ -255,7 +255,7 @@ impl PiecewiseRate {
 /// dD/ds = Σ_k a_k (b_k D + min(r_k D, m_max · φ_s 2 w′_k |H_w|)), b_k the step's levelling
 /// and r_k its growth through the tread on the interval (read off its integrals), solved
 /// exactly on each interval of the depth grid (MODEL.md#the-forced-response-saturates). A
-/// vibrating step's order locks at depth (its [`DepthLock`]): where u R⁰ reaches the radius at
+/// vibrating step's order locks at depth (its [`super::DepthLock`]): where u R⁰ reaches the radius at
 /// which the step's cycle locks at the interval's detuning, or at any depth where the tread's
 /// drift carries ν through the order, the step prints the locked cycle's in-phase share of its
 /// free print, at most the bound, each share held over short stretches at their predicted
