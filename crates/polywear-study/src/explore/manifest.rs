@@ -344,6 +344,47 @@ mod params_map {
 
 #[cfg(test)]
 mod tests {
+    use super::WearRecord;
+    use polywear_core::classify::Class;
+    use polywear_core::evaluate::WearStage;
+    use polywear_core::wear::{Calibration, WearPower, WearSettings, WearZone};
+
+    fn stage(zone: WearZone, power: WearPower) -> WearStage {
+        WearStage {
+            settings: WearSettings { zone, power },
+            calibration: Calibration {
+                reference_power_w: 37.10074758977802,
+                reference_band_m3_per_s: 7.427143934209326,
+                reference_class: Class::LimitCycle,
+                gamma_m3_per_j: 2.882714759151682e-12,
+            },
+        }
+    }
+
+    /// The typed record is written as the stage always was (the same JSON text, keys sorted,
+    /// as every manifest and chunk footer has it), and reads back to itself; a record of a run
+    /// from before the answer had a name, or before the slip power counted, reads with the one
+    /// default for each: the new tire's (retired) level, the lateral power alone.
+    #[test]
+    fn the_wear_record_is_written_as_the_stage_and_read_with_one_default() {
+        for (zone, power) in [
+            (WearZone::Trailing, WearPower::WithSlip),
+            (WearZone::WholePatch, WearPower::LateralOnly),
+        ] {
+            let stage = stage(zone, power);
+            let record = WearRecord::of(&stage);
+            let text = serde_json::to_string(&record).unwrap();
+            assert_eq!(text, serde_json::to_value(stage).unwrap().to_string());
+            let back: WearRecord = serde_json::from_str(&text).unwrap();
+            assert_eq!(back, record);
+            assert_eq!(back.settings(), stage.settings);
+        }
+        let old = r#"{"calibration":{"gamma_m3_per_j":2.882714759151682e-12,"reference_band_m3_per_s":7.427143934209326,"reference_class":"limit_cycle","reference_power_w":37.10074758977802},"wear_zone":"trailing"}"#;
+        let old: WearRecord = serde_json::from_str(old).unwrap();
+        assert_eq!(old.wear_estimate, "new_tire");
+        assert_eq!(old.wear_power, WearPower::LateralOnly);
+    }
+
     /// What the manifest records reads back bit for bit: serde_json parses floats exactly only
     /// with its `float_roundtrip` feature, without which γ = 2.882714759151682e-12 (the shipped
     /// calibration) read back one ulp off and `--resume` refused its own run.
