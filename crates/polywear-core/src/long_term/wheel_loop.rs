@@ -58,7 +58,7 @@ pub use crate::wear::response::legs::{cruise_legs, cycle_legs, Leg, SPEED_NODES}
 use crate::wear::WearError;
 
 mod steps;
-use steps::{edge_resolution_m, step_after, step_to_take_m, LoopRecord};
+use steps::{step_after, step_to_take_m, LoopRecord};
 
 /// Profile cells M of the shipped loop (1.95 mm each at r_B = 0.317 m, under a quarter of the
 /// trailing zone's length).
@@ -553,14 +553,18 @@ pub fn run_wheel(
         let sig = signature(&rho, &locked);
         if let Some((prev_state, prev_m, prev_sig, prev_measured)) = last.take() {
             let half = 0.5 * prev_m;
-            let sides = EdgeSides {
-                shares: &shares,
-                signatures: [&prev_sig, &sig],
-                rates_m_per_m: [rates_of(&prev_measured), rates_of(&measured)],
-                profile: &before.profile,
-                seed_depth_m: 2.0 * seed_m,
+            let resolution_m = if prev_sig == sig {
+                f64::INFINITY
+            } else {
+                let sides = EdgeSides {
+                    shares: &shares,
+                    signatures: [&prev_sig, &sig],
+                    rates_m_per_m: [rates_of(&prev_measured), rates_of(&measured)],
+                    profile: &before.profile,
+                    seed_depth_m: 2.0 * seed_m,
+                };
+                sides.resolution_m(min_step_m)
             };
-            let resolution_m = edge_resolution_m(&sides, min_step_m);
             if half >= resolution_m * (1.0 - 1e-12) {
                 // The previous step changed a lock flag or an order, and the change is not yet
                 // placed as finely as its print needs: redo it at half length, laying again

@@ -25,16 +25,6 @@ pub(super) fn step_to_take_m(
     this_m
 }
 
-/// How finely the lock edge between two steps must be placed \[m\]: where the signature did
-/// not change, not at all (infinite).
-pub(super) fn edge_resolution_m(sides: &EdgeSides<'_>, min_step_m: f64) -> f64 {
-    if sides.signatures[0] == sides.signatures[1] {
-        f64::INFINITY
-    } else {
-        sides.resolution_m(min_step_m)
-    }
-}
-
 /// The next step's length \[m\] after an accepted step whose history is `point` and whose
 /// legs wore at `rate` \[m/m\], and the step's mean wear rate \[m/m\].
 pub(super) fn step_after(

@@ -132,6 +132,9 @@ struct OrderWalk<'a> {
     life: &'a WalkOfLife<'a>,
     n: u32,
     order: f64,
+    /// 1/n, and 1/ẇ \[m/m\]⁻¹: the distance at x is w(x/n)/ẇ.
+    per_order: f64,
+    per_wear: f64,
     order_loop: OrderLoop,
     /// The tongue's centre and half-width at x = n \[m/s\].
     centre_at_n: f64,
@@ -195,6 +198,8 @@ impl<'a> OrderWalk<'a> {
             life,
             n,
             order,
+            per_order,
+            per_wear,
             order_loop,
             centre_at_n,
             half_at_n,
@@ -262,8 +267,7 @@ impl<'a> OrderWalk<'a> {
         if x == self.x_end {
             self.life.life_m
         } else {
-            let (per_order, per_wear) = (1.0 / self.order, 1.0 / self.life.wear_m_per_m);
-            self.life.orders.drift.worn_at(x * per_order) * per_wear
+            self.life.orders.drift.worn_at(x * self.per_order) * self.per_wear
         }
     }
 
