@@ -17,7 +17,7 @@ use polywear::classify::budget::Meter;
 use polywear::classify::ClassifierOptions;
 use polywear::evaluate::{self, PointProblem, WearStage};
 use polywear::study::{Study, DEFAULT_STUDY};
-use polywear::wear::{FittedConstants, WearAnswer, WheelGrowth};
+use polywear::wear::{FittedConstants, LifeAnswer, WheelGrowth};
 
 const LEVELS: u8 = 3;
 
@@ -62,18 +62,18 @@ fn main() {
                 }
                 let c = FittedConstants::of(&p);
                 for w in &point.wheels {
-                    let Ok(g) = WheelGrowth::new(&stage.inputs(&p, w), &Meter::new(opts.budget))
+                    let Ok(g) = WheelGrowth::new(&stage.problem(&p, w), &Meter::new(opts.budget))
                     else {
                         continue;
                     };
                     // Visible within 60,000 km and before the tire is worn out, as the analysis
                     // counts.
                     let visible =
-                        |a: WearAnswer| usize::from(a.visible_within(60_000.0) == Some(true));
+                        |a: LifeAnswer| usize::from(a.visible_within(60_000.0) == Some(true));
                     if level == 1 {
-                        seen.0 += visible(g.life_answer(&c).answer);
+                        seen.0 += visible(g.life_answer(&c));
                     } else {
-                        seen.1 += visible(g.saturated_answer(&c).answer);
+                        seen.1 += visible(g.saturated_answer(&c));
                     }
                 }
                 seen

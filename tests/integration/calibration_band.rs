@@ -664,7 +664,7 @@ fn grouping_the_sets_changes_no_answer() {
     use polywear::classify::ClassifierOptions;
     use polywear::evaluate::{self, PointProblem, WearStage};
     use polywear::model::Variant;
-    use polywear::wear::{WearAnswer, WheelGrowth};
+    use polywear::wear::{LifeAnswer, WheelGrowth};
     let band = CalibrationBand::shipped();
     let sets: Vec<FittedConstants> = band.sets.iter().map(|s| s.constants()).collect();
     let opts = ClassifierOptions::default();
@@ -681,10 +681,9 @@ fn grouping_the_sets_changes_no_answer() {
         };
         let point = evaluate::solve(&PointProblem::new(p, &variants, &opts));
         for w in &point.wheels {
-            let g = WheelGrowth::new(&stage.inputs(&p, w), &Meter::new(opts.budget)).unwrap();
+            let g = WheelGrowth::new(&stage.problem(&p, w), &Meter::new(opts.budget)).unwrap();
             let grouped = g.answers_on(&sets);
-            let single: Vec<WearAnswer> =
-                sets.iter().map(|c| g.saturated_answer(c).answer).collect();
+            let single: Vec<LifeAnswer> = sets.iter().map(|c| g.saturated_answer(c)).collect();
             // Bit for bit, NaN orders included (NaN is not equal to itself): their debug texts.
             assert_eq!(
                 format!("{grouped:?}"),
@@ -694,7 +693,7 @@ fn grouping_the_sets_changes_no_answer() {
             );
             for (c, a) in sets.iter().zip(&grouped).step_by(5) {
                 let q = c.applied_to(&p);
-                let e = polywear::wear::estimate(&stage.inputs(&q, w), &Meter::new(opts.budget));
+                let e = stage.problem(&q, w).solve(&Meter::new(opts.budget));
                 assert_eq!(
                     e.distance_to_visible_km.to_bits(),
                     a.distance_to_visible_km.to_bits(),

@@ -227,10 +227,10 @@ use polywear::numeric::Complex64;
 use polywear::wear::physics::feedback::ForcedTread;
 use polywear::wear::response::periodic::CycleResponse;
 use polywear::wear::response::transfer::Linearisation;
-use polywear::wear::{estimate, WearEstimate, WearInputs, WearPower, WearSettings};
+use polywear::wear::{WearAnswer, WearPower, WearProblem, WearSettings};
 
 /// The wheel's estimate and its loop, with R0's calibration for `base`.
-fn estimated(p: &Params, wheel: Wheel, zone: WearZone) -> (WearEstimate, WheelGrowth, u64) {
+fn estimated(p: &Params, wheel: Wheel, zone: WearZone) -> (WearAnswer, WheelGrowth, u64) {
     let opts = ClassifierOptions::default();
     let cal = polywear::evaluate::calibrate_wear(p, Variant::SlidingShare, &opts).unwrap();
     let (m, v) = classify_point(p, wheel, Variant::SlidingShare, &opts);
@@ -239,7 +239,7 @@ fn estimated(p: &Params, wheel: Wheel, zone: WearZone) -> (WearEstimate, WheelGr
         zone,
         power: WearPower::LateralOnly,
     };
-    let inputs = WearInputs {
+    let inputs = WearProblem {
         params: p,
         model: &m,
         verdict: &v,
@@ -247,7 +247,7 @@ fn estimated(p: &Params, wheel: Wheel, zone: WearZone) -> (WearEstimate, WheelGr
         calibration: &cal,
     };
     let meter = Meter::new(opts.budget);
-    let e = estimate(&inputs, &meter);
+    let e = inputs.solve(&meter);
     let used = meter.used();
     let g = WheelGrowth::new(&inputs, &Meter::new(opts.budget)).unwrap();
     (e, g, used)
@@ -482,14 +482,14 @@ fn undefined_wheels_are_nan() {
     ] {
         let (m, v) = classify_point(&p, Wheel::Driving, Variant::SlidingShare, &o);
         assert_eq!(v.class, class, "{v:?}");
-        let inputs = WearInputs {
+        let inputs = WearProblem {
             params: &p,
             model: &m,
             verdict: &v,
             settings: &WearSettings::default(),
             calibration: &cal,
         };
-        let e = estimate(&inputs, &Meter::new(opts.budget));
+        let e = inputs.solve(&Meter::new(opts.budget));
         for x in [
             e.wear_even_mm_per_1000km,
             e.polygon_order_dominant,
@@ -661,14 +661,14 @@ fn driving_against_follower_growth_is_measured() {
             .iter()
             .map(|&wheel| {
                 let (m, v) = classify_point(&p, wheel, Variant::SlidingShare, &opts);
-                let inputs = WearInputs {
+                let inputs = WearProblem {
                     params: &p,
                     model: &m,
                     verdict: &v,
                     settings: &WearSettings::default(),
                     calibration: &cal,
                 };
-                let e = estimate(&inputs, &Meter::new(opts.budget));
+                let e = inputs.solve(&Meter::new(opts.budget));
                 // The growth of the new tire's fastest order (the closed loop's, a building
                 // block of the answer over the tread's life).
                 let growth = WheelGrowth::new(&inputs, &Meter::new(opts.budget))
@@ -716,7 +716,7 @@ fn speed_spread_mean_against_the_loops_at_each_speed() {
     let cal = polywear::evaluate::calibrate_wear(&base, Variant::SlidingShare, &opts).unwrap();
     let growth = |p: &Params| {
         let (m, v) = classify_point(p, Wheel::Follower, Variant::SlidingShare, &opts);
-        let inputs = WearInputs {
+        let inputs = WearProblem {
             params: p,
             model: &m,
             verdict: &v,
@@ -852,7 +852,7 @@ fn driving_growth(power: WearPower) -> (WheelGrowth, WheelModel, f64) {
         zone: WearZone::Trailing,
         power,
     };
-    let inputs = WearInputs {
+    let inputs = WearProblem {
         params: &p,
         model: &m,
         verdict: &v,

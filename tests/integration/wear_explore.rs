@@ -326,8 +326,8 @@ mod along_a_cycle {
                 .collect();
             let steps: Vec<(f64, &LifeProfile)> = profiles.iter().map(|(a, pr)| (*a, pr)).collect();
             let c0 = FittedConstants::of(&p);
-            let want = answer_saturated_per_step(&steps, &c0, &p, SLIDING_MODULATION_MAX).answer;
-            let summed = answer_saturated_per_step(&steps, &c0, &p, f64::INFINITY).answer;
+            let want = answer_saturated_per_step(&steps, &c0, &p, SLIDING_MODULATION_MAX);
+            let summed = answer_saturated_per_step(&steps, &c0, &p, f64::INFINITY);
             let here = format!("wheel {w}: {got:?} against {want:?}");
             assert_eq!(got.dominant_order, want.polygon_order_wear, "{here}");
             let (a, b) = (got.distance_to_visible_km, want.distance_to_visible_km);

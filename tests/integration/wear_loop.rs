@@ -10,7 +10,7 @@ use polywear::long_term::wheel_loop::{
 };
 use polywear::model::{Variant, Wheel};
 use polywear::params::Params;
-use polywear::wear::estimator::{WearInputs, WearSettings, WheelGrowth};
+use polywear::wear::estimator::{WearProblem, WearSettings, WheelGrowth};
 use polywear::wear::physics::law;
 use polywear::wear::Calibration;
 use polywear_lab::accelerated::{run_oracle, OracleSettings};
@@ -77,7 +77,7 @@ fn growth(p: &Params, w: &WheelSolution) -> WheelGrowth {
     let cal = calibration(p);
     let meter = polywear::classify::budget::Meter::new(Default::default());
     WheelGrowth::new(
-        &WearInputs {
+        &WearProblem {
             params: p,
             model: &w.model,
             verdict: &w.verdict,
@@ -1243,7 +1243,7 @@ fn the_loop_stops_at_its_work_budget() {
 /// The estimator's growth of the loop's wheel `w` at `p`, on the loop's own solution.
 fn growth_of(w: &polywear::long_term::WheelLongTerm, p: &Params) -> WheelGrowth {
     WheelGrowth::new(
-        &WearInputs {
+        &WearProblem {
             params: p,
             model: &w.solution.model,
             verdict: &w.solution.verdict,
@@ -1306,7 +1306,7 @@ fn the_one_wear_answer_agrees_with_the_loop_at_the_nominal_set() {
     for (p, s) in &solved {
         for w in &s.wheels {
             let run = w.run.as_ref().unwrap();
-            let answer = w.estimate.unwrap().answer;
+            let answer = w.estimate.unwrap();
             let here = format!(
                 "{} km/h, {}°, {}: loop {:?}, answer {answer:?}",
                 p.speed_kmh,
@@ -1375,8 +1375,8 @@ fn saturated_on_the_loop_s_legs_agrees_where_the_life_reading_is_short() {
         let RunEnd::Visible { order, km } = w.run.as_ref().unwrap().ended() else {
             panic!("{}: no polygon", w.wheel);
         };
-        let life = unbounded_life(w, &p).answer;
-        let saturated = w.on_legs.unwrap().answer;
+        let life = unbounded_life(w, &p);
+        let saturated = w.on_legs.unwrap();
         let here = format!("{}: loop {km} km (order {order})", w.wheel);
         assert!(
             life.distance_to_visible_km < 0.7 * km,
@@ -1421,8 +1421,8 @@ fn the_saturated_level_agrees_with_the_loop_at_a_spread_where_the_life_level_is_
     .unwrap();
     let s = solve(&problem, &|_| {}).unwrap();
     for w in &s.wheels {
-        let life = unbounded_life(w, &p).answer;
-        let saturated = w.estimate.unwrap().answer;
+        let life = unbounded_life(w, &p);
+        let saturated = w.estimate.unwrap();
         let here = format!("{}: life {life:?}, saturated {saturated:?}", w.wheel);
         match (w.wheel, w.run.as_ref().unwrap().ended()) {
             (Wheel::Follower, RunEnd::Visible { order, km }) => {

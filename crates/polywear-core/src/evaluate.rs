@@ -19,7 +19,7 @@ use crate::classify::{classify_point_hinted, Class, ClassifierOptions, CycleHint
 use crate::model::{ModelFailure, Variant, Wheel, WheelModel};
 use crate::params::Params;
 use crate::records::{WearRecord, WheelRecord};
-use crate::wear::{self, Calibration, WearError, WearEstimate, WearInputs, WearSettings};
+use crate::wear::{self, Calibration, WearAnswer, WearError, WearProblem, WearSettings};
 
 /// One operating point to evaluate. Built by [`PointProblem::new`] (or
 /// [`PointProblem::checked`], which refuses invalid parameters first) and its `with_…`
@@ -56,10 +56,10 @@ pub struct WearStage {
 }
 
 impl WearStage {
-    /// What the wear stage needs of wheel `w` at parameters `p`: its model and verdict, with
+    /// The wear problem of wheel `w` at parameters `p`: its model and verdict, with
     /// this stage's settings and calibration.
-    pub fn inputs<'a>(&'a self, p: &'a Params, w: &'a WheelSolution) -> WearInputs<'a> {
-        WearInputs {
+    pub fn problem<'a>(&'a self, p: &'a Params, w: &'a WheelSolution) -> WearProblem<'a> {
+        WearProblem {
             params: p,
             model: &w.model,
             verdict: &w.verdict,
@@ -170,7 +170,7 @@ pub struct WheelSolution {
     /// This wheel's cycle as a starting guess for a neighbouring point (none without a cycle).
     pub hint: Option<CycleHint>,
     /// The wear stage's estimate, when the problem has the stage (also in `record.wear`).
-    pub wear: Option<WearEstimate>,
+    pub wear: Option<WearAnswer>,
 }
 
 /// What a point came to: one [`WheelSolution`] per (variant, wheel), in
@@ -288,9 +288,9 @@ impl WheelSolution {
         let Some(stage) = stage else { return self };
         let meter = Meter::new(options.budget);
         let estimate = if self.verdict.class == Class::Standstill {
-            WearEstimate::undefined(p.wear_share_straight, self.verdict.reason.clone())
+            WearAnswer::undefined(p.wear_share_straight, self.verdict.reason.clone())
         } else {
-            wear::estimate(&stage.inputs(p, &self), &meter)
+            stage.problem(p, &self).solve(&meter)
         };
         self.record.wear = Some(WearRecord::of(&estimate, p, meter.used()));
         self.wear = Some(estimate);

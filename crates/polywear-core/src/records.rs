@@ -13,7 +13,7 @@ use crate::classify::{Class, Method, WheelVerdict};
 use crate::columns::Column;
 use crate::model::{ModelFailure, Variant, Wheel, WheelModel};
 use crate::params::Params;
-use crate::wear::WearEstimate;
+use crate::wear::WearAnswer;
 
 /// How a column is stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -253,7 +253,7 @@ pub fn deprecated_columns<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<(
 
 impl WearRecord {
     /// The row of an estimate at parameters `p` that spent `rhs_evals` evaluations.
-    pub fn of(e: &WearEstimate, p: &Params, rhs_evals: u64) -> Self {
+    pub fn of(e: &WearAnswer, p: &Params, rhs_evals: u64) -> Self {
         let dominant = e
             .orders
             .iter()
@@ -282,7 +282,7 @@ impl WearRecord {
     /// one with it): every figure NaN.
     fn missing() -> Self {
         WearRecord::of(
-            &WearEstimate::undefined(f64::NAN, "the wear stage did not run".into()),
+            &WearAnswer::undefined(f64::NAN, "the wear stage did not run".into()),
             &Params::default(),
             0,
         )

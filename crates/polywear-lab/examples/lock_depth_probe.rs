@@ -110,7 +110,7 @@ fn main() {
             let key = p.speed_kmh.to_bits();
             let entry = cache.entry(key).or_insert_with(|| {
                 let w = solve_wheel(p, variant, wheel, &opts);
-                let g = WheelGrowth::new(&stage.inputs(&p, &w), &Meter::new(opts.budget)).ok()?;
+                let g = WheelGrowth::new(&stage.problem(&p, &w), &Meter::new(opts.budget)).ok()?;
                 let profile = g.life_profile(ORDERS, LIFE_PROFILE_INTERVALS);
                 let ratios = g.worn_frequency_ratios(LIFE_PROFILE_INTERVALS);
                 let nu = g.nu();
@@ -206,7 +206,7 @@ fn main() {
             "{wheel:?}: {} bins, {:.1} s; shipped saturated: {:?}",
             bins.len(),
             t0.elapsed().as_secs_f64(),
-            shipped.answer
+            shipped
         );
         for locking in [false, true] {
             let (km, n) = walk(&bins, &c, &base, locking);
@@ -402,7 +402,7 @@ impl BruteTable {
         let growth_at = |p: &Params| {
             let stage = WearStage::for_run(p, variant, settings, &opts).unwrap();
             let w = solve_wheel(*p, variant, wheel, &opts);
-            let g = WheelGrowth::new(&stage.inputs(p, &w), &Meter::new(opts.budget)).unwrap();
+            let g = WheelGrowth::new(&stage.problem(p, &w), &Meter::new(opts.budget)).unwrap();
             (w, g)
         };
         let (_, g) = growth_at(&at(near_kmh));

@@ -28,8 +28,8 @@ fn main() {
     let opts = ClassifierOptions::default();
     let report = |here: &str, profile: &LifeProfile, p: &Params| {
         let c = FittedConstants::of(p);
-        let plain = profile.answer(&c, p).answer;
-        let sat = profile.answer_saturated(&c, p, m_max).answer;
+        let plain = profile.answer(&c, p);
+        let sat = profile.answer_saturated(&c, p, m_max);
         println!(
             "{here}: plain order {} at {:.0} km; saturated (m_max {m_max}) order {} at {:.0} km",
             plain.polygon_order_wear,
@@ -181,7 +181,7 @@ fn by_speed(steps: &[(f64, LifeProfile)], speeds: &[f64], width: f64) -> Vec<(f6
 fn per_step(steps: &[(f64, LifeProfile)], p: &Params, m_max: f64) {
     let c = FittedConstants::of(p);
     let refs: Vec<(f64, &LifeProfile)> = steps.iter().map(|(a, pr)| (*a, pr)).collect();
-    let exact = answer_saturated_per_step(&refs, &c, p, m_max).answer;
+    let exact = answer_saturated_per_step(&refs, &c, p, m_max);
     println!(
         "  saturated per step: order {} at {:.0} km",
         exact.polygon_order_wear, exact.distance_to_visible_km
@@ -256,8 +256,8 @@ fn rows(path: &str, sigma: f64, k: usize, m_max: f64, phi: f64) {
             );
             let refs: Vec<(f64, &LifeProfile)> = steps.iter().map(|(a, pr)| (*a, pr)).collect();
             let c = FittedConstants::of(&base);
-            let plain = answer_saturated_per_step(&refs, &c, &base, f64::INFINITY).answer;
-            let sat = answer_saturated_per_step(&refs, &c, &base, m_max).answer;
+            let plain = answer_saturated_per_step(&refs, &c, &base, f64::INFINITY);
+            let sat = answer_saturated_per_step(&refs, &c, &base, m_max);
             format!(
                 "{},{},{},{},{},{}",
                 r[0],

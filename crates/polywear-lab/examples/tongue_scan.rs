@@ -16,7 +16,7 @@ use polywear::long_term::window::{integrate_window, EpsilonTable, WindowRequest}
 use polywear::model::{Variant, Wheel, WheelModel};
 use polywear::numeric::Complex64;
 use polywear::params::Params;
-use polywear::wear::{Feedback, WearInputs, WearSettings, WearZone, WheelGrowth};
+use polywear::wear::{Feedback, WearProblem, WearSettings, WearZone, WheelGrowth};
 
 fn main() {
     let a: Vec<String> = std::env::args().collect();
@@ -38,7 +38,7 @@ fn main() {
     let f = nu * f_rot;
     let meter = Meter::new(Default::default());
     let g = WheelGrowth::new(
-        &WearInputs {
+        &WearProblem {
             params: &p,
             model: &w.model,
             verdict: v,

@@ -181,21 +181,21 @@ pub fn lines(
 /// One estimate's line over the tread's life: `label`, the answer, then `note`.
 fn life_line(wheel: Wheel, label: &str, reading: Option<&LifeAnswer>, note: &str) -> String {
     match reading {
-        Some(l) if l.answer.distance_to_visible_km.is_finite() => format!(
+        Some(l) if l.distance_to_visible_km.is_finite() => format!(
             "  {wheel}: {label} order {}, distance {} km over the tread's life (the tire worn out at {} km){note}",
-            plain(l.answer.polygon_order_wear, 4),
-            plain(l.answer.distance_to_visible_km.round(), 8),
-            plain(l.answer.tread_life_km.round(), 8)
+            plain(l.polygon_order_wear, 4),
+            plain(l.distance_to_visible_km.round(), 8),
+            plain(l.tread_life_km.round(), 8)
         ),
         // NaN order: no order rose above its seed (LifeAnswer::of_walk), so none is named.
-        Some(l) if l.answer.polygon_order_wear.is_nan() => format!(
+        Some(l) if l.polygon_order_wear.is_nan() => format!(
             "  {wheel}: {label} none before the tire is worn out at {} km over the tread's life (every order stays below its seed run-out){note}",
-            plain(l.answer.tread_life_km.round(), 8),
+            plain(l.tread_life_km.round(), 8),
         ),
         Some(l) => format!(
             "  {wheel}: {label} none before the tire is worn out at {} km over the tread's life (order {} deepest, at {} of the visible depth){note}",
-            plain(l.answer.tread_life_km.round(), 8),
-            plain(l.answer.polygon_order_wear, 4),
+            plain(l.tread_life_km.round(), 8),
+            plain(l.polygon_order_wear, 4),
             plain(l.peak_share_of_visible, 2)
         ),
         None => format!("  {wheel}: {label} none"),

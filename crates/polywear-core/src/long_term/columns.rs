@@ -124,18 +124,16 @@ impl LongTermSolution {
             };
             type Field = fn(&LifeAnswer) -> f64;
             let named: [(&str, &'static str, Field); 4] = [
-                ("polygon_order_wear", "", |l| l.answer.polygon_order_wear),
-                ("distance_to_visible_km", "km", |l| {
-                    l.answer.distance_to_visible_km
-                }),
-                ("tread_life_km", "km", |l| l.answer.tread_life_km),
+                ("polygon_order_wear", "", |l| l.polygon_order_wear),
+                ("distance_to_visible_km", "km", |l| l.distance_to_visible_km),
+                ("tread_life_km", "km", |l| l.tread_life_km),
                 ("peak_share_of_visible", "", |l| l.peak_share_of_visible),
             ];
             for (name, unit, get) in named {
                 cols.push(Column::f64(format!("{prefix}_{name}"), unit, of(&get)));
             }
         }
-        let point = |get: fn(&crate::wear::WearEstimate) -> f64| -> Vec<f64> {
+        let point = |get: fn(&crate::wear::WearAnswer) -> f64| -> Vec<f64> {
             wheels
                 .iter()
                 .map(|w| match (&w.solution.wear, w.estimate.is_some()) {

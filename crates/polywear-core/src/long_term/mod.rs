@@ -291,7 +291,7 @@ pub fn solve(
                 Err(e) => (Err(e), Err(WheelRunFailure::NoRun)),
             };
             let growth = WheelGrowth::new(
-                &stage.inputs(&p, &solution),
+                &stage.problem(&p, &solution),
                 &Meter::new(problem.classifier.budget),
             )
             .ok();
@@ -371,7 +371,7 @@ pub fn leg_profiles(
             };
             let w = evaluate::solve_wheel(at, variant, wheel, classifier);
             let growth =
-                WheelGrowth::new(&stage.inputs(&at, &w), &Meter::new(classifier.budget)).ok()?;
+                WheelGrowth::new(&stage.problem(&at, &w), &Meter::new(classifier.budget)).ok()?;
             let profile = growth.life_profile(SEED_ORDERS as u32, LIFE_PROFILE_INTERVALS);
             // Past the wheel's wall-clock limit the leg has no figures.
             growth

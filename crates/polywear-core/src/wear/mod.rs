@@ -1,6 +1,6 @@
 //! The wear stage (MODEL.md#step-10-wear-law, #step-11-wear-zone, #step-12-feedback): from a
 //! wheel's vibration to the wear it lays on the tread, and from the worn profile back to the
-//! friction levels, answered once per sample as `WearInputs` → [`estimate`] → [`WearEstimate`].
+//! friction levels, answered once per wheel as [`WearProblem`] → [`WearProblem::solve`] → [`WearAnswer`].
 //! One folder per family: [`physics`] (the wear law, the zone, the slip power, the feedback,
 //! the abradability γ, the calibrated constants, one period of a limit cycle), [`response`]
 //! (the tread's response to a worn profile: transfers, periodic response, the speed spread and
@@ -37,12 +37,12 @@ pub mod response;
 
 pub use error::WearError;
 pub use estimator::{
-    estimate, retired_level, LifeAnswer, LifeProfile, WearEstimate, WearInputs, WearSettings,
-    WheelGrowth, LIFE_PROFILE_INTERVALS, SHIPPED_LEVEL,
+    retired_level, LifeProfile, WearAnswer, WearProblem, WearSettings, WheelGrowth,
+    LIFE_PROFILE_INTERVALS, SHIPPED_LEVEL,
 };
 pub use physics::calibration::Calibration;
 pub use physics::feedback::Feedback;
-pub use physics::fitted::{FittedConstants, WearAnswer};
+pub use physics::fitted::{FittedConstants, LifeAnswer};
 pub use physics::slip::WearPower;
 pub use physics::zone::{WearZone, ZoneGeometry};
 

@@ -44,7 +44,7 @@ impl NearV19 {
         let growth_at = |p: &Params| {
             let stage = WearStage::for_run(p, VARIANT, WearSettings::default(), &opts).unwrap();
             let w = solve_wheel(*p, VARIANT, Wheel::Follower, &opts);
-            let g = WheelGrowth::new(&stage.inputs(p, &w), &Meter::new(opts.budget)).unwrap();
+            let g = WheelGrowth::new(&stage.problem(p, &w), &Meter::new(opts.budget)).unwrap();
             (w, g)
         };
         let (_, g100) = growth_at(&at(100.0));

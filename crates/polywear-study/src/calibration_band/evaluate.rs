@@ -18,7 +18,7 @@ use polywear_core::classify::ClassifierOptions;
 use polywear_core::evaluate::{self, PointProblem, WearStage};
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::Params;
-use polywear_core::wear::{FittedConstants, WearAnswer, WheelGrowth};
+use polywear_core::wear::{FittedConstants, LifeAnswer, WheelGrowth};
 use rand::SeedableRng;
 use rayon::prelude::*;
 
@@ -56,7 +56,7 @@ pub fn set_column(id: &str) -> String {
 /// What a band column holds for an answer: its distance to a visible polygon where that comes
 /// before the tire is worn out, +inf where it does not (later, or never), NaN where unknown (a
 /// distance threshold then reads it as the rows' `wear_outcome` does).
-fn visible_km(a: &WearAnswer) -> f64 {
+fn visible_km(a: &LifeAnswer) -> f64 {
     match a.outcome() {
         polywear_core::wear::physics::fitted::WearOutcome::Visible => a.distance_to_visible_km,
         polywear_core::wear::physics::fitted::WearOutcome::NotWithinLife => f64::INFINITY,
@@ -114,7 +114,7 @@ pub struct BandWheel {
     /// The point's speed \[km/h\] (a fleet weighted by hours weighs wear by it).
     pub speed_kmh: f64,
     /// [`RUN_SET`]'s answer, then each set's.
-    pub answers: Vec<WearAnswer>,
+    pub answers: Vec<LifeAnswer>,
 }
 
 /// One sample's wheels.
@@ -187,10 +187,10 @@ impl BandPlan<'_> {
             for w in &solution.wheels {
                 // None where the wheel has no figures (a standstill among them), as the rows.
                 let growth =
-                    WheelGrowth::new(&self.stage.inputs(&point, w), &Meter::new(opts.budget)).ok();
+                    WheelGrowth::new(&self.stage.problem(&point, w), &Meter::new(opts.budget)).ok();
                 let answers = match &growth {
                     Some(g) => g.answers_on(&constants),
-                    None => vec![WearAnswer::UNKNOWN; constants.len()],
+                    None => vec![LifeAnswer::UNKNOWN; constants.len()],
                 };
                 wheels.push(BandWheel {
                     block,

@@ -23,7 +23,7 @@ use polywear_core::classify::{classify_point, ClassifierOptions};
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::{ParamId, Params};
 use polywear_core::sampling::design::{Coordinates, Design};
-use polywear_core::wear::{FittedConstants, WearAnswer, WearInputs, WearSettings, WheelGrowth};
+use polywear_core::wear::{FittedConstants, LifeAnswer, WearProblem, WearSettings, WheelGrowth};
 use rayon::prelude::*;
 
 use super::ConstantRange;
@@ -154,7 +154,7 @@ pub fn wheel_growth(
 ) -> Option<WheelGrowth> {
     let opts = ClassifierOptions::default();
     let (m, v) = classify_point(p, wheel, Variant::SlidingShare, &opts);
-    let inputs = WearInputs {
+    let inputs = WearProblem {
         params: p,
         model: &m,
         verdict: &v,
@@ -249,16 +249,16 @@ impl<'a> Targets<'a> {
 
     /// Design point `index` at the constants `c`, on the population's wheels.
     fn point(&self, pop: &Population, index: u64, c: &FittedConstants) -> GridPoint {
-        let answer = |g: &WheelGrowth| g.saturated_answer(c).answer;
+        let answer = |g: &WheelGrowth| g.saturated_answer(c);
         let highway_median_km = median(
             pop.highway
                 .iter()
                 .map(|g| answer(g).distance_to_visible_km)
                 .collect(),
         );
-        let answers: Vec<WearAnswer> = pop.fleet.iter().map(answer).collect();
+        let answers: Vec<LifeAnswer> = pop.fleet.iter().map(answer).collect();
         let fleet_median_km = median(answers.iter().map(|a| a.distance_to_visible_km).collect());
-        let visible: Vec<&WearAnswer> = answers
+        let visible: Vec<&LifeAnswer> = answers
             .iter()
             .filter(|a| a.distance_to_visible_km <= self.fleet_km)
             .collect();

@@ -14,7 +14,7 @@ use polywear_core::long_term::wheel_loop::Leg;
 use polywear_core::long_term::{self, LongTermError, LongTermProblem, LongTermSolution};
 use polywear_core::params::Params;
 use polywear_core::wear::estimator::{SaturatedSteps, SLIDING_MODULATION_MAX};
-use polywear_core::wear::{FittedConstants, WearAnswer, WearSettings, WheelGrowth};
+use polywear_core::wear::{FittedConstants, LifeAnswer, WearSettings, WheelGrowth};
 
 use rayon::prelude::*;
 
@@ -82,9 +82,9 @@ pub fn chosen(
     for w in &run.wheels {
         // A cruise's sets are ranked by the point's answer; a drive cycle's by its legs'
         // answers (each leg saturating on its own), since the point is not what it drives.
-        let answers: Vec<WearAnswer> = if problem.is_cruise() {
+        let answers: Vec<LifeAnswer> = if problem.is_cruise() {
             let Ok(growth) = WheelGrowth::new(
-                &stage.inputs(p, &w.solution),
+                &stage.problem(p, &w.solution),
                 &Meter::new(problem.classifier.budget),
             ) else {
                 continue;
@@ -105,7 +105,7 @@ pub fn chosen(
             let steps = SaturatedSteps::new(legs);
             constants
                 .iter()
-                .map(|c| steps.answer(c, p, SLIDING_MODULATION_MAX).answer)
+                .map(|c| steps.answer(c, p, SLIDING_MODULATION_MAX))
                 .collect()
         };
         // Ranked by the distance to a visible polygon, then (where none grows, as at most

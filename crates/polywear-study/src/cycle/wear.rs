@@ -43,7 +43,7 @@ pub fn step_life(
     stage: &WearStage,
     options: &ClassifierOptions,
 ) -> Option<LifeProfile> {
-    let growth = WheelGrowth::new(&stage.inputs(p, wheel), &Meter::new(options.budget)).ok()?;
+    let growth = WheelGrowth::new(&stage.problem(p, wheel), &Meter::new(options.budget)).ok()?;
     let life = growth.life_profile(CYCLE_ORDERS_MAX, LIFE_PROFILE_INTERVALS);
     growth.out_of_time().is_none().then_some(life)
 }
@@ -147,7 +147,7 @@ impl CycleLife {
                         let mut bounded = bins.answer(c, base, SLIDING_MODULATION_MAX);
                         // The bins share the cycle's even wear: its tread's life is the whole
                         // sum's (what `mean.answer` gives, without walking its orders).
-                        bounded.answer.tread_life_km = tread_life_km(
+                        bounded.tread_life_km = tread_life_km(
                             base,
                             mean.tread_wear_m_per_m(c) * MM_PER_1000KM_PER_M_PER_M,
                         );
@@ -155,9 +155,9 @@ impl CycleLife {
                     }
                     None => mean.answer(c, base),
                 };
-                let distance = life.answer.distance_to_visible_km;
+                let distance = life.distance_to_visible_km;
                 CycleWear {
-                    dominant_order: life.answer.polygon_order_wear,
+                    dominant_order: life.polygon_order_wear,
                     growth_rate_per_1000km: if distance.is_finite() && distance > 0.0 {
                         target / distance * 1000.0
                     } else {
@@ -165,7 +165,7 @@ impl CycleLife {
                     },
                     distance_to_visible_km: distance,
                     unknown_distance_share,
-                    tread_life_km: life.answer.tread_life_km,
+                    tread_life_km: life.tread_life_km,
                     peak_share_of_visible: life.peak_share_of_visible,
                 }
             })

@@ -18,7 +18,7 @@ use polywear_core::model::Wheel;
 use polywear_core::params::Params;
 use polywear_core::records::DISTANCE_COLUMN;
 use polywear_core::records::{record_columns, WheelRecord, WEAR_COLUMNS};
-use polywear_core::wear::{FittedConstants, WearAnswer, WheelGrowth};
+use polywear_core::wear::{FittedConstants, LifeAnswer, WheelGrowth};
 
 /// Whether this build's rows carry the wear stage's distance to a visible polygon.
 pub fn wear_available() -> bool {
@@ -286,10 +286,10 @@ fn banded_outcomes(
         let wheel = w.record.wheel;
         let vib = outcome_code(w.record.class) as u8;
         let growth =
-            WheelGrowth::new(&stage.inputs(p, w), &Meter::new(problem.classifier.budget)).ok();
+            WheelGrowth::new(&stage.problem(p, w), &Meter::new(problem.classifier.budget)).ok();
         let answers = match &growth {
             Some(g) => g.answers_on(&constants),
-            None => vec![WearAnswer::UNKNOWN; constants.len()],
+            None => vec![LifeAnswer::UNKNOWN; constants.len()],
         };
         for (o, a) in under.iter_mut().zip(&answers) {
             let d = a.distance_to_visible_km;

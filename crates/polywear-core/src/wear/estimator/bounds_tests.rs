@@ -8,7 +8,7 @@ use crate::classify::ClassifierOptions;
 use crate::evaluate::{calibrate_wear, solve_wheel};
 use crate::model::{Variant, Wheel};
 use crate::wear::physics::feedback::FEEDBACK_ORDERS;
-use crate::wear::{WearInputs, WearSettings};
+use crate::wear::{WearProblem, WearSettings};
 
 /// A tread worn to nothing has f_end = ∞ (f₀/f_end = 0): ν passes every order, and the walk
 /// laid them all out (an allocation of 206 GB). The orders walked stop at the loop's.
@@ -30,12 +30,12 @@ fn a_tread_worn_to_nothing_walks_no_more_orders_than_the_loop_resolves() {
 }
 
 /// A wheel's inputs at `p`, with the shipped settings on `level`.
-fn estimate_at(p: &Params, budget: WheelBudget, wait: std::time::Duration) -> WearEstimate {
+fn estimate_at(p: &Params, budget: WheelBudget, wait: std::time::Duration) -> WearAnswer {
     let opts = ClassifierOptions::default();
     let cal = calibrate_wear(&Params::default(), Variant::SlidingShare, &opts).unwrap();
     let w = solve_wheel(*p, Variant::SlidingShare, Wheel::Follower, &opts);
     let settings = WearSettings::default();
-    let inputs = WearInputs {
+    let inputs = WearProblem {
         params: p,
         model: &w.model,
         verdict: &w.verdict,
@@ -44,7 +44,7 @@ fn estimate_at(p: &Params, budget: WheelBudget, wait: std::time::Duration) -> We
     };
     let meter = Meter::new(budget);
     std::thread::sleep(wait);
-    estimate(&inputs, &meter)
+    inputs.solve(&meter)
 }
 
 /// Handled, not refused: a tread whose usable depth is all of it (15 mm of 15, worn out at 0)

@@ -23,7 +23,7 @@ use crate::model::tire::worn_tread_block;
 use crate::model::ContactPatch;
 use crate::params::Params;
 use crate::wear::physics::feedback::FEEDBACK_ORDERS;
-use crate::wear::physics::fitted::{FittedConstants, WearAnswer};
+use crate::wear::physics::fitted::{FittedConstants, LifeAnswer};
 use crate::wear::physics::law::MM_PER_1000KM_PER_M_PER_M;
 use crate::wear::response::spread::NormalSpeeds;
 use crate::wear::response::transfer::PoleExpansion;
@@ -140,32 +140,15 @@ struct LifeNodes {
     tongue_nodes: std::cell::OnceCell<Vec<NarrowBand>>,
 }
 
-/// The wear answer over the tread's life, with how near the deepest order came.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LifeAnswer {
-    /// The order that becomes visible first, or (none visible) the one that got deepest; its
-    /// distance to a visible polygon (+inf: none before the tire is worn out); the tread's life.
-    pub answer: WearAnswer,
-    /// The deepest order's largest depth over the life, as a share of d_visible (1 where a
-    /// polygon is visible).
-    pub peak_share_of_visible: f64,
-}
-
 impl LifeAnswer {
-    /// A wheel without figures (past its wall-clock limit).
-    pub const UNKNOWN: LifeAnswer = LifeAnswer {
-        answer: WearAnswer::UNKNOWN,
-        peak_share_of_visible: f64::NAN,
-    };
-
     /// Its figures' bits, to compare answers exactly (NaN, an order where every order
     /// levels, equal to itself).
     #[cfg(test)]
     pub(crate) fn bits(&self) -> [u64; 4] {
         [
-            self.answer.polygon_order_wear.to_bits(),
-            self.answer.distance_to_visible_km.to_bits(),
-            self.answer.tread_life_km.to_bits(),
+            self.polygon_order_wear.to_bits(),
+            self.distance_to_visible_km.to_bits(),
+            self.tread_life_km.to_bits(),
             self.peak_share_of_visible.to_bits(),
         ]
     }
@@ -189,11 +172,9 @@ impl LifeAnswer {
             None => (f64::INFINITY, deepest.1 as f64),
         };
         LifeAnswer {
-            answer: WearAnswer {
-                polygon_order_wear: order,
-                distance_to_visible_km,
-                tread_life_km,
-            },
+            polygon_order_wear: order,
+            distance_to_visible_km,
+            tread_life_km,
             peak_share_of_visible: if first.is_some() || target <= 0.0 {
                 1.0
             } else {

@@ -32,7 +32,7 @@ use crate::wear::physics::calibration::{
 };
 use crate::wear::physics::cycle::{SampledCycle, SAMPLES_PER_PERIOD};
 use crate::wear::physics::feedback::Feedback;
-use crate::wear::physics::fitted::{FittedConstants, WearAnswer};
+use crate::wear::physics::fitted::{FittedConstants, LifeAnswer};
 use crate::wear::physics::law::{
     even_wear_m_per_m, MM_PER_1000KM_PER_M_PER_M, PER_1000KM_PER_PER_M,
 };
@@ -48,13 +48,13 @@ mod narrow_band;
 mod orders;
 mod settings;
 pub use life::{
-    answer_saturated_per_step, DepthLock, LifeAnswer, LifeProfile, PiecewiseRate, SaturatedSteps,
-    SpeedTerm, LIFE_PROFILE_INTERVALS, SATURATED_SPEED_LEGS, SLIDING_MODULATION_MAX,
+    answer_saturated_per_step, DepthLock, LifeProfile, PiecewiseRate, SaturatedSteps, SpeedTerm,
+    LIFE_PROFILE_INTERVALS, SATURATED_SPEED_LEGS, SLIDING_MODULATION_MAX,
 };
 use narrow_band::{band_share, NarrowBand, NARROW_BAND_DEVIATIONS};
 pub(crate) use orders::per_spread;
 use orders::{OrderFixed, OrderLoop, SpreadTerms};
-pub use settings::{retired_level, WearInputs, WearSettings, SHIPPED_LEVEL};
+pub use settings::{retired_level, WearProblem, WearSettings, SHIPPED_LEVEL};
 
 /// A share of the spread inside the tongue below which the locked print is left out (its
 /// effect on β̄ is below this share of the locked growth).
@@ -85,7 +85,7 @@ pub struct OrderGrowth {
 
 /// The estimator's figures for one wheel (MODEL.md#wear-columns); NaN where undefined.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct WearEstimate {
+pub struct WearAnswer {
     /// w′ at the point \[mm/1000 km\] (φ_s·w′₀ at the reference point).
     pub wear_even_mm_per_1000km: f64,
     /// The order with the largest β̄_n; over the tread's life, the order visible first (or the
@@ -119,11 +119,11 @@ pub struct WearEstimate {
     pub reason: String,
 }
 
-impl WearEstimate {
-    /// The estimate of a wheel with no figures.
+impl WearAnswer {
+    /// The answer of a wheel with no figures.
     pub fn undefined(share: f64, reason: String) -> Self {
         let nan = f64::NAN;
-        WearEstimate {
+        WearAnswer {
             wear_even_mm_per_1000km: nan,
             polygon_order_dominant: nan,
             detuning_rev: nan,
@@ -155,7 +155,7 @@ struct Response {
     hopf: Option<ForcedHopf>,
 }
 
-fn response(inputs: &WearInputs, meter: &Meter) -> Result<Response, WearError> {
+fn response(inputs: &WearProblem, meter: &Meter) -> Result<Response, WearError> {
     let (p, v) = (inputs.params, inputs.verdict);
     let model = inputs
         .model
@@ -257,8 +257,8 @@ pub struct WheelGrowth {
 }
 
 impl WheelGrowth {
-    /// The loop of one wheel (see [`estimate`] for what it costs).
-    pub fn new(inputs: &WearInputs, meter: &Meter) -> Result<Self, WearError> {
+    /// The loop of one wheel (see [`WearProblem::solve`] for what it costs).
+    pub fn new(inputs: &WearProblem, meter: &Meter) -> Result<Self, WearError> {
         let p = inputs.params;
         let response = response(inputs, meter)?;
         let model = inputs
@@ -392,17 +392,13 @@ impl WheelGrowth {
         self.order_with(order, self.share, self.spread_mps)
     }
 
-    /// The wheel's answers under every set of `sets`, as [`estimate`] gives a sample whose
+    /// The wheel's answers under every set of `sets`, as [`WearProblem::solve`] gives a sample whose
     /// constants are the set's ([`WheelGrowth::saturated_answers_with`]); unknown past the
     /// wheel's wall-clock limit.
-    pub fn answers_on(&self, sets: &[FittedConstants]) -> Vec<WearAnswer> {
-        let answers: Vec<WearAnswer> = self
-            .saturated_answers_with(sets)
-            .into_iter()
-            .map(|a| a.answer)
-            .collect();
+    pub fn answers_on(&self, sets: &[FittedConstants]) -> Vec<LifeAnswer> {
+        let answers = self.saturated_answers_with(sets);
         if self.out_of_time().is_some() {
-            return vec![WearAnswer::UNKNOWN; sets.len()];
+            return vec![LifeAnswer::UNKNOWN; sets.len()];
         }
         answers
     }
@@ -561,51 +557,56 @@ impl WheelGrowth {
     }
 }
 
-/// The estimator for one wheel, on the level `inputs.settings.estimate` names: the new tire's
-/// fastest order and its distance, or the order visible first over the tread's life and its
-/// distance there (the growth columns then the new tire's growth of that order; NaN where
-/// no order rises above its seed over the life, every order levelling). Adds no RHS
-/// evaluation to a stable wheel; a vibrating one spends, at each sample of its cycle, one
-/// evaluation of the vector field and its Jacobian that the linearisation reads too, and one at
-/// the period's end (17, the period read off shooting's last iteration), or integrates the
-/// period again where the classifier kept no iteration (about 165), charged to `meter`. A wheel without a model, or whose cycle cannot be
-/// integrated, gets NaN with the reason.
-pub fn estimate(inputs: &WearInputs, meter: &Meter) -> WearEstimate {
-    let p = inputs.params;
-    let share = p.wear_share_straight;
-    let growth = match WheelGrowth::new(inputs, meter) {
-        Ok(g) => g,
-        Err(e) => return WearEstimate::undefined(share, e.to_string()),
-    };
-    // The order visible first over the tread's life (or the deepest), with the new tire's
-    // growth of it in the growth columns. No order rose above its seed (NaN): none is the
-    // wear's order, and no order's growth fills the growth columns.
-    let life = growth.saturated_answer(&FittedConstants::of(p));
-    let order = life.answer.polygon_order_wear;
-    let top = (!order.is_nan()).then(|| growth.order(order as u32));
-    let (orders, distance_km, peak_share): (Vec<OrderGrowth>, f64, f64) = (
-        top.into_iter().collect(),
-        life.answer.distance_to_visible_km,
-        life.peak_share_of_visible,
-    );
-    if let Some(reason) = growth.out_of_time() {
-        return WearEstimate::undefined(share, reason);
-    }
-    let even = growth.even_wear_m_per_m();
-    WearEstimate {
-        wear_even_mm_per_1000km: even * MM_PER_1000KM_PER_M_PER_M,
-        polygon_order_dominant: top.map_or(f64::NAN, |t| t.order as f64),
-        detuning_rev: top.map_or(f64::NAN, |t| t.detuning_rev),
-        growth_rate_per_1000km: top.map_or(f64::NAN, |t| t.growth_rate_per_1000km),
-        distance_to_visible_km: distance_km,
-        peak_share_of_visible: peak_share,
-        wear_calibration_share: share,
-        levelling_per_1000km: even * growth.local_per_m() * PER_1000KM_PER_PER_M,
-        levelling_other_per_1000km: (1.0 - share) * growth.other_per_share * PER_1000KM_PER_PER_M,
-        tread_wear_mm_per_1000km: (even + (1.0 - share) * growth.position_rate_m_per_m)
-            * MM_PER_1000KM_PER_M_PER_M,
-        orders,
-        reason: String::new(),
+impl WearProblem<'_> {
+    /// Solves one wheel's wear problem (MODEL.md#the-per-sample-estimator): the order visible
+    /// first over the tread's life, each speed's print saturated, and its distance there (the
+    /// growth columns then the new tire's growth of that order; NaN where no order rises above its
+    /// seed over the life, every order levelling). Adds no RHS evaluation to a stable wheel; a
+    /// vibrating one spends, at each sample of its cycle, one evaluation of the vector field and
+    /// its Jacobian that the linearisation reads too, and one at the period's end (17, the period
+    /// read off shooting's last iteration), or integrates the period again where the classifier
+    /// kept no iteration (about 165), charged to `meter`. A wheel without a model, or whose cycle
+    /// cannot be integrated, gets NaN with the reason.
+    pub fn solve(&self, meter: &Meter) -> WearAnswer {
+        let inputs = self;
+        let p = inputs.params;
+        let share = p.wear_share_straight;
+        let growth = match WheelGrowth::new(inputs, meter) {
+            Ok(g) => g,
+            Err(e) => return WearAnswer::undefined(share, e.to_string()),
+        };
+        // The order visible first over the tread's life (or the deepest), with the new tire's
+        // growth of it in the growth columns. No order rose above its seed (NaN): none is the
+        // wear's order, and no order's growth fills the growth columns.
+        let life = growth.saturated_answer(&FittedConstants::of(p));
+        let order = life.polygon_order_wear;
+        let top = (!order.is_nan()).then(|| growth.order(order as u32));
+        let (orders, distance_km, peak_share): (Vec<OrderGrowth>, f64, f64) = (
+            top.into_iter().collect(),
+            life.distance_to_visible_km,
+            life.peak_share_of_visible,
+        );
+        if let Some(reason) = growth.out_of_time() {
+            return WearAnswer::undefined(share, reason);
+        }
+        let even = growth.even_wear_m_per_m();
+        WearAnswer {
+            wear_even_mm_per_1000km: even * MM_PER_1000KM_PER_M_PER_M,
+            polygon_order_dominant: top.map_or(f64::NAN, |t| t.order as f64),
+            detuning_rev: top.map_or(f64::NAN, |t| t.detuning_rev),
+            growth_rate_per_1000km: top.map_or(f64::NAN, |t| t.growth_rate_per_1000km),
+            distance_to_visible_km: distance_km,
+            peak_share_of_visible: peak_share,
+            wear_calibration_share: share,
+            levelling_per_1000km: even * growth.local_per_m() * PER_1000KM_PER_PER_M,
+            levelling_other_per_1000km: (1.0 - share)
+                * growth.other_per_share
+                * PER_1000KM_PER_PER_M,
+            tread_wear_mm_per_1000km: (even + (1.0 - share) * growth.position_rate_m_per_m)
+                * MM_PER_1000KM_PER_M_PER_M,
+            orders,
+            reason: String::new(),
+        }
     }
 }
 

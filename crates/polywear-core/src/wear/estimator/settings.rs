@@ -52,7 +52,7 @@ impl Default for WearZone {
 
 /// What the estimator needs about one wheel.
 #[derive(Debug, Clone, Copy)]
-pub struct WearInputs<'a> {
+pub struct WearProblem<'a> {
     /// The sample's parameters (operating point, tire, wear constants).
     pub params: &'a Params,
     /// Steps 1–8 for the wheel, or why there is no model.

@@ -115,24 +115,30 @@ pub(crate) fn pinned_params() -> Params {
     FittedConstants::VERSION_0_5.applied_to(&Params::default())
 }
 
-/// One wheel's wear answer: what the rows' wear columns say about it, under one set of
-/// fitted constants.
+/// One wheel's wear answer over the tread's life under one set of fitted constants: what the
+/// rows' wear columns say about it (MODEL.md#the-per-sample-estimator), and how near the
+/// deepest order came.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct WearAnswer {
-    /// The order that grows fastest (`polygon_order_wear`).
+pub struct LifeAnswer {
+    /// The order that becomes visible first, or (none visible) the one that got deepest
+    /// (`polygon_order_wear`); NaN where no order rose above its seed.
     pub polygon_order_wear: f64,
-    /// Distance to a visible polygon \[km\] (+inf: every order levels out).
+    /// Distance to a visible polygon \[km\] (+inf: none before the tire is worn out).
     pub distance_to_visible_km: f64,
     /// Distance until the tread is worn out \[km\].
     pub tread_life_km: f64,
+    /// The deepest order's largest depth over the life, as a share of d_visible (1 where a
+    /// polygon is visible).
+    pub peak_share_of_visible: f64,
 }
 
-impl WearAnswer {
-    /// A wheel with no figures.
-    pub const UNKNOWN: WearAnswer = WearAnswer {
+impl LifeAnswer {
+    /// A wheel with no figures (no model, or past its wall-clock limit).
+    pub const UNKNOWN: LifeAnswer = LifeAnswer {
         polygon_order_wear: f64::NAN,
         distance_to_visible_km: f64::NAN,
         tread_life_km: f64::NAN,
+        peak_share_of_visible: f64::NAN,
     };
 
     /// The answer in words.
@@ -153,7 +159,7 @@ impl WearAnswer {
     }
 }
 
-/// The wear outcome of a wheel in words ([`WearOutcome::as_str`]), so that a reader never
+/// The wear outcome of a [`LifeAnswer`] in words ([`WearOutcome::as_str`]), so that a reader never
 /// counts an unknown distance (NaN) as "no polygon" by comparing numbers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum WearOutcome {

@@ -12,7 +12,7 @@
 use super::{DepthLock, LifeAnswer, Nodes, TransferNodes, TreadDrift, WORN_DEGREE};
 use crate::params::Params;
 use crate::wear::estimator::{print_log_ratio, tread_life_km, Complex64, OrderLoop, WheelGrowth};
-use crate::wear::physics::fitted::{FittedConstants, WearAnswer};
+use crate::wear::physics::fitted::FittedConstants;
 use crate::wear::physics::law::MM_PER_1000KM_PER_M_PER_M;
 
 /// Intervals of the usable depth a drive cycle's profiles are laid on: the integrals are exact
@@ -129,12 +129,8 @@ impl LifeProfile {
         let tread_life = tread_life_km(p, wear * MM_PER_1000KM_PER_M_PER_M);
         if wear.is_nan() || wear <= 0.0 || self.max_order == 0 {
             return LifeAnswer {
-                answer: WearAnswer {
-                    polygon_order_wear: f64::NAN,
-                    distance_to_visible_km: f64::NAN,
-                    tread_life_km: tread_life,
-                },
-                peak_share_of_visible: f64::NAN,
+                tread_life_km: tread_life,
+                ..LifeAnswer::UNKNOWN
             };
         }
         let target = print_log_ratio(p);

@@ -151,7 +151,7 @@ impl WheelGrowth {
     /// peak comes within `margin` (in ln D) of the visible depth (+inf: every order).
     fn saturated_answers_screened(&self, sets: &[FittedConstants], margin: f64) -> Vec<LifeAnswer> {
         let (lowest, walks) = self.life_answers_and_peaks(sets);
-        let visible = |a: &LifeAnswer| a.answer.distance_to_visible_km.is_finite();
+        let visible = |a: &LifeAnswer| a.distance_to_visible_km.is_finite();
         if walks.iter().all(|(a, _)| !visible(a)) {
             return walks.into_iter().map(|(a, _)| a).collect();
         }
@@ -247,7 +247,7 @@ impl WheelGrowth {
                 let mut bounded = legs.answer(c, &self.params, SLIDING_MODULATION_MAX);
                 // The legs share the wheel's even wear: its tread's life is the plain answer's
                 // (the same sum, taken once rather than over the legs' shares).
-                bounded.answer.tread_life_km = plain.answer.tread_life_km;
+                bounded.tread_life_km = plain.tread_life_km;
                 bounded
             },
         )

@@ -6,7 +6,7 @@ use crate::classify::budget::Meter;
 use crate::classify::ClassifierOptions;
 use crate::evaluate::{calibrate_wear, solve_wheel};
 use crate::model::{Variant, Wheel};
-use crate::wear::{WearInputs, WearSettings};
+use crate::wear::{WearProblem, WearSettings};
 
 /// A wheel's closed loop at a highway point (140 km/h 0.35°: the follower vibrates).
 fn growth(speed_kmh: f64, toe_deg: f64, wheel: Wheel) -> (WheelGrowth, bool) {
@@ -20,7 +20,7 @@ fn growth(speed_kmh: f64, toe_deg: f64, wheel: Wheel) -> (WheelGrowth, bool) {
     };
     let w = solve_wheel(p, Variant::SlidingShare, wheel, &opts);
     let g = WheelGrowth::new(
-        &WearInputs {
+        &WearProblem {
             params: &p,
             model: &w.model,
             verdict: &w.verdict,
@@ -57,7 +57,7 @@ fn the_estimate_is_the_saturated_answer() {
             let w = solve_wheel(p, Variant::SlidingShare, wheel, &opts);
             let at = || {
                 let settings = WearSettings::default();
-                let inputs = WearInputs {
+                let inputs = WearProblem {
                     params: &p,
                     model: &w.model,
                     verdict: &w.verdict,
@@ -65,11 +65,11 @@ fn the_estimate_is_the_saturated_answer() {
                     calibration: &cal,
                 };
                 let g = WheelGrowth::new(&inputs, &Meter::new(opts.budget)).unwrap();
-                (crate::wear::estimate(&inputs, &Meter::new(opts.budget)), g)
+                (inputs.solve(&Meter::new(opts.budget)), g)
             };
             let (e, g) = at();
             let whole = g.saturated_answer(&FittedConstants::of(&p));
-            let life = whole.answer;
+            let life = whole;
             let here = format!("{speed_kmh} km/h {toe_deg}° {wheel}");
             // How near the deepest order came is the life answer's, 1 where visible.
             assert_eq!(
@@ -231,7 +231,7 @@ fn the_adaptive_nodes_give_the_fine_integral() {
             let w = solve_wheel(p, Variant::SlidingShare, wheel, &opts);
             vibrating += usize::from(w.verdict.class.vibrates());
             let g = WheelGrowth::new(
-                &WearInputs {
+                &WearProblem {
                     params: &p,
                     model: &w.model,
                     verdict: &w.verdict,
@@ -256,15 +256,12 @@ fn the_adaptive_nodes_give_the_fine_integral() {
                 };
                 let (t, d) = (g.life(&c, Nodes::Adaptive), g.life(&c, Nodes::UniformFine));
                 let at = format!("{speed_kmh} km/h {toe_deg} deg {wheel} {c:?}: {t:?} {d:?}");
-                let (st, sd) = (
-                    t.answer.distance_to_visible_km,
-                    d.answer.distance_to_visible_km,
-                );
+                let (st, sd) = (t.distance_to_visible_km, d.distance_to_visible_km);
                 match (st.is_finite(), sd.is_finite()) {
                     (true, true) => {
                         visible += 1;
                         assert!((st / sd - 1.0).abs() < 0.015, "{at}");
-                        assert_eq!(t.answer.polygon_order_wear, d.answer.polygon_order_wear);
+                        assert_eq!(t.polygon_order_wear, d.polygon_order_wear);
                     }
                     (false, false) => assert!(
                         (t.peak_share_of_visible / d.peak_share_of_visible - 1.0).abs() < 0.02,

@@ -9,7 +9,7 @@ use crate::model::{Variant, Wheel};
 use crate::wear::estimator::life::saturate::*;
 use crate::wear::physics::calibration::Calibration;
 use crate::wear::physics::law::PER_1000KM_PER_PER_M;
-use crate::wear::{WearInputs, WearSettings};
+use crate::wear::{WearProblem, WearSettings};
 
 /// One wheel's closed loop at the point `p`, the wear stage calibrated as `cal`, and whether
 /// its tread vibrates.
@@ -21,7 +21,7 @@ pub(in crate::wear::estimator::life) fn growth_at(
     let opts = ClassifierOptions::default();
     let w = solve_wheel(*p, Variant::SlidingShare, wheel, &opts);
     let g = WheelGrowth::new(
-        &WearInputs {
+        &WearProblem {
             params: p,
             model: &w.model,
             verdict: &w.verdict,
@@ -110,14 +110,11 @@ fn one_step_s_profile_is_the_answer_over_the_tread_s_life() {
             let got = profile.answer(&c, &p);
             if !vibrates {
                 assert_eq!(
-                    got.answer.polygon_order_wear, want.answer.polygon_order_wear,
+                    got.polygon_order_wear, want.polygon_order_wear,
                     "{here}: {got:?} {want:?}"
                 );
             }
-            let (a, b) = (
-                got.answer.distance_to_visible_km,
-                want.answer.distance_to_visible_km,
-            );
+            let (a, b) = (got.distance_to_visible_km, want.distance_to_visible_km);
             // The life answer integrates the locked print by the trapezoid rule over its
             // nodes, which with no spread steps over a tongue a few nodes wide: the
             // vibrating wheels are held to the brute force alone, within 2% (Ḡ is linear
@@ -135,13 +132,10 @@ fn one_step_s_profile_is_the_answer_over_the_tread_s_life() {
                 );
             }
             if a.is_finite() {
-                assert_eq!(got.answer.polygon_order_wear, brute_order as f64, "{here}");
+                assert_eq!(got.polygon_order_wear, brute_order as f64, "{here}");
             }
-            let life = want.answer.tread_life_km;
-            assert!(
-                (got.answer.tread_life_km - life).abs() <= 1e-9 * life,
-                "{here}"
-            );
+            let life = want.tread_life_km;
+            assert!((got.tread_life_km - life).abs() <= 1e-9 * life, "{here}");
             if b.is_finite() {
                 visible += 1;
             } else {
@@ -437,18 +431,18 @@ fn saturation_slows_only_deep_orders() {
             let c = FittedConstants::of(&p);
             let here = format!("{speed_kmh} km/h phi_s {share} {wheel}");
             let plain = profile.answer(&c, &p);
-            let unbounded = profile.answer_saturated(&c, &p, f64::INFINITY).answer;
+            let unbounded = profile.answer_saturated(&c, &p, f64::INFINITY);
             assert_eq!(
-                plain.answer.polygon_order_wear, unbounded.polygon_order_wear,
+                plain.polygon_order_wear, unbounded.polygon_order_wear,
                 "{here}"
             );
             let (a, b) = (
-                plain.answer.distance_to_visible_km,
+                plain.distance_to_visible_km,
                 unbounded.distance_to_visible_km,
             );
             assert!(a == b || (a - b).abs() <= 1e-9 * a, "{here}: {a} {b}");
             let bounded = profile.answer_saturated(&c, &p, SLIDING_MODULATION_MAX);
-            let d = bounded.answer.distance_to_visible_km;
+            let d = bounded.distance_to_visible_km;
             assert!(d >= a, "{here}: {d} against {a}");
             assert!(
                 bounded.peak_share_of_visible <= plain.peak_share_of_visible + 1e-12,
@@ -467,8 +461,7 @@ fn saturation_slows_only_deep_orders() {
                 &c,
                 &p,
                 SLIDING_MODULATION_MAX,
-            )
-            .answer;
+            );
             let (d, e) = (d, twice.distance_to_visible_km);
             assert!(
                 e == d || (e - d).abs() <= 1e-9 * d,

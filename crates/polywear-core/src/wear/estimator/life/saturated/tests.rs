@@ -51,7 +51,7 @@ fn the_drift_captures_the_order_it_carries_nu_through() {
         .zip([5_712.0, 4_138.0])
     {
         let c = FittedConstants::of(&p);
-        let level = g.saturated_answer(&c).answer;
+        let level = g.saturated_answer(&c);
         assert_eq!(level.polygon_order_wear, 18.0, "{here}: {level:?}");
         let ratio = level.distance_to_visible_km / loop_km;
         assert!((0.75..=1.25).contains(&ratio), "{here}: {level:?}");
@@ -60,7 +60,7 @@ fn the_drift_captures_the_order_it_carries_nu_through() {
             profile.lock = None;
         }
         let steps: Vec<(f64, &LifeProfile)> = legs.iter().map(|(a, pr)| (*a, pr)).collect();
-        let unlocked = answer_saturated_per_step(&steps, &c, &p, SLIDING_MODULATION_MAX).answer;
+        let unlocked = answer_saturated_per_step(&steps, &c, &p, SLIDING_MODULATION_MAX);
         assert_eq!(unlocked.polygon_order_wear, 17.0, "{here}: {unlocked:?}");
         if here.contains("driving") {
             assert!(
@@ -86,7 +86,7 @@ fn the_locked_walk_screens_soundly_and_settles() {
         let mean = steps_mean(&steps);
         let m = SLIDING_MODULATION_MAX;
         let walk = |midpoint: Option<usize>, screen: bool| {
-            saturated_walk_substeps(&steps, &mean, &c, &p, m, midpoint, screen).answer
+            saturated_walk_substeps(&steps, &mean, &c, &p, m, midpoint, screen)
         };
         let (got, every, fine) = (walk(None, true), walk(None, false), walk(Some(256), true));
         assert_eq!(got.polygon_order_wear, every.polygon_order_wear, "{here}");
@@ -106,7 +106,7 @@ fn the_locked_walk_screens_soundly_and_settles() {
         }
         let unlocked: Vec<(f64, &LifeProfile)> =
             unlocked_legs.iter().map(|(a, pr)| (*a, pr)).collect();
-        let plain = answer_saturated_per_step(&unlocked, &c, &p, m).answer;
+        let plain = answer_saturated_per_step(&unlocked, &c, &p, m);
         if (plain.distance_to_visible_km - a).abs() > 0.05 * a {
             locked += 1;
         }
@@ -151,10 +151,10 @@ fn the_screens_keep_a_levelling_wheel_s_deepest_order() {
                 let got = saturated_walk_substeps(&steps, &mean, &c, &p, m, None, true);
                 let every = saturated_walk_substeps(&steps, &mean, &c, &p, m, None, false);
                 assert_eq!(got.bits(), every.bits(), "{here}");
-                if got.answer.distance_to_visible_km.is_infinite() {
+                if got.distance_to_visible_km.is_infinite() {
                     none += 1;
                     if got.peak_share_of_visible == (-print_log_ratio(&p)).exp() {
-                        assert!(got.answer.polygon_order_wear.is_nan(), "{here}");
+                        assert!(got.polygon_order_wear.is_nan(), "{here}");
                         at_seed += 1;
                     }
                 }
@@ -242,10 +242,10 @@ fn the_legs_unsaturated_are_the_spread_s_mean() {
     let mut compared = 0;
     for (here, p, g) in highway_wheels(5.0) {
         let c = FittedConstants::of(&p);
-        let plain = g.life_answer(&c).answer;
+        let plain = g.life_answer(&c);
         let legs = g.spread_leg_profiles(5.0 / 3.6);
         let steps: Vec<(f64, &LifeProfile)> = legs.iter().map(|(a, pr)| (*a, pr)).collect();
-        let unbounded = answer_saturated_per_step(&steps, &c, &p, f64::INFINITY).answer;
+        let unbounded = answer_saturated_per_step(&steps, &c, &p, f64::INFINITY);
         let (a, b) = (
             unbounded.distance_to_visible_km,
             plain.distance_to_visible_km,
@@ -352,13 +352,10 @@ fn the_saturated_level_drives_only_what_can_change_its_answer() {
             let got = answer_saturated_per_step(&steps, &c, &p, SLIDING_MODULATION_MAX);
             let want = every_order(&steps, &c, &p, SLIDING_MODULATION_MAX);
             assert_eq!(
-                got.answer.polygon_order_wear, want.answer.polygon_order_wear,
+                got.polygon_order_wear, want.polygon_order_wear,
                 "{here} sigma {spread_kmh}"
             );
-            let (a, b) = (
-                got.answer.distance_to_visible_km,
-                want.answer.distance_to_visible_km,
-            );
+            let (a, b) = (got.distance_to_visible_km, want.distance_to_visible_km);
             assert!(
                 a == b || (a - b).abs() <= 1e-9 * b,
                 "{here} sigma {spread_kmh}: {a} {b}"
@@ -367,20 +364,20 @@ fn the_saturated_level_drives_only_what_can_change_its_answer() {
             assert!((x - y).abs() <= 1e-9, "{here} sigma {spread_kmh}: {x} {y}");
             let unbounded = answer_saturated_per_step(&steps, &c, &p, f64::INFINITY);
             assert!(
-                a >= unbounded.answer.distance_to_visible_km,
+                a >= unbounded.distance_to_visible_km,
                 "{here} sigma {spread_kmh}"
             );
             let level = g.saturated_answer(&c);
             let plain = g.life_answer(&c);
-            if plain.answer.distance_to_visible_km.is_finite() {
+            if plain.distance_to_visible_km.is_finite() {
                 // The tread's life is the plain answer's, the legs' sum of one even wear.
-                let life_km = plain.answer.tread_life_km;
-                let (x, y) = (got.answer.tread_life_km, life_km);
+                let life_km = plain.tread_life_km;
+                let (x, y) = (got.tread_life_km, life_km);
                 assert!((x - y).abs() <= 1e-9 * y, "{here} sigma {spread_kmh}");
                 let mut got = got;
-                got.answer.tread_life_km = life_km;
+                got.tread_life_km = life_km;
                 assert_eq!(level, got, "{here} sigma {spread_kmh}");
-                if a > 1.2 * plain.answer.distance_to_visible_km {
+                if a > 1.2 * plain.distance_to_visible_km {
                     slowed += 1;
                 }
             } else {
@@ -435,7 +432,7 @@ fn the_screened_legs_give_every_order_s_answer() {
         let screened = g.saturated_answers_screened(&sets, SCREEN_LOG_MARGIN);
         for ((c, a), b) in sets.iter().zip(&screened).zip(&every) {
             assert_eq!(a.bits(), b.bits(), "{here} under {c:?}");
-            polygons += usize::from(b.answer.distance_to_visible_km.is_finite());
+            polygons += usize::from(b.distance_to_visible_km.is_finite());
         }
         let none = g.saturated_answers_screened(&sets, -1e9);
         told += usize::from(none.iter().zip(&every).any(|(a, b)| a.bits() != b.bits()));
