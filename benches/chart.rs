@@ -4,11 +4,11 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 
-use polywear::chart::ChartRequest;
-use polywear::continuation::trace::TraceOptions;
-use polywear::continuation::ParamBox;
 use polywear::model::{Variant, Wheel};
 use polywear::params::{ParamId, Params};
+use polywear_core::continuation::trace::TraceOptions;
+use polywear_core::continuation::ParamBox;
+use polywear_study::chart::ChartRequest;
 
 fn speed_toe() -> ChartRequest {
     ChartRequest::new(

@@ -13,9 +13,9 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use polywear::classify::{classify_point, ClassifierOptions};
-use polywear::cycle::{classify_cycle, DriveCycle};
 use polywear::model::{Variant, Wheel};
 use polywear::params::Params;
+use polywear_study::cycle::{classify_cycle, DriveCycle};
 
 fn main() {
     let repeats: usize = std::env::args()

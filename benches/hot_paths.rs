@@ -10,7 +10,7 @@ use polywear::classify::{classify, envelope, ClassifierOptions, Scales};
 use polywear::model::Variational;
 use polywear::model::{Variant, Wheel, WheelModel};
 use polywear::params::Params;
-use polywear::solver::{integrate, Control, OdeSystem, SolverOptions};
+use polywear_core::solver::{integrate, Control, OdeSystem, SolverOptions};
 
 /// The right-hand side as first written: `powf` for (w_t/V_s)^φ, `hypot` for w_t, and the
 /// Jacobian of the variational equations evaluating the sliding speed and the curve again.

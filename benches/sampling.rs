@@ -6,10 +6,10 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use rand::Rng;
 
-use polywear::sampling::design::{Coordinates, Design};
-use polywear::sampling::distribution::Distribution;
-use polywear::sampling::Streams;
 use polywear::study::{Study, DEFAULT_STUDY};
+use polywear_core::sampling::design::{Coordinates, Design};
+use polywear_core::sampling::distribution::Distribution;
+use polywear_core::sampling::Streams;
 
 /// A SplitMix64-style counter hash, kept here only as the baseline of the ratio.
 fn splitmix_bits(seed: u64, index: u64, stream: u64) -> u64 {
@@ -39,7 +39,7 @@ fn bench_draw(c: &mut Criterion) {
     g.bench_function("chacha12_key_position_and_draw", |b| {
         b.iter(|| {
             i += 1;
-            polywear::sampling::bits(black_box(2014), black_box(i), black_box(3))
+            polywear_core::sampling::bits(black_box(2014), black_box(i), black_box(3))
         })
     });
     g.bench_function("splitmix_hash_v0.1", |b| {

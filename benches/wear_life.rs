@@ -17,7 +17,7 @@ use polywear::classify::budget::Meter;
 use polywear::classify::ClassifierOptions;
 use polywear::evaluate::{self, PointProblem, WearStage};
 use polywear::study::{Study, DEFAULT_STUDY};
-use polywear::wear::{FittedConstants, LifeAnswer, WheelGrowth};
+use polywear_core::wear::{FittedConstants, LifeAnswer, WheelGrowth};
 
 const LEVELS: u8 = 3;
 

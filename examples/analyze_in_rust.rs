@@ -25,7 +25,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     }
     let opts = polywear::render::RenderOptions {
         out_dir: out.into(),
-        figure_format: polywear::plot::FigureFormat::Png,
+        figure_format: polywear::render::FigureFormat::Png,
     };
     polywear::render::write(&a, &opts)?;
     Ok(())

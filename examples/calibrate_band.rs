@@ -1,7 +1,7 @@
 //! Regenerates the shipped calibration band (MODEL.md#the-calibration-band): the scrambled
 //! Sobol design over the five calibrated constants' prior ranges, every point evaluated on the
 //! shipped level and held to the field facts' targets
-//! (`polywear::calibration_band::fit`), the accepted points shipped as the calibrated sets.
+//! (`polywear_study::calibration_band::fit`), the accepted points shipped as the calibrated sets.
 //!
 //! ```sh
 //! cargo run --release --example calibrate_band                  # 1024 points, 2000 samples
@@ -18,10 +18,10 @@
 
 use std::time::Instant;
 
-use polywear::calibration_band::fit::{design_columns, fit, FitOptions};
-use polywear::field_facts::FieldFacts;
 use polywear::params::Params;
-use polywear::wear::FittedConstants;
+use polywear_core::wear::FittedConstants;
+use polywear_study::calibration_band::fit::{design_columns, fit, FitOptions};
+use polywear_study::field_facts::FieldFacts;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -37,7 +37,7 @@ fn main() {
         let band_path = args
             .get(2)
             .map_or("data/calibration_band.toml", String::as_str);
-        let f = polywear::calibration_band::fit::Fit::from_design(&opts, design.as_ref())
+        let f = polywear_study::calibration_band::fit::Fit::from_design(&opts, design.as_ref())
             .expect("the design table");
         opts.points = f.points.len() as u64;
         let generated_by = format!(
@@ -83,7 +83,7 @@ fn main() {
         .band(&FittedConstants::of(&base), &generated_by)
         .expect("the sets");
     std::fs::write(band_path, band.to_toml()).expect("write the sets");
-    polywear::parquet_out::write_csv(
+    polywear_study::parquet_out::write_csv(
         std::path::Path::new(design_path),
         &design_columns(&f, &opts.ranges),
     )

@@ -10,8 +10,8 @@
 
 use std::io::Write;
 
-use polywear::sampling::distribution::Distribution;
 use polywear::study::Study;
+use polywear_core::sampling::distribution::Distribution;
 
 /// 10,000 probabilities: 3,000 log-spaced from 1e-12 to ½, their complements, and 4,000 evenly
 /// spaced midpoints.

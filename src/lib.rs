@@ -6,22 +6,22 @@
 //!
 //! | crate | stages |
 //! |---|---|
-//! | `polywear-core` | [`params`], [`sampling`], [`model`], [`solver`], [`continuation`], [`classify`], [`wear`], [`evaluate`], [`ensemble`], [`records`] |
-//! | `polywear-study` | [`study`], [`explore`], [`parquet_out`], [`cycle`], [`calibrate`], [`calibration_band`], [`optimize`], [`chart`], [`bifurcation`], [`validation`] |
-//! | `polywear-analysis` | [`analysis`], [`render`], [`plot`], [`figures`], [`reproduce`] |
+//! | `polywear-core` | [`params`], `sampling`, [`model`], `solver`, `continuation`, [`classify`], `wear`, [`evaluate`], `ensemble`, [`records`] |
+//! | `polywear-study` | [`study`], [`explore`], `parquet_out`, `cycle`, `calibrate`, `calibration_band`, `optimize`, `chart`, `bifurcation`, `validation` |
+//! | `polywear-analysis` | [`analysis`], [`render`], `plot`, `figures`, `reproduce` |
 //! | `polywear-cli` | the `polywear` program |
 //!
-//! **The public surface** is [`prelude`] and the modules re-exported here without
-//! `#[doc(hidden)]`: one point ([`evaluate`]: `PointProblem` → `solve` → `PointSolution`),
+//! **The public surface** is [`prelude`] and the modules re-exported here: one point ([`evaluate`]: `PointProblem` → `solve` → `PointSolution`),
 //! a study in memory or to Parquet ([`study`], [`explore`]), the long-term loop
 //! ([`long_term`]) and the analysis of a run's files ([`analysis`], [`render`]), with the plain
 //! data they pass ([`params`], [`model`], [`classify`], [`records`]). Every problem type is
 //! `#[non_exhaustive]` and built by a constructor that checks it; every error is a `thiserror`
 //! enum naming the field and its accepted range; none holds a reference to global state. That
 //! is the surface Python bindings (PyO3) would wrap: plain-data problems in, plain-data
-//! solutions and Parquet files out (docs/book/src/reference/rust-api.md). The other modules are
-//! the workspace's inner stages, public for the command line, the tests and the benchmarks,
-//! hidden from these docs and free to change.
+//! solutions and Parquet files out (docs/book/src/reference/rust-api.md). The other stages
+//! (the names without links above) are not re-exported: they are the workspace's inner stages,
+//! reached by the command line, the tests and the benchmarks through their own crates, and free
+//! to change.
 //!
 //! One operating point, both wheels, through the evaluator:
 //!
@@ -64,20 +64,6 @@
 pub use polywear_analysis::{analysis, render};
 pub use polywear_core::{classify, evaluate, long_term, model, params, records};
 pub use polywear_study::{explore, study};
-
-// The inner stages: public for the command line, tests and benchmarks, not a stable surface.
-#[doc(hidden)]
-pub use polywear_analysis::{figures, plot, reproduce};
-#[doc(hidden)]
-pub use polywear_core::{
-    columns, continuation, ensemble, numeric, sampling, solver, text_enum, wear, wording,
-};
-#[doc(hidden)]
-pub use polywear_study::{
-    bifurcation, calibrate, calibration_band, chart, cycle, field_facts, operating_points,
-    optimize, output_dir, parquet_out, safe_read, safe_write, stats, table_input, trajectory,
-    validation,
-};
 
 /// What a user of the engine needs: one point (problem → solve → solution), a study (in memory
 /// or to Parquet), the long-term loop, and the analysis of a run.

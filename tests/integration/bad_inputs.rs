@@ -241,7 +241,7 @@ fn resume_of_a_different_study_with_multibyte_text_does_not_panic() {
     // The old study's JSON text has a two-byte character across byte 60.
     let manifest = serde_json::json!({
         "polywear_version": env!("CARGO_PKG_VERSION"),
-        "rng": polywear::sampling::RNG_NAME,
+        "rng": polywear_core::sampling::RNG_NAME,
         "study": format!("# {}", "é".repeat(100)),
         "params": serde_json::to_value(polywear::params::Params::default()).unwrap(),
         "seed": 1, "samples": 64, "chunk_size": 64, "shard": "0/1",

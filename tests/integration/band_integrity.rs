@@ -9,10 +9,10 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use crate::common::{fresh_dir, polywear, polywear_within, Mount};
-use polywear::calibration_band::evaluate::{BandPlan, BAND_DIGEST, BAND_FILE};
-use polywear::calibration_band::CalibrationBand;
 use polywear::params::Params;
 use polywear::study::Study;
+use polywear_study::calibration_band::evaluate::{BandPlan, BAND_DIGEST, BAND_FILE};
+use polywear_study::calibration_band::CalibrationBand;
 
 fn s(p: &Path) -> String {
     p.display().to_string()

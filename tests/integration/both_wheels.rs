@@ -4,11 +4,11 @@
 //! equations' reversed answer kept visible.
 
 use crate::common::polywear;
-use polywear::bifurcation::{linspace, sweep};
 use polywear::classify::ClassifierOptions;
 use polywear::model::{Variant, Wheel, WheelModel};
 use polywear::params::{ParamId, Params};
-use polywear::reproduce::paired_comparison;
+use polywear_analysis::reproduce::paired_comparison;
+use polywear_study::bifurcation::{linspace, sweep};
 
 /// Unstable interval of `axis` for a wheel, from a sweep of the shipped defaults.
 fn window(p: &Params, axis: ParamId, from: f64, to: f64, wheel: Wheel) -> (f64, f64) {

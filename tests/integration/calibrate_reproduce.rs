@@ -2,8 +2,8 @@
 //! `polywear reproduce` writes its report and a Table 3 that comes from the engine.
 
 use crate::common::polywear;
-use polywear::calibrate::{calibrate, observe, parse_problem};
 use polywear::params::{ParamId, Params};
+use polywear_study::calibrate::{calibrate, observe, parse_problem};
 
 const TARGETS: &str = r#"
 fit = ["g_mod", "v_s"]
@@ -278,7 +278,7 @@ fn calibration_of_both_wheels_picks_the_lost_digit_reading() {
         .iter()
         .all(|t| t.met() && t.shortfall().is_none()));
     // The parameter file carries the chosen reading.
-    let file = polywear::calibrate::parameter_file(&fit, "test").unwrap();
+    let file = polywear_study::calibrate::parameter_file(&fit, "test").unwrap();
     let back = polywear::study::apply_param_file(&Params::default(), &file).unwrap();
     assert_eq!(back.phi, 0.92);
 }
@@ -353,7 +353,7 @@ fn a_diverged_fit_writes_no_parameter_file() {
             .unwrap();
     let mut fit = calibrate(&problem);
     fit.params.g_mod = f64::NAN;
-    let e = polywear::calibrate::parameter_file(&fit, "x")
+    let e = polywear_study::calibrate::parameter_file(&fit, "x")
         .unwrap_err()
         .to_string();
     assert!(
@@ -362,7 +362,7 @@ fn a_diverged_fit_writes_no_parameter_file() {
     );
     fit.params = Params::default();
     fit.cost = f64::NAN;
-    assert!(polywear::calibrate::parameter_file(&fit, "x").is_err());
+    assert!(polywear_study::calibrate::parameter_file(&fit, "x").is_err());
 }
 
 #[test]

@@ -9,12 +9,12 @@ use std::path::Path;
 use super::common::{fresh_dir, polywear};
 use super::parquet_rows::rows;
 use parquet::record::Field;
-use polywear::calibration_band::evaluate::{set_column, BandPlan, BAND_FILE, RUN_SET};
-use polywear::calibration_band::fit::{fit, FitOptions};
-use polywear::calibration_band::CalibrationBand;
-use polywear::field_facts::FieldFacts;
 use polywear::params::Params;
-use polywear::wear::FittedConstants;
+use polywear_core::wear::FittedConstants;
+use polywear_study::calibration_band::evaluate::{set_column, BandPlan, BAND_FILE, RUN_SET};
+use polywear_study::calibration_band::fit::{fit, FitOptions};
+use polywear_study::calibration_band::CalibrationBand;
+use polywear_study::field_facts::FieldFacts;
 
 fn text(f: &Field) -> String {
     match f {
@@ -193,7 +193,7 @@ fn the_band_under_each_set_is_the_run_made_with_that_set() {
 /// give the shipped file's sets again, and the shipped defaults are the nominal set.
 #[test]
 fn the_calibrated_sets_regenerate_within_tolerance() {
-    use polywear::calibration_band::fit::Fit;
+    use polywear_study::calibration_band::fit::Fit;
     let facts = FieldFacts::shipped();
     let base = Params::default();
     let opts = FitOptions::shipped(&facts);
@@ -247,7 +247,7 @@ fn a_bad_band_file_is_refused_before_any_work_and_off_says_so() {
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("out");
     let o = out.to_str().unwrap();
-    let good = polywear::calibration_band::SHIPPED;
+    let good = polywear_study::calibration_band::SHIPPED;
     let first_line = |start: &str| good.lines().find(|l| l.starts_with(start)).unwrap();
     let cases = [
         ("empty.toml", String::new(), "empty file"),
@@ -465,7 +465,7 @@ fn the_band_is_the_same_whatever_the_threads() {
 /// it, is refused by `analyze` with the way back, and `--resume` writes it again.
 #[test]
 fn a_changed_band_is_refused_and_resume_writes_it_again() {
-    use polywear::calibration_band::evaluate::BAND_DIGEST;
+    use polywear_study::calibration_band::evaluate::BAND_DIGEST;
     let dir = fresh_dir("band-changed");
     let out = dir.join("run");
     let o = out.to_str().unwrap();
@@ -562,7 +562,7 @@ fn a_cycle_s_distance_carries_its_band_and_each_set_is_the_cycle_run_with_it() {
         defaults.belt_mass_share.to_string(),
     );
     let (share, factor) = ("0.5", "2");
-    let shipped = polywear::calibration_band::SHIPPED;
+    let shipped = polywear_study::calibration_band::SHIPPED;
     let head = shipped.split("[[set]]").next().unwrap();
     let one = dir.join("one.toml");
     std::fs::write(
@@ -664,7 +664,7 @@ fn grouping_the_sets_changes_no_answer() {
     use polywear::classify::ClassifierOptions;
     use polywear::evaluate::{self, PointProblem, WearStage};
     use polywear::model::Variant;
-    use polywear::wear::{LifeAnswer, WheelGrowth};
+    use polywear_core::wear::{LifeAnswer, WheelGrowth};
     let band = CalibrationBand::shipped();
     let sets: Vec<FittedConstants> = band.sets.iter().map(|s| s.constants()).collect();
     let opts = ClassifierOptions::default();
@@ -736,7 +736,7 @@ fn wear_s_verdict_under_each_set_is_the_loop_run_with_it() {
     };
     let two = dir.join("two.toml");
     let band = CalibrationBand::shipped();
-    let others: Vec<&polywear::calibration_band::CalibratedSet> =
+    let others: Vec<&polywear_study::calibration_band::CalibratedSet> =
         band.sets.iter().filter(|s| !s.nominal).collect();
     let (first_set, second_set) = (others[0], others[others.len() - 1]);
     std::fs::write(

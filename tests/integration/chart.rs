@@ -6,13 +6,13 @@ use crate::common;
 use nalgebra::{Complex, DMatrix, DVector};
 use parquet::file::reader::{FileReader, SerializedFileReader};
 
-use polywear::chart::{ChartRequest, WheelCurves, RE_LAMBDA_BOUND};
-use polywear::continuation::hopf::{analyse, HopfData};
-use polywear::continuation::trace::TraceOptions;
-use polywear::continuation::{CVector, OdeWithJacobian, ParamBox};
 use polywear::model::TreadSystem;
 use polywear::model::{Variant, Wheel, WheelModel};
 use polywear::params::{ParamId, Params};
+use polywear_core::continuation::hopf::{analyse, HopfData};
+use polywear_core::continuation::trace::TraceOptions;
+use polywear_core::continuation::{CVector, OdeWithJacobian, ParamBox};
+use polywear_study::chart::{ChartRequest, WheelCurves, RE_LAMBDA_BOUND};
 
 fn request(x: &str, xr: (f64, f64), y: &str, yr: (f64, f64)) -> ChartRequest {
     ChartRequest::new(
@@ -407,8 +407,8 @@ fn empty_box_gives_an_empty_table_and_exit_0() {
 
 #[test]
 fn bifurcation_hopf_points_carry_the_charts_l1() {
-    use polywear::bifurcation::{linspace, sweep};
     use polywear::classify::ClassifierOptions;
+    use polywear_study::bifurcation::{linspace, sweep};
     let base = Params::default();
     let sw = sweep(
         &base,
@@ -583,7 +583,7 @@ fn analyze_overlay_traces_the_nominal_tire_at_the_study_median() {
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/studies/default.toml"))
             .unwrap();
     let study = polywear::study::Study::parse(&text).unwrap();
-    let curves = polywear::chart::nominal_curves(
+    let curves = polywear_study::chart::nominal_curves(
         &study,
         Variant::SlidingShare,
         "speed_kmh",
@@ -623,7 +623,7 @@ fn analyze_overlay_traces_the_nominal_tire_at_the_study_median() {
             );
         }
     }
-    assert!(polywear::chart::nominal_curves(
+    assert!(polywear_study::chart::nominal_curves(
         &study,
         Variant::Paper,
         "nope",

@@ -2,7 +2,7 @@
 //! 300-point set is `polywear validate --points 300`): classes agree outside the Hopf band, and
 //! limit-cycle amplitudes and frequency agree to 1%.
 
-use polywear::validation::compare;
+use polywear_study::validation::compare;
 
 #[test]
 fn fast_classifier_agrees_with_brute_force() {

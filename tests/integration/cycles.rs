@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::polywear;
 use parquet::file::reader::{FileReader, SerializedFileReader};
 use parquet::record::Field;
-use polywear::cycle::DriveCycle;
+use polywear_study::cycle::DriveCycle;
 
 fn dir(name: &str) -> PathBuf {
     let d = common::fresh_dir(&format!("cycle-{name}"));
@@ -360,7 +360,7 @@ fn same_rows_whatever_threads_and_shares_over_structures() {
 
 #[test]
 fn a_parquet_cycle_reads_as_its_csv() {
-    use polywear::parquet_out::{write_table, Column};
+    use polywear_study::parquet_out::{write_table, Column};
     let d = dir("parquet");
     let csv = DriveCycle::read(&shipped("us06.csv")).unwrap();
     let cols = vec![

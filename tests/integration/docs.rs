@@ -281,9 +281,10 @@ fn model_md_parameter_table_is_current() {
 /// MODEL.md's field-fact table is the shipped data file's, and the file is the one the code reads.
 #[test]
 fn model_md_field_fact_table_is_the_data_file() {
-    let file = std::fs::read_to_string(root().join(polywear::field_facts::SHIPPED_NAME)).unwrap();
-    assert_eq!(file, polywear::field_facts::SHIPPED);
-    let table = polywear::field_facts::FieldFacts::shipped().markdown();
+    let file =
+        std::fs::read_to_string(root().join(polywear_study::field_facts::SHIPPED_NAME)).unwrap();
+    assert_eq!(file, polywear_study::field_facts::SHIPPED);
+    let table = polywear_study::field_facts::FieldFacts::shipped().markdown();
     let model = std::fs::read_to_string(root().join("MODEL.md")).unwrap();
     assert!(
         model.contains(&table),

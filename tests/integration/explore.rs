@@ -272,8 +272,8 @@ fn bad_inputs_exit_2_before_any_work() {
 
 #[test]
 fn arbitrary_study_files_never_panic() {
-    use polywear::sampling::bits;
     use polywear::study::{Study, DEFAULT_STUDY};
+    use polywear_core::sampling::bits;
     let seeds: Vec<&str> = vec![
         DEFAULT_STUDY,
         include_str!("../../studies/grid_4axes.toml"),

@@ -150,7 +150,7 @@ fn a_study_takes_the_toe_as_total_toe_or_in_mm_at_its_rim() {
         ))
     };
     use polywear::params::ParamId;
-    use polywear::sampling::distribution::Distribution;
+    use polywear_core::sampling::distribution::Distribution;
     let s = study("toe_total_deg = { dist = \"uniform\", min = 0.2, max = 0.6 }").unwrap();
     let toe = s.drawn.iter().find(|d| d.param == ParamId::ToeDeg).unwrap();
     assert_eq!(
@@ -329,8 +329,8 @@ fn the_rows_say_the_wear_outcome_in_words_and_renamed_columns_keep_their_old_nam
     }
     // The run's calibration band goes with its rows (it holds no renamed column).
     for name in [
-        polywear::calibration_band::evaluate::BAND_FILE,
-        polywear::calibration_band::evaluate::BAND_DIGEST,
+        polywear_study::calibration_band::evaluate::BAND_FILE,
+        polywear_study::calibration_band::evaluate::BAND_DIGEST,
     ] {
         std::fs::copy(run.join(name), old_run.join(name)).unwrap();
     }

@@ -10,15 +10,15 @@ use polywear::analysis::bins::Bins;
 use polywear::analysis::conditional::BinStat;
 use polywear::analysis::counts::ClassCounts;
 use polywear::analysis::risk_map::RiskMap;
-use polywear::chart::{ChartRequest, WheelCurves};
 use polywear::classify::Class;
-use polywear::continuation::trace::HopfCurves;
-use polywear::continuation::ParamBox;
-use polywear::figures::chart::draw;
 use polywear::model::{Variant, Wheel};
 use polywear::params::{ParamId, Params};
-use polywear::plot::cycle::{cycle_figure, WheelTrace};
-use polywear::plot::{FigureFile, FigureFormat};
+use polywear_analysis::figures::chart::draw;
+use polywear_analysis::plot::cycle::{cycle_figure, WheelTrace};
+use polywear_analysis::plot::{FigureFile, FigureFormat};
+use polywear_core::continuation::trace::HopfCurves;
+use polywear_core::continuation::ParamBox;
+use polywear_study::chart::{ChartRequest, WheelCurves};
 
 fn counts(vibrating: u64, stable: u64) -> ClassCounts {
     let mut c = ClassCounts::default();
@@ -52,7 +52,7 @@ fn the_chart_says_where_it_was_drawn_and_names_the_overlap() {
         },
     )
     .unwrap();
-    let n = polywear::figures::chart::SHADE_CELLS;
+    let n = polywear_analysis::figures::chart::SHADE_CELLS;
     // The follower unstable in the left half, the driving wheel in the left quarter: both
     // there.
     let grid =

@@ -609,7 +609,7 @@ const HOSTILE_NUMBERS: [&str; 10] = [
 
 #[test]
 fn every_numeric_field_of_a_targets_file_or_a_table_takes_hostile_values_without_panic() {
-    use polywear::calibrate::parse_problem;
+    use polywear_study::calibrate::parse_problem;
     // Each numeric field of a targets file, with the key a refusal must name.
     let targets = "prior_sigma = 0.5\nfit = [\"g_mod\"]\n[params]\ng_mod = 0.9e6\n[choices]\nphi = [0.9, 0.94]\n[[target]]\nkind = \"hopf\"\nparam = \"speed_kmh\"\nfrom = 40\nto = 150\nvalue = 80\nweight = 1\ntolerance = 0.2\n[[target]]\nkind = \"frequency\"\nat = { speed_kmh = 100 }\nvalue = 270\n";
     let fields = [
@@ -657,7 +657,7 @@ fn every_numeric_field_of_a_targets_file_or_a_table_takes_hostile_values_without
                 let p = dir.join("c.csv");
                 std::fs::write(&p, &text).unwrap();
                 let r = std::panic::catch_unwind(|| {
-                    polywear::cycle::DriveCycle::read(&p).map_err(|e| e.to_string())
+                    polywear_study::cycle::DriveCycle::read(&p).map_err(|e| e.to_string())
                 });
                 match r {
                     Err(_) => panic!("panic on row {row} column {col} = {x}"),

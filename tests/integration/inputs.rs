@@ -98,15 +98,16 @@ fn the_shipped_studies_cycles_and_reference_data_are_plausible() {
     let (p, _) = polywear::study::read_param_file(&Params::default(), &r0).unwrap();
     p.check_plausible().unwrap();
     let targets = std::fs::read_to_string(shipped("studies/paper_targets.toml")).unwrap();
-    let problem = polywear::calibrate::parse_problem(&targets).unwrap();
+    let problem = polywear_study::calibrate::parse_problem(&targets).unwrap();
     problem.start.check_plausible().unwrap();
     for c in ["hwfet", "udds", "us06", "wltc_class3b"] {
         let cycle =
-            polywear::cycle::DriveCycle::read(&shipped(&format!("data/cycles/{c}.csv"))).unwrap();
+            polywear_study::cycle::DriveCycle::read(&shipped(&format!("data/cycles/{c}.csv")))
+                .unwrap();
         cycle.check_plausible().unwrap();
     }
     for f in ["points.csv", "points_sliding_share.csv"] {
-        let t = polywear::table_input::NumericTable::read_with_text(
+        let t = polywear_study::table_input::NumericTable::read_with_text(
             &shipped(&format!("tests/data/{f}")),
             &|c| ["wheel", "variant", "class"].contains(&c),
         )
@@ -329,8 +330,8 @@ fn an_implausible_study_value_bound_or_fleet_cell_is_refused_before_any_work() {
         Some(&out),
     );
     // The same file as Parquet, and as classify's points.
-    use polywear::parquet_out::{write_table, Column};
-    let t = polywear::table_input::NumericTable::read(&d.join("bar.csv")).unwrap();
+    use polywear_study::parquet_out::{write_table, Column};
+    let t = polywear_study::table_input::NumericTable::read(&d.join("bar.csv")).unwrap();
     let cols: Vec<Column> = t
         .columns
         .iter()

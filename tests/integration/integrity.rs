@@ -464,12 +464,12 @@ fn what_cannot_be_sampled_or_integrated_is_refused_up_front() {
     std::fs::create_dir_all(&dir).unwrap();
     let cycle = dir.join("c.csv");
     std::fs::write(&cycle, "time_s,speed_kmh\n0,10\n1e308,20\n").unwrap();
-    let e = polywear::cycle::DriveCycle::read(&cycle)
+    let e = polywear_study::cycle::DriveCycle::read(&cycle)
         .unwrap_err()
         .to_string();
     assert!(e.contains("total time is not finite"), "{e}");
     std::fs::write(&cycle, "time_s,speed_kmh\n-1e308,10\n1e308,20\n").unwrap();
-    let e = polywear::cycle::DriveCycle::read(&cycle)
+    let e = polywear_study::cycle::DriveCycle::read(&cycle)
         .unwrap_err()
         .to_string();
     assert!(e.contains("step duration is not finite"), "{e}");

@@ -5,7 +5,7 @@
 use polywear::classify::Scales;
 use polywear::model::{brush, tire, Variant, Wheel, WheelModel};
 use polywear::params::Params;
-use polywear::solver::{integrate, Control, SolverOptions};
+use polywear_core::solver::{integrate, Control, SolverOptions};
 
 /// A spread of operating points, including ones with large slip and sticking.
 fn points() -> Vec<Params> {

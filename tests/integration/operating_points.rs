@@ -341,7 +341,7 @@ fn same_rows_whatever_threads_and_the_file_is_found_beside_the_study() {
     let bytes = std::fs::read(d.join("points.csv")).unwrap();
     assert_eq!(
         m["operating_points"]["hash"],
-        polywear::table_input::bytes_hash(&bytes)
+        polywear_study::table_input::bytes_hash(&bytes)
     );
     assert_eq!(m["operating_points"]["weight"], "hours");
     std::fs::remove_dir_all(&d).ok();
@@ -394,7 +394,7 @@ fn the_shipped_fleet_study_parses_beside_its_file() {
 
 #[test]
 fn a_parquet_file_is_read_like_the_csv_and_refused_like_it() {
-    use polywear::parquet_out::{write_table, Column};
+    use polywear_study::parquet_out::{write_table, Column};
     let d = dir("parquet");
     let speeds = vec![80.0, 120.0, 160.0];
     let write = |name: &str, loads: Vec<f64>| {

@@ -206,7 +206,7 @@ fn a_flat_objective_names_no_edge_and_a_moving_one_names_its_edge() {
 #[test]
 fn bad_optimize_input_is_refused_before_any_work() {
     let dir = tmp("refused");
-    let wear = polywear::optimize::evaluate::wear_available();
+    let wear = polywear_study::optimize::evaluate::wear_available();
     let mut cases: Vec<(Vec<&str>, Vec<&str>)> = vec![
         (
             vec!["--vary", "toe_deg=0.40..0.05"],

@@ -228,7 +228,7 @@ fn no_number_runs_to_hundreds_of_digits() {
     let dir = fresh_dir("long-numbers");
     std::fs::create_dir_all(&dir).unwrap();
     let band = dir.join("band.toml");
-    let shipped = polywear::calibration_band::CalibrationBand::shipped().to_toml();
+    let shipped = polywear_study::calibration_band::CalibrationBand::shipped().to_toml();
     // The first set's φ_s line, whatever the fit put there.
     let line = shipped
         .lines()

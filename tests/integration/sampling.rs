@@ -5,13 +5,13 @@
 //! another generator.
 
 use crate::common;
-use polywear::sampling::design::{Coordinates, Design};
-use polywear::sampling::distribution::{
+use polywear::study::Study;
+use polywear_core::sampling::design::{Coordinates, Design};
+use polywear_core::sampling::distribution::{
     ln_normal_cdf, ln_normal_mass, normal_cdf, normal_quantile, normal_quantile_of_ln,
     truncated_normal_quantile, Distribution,
 };
-use polywear::sampling::{Streams, RNG_NAME};
-use polywear::study::Study;
+use polywear_core::sampling::{Streams, RNG_NAME};
 
 const N: usize = 1_000_000;
 const SEED: u64 = 2014;

@@ -621,7 +621,7 @@ fn scenario_values_are_checked_like_direct_inputs() {
 fn the_wear_comparison_reads_the_distance_column() {
     use polywear::analysis::rows::{scenario_pairs, OutcomeColumn};
     use polywear::model::{Variant, Wheel};
-    use polywear::parquet_out::{write_table, Column};
+    use polywear_study::parquet_out::{write_table, Column};
     let dir = tmp("wear");
     let file = dir.join("chunk-0000000.parquet");
     // Samples 0..4, follower only; (baseline distance, scenario distance, scenario class).

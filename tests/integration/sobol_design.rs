@@ -4,8 +4,8 @@
 //! independent draws. Sample counts past the 32-bit Sobol index are refused with the limit named.
 
 use polywear::params::SPECS;
-use polywear::sampling::design::{SALTELLI_MAX_AXES, SOBOL_MAX_AXES};
 use polywear::study::Study;
+use polywear_core::sampling::design::{SALTELLI_MAX_AXES, SOBOL_MAX_AXES};
 
 /// 20 parameters, each uniform over ±20% of its default.
 const TWENTY: [&str; 20] = [

@@ -301,7 +301,7 @@ fn help_shows_the_operating_defaults_from_the_parameter_table() {
         let want = format!(
             "{} [default: {}]",
             s.range_text(),
-            polywear::wording::plain(s.default, 6)
+            polywear_core::wording::plain(s.default, 6)
         );
         assert!(help.contains(&want), "{name}: {want}\n{help}");
     }

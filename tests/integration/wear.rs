@@ -7,11 +7,11 @@ use polywear::classify::budget::Meter;
 use polywear::classify::{classify_point, ClassifierOptions, WheelVerdict};
 use polywear::model::{Variant, Wheel, WheelModel};
 use polywear::params::Params;
-use polywear::wear::physics::calibration::reference_params;
-use polywear::wear::physics::cycle::SampledCycle;
-use polywear::wear::physics::law::{deposit_revolution, friction_force_n, friction_power_w};
-use polywear::wear::physics::zone::{parabolic_gain, pressure_transfer, sinc};
-use polywear::wear::{WearZone, WheelGrowth, ZoneGeometry};
+use polywear_core::wear::physics::calibration::reference_params;
+use polywear_core::wear::physics::cycle::SampledCycle;
+use polywear_core::wear::physics::law::{deposit_revolution, friction_force_n, friction_power_w};
+use polywear_core::wear::physics::zone::{parabolic_gain, pressure_transfer, sinc};
+use polywear_core::wear::{WearZone, WheelGrowth, ZoneGeometry};
 
 /// R0 with the wear constants of these tests.
 fn r0(share: f64) -> Params {
@@ -77,7 +77,7 @@ fn friction_power_is_positive_and_balances_on_the_reference_cycle() {
 /// ∝ P̄/V, P̄ from an independent sampling of the cycle (vibrating) or U² g/w_t (stable).
 #[test]
 fn even_wear_reproduces_its_calibration() {
-    use polywear::wear::physics::law::{even_wear_m_per_m, MM_PER_1000KM_PER_M_PER_M};
+    use polywear_core::wear::physics::law::{even_wear_m_per_m, MM_PER_1000KM_PER_M_PER_M};
     let opts = ClassifierOptions::default();
     let mean_power = |m: &WheelModel, v: &WheelVerdict, samples: usize| {
         if v.class.vibrates() {
@@ -97,7 +97,11 @@ fn even_wear_reproduces_its_calibration() {
             let (m, v) = classified(p, Wheel::Follower);
             let w = even_wear_m_per_m(
                 cal.gamma_m3_per_j(p),
-                mean_power(&m, &v, polywear::wear::physics::cycle::SAMPLES_PER_PERIOD),
+                mean_power(
+                    &m,
+                    &v,
+                    polywear_core::wear::physics::cycle::SAMPLES_PER_PERIOD,
+                ),
                 m.patch.width_m,
                 p.speed_mps(),
                 p.r_b,
@@ -223,11 +227,11 @@ fn patch_filter_transfers() {
 
 // --- The per-sample estimator (MODEL.md#the-per-sample-estimator) ---
 
-use polywear::numeric::Complex64;
-use polywear::wear::physics::feedback::ForcedTread;
-use polywear::wear::response::periodic::CycleResponse;
-use polywear::wear::response::transfer::Linearisation;
-use polywear::wear::{WearAnswer, WearPower, WearProblem, WearSettings};
+use polywear_core::numeric::Complex64;
+use polywear_core::wear::physics::feedback::ForcedTread;
+use polywear_core::wear::response::periodic::CycleResponse;
+use polywear_core::wear::response::transfer::Linearisation;
+use polywear_core::wear::{WearAnswer, WearPower, WearProblem, WearSettings};
 
 /// The wheel's estimate and its loop, with R0's calibration for `base`.
 fn estimated(p: &Params, wheel: Wheel, zone: WearZone) -> (WearAnswer, WheelGrowth, u64) {
@@ -268,7 +272,7 @@ fn forced_response(
     window_s: f64,
     mean_w: f64,
 ) -> Complex64 {
-    use polywear::solver::{integrate_dop853, Control, SolverOptions};
+    use polywear_core::solver::{integrate_dop853, Control, SolverOptions};
     let sys = ForcedTread {
         ode: *ode,
         epsilon: move |t: f64| eps0 * (omega * t).cos(),
@@ -391,7 +395,7 @@ fn estimator_work_is_bounded() {
 #[test]
 fn the_cycle_read_off_shootings_path_is_the_cycle_integrated_again() {
     use polywear::classify::Scales;
-    use polywear::wear::response::periodic::CycleResponse;
+    use polywear_core::wear::response::periodic::CycleResponse;
     let opts = ClassifierOptions::default();
     let points = [
         Params {
@@ -615,7 +619,7 @@ fn far_orders_level_out_and_the_order_below_nu_grows() {
             };
             let (_, g, _) = estimated(&p, Wheel::Follower, WearZone::Trailing);
             let m = WheelModel::build(&p, Wheel::Follower, Variant::SlidingShare).unwrap();
-            let fb = polywear::wear::Feedback::new(&p, &m, WearZone::Trailing);
+            let fb = polywear_core::wear::Feedback::new(&p, &m, WearZone::Trailing);
             let h = fb.zone.transfer(1.0, p.r_b);
             let quasi_static = -g.even_wear_m_per_m()
                 * (fb.local_per_m * (1.0 - h.norm_sqr())
@@ -673,7 +677,7 @@ fn driving_against_follower_growth_is_measured() {
                 // block of the answer over the tread's life).
                 let growth = WheelGrowth::new(&inputs, &Meter::new(opts.budget))
                     .map(|g| {
-                        polywear::wear::estimator::orders_around(g.nu())
+                        polywear_core::wear::estimator::orders_around(g.nu())
                             .map(|n| g.order(n).growth_rate_per_1000km)
                             .fold(f64::NEG_INFINITY, f64::max)
                     })
@@ -730,7 +734,7 @@ fn speed_spread_mean_against_the_loops_at_each_speed() {
         let g0 = growth(&p0);
         let mut fastest = f64::INFINITY;
         for spread_kmh in [2.0, 3.0, 5.0, 8.0] {
-            let top = polywear::wear::estimator::orders_around(g0.nu())
+            let top = polywear_core::wear::estimator::orders_around(g0.nu())
                 .map(|n| g0.order_with(n, 1.0, spread_kmh / 3.6))
                 .max_by(|a, b| {
                     a.growth_rate_per_1000km
@@ -877,7 +881,7 @@ fn driving_growth(power: WearPower) -> (WheelGrowth, WheelModel, f64) {
 /// ratio up to G_x); the position's other wear is what levels.
 #[test]
 fn slip_power_adds_its_even_wear_and_two_levelling_terms() {
-    use polywear::wear::physics::slip::SlipPower;
+    use polywear_core::wear::physics::slip::SlipPower;
     let p = Params::default();
     let (with, model, gamma_per_share) = driving_growth(WearPower::WithSlip);
     let (without, _, _) = driving_growth(WearPower::LateralOnly);
@@ -887,7 +891,7 @@ fn slip_power_adds_its_even_wear_and_two_levelling_terms() {
     let w_x = p.wear_share_straight * gamma_per_share * slip.power_w / band;
     let d_even = with.even_wear_m_per_m() - without.even_wear_m_per_m();
     assert!((d_even / w_x - 1.0).abs() < 1e-12, "{d_even} vs {w_x}");
-    let fb = polywear::wear::Feedback::new(&p, &model, WearZone::Trailing);
+    let fb = polywear_core::wear::Feedback::new(&p, &model, WearZone::Trailing);
     let kappa = fb.local_per_m;
     let w0 = p.wear_rate_ref_mm_per_1000km * 1e-9;
     let other = (1.0 - p.wear_share_straight) * (p.wear_rate_driven_factor - 1.0) * w0 * kappa;

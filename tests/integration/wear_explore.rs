@@ -177,13 +177,13 @@ fn the_study_sets_the_wear_stage_and_a_resume_keeps_it() {
 mod along_a_cycle {
     use crate::common::{fresh_dir, polywear};
     use polywear::classify::ClassifierOptions;
-    use polywear::cycle::wear::step_life;
-    use polywear::cycle::{classify_cycle, ClassifiedCycle, DriveCycle};
     use polywear::evaluate::{self, PointProblem, WearStage};
     use polywear::model::Variant;
     use polywear::params::Params;
-    use polywear::wear::estimator::tread_life_km;
-    use polywear::wear::{FittedConstants, WearSettings};
+    use polywear_core::wear::estimator::tread_life_km;
+    use polywear_core::wear::{FittedConstants, WearSettings};
+    use polywear_study::cycle::wear::step_life;
+    use polywear_study::cycle::{classify_cycle, ClassifiedCycle, DriveCycle};
 
     /// `c` classified with the wear stage `stage` on one thread and on two.
     fn on_one_and_two_threads(
@@ -288,8 +288,8 @@ mod along_a_cycle {
     /// depend on the number of threads.
     #[test]
     fn a_saturated_cycle_is_its_steps_each_saturated_on_its_own() {
-        use polywear::wear::estimator::{answer_saturated_per_step, SLIDING_MODULATION_MAX};
-        use polywear::wear::LifeProfile;
+        use polywear_core::wear::estimator::{answer_saturated_per_step, SLIDING_MODULATION_MAX};
+        use polywear_core::wear::LifeProfile;
         let opts = ClassifierOptions::default();
         let p = Params {
             toe_deg: 0.45,

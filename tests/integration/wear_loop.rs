@@ -10,9 +10,9 @@ use polywear::long_term::wheel_loop::{
 };
 use polywear::model::{Variant, Wheel};
 use polywear::params::Params;
-use polywear::wear::estimator::{WearProblem, WearSettings, WheelGrowth};
-use polywear::wear::physics::law;
-use polywear::wear::Calibration;
+use polywear_core::wear::estimator::{WearProblem, WearSettings, WheelGrowth};
+use polywear_core::wear::physics::law;
+use polywear_core::wear::Calibration;
 use polywear_lab::accelerated::{run_oracle, OracleSettings};
 
 use crate::common::{fresh_dir, polywear};
@@ -741,7 +741,7 @@ fn the_loop_locks_only_inside_a_tongue_that_widens_with_the_depth() {
             params: &p,
             wheel: Wheel::Follower,
             variant: V,
-            zone: polywear::wear::WearZone::Trailing,
+            zone: polywear_core::wear::WearZone::Trailing,
             depth_m: &d,
             tread_height_m: p.tread_height,
             start: start(&w).unwrap(),
@@ -778,8 +778,8 @@ fn the_loop_locks_only_inside_a_tongue_that_widens_with_the_depth() {
 fn locks_to_19(p: &Params, w: &WheelSolution, radius_m: f64, detuning: f64) -> (bool, f64) {
     use polywear::long_term::lock::{is_locked, rotation_number};
     use polywear::long_term::window::{integrate_window, EpsilonTable, WindowRequest};
-    use polywear::numeric::Complex64;
-    use polywear::wear::{Feedback, WearZone};
+    use polywear_core::numeric::Complex64;
+    use polywear_core::wear::{Feedback, WearZone};
     let m = w.model.as_ref().unwrap();
     let f_hz = w.verdict.polygon_order * polywear::model::WheelModel::rotation_hz(p);
     let fb = Feedback::new(p, m, WearZone::Trailing);
@@ -933,8 +933,8 @@ fn forced_near_v19(
     use polywear::long_term::lock::{is_locked, rotation_number};
     use polywear::long_term::window::{integrate_window, EpsilonTable, WindowRequest};
     use polywear::model::WheelModel;
-    use polywear::numeric::Complex64;
-    use polywear::wear::Feedback;
+    use polywear_core::numeric::Complex64;
+    use polywear_core::wear::Feedback;
     use polywear_lab::forced_orbit;
     let free = g.cycle_power_harmonic_rel();
     let p = worst(centre_kmh + offset_kmh);
@@ -1260,8 +1260,8 @@ fn growth_of(w: &polywear::long_term::WheelLongTerm, p: &Params) -> WheelGrowth 
 fn unbounded_life(
     w: &polywear::long_term::WheelLongTerm,
     p: &Params,
-) -> polywear::wear::LifeAnswer {
-    growth_of(w, p).life_answer(&polywear::wear::FittedConstants::of(p))
+) -> polywear_core::wear::LifeAnswer {
+    growth_of(w, p).life_answer(&polywear_core::wear::FittedConstants::of(p))
 }
 
 /// Loop = the one wear answer at the nominal set (MODEL.md#one-wear-answer): at highway points
@@ -1275,7 +1275,7 @@ fn unbounded_life(
 #[test]
 fn the_one_wear_answer_agrees_with_the_loop_at_the_nominal_set() {
     use polywear::long_term::{solve, LongTermProblem};
-    use polywear::wear::FittedConstants;
+    use polywear_core::wear::FittedConstants;
     let opts = ClassifierOptions::default();
     let points = [(130.0, 0.50), (125.0, 0.30)];
     let solved: Vec<_> = std::thread::scope(|s| {
@@ -1452,10 +1452,10 @@ fn the_saturated_level_agrees_with_the_loop_at_a_spread_where_the_life_level_is_
 /// few dozen and a few.
 #[test]
 fn over_the_tread_s_life_the_follower_is_more_exposed() {
-    use polywear::calibration_band::fit::wheel_growth;
     use polywear::evaluate::WearStage;
     use polywear::study::{Study, DEFAULT_STUDY};
-    use polywear::wear::FittedConstants;
+    use polywear_core::wear::FittedConstants;
+    use polywear_study::calibration_band::fit::wheel_growth;
     use rayon::prelude::*;
     let study = Study::parse(DEFAULT_STUDY).unwrap();
     let stage = WearStage {

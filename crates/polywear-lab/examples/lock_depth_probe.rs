@@ -37,8 +37,8 @@ use polywear::classify::ClassifierOptions;
 use polywear::evaluate::{solve_wheel, WearStage};
 use polywear::model::{Variant, Wheel};
 use polywear::params::Params;
-use polywear::wear::estimator::{print_log_ratio, SaturatedSteps, SLIDING_MODULATION_MAX};
-use polywear::wear::{
+use polywear_core::wear::estimator::{print_log_ratio, SaturatedSteps, SLIDING_MODULATION_MAX};
+use polywear_core::wear::{
     FittedConstants, LifeProfile, WearSettings, WheelGrowth, LIFE_PROFILE_INTERVALS,
 };
 use polywear_study::cycle::DriveCycle;
@@ -356,7 +356,7 @@ fn sliding_harmonic(a: f64) -> f64 {
 /// The cycle of `V:SIGMA:LEGS` (see the header): each leg one row of 100 m.
 fn cruise_cycle(spec: &str) -> DriveCycle {
     let f: Vec<f64> = spec.split(':').map(|x| x.parse().unwrap()).collect();
-    let legs = polywear::wear::response::legs::cruise_legs(f[0], f[1], f[2] as usize);
+    let legs = polywear_core::wear::response::legs::cruise_legs(f[0], f[1], f[2] as usize);
     let mut csv = String::from("time_s,speed_kmh\n");
     let mut t = 0.0;
     for leg in &legs {
@@ -390,8 +390,8 @@ impl BruteTable {
         use polywear::long_term::lock::{is_locked, rotation_number};
         use polywear::long_term::window::{integrate_window, EpsilonTable, WindowRequest};
         use polywear::model::WheelModel;
-        use polywear::numeric::Complex64;
-        use polywear::wear::Feedback;
+        use polywear_core::numeric::Complex64;
+        use polywear_core::wear::Feedback;
         use polywear_lab::forced_orbit;
         use rayon::prelude::*;
         let by_orbit = std::env::var("PW_LOCKED_PRINT").is_ok_and(|v| v == "orbit");

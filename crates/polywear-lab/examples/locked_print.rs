@@ -19,8 +19,8 @@ use near_v19::{at, NearV19, ORDER, VARIANT};
 use polywear::long_term::lock::{is_locked, rotation_number};
 use polywear::long_term::window::{integrate_window, EpsilonTable, WindowRequest};
 use polywear::model::{Wheel, WheelModel};
-use polywear::numeric::Complex64;
-use polywear::wear::{Feedback, WearSettings};
+use polywear_core::numeric::Complex64;
+use polywear_core::wear::{Feedback, WearSettings};
 use polywear_lab::forced_orbit;
 
 const SAMPLES_PER_REV: usize = 256;

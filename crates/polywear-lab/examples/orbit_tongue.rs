@@ -16,8 +16,8 @@ mod near_v19;
 use near_v19::{at, NearV19, ORDER, VARIANT};
 use polywear::long_term::window::{integrate_window, EpsilonTable, WindowRequest};
 use polywear::model::{Wheel, WheelModel};
-use polywear::numeric::Complex64;
-use polywear::wear::{Feedback, WearSettings};
+use polywear_core::numeric::Complex64;
+use polywear_core::wear::{Feedback, WearSettings};
 use polywear_lab::forced_orbit::{self, ForcedOrbit};
 
 /// Steps outward, each this share of the normal form's half-width (at least 0.01 km/h).

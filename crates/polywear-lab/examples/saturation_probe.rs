@@ -16,8 +16,8 @@ use polywear::evaluate::{solve_wheel, WearStage};
 use polywear::long_term::leg_profiles;
 use polywear::model::{Variant, Wheel};
 use polywear::params::Params;
-use polywear::wear::estimator::answer_saturated_per_step;
-use polywear::wear::{FittedConstants, LifeProfile, WearSettings};
+use polywear_core::wear::estimator::answer_saturated_per_step;
+use polywear_core::wear::{FittedConstants, LifeProfile, WearSettings};
 use polywear_study::cycle::wear::step_life;
 use polywear_study::cycle::DriveCycle;
 

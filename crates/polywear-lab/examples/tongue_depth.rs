@@ -13,12 +13,12 @@ use polywear::evaluate::solve_wheel;
 use polywear::long_term::lock::{is_locked, rotation_number};
 use polywear::long_term::window::{integrate_window, EpsilonTable, WindowRequest};
 use polywear::model::{Variant, Wheel, WheelModel};
-use polywear::numeric::Complex64;
 use polywear::params::Params;
-use polywear::wear::physics::cycle::{SampledCycle, SAMPLES_PER_PERIOD};
-use polywear::wear::response::normal_form::ForcedHopf;
-use polywear::wear::response::periodic::CycleResponse;
-use polywear::wear::{Feedback, WearZone};
+use polywear_core::numeric::Complex64;
+use polywear_core::wear::physics::cycle::{SampledCycle, SAMPLES_PER_PERIOD};
+use polywear_core::wear::response::normal_form::ForcedHopf;
+use polywear_core::wear::response::periodic::CycleResponse;
+use polywear_core::wear::{Feedback, WearZone};
 
 fn main() {
     let a: Vec<String> = std::env::args().collect();

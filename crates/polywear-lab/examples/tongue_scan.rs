@@ -14,9 +14,9 @@ use polywear::evaluate::{calibrate_wear, solve_wheel};
 use polywear::long_term::lock::rotation_number;
 use polywear::long_term::window::{integrate_window, EpsilonTable, WindowRequest};
 use polywear::model::{Variant, Wheel, WheelModel};
-use polywear::numeric::Complex64;
 use polywear::params::Params;
-use polywear::wear::{Feedback, WearProblem, WearSettings, WearZone, WheelGrowth};
+use polywear_core::numeric::Complex64;
+use polywear_core::wear::{Feedback, WearProblem, WearSettings, WearZone, WheelGrowth};
 
 fn main() {
     let a: Vec<String> = std::env::args().collect();

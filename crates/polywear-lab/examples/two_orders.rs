@@ -13,9 +13,9 @@ use polywear::evaluate::solve_wheel;
 use polywear::long_term::lock::rotation_number;
 use polywear::long_term::window::{integrate_window, EpsilonTable, WindowRequest};
 use polywear::model::{Variant, Wheel, WheelModel};
-use polywear::numeric::Complex64;
 use polywear::params::Params;
-use polywear::wear::{Feedback, WearSettings};
+use polywear_core::numeric::Complex64;
+use polywear_core::wear::{Feedback, WearSettings};
 
 fn main() {
     let a: Vec<String> = std::env::args().collect();

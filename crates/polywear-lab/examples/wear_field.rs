@@ -21,8 +21,8 @@ use polywear::classify::ClassifierOptions;
 use polywear::model::{Variant, Wheel};
 use polywear::params::Params;
 use polywear::study::{Study, DEFAULT_STUDY};
-use polywear::wear::estimator::{distance_to_visible_km, orders_around};
-use polywear::wear::{Calibration, WearSettings, WheelGrowth};
+use polywear_core::wear::estimator::{distance_to_visible_km, orders_around};
+use polywear_core::wear::{Calibration, WearSettings, WheelGrowth};
 use rayon::prelude::*;
 
 /// One wheel's loop, or None where it has no figures.
@@ -31,7 +31,7 @@ fn growth(p: &Params, wheel: Wheel, cal: &Calibration) -> Option<WheelGrowth> {
         settings: WearSettings::default(),
         calibration: *cal,
     };
-    polywear::calibration_band::fit::wheel_growth(p, wheel, &stage)
+    polywear_study::calibration_band::fit::wheel_growth(p, wheel, &stage)
 }
 
 /// (s* \[km\], dominant order) of a wheel's loop at φ_s = `share`, σ_V = `spread_kmh`.

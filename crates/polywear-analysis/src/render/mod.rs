@@ -29,7 +29,9 @@ use std::path::{Path, PathBuf};
 use crate::analysis::counts::RiskCounts;
 use crate::analysis::risk_map::RiskMap;
 use crate::analysis::Analysis;
-use crate::plot::{FigureFile, FigureFormat};
+use crate::plot::FigureFile;
+/// The figures' file format, PNG or SVG, as [`RenderOptions::figure_format`] takes it.
+pub use crate::plot::FigureFormat;
 use polywear_core::model::Variant;
 use polywear_core::params::ParamId;
 

@@ -5,7 +5,7 @@ use polywear::classify::ClassifierOptions;
 use polywear::evaluate::{solve_wheel, WearStage, WheelSolution};
 use polywear::model::{Variant, Wheel};
 use polywear::params::Params;
-use polywear::wear::{WearSettings, WheelGrowth};
+use polywear_core::wear::{WearSettings, WheelGrowth};
 
 /// The order forced.
 pub const ORDER: u32 = 19;
