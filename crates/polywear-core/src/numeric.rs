@@ -13,7 +13,7 @@ pub type Complex64 = nalgebra::Complex<f64>;
 
 /// Brent's method for a root of `f` in `[a, b]`, where `f(a)` and `f(b)` differ in sign.
 /// Converges to `xtol` absolute plus a few ulps relative. Returns `None` without a sign change.
-pub fn brent(
+pub(crate) fn brent(
     mut f: impl FnMut(f64) -> f64,
     a: f64,
     b: f64,

@@ -321,7 +321,7 @@ define_params! {
 /// differ from them. The reference data in `tests/data/` was computed with R0; tests pass
 /// [`Params::r0`] so that defaults can move.
 /// `studies/params_r0.toml` holds the same values for `--params`.
-pub const R0_OVERRIDES: &[(ParamId, f64)] = &[
+pub(crate) const R0_OVERRIDES: &[(ParamId, f64)] = &[
     (ParamId::GMod, 0.8645e6),
     (ParamId::CBrush, 3.6e7),
     (ParamId::Alpha2, 4.0e-8),

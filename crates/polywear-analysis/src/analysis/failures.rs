@@ -14,10 +14,10 @@ use polywear_core::classify::Class;
 
 /// Above this share of rows without a verdict, the printed summary and `report.md` lead with
 /// the reasons.
-pub const LOUD_SHARE: f64 = 0.01;
+pub(crate) const LOUD_SHARE: f64 = 0.01;
 
 /// The text that stands for a blanked number in a reason's pattern.
-pub const BLANK: &str = "…";
+pub(crate) const BLANK: &str = "…";
 
 /// The rows of one class that share one reason (up to its numbers).
 #[derive(Debug, Clone, PartialEq)]
@@ -101,7 +101,7 @@ pub fn failures(
 
 /// A reason with each number blanked: a run of digits (with its sign, decimals and exponent)
 /// that is not part of a name (`dop853`, `l1`, `2*r_b` keep theirs).
-pub fn pattern(reason: &str) -> String {
+pub(crate) fn pattern(reason: &str) -> String {
     let chars: Vec<char> = reason.chars().collect();
     let name_char = |c: char| c.is_alphanumeric() || c == '_' || c == '*';
     let mut out = String::with_capacity(reason.len());

@@ -226,7 +226,7 @@ pub struct SparseMap {
 /// A risk map is drawn only when at least this share of its cells holds enough samples: the
 /// few rows of an operating-point file fill a handful of cells of a speed × toe-in grid, and a
 /// map that is mostly grey says less than the per-row table.
-pub const MIN_MAP_COVERAGE: f64 = 0.25;
+pub(crate) const MIN_MAP_COVERAGE: f64 = 0.25;
 
 /// Why an analysis cannot be done: inputs that do not belong together (named by file and key),
 /// rows this version cannot read, or a failed query.

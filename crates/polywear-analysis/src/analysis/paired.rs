@@ -95,7 +95,7 @@ impl Paired {
 
 /// Samples per variant and pair of outcomes, counted one sample at a time.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct PairTally {
+pub(crate) struct PairTally {
     combos: PairCounts,
 }
 
@@ -126,7 +126,7 @@ pub fn paired(
 
 /// [`paired`] on any outcome: vibration, or a visible polygon within a distance (the wear
 /// stage's); a wheel whose outcome is unknown makes its sample unclassified.
-pub fn paired_on(
+pub(crate) fn paired_on(
     files: &[PathBuf],
     batch_rows: u64,
     has_scenarios: bool,
@@ -155,12 +155,6 @@ pub fn paired_by_group(
         has_scenarios,
         OutcomeColumn::Vibration,
     )?))
-}
-
-/// The paired table from counts per (variant, follower code + 3 × driving code), as the
-/// queries return them or a test builds them.
-pub fn paired_from_counts(combos: &PairCounts) -> Vec<Paired> {
-    paired_from(combos)
 }
 
 /// The paired table from sample counts per (variant, follower code + 3 × driving code).

@@ -564,7 +564,7 @@ fn file_rows(path: &Path) -> u64 {
 }
 
 /// Units of the fixed-point sums: 2^32 per range, so up to 2^31 rows sum without overflow.
-pub const FIXED_POINT_SCALE: f64 = 4_294_967_296.0;
+pub(crate) const FIXED_POINT_SCALE: f64 = 4_294_967_296.0;
 
 /// A value in [lo, hi] as a whole number of 2^-32 ranges above `lo`: integer sums are exact and
 /// do not depend on the order polars adds the rows in, so the mean is the same whatever the

@@ -15,7 +15,7 @@ use polywear_core::sampling::design::Design;
 
 /// The output name of the vibration indicator: 1 when the wheel vibrates (limit cycle or
 /// bistable), 0 when stable.
-pub const VIBRATION: &str = "vibration";
+pub(crate) const VIBRATION: &str = "vibration";
 
 /// First-order and total Sobol indices of one output with respect to one parameter.
 #[derive(Debug, Clone, PartialEq)]

@@ -20,7 +20,7 @@ pub enum FigureBackend<'a> {
 }
 
 /// A figure's pixels or SVG text, drawn in memory before its file is written.
-pub enum FigureBuffer {
+pub(crate) enum FigureBuffer {
     /// RGB pixels of a PNG figure, and its size.
     Png(Vec<u8>, (u32, u32)),
     /// The SVG document.

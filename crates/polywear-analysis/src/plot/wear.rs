@@ -8,7 +8,7 @@ use super::maps::viridis;
 use super::{line_panel_coloured, panels, FigureFile, PlotError, Series};
 
 /// One wheel of the figure.
-pub struct WearTrace<'a> {
+pub(crate) struct WearTrace<'a> {
     /// The wheel's name.
     pub wheel: &'a str,
     /// The depth profile d(θ) \[m\] at distances \[km\].
@@ -47,7 +47,7 @@ const ORDER_COLOURS: [RGBColor; 4] = [
 ];
 
 /// Draws the figure into `path` (PNG or SVG, as it says).
-pub fn wear_figure(
+pub(crate) fn wear_figure(
     path: &FigureFile,
     title: &str,
     wheels: &[WearTrace<'_>],

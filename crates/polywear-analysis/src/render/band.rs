@@ -30,7 +30,7 @@ pub fn points(r: &BandRange) -> String {
 
 /// Which wheel is more exposed across the band, in words that name a wheel only where the sign
 /// holds under every set.
-pub fn paired_words(p: &PairedBand, sets: usize) -> String {
+pub(crate) fn paired_words(p: &PairedBand, sets: usize) -> String {
     let r = &p.follower_minus_driving;
     // As finely as the smaller end needs to read as not zero.
     let by = |a: f64, b: f64| {
@@ -88,7 +88,7 @@ pub fn about(b: &CalibrationBand) -> String {
 }
 
 /// The summary's line where the run has no band.
-pub const NO_BAND: &str = "no calibration band in this run (explore wrote none: `--calibration-band off`, or an older polywear): the intervals are sampling only; the fitted constants' own uncertainty is not in them";
+pub(crate) const NO_BAND: &str = "no calibration band in this run (explore wrote none: `--calibration-band off`, or an older polywear): the intervals are sampling only; the fitted constants' own uncertainty is not in them";
 
 /// The report's section: what the band is, the headline's and the scenarios' bands with the
 /// sets at their ends, and which wheel is more exposed where the sign holds.

@@ -15,7 +15,7 @@ pub(crate) const SHOWN_ROWS: usize = 40;
 
 /// How many of the riskiest rows hold at least half of the fleet's risk (both wheels), and
 /// their share of the weight.
-pub fn half_the_risk(rows: &[&FleetRow]) -> Option<(usize, f64)> {
+pub(crate) fn half_the_risk(rows: &[&FleetRow]) -> Option<(usize, f64)> {
     let mut risk = 0.0;
     let mut weight = 0.0;
     for (k, r) in rows.iter().enumerate() {

@@ -205,7 +205,7 @@ fn life_line(wheel: Wheel, label: &str, reading: Option<&LifeAnswer>, note: &str
 /// One wheel's loop verdict as the band ranks it: the distance to a visible polygon (the
 /// extrapolated one where the run ended with an order still growing; infinite where every
 /// order levels out or the tire wore out first), the kind, and the verdict in short words.
-pub struct BandVerdict {
+pub(crate) struct BandVerdict {
     /// The key the band's ends are taken on \[km\] (NaN: no wear figures).
     pub km: f64,
     /// `visible`, `worn_out`, `none` or `no_figures`.
@@ -220,7 +220,7 @@ pub struct BandVerdict {
 }
 
 /// [`BandVerdict`] of wheel `o` at parameters `p` over `distance_km`.
-pub fn band_verdict(o: &WheelLongTerm, p: &Params, distance_km: f64) -> BandVerdict {
+pub(crate) fn band_verdict(o: &WheelLongTerm, p: &Params, distance_km: f64) -> BandVerdict {
     let Ok(run) = &o.run else {
         return BandVerdict {
             km: f64::NAN,

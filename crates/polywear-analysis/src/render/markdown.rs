@@ -14,7 +14,7 @@ use crate::analysis::Analysis;
 use polywear_core::model::Variant;
 
 /// What P(vibration) is, said once at the top of the page and the printed summary.
-pub const VIBRATION_DEFINITION: &str = "**P(vibration)** is the share of classified rows \
+pub(crate) const VIBRATION_DEFINITION: &str = "**P(vibration)** is the share of classified rows \
     (stable, limit cycle or bistable) in which the wheel vibrates: its tread settles on a limit \
     cycle (self-excited vibration, the mechanism the wear model builds on: whether a vibrating \
     wheel wears a visible polygon is the wear answer's question) or is bistable (a kick puts it \

@@ -7,7 +7,7 @@ use polywear_core::wording::plain;
 /// The verdict of one wheel in words, the first thing `simulate` prints:
 /// "follower: vibrates (65.4 mm/s, 38.5 µm, 270 Hz, 19.4-gon)", "driving: stable (decays at
 /// 7.07 1/s)".
-pub fn verdict_line(r: &WheelRecord) -> String {
+pub(crate) fn verdict_line(r: &WheelRecord) -> String {
     let cycle = || {
         format!(
             "{} mm/s, {} µm, {} Hz, {}-gon",

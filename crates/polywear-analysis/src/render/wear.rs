@@ -21,7 +21,7 @@ use polywear_study::stats::format_p;
 pub use polywear_core::wording::km;
 
 /// The line a report without the wear stage carries instead of the wear answer.
-pub const NO_WEAR_LINE: &str = "> The wear stage was left out of this run (`polywear explore --no-wear`, or `wear = false` in the study): there is no distance to a visible polygon, so this report answers for vibration only.";
+pub(crate) const NO_WEAR_LINE: &str = "> The wear stage was left out of this run (`polywear explore --no-wear`, or `wear = false` in the study): there is no distance to a visible polygon, so this report answers for vibration only.";
 
 /// The wear answer's sections, or [`NO_WEAR_LINE`] for a run without them.
 pub fn section(s: &mut String, a: &Analysis, figures: &Figures) {

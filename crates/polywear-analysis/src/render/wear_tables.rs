@@ -87,7 +87,7 @@ pub fn tables(w: &WearAnalysis, min_count: u64) -> Vec<(String, Vec<Column>)> {
 
 /// The near-miss table's column of the wheels whose peak reached the share `t` of the visible
 /// depth: `reached_10pct`, ..., `reached_visible` for 1.
-pub fn near_miss_column(t: f64) -> String {
+pub(crate) fn near_miss_column(t: f64) -> String {
     if t >= 1.0 {
         "reached_visible".to_string()
     } else {

@@ -216,7 +216,7 @@ impl WindowStats {
 }
 
 /// Relative tolerance of the brute-force reference (as in `tests/data/points.csv`).
-pub const REFERENCE_RTOL: f64 = 1e-10;
+pub(crate) const REFERENCE_RTOL: f64 = 1e-10;
 
 /// The brute-force verdict used to test the fast classifier: the method of MODEL.md#reference-data
 /// (a long trajectory at rtol 1e-10 from the disturbed equilibrium, amplitudes over its last 0.5 s,

@@ -228,7 +228,7 @@ pub fn classify_point(
 /// [`classify_point`] with a starting guess for shooting taken from a neighbouring wheel's
 /// cycle (the other wheel or variant of the same sample); also returns this wheel's cycle as a
 /// hint for the next.
-pub fn classify_point_hinted(
+pub(crate) fn classify_point_hinted(
     p: &Params,
     wheel: Wheel,
     variant: Variant,

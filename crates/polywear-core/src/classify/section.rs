@@ -28,16 +28,13 @@ pub(crate) fn crossing_in_step<const N: usize>(
     Some((t, step.interpolate(t)))
 }
 
-/// One return to the section: time of flight, state there, and the RHS evaluations spent.
-pub struct Return<const N: usize> {
+/// One return to the section: time of flight and the state there (the RHS evaluations spent
+/// are charged to the meter).
+pub(crate) struct Return<const N: usize> {
     /// Time of flight to the section \[s\].
     pub period_s: f64,
     /// The state on the section.
     pub state: [f64; N],
-    /// RHS evaluations spent.
-    pub rhs_evals: usize,
-    /// The last step size \[s\], a good first step for the next return.
-    pub h_last: f64,
 }
 
 /// Runs `method` under the wheel's budget: the step limit shrinks to the evaluations left,
@@ -88,7 +85,7 @@ pub(crate) fn first_return<const N: usize, S: OdeSystem<N>>(
     mut observe: impl FnMut(&Step<'_, N>, f64),
 ) -> Result<Return<N>, ClassifyError> {
     let mut hit = None;
-    let out = metered(method, sys, start, t_max, opts, meter, |step| {
+    metered(method, sys, start, t_max, opts, meter, |step| {
         if step.t1 > t_min {
             if let Some(c) = crossing_in_step(step, y_sec) {
                 if c.0 > t_min {
@@ -105,8 +102,6 @@ pub(crate) fn first_return<const N: usize, S: OdeSystem<N>>(
         Some((t, x)) => Ok(Return {
             period_s: t,
             state: x,
-            rhs_evals: out.rhs_evals,
-            h_last: out.h_last,
         }),
         None => Err(ClassifyError::NoReturn { t_max_s: t_max }),
     }

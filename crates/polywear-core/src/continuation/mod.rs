@@ -2,7 +2,7 @@
 //! Jacobian and exact second and third derivatives (the data MatCont or BifurcationKit ask for).
 //!
 //! The code is generic over [`OdeWithJacobian`] and [`TwoParameterFamily`], so the textbook
-//! systems of [`textbook`] (Brusselator, Bautin normal form) run the same code path as the tire:
+//! systems of its tests' `textbook` (Brusselator, Bautin normal form) run the same code path as the tire:
 //!
 //! - [`hopf`]: the Hopf defining system (equilibrium equations plus the bialternate-product test
 //!   function det(2A⊙I), Kuznetsov, *Elements of Applied Bifurcation Theory*, §10.2.2), Newton's
@@ -13,7 +13,8 @@
 
 pub mod hopf;
 pub mod linalg;
-pub mod textbook;
+#[cfg(test)]
+pub(crate) mod textbook;
 pub mod trace;
 
 use nalgebra::{Complex, DMatrix, DVector};

@@ -18,7 +18,7 @@ type C = Complex<f64>;
 
 /// The Brusselator at parameters (a, b).
 #[derive(Debug, Clone, Copy)]
-pub struct Brusselator {
+pub(crate) struct Brusselator {
     /// The parameter a > 0 (the equilibrium is (a, b/a)).
     pub a: f64,
     /// The parameter b; the Hopf curve is b = 1 + a².
@@ -71,7 +71,7 @@ impl OdeWithJacobian for Brusselator {
 }
 
 /// The Brusselator family in (a, b).
-pub struct BrusselatorFamily;
+pub(crate) struct BrusselatorFamily;
 
 impl TwoParameterFamily for BrusselatorFamily {
     type System = Brusselator;
@@ -85,7 +85,7 @@ impl TwoParameterFamily for BrusselatorFamily {
 
 /// Hopf normal form z' = (μ + i)z + c z|z|² − z|z|⁴ in real coordinates.
 #[derive(Debug, Clone, Copy)]
-pub struct NormalForm {
+pub(crate) struct NormalForm {
     /// The unfolding parameter μ: Hopf points at μ = 0.
     pub mu: f64,
     /// The cubic coefficient c: l1 = 2c at μ = 0 (with ⟨q, q⟩ = 1), a Bautin point at c = 0.
@@ -148,7 +148,7 @@ impl OdeWithJacobian for NormalForm {
 }
 
 /// The Bautin normal form: μ = β1, c = β2.
-pub struct BautinFamily;
+pub(crate) struct BautinFamily;
 
 impl TwoParameterFamily for BautinFamily {
     type System = NormalForm;
@@ -164,7 +164,7 @@ impl TwoParameterFamily for BautinFamily {
 }
 
 /// A closed Hopf curve: μ = 1/4 − β1² − β2², c = β1.
-pub struct RingFamily;
+pub(crate) struct RingFamily;
 
 impl TwoParameterFamily for RingFamily {
     type System = NormalForm;
@@ -183,7 +183,7 @@ impl TwoParameterFamily for RingFamily {
 /// the equilibrium branch through x = 0 at β1 = 0 (a neutral saddle for β2 > 0): its Hopf curve is β1 = 0, β2 < 0 with
 /// ω = √(−β2), and at the Bogdanov–Takens point (0, 0) the complex pair turns real.
 #[derive(Debug, Clone, Copy)]
-pub struct BogdanovTakens {
+pub(crate) struct BogdanovTakens {
     /// The unfolding parameter β1.
     pub beta1: f64,
     /// The unfolding parameter β2.
@@ -216,7 +216,7 @@ impl OdeWithJacobian for BogdanovTakens {
 }
 
 /// The Bogdanov–Takens family in (β1, β2); no equilibrium where β2² < 4β1.
-pub struct BogdanovTakensFamily;
+pub(crate) struct BogdanovTakensFamily;
 
 impl TwoParameterFamily for BogdanovTakensFamily {
     type System = BogdanovTakens;

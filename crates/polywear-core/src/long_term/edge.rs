@@ -13,7 +13,7 @@ pub(crate) type Signature = Vec<(bool, i64)>;
 
 /// A lock edge is resolved until a step's misplacement of it changes the locked order's depth
 /// by less than this share of that depth.
-pub const EDGE_DEPTH_SHARE: f64 = 0.1;
+pub(crate) const EDGE_DEPTH_SHARE: f64 = 0.1;
 
 /// The lock signature that a step must not change without being redone: per speed, the lock
 /// flag and, where locked, the order it is locked to. (An unlocked ρ drifts on with the tread

@@ -10,13 +10,13 @@
 use nalgebra::{DMatrix, DVector};
 
 /// ρ within this of a whole number over the window: locked.
-pub const LOCK_TOLERANCE: f64 = 1e-3;
+pub(crate) const LOCK_TOLERANCE: f64 = 1e-3;
 
 /// Harmonics of the cycle whose drifting prints the weights annihilate.
-pub const DRIFT_HARMONICS: usize = 3;
+pub(crate) const DRIFT_HARMONICS: usize = 3;
 
 /// Fewest and most measured revolutions of a window.
-pub const WINDOW_REVS: (usize, usize) = (3, 40);
+pub(crate) const WINDOW_REVS: (usize, usize) = (3, 40);
 
 /// The rotation number ρ: cycle periods (upward crossings of v = 0, `crossings_s`) per
 /// revolution of period `t_rev_s`, from the first crossing to the last; NaN with fewer than
@@ -46,7 +46,7 @@ pub fn detuning(x: f64) -> f64 {
 /// harmonic whose drift the longest window could not turn twice (|δ(kρ)| < 2/40) counts as
 /// fixed to the tyre: locked, or so near lock that its print does add up over that stretch. A
 /// tread without a cycle takes the fewest revolutions, one locked or near lock the most.
-pub fn window_revs(rho: f64) -> usize {
+pub(crate) fn window_revs(rho: f64) -> usize {
     let (lo, hi) = WINDOW_REVS;
     if rho.is_nan() {
         return lo;
@@ -67,7 +67,7 @@ pub fn window_revs(rho: f64) -> usize {
 /// every harmonic k ≤ [`DRIFT_HARMONICS`] whose drift the window resolves (|δ(kρ)|·revs ≥ ½), of
 /// least Σ w_j². Uniform (1/revs) for a locked cycle or none (ρ NaN): every print is fixed to
 /// the tyre then.
-pub fn revolution_weights(revs: usize, rho: f64) -> Vec<f64> {
+pub(crate) fn revolution_weights(revs: usize, rho: f64) -> Vec<f64> {
     let uniform = vec![1.0 / revs as f64; revs];
     if rho.is_nan() || is_locked(rho) {
         return uniform;

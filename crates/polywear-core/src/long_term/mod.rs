@@ -43,7 +43,7 @@ pub mod window;
 pub use figures::LongTermFigures;
 
 /// The largest distance a long-term problem accepts \[km\].
-pub const MAX_DISTANCE_KM: f64 = 1e6;
+pub(crate) const MAX_DISTANCE_KM: f64 = 1e6;
 
 /// Why a long-term problem was refused before any work.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

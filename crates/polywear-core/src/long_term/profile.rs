@@ -13,7 +13,7 @@ use crate::numeric::Complex64;
 use crate::sampling::rng::Streams;
 
 /// The orders the seed puts run-out into: 1 ..= this.
-pub const SEED_ORDERS: usize = 64;
+pub(crate) const SEED_ORDERS: usize = 64;
 
 /// The random stream of the seed's phases (sample index = the order).
 const SEED_PHASE_AXIS: u64 = 0;

@@ -62,7 +62,7 @@ use steps::{step_after, step_to_take_m, LoopRecord};
 
 /// Profile cells M of the shipped loop (1.95 mm each at r_B = 0.317 m, under a quarter of the
 /// trailing zone's length).
-pub const CELLS: usize = 1024;
+pub(crate) const CELLS: usize = 1024;
 /// A window cycles (has a rotation number) when |v| reaches this share of U = V sin α.
 const CYCLING_SHARE_OF_U: f64 = 0.1;
 /// The tread model is rebuilt at a speed once h has moved this much since \[m\].

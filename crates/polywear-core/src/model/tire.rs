@@ -78,7 +78,7 @@ fn block_stiffness_n_per_m(p: &Params, patch: &ContactPatch, height_m: f64) -> f
 /// and the rest the tread rubber that is left: m = m₀ (μ_b + (1 − μ_b) h/h₀). At h = h₀ this is
 /// the new tyre's tread block exactly, whatever the shares, and with c = 0 and μ_b = 0 it is
 /// Eq. 16 at h exactly (the tread alone).
-pub fn worn_tread_block(p: &Params, patch: &ContactPatch, height_m: f64) -> TreadBlock {
+pub(crate) fn worn_tread_block(p: &Params, patch: &ContactPatch, height_m: f64) -> TreadBlock {
     if height_m == p.tread_height {
         return tread_block(p, patch);
     }

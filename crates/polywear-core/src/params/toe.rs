@@ -10,11 +10,11 @@ use crate::wording::plain;
 
 /// The nominal diameter of a 15-inch rim \[mm\] (15 × 25.4; ETRTO), the rim of the 195/65 R15
 /// tire whose radius `r_b` = 0.317 m the paper gives (190.5 mm + 0.65 × 195 mm).
-pub const RIM_DIAMETER_15_IN_MM: f64 = 381.0;
+pub(crate) const RIM_DIAMETER_15_IN_MM: f64 = 381.0;
 
 /// A toe-in given in mm at the rim's edge across its diameter `rim_diameter_mm`: the angle
 /// \[deg\] whose tangent is the one over the other.
-pub fn toe_deg_from_mm(toe_mm: f64, rim_diameter_mm: f64) -> f64 {
+pub(crate) fn toe_deg_from_mm(toe_mm: f64, rim_diameter_mm: f64) -> f64 {
     (toe_mm / rim_diameter_mm).atan().to_degrees()
 }
 

@@ -23,9 +23,9 @@ pub const RNG_NAME: &str =
     "ChaCha12Rng (chacha20 0.10, rand 0.10); key = seed_from_u64(seed); stream = sample index; word position = 2^32 * axis";
 
 /// First stream of the Latin-hypercube permutations (one stream per axis).
-pub const LHS_STREAMS: u64 = 1 << 62;
+pub(crate) const LHS_STREAMS: u64 = 1 << 62;
 /// Stream of the Sobol scrambling seeds (word = axis).
-pub const SOBOL_SCRAMBLE_STREAM: u64 = 1 << 63;
+pub(crate) const SOBOL_SCRAMBLE_STREAM: u64 = 1 << 63;
 
 /// Words (32-bit) reserved for each axis of a sample.
 const AXIS_WORDS: u32 = 32;

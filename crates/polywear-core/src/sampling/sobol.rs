@@ -143,7 +143,7 @@ const POLYS: &[(u32, u32, &[u32])] = &[
 pub(crate) const MAX_DIMENSIONS: usize = POLYS.len() + 1;
 
 /// Points per dimension before the 32-bit index would repeat the sequence.
-pub const MAX_POINTS: u64 = 1 << 32;
+pub(crate) const MAX_POINTS: u64 = 1 << 32;
 
 /// 32 direction numbers v_k (as left-aligned 32-bit integers) of one dimension.
 pub(crate) fn direction_numbers(dim: usize) -> [u32; 32] {

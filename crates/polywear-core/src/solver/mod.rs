@@ -37,7 +37,7 @@ impl Method {
 }
 
 /// [`integrate`] or [`integrate_dop853`], as `method` says.
-pub fn integrate_with<const N: usize, S: OdeSystem<N>>(
+pub(crate) fn integrate_with<const N: usize, S: OdeSystem<N>>(
     method: Method,
     sys: &S,
     t0: f64,
@@ -114,7 +114,7 @@ pub trait OdeSystem<const N: usize> {
 }
 
 /// Uniform samples of a trajectory and how the integration ended.
-pub type SampledTrajectory<const N: usize> =
+pub(crate) type SampledTrajectory<const N: usize> =
     (Vec<(f64, [f64; N])>, Result<Outcome<N>, IntegrationError>);
 
 /// Samples a trajectory on a uniform time grid through the dense output (for plots and files).

@@ -30,14 +30,14 @@ use polywear_core::records::WearColumn;
 pub use severity::{WearSeverity, WEAR_QUANTITIES};
 
 /// The distance of the headline, the conditional probabilities and the wear risk maps \[km\].
-pub const HEADLINE_WITHIN_KM: f64 = 40_000.0;
+pub(crate) const HEADLINE_WITHIN_KM: f64 = 40_000.0;
 
 /// The dominant orders are counted among the wheels with a visible polygon within this
 /// distance \[km\].
-pub const ORDERS_WITHIN_KM: f64 = 60_000.0;
+pub(crate) const ORDERS_WITHIN_KM: f64 = 60_000.0;
 
 /// The distances of `--within-km` by default \[km\].
-pub const DEFAULT_WITHIN_KM: [f64; 4] = [10_000.0, 25_000.0, 40_000.0, 60_000.0];
+pub(crate) const DEFAULT_WITHIN_KM: [f64; 4] = [10_000.0, 25_000.0, 40_000.0, 60_000.0];
 
 /// The wear answer at one distance: [`OutcomeAnswer`] of [`VisibleWithin`] `within_km`.
 #[derive(Debug, Clone)]
@@ -141,7 +141,7 @@ pub fn distances(asked: &[f64]) -> Vec<f64> {
 }
 
 /// How a run's samples are weighed for wear: by speed where a fleet's weights are hours.
-pub fn sample_weight(info: &RunInfo) -> SampleWeight {
+pub(crate) fn sample_weight(info: &RunInfo) -> SampleWeight {
     let Some(op) = &info.operating_points else {
         return SampleWeight::Equal;
     };
@@ -158,7 +158,7 @@ pub fn sample_weight(info: &RunInfo) -> SampleWeight {
 }
 
 /// Whether the rows hold the wear stage's columns.
-pub fn has_wear(rows: &Rows) -> Result<bool, AnalysisError> {
+pub(crate) fn has_wear(rows: &Rows) -> Result<bool, AnalysisError> {
     rows.has_column(WearColumn::DistanceToVisibleKm.name())
 }
 

@@ -15,7 +15,7 @@ use crate::model::{State, TreadOde};
 /// m/m (depth per distance) to mm per 1000 km.
 pub const MM_PER_1000KM_PER_M_PER_M: f64 = 1e9;
 /// 1/m (growth per distance) to 1 per 1000 km.
-pub const PER_1000KM_PER_PER_M: f64 = 1e6;
+pub(crate) const PER_1000KM_PER_PER_M: f64 = 1e6;
 
 /// The friction force F = σ0 z + σ1 ż \[N\] the tread exerts on the road at state `x`
 /// (MODEL.md#step-6-tread-ode; σ2 = 0).
@@ -45,13 +45,6 @@ pub fn even_wear_m_per_m(
     r_b: f64,
 ) -> f64 {
     gamma_m3_per_j * mean_power_w / (width_m * speed_mps * std::f64::consts::TAU * r_b)
-}
-
-/// The wear rate a harmonic of the profile of order n loses per metre when it raises the
-/// local pressure by ε per metre of radius under the element: the straight-running wear is
-/// pressure-proportional element by element, so it levels at w′·ε (MODEL.md#step-12-feedback).
-pub fn levelling_per_m(even_wear_m_per_m: f64, epsilon_per_m: f64) -> f64 {
-    even_wear_m_per_m * epsilon_per_m
 }
 
 /// Lays one revolution of friction power onto the circumference: `power_w[j]` is P at

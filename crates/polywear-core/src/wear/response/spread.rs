@@ -16,7 +16,8 @@ const FRAC_1_SQRT_PI: f64 = 0.564_189_583_547_756_3;
 /// Σ (iz)ⁿ/Γ(n/2 + 1) (the largest term there is below 1e7, so about 1e-9 of accuracy is
 /// lost at worst); outside, Laplace's continued fraction (i/√π)/(z − ½/(z − 1/(z − 3/2/…)))
 /// in the upper half-plane, and w(z) = 2e^{−z²} − w(−z) below it.
-pub fn faddeeva(z: Complex64) -> Complex64 {
+#[cfg(test)]
+pub(crate) fn faddeeva(z: Complex64) -> Complex64 {
     if z.norm_sqr() < 16.0 {
         return faddeeva_series(z);
     }
@@ -68,6 +69,7 @@ pub(crate) fn faddeeva_fast(z: Complex64) -> Complex64 {
     }
 }
 
+#[cfg(test)]
 fn faddeeva_series(z: Complex64) -> Complex64 {
     let iz = Complex64::new(-z.im, z.re);
     let iz2 = iz * iz;
@@ -91,7 +93,8 @@ fn faddeeva_series(z: Complex64) -> Complex64 {
 }
 
 /// Dawson's integral D(x) = e^{−x²}∫₀ˣ e^{t²} dt = (√π/2) Im w(x).
-pub fn dawson(x: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn dawson(x: f64) -> f64 {
     0.5 / FRAC_1_SQRT_PI * faddeeva(Complex64::new(x, 0.0)).im
 }
 
