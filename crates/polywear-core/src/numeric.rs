@@ -110,7 +110,7 @@ impl Crossing {
     }
 }
 
-/// Every sign change of `f` along a scan, located by [`brent`]: `samples` are (x, f(x)) in scan
+/// Every sign change of `f` along a scan, located by `brent`: `samples` are (x, f(x)) in scan
 /// order (evaluated lazily, so a caller wanting the first root stops the scan there); a pair of
 /// neighbours brackets a root where both values are finite and one is negative while the other
 /// is not. Each bracket is refined to `xtol(lo_x, hi_x)` absolute, in at most `max_iter`

@@ -465,7 +465,7 @@ pub fn spec(name: &str) -> Option<&'static ParamSpec> {
 
 impl Params {
     /// The reference constants R0 (MODEL.md#r0-and-the-shipped-defaults): the defaults with
-    /// [`R0_OVERRIDES`] applied.
+    /// `R0_OVERRIDES` applied.
     pub fn r0() -> Params {
         let mut p = Params::default();
         for (id, value) in R0_OVERRIDES {

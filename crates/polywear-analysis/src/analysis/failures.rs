@@ -1,7 +1,7 @@
 //! Why rows have no verdict: the `failed` and `no_traction` rows grouped by their reason, with
 //! the numbers in each reason blanked so that one cause is one group ("drive force … N exceeds
 //! the adhesion limit … N"). Such rows are left out of every probability, so when more than
-//! [`LOUD_SHARE`] of the rows have no verdict the summary and the report say so first: a
+//! `LOUD_SHARE` of the rows have no verdict the summary and the report say so first: a
 //! probability over the few rows that remain answers a different question (a pressure given
 //! in bar leaves only the samples whose contact patch exists).
 
@@ -24,7 +24,7 @@ pub(crate) const BLANK: &str = "…";
 pub struct ReasonGroup {
     /// `failed` or `no_traction`.
     pub class: Class,
-    /// The reason with its numbers blanked ([`BLANK`]).
+    /// The reason with its numbers blanked (`BLANK`).
     pub pattern: String,
     /// One full reason of the group (the smallest in text order, so the same on every run).
     pub example: String,
@@ -53,7 +53,7 @@ impl Failures {
         }
     }
 
-    /// Whether the share is above [`LOUD_SHARE`]: the summary and report then lead with it.
+    /// Whether the share is above `LOUD_SHARE`: the summary and report then lead with it.
     pub fn loud(&self) -> bool {
         self.share() > LOUD_SHARE
     }

@@ -85,7 +85,7 @@ pub struct AnalysisOptions {
     /// The scenarios are compared on the risk of a visible polygon within this distance \[km\].
     pub scenario_within_km: f64,
     /// P(visible polygon within each of these distances) \[km\] (the wear stage's columns;
-    /// [`wear_risk::HEADLINE_WITHIN_KM`] is always among them).
+    /// `wear_risk::HEADLINE_WITHIN_KM` is always among them).
     pub within_km: Vec<f64>,
 }
 

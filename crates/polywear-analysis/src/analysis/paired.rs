@@ -1,6 +1,6 @@
 //! Driving against follower on the same samples: how many samples vibrate on one wheel only, on
 //! both, on neither, and McNemar's test of the discordant ones. The counts come from the chunk
-//! files ([`paired`]) or from records in memory ([`PairTally`], as `reproduce` has them).
+//! files ([`paired`]) or from records in memory (`PairTally`, as `reproduce` has them).
 
 use std::path::PathBuf;
 

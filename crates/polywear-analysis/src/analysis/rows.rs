@@ -101,7 +101,7 @@ pub struct HistogramBin {
     pub bin: i64,
     /// Rows in the bin.
     pub n: i64,
-    /// The sum of the rows' values in fixed point ([`FIXED_POINT_SCALE`] units of the range
+    /// The sum of the rows' values in fixed point (`FIXED_POINT_SCALE` units of the range
     /// above its low end).
     pub fixed_sum: i64,
 }

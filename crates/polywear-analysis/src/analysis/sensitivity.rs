@@ -24,7 +24,7 @@ pub struct Sensitivity {
     pub variant: Variant,
     /// The wheel.
     pub wheel: Wheel,
-    /// [`VIBRATION`] (the 0/1 indicator: limit cycle or bistable) or `amp_v_mps` (0 without a
+    /// `VIBRATION` (the 0/1 indicator: limit cycle or bistable) or `amp_v_mps` (0 without a
     /// cycle).
     pub output: &'static str,
     /// The drawn parameter the indices belong to.

@@ -1,7 +1,7 @@
 //! One drawing backend for every figure, picked by its [`FigureFormat`]: PNG through plotters'
 //! bitmap backend, SVG through its SVG backend (vector text and shapes, for
 //! reports and slides). Each drawing call is handed to the backend it wraps, so a figure's code
-//! is written once for both formats. Both draw into memory ([`FigureBuffer`]); the file is
+//! is written once for both formats. Both draw into memory (`FigureBuffer`); the file is
 //! written by [`polywear_study::safe_write`], so a figure never follows a link planted at its name.
 
 use plotters::prelude::{BitMapBackend, SVGBackend};

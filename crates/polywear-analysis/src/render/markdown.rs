@@ -1,7 +1,7 @@
 //! `report.md`: the page that ties the tables and figures together, in words. It leads with
 //! what could make the numbers mislead (rows without a verdict, missing samples), then answers
 //! in order: how likely, for which operating points (a fleet's rows), where, how severe, and
-//! which parameters drive it. [`VIBRATION_DEFINITION`] says once what every probability is.
+//! which parameters drive it. `VIBRATION_DEFINITION` says once what every probability is.
 
 use std::fmt::Write as _;
 

@@ -41,7 +41,7 @@ pub fn conditional(
 }
 
 /// A risk map of polygonal-wear likelihood: each wheel's P(visible polygon within
-/// [`HEADLINE_WITHIN_KM`]) per cell and the difference, with the nominal tire's Hopf curves.
+/// `HEADLINE_WITHIN_KM`) per cell and the difference, with the nominal tire's Hopf curves.
 pub fn risk_map(
     file: &FigureFile,
     map: &RiskMap<WithinCounts>,
@@ -59,7 +59,7 @@ pub fn risk_map(
 }
 
 /// The dominant orders' shares per wheel among the wheels with a visible polygon within
-/// [`ORDERS_WITHIN_KM`], as bars (a step line per wheel).
+/// `ORDERS_WITHIN_KM`, as bars (a step line per wheel).
 pub fn orders(file: &FigureFile, variant: Variant, w: &WearAnalysis) -> Result<(), RenderError> {
     let series: Vec<(Wheel, Vec<(f64, f64)>)> = Wheel::BOTH
         .iter()

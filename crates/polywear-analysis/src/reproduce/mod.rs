@@ -287,7 +287,7 @@ fn point_run(base: &Params, point: PaperPoint, opts: &ClassifierOptions) -> Poin
 
 /// Draws `samples` points of the built-in default study (its tire-structure uncertainty around
 /// `base`), classifies both wheels under every variant, and pairs them as the analysis does
-/// ([`PairTally`]): driving against follower on the same samples, per variant.
+/// (`PairTally`): driving against follower on the same samples, per variant.
 pub fn paired_comparison(base: &Params, samples: u64) -> Result<Vec<Paired>, ReproduceError> {
     let mut study =
         polywear_study::study::Study::parse_with_base(polywear_study::study::DEFAULT_STUDY, *base)

@@ -2,7 +2,7 @@
 //! lock flag, or the order it is locked to, changed is redone shorter, so that a tongue is
 //! neither jumped over nor entered or left far from where the road would. How short is set by
 //! what the lock prints: the edge is placed until misplacing it by a step would change the
-//! locked order's depth by less than [`EDGE_DEPTH_SHARE`] of it (and never finer than Δs_min).
+//! locked order's depth by less than `EDGE_DEPTH_SHARE` of it (and never finer than Δs_min).
 //! A lock at a seed-deep profile that prints slowly (a small φ_s) is placed in a step or two;
 //! one that deepens its order fast is bisected down to Δs_min as before.
 

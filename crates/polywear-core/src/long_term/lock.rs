@@ -4,7 +4,7 @@
 //! (MODEL.md#step-11-wear-zone), and only what is fixed to the tyre (the even wear, the response
 //! at whole multiples of the rotation) wears on. The long-term loop scales one window's mean
 //! revolution by thousands of revolutions, so its mean must cancel the drifting prints exactly,
-//! not merely average them down: [`revolution_weights`] are the weights of smallest norm that
+//! not merely average them down: `revolution_weights` are the weights of smallest norm that
 //! sum to 1 and annihilate the drifts e^{i2πkρj} of the first few harmonics.
 
 use nalgebra::{DMatrix, DVector};
@@ -30,7 +30,7 @@ pub fn rotation_number(crossings_s: &[f64], t_rev_s: f64) -> f64 {
     }
 }
 
-/// Whether ρ is a whole number to [`LOCK_TOLERANCE`] (false for NaN).
+/// Whether ρ is a whole number to `LOCK_TOLERANCE` (false for NaN).
 pub fn is_locked(rho: f64) -> bool {
     (rho - rho.round()).abs() < LOCK_TOLERANCE
 }

@@ -49,7 +49,7 @@ pub(crate) const MAX_DISTANCE_KM: f64 = 1e6;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum LongTermError {
-    /// The distance is outside (0, [`MAX_DISTANCE_KM`]].
+    /// The distance is outside (0, `MAX_DISTANCE_KM`].
     #[error("distance_km = {0} is outside its accepted range (0, 1e6] km")]
     Distance(f64),
     /// No leg to drive, or a leg whose speed or share is not positive and finite.
@@ -158,7 +158,7 @@ impl LongTermProblem {
 }
 
 /// The distance rule of [`LongTermProblem::new`] on its own, for a caller that refuses a bad
-/// distance before it builds the legs: (0, [`MAX_DISTANCE_KM`]] km.
+/// distance before it builds the legs: (0, `MAX_DISTANCE_KM`] km.
 pub fn check_distance_km(km: f64) -> Result<(), LongTermError> {
     if km > 0.0 && km <= MAX_DISTANCE_KM {
         Ok(())
@@ -351,7 +351,7 @@ fn saturated_on_legs(
 }
 
 /// Each leg's share and the life profile of `wheel` at the leg's own speed with no further
-/// spread, orders 1..=[`SEED_ORDERS`] (the point `p` solved there, with its own work budget, as
+/// spread, orders 1..=`SEED_ORDERS` (the point `p` solved there, with its own work budget, as
 /// each point of a run has); legs without wear figures are left out. What a reading per leg,
 /// such as [`answer_saturated_per_step`], sums.
 pub fn leg_profiles(

@@ -26,7 +26,7 @@ pub struct Profile {
 }
 
 impl Profile {
-    /// A new tyre on `cells` cells: run-out `runout_m` in every order 1..=[`SEED_ORDERS`], the
+    /// A new tyre on `cells` cells: run-out `runout_m` in every order 1..=`SEED_ORDERS`, the
     /// phase of order n the first uniform of stream n of `seed`, times 2π.
     pub fn seeded(cells: usize, runout_m: f64, seed: u64) -> Profile {
         let streams = Streams::new(seed);

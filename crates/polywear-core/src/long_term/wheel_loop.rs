@@ -10,7 +10,7 @@
 //!
 //! 1. integrates N_skip + N_in revolutions with ε(t) of the profile ([`super::window`]);
 //! 2. means the measured revolutions with the weights that cancel the drifting prints of an
-//!    unlocked cycle exactly ([`super::lock::revolution_weights`]): the plain mean leaves C_N(δ)
+//!    unlocked cycle exactly (`super::lock::revolution_weights`): the plain mean leaves C_N(δ)
 //!    of the print, which the scaling would multiply by thousands of revolutions;
 //! 3. lays that revolution's energy onto the cells, each element by its own pressure
 //!    ([`DepositPlan`], one energy sample per cell), adds the wear that is not straight running,

@@ -130,7 +130,7 @@ impl WheelModel {
 
     /// [`WheelModel::build`] for a worn tyre whose tread is `height_m` high, `p.tread_height`
     /// being the new tyre's (MODEL.md#the-ageing-tread): the tread block of
-    /// [`tire::worn_tread_block`], everything else as the new tyre's. At `height_m` =
+    /// `tire::worn_tread_block`, everything else as the new tyre's. At `height_m` =
     /// `p.tread_height` it is [`WheelModel::build`] exactly.
     pub fn build_worn(
         p: &Params,

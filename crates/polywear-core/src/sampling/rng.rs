@@ -12,8 +12,8 @@
 //!   the row a sample draws from a study's measured operating points reads its last axis,
 //!   2^36 − 1 (`ROW_AXIS` of polywear-study's `operating_points`), so the drawn parameters keep their values
 //!   with and without the file;
-//! - streams from [`LHS_STREAMS`] up hold the round functions of the Latin-hypercube permutation,
-//!   stream [`SOBOL_SCRAMBLE_STREAM`] the per-axis Sobol scrambling seeds.
+//! - streams from `LHS_STREAMS` up hold the round functions of the Latin-hypercube permutation,
+//!   stream `SOBOL_SCRAMBLE_STREAM` the per-axis Sobol scrambling seeds.
 
 pub use chacha20::ChaCha12Rng;
 use rand::{Rng, RngExt, SeedableRng};

@@ -1,7 +1,7 @@
 //! Scrambled Sobol points evaluated directly from the index (no sequential state), so any
 //! sample of any shard is computed alone. Direction numbers are Joe & Kuo's (primitive
 //! polynomials over GF(2) with odd initial numbers m_k < 2^k), 32 bits each, so a point set
-//! holds at most [`MAX_POINTS`] = 2^32 points; scrambling is a nested uniform (Owen-style)
+//! holds at most `MAX_POINTS` = 2^32 points; scrambling is a nested uniform (Owen-style)
 //! scramble by a Laine–Karras hash, seeded per dimension.
 
 /// (degree s, coefficients a, initial m_1..m_s) for dimensions 2, 3, ... (dimension 1 is the

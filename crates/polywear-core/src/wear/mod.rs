@@ -13,7 +13,7 @@
 //!
 //! - **Units**: SI inside (m, s, N, W, m³/J); depth per distance in m/m, growth in 1/m. Output
 //!   columns convert to mm/1000 km and 1/1000 km ([`physics::law::MM_PER_1000KM_PER_M_PER_M`],
-//!   [`physics::law::PER_1000KM_PER_PER_M`]).
+//!   `physics::law::PER_1000KM_PER_PER_M`).
 //! - **Power**: P = F·w ≥ 0 \[W\], F = σ0 z + σ1 ż the friction force the tread exerts on the
 //!   road, w = v − U its sliding speed ([`physics::law::friction_power_w`]).
 //! - **Angles**: θ ∈ \[0, 2π) is fixed to the tyre. The tread element at θ passes the patch

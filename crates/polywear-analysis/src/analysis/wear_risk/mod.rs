@@ -44,7 +44,7 @@ pub(crate) const DEFAULT_WITHIN_KM: [f64; 4] = [10_000.0, 25_000.0, 40_000.0, 60
 pub struct DistanceAnswer {
     /// The distance \[km\].
     pub within_km: f64,
-    /// The answer: at [`HEADLINE_WITHIN_KM`] every one (per bin, over the maps' cells, per row
+    /// The answer: at `HEADLINE_WITHIN_KM` every one (per bin, over the maps' cells, per row
     /// of an operating-point file), at the other distances the occurrence and the paired
     /// comparison only.
     pub answer: OutcomeAnswer<WithinCounts>,
@@ -61,11 +61,11 @@ pub struct WearAnalysis {
     pub speed_spread_kmh: f64,
     /// The visible depth \[mm\] (`visible_depth_mm`).
     pub visible_depth_mm: f64,
-    /// The answer at each distance asked, increasing ([`HEADLINE_WITHIN_KM`] among them).
+    /// The answer at each distance asked, increasing (`HEADLINE_WITHIN_KM` among them).
     pub by_distance: Vec<DistanceAnswer>,
     /// Growth rate and distance quantiles per variant and wheel.
     pub severity: Vec<WearSeverity>,
-    /// Wheels per dominant order among those within [`ORDERS_WITHIN_KM`].
+    /// Wheels per dominant order among those within `ORDERS_WITHIN_KM`.
     pub orders: Vec<OrderCount>,
     /// How near the deepest orders came to the visible depth over the tread's life, per
     /// variant and wheel (empty on the new tire's level).
@@ -78,7 +78,7 @@ impl WearAnalysis {
         self.by_distance.iter().map(|d| d.within_km).collect()
     }
 
-    /// The answer at [`HEADLINE_WITHIN_KM`], with its bins, maps and rows.
+    /// The answer at `HEADLINE_WITHIN_KM`, with its bins, maps and rows.
     pub fn headline_answer(&self) -> &OutcomeAnswer<WithinCounts> {
         let d = self
             .by_distance
@@ -88,7 +88,7 @@ impl WearAnalysis {
         &d.answer
     }
 
-    /// The headline of `variant` and `wheel`: the occurrence at [`HEADLINE_WITHIN_KM`].
+    /// The headline of `variant` and `wheel`: the occurrence at `HEADLINE_WITHIN_KM`.
     pub fn headline(&self, variant: Variant, wheel: Wheel) -> Option<&Occurrence<WithinCounts>> {
         self.headline_answer().occurrence_of(variant, wheel)
     }
@@ -130,7 +130,7 @@ impl WearAnalysis {
     }
 }
 
-/// The distances to ask for: `asked` with [`HEADLINE_WITHIN_KM`] added, increasing, without
+/// The distances to ask for: `asked` with `HEADLINE_WITHIN_KM` added, increasing, without
 /// repeats.
 pub fn distances(asked: &[f64]) -> Vec<f64> {
     let mut d: Vec<f64> = asked.to_vec();
@@ -173,7 +173,7 @@ pub struct WearInputs<'a> {
     pub batch_rows: u64,
 }
 
-/// The wear answer at the distances `within_km` (with [`HEADLINE_WITHIN_KM`] added): one
+/// The wear answer at the distances `within_km` (with `HEADLINE_WITHIN_KM` added): one
 /// [`outcome::answer`] per distance, the headline's over the bins, the drawn vibration maps'
 /// cells (each keeps its map's Hopf curves) and the rows of an operating-point file.
 pub fn wear(
