@@ -23,7 +23,7 @@ impl std::fmt::Display for CliError {
 
 impl From<Refusal> for CliError {
     fn from(e: Refusal) -> Self {
-        CliError(e.0)
+        CliError(e.to_string())
     }
 }
 

@@ -24,7 +24,6 @@ use polywear_study::explore::{
     chunk_size_warning, empty_shard_report, ExploreEnd, ExploreRequest, ExploreSession,
     PreparedOutput, RunPlan, RunSummary, Shard,
 };
-use polywear_study::param_sources::Refusal;
 use polywear_study::study::{Study, SEED_MAX};
 use resume::resume_command;
 use shown::{every, Shown};
@@ -198,7 +197,7 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
         wear_zone: args.wear.wear_zone,
         wear_power: args.wear.wear_power,
     };
-    let (plan, notes) = request.plan(&|b| args.budget.apply(b).map_err(|e| Refusal(e.0)))?;
+    let (plan, notes) = request.plan(&|b| args.budget.apply(b))?;
     if !args.quiet {
         for note in notes {
             eprintln!("{note}");

@@ -21,6 +21,7 @@ pub mod param_sources;
 pub mod parquet_out;
 pub mod point_file;
 pub mod provenance;
+pub mod refusal;
 pub mod safe_read;
 pub mod safe_write;
 pub mod stats;

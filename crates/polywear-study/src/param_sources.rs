@@ -12,17 +12,7 @@ use polywear_core::wording::plain;
 use crate::safe_read::{self, Limit};
 use crate::study::{read_param_file_keys, Study};
 
-/// An input refused before any work: the message names the flag or key, the value and the
-/// accepted range (printed as `error: …`, exit 2).
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{0}")]
-pub struct Refusal(pub String);
-
-impl From<polywear_core::params::ParamError> for Refusal {
-    fn from(e: polywear_core::params::ParamError) -> Self {
-        Refusal(e.to_string())
-    }
-}
+pub use crate::refusal::{Conflict, Refusal};
 
 /// A value typed on the command line: the parameter, its words (`--toe 0.15`) and its value.
 #[derive(Debug, Clone, PartialEq)]
@@ -59,17 +49,20 @@ impl ParamSources {
         let file_values = p;
         for (k, t) in typed.iter().enumerate() {
             if let Some(first) = typed[..k].iter().find(|f| f.id == t.id) {
-                return Err(Refusal(format!(
-                    "`{}` is given twice on the command line ({} and {}); give it once",
-                    t.id, first.by, t.by
-                )));
+                return Err(Conflict::TypedTwice {
+                    id: t.id,
+                    first: first.by.clone(),
+                    second: t.by.clone(),
+                }
+                .into());
             }
-            p.try_set(t.id, t.value)
-                .map_err(|e| Refusal(format!("{}: {e}", t.by)))?;
+            let refuse = |source| Refusal::Param {
+                by: t.by.clone(),
+                source,
+            };
+            p.try_set(t.id, t.value).map_err(refuse)?;
             if !accept_implausible {
-                t.id.spec()
-                    .check_plausible(t.value)
-                    .map_err(|e| Refusal(format!("{}: {e}", t.by)))?;
+                t.id.spec().check_plausible(t.value).map_err(refuse)?;
             }
         }
         let file = file.map(|path| (path.to_path_buf(), named));
@@ -102,9 +95,12 @@ impl ParamSources {
     /// returned note says so.
     pub fn owned_by(&self, id: ParamId, owner: &str) -> Result<Option<String>, Refusal> {
         if let Some((_, by)) = self.typed.iter().find(|(t, _)| *t == id) {
-            return Err(Refusal(format!(
-                "{by} sets `{id}`, which {owner} varies; leave {by} out"
-            )));
+            return Err(Conflict::Varied {
+                by: by.clone(),
+                id,
+                owner: owner.to_string(),
+            }
+            .into());
         }
         Ok(self.given_by(id).map(|by| {
             format!(
@@ -145,10 +141,10 @@ pub fn check_plausible_toe(deg: f64, by: &str) -> Result<(), Refusal> {
     if spec.plausible.is_none_or(|q| q.contains(deg)) {
         return Ok(());
     }
-    Err(Refusal(format!(
-        "{by}: implausible for a road tire (plausible toe_deg {} deg per wheel) (if it is meant, --accept-implausible runs it anyway)",
-        spec.plausible_text()
-    )))
+    Err(Refusal::ImplausibleToe {
+        by: by.to_string(),
+        deg,
+    })
 }
 
 /// The defaults with the `--params` file applied, and the parameters the file names; a value
@@ -160,21 +156,25 @@ pub fn param_file(
     let Some(path) = path else {
         return Ok((Params::default(), Vec::new()));
     };
-    let text =
-        safe_read::read_text(path, Limit::Text).map_err(|e| Refusal(format!("--params {e}")))?;
-    let refuse = |e: &dyn std::fmt::Display| Refusal(format!("--params {}: {e}", path.display()));
-    let (p, keys) = read_param_file_keys(&Params::default(), &text).map_err(|e| refuse(&e))?;
+    let text = safe_read::read_text(path, Limit::Text).map_err(|source| Refusal::Unreadable {
+        by: "--params",
+        source,
+    })?;
+    let by = format!("--params {}", path.display());
+    let (p, keys) =
+        read_param_file_keys(&Params::default(), &text).map_err(|e| Refusal::study(&by, e))?;
     if !accept_implausible {
         for (id, key) in &keys {
+            let by = format!("{by}: `{key}`");
             // A toe-in typed in mm or as total toe (its key is not the parameter's) is refused
             // in those words.
             if *key != format!("params.{id}") {
-                check_plausible_toe(p[*id], &format!("`{key}`")).map_err(|e| refuse(&e.0))?;
+                check_plausible_toe(p[*id], &by)?;
                 continue;
             }
             id.spec()
                 .check_plausible(p[*id])
-                .map_err(|e| refuse(&format!("`{key}`: {e}")))?;
+                .map_err(|source| Refusal::Param { by, source })?;
         }
     }
     Ok((p, keys.into_iter().map(|(id, _)| id).collect()))
@@ -192,10 +192,11 @@ pub fn refuse_reserved_names<'a>(
     let records = polywear_core::records::record_columns(&[]);
     for name in carried {
         if extra.contains(&name) || records.iter().any(|r| r.name == name) {
-            return Err(Refusal(format!(
-                "{}: column `{name}`, which {key} names, is also an output column of polywear; rename it in the file",
-                file.display()
-            )));
+            return Err(Refusal::ReservedColumn {
+                file: file.to_path_buf(),
+                column: name.to_string(),
+                key: key.to_string(),
+            });
         }
     }
     Ok(())
@@ -214,10 +215,13 @@ pub fn refuse_file_overlap(
     };
     for &id in named {
         if let Some(there) = study.sets(id) {
-            return Err(Refusal(format!(
-                "--params {} sets `{id}`, and {origin} {there}; a parameter comes from one file: remove it from one of them",
-                path.display()
-            )));
+            return Err(Conflict::StudyFile {
+                params: path.to_path_buf(),
+                id,
+                origin: origin.to_string(),
+                there,
+            }
+            .into());
         }
     }
     Ok(())

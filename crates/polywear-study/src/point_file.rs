@@ -9,7 +9,7 @@ use polywear_core::params::Params;
 use polywear_core::records::{record_columns, WheelRecord};
 
 use crate::operating_points::{computed_weight_note, FleetColumns, FleetKeys};
-use crate::param_sources::{param_file, refuse_reserved_names, Refusal};
+use crate::param_sources::{param_file, refuse_reserved_names, Conflict, Refusal};
 use crate::parquet_out::Column;
 
 /// The points of a file, checked.
@@ -41,24 +41,23 @@ pub fn read_points(
     accept: bool,
 ) -> Result<PointFile, Refusal> {
     let (base, named) = param_file(params, accept)?;
-    let (f, t) =
-        FleetColumns::read(path, weight, pass_through, KEYS).map_err(|e| Refusal(e.to_string()))?;
+    let (f, t) = FleetColumns::read(path, weight, pass_through, KEYS)?;
     if f.ids.is_empty() {
-        return Err(Refusal(format!(
-            "{}: no parameter column (columns: {}); name parameters of `polywear params`, e.g. speed_kmh,toe_deg",
-            path.display(),
-            t.columns.join(", ")
-        )));
+        return Err(Refusal::NoParameterColumn {
+            path: path.to_path_buf(),
+            columns: t.columns.clone(),
+        });
     }
     if !accept {
-        f.check_plausible().map_err(|e| Refusal(e.to_string()))?;
+        f.check_plausible()?;
     }
-    if let (Some(file), Some(id)) = (params, named.iter().find(|id| f.ids.contains(id))) {
-        return Err(Refusal(format!(
-            "--params {} sets `{id}`, which {} gives per point (column `{id}`); a parameter comes from one file: remove it from one of them",
-            file.display(),
-            path.display()
-        )));
+    if let (Some(file), Some(&id)) = (params, named.iter().find(|id| f.ids.contains(id))) {
+        return Err(Conflict::PointColumn {
+            params: file.to_path_buf(),
+            id,
+            points: path.to_path_buf(),
+        }
+        .into());
     }
     let carried = f
         .weight
@@ -72,8 +71,10 @@ pub fn read_points(
         for (&id, &x) in f.ids.iter().zip(row) {
             p[id] = x;
         }
-        p.validate()
-            .map_err(|e| Refusal(format!("{}, {}: {e}", path.display(), t.row_name(i))))?;
+        p.validate().map_err(|source| Refusal::Param {
+            by: format!("{}, {}", path.display(), t.row_name(i)),
+            source,
+        })?;
         points.push(p);
     }
     let notes = f

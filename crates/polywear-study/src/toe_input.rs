@@ -24,7 +24,10 @@ pub fn rim_diameter_mm(
         ParamId::RimDiameterMm
             .spec()
             .check(*d)
-            .map_err(|e| Refusal(format!("--set {name}: {e}")))?;
+            .map_err(|source| Refusal::Param {
+                by: format!("--set {name}"),
+                source,
+            })?;
         return Ok(*d);
     }
     Ok(param_file(params_file, accept_implausible)?
@@ -105,7 +108,7 @@ mod tests {
         assert_eq!(rim_diameter_mm(None, &[], false).unwrap(), 381.0);
         // 30 mm at the rim is 4.5 deg per wheel: refused in the words typed, unless accepted.
         let e = typed_toe("--toe-mm 30", ToeInput::Mm, 30.0, 381.0, false).unwrap_err();
-        assert_eq!(e.0, "--toe-mm 30 (30 mm at the 381 mm rim (rim_diameter_mm) = 4.502 deg per wheel): implausible for a road tire (plausible toe_deg (0, 1] deg per wheel) (if it is meant, --accept-implausible runs it anyway)");
+        assert_eq!(e.to_string(), "--toe-mm 30 (30 mm at the 381 mm rim (rim_diameter_mm) = 4.502 deg per wheel): implausible for a road tire (plausible toe_deg (0, 1] deg per wheel) (if it is meant, --accept-implausible runs it anyway)");
         assert!(typed_toe("--toe-mm 30", ToeInput::Mm, 30.0, 381.0, true).is_ok());
     }
 }

@@ -6,9 +6,11 @@ use std::collections::BTreeSet;
 
 use polywear_core::params::ParamId;
 use polywear_core::wear::FittedConstants;
-use polywear_core::wording::{data_number, plain};
+use polywear_core::wording::data_number;
 
-use super::{evaluate, BandError, CalibrationBand, MAX_SETS};
+use super::{
+    evaluate, BandError, BandProblem, CalibrationBand, NotALine, RangeProblem, SetProblem, MAX_SETS,
+};
 
 /// The most characters of a band file's `method` and `generated_by`: what the report quotes
 /// (a sentence, a command), never a document.
@@ -21,12 +23,12 @@ impl CalibrationBand {
     /// calibrated constant or names one twice, and a constant outside its parameter's accepted
     /// range (`polywear params`) or its prior range.
     pub fn parse(text: &str, file: &str) -> Result<Self, BandError> {
-        let refuse = |what: String| BandError {
+        let refuse = |what: BandProblem| BandError {
             file: file.to_string(),
-            what,
+            what: Box::new(what),
         };
         if text.trim().is_empty() {
-            return Err(refuse("empty file; accepted: TOML with `method`, `generated_by`, `[fit]`, a `[[range]]` per calibrated constant and a `[[set]]` per calibrated set".into()));
+            return Err(refuse(BandProblem::Empty));
         }
         let band: CalibrationBand =
             toml::from_str(text).map_err(|e| refuse(toml_refusal(text, &e)))?;
@@ -37,9 +39,7 @@ impl CalibrationBand {
             ("fit.region", &band.fit.region),
         ] {
             if let Some(why) = not_a_plain_line(value) {
-                return Err(refuse(format!(
-                    "`{key}` {why}; accepted: one line of printable text, at most {MAX_TEXT_CHARS} characters"
-                )));
+                return Err(refuse(BandProblem::NotALine { key, why }));
             }
         }
         band.check_ranges().map_err(refuse)?;
@@ -48,41 +48,35 @@ impl CalibrationBand {
     }
 
     /// Each calibrated constant has one prior range, within its parameter's accepted range.
-    fn check_ranges(&self) -> Result<(), String> {
-        let accepted: Vec<&str> = FittedConstants::PARAMS.iter().map(|p| p.name()).collect();
+    fn check_ranges(&self) -> Result<(), BandProblem> {
         let mut seen = BTreeSet::new();
         for (i, r) in self.ranges.iter().enumerate() {
-            let at = format!("range {} (`{}`)", i + 1, r.param);
+            let refuse = |why| BandProblem::Range {
+                number: i + 1,
+                param: r.param.clone(),
+                why,
+            };
             let Some(&id) = FittedConstants::PARAMS.iter().find(|p| p.name() == r.param) else {
-                return Err(format!(
-                    "{at}: `param` names no calibrated constant; accepted: {}",
-                    accepted.join(", ")
-                ));
+                return Err(refuse(RangeProblem::UnknownConstant));
             };
             if !seen.insert(id) {
-                return Err(format!("{at}: names `{}` a second time", r.param));
+                return Err(refuse(RangeProblem::Repeated(id)));
             }
             let spec = id.spec();
             let inside = |x: f64| spec.check(x).is_ok();
             if !(r.min <= r.max && inside(r.min) && inside(r.max)) {
-                return Err(format!(
-                    "{at}: [{}, {}] is not a range within `{}`'s accepted {}",
-                    plain(r.min, 12),
-                    plain(r.max, 12),
-                    spec.name,
-                    spec.range_text()
-                ));
+                return Err(refuse(RangeProblem::NotWithin {
+                    id,
+                    min: r.min,
+                    max: r.max,
+                }));
             }
             if let Some(why) = not_a_plain_line(&r.provenance) {
-                return Err(format!("{at}: `provenance` {why}"));
+                return Err(refuse(RangeProblem::Provenance(why)));
             }
         }
-        if let Some(missing) = FittedConstants::PARAMS.iter().find(|p| !seen.contains(p)) {
-            return Err(format!(
-                "no `[[range]]` for `{}`; accepted: one for each of {}",
-                missing.name(),
-                accepted.join(", ")
-            ));
+        if let Some(&missing) = FittedConstants::PARAMS.iter().find(|p| !seen.contains(p)) {
+            return Err(BandProblem::MissingRange(missing));
         }
         Ok(())
     }
@@ -90,72 +84,57 @@ impl CalibrationBand {
     /// The sets: at least one, at most [`MAX_SETS`], ids well-formed and unique and not the
     /// run's own, every constant within its parameter's accepted range and its prior range,
     /// exactly one nominal.
-    fn check_sets(&self) -> Result<(), String> {
+    fn check_sets(&self) -> Result<(), BandProblem> {
         if self.sets.is_empty() {
-            return Err("no [[set]]: a band needs at least one".into());
+            return Err(BandProblem::NoSets);
         }
         if self.sets.len() > MAX_SETS {
-            return Err(format!(
-                "{} sets; accepted at most {MAX_SETS}",
-                self.sets.len()
-            ));
+            return Err(BandProblem::TooManySets(self.sets.len()));
         }
         let mut ids = BTreeSet::new();
         for (i, s) in self.sets.iter().enumerate() {
-            let at = format!("set {} (`{}`)", i + 1, s.id);
+            let refuse = |why| BandProblem::Set {
+                number: i + 1,
+                id: s.id.clone(),
+                why,
+            };
             if s.id.is_empty()
                 || !s
                     .id
                     .chars()
                     .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.')
             {
-                return Err(format!(
-                    "{at}: `id` must be non-empty letters, digits, `_`, `-` or `.`"
-                ));
+                return Err(refuse(SetProblem::BadId));
             }
             if s.id == evaluate::RUN_SET {
-                return Err(format!(
-                    "{at}: `id` = `{}` is reserved for the run's own constants in the band's rows; choose another id",
-                    evaluate::RUN_SET
-                ));
+                return Err(refuse(SetProblem::ReservedId));
             }
             if !ids.insert(s.id.clone()) {
-                return Err(format!("{at}: `id` repeats an earlier set's"));
+                return Err(refuse(SetProblem::RepeatedId));
             }
             for (id, v) in FittedConstants::PARAMS.iter().zip(s.constants().values()) {
-                self.check_constant(*id, v)
-                    .map_err(|e| format!("{at}: {e}"))?;
+                self.check_constant(*id, v).map_err(refuse)?;
             }
         }
         let nominal = self.sets.iter().filter(|s| s.nominal).count();
         if nominal != 1 {
-            return Err(format!(
-                "{nominal} sets say `nominal = true`; accepted: exactly one"
-            ));
+            return Err(BandProblem::Nominals(nominal));
         }
         Ok(())
     }
 
     /// `v` of `id` within its parameter's accepted range and the file's prior range.
-    fn check_constant(&self, id: ParamId, v: f64) -> Result<(), String> {
-        let spec = id.spec();
-        if spec.check(v).is_err() {
-            return Err(format!(
-                "`{}` = {}: accepted {} ({})",
-                spec.name,
-                plain(v, 12),
-                spec.range_text(),
-                spec.unit
-            ));
+    fn check_constant(&self, id: ParamId, v: f64) -> Result<(), SetProblem> {
+        if id.spec().check(v).is_err() {
+            return Err(SetProblem::OutsideAccepted { id, value: v });
         }
         match self.prior_range(id) {
-            Some(r) if v < r.min || v > r.max => Err(format!(
-                "`{}` = {} is outside the file's range [{}, {}] for it",
-                spec.name,
-                plain(v, 12),
-                plain(r.min, 12),
-                plain(r.max, 12)
-            )),
+            Some(r) if v < r.min || v > r.max => Err(SetProblem::OutsidePrior {
+                id,
+                value: v,
+                min: r.min,
+                max: r.max,
+            }),
             _ => Ok(()),
         }
     }
@@ -216,24 +195,26 @@ impl CalibrationBand {
 
 /// Why `text` is not one plain line for the report and the summary (a line break, a control
 /// character, or more than [`MAX_TEXT_CHARS`]), or None.
-fn not_a_plain_line(text: &str) -> Option<String> {
+fn not_a_plain_line(text: &str) -> Option<NotALine> {
     let n = text.chars().count();
     if n > MAX_TEXT_CHARS {
-        return Some(format!("holds {n} characters"));
+        return Some(NotALine::TooLong(n));
     }
     if text.trim().is_empty() {
-        return Some("is empty".into());
+        return Some(NotALine::Empty);
     }
-    text.chars()
-        .find(|c| c.is_control())
-        .map(|c| format!("holds the control character {:?}", c))
+    text.chars().find(|c| c.is_control()).map(NotALine::Control)
 }
 
-/// A TOML error of a band file in words: where (line, and the `[[set]]` it falls in) and what.
-fn toml_refusal(text: &str, e: &toml::de::Error) -> String {
-    let what = e.message().trim_end().to_string();
+/// A TOML error of a band file: where (line, and the `[[set]]` it falls in) and what.
+fn toml_refusal(text: &str, e: &toml::de::Error) -> BandProblem {
+    let message = e.message().trim_end().to_string();
     let Some(span) = e.span() else {
-        return what;
+        return BandProblem::Toml {
+            line: None,
+            set: None,
+            message,
+        };
     };
     let start = span.start.min(text.len());
     let line = text[..start].matches('\n').count() + 1;
@@ -243,10 +224,10 @@ fn toml_refusal(text: &str, e: &toml::de::Error) -> String {
         .lines()
         .filter(|l| l.trim_start().starts_with("[[set]]"))
         .count();
-    if sets_before == 0 {
-        format!("line {line}: {what}")
-    } else {
-        format!("line {line} (set {sets_before}): {what}")
+    BandProblem::Toml {
+        line: Some(line),
+        set: (sets_before > 0).then_some(sets_before),
+        message,
     }
 }
 

@@ -26,7 +26,7 @@ use polywear_core::sampling::design::{Coordinates, Design};
 use polywear_core::wear::{FittedConstants, LifeAnswer, WearProblem, WearSettings, WheelGrowth};
 use rayon::prelude::*;
 
-use super::ConstantRange;
+use super::{ConstantRange, FitError};
 use crate::field_facts::FieldFacts;
 use crate::study::{Study, DEFAULT_STUDY};
 
@@ -180,14 +180,13 @@ struct Population {
 
 impl Population {
     /// Each wheel's closed loop on the nominal tire `base`, once.
-    fn of(base: &Params, fleet_samples: u64) -> Result<Self, String> {
+    fn of(base: &Params, fleet_samples: u64) -> Result<Self, FitError> {
         let stage = polywear_core::evaluate::WearStage::for_run(
             base,
             Variant::SlidingShare,
             WearSettings::default(),
             &ClassifierOptions::default(),
-        )
-        .map_err(|e| e.to_string())?;
+        )?;
         let highway: Vec<WheelGrowth> = [0.40, 0.45, 0.50]
             .iter()
             .flat_map(|&toe_deg| [100.0, 110.0, 120.0].map(|speed_kmh| (toe_deg, speed_kmh)))
@@ -202,7 +201,7 @@ impl Population {
                 wheel_growth(&p, Wheel::Follower, &stage)
             })
             .collect();
-        let study = Study::parse_with_base(DEFAULT_STUDY, *base).map_err(|e| e.to_string())?;
+        let study = Study::parse_with_base(DEFAULT_STUDY, *base)?;
         let sampler = study.sampler(study.seed, fleet_samples);
         let fleet: Vec<WheelGrowth> = (0..fleet_samples)
             .into_par_iter()
@@ -215,7 +214,7 @@ impl Population {
             })
             .collect();
         if highway.is_empty() || fleet.is_empty() {
-            return Err("no wheel with a loop to fit on".into());
+            return Err(FitError::NoWheels);
         }
         Ok(Population { highway, fleet })
     }
@@ -230,19 +229,13 @@ struct Targets<'a> {
 }
 
 impl<'a> Targets<'a> {
-    fn of(facts: &'a FieldFacts) -> Result<Self, String> {
-        let target = |id: &str| {
-            facts
-                .get(id)
-                .ok_or(format!("the field facts have no `{id}`"))
-        };
+    fn of(facts: &'a FieldFacts) -> Result<Self, FitError> {
+        let target = |id: &'static str| facts.get(id).ok_or(FitError::MissingFact(id));
         let fleet = target("fleet_median_never")?;
         Ok(Targets {
             highway: target("highway_follower_distance")?,
             sides: target("polygon_sides")?,
-            fleet_km: fleet
-                .min
-                .ok_or("`fleet_median_never` has no `min` distance")?,
+            fleet_km: fleet.min.ok_or(FitError::NoFleetMin)?,
             fleet,
         })
     }
@@ -290,7 +283,7 @@ pub fn fit(
     facts: &FieldFacts,
     opts: &FitOptions,
     progress: &(dyn Fn(u64) + Sync),
-) -> Result<Fit, String> {
+) -> Result<Fit, FitError> {
     let targets = Targets::of(facts)?;
     let pop = Population::of(base, opts.fleet_samples)?;
     let indices: Vec<u64> = opts

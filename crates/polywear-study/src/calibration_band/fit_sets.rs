@@ -7,7 +7,9 @@ use polywear_core::wear::FittedConstants;
 use polywear_core::wording::plain;
 
 use super::{Fit, FitOptions, GridPoint, FEW_SETS, METHOD, SHIPPED_SETS_MAX, SIDES_SHARE_MIN};
-use crate::calibration_band::{CalibratedSet, CalibrationBand, ConstantRange, FitSettings};
+use crate::calibration_band::{
+    BandError, CalibratedSet, CalibrationBand, ConstantRange, DesignTableError, FitSettings,
+};
 use crate::parquet_out::Column;
 
 impl Fit {
@@ -183,7 +185,7 @@ impl Fit {
         &self,
         fallback: &FittedConstants,
         generated_by: &str,
-    ) -> Result<CalibrationBand, String> {
+    ) -> Result<CalibrationBand, BandError> {
         let (chosen, shipped) = self.shipped(fallback);
         // A figure as the file keeps it: km rounded, +inf (none) kept, NaN (none evaluated) left out.
         let figure = |x: f64, scale: f64| {
@@ -233,7 +235,7 @@ impl Fit {
             sets,
         };
         // The file must read back as it will be read.
-        CalibrationBand::parse(&band.to_toml(), "the fit").map_err(|e| e.to_string())
+        CalibrationBand::parse(&band.to_toml(), "the fit")
     }
 }
 
@@ -295,7 +297,10 @@ impl Fit {
     /// The fit recorded in a design table ([`design_columns`], `data/calibration_design.csv`)
     /// for the design `options`: what the shipped sets are chosen from again without evaluating
     /// a point, and what CI's reduced design is checked against.
-    pub fn from_design(options: &FitOptions, path: &std::path::Path) -> Result<Fit, String> {
+    pub fn from_design(
+        options: &FitOptions,
+        path: &std::path::Path,
+    ) -> Result<Fit, DesignTableError> {
         let figure_columns = [
             "highway_median_km",
             "fleet_median_km",
@@ -304,21 +309,26 @@ impl Fit {
         ];
         let t = crate::table_input::NumericTable::read_with_text(path, &|c| {
             figure_columns.contains(&c)
-        })
-        .map_err(|e| e.to_string())?;
+        })?;
         let at = |name: &str| {
-            t.column(name)
-                .ok_or_else(|| format!("{}: no column `{name}`", path.display()))
+            t.column(name).ok_or_else(|| DesignTableError::NoColumn {
+                path: path.to_path_buf(),
+                name: name.to_string(),
+            })
         };
-        let number = |name: &str| -> Result<Vec<f64>, String> {
+        let number = |name: &str| -> Result<Vec<f64>, DesignTableError> {
             let j = at(name)?;
             match t.text_of(j) {
                 Some(text) => text
                     .iter()
                     .map(|x| {
-                        x.trim().parse::<f64>().map_err(|_| {
-                            format!("{}: `{name}` = `{x}` is not a number", path.display())
-                        })
+                        x.trim()
+                            .parse::<f64>()
+                            .map_err(|_| DesignTableError::NotANumber {
+                                path: path.to_path_buf(),
+                                name: name.to_string(),
+                                value: x.to_string(),
+                            })
                     })
                     .collect(),
                 None => Ok(t.rows.iter().map(|r| r[j]).collect()),

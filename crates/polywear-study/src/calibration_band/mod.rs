@@ -7,8 +7,9 @@
 //! by a space-filling design with a hard cut on the field facts' targets and writes that file;
 //! [`evaluate`] re-evaluates a run's subsample under every set, into rows that `analyze` turns
 //! into the band beside each sampling interval; [`long_term`] runs `wear`'s loop again under
-//! chosen sets.
+//! chosen sets; the errors of a band file, a fit and a design table are typed in `error`.
 
+mod error;
 pub mod evaluate;
 pub mod file;
 pub mod fit;
@@ -16,8 +17,10 @@ pub mod long_term;
 
 use polywear_core::params::{ParamId, Params};
 use polywear_core::wear::FittedConstants;
-use polywear_core::wording::plain;
 
+pub use error::{
+    BandError, BandProblem, DesignTableError, FitError, NotALine, RangeProblem, SetProblem,
+};
 pub use file::MAX_TEXT_CHARS;
 
 /// The shipped sets.
@@ -125,16 +128,6 @@ pub struct CalibrationBand {
     pub sets: Vec<CalibratedSet>,
 }
 
-/// Why a file of calibrated sets is refused: the file, and the set and key where that applies.
-#[derive(Debug, thiserror::Error, PartialEq)]
-#[error("{file}: {what}")]
-pub struct BandError {
-    /// The file named in the message.
-    pub file: String,
-    /// What is wrong.
-    pub what: String,
-}
-
 impl CalibrationBand {
     /// The shipped sets (checked by the tests, so this cannot fail on a build that passed them).
     pub fn shipped() -> Self {
@@ -173,18 +166,15 @@ impl CalibrationBand {
                 if let Some(&(set, from, to)) = out.first() {
                     return Err(BandError {
                         file: file.to_string(),
-                        what: format!(
-                            "{}: {} takes {} of the band's {} sets outside the accepted range {} of `{}` (set `{}` from {} to {}); change the scenario, or give another band (--calibration-band FILE or off)",
-                            scenario.key(change.param),
-                            change.words(),
-                            out.len(),
-                            self.sets.len(),
-                            spec.range_text(),
-                            spec.name,
-                            set.id,
-                            plain(from, 12),
-                            plain(to, 12),
-                        ),
+                        what: Box::new(BandProblem::ScenarioOutside {
+                            scenario_key: scenario.key(change.param),
+                            change: *change,
+                            out: out.len(),
+                            sets: self.sets.len(),
+                            set: set.id.clone(),
+                            from,
+                            to,
+                        }),
                     });
                 }
             }

@@ -7,7 +7,7 @@
 use super::ChartRequest;
 use std::path::Path;
 
-use crate::param_sources::{ParamSources, Refusal};
+use crate::param_sources::{Conflict, ParamSources, Refusal};
 use crate::study::Study;
 use polywear_core::ensemble::{self, Control};
 use polywear_core::model::Wheel;
@@ -112,32 +112,35 @@ pub fn band_study(
     sources: &ParamSources,
     accept_implausible: bool,
 ) -> Result<Study, Refusal> {
-    let text = crate::safe_read::read_text(path, crate::safe_read::Limit::Text)
-        .map_err(|e| Refusal(format!("--study {e}")))?;
-    let study = Study::parse_with_base(&text, req.base)
-        .map_err(|e| Refusal(format!("--study {}: {e}", path.display())))?;
+    let text =
+        crate::safe_read::read_text(path, crate::safe_read::Limit::Text).map_err(|source| {
+            Refusal::Unreadable {
+                by: "--study",
+                source,
+            }
+        })?;
+    let in_study = |e| Refusal::study(format!("--study {}", path.display()), e);
+    let study = Study::parse_with_base(&text, req.base).map_err(in_study)?;
     study
         .check_samples(k)
-        .map_err(|e| Refusal(format!("--structure-samples {k}: {e}")))?;
+        .map_err(|e| Refusal::study(format!("--structure-samples {k}"), e))?;
     let drawn = structure_params(req, &study);
     if drawn.is_empty() {
-        return Err(Refusal(format!(
-            "--study {}: draws no parameter besides the operating point and the chart's axes; \
-             the band needs distributions of tire-structure, friction or vehicle parameters",
-            path.display()
-        )));
+        return Err(Refusal::NoBandDrawn {
+            study: path.to_path_buf(),
+        });
     }
     for d in study.drawn.iter().filter(|d| drawn.contains(&d.param)) {
         if let Some(by) = sources.given_by(d.param) {
-            return Err(Refusal(format!(
-                "{by} sets `{}`, which --study {} draws per structure for the band; a parameter is drawn or set, not both",
-                d.param,
-                path.display()
-            )));
+            return Err(Conflict::BandDrawn {
+                by,
+                id: d.param,
+                study: path.to_path_buf(),
+            }
+            .into());
         }
         if !(accept_implausible || study.accept_implausible) {
-            d.check_plausible()
-                .map_err(|e| Refusal(format!("--study {}: {e}", path.display())))?;
+            d.check_plausible().map_err(in_study)?;
         }
     }
     Ok(study)

@@ -13,6 +13,7 @@ use super::DriveCycle;
 use crate::param_sources::{
     param_file, refuse_file_overlap, refuse_reserved_names, replaced_notes, Refusal, Typed,
 };
+use crate::refusal::{Conflict, StudySetting};
 use crate::study::Study;
 
 /// What the command line gives: the `--params` file's values and names, and the typed values.
@@ -51,28 +52,30 @@ impl CommandLine {
         let mut set: Vec<Typed> = Vec::new();
         for (name, value) in typed {
             let by = format!("--set {name}={}", plain(*value, 12));
-            let id: ParamId = name
-                .parse()
-                .map_err(|e: ParamError| Refusal(format!("--set {name}: {e}")))?;
+            let named_by = |source: ParamError| Refusal::Param {
+                by: format!("--set {name}"),
+                source,
+            };
+            let id: ParamId = name.parse().map_err(named_by)?;
             if id == ParamId::SpeedKmh {
-                return Err(Refusal(
-                    "--set speed_kmh: the cycle gives the speed at every step (its `speed_kmh` column)"
-                        .into(),
-                ));
+                return Err(Conflict::CycleSpeed.into());
             }
             if let Some(first) = set.iter().find(|t| t.id == id) {
-                return Err(Refusal(format!(
-                    "`{id}` is given twice on the command line ({} and {by}); give it once",
-                    first.by
-                )));
+                return Err(Conflict::TypedTwice {
+                    id,
+                    first: first.by.clone(),
+                    second: by,
+                }
+                .into());
             }
-            id.spec()
-                .check(*value)
-                .map_err(|e| Refusal(format!("--set {name}: {e}")))?;
+            id.spec().check(*value).map_err(named_by)?;
             if !accept {
                 id.spec()
                     .check_plausible(*value)
-                    .map_err(|e| Refusal(format!("{by}: {e}")))?;
+                    .map_err(|source| Refusal::Param {
+                        by: by.clone(),
+                        source,
+                    })?;
             }
             set.push(Typed {
                 id,
@@ -87,10 +90,12 @@ impl CommandLine {
             .chain(named.iter().map(|&id| (id, params_by())))
         {
             if column(id) {
-                return Err(Refusal(format!(
-                    "{by} sets `{id}`, which {} gives at every step (its column `{id}`); a parameter comes from one place: leave it out of {by} or drop the column",
-                    cycle.path.display()
-                )));
+                return Err(Conflict::CycleColumn {
+                    by,
+                    id,
+                    cycle: cycle.path.clone(),
+                }
+                .into());
             }
         }
         if named.contains(&ParamId::SpeedKmh) {
@@ -141,26 +146,28 @@ pub fn draw_structures(
     cycle: &DriveCycle,
 ) -> Result<(Structures, Study, Vec<String>), Refusal> {
     let origin = format!("--study {}", path.display());
-    let source = crate::safe_read::read_text(path, crate::safe_read::Limit::Text)
-        .map_err(|e| Refusal(format!("--study {e}")))?;
+    let source =
+        crate::safe_read::read_text(path, crate::safe_read::Limit::Text).map_err(|source| {
+            Refusal::Unreadable {
+                by: "--study",
+                source,
+            }
+        })?;
     let mut notes = Vec::new();
     let dir = path.parent().unwrap_or(Path::new(""));
-    let study =
-        Study::parse_at(&source, line.file, dir).map_err(|e| Refusal(format!("{origin}: {e}")))?;
+    let study = Study::parse_at(&source, line.file, dir).map_err(|e| Refusal::study(&origin, e))?;
     if !(line.accept_implausible || study.accept_implausible) {
         study
             .check_plausible()
-            .map_err(|e| Refusal(format!("{origin}: {e}")))?;
+            .map_err(|e| Refusal::study(&origin, e))?;
     }
     refuse_file_overlap(&line.named, line.params_file.as_deref(), &study, &origin)?;
     if study.design == Design::Saltelli {
-        return Err(Refusal(format!(
-            "{origin}: a saltelli design's rows are arranged for Sobol indices, not a sample of tire structures; use random, lhs or sobol"
-        )));
+        return Err(Refusal::SaltelliStructures { origin });
     }
     study
         .check_samples(k)
-        .map_err(|e| Refusal(format!("{origin}: --structure-samples: {e}")))?;
+        .map_err(|e| Refusal::study(format!("{origin}: --structure-samples"), e))?;
     let fleet = study.operating_points.as_ref();
     if let Some(op) = fleet {
         refuse_reserved_names(
@@ -199,9 +206,7 @@ pub fn draw_structures(
         )
         .collect();
     if names.is_empty() && fleet.is_none() {
-        return Err(Refusal(format!(
-            "{origin}: the study draws no tire-structure, friction or vehicle parameter, so every structure sample would be the same"
-        )));
+        return Err(Refusal::NoStructureDrawn { origin });
     }
     notes.extend(refuse_study_overlaps(
         &study, &origin, line, cycle, &names, &fleet_ids,
@@ -251,18 +256,21 @@ fn refuse_study_overlaps(
         .chain(cycle.names.iter().map(|&id| (id, cycle_by.as_str())));
     for (id, by) in given {
         let how = if names.contains(&id) && !fleet_ids.contains(&id) {
-            "draws per structure sample"
+            StudySetting::Draws
         } else if fleet_ids.contains(&id) {
-            "gives per vehicle (a column of its [operating_points] file)"
+            StudySetting::PerVehicle
         } else if study.fixed.contains(&id) && by == cycle_by {
-            "fixes (`params.{id}`)"
+            StudySetting::Fixes
         } else {
             continue;
         };
-        return Err(Refusal(format!(
-            "{by} sets `{id}`, which {origin} {}; a parameter comes from one place, not both",
-            how.replace("{id}", id.name())
-        )));
+        return Err(Conflict::StudySets {
+            by: by.to_string(),
+            id,
+            origin: origin.to_string(),
+            how,
+        }
+        .into());
     }
     let notes = line
         .set

@@ -4,7 +4,7 @@
 //! these alone, and a directory that is refused is described by them ("finished", "k of N
 //! samples saved").
 
-use crate::param_sources::Refusal;
+use crate::refusal::Refusal;
 use std::path::{Path, PathBuf};
 
 use super::WearRecord;
@@ -104,7 +104,7 @@ impl RecordedRun {
                 None => None,
                 Some(w) => Some(recorded_wear(w).map_err(|e| ManifestReadError {
                     retired_level: retired_level(&w.wear_estimate).is_some(),
-                    ..bad(e.0)
+                    ..bad(e.to_string())
                 })?),
             },
         }))
@@ -268,9 +268,10 @@ pub fn shell_word(s: &str) -> String {
 fn recorded_wear(w: &WearRecord) -> Result<WearSettings, Refusal> {
     let level = &w.wear_estimate;
     if let Some(why) = retired_level(level) {
-        return Err(Refusal(format!(
-            "`wear.wear_estimate` = \"{level}\": {why}; run explore again for this version's answer"
-        )));
+        return Err(Refusal::RetiredWearLevel {
+            level: level.clone(),
+            why,
+        });
     }
     Ok(w.settings())
 }

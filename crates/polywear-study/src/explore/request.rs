@@ -9,9 +9,10 @@ use std::path::{Path, PathBuf};
 use polywear_core::classify::WheelBudget;
 use polywear_core::wear::{WearPower, WearSettings, WearZone};
 
-use super::recorded_run::{changed_lines, param_changes, shell_word, RecordedRun};
+use super::recorded_run::{changed_lines, param_changes, RecordedRun};
 use super::{ExploreError, RunPlan, Shard};
 use crate::param_sources::{param_file, refuse_file_overlap, refuse_reserved_names, Refusal};
+use crate::refusal::Contradiction;
 use crate::study::{Study, DEFAULT_STUDY};
 
 /// What `explore` is asked: every field as given, `None` where not given.
@@ -52,26 +53,27 @@ impl ExploreRequest {
         match (&self.out, self.resume) {
             (Some(dir), true) => match RecordedRun::read(dir) {
                 Ok(run) => Ok(run.map(|run| (dir.clone(), run))),
-                Err(e) if e.retired_level => Err(Refusal(format!("--resume: {e}"))),
+                Err(e) if e.retired_level => Err(Refusal::RetiredRun(e)),
                 Err(_) => Ok(None),
             },
             _ => Ok(None),
         }
     }
 
-    /// The run asked for: the study (the file, the one recorded in `--resume --out DIR`, or
-    /// the built-in one), its base parameters, samples, seed, shard and output directory.
-    pub fn plan(
+    /// The study's text and where it came from (quoted in refusals): the file, the one
+    /// recorded in `--resume --out DIR`, or the built-in one.
+    fn study_source(
         &self,
-        budget: &dyn Fn(WheelBudget) -> Result<WheelBudget, Refusal>,
-    ) -> Result<(RunPlan, Vec<String>), Refusal> {
-        let args = self;
-        let mut notes = Vec::new();
-        let recorded = args.recorded_run()?;
-        let (source, origin) = match (&args.study, &recorded) {
+        recorded: Option<&(PathBuf, RecordedRun)>,
+    ) -> Result<(String, String), Refusal> {
+        Ok(match (&self.study, recorded) {
             (Some(path), _) => (
-                crate::safe_read::read_text(path, crate::safe_read::Limit::Text)
-                    .map_err(|e| Refusal(format!("study {e}")))?,
+                crate::safe_read::read_text(path, crate::safe_read::Limit::Text).map_err(
+                    |source| Refusal::Unreadable {
+                        by: "study",
+                        source,
+                    },
+                )?,
                 path.display().to_string(),
             ),
             (None, Some((dir, run))) => (
@@ -82,7 +84,21 @@ impl ExploreRequest {
                 DEFAULT_STUDY.to_string(),
                 "built-in default study".to_string(),
             ),
-        };
+        })
+    }
+
+    /// The run asked for: the study (the file, the one recorded in `--resume --out DIR`, or
+    /// the built-in one), its base parameters, samples, seed, shard and output directory.
+    /// `budget` applies the caller's work limits to the study's; its error, and every
+    /// [`Refusal`] (through `From`), is the caller's error type `E`.
+    pub fn plan<E: From<Refusal>>(
+        &self,
+        budget: &dyn Fn(WheelBudget) -> Result<WheelBudget, E>,
+    ) -> Result<(RunPlan, Vec<String>), E> {
+        let args = self;
+        let mut notes = Vec::new();
+        let recorded = args.recorded_run()?;
+        let (source, origin) = args.study_source(recorded.as_ref())?;
         // A resumed run's values were judged when it started.
         let accept = args.accept_implausible || recorded.is_some();
         let (base, named) = match (&args.params, &recorded) {
@@ -97,8 +113,8 @@ impl ExploreRequest {
             (None, Some((_, run))) => run.operating_points_dir.clone().unwrap_or_default(),
             (None, None) => PathBuf::new(),
         };
-        let mut study = Study::parse_at(&source, base, &study_dir)
-            .map_err(|e| Refusal(format!("{origin}: {e}")))?;
+        let in_study = |e| Refusal::study(&origin, e);
+        let mut study = Study::parse_at(&source, base, &study_dir).map_err(in_study)?;
         if let Some((dir, run)) = &recorded {
             check_against_recorded(args, &study, dir, run)?;
         }
@@ -111,7 +127,10 @@ impl ExploreRequest {
         )?);
         study.wear = wear_settings(args, &study, recorded.as_ref().map(|(_, run)| run))?;
         notes.extend(overridden_wear_keys(args, &study, &origin));
-        let wear = RunPlan::wear_stage(&study).map_err(|e| Refusal(format!("{origin}: {e}")))?;
+        let wear = RunPlan::wear_stage(&study).map_err(|source| Refusal::RunWearStage {
+            by: origin.clone(),
+            source: Box::new(source),
+        })?;
         let asked = budget(study.budget)?;
         notes.extend(overridden_budget_keys(&study, &asked, &origin));
         study.budget = asked;
@@ -121,7 +140,7 @@ impl ExploreRequest {
         let base_samples = args.samples.or(recorded_samples).unwrap_or(study.samples);
         study
             .check_samples(base_samples)
-            .map_err(|e| Refusal(format!("{origin}: --samples {base_samples}: {e}")))?;
+            .map_err(|e| Refusal::study(format!("{origin}: --samples {base_samples}"), e))?;
         // A Saltelli design needs k + 2 evaluations per base sample.
         let samples = study.evaluations(base_samples);
         let seed = args
@@ -131,7 +150,7 @@ impl ExploreRequest {
         study
             .check_scenarios(seed, samples)
             .and_then(|()| study.check_scenario_rules(accept))
-            .map_err(|e| Refusal(format!("{origin}: {e}")))?;
+            .map_err(in_study)?;
         let out_dir = args
             .out
             .clone()
@@ -164,7 +183,7 @@ fn check_new_inputs(
     if !accept {
         study
             .check_plausible()
-            .map_err(|e| Refusal(format!("{origin}: {e}")))?;
+            .map_err(|e| Refusal::study(origin, e))?;
     }
     refuse_file_overlap(named, args.params.as_deref(), study, origin)?;
     let Some(op) = &study.operating_points else {
@@ -197,9 +216,7 @@ fn wear_settings(
         (true, _) => Some(None),
         (false, false) => None,
         (false, true) if study.wear.is_none() && recorded.is_none() => {
-            return Err(Refusal(format!(
-                "{flags}: the study sets `wear = false`, which leaves the wear stage out; remove it from the study, or leave {flags} out"
-            )))
+            return Err(Refusal::WearFlagsWithoutWear { flags })
         }
         (false, true) => {
             let base = recorded
@@ -217,22 +234,15 @@ fn wear_settings(
     };
     match asked {
         Some(w) if w != run.wear => {
-            let was = run
-                .wear
-                .map_or("no wear stage (--no-wear)".to_string(), |w| {
-                    format!(
-                        "the wear stage with --wear-zone {} --wear-power {}",
-                        w.zone, w.power
-                    )
-                });
             let flag = if args.no_wear {
                 "--no-wear".to_string()
             } else {
                 flags
             };
-            Err(Refusal(format!(
-                "--resume: {flag} contradicts the run, which started with {was}; leave it out to continue the run as it started, or choose another --out for a new run"
-            )))
+            Err(Refusal::ResumeWear {
+                flag,
+                was: run.wear,
+            })
         }
         _ => Ok(run.wear),
     }
@@ -301,51 +311,45 @@ fn check_against_recorded(
     dir: &Path,
     run: &RecordedRun,
 ) -> Result<(), Refusal> {
-    let d = shell_word(&dir.display().to_string());
-    let refuse = |what: String| {
-        let sep = if what.ends_with('\n') { "" } else { "; " };
-        Refusal(format!(
-            "--resume --out {d}: {what}{sep}leave it out to continue the run as it started (`polywear explore --resume --out {d}`), or choose another --out for a new run"
-        ))
+    let refuse = |what| Refusal::Contradicts {
+        dir: dir.to_path_buf(),
+        what,
     };
     if let Some(path) = &args.study {
         if study.source != run.study {
-            let lines = changed_lines(&run.study, &study.source);
-            return Err(refuse(format!(
-                "{} differs from the run's study in these lines (- the run's, + the file's):\n    {}\n",
-                path.display(),
-                lines.join("\n    ")
-            )));
+            return Err(refuse(Contradiction::Study {
+                path: path.clone(),
+                lines: changed_lines(&run.study, &study.source),
+            }));
         }
     }
     if let Some(seed) = args.seed.filter(|s| *s != run.seed) {
-        return Err(refuse(format!(
-            "--seed {seed} contradicts the run's seed {}",
-            run.seed
-        )));
+        return Err(refuse(Contradiction::Seed {
+            given: seed,
+            run: run.seed,
+        }));
     }
     if let Some(n) = args
         .samples
         .filter(|n| study.evaluations(*n) != run.samples)
     {
-        return Err(refuse(format!(
-            "--samples {n} contradicts the run's {} samples",
-            run.samples / study.evaluations(1)
-        )));
+        return Err(refuse(Contradiction::Samples {
+            given: n,
+            run: run.samples / study.evaluations(1),
+        }));
     }
     if let Some(s) = args.shard.filter(|s| *s != run.shard) {
-        return Err(refuse(format!(
-            "--shard {s} contradicts the run's shard {}",
-            run.shard
-        )));
+        return Err(refuse(Contradiction::Shard {
+            given: s,
+            run: run.shard,
+        }));
     }
     if let Some(path) = &args.params {
         if study.base != run.params {
-            return Err(refuse(format!(
-                "--params {} contradicts the run's values ({}, now from the file)",
-                path.display(),
-                param_changes(&run.params, &study.base)
-            )));
+            return Err(refuse(Contradiction::Params {
+                path: path.clone(),
+                changes: param_changes(&run.params, &study.base),
+            }));
         }
     }
     Ok(())

@@ -6,7 +6,6 @@
 //! A sample's outcomes are packed in one byte ([`Outcomes`]), two bits per wheel and risk:
 //! 0 no, 1 yes, 2 unknown (failed, no traction, or an undefined distance).
 
-use crate::param_sources::Refusal;
 use std::str::FromStr;
 
 use crate::stats::{newcombe_paired, wilson, Z95};
@@ -35,16 +34,64 @@ impl Term {
     }
 }
 
+/// Why `--objective` or `--wheel` is refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ObjectiveError {
+    /// A risk no objective knows.
+    #[error(
+        "unknown objective `{name}`;{} accepted: wear, vibration, or a weighted sum such as 0.7*wear+0.3*vibration",
+        did_you_mean(name, TERMS)
+    )]
+    UnknownTerm {
+        /// The name given.
+        name: String,
+    },
+    /// A wheel choice no objective knows.
+    #[error(
+        "unknown wheel `{name}`;{} accepted: {}",
+        did_you_mean(name, WHEEL_CHOICES),
+        WHEEL_CHOICES.join(", ")
+    )]
+    UnknownWheel {
+        /// The name given.
+        name: String,
+    },
+    /// A term's weight that is not a number.
+    #[error("`{term}`: the weight `{weight}` is not a number")]
+    WeightNotANumber {
+        /// The term as typed (`x*wear`).
+        term: String,
+        /// The weight as typed.
+        weight: String,
+    },
+    /// A term's weight that is not a positive number.
+    #[error("`{term}`: the weight must be a positive number")]
+    WeightNotPositive {
+        /// The term as typed.
+        term: String,
+    },
+    /// A risk named twice.
+    #[error("`{}` appears twice", .0.name())]
+    TermTwice(Term),
+    /// Weights adding up to more than [`MAX_WEIGHT_SUM`].
+    #[error(
+        "`{objective}`: the weights add up to more than 1e100; accepted: weights adding up to at most 1e100 (only their ratios matter: 1*wear+1*vibration has the same optimum as 1e308*wear+1e308*vibration)"
+    )]
+    WeightsTooLarge {
+        /// The objective as typed.
+        objective: String,
+    },
+}
+
 impl FromStr for Term {
-    type Err = Refusal;
-    fn from_str(s: &str) -> Result<Term, Refusal> {
+    type Err = ObjectiveError;
+    fn from_str(s: &str) -> Result<Term, ObjectiveError> {
         match s.trim() {
             "wear" => Ok(Term::Wear),
             "vibration" => Ok(Term::Vibration),
-            other => Err(Refusal(format!(
-                "unknown objective `{other}`;{} accepted: wear, vibration, or a weighted sum such as 0.7*wear+0.3*vibration",
-                did_you_mean(other, TERMS)
-            ))),
+            other => Err(ObjectiveError::UnknownTerm {
+                name: other.to_string(),
+            }),
         }
     }
 }
@@ -73,18 +120,16 @@ impl WheelChoice {
 }
 
 impl FromStr for WheelChoice {
-    type Err = Refusal;
-    fn from_str(s: &str) -> Result<WheelChoice, Refusal> {
+    type Err = ObjectiveError;
+    fn from_str(s: &str) -> Result<WheelChoice, ObjectiveError> {
         match s.trim() {
             "follower" => Ok(WheelChoice::Follower),
             "driving" => Ok(WheelChoice::Driving),
             "both" => Ok(WheelChoice::Both),
             "worst" => Ok(WheelChoice::Worst),
-            other => Err(Refusal(format!(
-                "unknown wheel `{other}`;{} accepted: {}",
-                did_you_mean(other, WHEEL_CHOICES),
-                WHEEL_CHOICES.join(", ")
-            ))),
+            other => Err(ObjectiveError::UnknownWheel {
+                name: other.to_string(),
+            }),
         }
     }
 }
@@ -157,30 +202,31 @@ pub struct Estimate {
 }
 
 /// Parses `wear`, `vibration`, `0.7*wear+0.3*vibration` (weights positive; a risk at most once).
-pub fn parse_terms(s: &str) -> Result<Vec<(f64, Term)>, Refusal> {
+pub fn parse_terms(s: &str) -> Result<Vec<(f64, Term)>, ObjectiveError> {
     let mut terms: Vec<(f64, Term)> = Vec::new();
     for part in s.split('+') {
         let part = part.trim();
         let (w, name) = match part.split_once('*') {
             Some((w, name)) => {
-                let w: f64 = w.trim().parse().map_err(|_| {
-                    Refusal(format!(
-                        "`{part}`: the weight `{}` is not a number",
-                        w.trim()
-                    ))
-                })?;
+                let w: f64 = w
+                    .trim()
+                    .parse()
+                    .map_err(|_| ObjectiveError::WeightNotANumber {
+                        term: part.to_string(),
+                        weight: w.trim().to_string(),
+                    })?;
                 (w, name)
             }
             None => (1.0, part),
         };
         if !(w.is_finite() && w > 0.0) {
-            return Err(Refusal(format!(
-                "`{part}`: the weight must be a positive number"
-            )));
+            return Err(ObjectiveError::WeightNotPositive {
+                term: part.to_string(),
+            });
         }
         let term: Term = name.parse()?;
         if terms.iter().any(|t| t.1 == term) {
-            return Err(Refusal(format!("`{}` appears twice", term.name())));
+            return Err(ObjectiveError::TermTwice(term));
         }
         terms.push((w, term));
     }
@@ -188,9 +234,9 @@ pub fn parse_terms(s: &str) -> Result<Vec<(f64, Term)>, Refusal> {
     // overflow, and only the weights' ratios move the optimum.
     let total: f64 = terms.iter().map(|t| t.0).sum();
     if total > MAX_WEIGHT_SUM {
-        return Err(Refusal(format!(
-            "`{s}`: the weights add up to more than 1e100; accepted: weights adding up to at most 1e100 (only their ratios matter: 1*wear+1*vibration has the same optimum as 1e308*wear+1e308*vibration)"
-        )));
+        return Err(ObjectiveError::WeightsTooLarge {
+            objective: s.to_string(),
+        });
     }
     Ok(terms)
 }
@@ -352,13 +398,15 @@ mod tests {
     #[test]
     fn objectives_parse_or_say_what_is_accepted() {
         assert_eq!(parse_terms("wear").unwrap(), vec![(1.0, Term::Wear)]);
-        let e = parse_terms("wer").unwrap_err().0;
+        let e = parse_terms("wer").unwrap_err().to_string();
         assert!(
             e.contains("did you mean `wear`") && e.contains("weighted sum"),
             "{e}"
         );
         assert!(parse_terms("-1*wear").is_err());
-        let e = parse_terms("1e308*wear+1e308*vibration").unwrap_err().0;
+        let e = parse_terms("1e308*wear+1e308*vibration")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("at most 1e100"), "{e}");
         assert!(parse_terms("1e99*wear+1e99*vibration").is_ok());
         assert!(parse_terms("wear+wear").is_err());
@@ -366,7 +414,7 @@ mod tests {
         assert!("worse"
             .parse::<WheelChoice>()
             .unwrap_err()
-            .0
+            .to_string()
             .contains("worst"));
     }
 

@@ -14,8 +14,8 @@ use super::evaluate::wear_available;
 use super::objective::{Objective, Term, WheelChoice};
 use super::search::SearchOptions;
 use super::{Axis, Constraint, Problem, ProblemBand, SettingKind};
-use crate::param_sources::Refusal;
 use crate::provenance::run_metadata;
+use crate::refusal::{BandMisfit, ConstraintError, Refusal, VaryError};
 use crate::study::Study;
 
 /// What `optimize` is asked, as typed.
@@ -53,13 +53,11 @@ impl Problem {
         let study = spec.study;
         let origin = spec.origin;
         if study.design == Design::Saltelli {
-            return Err(Refusal(format!(
-                "{origin}: `design` = \"saltelli\" draws blocks for Sobol indices, not a fleet's samples; accepted: a study with design random, lhs, sobol or grid"
-            )));
+            return Err(Refusal::SaltelliFleet { origin });
         }
         study
             .check_samples(spec.samples)
-            .map_err(|e| Refusal(format!("{origin}: --samples {}: {e}", spec.samples)))?;
+            .map_err(|e| Refusal::study(format!("{origin}: --samples {}", spec.samples), e))?;
         let seed = spec.seed.unwrap_or(study.seed);
         let objective = spec.objective;
         let mut axes = axes(&spec.vary, spec.accept_implausible, &study)?;
@@ -72,27 +70,21 @@ impl Problem {
         }
         let wear = objective.uses_wear() || constraints.iter().any(|c| c.term == Term::Wear);
         if wear && !wear_available() {
-            return Err(Refusal(
-                "--objective wear: this build's rows have no `distance_to_visible_km` (the wear stage's distance to a visible polygon), so there is no risk of wear to minimise; accepted here: --objective vibration".into(),
-            ));
+            return Err(Refusal::NoWearColumns);
         }
         let settings = match (wear, study.wear) {
             (false, _) => None,
             (true, Some(s)) => Some(s),
-            (true, None) => {
-                return Err(Refusal(
-                    "--objective wear: the study sets `wear = false`, so its rows have no distance to a visible polygon; remove it, or use --objective vibration".into(),
-                ))
-            }
+            (true, None) => return Err(Refusal::WearObjectiveWithoutWear),
         };
         let (band, band_note) = match spec.band {
             Some(band) => match band_misfit(wear, &axes) {
                 None => (Some(band), None),
                 Some(why) if band.given => {
-                    return Err(Refusal(format!(
-                        "--calibration-band {}: {why}; leave the flag out or give --calibration-band off",
-                        band.source
-                    )))
+                    return Err(Refusal::BandMisfit {
+                        band: band.source,
+                        why,
+                    })
                 }
                 // The default band where nothing weighs wear: nothing to say.
                 Some(_) if !wear => (None, None),
@@ -117,7 +109,7 @@ impl Problem {
         let wear = settings
             .map(|s| WearStage::for_run(&study.base, study.variants[0], s, &classifier))
             .transpose()
-            .map_err(|e| Refusal(format!("the wear stage: {e}")))?;
+            .map_err(Refusal::WearStage)?;
         Ok(Problem {
             variant: study.variants[0],
             classifier,
@@ -199,20 +191,13 @@ impl Problem {
 /// Why a band cannot apply, if it cannot: it needs a wear answer to move, and a box that
 /// leaves the sets' constants alone (a set would overwrite every setting of a varied φ_s, σ_V
 /// or k_d).
-fn band_misfit(wear: bool, axes: &[Axis]) -> Option<String> {
+fn band_misfit(wear: bool, axes: &[Axis]) -> Option<BandMisfit> {
     if !wear {
-        return Some(
-            "neither the objective nor a constraint weighs wear, and the calibrated sets move only the wear answer".into(),
-        );
+        return Some(BandMisfit::NoWear);
     }
     axes.iter()
         .find(|a| FittedConstants::PARAMS.contains(&a.param))
-        .map(|a| {
-            format!(
-                "--vary {} varies a constant the calibrated sets fix (each set would overwrite every setting)",
-                a.param
-            )
-        })
+        .map(|a| BandMisfit::VariesConstant(a.param))
 }
 
 /// One `--constraint`: a bound on a varied parameter, or on a risk.
@@ -222,34 +207,39 @@ enum Bound {
 }
 
 fn parse_constraint(s: &str, wheel: WheelChoice) -> Result<Bound, Refusal> {
-    let refuse = |why: String| {
-        Refusal(format!(
-            "--constraint `{s}`: {why}; accepted: NAME<=V or NAME>=V, NAME a varied parameter (pressure_kpa>=230) or a risk, wear or vibration, optionally of a wheel (vibration:driving<=0.3)"
-        ))
+    let refuse = |why| Refusal::Constraint {
+        text: s.to_string(),
+        why,
     };
     let (name, at_most, value) = if let Some((n, v)) = s.split_once("<=") {
         (n, true, v)
     } else if let Some((n, v)) = s.split_once(">=") {
         (n, false, v)
     } else {
-        return Err(refuse("no <= or >=".into()));
+        return Err(refuse(ConstraintError::NoBound));
     };
     let value: f64 = value
         .trim()
         .parse()
         .ok()
         .filter(|v: &f64| v.is_finite())
-        .ok_or_else(|| refuse(format!("`{}` is not a finite number", value.trim())))?;
+        .ok_or_else(|| {
+            refuse(ConstraintError::NotANumber {
+                value: value.trim().to_string(),
+            })
+        })?;
     let name = name.trim();
     let (term, wheel) = match name.split_once(':') {
-        Some((t, w)) => (t.trim(), w.parse::<WheelChoice>().map_err(|e| refuse(e.0))?),
+        Some((t, w)) => (
+            t.trim(),
+            w.parse::<WheelChoice>()
+                .map_err(|e| refuse(ConstraintError::Wheel(e)))?,
+        ),
         None => (name, wheel),
     };
     if let Ok(term) = term.parse::<Term>() {
         if !(0.0..=1.0).contains(&value) {
-            return Err(refuse(format!(
-                "a risk is a probability, {value} is not in [0, 1]"
-            )));
+            return Err(refuse(ConstraintError::NotAProbability { value }));
         }
         return Ok(Bound::Risk(Constraint {
             term,
@@ -259,7 +249,7 @@ fn parse_constraint(s: &str, wheel: WheelChoice) -> Result<Bound, Refusal> {
             text: s.to_string(),
         }));
     }
-    let id: ParamId = name.parse().map_err(|e| refuse(format!("{e}")))?;
+    let id: ParamId = name.parse().map_err(|e| refuse(ConstraintError::Name(e)))?;
     Ok(Bound::Param(id, at_most, value))
 }
 
@@ -270,17 +260,11 @@ fn axes(
     study: &Study,
 ) -> Result<Vec<Axis>, Refusal> {
     if vary.len() > 2 {
-        return Err(Refusal(format!(
-            "--vary is given {} times; accepted: one or two parameters",
-            vary.len()
-        )));
+        return Err(Refusal::VaryCount(vary.len()));
     }
     if let [a, b] = vary {
         if a.0 == b.0 {
-            return Err(Refusal(format!(
-                "--vary names {} twice; accepted: two different parameters",
-                a.0
-            )));
+            return Err(Refusal::VaryTwice(a.0));
         }
     }
     if !(accept_implausible || study.accept_implausible) {
@@ -288,7 +272,10 @@ fn axes(
             for v in [lo, hi] {
                 id.spec()
                     .check_plausible(v)
-                    .map_err(|e| Refusal(format!("--vary {id}: {e}")))?;
+                    .map_err(|source| Refusal::Param {
+                        by: format!("--vary {id}"),
+                        source,
+                    })?;
             }
         }
     }
@@ -307,9 +294,10 @@ fn narrow(
     text: &str,
 ) -> Result<(), Refusal> {
     let Some(a) = axes.iter_mut().find(|a| a.param == id) else {
-        return Err(Refusal(format!(
-            "--constraint `{text}`: {id} is not varied; accepted: a bound on a --vary parameter, or on wear or vibration"
-        )));
+        return Err(Refusal::Constraint {
+            text: text.to_string(),
+            why: ConstraintError::NotVaried(id),
+        });
     };
     if at_most {
         a.hi = a.hi.min(v);
@@ -317,9 +305,10 @@ fn narrow(
         a.lo = a.lo.max(v);
     }
     if a.lo >= a.hi {
-        return Err(Refusal(format!(
-            "--constraint `{text}`: leaves an empty box for {id}; accepted: a bound inside the --vary range"
-        )));
+        return Err(Refusal::Constraint {
+            text: text.to_string(),
+            why: ConstraintError::EmptyBox(id),
+        });
     }
     Ok(())
 }
@@ -347,12 +336,12 @@ fn check_settings(
 ) -> Result<(), Refusal> {
     let m = search.lattice();
     for (a, given) in axes.iter().zip(given) {
-        let key = vary_key(given);
+        let refuse = |why| Refusal::Vary {
+            by: vary_key(given),
+            why: Box::new(why),
+        };
         if !a.whole_steps_fit() {
-            return Err(Refusal(format!(
-                "{key}: {} is a whole number and the box holds no whole setting between its ends; accepted: whole ends LO < HI, e.g. {}=2..8",
-                a.param, a.param
-            )));
+            return Err(refuse(VaryError::NoWholeSetting { param: a.param }));
         }
         if accept {
             continue;
@@ -364,13 +353,15 @@ fn check_settings(
                 continue;
             }
             last = v;
-            study.check_change_plausible(a.change(v)).map_err(|e| {
-                Refusal(format!(
-                    "{key}: the setting {} = {}: {e}",
-                    a.param,
-                    plain(v, 12)
-                ))
-            })?;
+            study
+                .check_change_plausible(a.change(v))
+                .map_err(|source| {
+                    refuse(VaryError::Implausible {
+                        param: a.param,
+                        value: v,
+                        source,
+                    })
+                })?;
         }
     }
     let corners = 1usize << axes.len();
@@ -386,13 +377,14 @@ fn check_settings(
                 .position(|a| a.param == b.change.param)
                 .unwrap_or(0);
             let setting = axes[i].value(((corner >> i) & 1) as f64);
-            return Err(Refusal(format!(
-                "{}: the setting {} = {} {}",
-                vary_key(&given[i]),
-                axes[i].param,
-                plain(setting, 12),
-                b.words()
-            )));
+            return Err(Refusal::Vary {
+                by: vary_key(&given[i]),
+                why: Box::new(VaryError::BreaksRule {
+                    param: axes[i].param,
+                    value: setting,
+                    rule: b,
+                }),
+            });
         }
     }
     Ok(())
@@ -407,19 +399,24 @@ fn check_axis(
     given: &(ParamId, f64, f64),
 ) -> Result<(), Refusal> {
     let key = vary_key(given);
+    let refuse = |why| Refusal::Vary {
+        by: key.clone(),
+        why: Box::new(why),
+    };
     if let SettingKind::Set = a.kind {
         for end in [a.lo, a.hi] {
-            a.param.spec().check(end).map_err(|e| {
-                Refusal(format!("{key}: the box is outside the accepted range: {e}"))
-            })?;
+            a.param
+                .spec()
+                .check(end)
+                .map_err(|e| refuse(VaryError::OutsideRange(e)))?;
         }
         return Ok(());
     }
-    a.check(study, seed, samples, &key).map_err(|e| {
-        Refusal(format!(
-            "{key}: the box is outside the accepted range for the study's samples: a setting is the centre of {}'s distribution, every sample moved with it; {e}",
-            a.param
-        ))
+    a.check(study, seed, samples, &key).map_err(|source| {
+        refuse(VaryError::OutsideForSamples {
+            param: a.param,
+            source,
+        })
     })
 }
 
@@ -460,7 +457,7 @@ mod tests {
             "a bound on a varied parameter narrows its box"
         );
         assert_eq!(ok.given_constraints, ["toe_deg<=0.35"]);
-        let refused = |s: ProblemSpec| Problem::new(s).unwrap_err().0;
+        let refused = |s: ProblemSpec| Problem::new(s).unwrap_err().to_string();
         assert!(refused(spec(vec![toe], &["load_n<=5000"])).contains("load_n is not varied"));
         assert!(refused(spec(vec![toe], &["toe_deg<=0.2"])).contains("empty box"));
         assert!(refused(spec(vec![toe, toe], &[])).contains("twice"));

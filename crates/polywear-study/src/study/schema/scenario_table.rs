@@ -104,9 +104,9 @@ impl<'de> Deserialize<'de> for ScenarioTable {
 mod tests {
     use super::*;
 
-    fn read(text: &str) -> Result<ScenarioTables, String> {
+    fn read(text: &str) -> Result<ScenarioTables, crate::toml_input::TomlError> {
         let t = toml::Value::Table(crate::toml_input::parse(text).unwrap());
-        crate::toml_input::from_value(&t).map_err(|e| e.to_string())
+        crate::toml_input::from_value(&t)
     }
 
     #[test]
@@ -117,20 +117,26 @@ mod tests {
         assert_eq!(t["a"].compare_to.as_deref(), Some("b"));
         assert_eq!(t["a"].changes[&ParamId::ToeDeg].shift, Some(-0.1));
         assert_eq!(t["b"].compare_to, None);
-        let e = read("[a]\ntoe_deg = { shift = -0.1 }\ncompare_to = 3").unwrap_err();
+        let e = read("[a]\ntoe_deg = { shift = -0.1 }\ncompare_to = 3")
+            .unwrap_err()
+            .to_string();
         assert_eq!(e, "`a.compare_to` must be a string, got integer");
-        let e = read("[a]\ntoe_deg = { shift = -0.1 }\ncompare = \"b\"").unwrap_err();
+        let e = read("[a]\ntoe_deg = { shift = -0.1 }\ncompare = \"b\"")
+            .unwrap_err()
+            .to_string();
         assert!(
             e.starts_with("unknown key `a.compare`; did you mean `compare_to`?"),
             "{e}"
         );
         // An unknown parameter is still said as before.
-        let e = read("[a]\ntoe = { shift = -0.1 }").unwrap_err();
+        let e = read("[a]\ntoe = { shift = -0.1 }").unwrap_err().to_string();
         assert!(
             e.starts_with("`a.toe`: unknown parameter `toe`; did you mean `toe_deg`?"),
             "{e}"
         );
-        let e = read("[a]\ntoe_deg = { shfit = -0.1 }").unwrap_err();
+        let e = read("[a]\ntoe_deg = { shfit = -0.1 }")
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("unknown key `a.toe_deg.shfit`"), "{e}");
     }
 }
