@@ -24,7 +24,7 @@ use crate::provenance::run_metadata;
 
 /// The speed nodes from which the loop's distance on a widely spread cycle has settled
 /// (MODEL.md#along-a-drive-cycle: WLTC within 3% and 7% of 64 nodes on 40).
-pub const SETTLED_CYCLE_NODES: usize = 40;
+pub(crate) const SETTLED_CYCLE_NODES: usize = 40;
 
 /// A long-term run as asked for: the checked values, not yet checked together.
 #[derive(Debug, Clone)]

@@ -368,7 +368,7 @@ impl FleetColumns {
 
 /// The line that says how a computed weight is made (before any work): `weight: FILE has no
 /// `km` column; each row's km = hours * speed_kmh (its hours at its speed)`.
-pub fn computed_weight_note(path: &Path, how: &str) -> String {
+pub(crate) fn computed_weight_note(path: &Path, how: &str) -> String {
     format!(
         "weight: {} has no `{KM}` column; each row's km = {how} (its hours at its speed)",
         path.display()

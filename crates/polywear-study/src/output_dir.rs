@@ -166,7 +166,7 @@ fn try_flock(_f: &File) -> std::io::Result<bool> {
 /// Takes the exclusive lock of `dir` (which must exist), creating the lock file when
 /// `create`; `Ok(None)` when `create` is false and there is no lock file. Refused with the
 /// holder's PID when another process holds it, and when the lock file is a link or not a
-/// regular file (it is never written through, see [`crate::safe_write::open_lock`]).
+/// regular file (it is never written through, see `crate::safe_write::open_lock`).
 pub fn lock(dir: &Path, create: bool) -> Result<Option<DirLock>, OutputDirError> {
     // A finishing run removes the file while it holds the lock: a file locked here that is no
     // longer at the path was that one, so open the path again (a few tries: each needs another

@@ -113,7 +113,7 @@ impl ParamSources {
 
 /// The notes for typed values that replace a `--params` file's: "note: --toe 0.2 replaces
 /// toe_deg = 0.15 of --params FILE".
-pub fn replaced_notes(
+pub(crate) fn replaced_notes(
     typed: &[Typed],
     named: &[ParamId],
     file_values: &Params,
@@ -136,7 +136,7 @@ pub fn replaced_notes(
 
 /// Refuses a per-wheel toe angle `deg` outside the plausible range, in the words it was typed
 /// in (`by`: the flag or key, with its conversion), not as a bare `toe_deg`.
-pub fn check_plausible_toe(deg: f64, by: &str) -> Result<(), Refusal> {
+pub(crate) fn check_plausible_toe(deg: f64, by: &str) -> Result<(), Refusal> {
     let spec = ParamId::ToeDeg.spec();
     if spec.plausible.is_none_or(|q| q.contains(deg)) {
         return Ok(());
@@ -183,7 +183,7 @@ pub fn param_file(
 /// Refuses a column carried into the output (passed through, or the weight) whose name an
 /// output column of polywear has (`class`, `sample_id`, or one of `extra`): the output's
 /// columns must be unique.
-pub fn refuse_reserved_names<'a>(
+pub(crate) fn refuse_reserved_names<'a>(
     carried: impl IntoIterator<Item = &'a str>,
     file: &Path,
     key: &str,
@@ -204,7 +204,7 @@ pub fn refuse_reserved_names<'a>(
 
 /// Refuses a parameter that a `--params` file sets and a study (or its operating-point file)
 /// sets too: two files for one value are ambiguous.
-pub fn refuse_file_overlap(
+pub(crate) fn refuse_file_overlap(
     named: &[ParamId],
     params_path: Option<&Path>,
     study: &Study,

@@ -103,7 +103,7 @@ impl Write for DigestingFile {
 
 /// The zstd level of every file. Higher levels shrink the explore chunks by well under 1% (level
 /// 9: 0.3%) for several times the compression time (docs/book/src/maintainers/benchmarks.md#output-size).
-pub const ZSTD_LEVEL: i32 = 3;
+pub(crate) const ZSTD_LEVEL: i32 = 3;
 
 /// Whether a column is dictionary-encoded: names (wheel, variant, class, method, reason) and
 /// integers (few distinct values per file) are; floating-point values are written plain. Most
@@ -118,7 +118,7 @@ fn dictionary_encoded(data: &ColumnData) -> bool {
 /// Streams row groups into one Parquet file. The file is written under a temporary name and
 /// renamed on [`TableWriter::finish`] after an fsync, so a half-written file is never taken for
 /// a result.
-pub struct TableWriter {
+pub(crate) struct TableWriter {
     writer: SerializedFileWriter<DigestingFile>,
     path: PathBuf,
 }
@@ -248,7 +248,7 @@ pub fn write_table(
 }
 
 /// Writes a whole table as one row group and returns the written file's size and CRC-32.
-pub fn write_table_digest(
+pub(crate) fn write_table_digest(
     path: &Path,
     columns: &[Column],
     metadata: &[(String, String)],

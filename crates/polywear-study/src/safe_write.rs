@@ -7,7 +7,7 @@
 //! the lock) are opened with `O_NOFOLLOW` and must be regular files. A directory polywear names
 //! itself inside an output directory (`_report`) is refused when it is a link ([`create_dir`]).
 //!
-//! [`NewFile`] is the one way to create a file: [`write_file`] and [`write_durably`] write
+//! `NewFile` is the one way to create a file: [`write_file`] and [`write_durably`] write
 //! whole files through it, [`crate::parquet_out`] streams Parquet and CSV into it.
 
 use std::fs::{File, OpenOptions};
@@ -132,7 +132,7 @@ fn regular(path: &Path, file: File) -> io::Result<File> {
 /// [`NewFile::commit`] or [`NewFile::commit_durably`]; dropped uncommitted, the temporary
 /// file is removed.
 #[derive(Debug)]
-pub struct NewFile {
+pub(crate) struct NewFile {
     file: Option<File>,
     tmp: PathBuf,
     path: PathBuf,
@@ -157,11 +157,6 @@ impl NewFile {
             tmp,
             path: path.to_path_buf(),
         })
-    }
-
-    /// The final name.
-    pub fn path(&self) -> &Path {
-        &self.path
     }
 
     fn file(&mut self) -> &mut File {
@@ -245,7 +240,7 @@ pub(crate) fn open_append(path: &Path) -> io::Result<File> {
 
 /// Opens the lock file `path` for reading and writing in place (its inode is what is locked),
 /// creating it when `create`; a link or anything but a regular file in its place is refused.
-pub fn open_lock(path: &Path, create: bool) -> io::Result<File> {
+pub(crate) fn open_lock(path: &Path, create: bool) -> io::Result<File> {
     let f = no_follow(
         OpenOptions::new()
             .read(true)

@@ -15,7 +15,7 @@ pub fn format_p(p: f64) -> String {
 }
 
 /// The method of a test that had no data to test.
-pub const NO_TEST: &str = "none";
+pub(crate) const NO_TEST: &str = "none";
 
 /// z for a two-sided 95% interval.
 pub const Z95: f64 = 1.959_963_984_540_054;
@@ -107,7 +107,7 @@ pub fn newcombe_independent(k1: u64, n1: u64, k2: u64, n2: u64) -> (f64, f64) {
 /// McNemar's test on the discordant pairs `b` (only the first vibrates) and `c` (only the
 /// second): the exact two-sided binomial p-value up to 10,000 discordant pairs, the
 /// continuity-corrected chi-square beyond. Returns (statistic, p-value, method). Without a
-/// discordant pair there is nothing to test: NaN for both, method [`NO_TEST`].
+/// discordant pair there is nothing to test: NaN for both, method `NO_TEST`.
 pub fn mcnemar(b: u64, c: u64) -> (f64, f64, &'static str) {
     let n = b + c;
     if n == 0 {
@@ -136,7 +136,7 @@ pub fn mcnemar(b: u64, c: u64) -> (f64, f64, &'static str) {
 /// mean((f_A − f_ABi)²) / 2V; V the variance of f_A and f_B together. The first-order estimator
 /// is not shift-invariant: callers centre the outputs on the mean of all evaluated rows first, as
 /// SALib does.
-pub fn sobol_indices(f_a: &[f64], f_b: &[f64], f_ab: &[f64]) -> (f64, f64) {
+pub(crate) fn sobol_indices(f_a: &[f64], f_b: &[f64], f_ab: &[f64]) -> (f64, f64) {
     let n = f_a.len() as f64;
     let all = f_a.iter().chain(f_b);
     let mean = all.clone().sum::<f64>() / (2.0 * n);

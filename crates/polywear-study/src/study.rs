@@ -105,7 +105,7 @@ pub fn read_param_file(base: &Params, text: &str) -> Result<(Params, Vec<ParamId
 /// [`read_param_file`], with each parameter's key as typed: `params.g_mod`, or `params.toe_mm =
 /// 20 mm at the 381 mm rim (rim_diameter_mm) = 3.005 deg per wheel` for a toe-in given another
 /// way, so that a later refusal quotes what the user wrote.
-pub fn read_param_file_keys(
+pub(crate) fn read_param_file_keys(
     base: &Params,
     text: &str,
 ) -> Result<(Params, Vec<(ParamId, String)>), StudyError> {

@@ -56,7 +56,7 @@ pub fn typed_toe(
 }
 
 /// `--set` pairs: (name, value).
-pub type SetPairs = Vec<(String, f64)>;
+pub(crate) type SetPairs = Vec<(String, f64)>;
 
 /// `--set` pairs with every toe input (`toe_mm`, `toe_total_deg`) replaced by `toe_deg` at its
 /// converted value, and a note for each ("note: --set toe_mm=2 is toe_deg = 0.3008 (...)").

@@ -72,7 +72,7 @@ pub enum BandProblem {
     /// No `[[set]]`.
     #[error("no [[set]]: a band needs at least one")]
     NoSets,
-    /// More sets than [`MAX_SETS`].
+    /// More sets than `MAX_SETS`.
     #[error("{0} sets; accepted at most {max}", max = MAX_SETS)]
     TooManySets(usize),
     /// A `[[set]]` refused.

@@ -39,14 +39,14 @@ pub const DEFAULT_BAND_SAMPLES: u64 = 20_000;
 
 /// Samples per row group of the band's file: a batch's rows (both wheels, every set) are held
 /// in memory at once, about 200,000 rows with the shipped 96 sets.
-pub const BATCH_SAMPLES: usize = 1024;
+pub(crate) const BATCH_SAMPLES: usize = 1024;
 
 /// The name of the run's own constants among the band's sets.
 pub const RUN_SET: &str = "run";
 
 /// The band's column of a set's distances is this prefix and the set's id (`d_run`,
 /// `d_nominal`).
-pub const SET_COLUMN_PREFIX: &str = "d_";
+pub(crate) const SET_COLUMN_PREFIX: &str = "d_";
 
 /// The band's column of set `id`.
 pub fn set_column(id: &str) -> String {
@@ -298,9 +298,9 @@ impl BandPlan<'_> {
     }
 
     /// Evaluates the subsample and streams its rows crash-safely to `dir`/[`BAND_FILE`], one
-    /// row group per [`BATCH_SAMPLES`] samples (so memory stays flat in the subsample's size),
+    /// row group per `BATCH_SAMPLES` samples (so memory stays flat in the subsample's size),
     /// then writes its digest ([`BAND_DIGEST`]); the digest says `pending` until then
-    /// ([`mark_pending`]), so a run stopped in between leaves a band that `analyze` refuses as
+    /// (`mark_pending`), so a run stopped in between leaves a band that `analyze` refuses as
     /// unfinished, never one it trusts. `progress` is called with 1 for each finished sample;
     /// `stop` is asked between batches, and a stop leaves the band pending.
     pub fn write(
@@ -454,7 +454,7 @@ const MAX_DIGEST_BYTES: u64 = 4096;
 /// Marks `dir`'s band as asked for and not finished (its digest `pending`, the old band file
 /// removed): written before the run's chunks, so that a run stopped anywhere before the band is
 /// whole leaves a band `analyze` refuses with the command that finishes it.
-pub fn mark_pending(dir: &Path, band_source: &str) -> Result<(), BandFileError> {
+pub(crate) fn mark_pending(dir: &Path, band_source: &str) -> Result<(), BandFileError> {
     let json = serde_json::json!({ "status": PENDING, "band_source": band_source });
     let digest_path = dir.join(BAND_DIGEST);
     crate::safe_write::write_durably(&digest_path, format!("{json}\n").as_bytes())
@@ -463,7 +463,7 @@ pub fn mark_pending(dir: &Path, band_source: &str) -> Result<(), BandFileError> 
 }
 
 /// Removes the band file `path` (absent is removed).
-pub fn remove_band_file(path: &Path) -> Result<(), BandFileError> {
+pub(crate) fn remove_band_file(path: &Path) -> Result<(), BandFileError> {
     match std::fs::remove_file(path) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(BandFileError::at(path, e)),
         _ => Ok(()),

@@ -18,7 +18,7 @@ pub const MAX_TEXT_CHARS: usize = 400;
 
 impl CalibrationBand {
     /// Reads a file of sets. Refused: text that is not TOML of that shape (a set that misses a
-    /// constant or names one twice among it), no set, more than [`MAX_SETS`], a repeated,
+    /// constant or names one twice among it), no set, more than `MAX_SETS`, a repeated,
     /// malformed or reserved id, not exactly one nominal set, a prior range that misses a
     /// calibrated constant or names one twice, and a constant outside its parameter's accepted
     /// range (`polywear params`) or its prior range.

@@ -16,7 +16,7 @@
 //! - `fleet_median_never`: the default study's median wheel (both wheels) has none within the
 //!   fact's distance;
 //! - `polygon_sides`: of the default study's wheels with a visible polygon within that
-//!   distance, at least [`SIDES_SHARE_MIN`] have a number of sides within the fact's range.
+//!   distance, at least `SIDES_SHARE_MIN` have a number of sides within the fact's range.
 
 use polywear_core::classify::budget::Meter;
 use polywear_core::classify::{classify_point, ClassifierOptions};
@@ -32,16 +32,16 @@ use crate::study::{Study, DEFAULT_STUDY};
 
 /// The share of the visible polygons that must have the field's number of sides: "most", read
 /// as four in five (the bar the calibration's test has held since the wear stage shipped).
-pub const SIDES_SHARE_MIN: f64 = 0.8;
+pub(crate) const SIDES_SHARE_MIN: f64 = 0.8;
 
 /// The method, named, as the file and the report give it.
-pub const METHOD: &str = "history matching on a scrambled Sobol design over the five calibrated constants' prior ranges (hard cut: every fitting target of data/field_facts.toml within its stated range), on the shipped level";
+pub(crate) const METHOD: &str = "history matching on a scrambled Sobol design over the five calibrated constants' prior ranges (hard cut: every fitting target of data/field_facts.toml within its stated range), on the shipped level";
 
 /// The most sets a file ships: more accepted points are thinned to this many, space-filling.
-pub const SHIPPED_SETS_MAX: usize = 100;
+pub(crate) const SHIPPED_SETS_MAX: usize = 100;
 
 /// Fewer accepted points than this are shipped all, and the file says so.
-pub const FEW_SETS: usize = 20;
+pub(crate) const FEW_SETS: usize = 20;
 
 /// The design's points and what they are evaluated on.
 #[derive(Debug, Clone, PartialEq)]

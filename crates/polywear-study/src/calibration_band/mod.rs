@@ -30,7 +30,7 @@ pub const SHIPPED_NAME: &str = "data/calibration_band.toml";
 
 /// The most sets a file may hold: each costs a walk over the tread's life per wheel of the
 /// band's subsample, and the band is their range, which 100 space-filling sets resolve.
-pub const MAX_SETS: usize = 200;
+pub(crate) const MAX_SETS: usize = 200;
 
 /// One calibrated set: the calibrated constants, and what the fit found for it.
 #[derive(Debug, Clone, PartialEq, serde::Deserialize)]

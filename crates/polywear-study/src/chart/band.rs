@@ -30,7 +30,7 @@ pub struct StructureBand {
 }
 
 /// The study's drawn parameters that are neither operating-point parameters nor chart axes.
-pub fn structure_params(req: &ChartRequest, study: &Study) -> Vec<ParamId> {
+pub(crate) fn structure_params(req: &ChartRequest, study: &Study) -> Vec<ParamId> {
     study
         .drawn
         .iter()

@@ -104,7 +104,7 @@ pub enum CycleError {
         /// Its value (inf).
         value: f64,
     },
-    /// More steps × tire structures than [`STEP_EVALUATIONS_MAX`].
+    /// More steps × tire structures than `STEP_EVALUATIONS_MAX`.
     #[error("{}: {} steps x {} tire structure(s) = {} step evaluations; accepted at most {} (every step's records stay in memory until the files are written: about 3 KB a step, 7 KB with the wear stage): draw fewer --structure-samples, or resample the cycle to fewer steps", path.display(), thousands(*steps as f64), thousands(*structures as f64), thousands(*steps as f64 * *structures as f64), thousands(STEP_EVALUATIONS_MAX as f64))]
     TooMuchWork {
         /// The cycle file.
@@ -156,7 +156,7 @@ fn did_you_mean(name: &str) -> String {
 /// Consecutive steps classified in order by one worker, each starting its shooting from the
 /// previous step's cycle (the neighbouring step's cycle is close: the speed changes little in
 /// one step). Blocks are fixed, so the rows do not depend on the number of threads.
-pub const BLOCK_STEPS: usize = 32;
+pub(crate) const BLOCK_STEPS: usize = 32;
 
 /// Blocks classified at once before their profiles over the tread's life are summed into their
 /// structures' (in block order, so the sums do not depend on the number of threads): each block
@@ -168,13 +168,13 @@ const BATCH_BLOCKS: usize = 64;
 /// in memory until the files are written (2.9 GB measured at a million steps; with the wear
 /// stage, its growth of each order and the calibration band's, 1.32 GB at 200,000 steps), so a larger run is refused before any work instead
 /// of exhausting the memory hours in. A million steps is 11.6 days of driving logged at 1 Hz.
-pub const STEP_EVALUATIONS_MAX: u64 = 1_000_000;
+pub(crate) const STEP_EVALUATIONS_MAX: u64 = 1_000_000;
 
 /// The parameters a cycle's lifetime verdict reads once for the tire's whole life
 /// (MODEL.md#along-a-drive-cycle): the steps share one tread, so its depths, its seed, what
 /// counts as visible and the fitted constants that share its even wear cannot change from step
 /// to step. A column of one of them must hold one value, which the whole life then takes.
-pub const LIFE_CONSTANTS: [ParamId; 9] = [
+pub(crate) const LIFE_CONSTANTS: [ParamId; 9] = [
     ParamId::WearShareStraight,
     ParamId::WearRateDrivenFactor,
     ParamId::WearRateRef,
@@ -209,7 +209,7 @@ pub struct DriveCycle {
 
 impl DriveCycle {
     /// Refuses a run over `structures` tire structures whose step evaluations exceed
-    /// [`STEP_EVALUATIONS_MAX`], before any work.
+    /// `STEP_EVALUATIONS_MAX`, before any work.
     pub fn check_work(&self, structures: u64) -> Result<(), CycleError> {
         let steps = self.len() as u64;
         if steps.saturating_mul(structures) > STEP_EVALUATIONS_MAX {
@@ -291,7 +291,7 @@ impl DriveCycle {
         p
     }
 
-    /// `base` with the cycle's columns of [`LIFE_CONSTANTS`] (each one value over the cycle):
+    /// `base` with the cycle's columns of `LIFE_CONSTANTS` (each one value over the cycle):
     /// the parameters of the tire's whole life, which its lifetime verdict reads (the seed, the
     /// visible depth, the usable tread, the fitted constants), as every step reads them.
     pub fn whole_life(&self, base: &Params) -> Params {
@@ -364,7 +364,7 @@ pub fn classify_cycle(
 }
 
 /// [`classify_cycle`] for each of several parameter bases (tire structures), in their order.
-/// Blocks of [`BLOCK_STEPS`] steps of every base run in parallel on the current rayon pool,
+/// Blocks of `BLOCK_STEPS` steps of every base run in parallel on the current rayon pool,
 /// 64 blocks at a time; within a block each wheel starts from its own cycle at the
 /// previous step, and a step with the same parameters as the previous one takes its verdict.
 /// With `wear`, every step also runs the wear stage (its columns in the records, each order's

@@ -5,7 +5,7 @@
 //! The steps share one tread, whose depth falls at the cycle's mean whole even wear; at each
 //! worn depth every step reads its closed loop at the order its drifting tread frequency puts
 //! there ([`LifeProfile`]). The steps' profiles are summed by the distance covered at each
-//! ([`CycleLife`]) and by speed bin of [`SATURATED_SPEED_BIN_KMH`], each bin printing at most
+//! ([`CycleLife`]) and by speed bin of `SATURATED_SPEED_BIN_KMH`, each bin printing at most
 //! what sliding can modulate, on its own
 //! ([`polywear_core::wear::estimator::answer_saturated_per_step`]); the first order to reach the
 //! visible depth before the tire is worn out is the polygon.
@@ -23,7 +23,7 @@ use polywear_core::wear::{FittedConstants, LifeProfile, WheelGrowth, LIFE_PROFIL
 /// The highest order followed along a cycle: the seed's band (MODEL.md#step-12-feedback). A step
 /// slower than about 25 km/h puts ν above it; its orders near ν are not followed (their
 /// distance at such speeds is small).
-pub const CYCLE_ORDERS_MAX: u32 = 64;
+pub(crate) const CYCLE_ORDERS_MAX: u32 = 64;
 
 /// The width of the speed bins whose steps saturate together \[km/h\]: a bin's steps share one bound (the min of their sum, weaker than each
 /// step's own). A step's resonance is sharp in speed, so the bins must be fine: against every
@@ -31,7 +31,7 @@ pub const CYCLE_ORDERS_MAX: u32 = 64;
 /// polygon 5–7% early, 0.5 km/h 2–3%, 0.25 km/h under 0.5%, and 0.1 km/h (a cycle's own
 /// resolution: HWFET's 766 steps hold 250 speeds) not at all. A bin holds one profile a wheel
 /// (66 KB).
-pub const SATURATED_SPEED_BIN_KMH: f64 = 0.1;
+pub(crate) const SATURATED_SPEED_BIN_KMH: f64 = 0.1;
 
 /// One wheel's profile over the tread's life at one step, with no speed spread (a cycle's
 /// speeds are its spread); None where the wheel has no figures (no model, failed, standstill,
@@ -54,7 +54,7 @@ pub fn step_life(
 pub struct CycleLife {
     /// Σ km_k · profile_k over the steps with figures (None before the first).
     pub profile_km: Option<LifeProfile>,
-    /// The same sums by speed bin of [`SATURATED_SPEED_BIN_KMH`], rising: (bin, Σ km_k ·
+    /// The same sums by speed bin of `SATURATED_SPEED_BIN_KMH`, rising: (bin, Σ km_k ·
     /// profile_k, Σ km_k \[km\]).
     pub by_speed: Vec<(i64, LifeProfile, f64)>,
     /// The distance at those steps \[km\].
@@ -173,8 +173,8 @@ impl CycleLife {
     }
 }
 
-/// The memory \[bytes\] one wheel's speed bins take over `cycle`: one profile of orders 1..=[`CYCLE_ORDERS_MAX`] on [`LIFE_PROFILE_INTERVALS`] for
-/// each bin of [`SATURATED_SPEED_BIN_KMH`] its moving steps fill.
+/// The memory \[bytes\] one wheel's speed bins take over `cycle`: one profile of orders 1..=`CYCLE_ORDERS_MAX` on [`LIFE_PROFILE_INTERVALS`] for
+/// each bin of `SATURATED_SPEED_BIN_KMH` its moving steps fill.
 pub fn saturated_bins_bytes(cycle: &DriveCycle) -> u64 {
     let mut bins: Vec<i64> = (0..cycle.len())
         .filter(|&i| !cycle.standstill(i))

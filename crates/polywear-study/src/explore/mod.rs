@@ -153,7 +153,7 @@ pub enum ExploreError {
     OtherStudy {
         /// The output directory.
         dir: PathBuf,
-        /// The differing lines ([`recorded_run::changed_lines`]).
+        /// The differing lines (`recorded_run::changed_lines`).
         lines: Vec<String>,
     },
     /// The operating-point file changed since the run started.
@@ -326,7 +326,7 @@ impl RunPlan {
 
 /// The parameters of a sample's drawn values, in [`Study::value_names`] order: the drawn
 /// parameters, then the operating-point file's columns (named by the file's header).
-pub fn value_params(study: &Study) -> Vec<polywear_core::params::ParamId> {
+pub(crate) fn value_params(study: &Study) -> Vec<polywear_core::params::ParamId> {
     let op = study.operating_points.iter().flat_map(|o| o.names.iter());
     study
         .drawn

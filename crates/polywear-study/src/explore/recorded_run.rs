@@ -203,7 +203,7 @@ pub(crate) fn directory_state(dir: &Path) -> DirState {
 /// The lines in which `new` differs from `old`, in order: `- line` only in `old`, `+ line` only
 /// in `new` (a longest-common-subsequence diff; studies are a few dozen lines). Blank lines and
 /// trailing spaces are ignored, so a changed value is shown as its two lines and nothing else.
-pub fn changed_lines(old: &str, new: &str) -> Vec<String> {
+pub(crate) fn changed_lines(old: &str, new: &str) -> Vec<String> {
     let keep = |t: &str| -> Vec<String> {
         t.lines()
             .map(|l| l.trim_end().to_string())
@@ -239,7 +239,7 @@ pub fn changed_lines(old: &str, new: &str) -> Vec<String> {
 
 /// The parameters whose values differ between two sets, as "g_mod 855700.0, now 900000.0"
 /// (the values as the manifest writes them).
-pub fn param_changes(old: &Params, new: &Params) -> String {
+pub(crate) fn param_changes(old: &Params, new: &Params) -> String {
     let json = |x: f64| serde_json::to_string(&x).expect("json");
     let changed: Vec<String> = polywear_core::params::ParamId::ALL
         .iter()

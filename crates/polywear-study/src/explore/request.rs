@@ -382,7 +382,7 @@ pub fn empty_shard_report(plan: &RunPlan) -> Result<PathBuf, ExploreError> {
 }
 
 /// Below this `chunk_size` explore warns: each chunk costs a file and three fsyncs.
-pub const CHUNK_SIZE_WARN: u64 = 64;
+pub(crate) const CHUNK_SIZE_WARN: u64 = 64;
 
 /// The warning for a small `chunk_size`, with its measured cost (docs/book/src/maintainers/benchmarks.md#fsync).
 pub fn chunk_size_warning(chunk_size: u64) -> Option<String> {

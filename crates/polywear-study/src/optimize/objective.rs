@@ -73,7 +73,7 @@ pub enum ObjectiveError {
     /// A risk named twice.
     #[error("`{}` appears twice", .0.name())]
     TermTwice(Term),
-    /// Weights adding up to more than [`MAX_WEIGHT_SUM`].
+    /// Weights adding up to more than `MAX_WEIGHT_SUM`.
     #[error(
         "`{objective}`: the weights add up to more than 1e100; accepted: weights adding up to at most 1e100 (only their ratios matter: 1*wear+1*vibration has the same optimum as 1e308*wear+1e308*vibration)"
     )]
@@ -140,8 +140,9 @@ pub struct Outcomes(pub u8);
 
 /// An outcome code: no.
 pub const NO: u8 = 0;
-/// An outcome code: yes.
-pub const YES: u8 = 1;
+/// An outcome code: yes (the codes are read by shifting; the tests name it).
+#[cfg(test)]
+pub(crate) const YES: u8 = 1;
 /// An outcome code: unknown.
 pub(crate) const UNKNOWN: u8 = 2;
 
@@ -243,7 +244,7 @@ pub fn parse_terms(s: &str) -> Result<Vec<(f64, Term)>, ObjectiveError> {
 
 /// The largest sum of an objective's weights: its square, the scale of the interval's
 /// variance, stays far from overflow.
-pub const MAX_WEIGHT_SUM: f64 = 1e100;
+pub(crate) const MAX_WEIGHT_SUM: f64 = 1e100;
 
 impl Objective {
     /// Whether the objective needs the wear stage's distance.

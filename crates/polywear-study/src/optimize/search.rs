@@ -69,7 +69,7 @@ pub type Evaluate<'a> = dyn FnMut(&[Vec<f64>], usize) -> Vec<Value> + 'a;
 
 /// Maps a lattice key to the first key with the same setting (the identity where every lattice
 /// point is a setting of its own).
-pub type Canonical<'a> = dyn Fn(&[i64]) -> Vec<i64> + 'a;
+pub(crate) type Canonical<'a> = dyn Fn(&[i64]) -> Vec<i64> + 'a;
 
 /// Runs the search in `dims` dimensions; `eval` evaluates a batch of settings (unit
 /// coordinates) of one level and returns their values in order; `canonical` names the lattice
