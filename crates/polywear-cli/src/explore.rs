@@ -17,15 +17,16 @@ use super::batch::{signal_name, Interrupt, Progress};
 use super::common::{BudgetArgs, CliError, CliResult};
 use crate::wear_reading::WearReadingArgs;
 use errors::{explore_error, session_error};
+use polywear_analysis::render::opening::explore_lines;
 use polywear_core::wording::plain;
 use polywear_study::calibration_band::evaluate::DEFAULT_BAND_SAMPLES;
 use polywear_study::explore::recorded_run::shell_word;
 use polywear_study::explore::{
-    chunk_size_warning, empty_shard_report, ExploreEnd, ExploreRequest, ExploreSession,
-    PreparedOutput, RunPlan, RunSummary, Shard,
+    chunk_size_warning, empty_shard_report, ExploreEnd, ExploreRequest, ExploreSession, RunPlan,
+    RunSummary, Shard,
 };
 use polywear_study::param_sources::Refusal;
-use polywear_study::study::{Study, SEED_MAX};
+use polywear_study::study::SEED_MAX;
 use resume::resume_command;
 use shown::{every, Shown};
 
@@ -132,7 +133,10 @@ pub(crate) fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
         if let Some(w) = chunk_size_warning(plan.study.chunk_size) {
             eprintln!("{w}");
         }
-        announce(&plan, &prepared, &pool, todo);
+        let kept = prepared.kept_samples(&plan);
+        for line in explore_lines(&plan, kept, todo, pool.current_num_threads()) {
+            eprintln!("{line}");
+        }
     }
     let stop = Interrupt::install()?;
     let shown = Shown {
@@ -207,34 +211,6 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
     Ok(plan)
 }
 
-/// The run's first lines: what is evaluated where, and what a resume keeps.
-fn announce(plan: &RunPlan, prepared: &PreparedOutput, pool: &rayon::ThreadPool, todo: u64) {
-    eprintln!(
-        "{}: {} samples ({} design, seed {}, variants {}), shard {}, {} threads -> {}",
-        plan.study.name,
-        plan.samples,
-        plan.study.design.as_str(),
-        plan.seed,
-        plan.study
-            .variants
-            .iter()
-            .map(|v| v.as_str())
-            .collect::<Vec<_>>()
-            .join("+"),
-        plan.shard,
-        pool.current_num_threads(),
-        plan.out_dir.display()
-    );
-    print_scenarios(&plan.study);
-    let kept = prepared.kept_samples(plan);
-    if kept > 0 {
-        eprintln!(
-            "resume: {kept} of {} samples already saved; {todo} to do",
-            plan.owned_samples()
-        );
-    }
-}
-
 /// The summary of a finished run and the analysis of its output directory.
 fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -> CliResult {
     if !args.quiet {
@@ -291,26 +267,6 @@ fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -
         true,
         &elsewhere,
     )
-}
-
-/// Says which scenarios every sample is also evaluated under, if any.
-fn print_scenarios(study: &Study) {
-    if study.scenarios.is_empty() {
-        return;
-    }
-    let each: Vec<String> = study
-        .scenarios
-        .iter()
-        .map(|s| match &s.compare_to {
-            None => format!("{} ({})", s.name, s.words()),
-            Some(r) => format!("{} ({}; compared with `{r}`)", s.name, s.words()),
-        })
-        .collect();
-    eprintln!(
-        "  each sample also under {} scenario(s): {}",
-        study.scenarios.len(),
-        each.join("; ")
-    );
 }
 
 /// Parses `--shard k/N` (k counted from 0, as Slurm array and Kubernetes indexed-job indices).

@@ -20,7 +20,7 @@ use polywear_core::long_term::{self, LongTermError};
 use polywear_core::params::{ParamId, Params};
 use polywear_core::wear::FittedConstants;
 use polywear_core::wording::plain;
-use polywear_study::calibration_band::long_term::LoopSets;
+use polywear_study::calibration_band::{long_term::LoopSets, CalibrationBand};
 use polywear_study::long_term_request::{
     LongTermPlan, LongTermRequest, LongTermRequestError, LongTermRun,
 };
@@ -151,7 +151,7 @@ fn plan(args: &WearArgs) -> CliResult<LongTermPlan> {
         None => LoopSettings::default_max_rhs_evals_for(args.speed_nodes),
         Some(n) => super::common::whole_count("--loop-max-rhs-evals", n, LOOP_RHS_EVALS_RANGE)?,
     };
-    let band = super::common::calibration_band(args.calibration_band.as_deref())?;
+    let band = CalibrationBand::asked(args.calibration_band.as_deref())?;
     // A set replaces the point's fitted constants: a value given for one of them is the run's,
     // not the band's, and the band says so.
     let given: Vec<String> = FittedConstants::PARAMS
