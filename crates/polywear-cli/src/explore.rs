@@ -17,10 +17,10 @@ use super::batch::{signal_name, Interrupt, Progress};
 use super::common::{BudgetArgs, CliError, CliResult};
 use crate::wear_reading::WearReadingArgs;
 use errors::{explore_error, session_error};
-use polywear_analysis::render::opening::explore_lines;
-use polywear_core::wording::plain;
+use polywear_analysis::render::run_words::{
+    analyze_command, empty_shard_line, explore_done, explore_lines,
+};
 use polywear_study::calibration_band::evaluate::DEFAULT_BAND_SAMPLES;
-use polywear_study::explore::recorded_run::shell_word;
 use polywear_study::explore::{
     chunk_size_warning, empty_shard_report, ExploreEnd, ExploreRequest, ExploreSession, RunPlan,
     RunSummary, Shard,
@@ -214,29 +214,14 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
 /// The summary of a finished run and the analysis of its output directory.
 fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -> CliResult {
     if !args.quiet {
-        println!(
-            "{} samples evaluated in {} s ({} samples/s); {} already saved; {} chunk files written to {}",
-            summary.samples_evaluated,
-            plain(secs, 2),
-            plain(summary.samples_evaluated as f64 / secs.max(1e-9), 3),
-            summary.samples_skipped,
-            summary.chunks_written,
-            plan.out_dir.display()
-        );
+        println!("{}", explore_done(plan, summary, secs));
     }
     // A shard that owns no chunk (fewer chunks than shards) did all it had to: say so, exit 0.
     if plan.owned_chunks().next().is_none() {
         if !args.no_report {
             let path = empty_shard_report(plan).map_err(|e| CliError(e.to_string()))?;
             if !args.quiet {
-                println!(
-                    "shard {}/{} holds no rows ({} chunk(s) for {} shards); report: {}",
-                    plan.shard.index,
-                    plan.shard.count,
-                    plan.n_chunks(),
-                    plan.shard.count,
-                    path.display()
-                );
+                println!("{}", empty_shard_line(plan, &path));
             }
         }
         return Ok(());
@@ -245,10 +230,8 @@ fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -
     // session included), unless asked not to: its summary is the run's one summary.
     if args.no_report {
         if !args.quiet {
-            println!(
-                "no report (--no-report); the whole run's summary: polywear analyze {}",
-                shell_word(&plan.out_dir.display().to_string())
-            );
+            let command = analyze_command(plan, false);
+            println!("no report (--no-report); the whole run's summary: {command}");
         }
         return Ok(());
     }
@@ -257,8 +240,8 @@ fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -
         figure_format: args.format,
     };
     let elsewhere = format!(
-        "the rows are saved: write the report elsewhere with `polywear analyze {} --out FOLDER`",
-        shell_word(&plan.out_dir.display().to_string())
+        "the rows are saved: write the report elsewhere with `{}`",
+        analyze_command(plan, true)
     );
     super::analyze::report(
         std::slice::from_ref(&plan.out_dir),
@@ -270,19 +253,8 @@ fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -
 }
 
 /// Parses `--shard k/N` (k counted from 0, as Slurm array and Kubernetes indexed-job indices).
-pub(crate) fn parse_shard(s: &str) -> Result<Shard, String> {
-    let (k, n) = s
-        .split_once('/')
-        .ok_or_else(|| format!("--shard `{s}`: expected k/N, e.g. 0/4"))?;
-    let k: u64 = k
-        .trim()
-        .parse()
-        .map_err(|_| format!("--shard `{s}`: k is not a whole number"))?;
-    let n: u64 = n
-        .trim()
-        .parse()
-        .map_err(|_| format!("--shard `{s}`: N is not a whole number"))?;
-    Shard::new(k, n).ok_or_else(|| format!("--shard `{s}`: need 0 <= k < N"))
+fn parse_shard(s: &str) -> Result<Shard, String> {
+    s.parse().map_err(|e| format!("--shard {e}"))
 }
 
 /// Parses `--log-every`: seconds in [0.1, 86400].
@@ -296,13 +268,19 @@ fn parse_log_every(s: &str) -> Result<f64, String> {
 
 /// Parses `--samples`: 1e6, 1_000_000 and 1000000 all mean one million.
 pub(crate) fn parse_samples(s: &str) -> Result<u64, String> {
+    samples_up_to(s, 1 << 40, "2^40")
+}
+
+/// Parses `--samples` as [`parse_samples`] does, accepted [1, `most`] (`most_text` in the
+/// refusal): optimize's range is narrower than explore's.
+pub(crate) fn samples_up_to(s: &str, most: u64, most_text: &str) -> Result<u64, String> {
     let t = s.trim().replace('_', "");
     let x: f64 = t
         .parse()
         .map_err(|_| format!("--samples `{s}` is not a number (e.g. 1e6, 1_000_000)"))?;
-    if !x.is_finite() || x < 1.0 || x.fract() != 0.0 || x > (1u64 << 40) as f64 {
+    if !x.is_finite() || x < 1.0 || x.fract() != 0.0 || x > most as f64 {
         return Err(format!(
-            "--samples `{s}` must be a whole number in [1, 2^40]"
+            "--samples `{s}` must be a whole number in [1, {most_text}]"
         ));
     }
     Ok(x as u64)

@@ -6,11 +6,11 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use polywear_analysis::plot::FigureFormat;
 
+use super::batch::styled_bar;
 use super::common::{BudgetArgs, CliError, CliResult};
-use polywear_analysis::render::opening::optimize_lines;
+use polywear_analysis::render::run_words::optimize_lines;
 use polywear_core::params::ParamId;
 use polywear_core::wording::plain;
 use polywear_study::optimize::evaluate::{solve, Progress};
@@ -126,23 +126,9 @@ fn parse_wheel(s: &str) -> Result<WheelChoice, String> {
     s.parse().map_err(|e| format!("--wheel {e}"))
 }
 
-/// Parses `--samples` within [1, 1e7].
+/// Parses `--samples` within [1, 1e7] (1e4 and 10_000 work).
 fn parse_samples(s: &str) -> Result<u64, String> {
-    // explore's parser reads 1e6 and 1_000_000; its range is explore's, so the refusal is
-    // worded here with optimize's own.
-    let n = super::explore::parse_samples(s).map_err(|e| {
-        if e.contains("must be a whole number") {
-            format!("--samples `{s}` must be a whole number in [1, 1e7]")
-        } else {
-            e
-        }
-    })?;
-    if n > 10_000_000 {
-        return Err(format!(
-            "--samples `{s}` must be a whole number in [1, 1e7]"
-        ));
-    }
-    Ok(n)
+    super::explore::samples_up_to(s, 10_000_000, "1e7")
 }
 
 /// Parses `--vary NAME=LO..HI`; the range's meaning is checked against the study later.
@@ -178,7 +164,8 @@ pub(crate) fn run(args: &OptimizeArgs) -> CliResult {
             eprintln!("{line}");
         }
     }
-    let bar = progress_bar(args.quiet);
+    // Evaluations done of those the levels so far take, rate and ETA.
+    let bar = styled_bar(args.quiet, 0, "{msg} ", "evaluations", "evaluations");
     let start = Instant::now();
     // A batch log (stderr not a terminal) gets a line per level instead of the bar.
     let log = !args.quiet && !std::io::stderr().is_terminal();
@@ -231,28 +218,6 @@ pub(crate) fn run(args: &OptimizeArgs) -> CliResult {
         println!("files in {}: {}", out_dir.display(), names.join(", "));
     }
     Ok(())
-}
-
-/// The progress bar: evaluations done of those the levels so far take, rate and ETA.
-fn progress_bar(quiet: bool) -> ProgressBar {
-    let bar = if quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::stderr())
-    };
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {msg} {wide_bar} {pos}/{len} evaluations  {rate}  ETA {eta}",
-        )
-        .expect("valid template")
-        .with_key(
-            "rate",
-            |s: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
-                let _ = write!(w, "{:.0} evaluations/s", s.per_sec());
-            },
-        ),
-    );
-    bar
 }
 
 /// The problem of the command line: the study read ([`input::read_study`]) and its work limits

@@ -13,7 +13,7 @@ pub mod figures;
 pub mod fleet;
 pub mod long_term;
 pub mod markdown;
-pub mod opening;
+pub mod run_words;
 pub mod scenarios;
 pub mod summary;
 pub mod sweep;

@@ -87,6 +87,33 @@ pub struct Problem {
     pub choices: Vec<(ParamId, Vec<f64>)>,
 }
 
+impl Problem {
+    /// The problem with `names` fitted instead of the file's `fit` (a command line's `--fit`),
+    /// checked as the file's is ([`check_fit`]): a name that is no parameter, one named twice
+    /// and one the file's `choices` restrict are refused, the refusal starting with the name
+    /// for the caller to prefix with its flag. Empty `names` keep the file's.
+    pub fn fit_instead(&mut self, names: &[String]) -> Result<(), String> {
+        if names.is_empty() {
+            return Ok(());
+        }
+        let mut fit: Vec<ParamId> = Vec::new();
+        for n in names {
+            let name: ParamId = n.trim().parse().map_err(|e: ParamError| e.to_string())?;
+            if fit.contains(&name) {
+                return Err(format!("`{name}` is named twice"));
+            }
+            if self.choices.iter().any(|(c, _)| *c == name) {
+                return Err(format!(
+                    "`{name}` is restricted by the file's `choices`; it cannot also be fitted"
+                ));
+            }
+            fit.push(name);
+        }
+        self.fit = fit;
+        check_fit(self).map_err(|e| e.to_string())
+    }
+}
+
 /// The tire-structure and friction parameters MODEL.md#constants marks as decoded or reconstructed:
 /// the default set to fit (the operating point is what targets vary; vehicle parameters do not act
 /// on the follower).

@@ -56,6 +56,25 @@ impl Shard {
     }
 }
 
+/// `k/N` as typed (k counted from 0); a refusal starts with the text quoted, for the caller to
+/// prefix with its flag.
+impl std::str::FromStr for Shard {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Shard, String> {
+        let (k, n) = s
+            .split_once('/')
+            .ok_or_else(|| format!("`{s}`: expected k/N, e.g. 0/4"))?;
+        let whole = |x: &str, which: &str| {
+            x.trim()
+                .parse::<u64>()
+                .map_err(|_| format!("`{s}`: {which} is not a whole number"))
+        };
+        let (k, n) = (whole(k, "k")?, whole(n, "N")?);
+        Shard::new(k, n).ok_or_else(|| format!("`{s}`: need 0 <= k < N"))
+    }
+}
+
 impl std::fmt::Display for Shard {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "{}/{}", self.index, self.count)

@@ -1,12 +1,14 @@
-//! A long run's opening lines, said before any work: what is evaluated, on how many samples
-//! and threads, into which folder, under which calibration band (MODEL.md#the-calibration-band)
-//! and scenarios. Words about a checked plan, so that a script that runs the same plan can say
-//! what `polywear explore` and `polywear optimize` say.
+//! A long run's lines: the opening ones, said before any work (what is evaluated, on how many
+//! samples and threads, into which folder, under which calibration band,
+//! MODEL.md#the-calibration-band, and scenarios), and explore's closing ones (what was done,
+//! and where the whole run's summary is). Words about a checked plan and its summary, so that a
+//! script that runs the same plan can say what `polywear explore` and `polywear optimize` say.
 
 use std::path::Path;
 
 use polywear_core::wording::plain;
-use polywear_study::explore::RunPlan;
+use polywear_study::explore::recorded_run::shell_word;
+use polywear_study::explore::{RunPlan, RunSummary};
 use polywear_study::optimize::Problem;
 use polywear_study::study::Study;
 
@@ -33,6 +35,43 @@ pub fn explore_lines(plan: &RunPlan, kept: u64, todo: u64, threads: usize) -> Ve
         ));
     }
     lines
+}
+
+/// `explore`'s closing line: the samples this session evaluated in `secs`, their rate, those
+/// already saved, and the chunk files written.
+pub fn explore_done(plan: &RunPlan, summary: &RunSummary, secs: f64) -> String {
+    format!(
+        "{} samples evaluated in {} s ({} samples/s); {} already saved; {} chunk files written to {}",
+        summary.samples_evaluated,
+        plain(secs, 2),
+        plain(summary.samples_evaluated as f64 / secs.max(1e-9), 3),
+        summary.samples_skipped,
+        summary.chunks_written,
+        plan.out_dir.display()
+    )
+}
+
+/// The line of a shard that owns no chunk (fewer chunks than shards): it did all it had to,
+/// and its `report` says so.
+pub fn empty_shard_line(plan: &RunPlan, report: &Path) -> String {
+    format!(
+        "shard {}/{} holds no rows ({} chunk(s) for {} shards); report: {}",
+        plan.shard.index,
+        plan.shard.count,
+        plan.n_chunks(),
+        plan.shard.count,
+        report.display()
+    )
+}
+
+/// The command that analyses the run's folder, quoted for a shell: the whole run's summary,
+/// and a report written `elsewhere` (with `--out FOLDER`) when it cannot go in the folder.
+pub fn analyze_command(plan: &RunPlan, elsewhere: bool) -> String {
+    let dir = shell_word(&plan.out_dir.display().to_string());
+    match elsewhere {
+        false => format!("polywear analyze {dir}"),
+        true => format!("polywear analyze {dir} --out FOLDER"),
+    }
 }
 
 /// Which scenarios every sample is also evaluated under, if any, each with its reference.
