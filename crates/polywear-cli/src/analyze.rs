@@ -10,7 +10,9 @@ use polywear_analysis::plot::FigureFormat;
 use super::common::{CliError, CliResult};
 use polywear_analysis::analysis::inputs::check_inputs;
 use polywear_analysis::analysis::{AnalysisError, AnalysisOptions};
-use polywear_analysis::render::summary::summary_lines;
+use polywear_analysis::render::summary::{
+    analysed_line, default_report_dir, no_verdict, summary_lines,
+};
 use polywear_analysis::render::RenderOptions;
 use polywear_core::params::ParamId;
 
@@ -123,15 +125,10 @@ pub(crate) fn run_with(args: &AnalyzeArgs, verbose: bool) -> CliResult {
             )));
         }
     }
-    let out_dir = args.out.clone().unwrap_or_else(|| {
-        let first = &args.inputs[0];
-        if first.is_dir() {
-            // Underscore: pyarrow/pandas skip it, so `pd.read_parquet(DIR)` still reads only the rows.
-            first.join("_report")
-        } else {
-            first.with_extension("report")
-        }
-    });
+    let out_dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| default_report_dir(&args.inputs[0]));
     let mut pairs = AnalysisOptions::default_pairs();
     for p in &args.pair {
         if !pairs.contains(p) {
@@ -191,29 +188,16 @@ pub(crate) fn report(
             .map_err(analysis_error)?;
     let written = polywear_analysis::render::write(&a, render)
         .map_err(|e| CliError(format!("cannot write the report: {e}; {elsewhere}")))?;
-    let report = written.report;
-    if a.nothing_classified() {
-        let t = a.totals();
-        return Err(CliError(format!(
-            "no row has a verdict: all {} rows failed ({}) or had no traction ({}), so there is no probability to give; report: {}",
-            t.total(),
-            t.failed(),
-            t.no_traction(),
-            report.display()
-        )));
+    if let Some(why) = no_verdict(&a, &written.report) {
+        return Err(CliError(why));
     }
-    if !verbose {
-        return Ok(());
+    if verbose {
+        let secs = start.elapsed().as_secs_f64();
+        let last = analysed_line(&a, secs, &written.report);
+        for line in summary_lines(&a).into_iter().chain([last]) {
+            println!("{line}");
+        }
     }
-    for line in summary_lines(&a) {
-        println!("{line}");
-    }
-    println!(
-        "analysed {} rows in {:.1} s; report: {}",
-        a.info.rows,
-        start.elapsed().as_secs_f64(),
-        report.display()
-    );
     Ok(())
 }
 

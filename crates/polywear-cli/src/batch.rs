@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::common::{CliError, CliResult};
-use polywear_core::wording::plain;
+use polywear_core::wording::{duration_text, plain};
 
 /// Progress lines on stderr: `progress: 1216 of 6000 samples (20.3%), 412 samples/s, ETA 12 s`.
 pub(crate) struct ProgressLog {
@@ -78,24 +78,7 @@ impl Progress {
     pub(crate) fn new(quiet: bool, total: u64, unit: &'static str, every: Duration) -> Progress {
         let log = (!quiet && !std::io::stderr().is_terminal())
             .then(|| ProgressLog::new(total, unit, every));
-        let bar = if quiet || log.is_some() {
-            ProgressBar::hidden()
-        } else {
-            ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr())
-        };
-        let template = format!(
-            "{{spinner}} [{{elapsed_precise}}] {{wide_bar}} {{pos}}/{{len}} {unit}  {{rate}}  ETA {{eta}}"
-        );
-        bar.set_style(
-            ProgressStyle::with_template(&template)
-                .expect("valid template")
-                .with_key(
-                    "rate",
-                    move |s: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
-                        let _ = write!(w, "{:.0} {unit}/s", s.per_sec());
-                    },
-                ),
-        );
+        let bar = styled_bar(quiet || log.is_some(), total, "", unit, unit);
         Progress { bar, log }
     }
 
@@ -113,14 +96,29 @@ impl Progress {
     }
 }
 
-/// Seconds written as people read them: `42 s`, `3 min 20 s`, `2 h 05 min`.
-pub(crate) fn duration_text(secs: f64) -> String {
-    let s = secs.max(0.0).round() as u64;
-    match s {
-        0..60 => format!("{s} s"),
-        60..3600 => format!("{} min {:02} s", s / 60, s % 60),
-        _ => format!("{} h {:02} min", s / 3600, (s % 3600) / 60),
-    }
+/// A bar on stderr (hidden when `hidden`) of `total` things `counted`, with their rate in
+/// `rate_unit`/s and the ETA; `head` goes before the bar (`"{msg} "` for a message).
+pub(crate) fn styled_bar(
+    hidden: bool,
+    total: u64,
+    head: &str,
+    counted: &str,
+    rate_unit: &'static str,
+) -> ProgressBar {
+    let bar = if hidden {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr())
+    };
+    let template = format!(
+        "{{spinner}} [{{elapsed_precise}}] {head}{{wide_bar}} {{pos}}/{{len}} {counted}  {{rate}}  ETA {{eta}}"
+    );
+    let rate = move |s: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+        let _ = write!(w, "{:.0} {rate_unit}/s", s.per_sec());
+    };
+    let style = ProgressStyle::with_template(&template).expect("valid template");
+    bar.set_style(style.with_key("rate", rate));
+    bar
 }
 
 /// SIGINT and SIGTERM while a run is in progress: the first sets a flag the workers read (no new
@@ -198,10 +196,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn durations_and_progress_lines() {
-        assert_eq!(duration_text(42.4), "42 s");
-        assert_eq!(duration_text(200.0), "3 min 20 s");
-        assert_eq!(duration_text(7500.0), "2 h 05 min");
+    fn progress_lines() {
         let log = ProgressLog::new(6000, "samples", Duration::from_secs(5));
         assert_eq!(
             log.line(1500, Duration::from_secs(3)),

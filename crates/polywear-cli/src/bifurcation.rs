@@ -7,14 +7,13 @@ use clap::Args;
 use polywear_analysis::plot::{FigureFile, FigureFormat};
 use polywear_analysis::render::sweep::sweep_lines;
 
-use super::common::{base_metadata, BudgetArgs, CliError, CliResult, PointArgs};
+use super::common::{BudgetArgs, CliError, CliResult, PointArgs};
 use polywear_core::classify::ClassifierOptions;
 use polywear_core::model::Variant;
 use polywear_core::params::{ParamError, ParamId, Params};
-use polywear_core::records::record_columns;
 use polywear_core::wording::plain;
 use polywear_study::bifurcation::{linspace, sweep};
-use polywear_study::parquet_out::{write_table, Column};
+use polywear_study::parquet_out::write_table;
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -146,28 +145,9 @@ fn write(
     req: &SweepRequest,
     sw: &polywear_study::bifurcation::Sweep,
 ) -> CliResult {
-    let (s, jobs, records, hopf) = (req.param.spec(), &sw.jobs, &sw.records, &sw.hopf);
-    let (base, variant, prefix) = (&req.base, req.variant, &req.prefix);
-    // The swept value gets its own column (the parameter may also be a record column).
-    let mut cols = vec![Column::f64(
-        "sweep_value",
-        s.unit,
-        jobs.iter().map(|j| j.0).collect(),
-    )];
-    cols.extend(record_columns(records));
-    let mut meta = base_metadata(base, variant);
-    meta.push(("sweep_param".into(), s.name.into()));
-    let hopf_json: Vec<serde_json::Value> = hopf
-        .iter()
-        .map(|h| serde_json::json!({"wheel": h.wheel.as_str(), "value": h.value, "destabilizing": h.destabilizing, "l1": h.l1, "criticality": polywear_study::chart::criticality(h.l1)}))
-        .collect();
-    meta.push((
-        "hopf_points".into(),
-        serde_json::Value::from(hopf_json).to_string(),
-    ));
-    let pq = prefix.with_extension("parquet");
-    write_table(&pq, &cols, &meta)?;
-    let figure = FigureFile::beside(prefix, args.format);
+    let pq = req.prefix.with_extension("parquet");
+    write_table(&pq, &sw.columns(), &sw.metadata())?;
+    let figure = FigureFile::beside(&req.prefix, args.format);
     polywear_analysis::figures::bifurcation::draw(&figure, sw)
         .map_err(|e| CliError(e.to_string()))?;
     eprintln!("wrote {} and {}", pq.display(), figure.path.display());

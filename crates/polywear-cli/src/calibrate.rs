@@ -5,13 +5,11 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Args;
-use polywear_analysis::render::calibration::{parameters_text, targets_text};
+use polywear_analysis::render::calibration::{fit_heading, parameters_text, targets_text};
 
 use super::common::{CliError, CliResult};
-use polywear_core::params::{ParamError, ParamId};
-use polywear_study::calibrate::{
-    calibrate, check_fit, parameter_file, parse_problem, Fit, Problem,
-};
+use polywear_core::params::ParamError;
+use polywear_study::calibrate::{calibrate, parameter_file, parse_problem, Fit, Problem};
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -69,14 +67,7 @@ fn resolve(args: &CalibrateArgs) -> CliResult<Problem> {
 
 /// The fit's headline, its targets and its parameters.
 fn print_fit(problem: &Problem, fit: &Fit, secs: f64) {
-    println!(
-        "fitted {} parameters to {} targets in {:.1} s ({} cost evaluations), cost {:.4e}",
-        fit.fitted.len(),
-        problem.targets.len(),
-        secs,
-        fit.evaluations,
-        fit.cost
-    );
+    println!("{}", fit_heading(problem, fit, secs));
     let mut text = String::new();
     targets_text(fit, &mut text);
     parameters_text(fit, &mut text);
@@ -117,26 +108,8 @@ fn read_problem(args: &CalibrateArgs) -> CliResult<Problem> {
             at(&format!("{key}{e}"))
         })?;
     }
-    if args.fit.is_empty() {
-        return Ok(problem);
-    }
-    let mut fit: Vec<ParamId> = Vec::new();
-    for n in &args.fit {
-        let name: ParamId = n
-            .trim()
-            .parse()
-            .map_err(|e: ParamError| CliError(format!("--fit: {e}")))?;
-        if fit.contains(&name) {
-            return Err(CliError(format!("--fit: `{name}` is named twice")));
-        }
-        if problem.choices.iter().any(|(c, _)| *c == name) {
-            return Err(CliError(format!(
-                "--fit: `{name}` is restricted by the file's `choices`; it cannot also be fitted"
-            )));
-        }
-        fit.push(name);
-    }
-    problem.fit = fit;
-    check_fit(&problem).map_err(|e| CliError(format!("--fit: {e}")))?;
+    problem
+        .fit_instead(&args.fit)
+        .map_err(|e| CliError(format!("--fit: {e}")))?;
     Ok(problem)
 }

@@ -1,7 +1,7 @@
 //! `polywear chart`: every Hopf curve of both wheels in the plane of two parameters, with the
 //! frequency, the first Lyapunov coefficient and the criticality along them.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Args;
 
@@ -14,10 +14,8 @@ use polywear_core::continuation::trace::TraceOptions;
 use polywear_core::continuation::ParamBox;
 use polywear_core::params::{ParamError, ParamId};
 use polywear_study::chart::band::{band_study, structure_band, StructureBand};
-use polywear_study::chart::{
-    band_columns, curve_columns, special_columns, summary, ChartError, ChartRequest,
-};
-use polywear_study::parquet_out::{write_csv, write_table};
+use polywear_study::chart::files::{band_words, heading, write_band_tables, write_tables};
+use polywear_study::chart::{summary, ChartError, ChartRequest};
 
 /// Cells per axis of the uncertainty band's grid.
 const BAND_CELLS: usize = 100;
@@ -152,11 +150,6 @@ pub(crate) fn request(args: &ChartArgs) -> CliResult<(ChartRequest, Resolved)> {
     Ok((req, resolved))
 }
 
-fn sibling(out: &Path, suffix: &str, ext: &str) -> PathBuf {
-    let stem = out.file_stem().and_then(|s| s.to_str()).unwrap_or("chart");
-    out.with_file_name(format!("{stem}{suffix}.{ext}"))
-}
-
 pub(crate) fn run(args: &ChartArgs) -> CliResult {
     let (req, resolved) = request(args)?;
     let band_plan = match (&args.study, args.structure_samples) {
@@ -169,69 +162,29 @@ pub(crate) fn run(args: &ChartArgs) -> CliResult {
     let pool = super::common::thread_pool(args.threads)?;
     let opts = TraceOptions::default();
     let started = std::time::Instant::now();
-    let (charts, grids) = pool.install(|| {
-        let charts = req.trace(&opts);
-        let grids: Vec<_> = req
-            .wheels
-            .iter()
-            .map(|&w| req.stability_grid(w, SHADE_CELLS, SHADE_CELLS))
-            .collect();
-        (charts, grids)
-    });
+    let (charts, grids) = pool.install(|| (req.trace(&opts), req.stability_grids(SHADE_CELLS)));
     let chart_s = started.elapsed().as_secs_f64();
     let band: Option<StructureBand> = band_plan
         .as_ref()
         .map(|(study, k)| pool.install(|| structure_band(&req, study, study.seed, *k, BAND_CELLS)));
-    println!(
-        "chart of {} [{}] {}..{} x {} [{}] {}..{} (variant {}), {:.2} s",
-        req.x.name(),
-        req.x.spec().unit,
-        args.x_from,
-        args.x_to,
-        req.y.name(),
-        req.y.spec().unit,
-        args.y_from,
-        args.y_to,
-        req.variant,
-        chart_s
-    );
+    println!("{}", heading(&req, chart_s));
     for line in summary(&req, &charts) {
         println!("{line}");
     }
     let meta = req.metadata(&opts);
-    let cols = curve_columns(&req, &charts);
-    write_table(&args.out, &cols, &meta)?;
-    let csv = args.out.with_extension("csv");
-    write_csv(&csv, &cols)?;
-    let special = special_columns(&req, &charts);
-    let sp_pq = sibling(&args.out, "_special", "parquet");
-    let sp_csv = sibling(&args.out, "_special", "csv");
-    write_table(&sp_pq, &special, &meta)?;
-    write_csv(&sp_csv, &special)?;
+    let files = write_tables(&args.out, &req, &charts, &meta)?;
     if let (Some(b), Some((study, k))) = (&band, &band_plan) {
-        println!(
-            "uncertainty band: {k} structures from study `{}` (seed {}), drawn: {}",
-            study.name,
-            study.seed,
-            b.drawn
-                .iter()
-                .map(|d| d.name())
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
-        let cols = band_columns(&req, b);
-        let band_meta = b.metadata(&meta, study, *k);
-        write_table(&sibling(&args.out, "_band", "parquet"), &cols, &band_meta)?;
-        write_csv(&sibling(&args.out, "_band", "csv"), &cols)?;
+        println!("{}", band_words(b, study, *k));
+        write_band_tables(&args.out, &req, b, &meta, study, *k)?;
     }
     let picture = FigureFile::beside(&args.out, FigureFormat::Png);
     draw(&picture, &req, &charts, &grids, band.as_ref()).map_err(|e| CliError(e.to_string()))?;
     eprintln!(
         "wrote {}, {}, {}, {} and {}",
-        args.out.display(),
-        csv.display(),
-        sp_pq.display(),
-        sp_csv.display(),
+        files.table.display(),
+        files.csv.display(),
+        files.special.display(),
+        files.special_csv.display(),
         picture.path.display()
     );
     Ok(())

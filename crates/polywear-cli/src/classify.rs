@@ -8,8 +8,7 @@ use clap::Args;
 
 use super::common::{check_extension, check_out_file, BudgetArgs, CliResult, VariantArg};
 use polywear_core::classify::ClassifierOptions;
-use polywear_core::ensemble::{self, Control};
-use polywear_core::evaluate;
+use polywear_core::evaluate::solve_points;
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::Params;
 use polywear_core::records::WheelRecord;
@@ -65,7 +64,8 @@ pub(crate) fn run(args: &ClassifyArgs) -> CliResult {
     let request = resolve(args)?;
     let pool = super::common::thread_pool(args.threads)?;
     let start = Instant::now();
-    let (jobs, records) = pool.install(|| classify(&request));
+    let (jobs, records) =
+        pool.install(|| solve_points(&request.points, request.variant, &request.opts));
     let secs = start.elapsed().as_secs_f64();
     write(args, &request, &jobs, &records)?;
     eprintln!(
@@ -121,20 +121,6 @@ fn resolve(args: &ClassifyArgs) -> CliResult<ClassifyRequest> {
     })
 }
 
-/// Both wheels of every point through the ensemble: the (point, wheel) jobs and their records,
-/// in the points' order.
-fn classify(request: &ClassifyRequest) -> (Vec<(usize, Wheel)>, Vec<WheelRecord>) {
-    let jobs: Vec<(usize, Wheel)> = (0..request.points.len())
-        .flat_map(|i| Wheel::BOTH.map(|w| (i, w)))
-        .collect();
-    let record = |k: usize| {
-        let (i, wheel) = jobs[k];
-        evaluate::solve_wheel(request.points[i], request.variant, wheel, &request.opts).record
-    };
-    let records = ensemble::solve(jobs.len(), record, &Control::QUIET).all();
-    (jobs, records)
-}
-
 /// The rows as CSV, or as Parquet with the run's metadata (and the points file's, for a fleet).
 fn write(
     args: &ClassifyArgs,
@@ -148,14 +134,7 @@ fn write(
         write_csv(&args.out, &cols)?;
     } else {
         let mut meta = super::common::base_metadata(&request.base, request.variant);
-        if fleet.weight.is_some() || !fleet.pass_through.is_empty() {
-            meta.push(("points".into(), args.points.display().to_string()));
-            meta.push(("weight".into(), fleet.weight.clone().unwrap_or_default()));
-            meta.push(("weight_kind".into(), fleet.weight_kind.as_str().into()));
-            if let Some(how) = &fleet.weight_computed {
-                meta.push(("weight_computed".into(), how.clone()));
-            }
-        }
+        meta.extend(fleet.metadata(&args.points));
         write_table(&args.out, &cols, &meta)?;
     }
     Ok(())

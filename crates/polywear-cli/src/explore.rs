@@ -17,14 +17,15 @@ use super::batch::{signal_name, Interrupt, Progress};
 use super::common::{BudgetArgs, CliError, CliResult};
 use crate::wear_reading::WearReadingArgs;
 use errors::{explore_error, session_error};
-use polywear_core::wording::plain;
-use polywear_study::calibration_band::evaluate::DEFAULT_BAND_SAMPLES;
-use polywear_study::explore::recorded_run::shell_word;
-use polywear_study::explore::{
-    chunk_size_warning, empty_shard_report, ExploreEnd, ExploreRequest, ExploreSession,
-    PreparedOutput, RunPlan, RunSummary, Shard,
+use polywear_analysis::render::run_words::{
+    analyze_command, empty_shard_line, explore_done, explore_lines,
 };
-use polywear_study::study::{Study, SEED_MAX};
+use polywear_study::calibration_band::evaluate::DEFAULT_BAND_SAMPLES;
+use polywear_study::explore::{
+    chunk_size_warning, empty_shard_report, ExploreEnd, ExploreRequest, ExploreSession, RunPlan,
+    RunSummary, Shard,
+};
+use polywear_study::study::SEED_MAX;
 use resume::resume_command;
 use shown::{every, Shown};
 
@@ -131,7 +132,10 @@ pub(crate) fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
         if let Some(w) = chunk_size_warning(plan.study.chunk_size) {
             eprintln!("{w}");
         }
-        announce(&plan, &prepared, &pool, todo);
+        let kept = prepared.kept_samples(&plan);
+        for line in explore_lines(&plan, kept, todo, pool.current_num_threads()) {
+            eprintln!("{line}");
+        }
     }
     let stop = Interrupt::install()?;
     let shown = Shown {
@@ -206,60 +210,17 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
     Ok(plan)
 }
 
-/// The run's first lines: what is evaluated where, and what a resume keeps.
-fn announce(plan: &RunPlan, prepared: &PreparedOutput, pool: &rayon::ThreadPool, todo: u64) {
-    eprintln!(
-        "{}: {} samples ({} design, seed {}, variants {}), shard {}, {} threads -> {}",
-        plan.study.name,
-        plan.samples,
-        plan.study.design.as_str(),
-        plan.seed,
-        plan.study
-            .variants
-            .iter()
-            .map(|v| v.as_str())
-            .collect::<Vec<_>>()
-            .join("+"),
-        plan.shard,
-        pool.current_num_threads(),
-        plan.out_dir.display()
-    );
-    print_scenarios(&plan.study);
-    let kept = prepared.kept_samples(plan);
-    if kept > 0 {
-        eprintln!(
-            "resume: {kept} of {} samples already saved; {todo} to do",
-            plan.owned_samples()
-        );
-    }
-}
-
 /// The summary of a finished run and the analysis of its output directory.
 fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -> CliResult {
     if !args.quiet {
-        println!(
-            "{} samples evaluated in {} s ({} samples/s); {} already saved; {} chunk files written to {}",
-            summary.samples_evaluated,
-            plain(secs, 2),
-            plain(summary.samples_evaluated as f64 / secs.max(1e-9), 3),
-            summary.samples_skipped,
-            summary.chunks_written,
-            plan.out_dir.display()
-        );
+        println!("{}", explore_done(plan, summary, secs));
     }
     // A shard that owns no chunk (fewer chunks than shards) did all it had to: say so, exit 0.
     if plan.owned_chunks().next().is_none() {
         if !args.no_report {
             let path = empty_shard_report(plan).map_err(|e| CliError(e.to_string()))?;
             if !args.quiet {
-                println!(
-                    "shard {}/{} holds no rows ({} chunk(s) for {} shards); report: {}",
-                    plan.shard.index,
-                    plan.shard.count,
-                    plan.n_chunks(),
-                    plan.shard.count,
-                    path.display()
-                );
+                println!("{}", empty_shard_line(plan, &path));
             }
         }
         return Ok(());
@@ -268,10 +229,8 @@ fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -
     // session included), unless asked not to: its summary is the run's one summary.
     if args.no_report {
         if !args.quiet {
-            println!(
-                "no report (--no-report); the whole run's summary: polywear analyze {}",
-                shell_word(&plan.out_dir.display().to_string())
-            );
+            let command = analyze_command(plan, false);
+            println!("no report (--no-report); the whole run's summary: {command}");
         }
         return Ok(());
     }
@@ -280,8 +239,8 @@ fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -
         figure_format: args.format,
     };
     let elsewhere = format!(
-        "the rows are saved: write the report elsewhere with `polywear analyze {} --out FOLDER`",
-        shell_word(&plan.out_dir.display().to_string())
+        "the rows are saved: write the report elsewhere with `{}`",
+        analyze_command(plan, true)
     );
     super::analyze::report(
         std::slice::from_ref(&plan.out_dir),
@@ -292,40 +251,9 @@ fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -
     )
 }
 
-/// Says which scenarios every sample is also evaluated under, if any.
-fn print_scenarios(study: &Study) {
-    if study.scenarios.is_empty() {
-        return;
-    }
-    let each: Vec<String> = study
-        .scenarios
-        .iter()
-        .map(|s| match &s.compare_to {
-            None => format!("{} ({})", s.name, s.words()),
-            Some(r) => format!("{} ({}; compared with `{r}`)", s.name, s.words()),
-        })
-        .collect();
-    eprintln!(
-        "  each sample also under {} scenario(s): {}",
-        study.scenarios.len(),
-        each.join("; ")
-    );
-}
-
 /// Parses `--shard k/N` (k counted from 0, as Slurm array and Kubernetes indexed-job indices).
-pub(crate) fn parse_shard(s: &str) -> Result<Shard, String> {
-    let (k, n) = s
-        .split_once('/')
-        .ok_or_else(|| format!("--shard `{s}`: expected k/N, e.g. 0/4"))?;
-    let k: u64 = k
-        .trim()
-        .parse()
-        .map_err(|_| format!("--shard `{s}`: k is not a whole number"))?;
-    let n: u64 = n
-        .trim()
-        .parse()
-        .map_err(|_| format!("--shard `{s}`: N is not a whole number"))?;
-    Shard::new(k, n).ok_or_else(|| format!("--shard `{s}`: need 0 <= k < N"))
+fn parse_shard(s: &str) -> Result<Shard, String> {
+    s.parse().map_err(|e| format!("--shard {e}"))
 }
 
 /// Parses `--log-every`: seconds in [0.1, 86400].
@@ -339,13 +267,19 @@ fn parse_log_every(s: &str) -> Result<f64, String> {
 
 /// Parses `--samples`: 1e6, 1_000_000 and 1000000 all mean one million.
 pub(crate) fn parse_samples(s: &str) -> Result<u64, String> {
+    samples_up_to(s, 1 << 40, "2^40")
+}
+
+/// Parses `--samples` as [`parse_samples`] does, accepted [1, `most`] (`most_text` in the
+/// refusal): optimize's range is narrower than explore's.
+pub(crate) fn samples_up_to(s: &str, most: u64, most_text: &str) -> Result<u64, String> {
     let t = s.trim().replace('_', "");
     let x: f64 = t
         .parse()
         .map_err(|_| format!("--samples `{s}` is not a number (e.g. 1e6, 1_000_000)"))?;
-    if !x.is_finite() || x < 1.0 || x.fract() != 0.0 || x > (1u64 << 40) as f64 {
+    if !x.is_finite() || x < 1.0 || x.fract() != 0.0 || x > most as f64 {
         return Err(format!(
-            "--samples `{s}` must be a whole number in [1, 2^40]"
+            "--samples `{s}` must be a whole number in [1, {most_text}]"
         ));
     }
     Ok(x as u64)

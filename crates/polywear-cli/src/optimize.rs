@@ -2,21 +2,23 @@
 //! of vibration, or a weighted sum) over a study's samples.
 
 use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use polywear_analysis::plot::FigureFormat;
 
+use super::batch::styled_bar;
 use super::common::{BudgetArgs, CliError, CliResult};
+use polywear_analysis::render::run_words::optimize_lines;
 use polywear_core::params::ParamId;
 use polywear_core::wording::plain;
 use polywear_study::optimize::evaluate::{solve, Progress};
+use polywear_study::optimize::input;
 use polywear_study::optimize::objective::{parse_terms, Objective, Term, WheelChoice};
 use polywear_study::optimize::search::SearchOptions;
 use polywear_study::optimize::{Problem, ProblemBand, ProblemSpec};
-use polywear_study::study::{Study, DEFAULT_STUDY, SEED_MAX};
+use polywear_study::study::SEED_MAX;
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -123,59 +125,14 @@ fn parse_wheel(s: &str) -> Result<WheelChoice, String> {
     s.parse().map_err(|e| format!("--wheel {e}"))
 }
 
-/// Parses `--samples` within [1, 1e7].
+/// Parses `--samples` within [1, 1e7] (1e4 and 10_000 work).
 fn parse_samples(s: &str) -> Result<u64, String> {
-    // explore's parser reads 1e6 and 1_000_000; its range is explore's, so the refusal is
-    // worded here with optimize's own.
-    let n = super::explore::parse_samples(s).map_err(|e| {
-        if e.contains("must be a whole number") {
-            format!("--samples `{s}` must be a whole number in [1, 1e7]")
-        } else {
-            e
-        }
-    })?;
-    if n > 10_000_000 {
-        return Err(format!(
-            "--samples `{s}` must be a whole number in [1, 1e7]"
-        ));
-    }
-    Ok(n)
+    super::explore::samples_up_to(s, 10_000_000, "1e7")
 }
 
 /// Parses `--vary NAME=LO..HI`; the range's meaning is checked against the study later.
 fn parse_vary(s: &str) -> Result<(ParamId, f64, f64), String> {
-    let form = "expected NAME=LO..HI, e.g. toe_deg=0.05..0.40";
-    let (name, range) = s
-        .split_once('=')
-        .ok_or_else(|| format!("--vary `{s}`: {form}"))?;
-    let id: ParamId = name
-        .trim()
-        .parse()
-        .map_err(|e| format!("--vary `{s}`: {e}"))?;
-    let (lo, hi) = range
-        .split_once("..")
-        .ok_or_else(|| format!("--vary `{s}`: {form}"))?;
-    let num = |x: &str| {
-        x.trim()
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| {
-                format!(
-                    "--vary `{s}`: `{}` is not a finite number; {form}",
-                    x.trim()
-                )
-            })
-    };
-    let (lo, hi) = (num(lo)?, num(hi)?);
-    if lo >= hi {
-        return Err(format!(
-            "--vary `{s}`: the box is empty; accepted: LO below HI, e.g. {id}={}..{}",
-            plain(lo.min(hi), 6),
-            plain(lo.max(hi), 6)
-        ));
-    }
-    Ok((id, lo, hi))
+    input::parse_vary(s).map_err(|e| format!("--vary {e}"))
 }
 
 pub(crate) fn run(args: &OptimizeArgs) -> CliResult {
@@ -200,9 +157,14 @@ pub(crate) fn run(args: &OptimizeArgs) -> CliResult {
         ),
     )?;
     if !args.quiet {
-        announce(args, &problem, &pool, &out_dir);
+        let off = args.calibration_band.as_deref() == Some("off");
+        let threads = pool.current_num_threads();
+        for line in optimize_lines(&problem, off, threads, &out_dir) {
+            eprintln!("{line}");
+        }
     }
-    let bar = progress_bar(args.quiet);
+    // Evaluations done of those the levels so far take, rate and ETA.
+    let bar = styled_bar(args.quiet, 0, "{msg} ", "evaluations", "evaluations");
     let start = Instant::now();
     // A batch log (stderr not a terminal) gets a line per level instead of the bar.
     let log = !args.quiet && !std::io::stderr().is_terminal();
@@ -257,91 +219,15 @@ pub(crate) fn run(args: &OptimizeArgs) -> CliResult {
     Ok(())
 }
 
-/// The search's first lines: the band it moves under, then what is evaluated where.
-fn announce(args: &OptimizeArgs, problem: &Problem, pool: &rayon::ThreadPool, out_dir: &Path) {
-    match (&problem.band, &problem.band_note) {
-        (Some(b), _) if b.samples < problem.samples => eprintln!(
-            "calibration band: {} sets from {}, each setting's wear answer under every set on the same {} of its {} samples (--band-samples), moved by the nominal constants' answer on all of them",
-            b.sets.sets.len(),
-            b.source,
-            b.samples,
-            problem.samples
-        ),
-        (Some(b), _) => eprintln!(
-            "calibration band: {} sets from {}, each setting's wear answer under every set on the same samples",
-            b.sets.sets.len(),
-            b.source
-        ),
-        (None, Some(note)) => eprintln!("note: {note}"),
-        (None, None) if args.calibration_band.as_deref() == Some("off") => eprintln!(
-            "calibration band: off (--calibration-band off): the optimum is the nominal constants' alone, with its sampling interval only"
-        ),
-        (None, None) => {}
-    }
-    eprintln!(
-        "{}: {} of {} samples (seed {}, variant {}), {}, {} threads -> {}",
-        problem.study.name,
-        problem.objective.text(),
-        problem.samples,
-        problem.seed,
-        problem.variant,
-        problem
-            .axes
-            .iter()
-            .map(|a| format!("{} {}..{}", a.param, plain(a.lo, 6), plain(a.hi, 6)))
-            .collect::<Vec<_>>()
-            .join(", "),
-        pool.current_num_threads(),
-        out_dir.display()
-    );
-}
-
-/// The progress bar: evaluations done of those the levels so far take, rate and ETA.
-fn progress_bar(quiet: bool) -> ProgressBar {
-    let bar = if quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::stderr())
-    };
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {msg} {wide_bar} {pos}/{len} evaluations  {rate}  ETA {eta}",
-        )
-        .expect("valid template")
-        .with_key(
-            "rate",
-            |s: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
-                let _ = write!(w, "{:.0} evaluations/s", s.per_sec());
-            },
-        ),
-    );
-    bar
-}
-
-/// The problem of the command line: the study read and its work limits set here, every other
-/// value checked by [`Problem::new`] before any work starts.
+/// The problem of the command line: the study read ([`input::read_study`]) and its work limits
+/// set here, every other value checked by [`Problem::new`] before any work starts.
 fn problem(args: &OptimizeArgs) -> CliResult<Problem> {
-    let (source, origin) = match &args.study {
-        Some(path) => (
-            super::common::read_input(path, "study ", polywear_study::safe_read::Limit::Text)?,
-            path.display().to_string(),
-        ),
-        None => (DEFAULT_STUDY.to_string(), "built-in default study".into()),
-    };
-    let base = super::common::base_params(args.params.as_deref(), args.accept_implausible)?;
-    let dir = args
-        .study
-        .as_ref()
-        .and_then(|p| p.parent().map(PathBuf::from))
-        .unwrap_or_default();
-    let mut study =
-        Study::parse_at(&source, base, &dir).map_err(|e| CliError(format!("{origin}: {e}")))?;
-    if !(args.accept_implausible || study.accept_implausible) {
-        study
-            .check_plausible()
-            .map_err(|e| CliError(format!("{origin}: {e}")))?;
-    }
-    study.budget = args.budget.apply(study.budget)?;
+    let (study, origin) = input::read_study(
+        args.study.as_deref(),
+        args.params.as_deref(),
+        args.accept_implausible,
+        &|b| args.budget.apply(b),
+    )?;
     Ok(Problem::new(ProblemSpec {
         study,
         origin,
@@ -360,21 +246,6 @@ fn problem(args: &OptimizeArgs) -> CliResult<Problem> {
             keep: args.keep,
         },
         accept_implausible: args.accept_implausible,
-        band: match super::common::calibration_band(args.calibration_band.as_deref())? {
-            None if args.band_samples.is_some() => {
-                return Err(CliError(format!(
-                    "--band-samples {}: the calibration band is off (--calibration-band off), so it would not be used; leave it out",
-                    args.band_samples.unwrap_or_default()
-                )))
-            }
-            band => band.map(|(sets, source)| ProblemBand {
-                sets,
-                source,
-                given: args.calibration_band.is_some(),
-                samples: args
-                    .band_samples
-                    .unwrap_or(polywear_study::optimize::DEFAULT_BAND_SAMPLES),
-            }),
-        },
+        band: ProblemBand::asked(args.calibration_band.as_deref(), args.band_samples)?,
     })?)
 }

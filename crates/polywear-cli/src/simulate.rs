@@ -12,12 +12,10 @@ use polywear_analysis::figures::trajectory::plot_point;
 use polywear_analysis::plot::FigureFile;
 use polywear_analysis::render::verdict::verdict_table;
 use polywear_core::classify::ClassifierOptions;
-use polywear_core::evaluate;
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::Params;
-use polywear_core::records::WheelRecord;
 use polywear_study::parquet_out::{write_csv, write_table};
-use polywear_study::trajectory::{series_columns, time_series, Samples};
+use polywear_study::trajectory::{series_columns, simulate_point, PointRun};
 
 #[derive(Debug, Args)]
 #[command(after_help = concat!(
@@ -67,12 +65,24 @@ pub(crate) struct SimulateArgs {
 
 pub(crate) fn run(args: &SimulateArgs) -> CliResult {
     let request = resolve(args)?;
-    let simulated = simulate(&request);
-    write(args, &request, &simulated)
+    // The time series only where a file needs it.
+    let series = (request.out.is_some() || request.plot.is_some())
+        .then_some((request.duration_s, request.sample_rate_hz));
+    let run = simulate_point(
+        request.params,
+        request.variant,
+        &request.wheels,
+        &request.opts,
+        series,
+    );
+    for w in &run.ended_early {
+        eprintln!("warning: {w}");
+    }
+    write(args, &request, &run)
 }
 
 /// One `simulate`, checked: the point, its wheels, the classifier's options, and the files to
-/// write (the time series only where one of them needs it).
+/// write.
 struct SimulateRequest {
     params: Params,
     variant: Variant,
@@ -82,20 +92,6 @@ struct SimulateRequest {
     sample_rate_hz: f64,
     out: Option<PathBuf>,
     plot: Option<FigureFile>,
-}
-
-impl SimulateRequest {
-    /// Whether a file asks for the wheels' time series.
-    fn wants_series(&self) -> bool {
-        self.out.is_some() || self.plot.is_some()
-    }
-}
-
-/// What one point gives: a record per wheel, and the time series of every wheel with a model
-/// when a file asks for it.
-struct Simulated {
-    records: Vec<WheelRecord>,
-    series: Vec<(Wheel, Samples)>,
 }
 
 /// Every flag checked, in the order the refusals name them, before any work starts.
@@ -149,35 +145,11 @@ fn resolve(args: &SimulateArgs) -> CliResult<SimulateRequest> {
     })
 }
 
-/// Each wheel on its own (no shooting hint from the other): the verdict of one wheel does not
-/// depend on which others were asked for. A time series that ends early is warned about.
-fn simulate(request: &SimulateRequest) -> Simulated {
-    let mut records = Vec::new();
-    let mut series = Vec::new();
-    for &wheel in &request.wheels {
-        let w = evaluate::solve_wheel(request.params, request.variant, wheel, &request.opts);
-        records.push(w.record);
-        if let Ok(m) = &w.model {
-            if request.wants_series() {
-                let ts = time_series(
-                    m,
-                    request.duration_s,
-                    request.sample_rate_hz,
-                    request.opts.disturbance_m,
-                );
-                if let Some(w) = &ts.ended_early {
-                    eprintln!("warning: {w}");
-                }
-                series.push((wheel, ts.samples));
-            }
-        }
-    }
-    Simulated { records, series }
-}
-
 /// The verdicts (a table, or JSON lines with `--json`), then the time series and the plot.
-fn write(args: &SimulateArgs, request: &SimulateRequest, simulated: &Simulated) -> CliResult {
-    let Simulated { records, series } = simulated;
+fn write(args: &SimulateArgs, request: &SimulateRequest, run: &PointRun) -> CliResult {
+    let PointRun {
+        records, series, ..
+    } = run;
     if args.json {
         for r in records {
             println!("{}", serde_json::to_string(r).expect("record serializes"));

@@ -5,13 +5,14 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use super::batch::styled_bar;
 use super::common::{BudgetArgs, CliError, CliResult, PointArgs};
 use crate::wear_reading::WearReadingArgs;
-use polywear_analysis::figures::wear::LongTermFiles;
+use polywear_analysis::figures::wear::{plan_band_files, LongTermFiles};
 use polywear_analysis::figures::FilesError;
 use polywear_analysis::plot::FigureFormat;
+use polywear_analysis::render::long_term::{lines as verdict_lines, plan_band_lines, Header};
 use polywear_core::classify::ClassifierOptions;
 use polywear_core::long_term::wheel_loop::{
     LoopSettings, FIRST_STEP_REVS, MAX_FIRST_STEP_TREAD_S, SPEED_NODES,
@@ -20,7 +21,7 @@ use polywear_core::long_term::{self, LongTermError};
 use polywear_core::params::{ParamId, Params};
 use polywear_core::wear::FittedConstants;
 use polywear_core::wording::plain;
-use polywear_study::calibration_band::long_term::LoopSets;
+use polywear_study::calibration_band::{long_term::LoopSets, CalibrationBand};
 use polywear_study::long_term_request::{
     LongTermPlan, LongTermRequest, LongTermRequestError, LongTermRun,
 };
@@ -151,7 +152,7 @@ fn plan(args: &WearArgs) -> CliResult<LongTermPlan> {
         None => LoopSettings::default_max_rhs_evals_for(args.speed_nodes),
         Some(n) => super::common::whole_count("--loop-max-rhs-evals", n, LOOP_RHS_EVALS_RANGE)?,
     };
-    let band = super::common::calibration_band(args.calibration_band.as_deref())?;
+    let band = CalibrationBand::asked(args.calibration_band.as_deref())?;
     // A set replaces the point's fitted constants: a value given for one of them is the run's,
     // not the band's, and the band says so.
     let given: Vec<String> = FittedConstants::PARAMS
@@ -252,9 +253,9 @@ pub(crate) fn run(args: &WearArgs) -> CliResult {
     if let Some(out) = &args.out {
         LongTermFiles::prepare(out).map_err(|e| CliError(format!("--out {e}")))?;
     }
-    let bar = progress_bar(args.quiet, 2.0 * plan.problem.settings.distance_km);
-    let started = std::time::Instant::now();
     let run_km = 2.0 * plan.problem.settings.distance_km;
+    let bar = styled_bar(args.quiet, run_km as u64, "", "km (both wheels)", "km");
+    let started = std::time::Instant::now();
     let LongTermRun {
         solution,
         band_runs,
@@ -266,86 +267,24 @@ pub(crate) fn run(args: &WearArgs) -> CliResult {
     bar.finish_and_clear();
     let secs = started.elapsed().as_secs_f64();
     if let Some(out) = &args.out {
-        LongTermFiles {
-            solution: &solution,
-            metadata: &plan.metadata,
-            estimate: args.estimate,
-            format: args.format,
-            title: format!("polywear wear: {}", plan.usage),
-        }
-        .write(out)
-        .map_err(|e| match e {
-            FilesError::CreateDir { .. } => CliError(format!("--out {e}")),
-            e => CliError(e.to_string()),
-        })?;
-        match (&plan.band, &band_runs) {
-            (Some((band, _)), Some(runs)) => polywear_analysis::figures::wear::write_band(
-                out,
-                &plan.metadata,
-                band,
-                runs,
-                plan.problem.settings.distance_km,
-            )
-            .map_err(|e| CliError(e.to_string()))?,
-            // No band of an earlier run beside this run's files.
-            _ => polywear_analysis::figures::wear::remove_band(out)
-                .map_err(|e| CliError(e.to_string()))?,
-        }
+        LongTermFiles::of(&plan, &solution, args.estimate, args.format)
+            .write(out)
+            .map_err(|e| match e {
+                FilesError::CreateDir { .. } => CliError(format!("--out {e}")),
+                e => CliError(e.to_string()),
+            })?;
+        plan_band_files(out, &plan, band_runs.as_deref()).map_err(|e| CliError(e.to_string()))?;
     }
-    let head = polywear_analysis::render::long_term::Header {
+    let head = Header {
         usage: &plan.usage,
         secs,
     };
-    for line in
-        polywear_analysis::render::long_term::lines(&plan.problem, &solution, &head, args.estimate)
+    let lines = verdict_lines(&plan.problem, &solution, &head, args.estimate);
+    for line in lines
+        .into_iter()
+        .chain(plan_band_lines(&plan, band_runs.as_deref()))
     {
         println!("{line}");
     }
-    match (&plan.band, &band_runs) {
-        (Some((band, source)), Some(runs)) => {
-            let named: Vec<(&str, &polywear_core::long_term::LongTermSolution)> = runs
-                .iter()
-                .map(|r| (band.sets[r.set].id.as_str(), &r.solution))
-                .collect();
-            let chosen = match plan.band_sets {
-                LoopSets::Ends => format!(
-                    "{source}: for each wheel the sets with the shortest and the longest per-sample wear answer here; the loop's own ends may lie at other sets, which --band-sets all checks"
-                ),
-                LoopSets::All => format!("{source}: every set"),
-            };
-            for line in polywear_analysis::render::long_term::band_lines(
-                &plan.problem,
-                &named,
-                band.sets.len(),
-                &chosen,
-            ) {
-                println!("{line}");
-            }
-        }
-        _ => println!(
-            "calibration band: off (--calibration-band off): the verdict is the run's own constants' alone"
-        ),
-    }
     Ok(())
-}
-
-fn progress_bar(quiet: bool, total_km: f64) -> ProgressBar {
-    let bar = if quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::with_draw_target(Some(total_km as u64), ProgressDrawTarget::stderr())
-    };
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} km (both wheels)  {rate}  ETA {eta}",
-        )
-        .expect("valid template")
-        .with_key(
-            "rate",
-            |s: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
-                let _ = write!(w, "{:.0} km/s", s.per_sec());
-            },
-        ),
-    );
-    bar
 }

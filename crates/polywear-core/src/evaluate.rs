@@ -257,6 +257,26 @@ pub fn solve_wheel(
     solution.wheels.pop().expect("one wheel")
 }
 
+/// Both wheels of every point in `points`, each on its own ([`solve_wheel`]), in parallel on
+/// the current rayon pool: the (point index, wheel) jobs and their records, in the points'
+/// order and independent of the number of threads (`polywear classify`'s batch).
+pub fn solve_points(
+    points: &[Params],
+    variant: Variant,
+    options: &ClassifierOptions,
+) -> (Vec<(usize, Wheel)>, Vec<WheelRecord>) {
+    let jobs: Vec<(usize, Wheel)> = (0..points.len())
+        .flat_map(|i| Wheel::BOTH.map(|w| (i, w)))
+        .collect();
+    let record = |k: usize| {
+        let (i, wheel) = jobs[k];
+        solve_wheel(points[i], variant, wheel, options).record
+    };
+    let control = &crate::ensemble::Control::QUIET;
+    let records = crate::ensemble::solve(jobs.len(), record, control).all();
+    (jobs, records)
+}
+
 /// A wheel without a tread ODE: its row from the verdict alone.
 fn without_ode(
     p: &Params,

@@ -7,6 +7,7 @@ use std::fmt;
 use crate::wording::plain;
 
 mod plausible;
+pub mod table;
 pub mod toe;
 pub use plausible::{Plausible, UnitMistake};
 use plausible::{

@@ -159,9 +159,27 @@ pub fn km(x: f64) -> String {
     format!("{} km", thousands(x))
 }
 
+/// Seconds written as people read them: `42 s`, `3 min 20 s`, `2 h 05 min` (a run's elapsed
+/// time or ETA in a progress line).
+pub fn duration_text(secs: f64) -> String {
+    let s = secs.max(0.0).round() as u64;
+    match s {
+        0..60 => format!("{s} s"),
+        60..3600 => format!("{} min {:02} s", s / 60, s % 60),
+        _ => format!("{} h {:02} min", s / 3600, (s % 3600) / 60),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn durations_read_as_seconds_minutes_or_hours() {
+        assert_eq!(duration_text(42.4), "42 s");
+        assert_eq!(duration_text(200.0), "3 min 20 s");
+        assert_eq!(duration_text(7500.0), "2 h 05 min");
+    }
 
     #[test]
     fn a_data_number_reads_back_exactly_and_never_runs_to_hundreds_of_digits() {

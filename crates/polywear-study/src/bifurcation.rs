@@ -3,12 +3,13 @@
 //! Brent's method on the real part of the leading eigenvalue.
 
 use polywear_core::classify::ClassifierOptions;
+use polywear_core::columns::Column;
 use polywear_core::ensemble::{self, Control};
 use polywear_core::evaluate;
 use polywear_core::model::{Variant, Wheel, WheelModel};
 use polywear_core::numeric::sign_change_roots;
 use polywear_core::params::{ParamId, Params};
-use polywear_core::records::WheelRecord;
+use polywear_core::records::{record_columns, WheelRecord};
 use polywear_core::wording::plain;
 
 /// The result of a sweep: one record per (value, wheel), in `jobs` order.
@@ -143,6 +144,32 @@ pub(crate) fn locate_hopf(
 }
 
 impl Sweep {
+    /// The sweep's table: the swept value in a column of its own (the parameter may also be a
+    /// record column), then every record's columns, one row per (value, wheel).
+    pub fn columns(&self) -> Vec<Column> {
+        let spec = self.param.spec();
+        let values = self.jobs.iter().map(|j| j.0).collect();
+        let mut cols = vec![Column::f64("sweep_value", spec.unit, values)];
+        cols.extend(record_columns(&self.records));
+        cols
+    }
+
+    /// The table's metadata: the run's (version, command, parameters, variant), the swept
+    /// parameter, and the Hopf points as JSON with each onset's criticality
+    /// (MODEL.md#step-8-linear-stability), so that a reader of the file alone has them.
+    pub fn metadata(&self) -> Vec<(String, String)> {
+        let mut meta = crate::provenance::run_metadata(&self.base, self.variant);
+        meta.push(("sweep_param".into(), self.param.spec().name.into()));
+        let hopf: Vec<serde_json::Value> = self
+            .hopf
+            .iter()
+            .map(|h| serde_json::json!({"wheel": h.wheel.as_str(), "value": h.value, "destabilizing": h.destabilizing, "l1": h.l1, "criticality": crate::chart::criticality(h.l1)}))
+            .collect();
+        let hopf = serde_json::Value::from(hopf).to_string();
+        meta.push(("hopf_points".into(), hopf));
+        meta
+    }
+
     /// The operating point held fixed while the parameter is swept, and every other parameter
     /// that differs from its default: "speed 120 km/h, load 4000 N, pressure 240 kPa".
     pub fn held_fixed(&self) -> String {

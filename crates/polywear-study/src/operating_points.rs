@@ -285,6 +285,24 @@ pub struct FleetColumns {
 }
 
 impl FleetColumns {
+    /// What a points file read from `path` adds to its output's metadata: the file, the weight
+    /// column and what it measures (and how it is computed), so that a fleet's weighted rows
+    /// keep their meaning; nothing for a file of plain points.
+    pub fn metadata(&self, path: &Path) -> Vec<(String, String)> {
+        if self.weight.is_none() && self.pass_through.is_empty() {
+            return Vec::new();
+        }
+        let mut meta = vec![
+            ("points".into(), path.display().to_string()),
+            ("weight".into(), self.weight.clone().unwrap_or_default()),
+            ("weight_kind".into(), self.weight_kind.as_str().into()),
+        ];
+        if let Some(how) = &self.weight_computed {
+            meta.push(("weight_computed".into(), how.clone()));
+        }
+        meta
+    }
+
     /// Reads `path` and sorts its columns (see [`FleetColumns`]).
     pub fn read(
         path: &Path,

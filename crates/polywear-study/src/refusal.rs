@@ -79,6 +79,50 @@ pub enum Refusal {
     /// `optimize`'s wear stage cannot be calibrated.
     #[error("the wear stage: {0}")]
     WearStage(#[source] WearError),
+    /// A drive cycle's file refused (its columns, steps, values or work).
+    #[error(transparent)]
+    Cycle(#[from] crate::cycle::CycleError),
+    /// The speed spread set for a drive cycle, whose steps' speeds are its spread.
+    #[error("--set {id}: {}; leave it out", crate::cycle::NO_SPREAD)]
+    CycleSpread {
+        /// The parameter (`speed_spread_kmh`).
+        id: ParamId,
+    },
+    /// A drive cycle's wear stage that cannot be calibrated.
+    #[error("the wear stage: {0} (leave it out with --no-wear)")]
+    CycleWearStage(#[source] WearError),
+    /// A drive cycle's speed bins over the memory limit for that many tire structures.
+    #[error(
+        "--structure-samples: {structures} structures would hold {:.1} GiB of speed bins on this cycle ({:.0} MB a structure); accepted: at most {most} structures, or --no-wear",
+        *bytes as f64 / (1u64 << 30) as f64,
+        *bytes_per_structure as f64 / 1e6
+    )]
+    CycleBins {
+        /// The structures asked for.
+        structures: u64,
+        /// The bins' bytes for all of them.
+        bytes: u64,
+        /// The bins' bytes for one structure.
+        bytes_per_structure: u64,
+        /// The most structures within the limit.
+        most: u64,
+    },
+    /// A calibration band's file that is not a band (`--calibration-band FILE`).
+    #[error("{by} {source}")]
+    Band {
+        /// The flag that gave the file.
+        by: &'static str,
+        /// Why it is refused (naming the file and line).
+        source: Box<crate::calibration_band::BandError>,
+    },
+    /// A sample count for the band given with the band off.
+    #[error(
+        "--band-samples {samples}: the calibration band is off (--calibration-band off), so it would not be used; leave it out"
+    )]
+    BandSamplesWithBandOff {
+        /// The count given.
+        samples: u64,
+    },
     /// A file of points refused (its columns, a value, the weight).
     #[error(transparent)]
     Points(#[from] OperatingPointsError),

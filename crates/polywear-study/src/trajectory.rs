@@ -1,9 +1,12 @@
 //! Trajectories of one wheel from the disturbed equilibrium (MODEL.md#step-9-attractor), sampled on
 //! a uniform grid (its figure, the paper's Figs. 8–10, is `polywear-analysis`'s).
 
-use polywear_core::classify::Scales;
+use polywear_core::classify::{ClassifierOptions, Scales};
 use polywear_core::columns::Column;
-use polywear_core::model::{Wheel, WheelModel};
+use polywear_core::evaluate;
+use polywear_core::model::{Variant, Wheel, WheelModel};
+use polywear_core::params::Params;
+use polywear_core::records::WheelRecord;
 use polywear_core::solver::{sample_uniform, IntegrationError, SolverOptions};
 
 /// (t, [z, y, v]) samples.
@@ -68,4 +71,43 @@ pub fn series_columns(series: &[(Wheel, Samples)]) -> Vec<Column> {
         Column::f64("y_m", "m", all().map(|(_, x)| x.1[1]).collect()),
         Column::f64("v_mps", "m/s", all().map(|(_, x)| x.1[2]).collect()),
     ]
+}
+
+/// One operating point's wheels: a record per wheel, and the time series of every wheel with a
+/// model when one was asked for.
+#[derive(Debug, Clone)]
+pub struct PointRun {
+    /// The verdict of each wheel, in the order asked.
+    pub records: Vec<WheelRecord>,
+    /// Each wheel's time series (wheels without a model have none).
+    pub series: Vec<(Wheel, Samples)>,
+    /// The series that end before their duration, for the caller to warn about.
+    pub ended_early: Vec<EndedEarly>,
+}
+
+/// Solves each of `wheels` at `params` on its own (no shooting hint from the other: the verdict
+/// of one wheel does not depend on which others were asked for, MODEL.md#classes-and-verdicts),
+/// and samples its trajectory for `series` = (duration \[s\], sample rate \[Hz\]) when given.
+pub fn simulate_point(
+    params: Params,
+    variant: Variant,
+    wheels: &[Wheel],
+    opts: &ClassifierOptions,
+    series: Option<(f64, f64)>,
+) -> PointRun {
+    let mut run = PointRun {
+        records: Vec::new(),
+        series: Vec::new(),
+        ended_early: Vec::new(),
+    };
+    for &wheel in wheels {
+        let w = evaluate::solve_wheel(params, variant, wheel, opts);
+        run.records.push(w.record);
+        if let (Ok(m), Some((duration_s, rate_hz))) = (&w.model, series) {
+            let ts = time_series(m, duration_s, rate_hz, opts.disturbance_m);
+            run.ended_early.extend(ts.ended_early);
+            run.series.push((wheel, ts.samples));
+        }
+    }
+    run
 }

@@ -12,9 +12,10 @@ use polywear_core::model::Variant;
 use polywear_core::params::{ParamId, Params, OPERATING_AXES};
 use polywear_core::records::{record_columns, OPERATING_POINT_ROW, SAMPLE_ID};
 use polywear_core::wear::FittedConstants;
+use polywear_study::cycle::request::CyclePlan;
 use polywear_study::cycle::summary::{summarise, summary_columns, WheelSummary};
 use polywear_study::cycle::wear::CycleLife;
-use polywear_study::cycle::{DriveCycle, StepWheel};
+use polywear_study::cycle::{ClassifiedCycle, DriveCycle, StepWheel};
 use polywear_study::operating_points::OperatingPoints;
 use polywear_study::parquet_out::{write_csv, write_table, Column};
 
@@ -52,6 +53,46 @@ pub struct FleetDraw<'a> {
     pub points: &'a OperatingPoints,
     /// `rows[k]`: the row (0-based) structure sample k drew.
     pub rows: Vec<usize>,
+}
+
+impl<'a> CycleRun<'a> {
+    /// The run of `plan` whose structures `classified` holds, in its order: the one place that
+    /// pairs a checked plan with its steps, so that the files and the words read the same
+    /// structures, fleet rows and wear bases. The lifetime verdict reads the tire's life
+    /// constants as its steps do: a cycle's constant column of one of them is the whole life's
+    /// (MODEL.md#along-a-drive-cycle).
+    pub fn new(plan: &'a CyclePlan, classified: Vec<ClassifiedCycle>) -> Self {
+        let request = &plan.request;
+        let (steps, life) = classified.into_iter().map(|c| (c.steps, c.life)).unzip();
+        let structures = &request.structures;
+        let fleet = match (&request.study, &structures.fleet_rows) {
+            (Some(s), Some(rows)) => s.operating_points.as_ref().map(|points| FleetDraw {
+                points,
+                rows: rows.clone(),
+            }),
+            _ => None,
+        };
+        let wear_bases = match plan.wear {
+            Some(_) => structures
+                .bases
+                .iter()
+                .map(|b| request.cycle.whole_life(b))
+                .collect(),
+            None => Vec::new(),
+        };
+        CycleRun {
+            cycle: &request.cycle,
+            variant: request.variant,
+            structure_names: structures.names.clone(),
+            structure_values: structures.values.clone(),
+            steps,
+            life,
+            metadata: request.metadata.clone(),
+            fleet,
+            wear_bases,
+            band_sets: plan.band_sets.clone(),
+        }
+    }
 }
 
 impl CycleRun<'_> {

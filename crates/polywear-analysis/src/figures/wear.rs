@@ -9,6 +9,7 @@ use crate::plot::wear::{wear_figure, WearTrace};
 use crate::plot::{FigureFile, FigureFormat};
 use polywear_core::long_term::wheel_loop::{WheelWear, FEEDBACK_ORDERS};
 use polywear_core::long_term::LongTermSolution;
+use polywear_study::long_term_request::LongTermPlan;
 use polywear_study::parquet_out::{write_csv, write_table};
 
 /// Orders drawn in the figure: the deepest at the end, per wheel.
@@ -26,6 +27,25 @@ pub struct LongTermFiles<'a> {
     pub format: FigureFormat,
     /// The figure's title.
     pub title: String,
+}
+
+impl<'a> LongTermFiles<'a> {
+    /// The files of `plan`'s run `solution`, titled with the usage: `estimate` adds the
+    /// per-sample estimator's columns, `format` is the figure's.
+    pub fn of(
+        plan: &'a LongTermPlan,
+        solution: &'a LongTermSolution,
+        estimate: bool,
+        format: FigureFormat,
+    ) -> Self {
+        LongTermFiles {
+            solution,
+            metadata: &plan.metadata,
+            estimate,
+            format,
+            title: format!("polywear wear: {}", plan.usage),
+        }
+    }
 }
 
 impl LongTermFiles<'_> {
@@ -170,6 +190,26 @@ pub fn write_band(
     write_csv(&dir.join("wear_calibration_band.csv"), &cols)?;
     write_table(&dir.join("wear_calibration_band.parquet"), &cols, metadata)?;
     Ok(())
+}
+
+/// The band's files of `plan`'s run in `dir`: [`write_band`] under the sets run (`runs`), or,
+/// with the band off, [`remove_band`], so that no band of an earlier run lies beside this
+/// run's files.
+pub fn plan_band_files(
+    dir: &Path,
+    plan: &LongTermPlan,
+    runs: Option<&[polywear_study::calibration_band::long_term::SetRun]>,
+) -> Result<(), FilesError> {
+    match (&plan.band, runs) {
+        (Some((band, _)), Some(runs)) => write_band(
+            dir,
+            &plan.metadata,
+            band,
+            runs,
+            plan.problem.settings.distance_km,
+        ),
+        _ => remove_band(dir),
+    }
 }
 
 /// Removes [`write_band`]'s files of an earlier run from `dir` (a run with the band off).

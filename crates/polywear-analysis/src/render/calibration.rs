@@ -3,7 +3,19 @@
 
 use std::fmt::Write as _;
 
-use polywear_study::calibrate::Fit;
+use polywear_study::calibrate::{Fit, Problem};
+
+/// The fit's first line: how many parameters were fitted to how many targets, in `secs`, with
+/// how many cost evaluations, and the cost reached.
+pub fn fit_heading(problem: &Problem, fit: &Fit, secs: f64) -> String {
+    format!(
+        "fitted {} parameters to {} targets in {secs:.1} s ({} cost evaluations), cost {:.4e}",
+        fit.fitted.len(),
+        problem.targets.len(),
+        fit.evaluations,
+        fit.cost
+    )
+}
 
 /// The fit table: each target's value, the model's at the start and at the fit, and whether it
 /// is met; then why each unmet target is not.

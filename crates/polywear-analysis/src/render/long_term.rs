@@ -8,6 +8,8 @@ use polywear_core::model::{Wheel, WheelModel};
 use polywear_core::params::Params;
 use polywear_core::wear::LifeAnswer;
 use polywear_core::wording::plain;
+use polywear_study::calibration_band::long_term::{LoopSets, SetRun};
+use polywear_study::long_term_request::LongTermPlan;
 
 /// The verdict of one wheel in words.
 fn verdict_words(o: &WheelLongTerm, p: &Params, distance_km: f64) -> String {
@@ -311,4 +313,26 @@ pub fn band_lines(
         });
     }
     out
+}
+
+/// A whole run's band in words: [`band_lines`] under the sets the plan chose and ran (`runs`,
+/// with how they were chosen), or the line that says the band is off and the verdict is the
+/// run's own constants' alone (MODEL.md#the-calibration-band).
+pub fn plan_band_lines(plan: &LongTermPlan, runs: Option<&[SetRun]>) -> Vec<String> {
+    let (Some((band, source)), Some(runs)) = (&plan.band, runs) else {
+        return vec![
+            "calibration band: off (--calibration-band off): the verdict is the run's own constants' alone".into(),
+        ];
+    };
+    let named: Vec<(&str, &LongTermSolution)> = runs
+        .iter()
+        .map(|r| (band.sets[r.set].id.as_str(), &r.solution))
+        .collect();
+    let chosen = match plan.band_sets {
+        LoopSets::Ends => format!(
+            "{source}: for each wheel the sets with the shortest and the longest per-sample wear answer here; the loop's own ends may lie at other sets, which --band-sets all checks"
+        ),
+        LoopSets::All => format!("{source}: every set"),
+    };
+    band_lines(&plan.problem, &named, band.sets.len(), &chosen)
 }

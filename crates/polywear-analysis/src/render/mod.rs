@@ -13,6 +13,7 @@ pub mod figures;
 pub mod fleet;
 pub mod long_term;
 pub mod markdown;
+pub mod run_words;
 pub mod scenarios;
 pub mod summary;
 pub mod sweep;

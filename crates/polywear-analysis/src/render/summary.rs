@@ -1,11 +1,49 @@
 //! The analysis in words for the terminal: the lines `analyze` (and `explore`'s closing report)
 //! print, the wear answer first.
 
+use std::path::{Path, PathBuf};
+
 use super::{answer_words, band};
 use crate::analysis::Analysis;
 use polywear_core::params::Params;
 use polywear_core::wear::FittedConstants;
 use polywear_core::wording::plain;
+
+/// Why an analysis has no probability to give, with its `report`: every row failed or had no
+/// traction. None where some row has a verdict.
+pub fn no_verdict(a: &Analysis, report: &Path) -> Option<String> {
+    if !a.nothing_classified() {
+        return None;
+    }
+    let t = a.totals();
+    Some(format!(
+        "no row has a verdict: all {} rows failed ({}) or had no traction ({}), so there is no probability to give; report: {}",
+        t.total(),
+        t.failed(),
+        t.no_traction(),
+        report.display()
+    ))
+}
+
+/// The analysis's last line: the rows analysed in `secs` and where the report is.
+pub fn analysed_line(a: &Analysis, secs: f64, report: &Path) -> String {
+    format!(
+        "analysed {} rows in {secs:.1} s; report: {}",
+        a.info.rows,
+        report.display()
+    )
+}
+
+/// Where an analysis's report goes by default, beside its `first` input: `DIR/_report` for a
+/// folder (the underscore keeps pyarrow and pandas from reading it, so `pd.read_parquet(DIR)`
+/// still reads only the rows), `FILE.report` beside a file.
+pub fn default_report_dir(first: &Path) -> PathBuf {
+    if first.is_dir() {
+        first.join("_report")
+    } else {
+        first.with_extension("report")
+    }
+}
 
 /// The analysis in a few lines, as `analyze` and `explore` print it: failures first when they
 /// are many, the samples present, the wear answer, then vibration, fleet and scenarios.

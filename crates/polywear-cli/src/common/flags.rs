@@ -1,12 +1,12 @@
 //! Flags and checks every command shares: whole numbers in a range, threads, output files and
-//! their extensions, the per-wheel budget and the calibration band.
+//! their extensions and the per-wheel budget.
 
 use std::path::Path;
 
 use clap::Args;
 use strum::VariantNames as _;
 
-use super::{read_input, CliError, CliResult};
+use super::{CliError, CliResult};
 use polywear_analysis::plot::{FigureFile, FigureFormat};
 use polywear_core::classify::WheelBudget;
 
@@ -167,28 +167,5 @@ impl BudgetArgs {
         b.check()
             .map_err(|e| CliError(format!("--{} {}", e.key().replace('_', "-"), e.refusal())))?;
         Ok(b)
-    }
-}
-
-/// The calibration band `--calibration-band` asks for: the shipped sets when absent, none for
-/// `off`, else the file's (refused here, before any work, when it cannot be read or is not a
-/// file of calibrated sets). Returns the sets and where they come from.
-pub(crate) fn calibration_band(
-    asked: Option<&str>,
-) -> CliResult<Option<(polywear_study::calibration_band::CalibrationBand, String)>> {
-    use polywear_study::calibration_band::{CalibrationBand, SHIPPED_NAME};
-    match asked {
-        Some("off") => Ok(None),
-        None => Ok(Some((CalibrationBand::shipped(), SHIPPED_NAME.to_string()))),
-        Some(file) => {
-            let text = read_input(
-                std::path::Path::new(file),
-                "--calibration-band ",
-                polywear_study::safe_read::Limit::Text,
-            )?;
-            let band = CalibrationBand::parse(&text, file)
-                .map_err(|e| CliError(format!("--calibration-band {e}")))?;
-            Ok(Some((band, file.to_string())))
-        }
     }
 }

@@ -3,6 +3,7 @@
 
 use super::super::common::{CliError, CliResult};
 use super::ExploreArgs;
+use polywear_study::calibration_band::CalibrationBand;
 use polywear_study::explore::{BandChoice, RunPlan};
 
 /// The band the flags ask for: the shipped sets by default, a file's, or none (`off`, or a run
@@ -37,7 +38,7 @@ pub(crate) fn choose(args: &ExploreArgs, plan: &RunPlan) -> CliResult<Option<Ban
         }
         return Ok(None);
     }
-    let Some((band, source)) = super::super::common::calibration_band(asked)? else {
+    let Some((band, source)) = CalibrationBand::asked(asked)? else {
         return Ok(None);
     };
     // The band's sets replace the run's own fitted constants: where the run gives its own (a

@@ -87,6 +87,49 @@ pub struct Problem {
     pub choices: Vec<(ParamId, Vec<f64>)>,
 }
 
+impl Problem {
+    /// The problem with `names` fitted instead of the file's `fit` (a command line's `--fit`),
+    /// checked as the file's is ([`check_fit`]): a name that is no parameter, one named twice
+    /// and one the file's `choices` restrict are refused, the refusal starting with the name
+    /// for the caller to prefix with its flag. Empty `names` keep the file's.
+    pub fn fit_instead(&mut self, names: &[String]) -> Result<(), FitNameError> {
+        if names.is_empty() {
+            return Ok(());
+        }
+        let mut fit: Vec<ParamId> = Vec::new();
+        for n in names {
+            let name: ParamId = n.trim().parse()?;
+            if fit.contains(&name) {
+                return Err(FitNameError::Twice(name));
+            }
+            if self.choices.iter().any(|(c, _)| *c == name) {
+                return Err(FitNameError::Restricted(name));
+            }
+            fit.push(name);
+        }
+        self.fit = fit;
+        Ok(check_fit(self)?)
+    }
+}
+
+/// A name a command line's `--fit` gives refused ([`Problem::fit_instead`]); the message starts
+/// with the name, for the caller to prefix with its flag.
+#[derive(Debug, thiserror::Error)]
+pub enum FitNameError {
+    /// Not a parameter.
+    #[error(transparent)]
+    Unknown(#[from] ParamError),
+    /// Named twice.
+    #[error("`{0}` is named twice")]
+    Twice(ParamId),
+    /// Restricted by the file's `choices`.
+    #[error("`{0}` is restricted by the file's `choices`; it cannot also be fitted")]
+    Restricted(ParamId),
+    /// Refused as the file's `fit` is.
+    #[error(transparent)]
+    Fit(#[from] TargetsError),
+}
+
 /// The tire-structure and friction parameters MODEL.md#constants marks as decoded or reconstructed:
 /// the default set to fit (the operating point is what targets vary; vehicle parameters do not act
 /// on the follower).

@@ -9,6 +9,7 @@
 //! in the state exactly ([`polywear_core::model::jet`]).
 
 pub mod band;
+pub mod files;
 
 use nalgebra::DVector;
 use polywear_core::ensemble::{self, Control};
@@ -257,6 +258,15 @@ impl ChartRequest {
             .all()
             .into_iter()
             .flatten()
+            .collect()
+    }
+
+    /// [`ChartRequest::stability_grid`] of every wheel traced, `cells` × `cells`, in the
+    /// wheels' order: the chart's shading.
+    pub fn stability_grids(&self, cells: usize) -> Vec<Vec<Option<bool>>> {
+        self.wheels
+            .iter()
+            .map(|&w| self.stability_grid(w, cells, cells))
             .collect()
     }
 }

@@ -15,6 +15,7 @@
 //! (standstill, no traction, failed) are not assessed and count as holding.
 
 mod input;
+pub mod request;
 pub mod structures;
 pub mod summary;
 pub mod wear;

@@ -56,6 +56,44 @@ impl Shard {
     }
 }
 
+/// `k/N` as typed (k counted from 0); a refusal starts with the text quoted, for the caller to
+/// prefix with its flag.
+impl std::str::FromStr for Shard {
+    type Err = ShardError;
+
+    fn from_str(s: &str) -> Result<Shard, ShardError> {
+        let text = || s.to_string();
+        let (k, n) = s.split_once('/').ok_or_else(|| ShardError::Form(text()))?;
+        let whole = |x: &str, which: &'static str| {
+            x.trim().parse::<u64>().map_err(|_| ShardError::NotWhole {
+                text: text(),
+                which,
+            })
+        };
+        let (k, n) = (whole(k, "k")?, whole(n, "N")?);
+        Shard::new(k, n).ok_or_else(|| ShardError::Outside(text()))
+    }
+}
+
+/// A shard as typed (`k/N`) refused; the message starts with the text quoted.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ShardError {
+    /// Not of the form k/N.
+    #[error("`{0}`: expected k/N, e.g. 0/4")]
+    Form(String),
+    /// k or N not a whole number.
+    #[error("`{text}`: {which} is not a whole number")]
+    NotWhole {
+        /// The text typed.
+        text: String,
+        /// `k` or `N`.
+        which: &'static str,
+    },
+    /// k not below N.
+    #[error("`{0}`: need 0 <= k < N")]
+    Outside(String),
+}
+
 impl std::fmt::Display for Shard {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "{}/{}", self.index, self.count)

@@ -12,6 +12,7 @@
 //! optimum is: the settings whose objective lies within the best's interval.
 
 pub mod evaluate;
+pub mod input;
 pub mod objective;
 mod request;
 pub mod search;
