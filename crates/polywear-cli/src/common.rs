@@ -27,6 +27,12 @@ impl From<Refusal> for CliError {
     }
 }
 
+impl From<polywear_study::calibration_band::BandFileError> for CliError {
+    fn from(e: polywear_study::calibration_band::BandFileError) -> Self {
+        CliError(e.to_string())
+    }
+}
+
 impl From<ParamError> for CliError {
     fn from(e: ParamError) -> Self {
         CliError(e.to_string())

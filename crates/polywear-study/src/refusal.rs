@@ -107,14 +107,9 @@ pub enum Refusal {
         /// The most structures within the limit.
         most: u64,
     },
-    /// A calibration band's file that is not a band (`--calibration-band FILE`).
-    #[error("{by} {source}")]
-    Band {
-        /// The flag that gave the file.
-        by: &'static str,
-        /// Why it is refused (naming the file and line).
-        source: Box<crate::calibration_band::BandError>,
-    },
+    /// The calibration band a command's `--calibration-band` names, unreadable or not a band.
+    #[error(transparent)]
+    BandFile(#[from] crate::calibration_band::BandFileError),
     /// A sample count for the band given with the band off.
     #[error(
         "--band-samples {samples}: the calibration band is off (--calibration-band off), so it would not be used; leave it out"
@@ -181,16 +176,6 @@ pub enum Refusal {
     /// `--resume` of a run answered on a retired wear level.
     #[error("--resume: {0}")]
     RetiredRun(#[source] ManifestReadError),
-    /// A manifest's wear level that this version no longer answers.
-    #[error(
-        "`wear.wear_estimate` = \"{level}\": {why}; run explore again for this version's answer"
-    )]
-    RetiredWearLevel {
-        /// The level recorded.
-        level: String,
-        /// What retired it, and what replaced it.
-        why: String,
-    },
     /// Wear flags for a study that leaves the wear stage out.
     #[error(
         "{flags}: the study sets `wear = false`, which leaves the wear stage out; remove it from the study, or leave {flags} out"

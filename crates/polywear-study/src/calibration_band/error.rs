@@ -274,3 +274,15 @@ pub enum DesignTableError {
         value: String,
     },
 }
+
+/// The band a command's `--calibration-band FILE` names, refused
+/// ([`super::CalibrationBand::asked`]): the file cannot be read, or is not a band.
+#[derive(Debug, thiserror::Error)]
+pub enum BandFileError {
+    /// The file cannot be read.
+    #[error("--calibration-band {0}")]
+    Unreadable(#[source] crate::safe_read::ReadError),
+    /// The file is not a band.
+    #[error("--calibration-band {0}")]
+    Band(#[source] Box<BandError>),
+}

@@ -18,10 +18,10 @@ pub mod long_term;
 use polywear_core::params::{ParamId, Params};
 use polywear_core::wear::FittedConstants;
 
-use crate::param_sources::Refusal;
 use crate::safe_read::{read_text, Limit};
 pub use error::{
-    BandError, BandProblem, DesignTableError, FitError, NotALine, RangeProblem, SetProblem,
+    BandError, BandFileError, BandProblem, DesignTableError, FitError, NotALine, RangeProblem,
+    SetProblem,
 };
 
 pub use file::MAX_TEXT_CHARS;
@@ -143,18 +143,15 @@ impl CalibrationBand {
     /// Returns the sets and where they come from, the name every line about the band quotes.
     /// A file that cannot be read or holds no calibrated sets is refused naming the flag, as
     /// `explore`, `cycle`, `optimize` and `wear` all take it.
-    pub fn asked(asked: Option<&str>) -> Result<Option<(Self, String)>, Refusal> {
+    pub fn asked(asked: Option<&str>) -> Result<Option<(Self, String)>, BandFileError> {
         match asked {
             Some("off") => Ok(None),
             None => Ok(Some((Self::shipped(), SHIPPED_NAME.to_string()))),
             Some(file) => {
-                let by = "--calibration-band";
                 let text = read_text(std::path::Path::new(file), Limit::Text)
-                    .map_err(|source| Refusal::Unreadable { by, source })?;
-                let band = Self::parse(&text, file).map_err(|e| Refusal::Band {
-                    by,
-                    source: Box::new(e),
-                })?;
+                    .map_err(BandFileError::Unreadable)?;
+                let band =
+                    Self::parse(&text, file).map_err(|e| BandFileError::Band(Box::new(e)))?;
                 Ok(Some((band, file.to_string())))
             }
         }

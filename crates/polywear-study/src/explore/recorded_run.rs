@@ -4,10 +4,8 @@
 //! these alone, and a directory that is refused is described by them ("finished", "k of N
 //! samples saved").
 
-use crate::refusal::Refusal;
 use std::path::{Path, PathBuf};
 
-use super::WearRecord;
 use super::{RunManifest, Shard};
 use crate::output_dir::{self, MANIFEST};
 use polywear_core::params::Params;
@@ -102,10 +100,15 @@ impl RecordedRun {
             operating_points_dir: m.operating_points.as_ref().and_then(|o| o.dir()),
             wear: match &m.wear {
                 None => None,
-                Some(w) => Some(recorded_wear(w).map_err(|e| ManifestReadError {
-                    retired_level: retired_level(&w.wear_estimate).is_some(),
-                    ..bad(e.to_string())
-                })?),
+                Some(w) => match retired_level(&w.wear_estimate) {
+                    Some(why) => {
+                        return Err(ManifestReadError {
+                            retired_level: true,
+                            ..bad(retired_wear_words(&w.wear_estimate, &why))
+                        })
+                    }
+                    None => Some(w.settings()),
+                },
             },
         }))
     }
@@ -263,17 +266,12 @@ pub fn shell_word(s: &str) -> String {
     }
 }
 
-/// The wear settings a run recorded, refused where it was answered on a retired level (it no
-/// longer continues or reads).
-fn recorded_wear(w: &WearRecord) -> Result<WearSettings, Refusal> {
-    let level = &w.wear_estimate;
-    if let Some(why) = retired_level(level) {
-        return Err(Refusal::RetiredWearLevel {
-            level: level.clone(),
-            why,
-        });
-    }
-    Ok(w.settings())
+/// Why a run recorded on the retired wear level `level` no longer continues or reads (`why`:
+/// what retired it, and what replaced it).
+fn retired_wear_words(level: &str, why: &str) -> String {
+    format!(
+        "`wear.wear_estimate` = \"{level}\": {why}; run explore again for this version's answer"
+    )
 }
 
 #[cfg(test)]
