@@ -260,6 +260,13 @@ pub enum Refusal {
 }
 
 impl Refusal {
+    /// The text of the file at `path`, within [`crate::safe_read::Limit::Text`], or
+    /// [`Refusal::Unreadable`] naming `by`, the flag or word that gave the file.
+    pub(crate) fn read_text(by: &'static str, path: &std::path::Path) -> Result<String, Refusal> {
+        crate::safe_read::read_text(path, crate::safe_read::Limit::Text)
+            .map_err(|source| Refusal::Unreadable { by, source })
+    }
+
     /// [`Refusal::Study`]: `source`, refused in the study (or `--params` file) that `by` names.
     pub fn study(by: impl Into<String>, source: StudyError) -> Refusal {
         Refusal::Study {

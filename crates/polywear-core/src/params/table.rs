@@ -17,17 +17,10 @@ pub fn text_table() -> String {
         "name", "symbol", "unit", "default", "provenance", "accepted range", "plausible range"
     );
     for s in SPECS {
+        let [name, symbol, unit, default, provenance, accepted, plausible, meaning] = cells(s);
         let _ = writeln!(
             out,
-            "{:<28} {:<10} {:<10} {:>12}  {:<31} {:<22} {:<18} {}",
-            s.name,
-            s.symbol,
-            s.unit,
-            s.default,
-            s.provenance.as_str(),
-            s.range_text(),
-            plausible_cell(s),
-            s.description
+            "{name:<28} {symbol:<10} {unit:<10} {default:>12}  {provenance:<31} {accepted:<22} {plausible:<18} {meaning}"
         );
     }
     for [name, default, provenance, accepted, meaning] in setting_rows() {
@@ -47,17 +40,10 @@ pub fn markdown_table() -> String {
         "| name | symbol | unit | default | provenance | accepted range | plausible range | meaning |\n|---|---|---|---|---|---|---|---|\n",
     );
     for s in SPECS {
+        let [name, symbol, unit, default, provenance, accepted, plausible, meaning] = cells(s);
         let _ = writeln!(
             out,
-            "| `{}` | {} | {} | {} | {} | {} | {} | {} |",
-            s.name,
-            s.symbol,
-            s.unit,
-            s.default,
-            s.provenance.as_str(),
-            s.range_text(),
-            plausible_cell(s),
-            s.description
+            "| `{name}` | {symbol} | {unit} | {default} | {provenance} | {accepted} | {plausible} | {meaning} |"
         );
     }
     for [name, default, provenance, accepted, meaning] in setting_rows() {
@@ -67,6 +53,21 @@ pub fn markdown_table() -> String {
         );
     }
     out
+}
+
+/// One parameter's cells, in the table's column order: name, symbol, unit, default,
+/// provenance, accepted range, plausible range, meaning.
+fn cells(s: &ParamSpec) -> [String; 8] {
+    [
+        s.name.to_string(),
+        s.symbol.to_string(),
+        s.unit.to_string(),
+        s.default.to_string(),
+        s.provenance.as_str().to_string(),
+        s.range_text(),
+        plausible_cell(s),
+        s.description.to_string(),
+    ]
 }
 
 /// The plausible range, or `-` where the parameter has none (any accepted value is plausible).

@@ -112,13 +112,7 @@ pub fn band_study(
     sources: &ParamSources,
     accept_implausible: bool,
 ) -> Result<Study, Refusal> {
-    let text =
-        crate::safe_read::read_text(path, crate::safe_read::Limit::Text).map_err(|source| {
-            Refusal::Unreadable {
-                by: "--study",
-                source,
-            }
-        })?;
+    let text = Refusal::read_text("--study", path)?;
     let in_study = |e| Refusal::study(format!("--study {}", path.display()), e);
     let study = Study::parse_with_base(&text, req.base).map_err(in_study)?;
     study

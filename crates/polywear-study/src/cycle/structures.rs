@@ -146,13 +146,7 @@ pub fn draw_structures(
     cycle: &DriveCycle,
 ) -> Result<(Structures, Study, Vec<String>), Refusal> {
     let origin = format!("--study {}", path.display());
-    let source =
-        crate::safe_read::read_text(path, crate::safe_read::Limit::Text).map_err(|source| {
-            Refusal::Unreadable {
-                by: "--study",
-                source,
-            }
-        })?;
+    let source = Refusal::read_text("--study", path)?;
     let mut notes = Vec::new();
     let dir = path.parent().unwrap_or(Path::new(""));
     let study = Study::parse_at(&source, line.file, dir).map_err(|e| Refusal::study(&origin, e))?;

@@ -12,7 +12,6 @@ use polywear_core::wording::plain;
 use super::{ProblemBand, DEFAULT_BAND_SAMPLES};
 use crate::calibration_band::CalibrationBand;
 use crate::param_sources::{param_file, Refusal};
-use crate::safe_read::{read_text, Limit};
 use crate::study::{Study, DEFAULT_STUDY};
 
 /// The study every setting is evaluated on: the file at `path` (a relative
@@ -28,10 +27,7 @@ pub fn read_study<E: From<Refusal>>(
 ) -> Result<(Study, String), E> {
     let (source, origin) = match path {
         Some(path) => (
-            read_text(path, Limit::Text).map_err(|source| Refusal::Unreadable {
-                by: "study",
-                source,
-            })?,
+            Refusal::read_text("study", path)?,
             path.display().to_string(),
         ),
         None => (DEFAULT_STUDY.to_string(), "built-in default study".into()),
