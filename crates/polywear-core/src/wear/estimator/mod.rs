@@ -568,10 +568,9 @@ impl WearProblem<'_> {
     /// kept no iteration (about 165), charged to `meter`. A wheel without a model, or whose cycle
     /// cannot be integrated, gets NaN with the reason.
     pub fn solve(&self, meter: &Meter) -> WearAnswer {
-        let inputs = self;
-        let p = inputs.params;
+        let p = self.params;
         let share = p.wear_share_straight;
-        let growth = match WheelGrowth::new(inputs, meter) {
+        let growth = match WheelGrowth::new(self, meter) {
             Ok(g) => g,
             Err(e) => return WearAnswer::undefined(share, e.to_string()),
         };
