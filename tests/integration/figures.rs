@@ -129,7 +129,7 @@ fn a_colour_bar_reads_with_its_own_label() {
         ParamId::ToeDeg,
         (0.0, 0.5),
     );
-    polywear::render::figures::risk_map(&file, &map, &label, 30).unwrap();
+    polywear::render::figures::risk_map(&file, &map, &label, 30, Default::default()).unwrap();
     let svg = std::fs::read_to_string(&path).unwrap();
     let rotated: Vec<SvgText> = texts(&svg).into_iter().filter(|t| t.rotated).collect();
     let bar_labels = ["Risk of vibration [%]", "Difference [percentage points]"];
@@ -226,7 +226,7 @@ fn scientific_tick_labels_never_run_together() {
     let map = small_map(ParamId::CBrush, (lo, hi), ParamId::GMod, (7.5e5, 9.5e5));
     let file = FigureFile::named(&dir, "map", FigureFormat::Svg);
     let path = file.path.clone();
-    polywear::render::figures::risk_map(&file, &map, &label, 30).unwrap();
+    polywear::render::figures::risk_map(&file, &map, &label, 30, Default::default()).unwrap();
     assert_no_tick_labels_touch(&std::fs::read_to_string(&path).unwrap(), "risk map");
     let axes = [
         ParamId::CBrush,

@@ -13,6 +13,7 @@ mod both_wheels;
 mod budget;
 mod calibrate_reproduce;
 mod calibration_band;
+mod car;
 mod chart;
 mod classifier_vs_reference;
 mod cli_bifurcation;

@@ -158,7 +158,7 @@ fn a_chunk_rewritten_by_pyarrow_is_accepted_and_a_changed_one_refused_by_name() 
     explore_default("300", &dir);
     let summary = |out: &str| {
         out.lines()
-            .find(|l| l.contains("follower:"))
+            .find(|l| l.contains("(follower):"))
             .map(str::to_string)
     };
     let (code, original, stderr) = polywear(&[

@@ -211,8 +211,10 @@ fn a_stopped_run_is_resumed_with_its_own_settings_and_equals_an_uninterrupted_on
     // One summary, for the whole run, follower before driving.
     assert_eq!(stdout.matches("P(vibration)").count(), 1, "{stdout}");
     assert!(stdout.contains("6000 of 6000 samples present"), "{stdout}");
-    let f = stdout.find("paper follower:").expect("follower line");
-    let d = stdout.find("paper  driving:").expect("driving line");
+    let f = stdout
+        .find("paper rear (follower):")
+        .expect("follower line");
+    let d = stdout.find("paper front (driving):").expect("driving line");
     assert!(f < d, "{stdout}");
     let whole = base.join("whole");
     let (code, _, stderr) = polywear(&[
@@ -520,16 +522,16 @@ pressure_kpa = { dist = "levels", levels = [200, 280] }
     assert_eq!(code, 0, "{stderr}");
     let (code, stdout, stderr) = polywear(&["analyze", r, "--format", "svg", "--min-count", "5"]);
     assert_eq!(code, 0, "{stderr}");
-    let f = stdout.find("sliding_share follower:").unwrap();
-    let d = stdout.find("sliding_share  driving:").unwrap();
+    let f = stdout.find("sliding_share rear (follower):").unwrap();
+    let d = stdout.find("sliding_share front (driving):").unwrap();
     assert!(f < d, "{stdout}");
     let report = run.join("_report");
     let map = std::fs::read_to_string(report.join("riskmap_speed_kmh_toe_deg_sliding_share.svg"))
         .unwrap();
     for words in [
-        "Risk of tread vibration, follower wheel",
-        "Risk of tread vibration, driving wheel",
-        "Driving minus follower (blue: driving wheel less exposed)",
+        "Risk of tread vibration, rear (follower) wheel",
+        "Risk of tread vibration, front (driving) wheel",
+        "front (driving) minus rear (follower) (blue: front (driving) wheel less exposed)",
         "Speed [km/h]",
         "Toe-in [deg]",
         "Risk of vibration [%]",

@@ -244,7 +244,7 @@ fn estimated(p: &Params, wheel: Wheel, zone: WearZone) -> (WearAnswer, WheelGrow
         power: WearPower::LateralOnly,
     };
     let inputs = WearProblem {
-        params: p,
+        params: *p,
         model: &m,
         verdict: &v,
         settings: &settings,
@@ -487,7 +487,7 @@ fn undefined_wheels_are_nan() {
         let (m, v) = classify_point(&p, Wheel::Driving, Variant::SlidingShare, &o);
         assert_eq!(v.class, class, "{v:?}");
         let inputs = WearProblem {
-            params: &p,
+            params: p,
             model: &m,
             verdict: &v,
             settings: &WearSettings::default(),
@@ -608,7 +608,7 @@ fn patch_filter_scales_the_regenerative_growth() {
 ///
 /// Orders 5 to ⌊ν⌋ − 1 are not held to λ_lev: the tread's bristle lags the friction level by
 /// g/(σ0 U) (1.5 ms at the default point, a corner near order 8 at 100 km/h), so G moves off 1
-/// well before the resonance (MODEL.md#what-the-first-reading-got-wrong).
+/// well before the resonance (docs/lab/2026-12-07-what-the-first-reading-got-wrong.md).
 #[test]
 fn far_orders_level_out_and_the_order_below_nu_grows() {
     for share in [1.0, 0.5] {
@@ -666,7 +666,7 @@ fn driving_against_follower_growth_is_measured() {
             .map(|&wheel| {
                 let (m, v) = classify_point(&p, wheel, Variant::SlidingShare, &opts);
                 let inputs = WearProblem {
-                    params: &p,
+                    params: p,
                     model: &m,
                     verdict: &v,
                     settings: &WearSettings::default(),
@@ -721,7 +721,7 @@ fn speed_spread_mean_against_the_loops_at_each_speed() {
     let growth = |p: &Params| {
         let (m, v) = classify_point(p, Wheel::Follower, Variant::SlidingShare, &opts);
         let inputs = WearProblem {
-            params: p,
+            params: *p,
             model: &m,
             verdict: &v,
             settings: &WearSettings::default(),
@@ -857,7 +857,7 @@ fn driving_growth(power: WearPower) -> (WheelGrowth, WheelModel, f64) {
         power,
     };
     let inputs = WearProblem {
-        params: &p,
+        params: p,
         model: &m,
         verdict: &v,
         settings: &settings,

@@ -78,7 +78,7 @@ fn growth(p: &Params, w: &WheelSolution) -> WheelGrowth {
     let meter = polywear::classify::budget::Meter::new(Default::default());
     WheelGrowth::new(
         &WearProblem {
-            params: p,
+            params: *p,
             model: &w.model,
             verdict: &w.verdict,
             settings: &WearSettings::default(),
@@ -1244,7 +1244,7 @@ fn the_loop_stops_at_its_work_budget() {
 fn growth_of(w: &polywear::long_term::WheelLongTerm, p: &Params) -> WheelGrowth {
     WheelGrowth::new(
         &WearProblem {
-            params: p,
+            params: *p,
             model: &w.solution.model,
             verdict: &w.solution.verdict,
             settings: &WearSettings::default(),

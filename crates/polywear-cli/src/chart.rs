@@ -125,7 +125,7 @@ pub(crate) fn request(args: &ChartArgs) -> CliResult<(ChartRequest, Resolved)> {
     let req = ChartRequest::new(
         base,
         args.point.variant.into(),
-        args.wheel.wheels(),
+        args.wheel.wheels(base.drivetrain),
         (x, y),
         ParamBox {
             lo: [args.x_from, args.y_from],

@@ -8,6 +8,7 @@ use strum::VariantNames as _;
 
 use polywear_analysis::plot::FigureFormat;
 use polywear_core::model::{Variant, Wheel};
+use polywear_core::params::axle::Drivetrain;
 use polywear_core::params::{ParamError, ParamId, Params};
 use polywear_study::param_sources::{Refusal, Typed};
 
@@ -107,6 +108,11 @@ pub(crate) struct PointArgs {
     /// the full longitudinal sliding speed)
     #[arg(long, value_enum, default_value_t = VariantArg::SlidingShare)]
     pub(crate) variant: VariantArg,
+    /// Which axle the engine drives: `fwd` (default; the driving wheel is a front wheel, the
+    /// follower a rear one) or `rwd`. Each wheel reads its own axle's toe-in, load and pressure
+    /// (`--set toe_rear_deg=0.4`; an axle without its own value takes the shared one)
+    #[arg(long, value_name = "fwd|rwd", value_parser = drivetrains())]
+    pub(crate) drivetrain: Option<Drivetrain>,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
@@ -136,18 +142,35 @@ pub(crate) fn figure_formats() -> impl clap::builder::TypedValueParser<Value = F
     })
 }
 
+/// `--drivetrain`'s parser: the drivetrains by name (`fwd`, `rwd`), listed in help and in the
+/// refusal of any other name.
+pub(crate) fn drivetrains() -> impl clap::builder::TypedValueParser<Value = Drivetrain> {
+    clap::builder::PossibleValuesParser::new(Drivetrain::VARIANTS.iter().copied()).map(|name| {
+        name.parse::<Drivetrain>()
+            .expect("a possible value is a drivetrain")
+    })
+}
+
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
 pub(crate) enum WheelArg {
     Follower,
     Driving,
+    /// The wheel on the front axle under the drivetrain (`--drivetrain`).
+    Front,
+    /// The wheel on the rear axle under the drivetrain.
+    Rear,
     Both,
 }
 
 impl WheelArg {
-    pub(crate) fn wheels(self) -> Vec<Wheel> {
+    /// The wheels asked for, a front or rear one being the drivetrain's wheel on that axle.
+    pub(crate) fn wheels(self, drivetrain: Drivetrain) -> Vec<Wheel> {
+        use polywear_core::params::axle::Axle;
         match self {
             WheelArg::Follower => vec![Wheel::Follower],
             WheelArg::Driving => vec![Wheel::Driving],
+            WheelArg::Front => vec![drivetrain.wheel_on(Axle::Front)],
+            WheelArg::Rear => vec![drivetrain.wheel_on(Axle::Rear)],
             WheelArg::Both => Wheel::BOTH.to_vec(),
         }
     }
@@ -232,7 +255,7 @@ impl PointArgs {
                 rim,
                 self.accept_implausible,
             )?;
-            let id = ParamId::ToeDeg;
+            let id = input.target();
             Ok(Typed { id, by, value })
         };
         let mut typed = Vec::new();
@@ -256,8 +279,8 @@ impl PointArgs {
             });
         }
         for (input, value) in [
-            (ToeInput::Mm, self.toe_mm),
-            (ToeInput::TotalDeg, self.toe_total),
+            (ToeInput::MM, self.toe_mm),
+            (ToeInput::TOTAL_DEG, self.toe_total),
         ] {
             if let Some(x) = value {
                 typed.push(toe(format!("{} {}", input.flag(), plain(x)), input, x)?);
@@ -274,8 +297,11 @@ impl PointArgs {
                 typed.push(Typed { id, by, value });
             }
         }
-        let (resolved, notes) =
+        let (mut resolved, notes) =
             Resolved::resolve(self.params.as_deref(), typed, self.accept_implausible)?;
+        if let Some(d) = self.drivetrain {
+            resolved.params.drivetrain = d;
+        }
         for note in notes {
             eprintln!("{note}");
         }

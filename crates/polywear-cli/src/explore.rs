@@ -95,6 +95,10 @@ pub(crate) struct ExploreArgs {
     pub(crate) no_wear: bool,
     #[command(flatten)]
     pub(crate) wear: WearReadingArgs,
+    /// Which axle the engine drives, over the study's `drivetrain`: `fwd` (the study's default;
+    /// the follower is a rear wheel) or `rwd`. Rows say each wheel's `axle`
+    #[arg(long, value_name = "fwd|rwd", value_parser = super::common::drivetrains())]
+    pub(crate) drivetrain: Option<polywear_core::params::axle::Drivetrain>,
     /// The calibration band: a file of calibrated sets of the fitted wear constants (phi_s,
     /// sigma_V, k_d, carcass_share, belt_mass_share; TOML as data/calibration_band.toml, which
     /// `cargo run --release --example calibrate_band -- 1024 2000` regenerates), or `off` for
@@ -200,6 +204,7 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
         no_wear: args.no_wear,
         wear_zone: args.wear.wear_zone,
         wear_power: args.wear.wear_power,
+        drivetrain: args.drivetrain,
     };
     let (plan, notes) = request.plan(&|b| args.budget.apply(b))?;
     if !args.quiet {

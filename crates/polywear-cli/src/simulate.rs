@@ -136,7 +136,7 @@ fn resolve(args: &SimulateArgs) -> CliResult<SimulateRequest> {
     Ok(SimulateRequest {
         params,
         variant: args.point.variant.into(),
-        wheels: args.wheel.wheels(),
+        wheels: args.wheel.wheels(params.drivetrain),
         opts,
         duration_s: args.duration,
         sample_rate_hz: args.sample_rate,

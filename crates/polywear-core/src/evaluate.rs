@@ -60,7 +60,8 @@ impl WearStage {
     /// this stage's settings and calibration.
     pub fn problem<'a>(&'a self, p: &'a Params, w: &'a WheelSolution) -> WearProblem<'a> {
         WearProblem {
-            params: p,
+            // Its axle's values, whatever the caller passed (MODEL.md#the-car-axles-and-drivetrain).
+            params: p.at_wheel(w.record.wheel),
             model: &w.model,
             verdict: &w.verdict,
             settings: &self.settings,
@@ -196,12 +197,17 @@ impl PointSolution {
 /// Evaluates a point: every requested variant and wheel, in order (see [`PointProblem`]).
 pub fn solve(problem: &PointProblem<'_>) -> PointSolution {
     let p = &problem.params;
-    let order: Vec<(Variant, Wheel)> = problem.wheel_order().collect();
+    // Each wheel reads its own axle's toe-in, load and pressure, and its row carries them
+    // (MODEL.md#the-car-axles-and-drivetrain).
+    let order: Vec<(Variant, Wheel, Params)> = problem
+        .wheel_order()
+        .map(|(v, w)| (v, w, p.at_wheel(w)))
+        .collect();
     if p.speed_kmh == 0.0 {
         let wheels = order
             .into_iter()
-            .map(|(variant, wheel)| {
-                standstill(p, wheel, variant).with_wear_estimate(problem.wear, p, problem.options)
+            .map(|(variant, wheel, p)| {
+                standstill(&p, wheel, variant).with_wear_estimate(problem.wear, &p, problem.options)
             })
             .collect();
         return PointSolution { wheels };
@@ -210,12 +216,12 @@ pub fn solve(problem: &PointProblem<'_>) -> PointSolution {
         let failure = ModelFailure::Invalid(format!("invalid parameter set: {e}"));
         let wheels = order
             .into_iter()
-            .map(|(variant, wheel)| {
+            .map(|(variant, wheel, p)| {
                 let verdict = WheelVerdict::from_model_failure(&failure);
                 let model = Err(failure.clone());
-                without_ode(p, wheel, variant, model, verdict).with_wear_estimate(
+                without_ode(&p, wheel, variant, model, verdict).with_wear_estimate(
                     problem.wear,
-                    p,
+                    &p,
                     problem.options,
                 )
             })
@@ -226,12 +232,12 @@ pub fn solve(problem: &PointProblem<'_>) -> PointSolution {
     let wheels = order
         .into_iter()
         .enumerate()
-        .map(|(k, (variant, wheel))| {
+        .map(|(k, (variant, wheel, p))| {
             let own = problem.previous.get(k).copied().flatten();
             let (model, verdict, hint) =
-                classify_point_hinted(p, wheel, variant, problem.options, own.or(latest_found));
+                classify_point_hinted(&p, wheel, variant, problem.options, own.or(latest_found));
             latest_found = hint.or(latest_found);
-            let record = WheelRecord::new(p, wheel, variant, &model, &verdict);
+            let record = WheelRecord::new(&p, wheel, variant, &model, &verdict);
             WheelSolution {
                 model,
                 verdict,
@@ -239,7 +245,7 @@ pub fn solve(problem: &PointProblem<'_>) -> PointSolution {
                 hint,
                 wear: None,
             }
-            .with_wear_estimate(problem.wear, p, problem.options)
+            .with_wear_estimate(problem.wear, &p, problem.options)
         })
         .collect();
     PointSolution { wheels }

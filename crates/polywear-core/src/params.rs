@@ -6,6 +6,7 @@ use std::fmt;
 
 use crate::wording::plain;
 
+pub mod axle;
 mod plausible;
 pub mod table;
 pub mod toe;
@@ -68,6 +69,9 @@ pub enum Group {
     /// The wear stage (MODEL.md#step-10-wear-law to #step-12-feedback): wear rate, its
     /// calibration share, stiffnesses of the feedback, seed, thresholds, speed spread.
     Wear,
+    /// An axle's own toe-in, load or pressure, absent (NaN) unless given: the axle then takes
+    /// the shared operating-point value (MODEL.md#the-car-axles-and-drivetrain).
+    Axle,
 }
 
 /// Static description of one parameter.
@@ -115,6 +119,10 @@ impl ParamSpec {
         } else {
             value < self.min
         };
+        if value.is_nan() && self.default.is_nan() {
+            // An axle's own value, absent: the axle takes the shared one.
+            return Ok(());
+        }
         let bad = !value.is_finite()
             || below
             || value > self.max
@@ -194,12 +202,17 @@ fn unknown_hint(name: &str) -> String {
 macro_rules! define_params {
     ($( $id:ident $field:ident : $symbol:literal, $unit:literal, $default:expr, $prov:ident, $group:ident,
         $min:expr, $minx:literal, $max:expr, $int:literal, $plaus:expr, $desc:literal; )*) => {
-        /// All model inputs in the units of their names (km/h, deg, N, kPa; SI otherwise).
-        #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-        pub struct Params { $( #[doc = $desc] pub $field: f64, )* }
+        /// All model inputs in the units of their names (km/h, deg, N, kPa; SI otherwise), and
+        /// the drivetrain, the one input that is a category, not a number.
+        #[derive(Debug, Clone, Copy)]
+        pub struct Params {
+            $( #[doc = $desc] pub $field: f64, )*
+            /// Which axle is driven (MODEL.md#the-car-axles-and-drivetrain).
+            pub drivetrain: axle::Drivetrain,
+        }
 
         impl Default for Params {
-            fn default() -> Self { Params { $( $field: $default, )* } }
+            fn default() -> Self { Params { $( $field: $default, )* drivetrain: axle::Drivetrain::Fwd } }
         }
 
         /// One model parameter, typed: indexes [`Params`] (`p[ParamId::SpeedKmh]`) and names its
@@ -316,6 +329,44 @@ define_params! {
         None, "Share of the new tire's contact lateral compliance 1/K_s that is carcass and belt, not tread: the worn tire's 1/K_s = c/K_s0 + (1 - c)/K_t(h), K_t of Eq. 16 at the worn height (no figure found, bounded 0.3..0.7 by judgement; the calibration's nominal within it; 0 = the tread alone, f nearly as 1/h).";
     BeltMassShare belt_mass_share: "mu_b", "-", 0.316235, FieldFitted, Wear, 0.0, false, 1.0, false,
         None, "Share of the tread mode's mass that does not wear, the belt and carcass moving with the tread: the worn tire's m = m0 (mu_b + (1 - mu_b) h/h0) (no measurement found, bounded 0..0.7 by judgement in MODEL.md#the-ageing-tread; the calibration's nominal within it; 0 = the tread rubber alone, m = rho a b h). The new tire is the paper's at any share.";
+    ToeFrontDeg toe_front_deg: "alpha_f", "deg", f64::NAN, Judgement, Axle, 0.0, true, 10.0, false,
+        Some(TOE), "Toe-in of the front axle's wheels; absent = toe_deg (MODEL.md#the-car-axles-and-drivetrain).";
+    ToeRearDeg toe_rear_deg: "alpha_r", "deg", f64::NAN, Judgement, Axle, 0.0, true, 10.0, false,
+        Some(TOE), "Toe-in of the rear axle's wheels; absent = toe_deg.";
+    LoadFrontN load_front_n: "F_Z,f", "N", f64::NAN, Judgement, Axle, 0.0, true, 50000.0, false,
+        Some(LOAD), "Vertical load on a front tire; absent = load_n.";
+    LoadRearN load_rear_n: "F_Z,r", "N", f64::NAN, Judgement, Axle, 0.0, true, 50000.0, false,
+        Some(LOAD), "Vertical load on a rear tire; absent = load_n.";
+    PressureFrontKpa pressure_front_kpa: "P_f", "kPa", f64::NAN, Judgement, Axle, 0.0, true, 2000.0, false,
+        Some(PRESSURE), "Inflation pressure of the front tires; absent = pressure_kpa.";
+    PressureRearKpa pressure_rear_kpa: "P_r", "kPa", f64::NAN, Judgement, Axle, 0.0, true, 2000.0, false,
+        Some(PRESSURE), "Inflation pressure of the rear tires; absent = pressure_kpa.";
+}
+
+/// Equal when every value is (an absent axle value, NaN, equals an absent one) and the
+/// drivetrain is: a resumed run compares its parameters with the recorded ones.
+impl PartialEq for Params {
+    fn eq(&self, other: &Params) -> bool {
+        let same = |a: f64, b: f64| a == b || (a.is_nan() && b.is_nan());
+        self.drivetrain == other.drivetrain
+            && ParamId::ALL.iter().all(|&id| same(self[id], other[id]))
+    }
+}
+
+/// Every parameter by name, an absent axle value left out, then the drivetrain: the
+/// `params` object of a run's manifest ([`Params::set`] reads the numbers back).
+impl serde::Serialize for Params {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(None)?;
+        for &id in ParamId::ALL {
+            if !(self[id].is_nan() && id.is_per_axle()) {
+                m.serialize_entry(id.name(), &self[id])?;
+            }
+        }
+        m.serialize_entry("drivetrain", &self.drivetrain)?;
+        m.end()
+    }
 }
 
 /// The reference constants R0 (MODEL.md#r0-and-the-shipped-defaults) where the shipped defaults

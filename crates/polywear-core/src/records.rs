@@ -12,6 +12,7 @@ use serde::Serialize;
 use crate::classify::{Class, Method, WheelVerdict};
 use crate::columns::Column;
 use crate::model::{ModelFailure, Variant, Wheel, WheelModel};
+use crate::params::axle::Axle;
 use crate::params::Params;
 use crate::wear::WearAnswer;
 
@@ -75,7 +76,7 @@ trait StrCell {
 macro_rules! str_cell {
     ($($t:ty),*) => { $( impl StrCell for $t { fn cell(&self) -> String { self.to_string() } } )* };
 }
-str_cell!(Wheel, Variant, Class, Method, String);
+str_cell!(Wheel, Axle, Variant, Class, Method, String);
 
 /// Declares a row type, its typed column ids, its column table and its columns writer from one
 /// table, so that a field, its column, its unit and its meaning cannot drift apart. Fields after
@@ -154,6 +155,7 @@ define_record! {
         wear: Option<WearRecord>,
     }
     Wheel wheel: Wheel, Str, "", "The wheel: follower (free rolling) or driving.";
+    Axle axle: Axle, Str, "", "The wheel's axle, front or rear, under the run's drivetrain (MODEL.md#the-car-axles-and-drivetrain); toe_deg, load_n and pressure_kpa are this axle's.";
     Variant variant: Variant, Str, "", "The friction variant (MODEL.md#variants).";
     SpeedKmh speed_kmh: f64, F64, "km/h", "Vehicle speed V.";
     ToeDeg toe_deg: f64, F64, "deg", "Toe-in angle alpha.";
@@ -360,6 +362,7 @@ impl WheelRecord {
         let cycle = |x: f64| if failed { nan } else { x };
         WheelRecord {
             wheel,
+            axle: p.drivetrain.axle_of(wheel),
             variant,
             speed_kmh: p.speed_kmh,
             toe_deg: p.toe_deg,

@@ -39,7 +39,7 @@ fn main() {
     let meter = Meter::new(Default::default());
     let g = WheelGrowth::new(
         &WearProblem {
-            params: &p,
+            params: p,
             model: &w.model,
             verdict: v,
             settings: &WearSettings::default(),

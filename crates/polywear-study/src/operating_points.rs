@@ -26,6 +26,15 @@ pub enum OperatingPointsError {
     /// The file cannot be read as a table of numbers.
     #[error(transparent)]
     Table(#[from] TableError),
+    /// A shared column beside an axle's own column of the same quantity (`toe_deg` and
+    /// `toe_rear_deg`).
+    #[error("{}: {source}", path.display())]
+    AxleColumns {
+        /// The operating-point file.
+        path: PathBuf,
+        /// Which keys.
+        source: ParamError,
+    },
     /// The weight column named in the study is missing.
     #[error("{}: no column `{weight}`, which {key} names{}{} (columns: {})", path.display(), km_hint(weight, columns), column_hint(weight, columns), columns.join(", "))]
     NoWeightColumn {
@@ -344,6 +353,12 @@ impl FleetColumns {
             ids.push(id);
             param_cols.push(j);
         }
+        polywear_core::params::axle::check_one_place(&ids, "the file's columns").map_err(
+            |source| OperatingPointsError::AxleColumns {
+                path: t.path.clone(),
+                source,
+            },
+        )?;
         let mut values = Vec::with_capacity(t.rows.len());
         let mut first_implausible = None;
         for (i, row) in t.rows.iter().enumerate() {

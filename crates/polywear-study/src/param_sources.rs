@@ -6,6 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
+use polywear_core::params::axle::check_one_place;
 use polywear_core::params::{ParamId, Params};
 use polywear_core::wording::plain;
 
@@ -70,6 +71,12 @@ impl ParamSources {
             Some((path, names)) => replaced_notes(&typed, names, &file_values, path),
             None => Vec::new(),
         };
+        let given: Vec<ParamId> = typed
+            .iter()
+            .map(|t| t.id)
+            .chain(file.iter().flat_map(|(_, names)| names.iter().copied()))
+            .collect();
+        check_one_place(&given, "the parameters given (flags, --set and --params)")?;
         p.validate()?;
         let sources = ParamSources {
             params: p,
@@ -224,5 +231,9 @@ pub(crate) fn refuse_file_overlap(
             .into());
         }
     }
+    let mut given = named.to_vec();
+    given.extend(ParamId::ALL.iter().filter(|&&id| study.sets(id).is_some()));
+    let place = format!("--params {} and {origin} together", path.display());
+    check_one_place(&given, &place)?;
     Ok(())
 }

@@ -173,6 +173,16 @@ pub enum Refusal {
         /// The run's wear stage (`None`: none).
         was: Option<WearSettings>,
     },
+    /// `--resume` with a `--drivetrain` other than the run's.
+    #[error(
+        "--resume: --drivetrain {asked} contradicts the run, which started with drivetrain = {was}; leave it out to continue the run as it started, or choose another --out for a new run"
+    )]
+    ResumeDrivetrain {
+        /// The drivetrain asked for.
+        asked: polywear_core::params::axle::Drivetrain,
+        /// The run's.
+        was: polywear_core::params::axle::Drivetrain,
+    },
     /// `--resume` of a run answered on a retired wear level.
     #[error("--resume: {0}")]
     RetiredRun(#[source] ManifestReadError),
@@ -524,6 +534,17 @@ pub enum ConstraintError {
 /// Why a `--vary` box is refused.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum VaryError {
+    /// A shared key varied where the study gives an axle its own value of it, which no wheel
+    /// then reads (MODEL.md#the-car-axles-and-drivetrain).
+    #[error(
+        "the study gives this quantity per axle (`params.{own}`), so the shared {param} is read by no wheel there; vary the axles' keys"
+    )]
+    PerAxle {
+        /// The shared parameter varied.
+        param: ParamId,
+        /// The axle's own parameter the study gives.
+        own: ParamId,
+    },
     /// A whole-number parameter whose box holds no whole setting.
     #[error(
         "{param} is a whole number and the box holds no whole setting between its ends; accepted: whole ends LO < HI, e.g. {param}=2..8"

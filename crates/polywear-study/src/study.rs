@@ -296,7 +296,7 @@ impl Study {
         if drawn.is_empty() && operating_points.is_none() {
             return Err(StudyError::NothingDrawn);
         }
-        Ok(Study {
+        let study = Study {
             name: header.name,
             description: header.description,
             seed: header.seed,
@@ -313,7 +313,17 @@ impl Study {
             accept_implausible: header.accept_implausible,
             scenarios,
             wear: header.wear,
-        })
+        };
+        // [params] and the operating-point file together give each quantity in one place.
+        let given: Vec<ParamId> = ParamId::ALL
+            .iter()
+            .copied()
+            .filter(|&id| study.sets(id).is_some())
+            .collect();
+        let place = "the study ([params] and its operating-point file together)";
+        polywear_core::params::axle::check_one_place(&given, place)
+            .map_err(StudyError::Inconsistent)?;
+        Ok(study)
     }
 
     /// Checks a sample count for a run of this study; grids accept only their size. The error

@@ -75,8 +75,9 @@ pub fn set_as_angles(
         };
         let typed_as = format!("--set {name}={}", plain(*x, 12));
         let (deg, by) = typed_toe(&typed_as, input, *x, rim_mm, accept_implausible)?;
-        notes.push(format!("note: {by} is toe_deg = {}", plain(deg, 12)));
-        pairs.push((ParamId::ToeDeg.name().to_string(), deg));
+        let toe = input.target();
+        notes.push(format!("note: {by} is {toe} = {}", plain(deg, 12)));
+        pairs.push((toe.name().to_string(), deg));
     }
     Ok((pairs, notes))
 }
@@ -97,7 +98,7 @@ mod tests {
             "note: --set toe_mm=2 (2 mm at the 381 mm rim (rim_diameter_mm) = 0.3008 deg per wheel) is toe_deg = 0.300762484243"
         );
         let (deg, by) =
-            typed_toe("--toe-total 0.5", ToeInput::TotalDeg, 0.5, 381.0, false).unwrap();
+            typed_toe("--toe-total 0.5", ToeInput::TOTAL_DEG, 0.5, 381.0, false).unwrap();
         assert_eq!(deg, 0.25);
         assert_eq!(
             by,
@@ -107,8 +108,8 @@ mod tests {
         assert_eq!(rim, 406.4);
         assert_eq!(rim_diameter_mm(None, &[], false).unwrap(), 381.0);
         // 30 mm at the rim is 4.5 deg per wheel: refused in the words typed, unless accepted.
-        let e = typed_toe("--toe-mm 30", ToeInput::Mm, 30.0, 381.0, false).unwrap_err();
+        let e = typed_toe("--toe-mm 30", ToeInput::MM, 30.0, 381.0, false).unwrap_err();
         assert_eq!(e.to_string(), "--toe-mm 30 (30 mm at the 381 mm rim (rim_diameter_mm) = 4.502 deg per wheel): implausible for a road tire (plausible toe_deg (0, 1] deg per wheel) (if it is meant, --accept-implausible runs it anyway)");
-        assert!(typed_toe("--toe-mm 30", ToeInput::Mm, 30.0, 381.0, true).is_ok());
+        assert!(typed_toe("--toe-mm 30", ToeInput::MM, 30.0, 381.0, true).is_ok());
     }
 }

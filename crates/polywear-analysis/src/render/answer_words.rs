@@ -9,6 +9,8 @@ use crate::analysis::counts::{ClassCounts, RiskCounts, WithinCounts};
 use crate::analysis::outcome::Occurrence;
 use crate::analysis::paired::Paired;
 use polywear_core::classify::Class;
+use polywear_core::model::Wheel;
+use polywear_core::params::axle::Drivetrain;
 use polywear_core::wording::km;
 
 /// How an outcome's counts read.
@@ -97,13 +99,14 @@ fn within_words(within_km: f64, width: usize) -> String {
 pub(super) fn occurrence_lines<C: CountWords>(
     lines: &mut Vec<String>,
     rows: &[(f64, &Occurrence<C>)],
+    drivetrain: Drivetrain,
 ) {
     for (within_km, o) in rows {
         let (lo, hi) = o.counts.wilson();
         lines.push(format!(
-            "  {:>8} {:>8}{}: {:>7.3}%  [{:.3}%, {:.3}%]  ({})",
+            "  {:>8} {:>15}{}: {:>7.3}%  [{:.3}%, {:.3}%]  ({})",
             o.variant,
-            o.wheel,
+            drivetrain.words(o.wheel),
             within_words(*within_km, 10),
             100.0 * o.p(),
             100.0 * lo,
@@ -132,6 +135,7 @@ pub(super) fn occurrence_table<C: CountWords>(
     s: &mut String,
     rows: &[(f64, &Occurrence<C>)],
     with_km: bool,
+    drivetrain: Drivetrain,
 ) {
     let (head, align) = C::header();
     let (kh, ka) = if with_km {
@@ -151,7 +155,7 @@ pub(super) fn occurrence_table<C: CountWords>(
             s,
             "| {} | {} |{k} {} |",
             o.variant,
-            o.wheel,
+            drivetrain.words(o.wheel),
             o.counts.cells()
         );
     }
@@ -159,7 +163,15 @@ pub(super) fn occurrence_table<C: CountWords>(
 
 /// The report's table of the paired comparisons per variant (and distance, where `with_km`);
 /// `unknown` names the samples left out ("a wheel unclassified", "a wheel unknown").
-pub(super) fn paired_table(s: &mut String, rows: &[(f64, &Paired)], with_km: bool, unknown: &str) {
+pub(super) fn paired_table(
+    s: &mut String,
+    rows: &[(f64, &Paired)],
+    with_km: bool,
+    unknown: &str,
+    drivetrain: Drivetrain,
+) {
+    let follower = drivetrain.words(Wheel::Follower);
+    let driving = drivetrain.words(Wheel::Driving);
     let (kh, ka) = if with_km {
         (" within |", "---:|")
     } else {
@@ -167,7 +179,7 @@ pub(super) fn paired_table(s: &mut String, rows: &[(f64, &Paired)], with_km: boo
     };
     let _ = writeln!(
         s,
-        "| variant |{kh} pairs | only follower | only driving | both | neither | {unknown} | McNemar p-value |"
+        "| variant |{kh} pairs | only {follower} | only {driving} | both | neither | {unknown} | McNemar p-value |"
     );
     let _ = writeln!(s, "|---|{ka}---:|---:|---:|---:|---:|---:|---:|");
     for (within_km, p) in rows {

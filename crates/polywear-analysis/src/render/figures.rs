@@ -9,6 +9,7 @@ use crate::analysis::risk_map::{draw_edges, RiskMap};
 use crate::analysis::severity::{Severity, SEVERITY_QUANTITIES};
 use crate::plot::{self, maps, FigureFile, Series};
 use polywear_core::model::{Variant, Wheel};
+use polywear_core::params::axle::Drivetrain;
 use polywear_core::params::ParamId;
 
 /// P(vibration | parameter) along every axis of one variant, both wheels, 95% Wilson bands;
@@ -104,6 +105,8 @@ struct MapPanel {
 
 /// What a risk map's figure says of its outcome.
 pub(crate) struct MapWording {
+    /// The run's drivetrain, which names each wheel's axle in the panel titles.
+    pub drivetrain: Drivetrain,
     /// The outcome in the figure's title, after "Risk of": "tread vibration (polygonal wear)".
     pub headline: String,
     /// The outcome in the wheels' panel titles, after "Risk of": "tread vibration".
@@ -128,6 +131,8 @@ struct MapFigure<'a> {
     nominal: Option<&'a [polywear_study::chart::WheelCurves]>,
     /// The outcome, to follow "Risk of": "tread vibration", "a polygon within 40,000 km".
     what: &'a str,
+    /// Follower, driving in words with their axles: "rear (follower)".
+    wheels: [String; 2],
     /// The colour bar's label: "Risk of vibration \[%\]".
     bar_label: &'a str,
     /// The figure's title.
@@ -162,10 +167,13 @@ fn map_panels(fig: &MapFigure<'_>) -> [MapPanel; 3] {
         bar_label: fig.bar_label.to_string(),
     };
     [
-        risk(format!("Risk of {}, follower wheel", fig.what), pf),
-        risk(format!("Risk of {}, driving wheel", fig.what), pd),
+        risk(format!("Risk of {}, {} wheel", fig.what, fig.wheels[0]), pf),
+        risk(format!("Risk of {}, {} wheel", fig.what, fig.wheels[1]), pd),
         MapPanel {
-            title: "Driving minus follower (blue: driving wheel less exposed)".into(),
+            title: format!(
+                "{} minus {} (blue: {} wheel less exposed)",
+                fig.wheels[1], fig.wheels[0], fig.wheels[1]
+            ),
             values: diff,
             range: (-max_abs, max_abs),
             cmap: maps::diverging,
@@ -218,8 +226,10 @@ pub fn risk_map(
     map: &RiskMap,
     label: &dyn Fn(ParamId) -> String,
     min_count: u64,
+    drivetrain: Drivetrain,
 ) -> Result<(), RenderError> {
     let words = MapWording {
+        drivetrain,
         headline: "tread vibration (polygonal wear)".into(),
         what: "tread vibration".into(),
         bar_label: "Risk of vibration [%]",
@@ -246,6 +256,7 @@ pub(crate) fn map_figure<C: RiskCounts>(
         ],
         nominal: map.nominal.as_deref(),
         what: &words.what,
+        wheels: Wheel::BOTH.map(|w| words.drivetrain.words(w)),
         bar_label: words.bar_label,
         title: format!(
             "Risk of {} over {} and {} ({} variant; {}grey: fewer than {min_count} samples)",

@@ -157,14 +157,20 @@ fn occurrence_section(s: &mut String, a: &Analysis) {
         .iter()
         .map(|o| (f64::NAN, o))
         .collect();
-    answer_words::occurrence_table(s, &rows, false);
+    answer_words::occurrence_table(s, &rows, false, a.info.params.drivetrain);
     let _ = writeln!(s, "\nTables: `occurrence.csv`, `occurrence.parquet`.\n");
 }
 
 fn paired_section(s: &mut String, a: &Analysis) {
     let _ = writeln!(s, "### Driving vs follower on the same samples\n");
     let rows: Vec<_> = a.vibration.paired.iter().map(|p| (f64::NAN, p)).collect();
-    answer_words::paired_table(s, &rows, false, "a wheel unclassified");
+    answer_words::paired_table(
+        s,
+        &rows,
+        false,
+        "a wheel unclassified",
+        a.info.params.drivetrain,
+    );
     let _ = writeln!(
         s,
         "\nMcNemar's test asks whether the discordant samples (one wheel vibrates, the other not) \

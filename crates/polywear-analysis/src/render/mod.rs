@@ -190,7 +190,7 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
     }
     let drawn = a.vibration.maps.iter().filter(|m| a.is_drawn(m));
     out.risk_maps = map_figures(drawn, (dir, "riskmap", format), |f, map| {
-        figures::risk_map(f, map, &label, min_count)
+        figures::risk_map(f, map, &label, min_count, info.params.drivetrain)
     })?;
     for variant in a.variants() {
         let f = FigureFile::named(dir, &format!("severity_{variant}"), format);
@@ -211,7 +211,7 @@ fn write_figures(a: &Analysis, opts: &RenderOptions) -> Result<Figures, RenderEr
         out.wear_maps = map_figures(
             w.headline_answer().maps.iter(),
             (dir, "wear_riskmap", format),
-            |f, map| wear_figures::risk_map(f, map, &label, min_count),
+            |f, map| wear_figures::risk_map(f, map, &label, min_count, info.params.drivetrain),
         )?;
         let with_orders = |v: &Variant| w.orders.iter().any(|o| o.variant == *v);
         for variant in a.variants().into_iter().filter(with_orders) {

@@ -74,7 +74,7 @@ pub fn summary_lines(a: &Analysis) -> Vec<String> {
     ));
     let v = &a.vibration;
     let occurrence: Vec<_> = v.occurrence.iter().map(|o| (f64::NAN, o)).collect();
-    answer_words::occurrence_lines(&mut lines, &occurrence);
+    answer_words::occurrence_lines(&mut lines, &occurrence, i.params.drivetrain);
     let paired: Vec<_> = v.paired.iter().map(|p| (f64::NAN, p)).collect();
     answer_words::paired_lines(&mut lines, &paired);
     print_fleet(a, &mut lines);
@@ -156,7 +156,7 @@ fn print_wear(a: &Analysis, lines: &mut Vec<String>) {
     ));
     let rows = w.occurrence_rows();
     let start = lines.len();
-    answer_words::occurrence_lines(lines, &rows);
+    answer_words::occurrence_lines(lines, &rows, a.info.params.drivetrain);
     let paired = w.paired_rows();
     let middle = lines.len();
     answer_words::paired_lines(lines, &paired);

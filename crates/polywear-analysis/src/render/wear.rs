@@ -14,6 +14,7 @@ use crate::analysis::rows::{SampleWeight, NEAR_MISS_SHARES};
 use crate::analysis::wear_risk::{WearAnalysis, HEADLINE_WITHIN_KM, ORDERS_WITHIN_KM};
 use crate::analysis::Analysis;
 use polywear_core::model::{Variant, Wheel};
+use polywear_core::params::axle::Drivetrain;
 use polywear_core::params::ParamId;
 use polywear_core::wording::plain;
 use polywear_study::stats::format_p;
@@ -36,7 +37,7 @@ pub fn section(s: &mut String, a: &Analysis, figures: &Figures) {
     meaning(s, a, w);
     occurrence_table(s, a, w);
     near_misses(s, w);
-    paired_table(s, w);
+    paired_table(s, w, a.info.params.drivetrain);
     super::band::section(s, a);
     where_wear(s, a, figures);
     growth(s, w, figures);
@@ -67,25 +68,31 @@ fn headline(s: &mut String, a: &Analysis, w: &WearAnalysis, variant: Variant) {
         )
     };
     let paired = w.paired_at(variant, HEADLINE_WITHIN_KM);
+    // The wheels by axle and role, "rear (follower)" (MODEL.md#the-car-axles-and-drivetrain).
+    let drivetrain = a.info.params.drivetrain;
+    let (fw, dw) = (
+        drivetrain.words(Wheel::Follower),
+        drivetrain.words(Wheel::Driving),
+    );
     let verdict = match paired {
         Some(p) if p.p_value < 0.05 && p.only_follower > p.only_driving => {
-            "the follower wears polygonal significantly more often than the driving wheel"
+            format!("the {fw} wheel wears polygonal significantly more often than the {dw} one")
         }
         Some(p) if p.p_value < 0.05 && p.only_driving > p.only_follower => {
-            "the driving wheel wears polygonal significantly more often than the follower"
+            format!("the {dw} wheel wears polygonal significantly more often than the {fw} one")
         }
-        _ => "neither wheel wears polygonal significantly more often than the other",
+        _ => "neither wheel wears polygonal significantly more often than the other".to_string(),
     };
     let _ = writeln!(
         s,
-        "**Within {}, {} of follower wheels and {} of driving wheels get a visible polygon** \
+        "**Within {}, {} of {fw} wheels and {} of {dw} wheels get a visible polygon** \
          ({} mm peak-to-valley; `{variant}` variant). On the same samples {verdict}{}.\n",
         km(HEADLINE_WITHIN_KM),
         interval(&f.counts, Wheel::Follower),
         interval(&d.counts, Wheel::Driving),
         plain(w.visible_depth_mm, 3),
         paired.map_or(String::new(), |p| format!(
-            " (McNemar p = {}: {} samples wear on the follower only, {} on the driving wheel only)",
+            " (McNemar p = {}: {} samples wear on the {fw} wheel only, {} on the {dw} wheel only)",
             p_text(p),
             p.only_follower,
             p.only_driving
@@ -204,7 +211,7 @@ fn meaning(s: &mut String, a: &Analysis, w: &WearAnalysis) {
 }
 
 fn occurrence_table(s: &mut String, a: &Analysis, w: &WearAnalysis) {
-    answer_words::occurrence_table(s, &w.occurrence_rows(), true);
+    answer_words::occurrence_table(s, &w.occurrence_rows(), true, a.info.params.drivetrain);
     let _ = writeln!(
         s,
         "\nTables: `wear_occurrence.csv`, `wear_occurrence.parquet`{}.\n",
@@ -270,9 +277,9 @@ fn near_misses(s: &mut String, w: &WearAnalysis) {
     );
 }
 
-fn paired_table(s: &mut String, w: &WearAnalysis) {
+fn paired_table(s: &mut String, w: &WearAnalysis, drivetrain: Drivetrain) {
     let _ = writeln!(s, "### Driving vs follower in wear, on the same samples\n");
-    answer_words::paired_table(s, &w.paired_rows(), true, "a wheel unknown");
+    answer_words::paired_table(s, &w.paired_rows(), true, "a wheel unknown", drivetrain);
     let _ = writeln!(
         s,
         "\nThe outcome is \"a visible polygon within the distance, before the tire is worn out\"; McNemar's test asks whether \

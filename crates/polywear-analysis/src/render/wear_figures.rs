@@ -47,9 +47,11 @@ pub fn risk_map(
     map: &RiskMap<WithinCounts>,
     label: &dyn Fn(ParamId) -> String,
     min_count: u64,
+    drivetrain: polywear_core::params::axle::Drivetrain,
 ) -> Result<(), RenderError> {
     let within = km(HEADLINE_WITHIN_KM);
     let words = MapWording {
+        drivetrain,
         headline: format!("a visible polygon within {within}"),
         what: format!("a polygon within {within}"),
         bar_label: "Risk of polygonal wear [%]",

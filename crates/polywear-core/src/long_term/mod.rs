@@ -246,12 +246,14 @@ pub fn solve(
     let point = evaluate::solve(
         &PointProblem::new(p, &variants, &problem.classifier).with_wear(Some(&stage)),
     );
+    // Each wheel runs at its own axle's values (MODEL.md#the-car-axles-and-drivetrain).
+    let at_wheel = Wheel::BOTH.map(|w| p.at_wheel(w));
     let runs = ensemble::solve(
         2,
         |i| {
             let w = &point.wheels[i];
             let inputs = LoopInputs {
-                params: &p,
+                params: &at_wheel[i],
                 wheel: Wheel::BOTH[i],
                 variant: problem.variant,
                 gamma_m3_per_j: gamma,
@@ -291,7 +293,7 @@ pub fn solve(
                 Err(e) => (Err(e), Err(WheelRunFailure::NoRun)),
             };
             let growth = WheelGrowth::new(
-                &stage.problem(&p, &solution),
+                &stage.problem(&at_wheel[i], &solution),
                 &Meter::new(problem.classifier.budget),
             )
             .ok();
@@ -367,7 +369,7 @@ pub fn leg_profiles(
             let at = Params {
                 speed_kmh: leg.speed_kmh,
                 speed_spread_kmh: 0.0,
-                ..*p
+                ..p.at_wheel(wheel)
             };
             let w = evaluate::solve_wheel(at, variant, wheel, classifier);
             let growth =

@@ -32,10 +32,12 @@ pub fn longitudinal_force_n(p: &Params, patch: &ContactPatch, slip_ratio: f64) -
 }
 
 /// Drive force one driven wheel must transmit: rolling resistance of all wheels plus air drag,
-/// shared by the driven wheels (step 4; 21.15 converts V in km/h).
+/// shared by the driven wheels (step 4; 21.15 converts V in km/h). The wheels' load is the mean
+/// over both axles (MODEL.md#the-car-axles-and-drivetrain), the shared load when neither axle
+/// has its own.
 pub fn drive_force_n(p: &Params) -> f64 {
     let v = p.speed_kmh;
-    (p.n_wheels * (p.f0 + p.f1 * v) * p.load_n + p.c_d * p.area * v * v / 21.15) / p.n_driven
+    (p.n_wheels * (p.f0 + p.f1 * v) * p.mean_load_n() + p.c_d * p.area * v * v / 21.15) / p.n_driven
 }
 
 /// The largest slip ratio searched; beyond it the wheel is spinning, not rolling.

@@ -149,6 +149,8 @@ impl WheelModel {
         variant: Variant,
         tread_of: impl Fn(&ContactPatch) -> TreadBlock,
     ) -> Result<Self, ModelFailure> {
+        // The wheel's own axle's toe-in, load and pressure (MODEL.md#the-car-axles-and-drivetrain).
+        let p = &p.at_wheel(wheel);
         let patch = tire::contact_patch(p).map_err(|e| ModelFailure::Invalid(e.to_string()))?;
         let tread = tread_of(&patch);
         let slip_ratio = match wheel {

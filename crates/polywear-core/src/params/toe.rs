@@ -6,6 +6,8 @@
 
 use std::fmt;
 
+use super::axle::Axle;
+use super::ParamId;
 use crate::wording::plain;
 
 /// The nominal diameter of a 15-inch rim \[mm\] (15 × 25.4; ETRTO), the rim of the 195/65 R15
@@ -33,40 +35,90 @@ pub fn toe_total_deg(toe_deg: f64) -> f64 {
     2.0 * toe_deg
 }
 
-/// A way to give the toe-in other than the per-wheel angle `toe_deg`.
+/// How a toe-in is written other than as the per-wheel angle: in mm at the rim, or as total toe.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum ToeInput {
-    /// `toe_mm`: mm at the rim's edge across the rim diameter `rim_diameter_mm`.
+pub enum ToeForm {
+    /// mm at the rim's edge across the rim diameter `rim_diameter_mm`.
     Mm,
-    /// `toe_total_deg`: the axle's total toe, twice the per-wheel angle.
+    /// The axle's total toe, twice the per-wheel angle.
     TotalDeg,
 }
 
-impl ToeInput {
-    /// Both, in the order their names are listed.
-    pub const ALL: [ToeInput; 2] = [ToeInput::Mm, ToeInput::TotalDeg];
+/// A way to give a toe-in other than the per-wheel angle: its form, and the axle whose toe-in it
+/// is (`toe_rear_mm`; none for the shared `toe_mm`; MODEL.md#the-car-axles-and-drivetrain).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ToeInput {
+    /// In mm or as total toe.
+    pub form: ToeForm,
+    /// The axle, or none for both axles' shared toe-in.
+    pub axle: Option<Axle>,
+}
 
-    /// The name in study files and `--set` (`toe_mm`), also the row's column.
-    pub fn name(self) -> &'static str {
-        match self {
-            ToeInput::Mm => "toe_mm",
-            ToeInput::TotalDeg => "toe_total_deg",
+impl ToeInput {
+    /// `toe_mm`: the shared toe-in in mm at the rim.
+    pub const MM: ToeInput = ToeInput {
+        form: ToeForm::Mm,
+        axle: None,
+    };
+    /// `toe_total_deg`: the shared toe-in as total toe.
+    pub const TOTAL_DEG: ToeInput = ToeInput {
+        form: ToeForm::TotalDeg,
+        axle: None,
+    };
+
+    /// Every input, the shared ones first, in the order their names are listed.
+    pub const ALL: [ToeInput; 6] = [
+        ToeInput::MM,
+        ToeInput::TOTAL_DEG,
+        ToeInput::of(ToeForm::Mm, Axle::Front),
+        ToeInput::of(ToeForm::TotalDeg, Axle::Front),
+        ToeInput::of(ToeForm::Mm, Axle::Rear),
+        ToeInput::of(ToeForm::TotalDeg, Axle::Rear),
+    ];
+
+    const fn of(form: ToeForm, axle: Axle) -> ToeInput {
+        ToeInput {
+            form,
+            axle: Some(axle),
         }
     }
 
-    /// The command-line flag of the commands with `--toe`.
+    /// The name in study files and `--set` (`toe_mm`, `toe_rear_total_deg`); the shared ones
+    /// are also the row's columns.
+    pub fn name(self) -> &'static str {
+        match (self.form, self.axle) {
+            (ToeForm::Mm, None) => "toe_mm",
+            (ToeForm::TotalDeg, None) => "toe_total_deg",
+            (ToeForm::Mm, Some(Axle::Front)) => "toe_front_mm",
+            (ToeForm::TotalDeg, Some(Axle::Front)) => "toe_front_total_deg",
+            (ToeForm::Mm, Some(Axle::Rear)) => "toe_rear_mm",
+            (ToeForm::TotalDeg, Some(Axle::Rear)) => "toe_rear_total_deg",
+        }
+    }
+
+    /// The parameter the input gives: `toe_deg`, or the axle's `toe_front_deg`/`toe_rear_deg`.
+    pub fn target(self) -> ParamId {
+        match self.axle {
+            None => ParamId::ToeDeg,
+            Some(Axle::Front) => ParamId::ToeFrontDeg,
+            Some(Axle::Rear) => ParamId::ToeRearDeg,
+        }
+    }
+
+    /// The command-line flag of the commands with `--toe` (the shared toe-in's; an axle's is
+    /// given with `--set`).
     pub fn flag(self) -> &'static str {
-        match self {
-            ToeInput::Mm => "--toe-mm",
-            ToeInput::TotalDeg => "--toe-total",
+        match self.form {
+            ToeForm::Mm => "--toe-mm",
+            ToeForm::TotalDeg => "--toe-total",
         }
     }
 
     /// The value's unit.
     pub fn unit(self) -> &'static str {
-        match self {
-            ToeInput::Mm => "mm",
-            ToeInput::TotalDeg => "deg",
+        match self.form {
+            ToeForm::Mm => "mm",
+            ToeForm::TotalDeg => "deg",
         }
     }
 
@@ -77,9 +129,9 @@ impl ToeInput {
 
     /// The per-wheel angle \[deg\] of `x` given this way at a rim of `rim_diameter_mm`.
     pub fn to_deg(self, x: f64, rim_diameter_mm: f64) -> f64 {
-        match self {
-            ToeInput::Mm => toe_deg_from_mm(x, rim_diameter_mm),
-            ToeInput::TotalDeg => x / 2.0,
+        match self.form {
+            ToeForm::Mm => toe_deg_from_mm(x, rim_diameter_mm),
+            ToeForm::TotalDeg => x / 2.0,
         }
     }
 
@@ -87,13 +139,13 @@ impl ToeInput {
     /// (rim_diameter_mm) = 0.3008 deg per wheel".
     pub fn words(self, x: f64, rim_diameter_mm: f64) -> String {
         let deg = plain(self.to_deg(x, rim_diameter_mm), 4);
-        match self {
-            ToeInput::Mm => format!(
+        match self.form {
+            ToeForm::Mm => format!(
                 "{} mm at the {} mm rim (rim_diameter_mm) = {deg} deg per wheel",
                 plain(x, 12),
                 plain(rim_diameter_mm, 6)
             ),
-            ToeInput::TotalDeg => format!(
+            ToeForm::TotalDeg => format!(
                 "{} deg total toe (both wheels) = {deg} deg per wheel",
                 plain(x, 12)
             ),
@@ -118,12 +170,19 @@ mod tests {
         assert!((deg - (1.0f64 / 381.0).atan().to_degrees()).abs() < 1e-15);
         assert!((deg - 0.150_382_278).abs() < 1e-9, "{deg}");
         assert!((toe_mm(deg, 381.0) - 1.0).abs() < 1e-12);
-        assert_eq!(ToeInput::TotalDeg.to_deg(0.5, 381.0), 0.25);
+        assert_eq!(ToeInput::TOTAL_DEG.to_deg(0.5, 381.0), 0.25);
         assert_eq!(toe_total_deg(0.25), 0.5);
-        assert_eq!(ToeInput::parse("toe_mm"), Some(ToeInput::Mm));
+        assert_eq!(ToeInput::parse("toe_mm"), Some(ToeInput::MM));
         assert_eq!(ToeInput::parse("toe_deg"), None);
+        let rear = ToeInput::parse("toe_rear_total_deg").unwrap();
+        assert_eq!(rear.target(), ParamId::ToeRearDeg);
+        assert_eq!(rear.to_deg(0.6, 381.0), 0.3);
         assert_eq!(
-            ToeInput::Mm.words(2.0, 381.0),
+            ToeInput::parse("toe_front_mm").unwrap().target(),
+            ParamId::ToeFrontDeg
+        );
+        assert_eq!(
+            ToeInput::MM.words(2.0, 381.0),
             "2 mm at the 381 mm rim (rim_diameter_mm) = 0.3008 deg per wheel"
         );
     }

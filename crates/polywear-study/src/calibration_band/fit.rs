@@ -155,7 +155,7 @@ pub fn wheel_growth(
     let opts = ClassifierOptions::default();
     let (m, v) = classify_point(p, wheel, Variant::SlidingShare, &opts);
     let inputs = WearProblem {
-        params: p,
+        params: p.at_wheel(wheel),
         model: &m,
         verdict: &v,
         settings: &stage.settings,

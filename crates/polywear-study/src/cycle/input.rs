@@ -146,6 +146,12 @@ fn parameter_columns(
         names.push(id);
         cols.push(j);
     }
+    polywear_core::params::axle::check_one_place(&names, "the cycle's columns").map_err(
+        |source| CycleError::AxleColumns {
+            path: path.to_path_buf(),
+            source,
+        },
+    )?;
     Ok((names, cols))
 }
 

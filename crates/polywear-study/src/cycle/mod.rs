@@ -68,6 +68,15 @@ pub enum CycleError {
         /// Its position, counted from 1.
         number: usize,
     },
+    /// A shared column beside an axle's own column of the same quantity (`toe_deg` and
+    /// `toe_rear_deg`).
+    #[error("{}: {source}", path.display())]
+    AxleColumns {
+        /// The cycle file.
+        path: PathBuf,
+        /// Which keys.
+        source: ParamError,
+    },
     /// A single row: no step duration.
     #[error("{}: one step only; a cycle needs at least two (the time between steps sets their durations)", path.display())]
     OneStep {

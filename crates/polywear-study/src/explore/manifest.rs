@@ -330,13 +330,22 @@ mod params_map {
         v.serialize(s)
     }
 
+    /// Every number by name, and the drivetrain by its name (`fwd` for a run written before
+    /// polywear knew the car: its pair was a front-wheel-drive car's).
     pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Params, D::Error> {
-        let values = std::collections::BTreeMap::<String, f64>::deserialize(d)?;
+        let values = std::collections::BTreeMap::<String, serde_json::Value>::deserialize(d)?;
         let mut params = Params::default();
+        let bad = |e: String| serde::de::Error::custom(format!("`params`: {e}"));
         for (name, value) in &values {
-            params
-                .set(name, *value)
-                .map_err(|e| serde::de::Error::custom(format!("`params`: {e}")))?;
+            if name == "drivetrain" {
+                params.drivetrain = serde_json::from_value(value.clone())
+                    .map_err(|e| bad(format!("`drivetrain`: {e}")))?;
+                continue;
+            }
+            let x = value
+                .as_f64()
+                .ok_or_else(|| bad(format!("`{name}` = {value} is not a number")))?;
+            params.set(name, x).map_err(|e| bad(e.to_string()))?;
         }
         Ok(params)
     }

@@ -14,6 +14,7 @@ use super::{ExploreError, RunPlan, Shard};
 use crate::param_sources::{param_file, refuse_file_overlap, refuse_reserved_names, Refusal};
 use crate::refusal::Contradiction;
 use crate::study::{Study, DEFAULT_STUDY};
+use polywear_core::params::axle::Drivetrain;
 
 /// What `explore` is asked: every field as given, `None` where not given.
 #[derive(Debug, Clone, Default)]
@@ -40,6 +41,9 @@ pub struct ExploreRequest {
     pub wear_zone: Option<WearZone>,
     /// Which friction power wears the tread, over the study's.
     pub wear_power: Option<WearPower>,
+    /// Which axle is driven, over the study's `drivetrain`
+    /// (MODEL.md#the-car-axles-and-drivetrain).
+    pub drivetrain: Option<Drivetrain>,
 }
 
 impl ExploreRequest {
@@ -127,6 +131,21 @@ impl ExploreRequest {
         )?);
         study.wear = wear_settings(args, &study, recorded.as_ref().map(|(_, run)| run))?;
         notes.extend(overridden_wear_keys(args, &study, &origin));
+        if let Some(asked) = args.drivetrain {
+            if let Some((_, run)) = &recorded {
+                let was = run.params.drivetrain;
+                if was != asked {
+                    return Err(Refusal::ResumeDrivetrain { asked, was }.into());
+                }
+            }
+            if study.base.drivetrain != asked {
+                notes.push(format!(
+                    "note: --drivetrain {asked} replaces {origin}'s drivetrain = {}",
+                    study.base.drivetrain
+                ));
+            }
+            study.base.drivetrain = asked;
+        }
         let wear = RunPlan::wear_stage(&study).map_err(|source| Refusal::RunWearStage {
             by: origin.clone(),
             source: Box::new(source),

@@ -267,6 +267,22 @@ fn axes(
             return Err(Refusal::VaryTwice(a.0));
         }
     }
+    for given in vary {
+        let q = given.0.axle_quantity().filter(|q| q.shared == given.0);
+        if let Some(own) = q.and_then(|q| {
+            [q.front, q.rear]
+                .into_iter()
+                .find(|&o| study.sets(o).is_some())
+        }) {
+            return Err(Refusal::Vary {
+                by: vary_key(given),
+                why: Box::new(VaryError::PerAxle {
+                    param: given.0,
+                    own,
+                }),
+            });
+        }
+    }
     if !(accept_implausible || study.accept_implausible) {
         for &(id, lo, hi) in vary {
             for v in [lo, hi] {

@@ -4,7 +4,7 @@
 //! takes (MODEL.md#operating-point-and-wheels), as `[params]` reads them.
 
 use super::{DrawnParam, StudyError};
-use polywear_core::params::toe::ToeInput;
+use polywear_core::params::toe::{ToeForm, ToeInput};
 use polywear_core::params::{ParamId, Params};
 use polywear_core::wording::plain;
 
@@ -59,11 +59,16 @@ impl Change {
     }
 }
 
-/// The second toe-in key of a scenario's changes, if it gives the toe-in twice.
+/// The second toe-in key of a scenario's changes, if it gives one axle's toe-in (or the shared
+/// one) twice.
 pub(super) fn toe_keys_twice(changes: &[(ParamId, Change, String)]) -> Option<&str> {
-    let mut toe = changes.iter().filter(|c| c.0 == ParamId::ToeDeg);
-    toe.next()?;
-    toe.next().map(|c| c.2.as_str())
+    [ParamId::ToeDeg, ParamId::ToeFrontDeg, ParamId::ToeRearDeg]
+        .into_iter()
+        .find_map(|id| {
+            let mut toe = changes.iter().filter(|c| c.0 == id);
+            toe.next()?;
+            toe.next().map(|c| c.2.as_str())
+        })
 }
 
 /// A change of the toe-in given in mm at the rim or as total toe, as the change of the per-wheel
@@ -78,21 +83,22 @@ pub(super) fn toe_change(
     drawn: &[DrawnParam],
 ) -> Result<Change, StudyError> {
     let rim = base.rim_diameter_mm;
-    if input == ToeInput::Mm && drawn.iter().any(|d| d.param == ParamId::RimDiameterMm) {
+    let toe = input.target();
+    if input.form == ToeForm::Mm && drawn.iter().any(|d| d.param == ParamId::RimDiameterMm) {
         return Err(StudyError::DrawnRule(format!(
-            "`{key}` is read at the rim diameter, which the study draws; fix `params.rim_diameter_mm` or change `toe_deg`"
+            "`{key}` is read at the rim diameter, which the study draws; fix `params.rim_diameter_mm` or change `{toe}`"
         )));
     }
     let deg = |x: f64| input.to_deg(x, rim);
-    Ok(match (input, typed) {
-        (ToeInput::TotalDeg, Change::Scale(k)) => Change::Scale(k),
+    Ok(match (input.form, typed) {
+        (ToeForm::TotalDeg, Change::Scale(k)) => Change::Scale(k),
         (_, Change::Set(x)) => Change::Set(deg(x)),
         (_, Change::Cap(x)) => Change::Cap(deg(x)),
-        (ToeInput::TotalDeg, Change::Shift(d)) => Change::Shift(d / 2.0),
-        (ToeInput::Mm, c) => {
+        (ToeForm::TotalDeg, Change::Shift(d)) => Change::Shift(d / 2.0),
+        (ToeForm::Mm, c) => {
             let near = match c {
-                Change::Shift(d) => format!("`toe_deg = {{ shift = {} }}`", plain(deg(d), 4)),
-                _ => format!("`toe_deg = {{ scale = {} }}`", plain(c.amount(), 6)),
+                Change::Shift(d) => format!("`{toe} = {{ shift = {} }}`", plain(deg(d), 4)),
+                _ => format!("`{toe} = {{ scale = {} }}`", plain(c.amount(), 6)),
             };
             return Err(StudyError::DrawnRule(format!(
                 "`{key}.{}`: a {} in mm at the rim is no {0} of the toe angle (the arc tangent); near the small angles of a toe-in it is {near} at the {} mm rim, or give the value as `set`",
@@ -111,8 +117,8 @@ mod tests {
     #[test]
     fn toe_changes_read_as_the_angle_s_and_a_shift_in_mm_is_refused_with_its_near_angle() {
         let p = Params::default();
-        let mm = |c| toe_change(ToeInput::Mm, c, "scenarios.a.toe_mm", &p, &[]);
-        let total = |c| toe_change(ToeInput::TotalDeg, c, "scenarios.a.toe_total_deg", &p, &[]);
+        let mm = |c| toe_change(ToeInput::MM, c, "scenarios.a.toe_mm", &p, &[]);
+        let total = |c| toe_change(ToeInput::TOTAL_DEG, c, "scenarios.a.toe_total_deg", &p, &[]);
         let at_rim = (2.0f64 / 381.0).atan().to_degrees();
         assert_eq!(mm(Change::Set(2.0)).unwrap(), Change::Set(at_rim));
         assert_eq!(mm(Change::Cap(2.0)).unwrap(), Change::Cap(at_rim));
@@ -134,7 +140,7 @@ mod tests {
                 count: None,
             },
         }];
-        let e = toe_change(ToeInput::Mm, Change::Set(2.0), "k", &p, &drawn_rim)
+        let e = toe_change(ToeInput::MM, Change::Set(2.0), "k", &p, &drawn_rim)
             .unwrap_err()
             .to_string();
         assert!(e.contains("which the study draws"), "{e}");

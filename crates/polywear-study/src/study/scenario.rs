@@ -92,7 +92,7 @@ impl Scenario {
     pub fn apply(&self, p: &Params) -> Params {
         let mut q = *p;
         for c in &self.changes {
-            q[c.param] = c.change.apply(q[c.param]);
+            q[c.param] = c.change.apply(value_on_axle(&q, c.param));
         }
         q
     }
@@ -213,14 +213,14 @@ pub(super) fn scenarios(
             let key = scenario_key_of(name, input.name());
             let typed = change(spec, &key)?;
             changes.push((
-                ParamId::ToeDeg,
+                input.target(),
                 super::change::toe_change(input, typed, &key, base, drawn)?,
                 key,
             ));
         }
         if let Some(k) = super::change::toe_keys_twice(&changes) {
             return Err(StudyError::DrawnRule(format!(
-                "`{k}`: the scenario changes the toe-in twice; give one of toe_deg, toe_mm and toe_total_deg"
+                "`{k}`: the scenario changes the toe-in twice; give one of toe_deg, toe_mm and toe_total_deg (for an axle: toe_rear_deg, toe_rear_mm and toe_rear_total_deg)"
             )));
         }
         changes.sort_by_key(|c| c.0);
@@ -498,6 +498,16 @@ fn hull(values: &[f64]) -> ValueRange {
     ValueRange { lo, hi, hard: true }
 }
 
+/// `p`'s value of `id`, an axle's absent own value read as the shared one it stands for
+/// (MODEL.md#the-car-axles-and-drivetrain): a change of `toe_rear_deg` in a study that gives
+/// only `toe_deg` starts from `toe_deg`.
+fn value_on_axle(p: &Params, id: ParamId) -> f64 {
+    match id.axle_quantity() {
+        Some(q) if p[id].is_nan() && q.shared != id => p[q.shared],
+        _ => p[id],
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -547,6 +557,26 @@ mod tests {
         let names = [ParamId::SpeedKmh, ParamId::GMod];
         assert_eq!(s.apply_values(&names, &[100.0, 1.0]), vec![100.0, 2.0]);
         assert_eq!(Scenario::from_json(&s.to_json()), Some(s));
+    }
+
+    #[test]
+    fn a_change_of_an_absent_axle_value_starts_from_the_shared_one() {
+        let s = Scenario {
+            name: "rear".into(),
+            changes: vec![ParamChange {
+                param: ParamId::ToeRearDeg,
+                change: Change::Shift(0.1),
+            }],
+            compare_to: None,
+        };
+        let p = Params {
+            toe_deg: 0.25,
+            ..Params::default()
+        };
+        let q = s.apply(&p);
+        assert_eq!(q.toe_rear_deg, 0.25 + 0.1);
+        assert!(q.toe_front_deg.is_nan(), "the front keeps the shared toe-in");
+        assert_eq!(q.toe_deg, 0.25);
     }
 
     /// A study drawing toe-in with `scenarios` appended.

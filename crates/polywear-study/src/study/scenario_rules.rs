@@ -50,6 +50,15 @@ impl Study {
     /// for some sample, naming the scenario's key and what is accepted.
     pub fn check_scenario_rules(&self, accept_implausible: bool) -> Result<(), StudyError> {
         for s in &self.scenarios {
+            for c in &s.changes {
+                if let Some(own) = self.per_axle_beside(c.param) {
+                    return Err(StudyError::DrawnRule(format!(
+                        "`{}`: the study gives this quantity per axle (`params.{own}`), so the shared `{}` is read by no wheel; change the axles' keys",
+                        s.key(c.param),
+                        c.param
+                    )));
+                }
+            }
             if !(accept_implausible || self.accept_implausible) {
                 for c in &s.changes {
                     if let Err(source) = self.check_change_plausible(*c) {
@@ -70,6 +79,15 @@ impl Study {
             }
         }
         Ok(())
+    }
+
+    /// An axle's own key of `shared`'s quantity that the study gives, when `shared` is a shared
+    /// key (`toe_rear_deg` beside `toe_deg`; MODEL.md#the-car-axles-and-drivetrain).
+    fn per_axle_beside(&self, shared: ParamId) -> Option<ParamId> {
+        let q = shared.axle_quantity().filter(|q| q.shared == shared)?;
+        [q.front, q.rear]
+            .into_iter()
+            .find(|&id| self.sets(id).is_some())
     }
 
     /// The values that judge `param` in the baseline, as the study's plausibility check judges

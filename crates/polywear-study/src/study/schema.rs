@@ -12,6 +12,7 @@ use super::{DrawnParam, StudyError, SEED_MAX};
 use crate::toml_input::{finite_at, whole_at, TomlError};
 use polywear_core::classify::WheelBudget;
 use polywear_core::model::Variant;
+use polywear_core::params::axle::{check_one_place, Drivetrain};
 use polywear_core::params::{ParamId, ParamSpec, Params};
 use polywear_core::sampling::design::Design;
 use polywear_core::sampling::distribution::Distribution;
@@ -44,6 +45,7 @@ pub(super) struct StudyFile {
     wear_zone: Option<WearZone>,
     wear_power: Option<WearPower>,
     wear_estimate: Option<String>,
+    drivetrain: Option<Drivetrain>,
     pub(super) params: Option<BTreeMap<ParamKey, ParamEntry>>,
     pub(super) operating_points: Option<OperatingPointsSection>,
     pub(super) scenarios: Option<ScenarioTables>,
@@ -367,6 +369,15 @@ impl StudyFile {
         }
         for (input, entry) in toe_inputs {
             toe_as_angle(input, entry, &mut base, &mut drawn, &mut fixed)?;
+        }
+        let given: Vec<ParamId> = fixed
+            .iter()
+            .copied()
+            .chain(drawn.iter().map(|d| d.param))
+            .collect();
+        check_one_place(&given, "the study's [params]").map_err(StudyError::Inconsistent)?;
+        if let Some(d) = self.drivetrain {
+            base.drivetrain = d;
         }
         fixed.sort();
         drawn.sort_by_key(|d| d.param);

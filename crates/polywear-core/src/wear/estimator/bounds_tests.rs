@@ -36,7 +36,7 @@ fn estimate_at(p: &Params, budget: WheelBudget, wait: std::time::Duration) -> We
     let w = solve_wheel(*p, Variant::SlidingShare, Wheel::Follower, &opts);
     let settings = WearSettings::default();
     let inputs = WearProblem {
-        params: p,
+        params: *p,
         model: &w.model,
         verdict: &w.verdict,
         settings: &settings,

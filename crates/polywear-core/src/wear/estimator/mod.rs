@@ -156,7 +156,7 @@ struct Response {
 }
 
 fn response(inputs: &WearProblem, meter: &Meter) -> Result<Response, WearError> {
-    let (p, v) = (inputs.params, inputs.verdict);
+    let (p, v) = (&inputs.params, inputs.verdict);
     let model = inputs
         .model
         .as_ref()
@@ -259,7 +259,7 @@ pub struct WheelGrowth {
 impl WheelGrowth {
     /// The loop of one wheel (see [`WearProblem::solve`] for what it costs).
     pub fn new(inputs: &WearProblem, meter: &Meter) -> Result<Self, WearError> {
-        let p = inputs.params;
+        let p = &inputs.params;
         let response = response(inputs, meter)?;
         let model = inputs
             .model
@@ -568,7 +568,7 @@ impl WearProblem<'_> {
     /// kept no iteration (about 165), charged to `meter`. A wheel without a model, or whose cycle
     /// cannot be integrated, gets NaN with the reason.
     pub fn solve(&self, meter: &Meter) -> WearAnswer {
-        let p = self.params;
+        let p = &self.params;
         let share = p.wear_share_straight;
         let growth = match WheelGrowth::new(self, meter) {
             Ok(g) => g,

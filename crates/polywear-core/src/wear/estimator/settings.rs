@@ -53,8 +53,9 @@ impl Default for WearZone {
 /// What the estimator needs about one wheel.
 #[derive(Debug, Clone, Copy)]
 pub struct WearProblem<'a> {
-    /// The sample's parameters (operating point, tire, wear constants).
-    pub params: &'a Params,
+    /// The sample's parameters (operating point, tire, wear constants), as the wheel sees them
+    /// (its axle's toe-in, load and pressure: [`Params::at_wheel`]).
+    pub params: Params,
     /// Steps 1–8 for the wheel, or why there is no model.
     pub model: &'a Result<WheelModel, ModelFailure>,
     /// The classifier's verdict (step 9).

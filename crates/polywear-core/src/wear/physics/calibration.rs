@@ -114,11 +114,15 @@ pub(crate) fn driven_position(wheel: Wheel, power: WearPower) -> bool {
     matches!((wheel, power), (Wheel::Driving, WearPower::WithSlip))
 }
 
-/// `base` at the reference point: the operating axes at their shipped defaults.
+/// `base` at the reference point: the operating axes at their shipped defaults, on both axles
+/// (an axle's own value is cleared: the reference is one point, whatever the car).
 pub fn reference_params(base: &Params) -> Params {
     let mut p = *base;
     for id in OPERATING_AXES {
         p[id] = id.spec().default;
+    }
+    for id in ParamId::ALL.iter().filter(|id| id.is_per_axle()) {
+        p[*id] = f64::NAN;
     }
     debug_assert_eq!(p[ParamId::SpeedKmh], 100.0);
     p

@@ -8,7 +8,7 @@ use serde::Deserialize;
 use super::{check_support, distribution, DistSpec, ParamEntry};
 use crate::study::{DrawnParam, StudyError};
 use crate::toml_input::finite_at;
-use polywear_core::params::toe::ToeInput;
+use polywear_core::params::toe::{ToeForm, ToeInput};
 use polywear_core::params::{ParamId, Params};
 use polywear_core::sampling::distribution::Distribution;
 
@@ -44,15 +44,15 @@ pub(super) fn toe_as_angle(
     fixed: &mut Vec<ParamId>,
 ) -> Result<(), StudyError> {
     let key = format!("params.{input}");
-    let toe = ParamId::ToeDeg;
+    let toe = input.target();
     if fixed.contains(&toe) || drawn.iter().any(|d| d.param == toe) {
         return Err(StudyError::DrawnRule(format!(
-            "`{key}` and `params.toe_deg` both give the toe-in; give one"
+            "`{key}` and `params.{toe}` both give the toe-in; give one"
         )));
     }
-    if drawn.iter().any(|d| d.param == ParamId::RimDiameterMm) && input == ToeInput::Mm {
+    if drawn.iter().any(|d| d.param == ParamId::RimDiameterMm) && input.form == ToeForm::Mm {
         return Err(StudyError::DrawnRule(format!(
-            "`{key}` is read at the rim diameter, which the study draws; fix `params.rim_diameter_mm` or give `params.toe_deg`"
+            "`{key}` is read at the rim diameter, which the study draws; fix `params.rim_diameter_mm` or give `params.{toe}`"
         )));
     }
     let rim = base.rim_diameter_mm;
@@ -77,26 +77,26 @@ pub(super) fn toe_as_angle(
         unreachable!("a number is a fixed value")
     };
     let half = |x: f64| x / 2.0;
-    let dist = match (input, distribution(spec, &key)?) {
+    let dist = match (input.form, distribution(spec, &key)?) {
         (_, Distribution::Levels(levels)) => {
             Distribution::Levels(levels.into_iter().map(as_angle).collect())
         }
-        (ToeInput::Mm, _) => {
+        (ToeForm::Mm, _) => {
             return Err(StudyError::DrawnRule(format!(
-                "`{key}`: only a number or `levels` convert from mm at the rim to degrees (a distribution in mm is not the same one in degrees); draw `params.toe_deg` instead ({})",
+                "`{key}`: only a number or `levels` convert from mm at the rim to degrees (a distribution in mm is not the same one in degrees); draw `params.{toe}` instead ({})",
                 input.words(1.0, rim)
             )))
         }
-        (ToeInput::TotalDeg, Distribution::Uniform { min, max, count }) => Distribution::Uniform {
+        (ToeForm::TotalDeg, Distribution::Uniform { min, max, count }) => Distribution::Uniform {
             min: half(min),
             max: half(max),
             count,
         },
-        (ToeInput::TotalDeg, Distribution::Normal { mean, sd }) => Distribution::Normal {
+        (ToeForm::TotalDeg, Distribution::Normal { mean, sd }) => Distribution::Normal {
             mean: half(mean),
             sd: half(sd),
         },
-        (ToeInput::TotalDeg, Distribution::TruncatedNormal { mean, sd, min, max }) => {
+        (ToeForm::TotalDeg, Distribution::TruncatedNormal { mean, sd, min, max }) => {
             Distribution::TruncatedNormal {
                 mean: half(mean),
                 sd: half(sd),
@@ -104,7 +104,7 @@ pub(super) fn toe_as_angle(
                 max: half(max),
             }
         }
-        (ToeInput::TotalDeg, Distribution::LogNormal { median, sigma }) => {
+        (ToeForm::TotalDeg, Distribution::LogNormal { median, sigma }) => {
             Distribution::LogNormal {
                 median: half(median),
                 sigma,

@@ -21,7 +21,7 @@ fn growth(speed_kmh: f64, toe_deg: f64, wheel: Wheel) -> (WheelGrowth, bool) {
     let w = solve_wheel(p, Variant::SlidingShare, wheel, &opts);
     let g = WheelGrowth::new(
         &WearProblem {
-            params: &p,
+            params: p,
             model: &w.model,
             verdict: &w.verdict,
             settings: &WearSettings::default(),
@@ -58,7 +58,7 @@ fn the_estimate_is_the_saturated_answer() {
             let at = || {
                 let settings = WearSettings::default();
                 let inputs = WearProblem {
-                    params: &p,
+                    params: p,
                     model: &w.model,
                     verdict: &w.verdict,
                     settings: &settings,
@@ -232,7 +232,7 @@ fn the_adaptive_nodes_give_the_fine_integral() {
             vibrating += usize::from(w.verdict.class.vibrates());
             let g = WheelGrowth::new(
                 &WearProblem {
-                    params: &p,
+                    params: p,
                     model: &w.model,
                     verdict: &w.verdict,
                     settings: &settings,

@@ -22,7 +22,7 @@ pub(in crate::wear::estimator::life) fn growth_at(
     let w = solve_wheel(*p, Variant::SlidingShare, wheel, &opts);
     let g = WheelGrowth::new(
         &WearProblem {
-            params: p,
+            params: *p,
             model: &w.model,
             verdict: &w.verdict,
             settings: &WearSettings::default(),
