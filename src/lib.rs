@@ -8,15 +8,16 @@
 //! |---|---|
 //! | `polywear-core` | [`params`], `sampling`, [`model`], `solver`, `continuation`, [`classify`], `wear`, [`evaluate`], `ensemble`, [`records`] |
 //! | `polywear-study` | [`study`], [`explore`], `parquet_out`, `cycle`, `calibrate`, `calibration_band`, `optimize`, `chart`, `bifurcation`, `validation` |
-//! | `polywear-analysis` | [`analysis`], [`render`], `plot`, `figures`, `reproduce` |
+//! | `polywear-analysis` | [`analysis`], [`render`], `plot`, `figures`, `reproduce`, [`run_report`], [`explore_run`] |
 //! | `polywear-cli` | the `polywear` program |
 //!
 //! **The public surface** is [`prelude`] and the modules re-exported here: one point ([`evaluate`]: `PointProblem` → `solve` → `PointSolution`),
 //! a study in memory or to Parquet ([`study`], [`explore`]), the long-term loop
-//! ([`long_term`]) and the analysis of a run's files ([`analysis`], [`render`]), with the plain
-//! data they pass ([`params`], [`model`], [`classify`], [`records`]). Every problem type is
-//! `#[non_exhaustive]` and built by a constructor that checks it; every error is a `thiserror`
-//! enum naming the field and its accepted range; none holds a reference to global state. That
+//! ([`long_term`]), an explore run with its closing report as the command line runs it
+//! ([`explore_run`]), and the analysis of a run's files ([`analysis`], [`render`],
+//! [`run_report`]), with the plain data they pass ([`params`], [`model`], [`classify`],
+//! [`records`]). Every problem type is `#[non_exhaustive]` and built by a constructor that
+//! checks it; every error is a `thiserror` enum naming the field and its accepted range; none holds a reference to global state. That
 //! is the surface Python bindings (PyO3) would wrap: plain-data problems in, plain-data
 //! solutions and Parquet files out (docs/book/src/reference/rust-api.md). The other stages
 //! (the names without links above) are not re-exported: they are the workspace's inner stages,
@@ -61,7 +62,7 @@
 #![warn(missing_docs)]
 
 // The public surface.
-pub use polywear_analysis::{analysis, render};
+pub use polywear_analysis::{analysis, explore_run, render, run_report};
 pub use polywear_core::{classify, evaluate, long_term, model, params, records};
 pub use polywear_study::{explore, study};
 

@@ -2,18 +2,15 @@
 //! sensitivity from an explore output.
 
 use std::path::PathBuf;
-use std::time::Instant;
 
 use clap::Args;
 use polywear_analysis::plot::FigureFormat;
 
 use super::common::{CliError, CliResult};
-use polywear_analysis::analysis::inputs::check_inputs;
 use polywear_analysis::analysis::{AnalysisError, AnalysisOptions};
-use polywear_analysis::render::summary::{
-    analysed_line, default_report_dir, no_verdict, summary_lines,
-};
+use polywear_analysis::render::summary::{analysed_line, default_report_dir, summary_lines};
 use polywear_analysis::render::RenderOptions;
+use polywear_analysis::run_report::{write_report, ReportError, RunReport};
 use polywear_core::params::ParamId;
 
 #[derive(Debug, Args, Clone)]
@@ -167,10 +164,9 @@ pub(crate) fn analysis_error(e: AnalysisError) -> CliError {
     }
 }
 
-/// The analysis API for the command line: checks the inputs (footers and manifests only, so
-/// inputs that do not belong together stop here, before any work), runs the analysis, writes
-/// the report, and prints the summary when `verbose`. `explore` calls it for its closing
-/// report. A report that cannot be written ends with `elsewhere`, how to write it elsewhere.
+/// The analysis for the command line ([`write_report`]: the inputs checked before any work,
+/// the analysis, the report), then its words ([`report_words`]). A report that cannot be
+/// written ends with `elsewhere`, how to write it elsewhere.
 pub(crate) fn report(
     inputs: &[PathBuf],
     opts: &AnalysisOptions,
@@ -178,23 +174,31 @@ pub(crate) fn report(
     verbose: bool,
     elsewhere: &str,
 ) -> CliResult {
-    let start = Instant::now();
-    let info = check_inputs(inputs).map_err(analysis_error)?;
-    if info.rows == 0 {
-        return Err(CliError("the inputs hold no rows".into()));
+    let written = write_report(inputs, opts, render, &mut |_| release_freed_memory())
+        .map_err(|e| report_error(e, elsewhere))?;
+    report_words(&written, verbose)
+}
+
+/// A report that was not written, in the words of the command line; `elsewhere` says how to
+/// write it elsewhere when its folder is the trouble.
+pub(crate) fn report_error(e: ReportError, elsewhere: &str) -> CliError {
+    match e {
+        ReportError::Analysis(e) => analysis_error(e),
+        e @ ReportError::Write(_) => CliError(format!("{e}; {elsewhere}")),
+        e => CliError(e.to_string()),
     }
-    let a =
-        polywear_analysis::analysis::run_with_progress(info, opts, &mut |_| release_freed_memory())
-            .map_err(analysis_error)?;
-    let written = polywear_analysis::render::write(&a, render)
-        .map_err(|e| CliError(format!("cannot write the report: {e}; {elsewhere}")))?;
-    if let Some(why) = no_verdict(&a, &written.report) {
+}
+
+/// A written report's end: a failure where no row has a verdict, else the summary, printed
+/// when `verbose` (`analyze` and `explore` print it, `explore`'s even with --quiet).
+pub(crate) fn report_words(written: &RunReport, verbose: bool) -> CliResult {
+    if let Some(why) = written.no_verdict() {
         return Err(CliError(why));
     }
     if verbose {
-        let secs = start.elapsed().as_secs_f64();
-        let last = analysed_line(&a, secs, &written.report);
-        for line in summary_lines(&a).into_iter().chain([last]) {
+        let a = &written.analysis;
+        let last = analysed_line(a, written.secs, &written.rendered.report);
+        for line in summary_lines(a).into_iter().chain([last]) {
             println!("{line}");
         }
     }
@@ -204,7 +208,7 @@ pub(crate) fn report(
 /// Hands the memory a finished query freed back to the system. glibc's malloc keeps freed
 /// blocks in its per-thread arenas, so without this the resident size creeps up with every
 /// query although the live data stays the same (a few MB at the peak of a 400,000-row report).
-fn release_freed_memory() {
+pub(crate) fn release_freed_memory() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: malloc_trim only returns free heap pages to the kernel; no pointer is touched.
     unsafe {

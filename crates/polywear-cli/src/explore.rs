@@ -3,7 +3,6 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::OnceLock;
-use std::time::Instant;
 
 use clap::Args;
 use polywear_analysis::plot::FigureFormat;
@@ -13,18 +12,15 @@ mod errors;
 mod resume;
 mod shown;
 
+use super::analyze::report_words;
 use super::batch::{signal_name, Interrupt, Progress};
-use super::common::{BudgetArgs, CliError, CliResult};
+use super::common::{BudgetArgs, CliResult};
 use crate::wear_reading::WearReadingArgs;
-use errors::{explore_error, session_error};
-use polywear_analysis::render::run_words::{
-    analyze_command, empty_shard_line, explore_done, explore_lines,
-};
+use errors::{explore_error, run_error};
+use polywear_analysis::explore_run::{ClosingReport, ExploreOutcome, ExploreRun};
+use polywear_analysis::render::run_words::{analyze_command, empty_shard_line, explore_lines};
 use polywear_study::calibration_band::evaluate::DEFAULT_BAND_SAMPLES;
-use polywear_study::explore::{
-    chunk_size_warning, empty_shard_report, ExploreEnd, ExploreRequest, ExploreSession, RunPlan,
-    RunSummary, Shard,
-};
+use polywear_study::explore::{chunk_size_warning, ExploreRequest, ExploreSession, RunPlan, Shard};
 use polywear_study::study::SEED_MAX;
 use resume::resume_command;
 use shown::{every, Shown};
@@ -144,6 +140,7 @@ pub(crate) fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
     let stop = Interrupt::install()?;
     let shown = Shown {
         args,
+        plan: &plan,
         rows: Progress::new(args.quiet, todo, "samples", every(args)),
         band: OnceLock::new(),
         stop: &stop,
@@ -154,15 +151,17 @@ pub(crate) fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
         band: band.as_ref(),
         band_samples: args.band_samples.unwrap_or(DEFAULT_BAND_SAMPLES),
     };
-    let start = Instant::now();
-    let end = pool
-        .install(|| session.run(&shown))
-        .map_err(|e| session_error(args, &plan, e))?;
-    let secs = start.elapsed().as_secs_f64();
+    let report = (!args.no_report).then_some(args.format);
+    let outcome = ExploreRun::new(session, report)
+        .on_pool(&pool)
+        .solve(&shown)
+        .map_err(|e| run_error(args, &plan, e))?;
     let signal = stop.signal().unwrap_or(0);
-    let summary = match end {
-        ExploreEnd::Finished(summary) => summary,
-        ExploreEnd::StoppedInRows(summary) => {
+    match outcome {
+        ExploreOutcome::Finished(run) => {
+            closing_words(args, &plan, &run.report).map(|()| ExitCode::SUCCESS)
+        }
+        ExploreOutcome::StoppedInRows(summary) => {
             drop(prepared);
             let saved = summary.samples_skipped + summary.samples_evaluated;
             eprintln!(
@@ -172,9 +171,9 @@ pub(crate) fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
                 plan.out_dir.display()
             );
             eprintln!("resume with: {}", resume_command(args, &plan));
-            return Ok(ExitCode::from((128 + signal) as u8));
+            Ok(ExitCode::from((128 + signal) as u8))
         }
-        ExploreEnd::StoppedInBand(_) => {
+        ExploreOutcome::StoppedInBand(_) => {
             drop(prepared);
             eprintln!(
                 "\nstopped by {} during the calibration band: every sample's rows are saved in {}; the band is not finished, and analyze refuses the run until it is",
@@ -182,12 +181,9 @@ pub(crate) fn run(args: &ExploreArgs) -> CliResult<ExitCode> {
                 plan.out_dir.display()
             );
             eprintln!("finish it with: {}", resume_command(args, &plan));
-            return Ok(ExitCode::from((128 + signal) as u8));
+            Ok(ExitCode::from((128 + signal) as u8))
         }
-    };
-    // From here on a signal ends the program at once: the rows and the band are saved.
-    stop.disarm();
-    finish(args, &plan, &summary, secs).map(|()| ExitCode::SUCCESS)
+    }
 }
 
 /// The run the flags ask for ([`ExploreRequest::plan`]), its notes on stderr.
@@ -215,45 +211,23 @@ fn resolve(args: &ExploreArgs) -> CliResult<RunPlan> {
     Ok(plan)
 }
 
-/// The summary of a finished run and the analysis of its output directory.
-fn finish(args: &ExploreArgs, plan: &RunPlan, summary: &RunSummary, secs: f64) -> CliResult {
-    if !args.quiet {
-        println!("{}", explore_done(plan, summary, secs));
-    }
-    // A shard that owns no chunk (fewer chunks than shards) did all it had to: say so, exit 0.
-    if plan.owned_chunks().next().is_none() {
-        if !args.no_report {
-            let path = empty_shard_report(plan).map_err(|e| CliError(e.to_string()))?;
-            if !args.quiet {
-                println!("{}", empty_shard_line(plan, &path));
-            }
+/// The closing report of a finished run in words (the run's own summary is printed when its
+/// rows are saved, by [`Shown`]): an empty shard's page, the command that analyses the run
+/// when no report was asked for, or the analysis's summary (printed even with --quiet: it is
+/// the answer).
+fn closing_words(args: &ExploreArgs, plan: &RunPlan, report: &ClosingReport) -> CliResult {
+    match report {
+        ClosingReport::EmptyShard(Some(page)) if !args.quiet => {
+            println!("{}", empty_shard_line(plan, page));
         }
-        return Ok(());
-    }
-    // The analysis of the whole output directory (this shard's files, those of an earlier
-    // session included), unless asked not to: its summary is the run's one summary.
-    if args.no_report {
-        if !args.quiet {
+        ClosingReport::NotAsked if !args.quiet => {
             let command = analyze_command(plan, false);
             println!("no report (--no-report); the whole run's summary: {command}");
         }
-        return Ok(());
+        ClosingReport::Written(written) => return report_words(written, true),
+        ClosingReport::EmptyShard(_) | ClosingReport::NotAsked => {}
     }
-    let render = polywear_analysis::render::RenderOptions {
-        out_dir: plan.out_dir.join("_report"),
-        figure_format: args.format,
-    };
-    let elsewhere = format!(
-        "the rows are saved: write the report elsewhere with `{}`",
-        analyze_command(plan, true)
-    );
-    super::analyze::report(
-        std::slice::from_ref(&plan.out_dir),
-        &polywear_analysis::analysis::AnalysisOptions::default(),
-        &render,
-        true,
-        &elsewhere,
-    )
+    Ok(())
 }
 
 /// Parses `--shard k/N` (k counted from 0, as Slurm array and Kubernetes indexed-job indices).

@@ -1,9 +1,13 @@
 //! explore's errors in the words of the command line: the output directory as `--out`, a
-//! resume's refusals as `--resume`'s, and a failed write with what is saved and how to go on.
+//! resume's refusals as `--resume`'s, a failed write with what is saved and how to go on, and a
+//! closing report that cannot be written with how to write it elsewhere.
 
 use super::resume::resume_command;
 use super::ExploreArgs;
+use crate::analyze::report_error;
 use crate::common::CliError;
+use polywear_analysis::explore_run::ExploreRunError;
+use polywear_analysis::render::run_words::analyze_command;
 use polywear_study::explore::recorded_run::{shell_word, DirState, RecordedRun};
 use polywear_study::explore::{ExploreError, ExploreSessionError, RunPlan};
 
@@ -92,13 +96,9 @@ pub(super) fn write_failure(args: &ExploreArgs, plan: &RunPlan, e: &ExploreError
     ))
 }
 
-/// A run's failure in the command line's words: a chunk that cannot be written, or the band's
-/// file, with what is saved and the command that goes on.
-pub(super) fn session_error(
-    args: &ExploreArgs,
-    plan: &RunPlan,
-    e: ExploreSessionError,
-) -> CliError {
+/// The session's failure in the command line's words: a chunk that cannot be written, or the
+/// band's file, with what is saved and the command that goes on.
+fn session_error(args: &ExploreArgs, plan: &RunPlan, e: ExploreSessionError) -> CliError {
     match e {
         ExploreSessionError::Rows(e @ ExploreError::Write(_)) => write_failure(args, plan, &e),
         ExploreSessionError::Rows(e) => explore_error(e),
@@ -116,5 +116,22 @@ every sample's rows are saved in {}; the band is not finished: free space or fix
             ))
         }
         e => CliError(e.to_string()),
+    }
+}
+
+/// A run's failure in the command line's words: the rows or the band as [`session_error`]
+/// words them, an empty shard's page, or the closing report, with the command that writes it
+/// elsewhere (the rows are saved).
+pub(super) fn run_error(args: &ExploreArgs, plan: &RunPlan, e: ExploreRunError) -> CliError {
+    match e {
+        ExploreRunError::Session(e) => session_error(args, plan, e),
+        ExploreRunError::EmptyShard(e) => CliError(e.to_string()),
+        ExploreRunError::Report(e) => {
+            let elsewhere = format!(
+                "the rows are saved: write the report elsewhere with `{}`",
+                analyze_command(plan, true)
+            );
+            report_error(e, &elsewhere)
+        }
     }
 }

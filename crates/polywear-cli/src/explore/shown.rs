@@ -1,12 +1,17 @@
 //! What the command line shows of a running explore: a progress bar (or log lines) for the
-//! samples, then one for the band's samples, and whether a signal asks it to stop.
+//! samples, then one for the band's samples, and whether a signal asks it to stop; once the
+//! rows and the band are saved, the run's summary, before the closing report's.
 
 use std::sync::OnceLock;
 use std::time::Duration;
 
+use super::super::analyze::release_freed_memory;
 use super::super::batch::{Interrupt, Progress};
 use super::ExploreArgs;
-use polywear_study::explore::ExploreObserver;
+use polywear_analysis::analysis::Step;
+use polywear_analysis::explore_run::ExploreRunObserver;
+use polywear_analysis::render::run_words::explore_done;
+use polywear_study::explore::{ExploreObserver, RunPlan, RunSummary};
 
 /// How often a progress line is logged when stderr is not a terminal.
 pub(super) fn every(args: &ExploreArgs) -> Duration {
@@ -16,6 +21,7 @@ pub(super) fn every(args: &ExploreArgs) -> Duration {
 /// What the command line shows of a running explore: the samples' progress, then the band's.
 pub(super) struct Shown<'a> {
     pub(super) args: &'a ExploreArgs,
+    pub(super) plan: &'a RunPlan,
     pub(super) rows: Progress,
     pub(super) band: OnceLock<Progress>,
     pub(super) stop: &'a Interrupt,
@@ -54,5 +60,19 @@ impl ExploreObserver for Shown<'_> {
 
     fn should_stop(&self) -> bool {
         self.stop.signal().is_some()
+    }
+}
+
+impl ExploreRunObserver for Shown<'_> {
+    fn saved(&self, summary: &RunSummary, secs: f64) {
+        // From here on a signal ends the program at once: the rows and the band are saved.
+        self.stop.disarm();
+        if !self.args.quiet {
+            println!("{}", explore_done(self.plan, summary, secs));
+        }
+    }
+
+    fn report_step(&self, _step: Step) {
+        release_freed_memory();
     }
 }

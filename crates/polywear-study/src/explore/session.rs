@@ -1,8 +1,9 @@
-//! An explore run as one call (MODEL.md#the-calibration-band): the rows of every owned chunk,
+//! An explore run's computing (MODEL.md#the-calibration-band): the rows of every owned chunk,
 //! then the calibration band's pass over its subsample, with a stop between chunks or batches.
-//! [`ExploreSession::run`] is what the command line and a Python layer both call; they only
-//! say what it reports ([`ExploreObserver`]: progress and the band's start) and word how it
-//! ended ([`ExploreEnd`], [`ExploreSessionError`]).
+//! [`ExploreSession::run`] is the compute half of the one call the command line and a Python
+//! layer both make, `polywear_analysis::explore_run`, which adds the closing report (the
+//! analysis comes after this crate in the data flow); they only say what it reports
+//! ([`ExploreObserver`]: progress and the band's start) and word how it ended.
 
 use std::path::Path;
 
