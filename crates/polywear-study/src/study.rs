@@ -123,10 +123,10 @@ pub(crate) fn read_param_file_keys(
             schema::ParamKey::Param(id) => (id, x, format!("params.{id}")),
             // As an alignment sheet gives it, at the file's rim (set before: keys sort so).
             schema::ParamKey::Toe(input) => {
-                let toe = ParamId::ToeDeg;
+                let toe = input.target();
                 if named.iter().any(|(id, _)| *id == toe) {
                     return Err(StudyError::DrawnRule(format!(
-                        "`params.{input}` and `params.toe_deg` both give the toe-in; give one"
+                        "`params.{input}` and `params.{toe}` both give the toe-in; give one"
                     )));
                 }
                 let rim = p.rim_diameter_mm;
@@ -140,6 +140,9 @@ pub(crate) fn read_param_file_keys(
         })?;
         named.push((id, key));
     }
+    let given: Vec<ParamId> = named.iter().map(|(id, _)| *id).collect();
+    polywear_core::params::axle::check_one_place(&given, "the parameter file")
+        .map_err(StudyError::Inconsistent)?;
     p.validate().map_err(StudyError::Inconsistent)?;
     Ok((p, named))
 }
