@@ -576,7 +576,7 @@ fn wear_writes_summary_history_profile_and_figure() {
     assert!(stdout.contains("follower: estimate  order "), "{stdout}");
     let csv = std::fs::read_to_string(out.join("wear_summary.csv")).unwrap();
     let header = csv.lines().next().unwrap();
-    assert!(header.starts_with("wheel,class,polygon_order,polygon_order_wear,detuning_rev,locked,lock_halfwidth_hz,wear_even_mm_per_1000km,growth_mm_per_1000km,growth_rate_per_1000km,saturation_depth_mm,distance_to_visible_km,run_end,worn_out_km,tread_height_end_mm,tread_freq_start_hz,tread_freq_end_hz,wear_share_straight,estimate_polygon_order_wear,"), "{header}");
+    assert!(header.starts_with("wheel,axle,class,polygon_order,polygon_order_wear,detuning_rev,locked,lock_halfwidth_hz,wear_even_mm_per_1000km,growth_mm_per_1000km,growth_rate_per_1000km,saturation_depth_mm,distance_to_visible_km,run_end,worn_out_km,tread_height_end_mm,tread_freq_start_hz,tread_freq_end_hz,wear_share_straight,estimate_polygon_order_wear,"), "{header}");
     // The old names stay for one version, at the end, as copies.
     assert!(
         header.ends_with(",wear_calibration_share,dominant_order,estimate_dominant_order"),

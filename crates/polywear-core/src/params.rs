@@ -347,9 +347,17 @@ define_params! {
 /// drivetrain is: a resumed run compares its parameters with the recorded ones.
 impl PartialEq for Params {
     fn eq(&self, other: &Params) -> bool {
-        let same = |a: f64, b: f64| a == b || (a.is_nan() && b.is_nan());
         self.drivetrain == other.drivetrain
-            && ParamId::ALL.iter().all(|&id| same(self[id], other[id]))
+            && ParamId::ALL.iter().all(|&id| !self.differs(other, id))
+    }
+}
+
+impl Params {
+    /// Whether parameter `id` differs between the two sets (an absent axle value, NaN, equals
+    /// an absent one).
+    pub fn differs(&self, other: &Params, id: ParamId) -> bool {
+        let (a, b) = (self[id], other[id]);
+        a != b && !(a.is_nan() && b.is_nan())
     }
 }
 

@@ -268,7 +268,7 @@ pub fn held_fixed(base: &Params, swept: ParamId) -> String {
         .filter(|&&id| id != swept)
         .filter(|&&id| {
             id.spec().group == polywear_core::params::Group::OperatingPoint
-                || base[id] != defaults[id]
+                || base.differs(&defaults, id)
         })
         .map(|&id| {
             let (s, v) = (id.spec(), base[id]);

@@ -25,6 +25,13 @@ impl LongTermSolution {
                     .collect(),
             ),
             Column::str(
+                "axle",
+                wheels
+                    .iter()
+                    .map(|w| w.solution.record.axle.as_str().to_string())
+                    .collect(),
+            ),
+            Column::str(
                 "class",
                 wheels
                     .iter()

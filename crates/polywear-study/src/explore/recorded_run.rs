@@ -244,11 +244,17 @@ pub(crate) fn changed_lines(old: &str, new: &str) -> Vec<String> {
 /// (the values as the manifest writes them).
 pub(crate) fn param_changes(old: &Params, new: &Params) -> String {
     let json = |x: f64| serde_json::to_string(&x).expect("json");
-    let changed: Vec<String> = polywear_core::params::ParamId::ALL
+    let mut changed: Vec<String> = polywear_core::params::ParamId::ALL
         .iter()
-        .filter(|&&id| old[id] != new[id])
+        .filter(|&&id| old.differs(new, id))
         .map(|&id| format!("{id} {}, now {}", json(old[id]), json(new[id])))
         .collect();
+    if old.drivetrain != new.drivetrain {
+        changed.push(format!(
+            "drivetrain {}, now {}",
+            old.drivetrain, new.drivetrain
+        ));
+    }
     if changed.is_empty() {
         "parameters differ".into()
     } else {

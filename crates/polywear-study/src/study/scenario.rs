@@ -575,7 +575,10 @@ mod tests {
         };
         let q = s.apply(&p);
         assert_eq!(q.toe_rear_deg, 0.25 + 0.1);
-        assert!(q.toe_front_deg.is_nan(), "the front keeps the shared toe-in");
+        assert!(
+            q.toe_front_deg.is_nan(),
+            "the front keeps the shared toe-in"
+        );
         assert_eq!(q.toe_deg, 0.25);
     }
 
