@@ -770,7 +770,10 @@ fn wear_s_verdict_under_each_set_is_the_loop_run_with_it() {
         stdout.contains("the loop run again under 2 of the 2 calibrated sets"),
         "{stdout}"
     );
-    assert!(stdout.contains("follower: calibration band"), "{stdout}");
+    assert!(
+        stdout.contains("rear (follower): calibration band"),
+        "{stdout}"
+    );
     let band = rows(&banded.join("wear_calibration_band.parquet"));
     assert_eq!(band.len(), 4);
     let mut differ = 0;

@@ -301,7 +301,7 @@ fn same_rows_whatever_threads_and_shares_over_structures() {
         assert_eq!(code, 0, "{err}");
         // Quiet hides the chatter, not the answer.
         assert!(
-            stdout.contains("follower: in vibration") && !stdout.contains("wrote"),
+            stdout.contains("rear (follower): in vibration") && !stdout.contains("wrote"),
             "{stdout}"
         );
     }

@@ -274,20 +274,23 @@ fn simulate_opens_with_a_verdict_in_words_per_wheel() {
     let lines: Vec<&str> = stdout.lines().collect();
     // The default point: both wheels on a limit cycle near 270 Hz, about 19 sides.
     assert!(
-        lines[0].starts_with("follower: vibrates (")
+        lines[0].starts_with("rear (follower): vibrates (")
             && lines[0].contains(" mm/s, ")
             && lines[0].contains(" µm, ")
             && lines[0].contains(" Hz, ")
             && lines[0].ends_with("-gon)"),
         "{stdout}"
     );
-    assert!(lines[1].starts_with("driving: vibrates ("), "{stdout}");
+    assert!(
+        lines[1].starts_with("front (driving): vibrates ("),
+        "{stdout}"
+    );
     assert!(stdout.contains("amplitude v [mm/s]"), "{stdout}");
     assert!(!stdout.contains("e-"), "no exponents: {stdout}");
     let (_, stdout, _) = polywear(&["simulate", "--speed", "150", "--toe", "0.5"]);
     let first = stdout.lines().next().unwrap();
     let rate: f64 = first
-        .strip_prefix("follower: stable (decays at ")
+        .strip_prefix("rear (follower): stable (decays at ")
         .and_then(|r| r.strip_suffix(" 1/s)"))
         .unwrap_or_else(|| panic!("{stdout}"))
         .parse()

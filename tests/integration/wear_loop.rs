@@ -456,12 +456,12 @@ fn wear_says_the_tyre_wore_out_before_a_polygon() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(
-        stdout.contains("follower: tire worn out before a polygon, after 8")
+        stdout.contains("rear (follower): tire worn out before a polygon, after 8")
             && stdout.contains("0.1 mm of usable tread gone"),
         "{stdout}"
     );
     assert!(
-        stdout.contains("follower: tread     height 15 -> 14.9"),
+        stdout.contains("rear (follower): tread     height 15 -> 14.9"),
         "{stdout}"
     );
     let csv = std::fs::read_to_string(out.join("wear_summary.csv")).unwrap();
@@ -570,10 +570,13 @@ fn wear_writes_summary_history_profile_and_figure() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(
-        stdout.contains("follower: no polygon in 150 km"),
+        stdout.contains("rear (follower): no polygon in 150 km"),
         "{stdout}"
     );
-    assert!(stdout.contains("follower: estimate  order "), "{stdout}");
+    assert!(
+        stdout.contains("rear (follower): estimate  order "),
+        "{stdout}"
+    );
     let csv = std::fs::read_to_string(out.join("wear_summary.csv")).unwrap();
     let header = csv.lines().next().unwrap();
     assert!(header.starts_with("wheel,axle,class,polygon_order,polygon_order_wear,detuning_rev,locked,lock_halfwidth_hz,wear_even_mm_per_1000km,growth_mm_per_1000km,growth_rate_per_1000km,saturation_depth_mm,distance_to_visible_km,run_end,worn_out_km,tread_height_end_mm,tread_freq_start_hz,tread_freq_end_hz,wear_share_straight,estimate_polygon_order_wear,"), "{header}");
@@ -652,7 +655,7 @@ fn wear_drives_a_shipped_cycle() {
         "{err}"
     );
     assert!(
-        stdout.contains("follower: ") && stdout.contains("driving: "),
+        stdout.contains("rear (follower): ") && stdout.contains("front (driving): "),
         "{stdout}"
     );
     let csv = std::fs::read_to_string(out.join("wear_summary.csv")).unwrap();
@@ -1070,7 +1073,7 @@ fn wear_checks_its_folder_first_runs_without_one_and_leaves_no_stale_figure() {
         crate::common::polywear(&["wear", "--quiet", "--speed", "60", "--distance-km", "200"]);
     assert_eq!(code, 0, "{stderr}");
     assert!(
-        stdout.contains("follower:") && stdout.contains("driving:"),
+        stdout.contains("rear (follower):") && stdout.contains("front (driving):"),
         "{stdout}"
     );
     let stale = dir.join("stale");

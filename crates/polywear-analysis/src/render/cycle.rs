@@ -62,8 +62,15 @@ pub fn summary_lines(
             .map(|(n, share)| format!("mostly {n}-gon ({:.0}% of it)", 100.0 * share))
             .unwrap_or_else(|| "no vibration".into());
         lines.push(format!(
-            "  {:>8}: in vibration {} of the time, {} of the distance; longest stretch {}{:.0} s / {:.2} km; {top}; quasi-static in doubt {:.1}% of the time",
-            polywear_core::model::Wheel::BOTH[w].as_str(),
+            "  {:>15}: in vibration {} of the time, {} of the distance; longest stretch {}{:.0} s / {:.2} km; {top}; quasi-static in doubt {:.1}% of the time",
+            // The wheel by its axle and role, "rear (follower)", as its rows say.
+            run.steps
+                .first()
+                .and_then(|s| s.first())
+                .map_or_else(
+                    || polywear_core::model::Wheel::BOTH[w].to_string(),
+                    |step| format!("{} ({})", step[w].record.axle, step[w].record.wheel)
+                ),
             pick(&|s| s.time_share),
             pick(&|s| s.distance_share),
             if all.len() > 1 { "(mean) " } else { "" },

@@ -4,18 +4,23 @@
 
 use polywear_core::long_term::wheel_loop::RunEnd;
 use polywear_core::long_term::{LongTermProblem, LongTermSolution, WheelLongTerm};
-use polywear_core::model::{Wheel, WheelModel};
+use polywear_core::model::WheelModel;
 use polywear_core::params::Params;
 use polywear_core::wear::LifeAnswer;
 use polywear_core::wording::plain;
 use polywear_study::calibration_band::long_term::{LoopSets, SetRun};
 use polywear_study::long_term_request::LongTermPlan;
 
+/// The wheel by its axle and role: "rear (follower)" (MODEL.md#the-car-axles-and-drivetrain).
+fn who(w: &WheelLongTerm) -> String {
+    format!("{} ({})", w.solution.record.axle, w.wheel)
+}
+
 /// The verdict of one wheel in words.
 fn verdict_words(o: &WheelLongTerm, p: &Params, distance_km: f64) -> String {
     let run = match &o.run {
         Ok(r) => r,
-        Err(e) => return format!("{}: no wear figures ({e})", o.wheel),
+        Err(e) => return format!("{}: no wear figures ({e})", who(o)),
     };
     let lock = match (run.locked_speed_kmh(), &o.tongue) {
         (Some(v), Ok(Some(t))) => format!(
@@ -35,7 +40,7 @@ fn verdict_words(o: &WheelLongTerm, p: &Params, distance_km: f64) -> String {
     match run.ended() {
         RunEnd::Visible { order, km } => format!(
             "{}: a{} {order}-sided polygon becomes visible after {} km ({lock})",
-            o.wheel,
+            who(o),
             if order == 8 || order == 11 || order == 18 {
                 "n"
             } else {
@@ -45,7 +50,7 @@ fn verdict_words(o: &WheelLongTerm, p: &Params, distance_km: f64) -> String {
         ),
         RunEnd::WornOut { km } => format!(
             "{}: tire worn out before a polygon, after {} km ({} mm of usable tread gone; the deepest order, {n}, {} µm peak-to-valley) ({lock})",
-            o.wheel,
+            who(o),
             thousands(km),
             plain(p.usable_wear_m() * 1e3, 4),
             plain(run.end().depths_m[n as usize - 1] * 1e6, 2)
@@ -56,14 +61,14 @@ fn verdict_words(o: &WheelLongTerm, p: &Params, distance_km: f64) -> String {
             if s.is_infinite() {
                 format!(
                     "{}: no polygon in {} km, every order levels out ({lock})",
-                    o.wheel,
+                    who(o),
                     thousands(distance_km)
                 )
             } else if s > life {
                 // No extrapolation past the tire's life: it wears out first.
                 format!(
                     "{}: no polygon in {} km; order {n} still grows, but at its growth it would be visible only after about {} km, and the tire is worn out at about {} km at its wear so far ({lock})",
-                    o.wheel,
+                    who(o),
                     thousands(distance_km),
                     thousands(s),
                     thousands(life)
@@ -71,7 +76,7 @@ fn verdict_words(o: &WheelLongTerm, p: &Params, distance_km: f64) -> String {
             } else {
                 format!(
                     "{}: no polygon in {} km; order {n} still grows and would be visible after about {} km ({lock})",
-                    o.wheel,
+                    who(o),
                     thousands(distance_km),
                     thousands(s)
                 )
@@ -134,7 +139,7 @@ pub fn lines(
         });
         out.push(format!(
             "  {}: loop      dominant order {}, growth {} per 1000 km from the seed, {} at the end, distance {} km",
-            w.wheel,
+            who(w),
             plain(f.dominant_order, 4),
             plain(f.growth_rate_per_1000km, 3),
             plain(at_end, 3),
@@ -144,7 +149,7 @@ pub fn lines(
             let f_rot = WheelModel::rotation_hz(p);
             out.push(format!(
                 "  {}: tread     height {} -> {} mm, frequency {} -> {} Hz, nu {} -> {}{}",
-                w.wheel,
+                who(w),
                 plain(p.tread_height * 1e3, 4),
                 plain(f.tread_height_end_mm, 3),
                 plain(f.tread_freq_start_hz, 4),
@@ -167,13 +172,13 @@ pub fn lines(
             };
             if problem.is_cruise() {
                 let note = " (the one wear answer, the spread on the estimator's 40 legs)";
-                out.push(life_line(w.wheel, "estimate ", w.estimate.as_ref(), note));
+                out.push(life_line(&who(w), "estimate ", w.estimate.as_ref(), note));
                 let check = format!(" ({speeds}: a check of the estimator's legs)");
-                out.push(life_line(w.wheel, "on legs  ", w.on_legs.as_ref(), &check));
+                out.push(life_line(&who(w), "on legs  ", w.on_legs.as_ref(), &check));
             } else {
                 // A drive cycle's answer is its speeds', not the point's.
                 let note = format!(" (the one wear answer on the cycle's speeds: {speeds})");
-                out.push(life_line(w.wheel, "estimate ", w.estimate.as_ref(), &note));
+                out.push(life_line(&who(w), "estimate ", w.estimate.as_ref(), &note));
             }
         }
     }
@@ -181,7 +186,7 @@ pub fn lines(
 }
 
 /// One estimate's line over the tread's life: `label`, the answer, then `note`.
-fn life_line(wheel: Wheel, label: &str, reading: Option<&LifeAnswer>, note: &str) -> String {
+fn life_line(wheel: &str, label: &str, reading: Option<&LifeAnswer>, note: &str) -> String {
     match reading {
         Some(l) if l.distance_to_visible_km.is_finite() => format!(
             "  {wheel}: {label} order {}, distance {} km over the tread's life (the tire worn out at {} km){note}",
@@ -286,7 +291,9 @@ pub fn band_lines(
         "calibration band: the loop run again under {} of the {of_sets} calibrated sets ({chosen})",
         runs.len()
     )];
-    for (i, wheel) in polywear_core::model::Wheel::BOTH.iter().enumerate() {
+    for (i, w) in polywear_core::model::Wheel::BOTH.iter().enumerate() {
+        // The wheel by its axle under the problem's drivetrain: "rear (follower)".
+        let wheel = problem.params.drivetrain.words(*w);
         let verdicts: Vec<(&str, BandVerdict)> = runs
             .iter()
             .map(|(name, s)| (*name, band_verdict(&s.wheels[i], &s.params, distance)))

@@ -5,8 +5,8 @@ use polywear_core::records::WheelRecord;
 use polywear_core::wording::plain;
 
 /// The verdict of one wheel in words, the first thing `simulate` prints:
-/// "follower: vibrates (65.4 mm/s, 38.5 µm, 270 Hz, 19.4-gon)", "driving: stable (decays at
-/// 7.07 1/s)".
+/// "rear (follower): vibrates (65.4 mm/s, 38.5 µm, 270 Hz, 19.4-gon)", "front (driving): stable
+/// (decays at 7.07 1/s)": the wheel by its axle and role (MODEL.md#the-car-axles-and-drivetrain).
 pub(crate) fn verdict_line(r: &WheelRecord) -> String {
     let cycle = || {
         format!(
@@ -28,7 +28,7 @@ pub(crate) fn verdict_line(r: &WheelRecord) -> String {
         Class::Failed => format!("no verdict ({})", r.reason),
         Class::Standstill => format!("standing still ({})", r.reason),
     };
-    format!("{}: {verdict}", r.wheel)
+    format!("{} ({}): {verdict}", r.axle, r.wheel)
 }
 
 /// The verdicts and the table of every figure per wheel, as `simulate` prints them.
