@@ -45,8 +45,9 @@ pub(crate) struct OptimizeArgs {
     /// weighted sum such as `0.7*wear+0.3*vibration`
     #[arg(long, default_value = "wear", allow_hyphen_values = true, value_parser = parse_objective)]
     pub(crate) objective: Terms,
-    /// Which wheel: `follower`, `driving`, `both` (the mean of the two) or `worst` (a sample
-    /// counts when either wheel has it)
+    /// Which wheel: `follower`, `driving`, `front` or `rear` (the wheel on that axle under the
+    /// study's drivetrain), `both` (the mean of the two) or `worst` (a sample counts when either
+    /// wheel has it)
     #[arg(long, default_value = "worst", value_parser = parse_wheel)]
     pub(crate) wheel: WheelChoice,
     /// The distance within which a visible polygon counts [km], accepted (0, 1e6]

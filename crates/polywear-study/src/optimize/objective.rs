@@ -10,6 +10,7 @@ use std::str::FromStr;
 
 use crate::stats::{newcombe_paired, wilson, Z95};
 use polywear_core::model::Wheel;
+use polywear_core::params::axle::{Axle, Drivetrain};
 use polywear_core::wording::did_you_mean;
 
 /// One risk of a wheel.
@@ -107,15 +108,36 @@ pub enum WheelChoice {
     Both,
     /// The worse wheel of each sample (either wheel).
     Worst,
+    /// The wheel on the front axle under the study's drivetrain
+    /// (MODEL.md#the-car-axles-and-drivetrain): the problem reads it as that wheel
+    /// ([`WheelChoice::on`]).
+    Front,
+    /// The wheel on the rear axle under the study's drivetrain.
+    Rear,
 }
 
 /// The wheel choices' names, as `--wheel` takes them.
-pub(crate) const WHEEL_CHOICES: [&str; 4] = ["follower", "driving", "both", "worst"];
+pub(crate) const WHEEL_CHOICES: [&str; 6] =
+    ["follower", "driving", "both", "worst", "front", "rear"];
 
 impl WheelChoice {
     /// The choice's name.
     pub fn name(self) -> &'static str {
         WHEEL_CHOICES[self as usize]
+    }
+
+    /// The choice under `drivetrain`: the front or rear wheel as the follower or the driving
+    /// one it is; the other choices as they are.
+    pub fn on(self, drivetrain: Drivetrain) -> WheelChoice {
+        let of = |axle| match drivetrain.wheel_on(axle) {
+            Wheel::Follower => WheelChoice::Follower,
+            Wheel::Driving => WheelChoice::Driving,
+        };
+        match self {
+            WheelChoice::Front => of(Axle::Front),
+            WheelChoice::Rear => of(Axle::Rear),
+            other => other,
+        }
     }
 }
 
@@ -127,6 +149,8 @@ impl FromStr for WheelChoice {
             "driving" => Ok(WheelChoice::Driving),
             "both" => Ok(WheelChoice::Both),
             "worst" => Ok(WheelChoice::Worst),
+            "front" => Ok(WheelChoice::Front),
+            "rear" => Ok(WheelChoice::Rear),
             other => Err(ObjectiveError::UnknownWheel {
                 name: other.to_string(),
             }),
@@ -176,6 +200,10 @@ impl Outcomes {
             WheelChoice::Driving => known(d),
             WheelChoice::Both => Some(0.5 * (known(f)? + known(d)?)),
             WheelChoice::Worst => Some(known(f)?.max(known(d)?)),
+            // A problem holds the follower or driving wheel these stand for (`Problem::new`).
+            WheelChoice::Front | WheelChoice::Rear => {
+                unreachable!("an axle's wheel is read as its role when the problem is built")
+            }
         }
     }
 }
@@ -359,6 +387,15 @@ fn normal_interval(x: &[f64], mean: f64) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_front_or_rear_wheel_is_the_drivetrains_follower_or_driving_one() {
+        assert_eq!("rear".parse::<WheelChoice>().unwrap(), WheelChoice::Rear);
+        assert_eq!(WheelChoice::Rear.on(Drivetrain::Fwd), WheelChoice::Follower);
+        assert_eq!(WheelChoice::Front.on(Drivetrain::Fwd), WheelChoice::Driving);
+        assert_eq!(WheelChoice::Rear.on(Drivetrain::Rwd), WheelChoice::Driving);
+        assert_eq!(WheelChoice::Worst.on(Drivetrain::Rwd), WheelChoice::Worst);
+    }
 
     fn o(fv: u8, dv: u8, fw: u8, dw: u8) -> Outcomes {
         Outcomes::default()

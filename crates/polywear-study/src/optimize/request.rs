@@ -59,12 +59,18 @@ impl Problem {
             .check_samples(spec.samples)
             .map_err(|e| Refusal::study(format!("{origin}: --samples {}", spec.samples), e))?;
         let seed = spec.seed.unwrap_or(study.seed);
-        let objective = spec.objective;
+        // A front or rear wheel is the follower or the driving one under the study's drivetrain.
+        let drivetrain = study.base.drivetrain;
+        let mut objective = spec.objective;
+        objective.wheel = objective.wheel.on(drivetrain);
         let mut axes = axes(&spec.vary, spec.accept_implausible, &study)?;
         let mut constraints = Vec::new();
         for c in &spec.constraints {
             match parse_constraint(c, objective.wheel)? {
-                Bound::Risk(r) => constraints.push(r),
+                Bound::Risk(mut r) => {
+                    r.wheel = r.wheel.on(drivetrain);
+                    constraints.push(r)
+                }
                 Bound::Param(id, at_most, v) => narrow(&mut axes, id, at_most, v, c)?,
             }
         }
