@@ -220,4 +220,20 @@ fn bad_car_inputs_are_refused_naming_the_key_and_its_range() {
         &["explore", scenario.to_str().unwrap()],
         &["scenarios.less.toe_deg", "per axle"],
     );
+    let rear = study(
+        "rear",
+        "[params]\ntoe_rear_deg = { dist = \"uniform\", min = 0.2, max = 0.6 }\n",
+    );
+    let out = dir.join("optimum");
+    refused(
+        &[
+            "optimize",
+            rear.to_str().unwrap(),
+            "--vary",
+            "toe_deg=0.1..0.3",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &["--vary toe_deg", "per axle", "toe_rear_deg"],
+    );
 }

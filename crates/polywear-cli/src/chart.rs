@@ -53,7 +53,7 @@ pub(crate) struct ChartArgs {
     /// Upper end of the vertical axis
     #[arg(long = "y-to", value_name = "VALUE", allow_negative_numbers = true)]
     pub(crate) y_to: f64,
-    /// Which wheel's curves to trace
+    /// Which wheel's curves to trace: front and rear are the wheels on those axles under --drivetrain
     #[arg(long, value_enum, default_value_t = WheelArg::Both)]
     pub(crate) wheel: WheelArg,
     /// The operating point and other parameters; the nominal point marked on the chart

@@ -155,9 +155,9 @@ pub(crate) fn drivetrains() -> impl clap::builder::TypedValueParser<Value = Driv
 pub(crate) enum WheelArg {
     Follower,
     Driving,
-    /// The wheel on the front axle under the drivetrain (`--drivetrain`).
+    // The wheel on the front or rear axle under the drivetrain (`--drivetrain`); plain
+    // comments, since a documented value would turn `--help` into its long form.
     Front,
-    /// The wheel on the rear axle under the drivetrain.
     Rear,
     Both,
 }

@@ -30,7 +30,7 @@ use polywear_study::trajectory::{series_columns, simulate_point, PointRun};
 pub(crate) struct SimulateArgs {
     #[command(flatten)]
     pub(crate) point: PointArgs,
-    /// Which wheel(s) to evaluate
+    /// Which wheel(s) to evaluate: front and rear are the wheels on those axles under --drivetrain
     #[arg(long, value_enum, default_value_t = WheelArg::Both)]
     pub(crate) wheel: WheelArg,
     /// Simulated time of the time series [s], accepted (0, 600]

@@ -114,7 +114,7 @@ impl ParamId {
 /// Refuses a shared key given beside a per-axle key of the same quantity (`toe_deg` and
 /// `toe_rear_deg`): a parameter is set in one place, and which one wins would be a guess.
 /// `given` are the parameters one input names; `place` says where, for the message
-/// ("the study's [params]").
+/// (`"the study's [params]"`).
 pub fn check_one_place(given: &[ParamId], place: &str) -> Result<(), ParamError> {
     for q in AXLE_QUANTITIES {
         if !given.contains(&q.shared) {
