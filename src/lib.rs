@@ -69,9 +69,7 @@ pub use polywear_study::{explore, study};
 /// What a user of the engine needs: one point (problem → solve → solution), a study (in memory
 /// or to Parquet), the long-term loop, and the analysis of a run.
 pub mod prelude {
-    pub use polywear_analysis::analysis::outcome::{
-        Outcome, OutcomeAnswer, Vibrates, VisibleWithin,
-    };
+    pub use polywear_analysis::analysis::outcome::OutcomeAnswer;
     pub use polywear_analysis::analysis::{Analysis, AnalysisError, AnalysisOptions};
     pub use polywear_core::classify::{Class, ClassifierOptions, WheelVerdict};
     pub use polywear_core::evaluate::{solve, PointProblem, PointSolution};

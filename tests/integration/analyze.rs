@@ -580,28 +580,6 @@ fn tables_are_csv_with_quoting_and_parquet_copies() {
 }
 
 #[test]
-fn pairing_by_row_order_equals_pairing_by_sample_id() {
-    let dir = tmp("pairing");
-    // Some failed samples too, so every outcome combination occurs.
-    let run = explore_study(
-        &dir,
-        "run",
-        &format!("accept_implausible = true\n{SMALL}pressure_kpa = {{ dist = \"levels\", levels = [240, 240, 2.3] }}\n"),
-        &[],
-    );
-    let (files, _) = polywear::analysis::inputs::parquet_files(&[run]).unwrap();
-    let by_order = polywear::analysis::paired::paired(&files, 1000, false).unwrap();
-    let by_group = polywear::analysis::paired::paired_by_group(&files, 1000, false).unwrap();
-    assert_eq!(by_order, by_group);
-    assert_eq!(by_order.len(), 2);
-    for p in &by_order {
-        assert!(p.unclassified > 0 && p.pairs > 0, "{p:?}");
-        assert_eq!(p.pairs + p.unclassified, 300, "{p:?}");
-    }
-    std::fs::remove_dir_all(&dir).ok();
-}
-
-#[test]
 fn a_grid_axis_of_one_level_is_labelled_with_the_value_sampled() {
     // A uniform grid axis with count = 1 samples the middle of its range; the analysis labels
     // the level with that value, never with `min`.

@@ -615,58 +615,6 @@ fn scenario_values_are_checked_like_direct_inputs() {
     assert_eq!(code, 0, "{stderr}");
 }
 
-/// The wear comparison counts a visible polygon within the distance, from the rows' distance
-/// column: synthetic rows with known outcomes.
-#[test]
-fn the_wear_comparison_reads_the_distance_column() {
-    use polywear::analysis::rows::{scenario_pairs, OutcomeColumn};
-    use polywear::model::{Variant, Wheel};
-    use polywear_study::parquet_out::{write_table, Column};
-    let dir = tmp("wear");
-    let file = dir.join("chunk-0000000.parquet");
-    // Samples 0..4, follower only; (baseline distance, scenario distance, scenario class).
-    let cases = [
-        (10_000.0, 90_000.0, "stable"),           // 1 -> 0
-        (50_000.0, 20_000.0, "limit_cycle"),      // 0 -> 1
-        (f64::INFINITY, f64::INFINITY, "stable"), // 0 -> 0
-        (30_000.0, f64::NAN, "stable"),           // 1 -> unclassified (NaN)
-        (30_000.0, 30_000.0, "failed"),           // 1 -> unclassified (failed)
-    ];
-    let mut cols = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for (i, (b, s, class)) in cases.iter().enumerate() {
-        for (scenario, d, c) in [("baseline", *b, "stable"), ("s", *s, *class)] {
-            cols.0.push(i as i64);
-            cols.1.push(scenario.to_string());
-            cols.2.push(d);
-            cols.3.push(c.to_string());
-        }
-    }
-    let n = cols.0.len();
-    let columns = [
-        Column::i64("sample_id", "", cols.0),
-        Column::str("scenario", cols.1),
-        Column::str("variant", vec!["sliding_share".into(); n]),
-        Column::str("wheel", vec!["follower".into(); n]),
-        Column::str("class", cols.3),
-        Column::f64("distance_to_visible_km", "km", cols.2),
-    ];
-    write_table(&file, &columns, &[]).unwrap();
-    let outcome = OutcomeColumn::WithinKm {
-        column: "distance_to_visible_km",
-        km: 40_000.0,
-    };
-    let counts = scenario_pairs(&[file], 1000, &["s"], &[0], outcome).unwrap();
-    let key = |b, s| (0usize, Variant::SlidingShare, Wheel::Follower, b, s);
-    let expected: BTreeMap<_, u64> = [
-        (key(1, 0), 1),
-        (key(0, 1), 1),
-        (key(0, 0), 1),
-        (key(1, 2), 2),
-    ]
-    .into();
-    assert_eq!(counts, expected);
-}
-
 #[test]
 fn the_shipped_scenario_study_is_checked_against_its_own_samples() {
     // Its toe-in is drawn within [0.21, 0.29]: toe-in -0.15° keeps every sample in range.

@@ -1,5 +1,5 @@
 //! Where the risk lives along each axis: P(outcome | parameter in bin), per variant and wheel
-//! ([`crate::analysis::outcome::answer`] counts the bins).
+//! (`crate::analysis::outcome::answer` counts the bins).
 
 use std::collections::BTreeMap;
 

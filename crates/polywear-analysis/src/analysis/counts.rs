@@ -71,7 +71,7 @@ impl ClassCounts {
     }
 }
 
-pub use polywear_core::classify::outcome_code;
+pub(crate) use polywear_core::classify::outcome_code;
 
 /// Wheels of one group that reach a visible polygon within a distance, beside those whose
 /// distance is unknown (NaN: failed, no traction, standstill; or a row without a verdict), with
@@ -143,7 +143,7 @@ impl WithinCounts {
     }
 }
 
-/// What a group of rows counts for an [`crate::analysis::outcome::Outcome`]: rows per class
+/// What a group of rows counts for an `crate::analysis::outcome::Outcome`: rows per class
 /// for vibration ([`ClassCounts`]), wheels within a distance for wear ([`WithinCounts`]).
 /// Each estimates one proportion with its Wilson interval, so the maps, bins, tables and
 /// figures that show it are written once for both.

@@ -61,7 +61,7 @@ impl Failures {
 
 /// The failed and no-traction rows of `files` grouped by reason; `rows` and `unclassified` are
 /// the counts the occurrence query already has. Reads nothing when no row lacks a verdict.
-pub fn failures(
+pub(crate) fn failures(
     files: &[PathBuf],
     rows: u64,
     unclassified: u64,

@@ -119,7 +119,7 @@ pub struct Fleet {
 
 /// The per-row table of a run with `[operating_points]`, from the vibration answer's counts
 /// per row ([`crate::analysis::outcome::OutcomeAnswer::fleet`]); None for other runs.
-pub fn fleet(per_row: &[RowCounts], info: &RunInfo) -> Option<Fleet> {
+pub(crate) fn fleet(per_row: &[RowCounts], info: &RunInfo) -> Option<Fleet> {
     let record = info.operating_points.as_ref()?;
     let op = info
         .study

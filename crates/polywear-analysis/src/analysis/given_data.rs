@@ -59,7 +59,7 @@ pub struct FirstOrder {
 }
 
 /// SALib's number of equal-frequency classes for `n` rows.
-pub fn classes(n: u64) -> usize {
+pub(crate) fn classes(n: u64) -> usize {
     let n = n as f64;
     let exp = 2.0 / (7.0 + ((1500.0 - n) / 500.0).tanh());
     (n.powf(exp).ceil() as usize).clamp(1, MAX_CLASSES)
@@ -94,7 +94,7 @@ pub(crate) fn equal_frequency(fine: &[ClassRows], m: usize) -> Vec<ClassRows> {
 
 /// S = Σ_j (n_j / N) (ȳ_j − ȳ)² / Var(Y) of a 0/1 output over classes; 0 when Y is constant
 /// (nothing to explain), as SALib.
-pub fn first_order(classes: &[ClassRows]) -> f64 {
+pub(crate) fn first_order(classes: &[ClassRows]) -> f64 {
     let n: f64 = classes.iter().map(|c| c.0).sum();
     let v: f64 = classes.iter().map(|c| c.1).sum();
     if n <= 0.0 {

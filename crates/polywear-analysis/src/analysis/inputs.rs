@@ -86,7 +86,9 @@ fn study_hash(run: &RunManifest) -> String {
 /// The Parquet files behind the given inputs (files or directories), and the explore manifests
 /// of the directories. A directory with a manifest and no chunk files (an empty shard) adds no
 /// files; one with neither is not an explore output.
-pub fn parquet_files(inputs: &[PathBuf]) -> Result<(Vec<PathBuf>, Vec<PathBuf>), AnalysisError> {
+pub(crate) fn parquet_files(
+    inputs: &[PathBuf],
+) -> Result<(Vec<PathBuf>, Vec<PathBuf>), AnalysisError> {
     let mut files = Vec::new();
     let mut manifests = Vec::new();
     for input in inputs {
@@ -423,7 +425,7 @@ fn short(s: &str) -> String {
 /// The row block each scenario is compared with, as `scenario_pairs` takes it: 0 for the
 /// baseline, j + 1 for the scenario j (in row order) that its `compare_to` names. A name the
 /// run does not hold is refused: the footers were written by a study that checked it.
-pub fn reference_blocks(scenarios: &[Scenario]) -> Result<Vec<usize>, AnalysisError> {
+pub(crate) fn reference_blocks(scenarios: &[Scenario]) -> Result<Vec<usize>, AnalysisError> {
     scenarios
         .iter()
         .map(|s| match &s.compare_to {

@@ -8,8 +8,8 @@
 //! every question for [`AnalysisOptions`] and returns an [`Analysis`], plain data.
 //! [`crate::render`] writes its tables, figures and page.
 //!
-//! Vibration and wear are asked the same questions through one [`outcome::Outcome`] each
-//! ([`outcome::Vibrates`], [`outcome::VisibleWithin`]): [`outcome::answer`] computes the
+//! Vibration and wear are asked the same questions through one `outcome::Outcome` each
+//! (`outcome::Vibrates`, `outcome::VisibleWithin`): `outcome::answer` computes the
 //! probability per wheel, [`paired`] driving against follower, [`conditional`] per bin (on
 //! [`bins`]), [`risk_map`] over pairs of axes and the counts per row of an operating-point
 //! file into one [`outcome::OutcomeAnswer`], so [`Analysis::vibration`] and
@@ -18,8 +18,8 @@
 //! (each row's values, weight and share of the risk), [`severity`], [`given_data`]
 //! (first-order indices from any design), [`sensitivity`] (Sobol indices of a Saltelli
 //! design), [`robustness`], [`scenarios`] (each scenario against its reference, the baseline
-//! or its `compare_to`, on the same samples); [`rows`] alone speaks to polars, and [`stats`]
-//! holds the intervals and tests. In a run with scenarios every question but the last is
+//! or its `compare_to`, on the same samples); `rows` alone speaks to polars, and
+//! `polywear_study::stats` holds the intervals and tests. In a run with scenarios every question but the last is
 //! answered on the baseline's rows.
 //!
 //! P(vibration), the probability every table gives, is the share of classified rows (stable,
@@ -37,15 +37,15 @@ pub mod given_data;
 pub mod inputs;
 pub mod outcome;
 pub mod paired;
-pub mod quantities;
+pub(crate) mod quantities;
 pub mod risk_map;
 pub mod robustness;
-pub mod rows;
+pub(crate) mod rows;
 mod same_run;
 pub mod scenarios;
 pub mod sensitivity;
 pub mod severity;
-pub use polywear_study::stats;
+pub(crate) use polywear_study::stats;
 pub mod wear_risk;
 
 use std::path::{Path, PathBuf};
@@ -55,7 +55,7 @@ use counts::ClassCounts;
 use failures::Failures;
 use fleet::Fleet;
 use given_data::FirstOrder;
-pub use inputs::RunInfo;
+pub(crate) use inputs::RunInfo;
 use outcome::{AnswerPlan, MapAxes, OutcomeAnswer, Vibrates};
 use risk_map::RiskMap;
 use robustness::{Robustness, RobustnessSummary};
@@ -112,7 +112,7 @@ impl AnalysisOptions {
     /// The size polars' streaming group-by should give its per-thread hot tables for this
     /// analysis: its largest group-by is a risk map's cells for every variant and both wheels
     /// (counted for every variant there is, as the run's are not known before its files are
-    /// read). polars reads it from `POLARS_HOT_TABLE_SIZE`; see [`rows`].
+    /// read). polars reads it from `POLARS_HOT_TABLE_SIZE`; see `rows::hot_table_size`.
     pub fn hot_table_size(&self) -> usize {
         rows::hot_table_size(Variant::ALL.len() * 2 * self.map_bins * self.map_bins)
     }
@@ -140,7 +140,7 @@ pub struct Analysis {
     pub info: RunInfo,
     /// The options it was computed with.
     pub options: AnalysisOptions,
-    /// The vibration answer ([`Vibrates`]): P(vibration) per variant and wheel, driving
+    /// The vibration answer (`Vibrates`): P(vibration) per variant and wheel, driving
     /// against follower on the same samples, per bin of every drawn parameter, the risk maps
     /// over pairs of axes (their tables are written whether or not they are drawn), and per row
     /// of an operating-point file.

@@ -1,8 +1,8 @@
 //! The two questions an analysis answers, asked one way: does a wheel *vibrate* (settles on a
-//! limit cycle or is bistable, [`Vibrates`]), and does it get a *visible polygon within X km*
-//! ([`VisibleWithin`]). Each is an [`Outcome`]: what it counts per group of rows (its polars
+//! limit cycle or is bistable, `Vibrates`), and does it get a *visible polygon within X km*
+//! (`VisibleWithin`). Each is an `Outcome`: what it counts per group of rows (its polars
 //! aggregation), the per-row column the paired comparison reads, and its words. One function,
-//! [`answer`], computes every answer the two share (occurrence per wheel, driving against
+//! `answer`, computes every answer the two share (occurrence per wheel, driving against
 //! follower on the same samples, per bin of each axis, over the risk maps' cells, per row of
 //! an operating-point file) into one [`OutcomeAnswer`], and one set of tables and figures draws
 //! it, so an answer added later (a calibration band, say) is written once for both.
@@ -22,7 +22,7 @@ use polywear_core::records::{WearColumn, OPERATING_POINT_ROW};
 use polywear_core::wording::km;
 
 /// An outcome of a wheel that an analysis estimates the probability of.
-pub trait Outcome {
+pub(crate) trait Outcome {
     /// What a group of rows counts: its numerator, denominator and the rows counted apart.
     type Counts: RiskCounts + std::fmt::Debug + PartialEq;
     /// The counts per variant, wheel and combination of `keys`, in one streaming group-by.
@@ -41,7 +41,7 @@ pub trait Outcome {
 /// The wheel vibrates: settles on a limit cycle, or is bistable (MODEL.md#classes).
 /// Counted over the classified rows; failed and no-traction rows apart ([`ClassCounts`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Vibrates;
+pub(crate) struct Vibrates;
 
 impl Outcome for Vibrates {
     type Counts = ClassCounts;
@@ -64,7 +64,7 @@ impl Outcome for Vibrates {
 /// `km`), its samples weighed by `weight` (MODEL.md#the-per-sample-estimator). A wheel whose
 /// distance is NaN is unknown and counted apart ([`WithinCounts`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct VisibleWithin {
+pub(crate) struct VisibleWithin {
     /// The distance \[km\].
     pub km: f64,
     /// How the samples are weighed.
@@ -140,18 +140,18 @@ impl<C> RowCounts<C> {
 /// Every answer the two outcomes share, for one outcome.
 #[derive(Debug, Clone)]
 pub struct OutcomeAnswer<C = ClassCounts> {
-    /// The outcome in words ([`Outcome::words`]).
+    /// The outcome in words (`Outcome::words`).
     pub words: String,
     /// The probability per variant and wheel, in (variant, wheel) order.
     pub occurrence: Vec<Occurrence<C>>,
     /// Driving against follower on the same samples (McNemar), per variant.
     pub paired: Vec<Paired>,
-    /// Per bin of each axis of [`AnswerPlan::axis_bins`].
+    /// Per bin of each axis of `AnswerPlan::axis_bins`.
     pub conditional: Vec<BinStat<C>>,
-    /// Over the cells of each map of [`AnswerPlan::maps`], every variant.
+    /// Over the cells of each map of `AnswerPlan::maps`, every variant.
     pub maps: Vec<RiskMap<C>>,
     /// Per row of the operating-point file, in variant and row order (only when
-    /// [`AnswerPlan::fleet`]).
+    /// `AnswerPlan::fleet`).
     pub fleet: Vec<RowCounts<C>>,
 }
 
@@ -178,7 +178,7 @@ impl<C: RiskCounts> OutcomeAnswer<C> {
 
 /// The two axes and bins of a risk map.
 #[derive(Debug, Clone)]
-pub struct MapAxes {
+pub(crate) struct MapAxes {
     /// The horizontal axis and its bins.
     pub x: (ParamId, Bins),
     /// The vertical axis and its bins.
@@ -186,7 +186,7 @@ pub struct MapAxes {
 }
 
 /// What [`answer`] computes, beside the occurrence and the paired comparison it always does.
-pub struct AnswerPlan<'a> {
+pub(crate) struct AnswerPlan<'a> {
     /// The run the rows come from (its files, variants and sample count).
     pub info: &'a RunInfo,
     /// Per axis, its bins (empty: no conditional probabilities).
@@ -203,7 +203,7 @@ pub struct AnswerPlan<'a> {
 /// The occurrence is checked against the footers first (every variant and wheel one row per
 /// sample, [`AnalysisError::RowsDisagree`] otherwise), so rows that do not belong to the run
 /// are refused before the slower queries run.
-pub fn answer<O: Outcome>(
+pub(crate) fn answer<O: Outcome>(
     outcome: &O,
     rows: &Rows,
     plan: &AnswerPlan<'_>,
@@ -263,7 +263,7 @@ pub fn answer<O: Outcome>(
 }
 
 /// The outcome's counts per variant and wheel, in (variant, wheel) order.
-pub fn occurrence<O: Outcome>(
+pub(crate) fn occurrence<O: Outcome>(
     outcome: &O,
     rows: &Rows,
 ) -> Result<Vec<Occurrence<O::Counts>>, AnalysisError> {

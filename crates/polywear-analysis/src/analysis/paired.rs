@@ -1,6 +1,6 @@
 //! Driving against follower on the same samples: how many samples vibrate on one wheel only, on
 //! both, on neither, and McNemar's test of the discordant ones. The counts come from the chunk
-//! files ([`paired`]) or from records in memory (`PairTally`, as `reproduce` has them).
+//! files (`paired_on`) or from records in memory (`PairTally`, as `reproduce` has them).
 
 use std::path::PathBuf;
 
@@ -114,18 +114,10 @@ impl PairTally {
 }
 
 /// Driving vs follower on the same samples of the chunk files, per variant (the baseline's rows
-/// when the run has scenarios): in one streaming pass when the files are in explore's row
-/// order, else grouped by sample in batches of about `batch_rows` rows.
-pub fn paired(
-    files: &[PathBuf],
-    batch_rows: u64,
-    has_scenarios: bool,
-) -> Result<Vec<Paired>, AnalysisError> {
-    paired_on(files, batch_rows, has_scenarios, OutcomeColumn::Vibration)
-}
-
-/// [`paired`] on any outcome: vibration, or a visible polygon within a distance (the wear
-/// stage's); a wheel whose outcome is unknown makes its sample unclassified.
+/// when the run has scenarios), on any outcome: vibration, or a visible polygon within a
+/// distance (the wear stage's); a wheel whose outcome is unknown makes its sample
+/// unclassified. In one streaming pass when the files are in explore's row order, else grouped
+/// by sample in batches of about `batch_rows` rows.
 pub(crate) fn paired_on(
     files: &[PathBuf],
     batch_rows: u64,
@@ -141,20 +133,6 @@ pub(crate) fn paired_on(
             outcome,
         )?)),
     }
-}
-
-/// [`paired`] by grouping the rows by sample, whatever their order.
-pub fn paired_by_group(
-    files: &[PathBuf],
-    batch_rows: u64,
-    has_scenarios: bool,
-) -> Result<Vec<Paired>, AnalysisError> {
-    Ok(paired_from(&pairs_by_sample(
-        files,
-        batch_rows,
-        has_scenarios,
-        OutcomeColumn::Vibration,
-    )?))
 }
 
 /// The paired table from sample counts per (variant, follower code + 3 × driving code).
@@ -228,5 +206,76 @@ mod tests {
         assert_eq!(s.pairs, 5);
         assert_eq!((s.follower_vibrating(), s.driving_vibrating()), (3, 2));
         assert_eq!(mcnemar(2, 1).1, s.p_value);
+    }
+
+    /// The vibration's paired table, as the analysis computes it.
+    fn paired(
+        files: &[PathBuf],
+        batch_rows: u64,
+        has_scenarios: bool,
+    ) -> Result<Vec<Paired>, AnalysisError> {
+        paired_on(files, batch_rows, has_scenarios, OutcomeColumn::Vibration)
+    }
+
+    /// The same table by grouping the rows by sample, whatever their order: the oracle of the
+    /// streaming pass over rows in explore's order.
+    fn paired_by_group(
+        files: &[PathBuf],
+        batch_rows: u64,
+        has_scenarios: bool,
+    ) -> Result<Vec<Paired>, AnalysisError> {
+        Ok(paired_from(&pairs_by_sample(
+            files,
+            batch_rows,
+            has_scenarios,
+            OutcomeColumn::Vibration,
+        )?))
+    }
+
+    /// A run of 3 chunks of 100 samples, both variants, some samples failed (a tyre at 2.3 kPa),
+    /// so every outcome combination occurs; written by the library as `explore` writes it.
+    fn explore_run_with_failures(dir: &std::path::Path) -> PathBuf {
+        use polywear_study::explore::ExploreRequest;
+        use polywear_study::refusal::Refusal;
+        let _ = std::fs::remove_dir_all(dir);
+        std::fs::create_dir_all(dir).unwrap();
+        let study = dir.join("run.toml");
+        std::fs::write(
+            &study,
+            "accept_implausible = true\nname = \"small\"\nseed = 5\nsamples = 300\n\
+             chunk_size = 100\nvariants = [\"paper\", \"combined\"]\n[params]\n\
+             speed_kmh = { dist = \"uniform\", min = 60, max = 250 }\n\
+             toe_deg = { dist = \"uniform\", min = 0.1, max = 0.5 }\n\
+             pressure_kpa = { dist = \"levels\", levels = [240, 240, 2.3] }\n",
+        )
+        .unwrap();
+        let request = ExploreRequest {
+            study: Some(study),
+            out: Some(dir.join("run")),
+            no_wear: true,
+            ..ExploreRequest::default()
+        };
+        let plan = request.plan(&|b| Ok::<_, Refusal>(b)).unwrap().0;
+        let prepared = plan.prepare_output().unwrap();
+        plan.run(&prepared, &|_| {}).unwrap();
+        plan.out_dir.clone()
+    }
+
+    /// Moved from the integration tests (analyze.rs): the streaming pass over rows in row
+    /// order counts what grouping by sample id counts.
+    #[test]
+    fn pairing_by_row_order_equals_pairing_by_sample_id() {
+        let dir = std::env::temp_dir().join(format!("polywear-pairing-{}", std::process::id()));
+        let run = explore_run_with_failures(&dir);
+        let (files, _) = crate::analysis::inputs::parquet_files(&[run]).unwrap();
+        let by_order = paired(&files, 1000, false).unwrap();
+        let by_group = paired_by_group(&files, 1000, false).unwrap();
+        assert_eq!(by_order, by_group);
+        assert_eq!(by_order.len(), 2);
+        for p in &by_order {
+            assert!(p.unclassified > 0 && p.pairs > 0, "{p:?}");
+            assert_eq!(p.pairs + p.unclassified, 300, "{p:?}");
+        }
+        std::fs::remove_dir_all(&dir).ok();
     }
 }

@@ -6,7 +6,7 @@ use polywear_core::records::RecordColumn;
 
 /// A severity quantity: its column (in SI units, as the rows hold it) and how people read it.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Quantity {
+pub(crate) struct Quantity {
     /// The column (its name and SI unit, as the rows hold it, from the column table).
     pub column: RecordColumn,
     /// What it is, in words, for titles and tables.
@@ -39,7 +39,7 @@ impl Quantity {
 }
 
 /// The severity quantities, as `simulate` prints them (µm, mm/s, µJ).
-pub const SEVERITY_QUANTITIES: [Quantity; 4] = [
+pub(crate) const SEVERITY_QUANTITIES: [Quantity; 4] = [
     Quantity {
         column: RecordColumn::AmpYM,
         title: "Lateral displacement amplitude",
@@ -67,6 +67,6 @@ pub const SEVERITY_QUANTITIES: [Quantity; 4] = [
 ];
 
 /// The quantity of column `column`.
-pub fn quantity(column: &str) -> Option<&'static Quantity> {
+pub(crate) fn quantity(column: &str) -> Option<&'static Quantity> {
     SEVERITY_QUANTITIES.iter().find(|q| q.name() == column)
 }

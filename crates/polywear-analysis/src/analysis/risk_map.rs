@@ -1,5 +1,5 @@
 //! Where the risk lives over two axes: an outcome's counts over a grid of bins, per variant and
-//! wheel ([`crate::analysis::outcome::answer`] counts the cells).
+//! wheel (`crate::analysis::outcome::answer` counts the cells).
 
 use std::collections::BTreeMap;
 
@@ -10,7 +10,7 @@ use polywear_core::params::ParamId;
 use polywear_study::chart::WheelCurves;
 
 /// Counts per cell, indexed `[ix][iy]`.
-pub type Grid<C> = Vec<Vec<C>>;
+pub(crate) type Grid<C> = Vec<Vec<C>>;
 
 /// A risk map: counts over a 2-D grid of bins of two axes, per wheel. The vibration analysis
 /// counts rows per class ([`ClassCounts`], the default); the wear analysis counts wheels within

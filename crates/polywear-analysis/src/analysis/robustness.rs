@@ -123,7 +123,7 @@ pub(crate) fn decoded_params(info: &RunInfo) -> Vec<ParamId> {
 
 /// Class counts per decoding and wheel; None when the study draws no parameter with `levels`
 /// besides the operating axes.
-pub fn robustness(rows: &Rows, info: &RunInfo) -> Result<Option<Robustness>, AnalysisError> {
+pub(crate) fn robustness(rows: &Rows, info: &RunInfo) -> Result<Option<Robustness>, AnalysisError> {
     let params = decoded_params(info);
     if params.is_empty() {
         return Ok(None);

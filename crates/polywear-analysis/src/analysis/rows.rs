@@ -26,15 +26,14 @@ mod renamed;
 mod scenario_pairs;
 mod wear_counts;
 mod wear_values;
-pub use band_counts::{band_counts, BandCount};
-pub use renamed::deprecation_notes;
+pub(crate) use band_counts::{band_counts, BandCount};
+pub(crate) use renamed::deprecation_notes;
 use scenario_pairs::code_expr;
-pub use scenario_pairs::{scenario_pairs, OutcomeColumn, ScenarioPairCounts};
-pub use wear_counts::{
-    decade_bins, decades, NearMisses, OrderCount, SampleWeight, WearGroup, WearSpread,
-    BINS_PER_DECADE, NEAR_MISS_SHARES, WEIGHT_UNITS_PER_KMH,
-};
-pub use wear_values::check_wear_values;
+pub use scenario_pairs::OutcomeColumn;
+pub(crate) use scenario_pairs::{scenario_pairs, ScenarioPairCounts};
+pub(crate) use wear_counts::{decade_bins, decades, NEAR_MISS_SHARES, WEIGHT_UNITS_PER_KMH};
+pub use wear_counts::{NearMisses, OrderCount, SampleWeight, WearSpread};
+pub(crate) use wear_values::check_wear_values;
 
 /// The columns the queries name, from the one column table ([`polywear_core::records`]).
 const VARIANT: &str = RecordColumn::Variant.name();
@@ -52,19 +51,19 @@ fn pl_err(e: PolarsError) -> AnalysisError {
 /// a key that collides or overflows is evicted as a partial aggregate that is only merged at
 /// the end, so with many groups memory grows with the rows. Sixteen slots per group (at least
 /// 16384) keep evictions rare, and the peak flat in the row count.
-pub fn hot_table_size(max_groups: usize) -> usize {
+pub(crate) fn hot_table_size(max_groups: usize) -> usize {
     (16 * max_groups).next_power_of_two().clamp(16_384, 1 << 22)
 }
 
 /// The chunk files of a run as one lazy frame (only the columns a query names are read).
 #[derive(Clone)]
-pub struct Rows {
+pub(crate) struct Rows {
     lf: LazyFrame,
 }
 
 /// An extra key of a class count, besides variant and wheel.
 #[derive(Debug, Clone, Copy)]
-pub enum GroupKey<'a> {
+pub(crate) enum GroupKey<'a> {
     /// The bin of a column (its index in [`Group::bins`]).
     Bin(&'a str, &'a Bins),
     /// The cell of two binned columns, `x bin × (y bins) + y bin` (one key, not two).
@@ -75,9 +74,9 @@ pub enum GroupKey<'a> {
 
 /// The counts of one group: its variant, wheel and keys, and what the query counted in it (rows
 /// per class by default, [`Rows::class_counts`]; the wear stage's counts per distance,
-/// [`WearGroup`]).
+/// [`wear_counts::WearGroup`]).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Group<C = ClassCounts> {
+pub(crate) struct Group<C = ClassCounts> {
     /// The friction variant.
     pub variant: Variant,
     /// The wheel.
@@ -92,7 +91,7 @@ pub struct Group<C = ClassCounts> {
 
 /// A bin of a severity histogram.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct HistogramBin {
+pub(crate) struct HistogramBin {
     /// The friction variant.
     pub variant: Variant,
     /// The wheel.
@@ -108,7 +107,7 @@ pub struct HistogramBin {
 
 /// One row's outcome, for estimators that need every row (Sobol indices).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RowOutcome {
+pub(crate) struct RowOutcome {
     /// The friction variant.
     pub variant: Variant,
     /// The wheel.

@@ -7,17 +7,19 @@
 //! ([`newcombe_independent`]), which is what pairing saves.
 
 use super::outcome::{Outcome as _, Vibrates, VisibleWithin};
-use super::rows::{scenario_pairs, OutcomeColumn, Rows, ScenarioPairCounts};
+use super::rows::{scenario_pairs, Rows, ScenarioPairCounts};
 use super::stats::{mcnemar, newcombe_independent, newcombe_paired};
 use super::{AnalysisError, RunInfo};
 use polywear_core::model::{Variant, Wheel};
 use polywear_study::study::{Scenario, BASELINE};
 
-pub use polywear_core::records::DISTANCE_COLUMN;
+/// The outcome a scenario is compared on, as [`ScenarioEffect::outcome`] holds it.
+pub use super::rows::OutcomeColumn;
+pub(crate) use polywear_core::records::DISTANCE_COLUMN;
 
 /// The outcome a scenario is compared on: vibration, or a visible polygon within a distance
 /// (the outcomes of [`crate::analysis::outcome`], by their row column).
-pub type Outcome = OutcomeColumn<'static>;
+pub(crate) type Outcome = OutcomeColumn<'static>;
 
 /// One scenario's effect on one wheel under one variant.
 #[derive(Debug, Clone, PartialEq)]
@@ -103,7 +105,7 @@ impl ScenarioEffect {
 /// The effect of every scenario of the run against its reference, per variant, wheel and
 /// outcome: a visible polygon within `within_km` first when the rows have [`DISTANCE_COLUMN`]
 /// (else a note says why not), then vibration. Empty for a run without scenarios.
-pub fn compare(
+pub(crate) fn compare(
     info: &RunInfo,
     within_km: f64,
     batch_rows: u64,
@@ -138,10 +140,10 @@ pub fn compare(
     Ok(out)
 }
 
-pub use super::inputs::reference_blocks;
+pub(crate) use super::inputs::reference_blocks;
 
 /// The effects of one outcome from its pair counts, in scenario, variant and wheel order.
-pub fn effects(
+pub(crate) fn effects(
     scenarios: &[Scenario],
     variants: &[Variant],
     outcome: Outcome,

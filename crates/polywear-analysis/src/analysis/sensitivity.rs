@@ -41,7 +41,7 @@ pub struct Sensitivity {
 
 /// Sobol indices from a Saltelli design; None for other designs. The estimators and their
 /// bootstrap need every row's outputs, in (j, block) order per variant and wheel.
-pub fn sensitivity(
+pub(crate) fn sensitivity(
     rows: &Rows,
     info: &RunInfo,
     resamples: usize,

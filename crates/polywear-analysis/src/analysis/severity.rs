@@ -9,7 +9,7 @@ use super::rows::{Rows, FIXED_POINT_SCALE};
 use super::AnalysisError;
 use polywear_core::model::{Variant, Wheel};
 
-pub use super::quantities::{quantity, Quantity, SEVERITY_QUANTITIES};
+pub(crate) use super::quantities::{quantity, SEVERITY_QUANTITIES};
 
 /// Fine histogram bins behind the severity quantiles.
 pub(crate) const SEVERITY_FINE_BINS: usize = 4000;
@@ -21,7 +21,7 @@ pub struct Severity {
     pub variant: Variant,
     /// The wheel.
     pub wheel: Wheel,
-    /// The cycle quantity (a column of [`SEVERITY_QUANTITIES`]).
+    /// The cycle quantity (a column of `SEVERITY_QUANTITIES`).
     pub quantity: &'static str,
     /// Its unit.
     pub unit: &'static str,
@@ -40,7 +40,7 @@ pub struct Severity {
 /// Severity quantiles from a `SEVERITY_FINE_BINS`-bin histogram per variant and wheel, over
 /// each quantity's range among the vibrating rows (`ranges`); a quantity without a finite
 /// range (no vibrating row) is left out.
-pub fn severity(
+pub(crate) fn severity(
     rows: &Rows,
     ranges: &BTreeMap<String, (f64, f64)>,
 ) -> Result<Vec<Severity>, AnalysisError> {

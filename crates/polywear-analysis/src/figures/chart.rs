@@ -55,7 +55,7 @@ pub(crate) fn fixed_operating_point(req: &ChartRequest) -> String {
 }
 
 /// The chart's title: its axes, the operating point it is drawn at, and the variant.
-pub fn title(req: &ChartRequest) -> String {
+pub(crate) fn title(req: &ChartRequest) -> String {
     format!(
         "Where the tread vibrates: {} × {} at {} ({} variant)",
         req.x.label(),

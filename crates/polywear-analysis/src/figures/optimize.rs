@@ -444,7 +444,7 @@ fn optimum_columns(problem: &Problem, solution: &Solution) -> Vec<Column> {
 }
 
 /// The optimum under each calibrated set, one row per set.
-pub const BAND_FILE: &str = "calibration_band.parquet";
+pub(crate) const BAND_FILE: &str = "calibration_band.parquet";
 
 /// [`BAND_FILE`]'s columns: the set and its constants, its optimum (a column per varied
 /// parameter, the objective with its interval, the box edges it sits on), and the objective at

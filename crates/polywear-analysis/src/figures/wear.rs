@@ -135,7 +135,7 @@ fn drawn_depths(run: &WheelWear) -> Vec<(u32, Vec<(f64, f64)>)> {
 
 /// The loop's verdict under each calibrated set run, one row per set and wheel:
 /// `wear_calibration_band.csv` and `.parquet` (with the run's metadata).
-pub fn write_band(
+pub(crate) fn write_band(
     dir: &Path,
     metadata: &[(String, String)],
     band: &polywear_study::calibration_band::CalibrationBand,
@@ -192,8 +192,8 @@ pub fn write_band(
     Ok(())
 }
 
-/// The band's files of `plan`'s run in `dir`: [`write_band`] under the sets run (`runs`), or,
-/// with the band off, [`remove_band`], so that no band of an earlier run lies beside this
+/// The band's files of `plan`'s run in `dir`: `write_band` under the sets run (`runs`), or,
+/// with the band off, `remove_band`, so that no band of an earlier run lies beside this
 /// run's files.
 pub fn plan_band_files(
     dir: &Path,
@@ -213,7 +213,7 @@ pub fn plan_band_files(
 }
 
 /// Removes [`write_band`]'s files of an earlier run from `dir` (a run with the band off).
-pub fn remove_band(dir: &Path) -> Result<(), FilesError> {
+pub(crate) fn remove_band(dir: &Path) -> Result<(), FilesError> {
     for name in ["wear_calibration_band.csv", "wear_calibration_band.parquet"] {
         let path = dir.join(name);
         match std::fs::remove_file(&path) {

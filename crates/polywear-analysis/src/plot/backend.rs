@@ -12,7 +12,7 @@ use plotters_backend::{
 use super::FigureFormat;
 
 /// A PNG or SVG backend.
-pub enum FigureBackend<'a> {
+pub(crate) enum FigureBackend<'a> {
     /// A PNG bitmap.
     Png(BitMapBackend<'a>),
     /// An SVG document.
@@ -69,7 +69,7 @@ impl FigureBuffer {
 
 /// The error of either backend, as text.
 #[derive(Debug)]
-pub struct FigureError(pub String);
+pub(crate) struct FigureError(pub String);
 
 impl std::fmt::Display for FigureError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {

@@ -11,14 +11,14 @@ use plotters::prelude::*;
 use backend::{FigureBackend, FigureBuffer};
 pub use format::{FigureFile, FigureFormat};
 
-pub mod backend;
+pub(crate) mod backend;
 pub mod cycle;
-pub mod effects;
+pub(crate) mod effects;
 mod format;
-pub mod maps;
-pub mod spectrum;
-pub mod surface;
-pub mod wear;
+pub(crate) mod maps;
+pub(crate) mod spectrum;
+pub(crate) mod surface;
+pub(crate) mod wear;
 
 /// One curve of a figure, in a colour picked by the caller.
 pub(crate) struct Series<'a> {
@@ -376,7 +376,7 @@ pub(crate) fn format_tick(v: f64) -> String {
 
 /// A figure with a title, drawn in the file's format and written to its path; `draw` lays out
 /// and draws the area under the title.
-pub fn figure(
+pub(crate) fn figure(
     file: &FigureFile,
     size: (u32, u32),
     title: &str,
@@ -399,7 +399,7 @@ pub fn figure(
 }
 
 /// A figure of several panels laid out in a grid, each drawn by `draw`.
-pub fn panels(
+pub(crate) fn panels(
     file: &FigureFile,
     size: (u32, u32),
     grid: (usize, usize),

@@ -93,7 +93,7 @@ pub(crate) fn surface_map(
 }
 
 /// A marker as overlay lines: a `+` (or an `×` when `diagonal`) of half-size `r` in box units.
-pub fn marker(
+pub(crate) fn marker(
     (x, y): (f64, f64),
     (x0, x1): (f64, f64),
     (y0, y1): (f64, f64),

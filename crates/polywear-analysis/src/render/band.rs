@@ -11,12 +11,12 @@ use polywear_core::model::Wheel;
 use polywear_core::wording::km;
 
 /// "calibration band 6.1–11.8%" for a probability.
-pub fn percent(r: &BandRange) -> String {
+pub(crate) fn percent(r: &BandRange) -> String {
     format!("calibration band {:.1}–{:.1}%", 100.0 * r.lo, 100.0 * r.hi)
 }
 
 /// "calibration band −11.0 to −54.0 points" for a difference of probabilities.
-pub fn points(r: &BandRange) -> String {
+pub(crate) fn points(r: &BandRange) -> String {
     let p = |x: f64| {
         let t = format!("{:+.1}", 100.0 * x);
         if t == "+0.0" || t == "-0.0" {
@@ -71,7 +71,7 @@ pub(crate) fn paired_words(p: &PairedBand, sets: usize) -> String {
 /// What the band is, in one sentence: how many sets, their constants' ranges, the method and
 /// the file, the subsample, and where the calibration's accepted region lies (the file's own
 /// words, the finding an engineer quotes beside the band).
-pub fn about(b: &CalibrationBand) -> String {
+pub(crate) fn about(b: &CalibrationBand) -> String {
     let region = if b.region.is_empty() {
         String::new()
     } else {
@@ -92,7 +92,7 @@ pub(crate) const NO_BAND: &str = "no calibration band in this run (explore wrote
 
 /// The report's section: what the band is, the headline's and the scenarios' bands with the
 /// sets at their ends, and which wheel is more exposed where the sign holds.
-pub fn section(s: &mut String, a: &Analysis) {
+pub(crate) fn section(s: &mut String, a: &Analysis) {
     let Some(w) = &a.wear else { return };
     let _ = writeln!(s, "### The calibration band\n");
     let Some(b) = &a.band else {

@@ -301,7 +301,7 @@ pub(crate) const SEVERITY_FIGURE_BINS: usize = 40;
 
 /// Severity histograms of one variant: each quantity's share of vibrating rows per bin, per
 /// wheel, in engineering units (µm, mm/s, µJ) with titles in words.
-pub fn severity(
+pub(crate) fn severity(
     file: &FigureFile,
     variant: Variant,
     severity: &[Severity],

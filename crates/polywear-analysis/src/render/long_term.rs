@@ -280,7 +280,7 @@ pub(crate) fn band_verdict(o: &WheelLongTerm, p: &Params, distance_km: f64) -> B
 /// ends (the earliest polygon, the latest or none) and the sets that give them. `runs` holds
 /// (set name, that set's solution); `of_sets` is how many sets the band has, `chosen` how the
 /// ones run were chosen.
-pub fn band_lines(
+pub(crate) fn band_lines(
     problem: &LongTermProblem,
     runs: &[(&str, &LongTermSolution)],
     of_sets: usize,
@@ -322,7 +322,7 @@ pub fn band_lines(
     out
 }
 
-/// A whole run's band in words: [`band_lines`] under the sets the plan chose and ran (`runs`,
+/// A whole run's band in words: `band_lines` under the sets the plan chose and ran (`runs`,
 /// with how they were chosen), or the line that says the band is off and the verdict is the
 /// run's own constants' alone (MODEL.md#the-calibration-band).
 pub fn plan_band_lines(plan: &LongTermPlan, runs: Option<&[SetRun]>) -> Vec<String> {

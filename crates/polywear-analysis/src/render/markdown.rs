@@ -21,7 +21,7 @@ pub(crate) const VIBRATION_DEFINITION: &str = "**P(vibration)** is the share of 
     on one). Rows that failed or have no traction are counted apart and left out.";
 
 /// The report page, showing `figures`.
-pub fn page(a: &Analysis, figures: &Figures) -> String {
+pub(crate) fn page(a: &Analysis, figures: &Figures) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# Polygonal-wear risk: study `{}`\n", a.info.study_name);
     failures_block(&mut s, a);

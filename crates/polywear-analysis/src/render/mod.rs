@@ -1,27 +1,27 @@
-//! Render stage: writes an [`Analysis`] as files: the tables ([`tables`], CSV and Parquet), the
-//! figures ([`figures`]) and `report.md` ([`markdown`]), which ties them together in words. It
+//! Render stage: writes an [`Analysis`] as files: the tables (`tables`, CSV and Parquet), the
+//! figures ([`figures`]) and `report.md` (`markdown`), which ties them together in words. It
 //! computes nothing; everything it shows is in the `Analysis`.
 
 mod answer_tables;
 mod answer_words;
-pub mod band;
+pub(crate) mod band;
 pub mod calibration;
 mod columns;
 pub mod cycle;
-pub mod drivers;
+pub(crate) mod drivers;
 pub mod figures;
-pub mod fleet;
+pub(crate) mod fleet;
 pub mod long_term;
-pub mod markdown;
+pub(crate) mod markdown;
 pub mod run_words;
-pub mod scenarios;
+pub(crate) mod scenarios;
 pub mod summary;
 pub mod sweep;
-pub mod tables;
+pub(crate) mod tables;
 pub mod validation;
 pub mod verdict;
-pub mod wear;
-pub mod wear_figures;
+pub(crate) mod wear;
+pub(crate) mod wear_figures;
 mod wear_tables;
 mod words;
 

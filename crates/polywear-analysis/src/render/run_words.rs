@@ -75,7 +75,7 @@ pub fn analyze_command(plan: &RunPlan, elsewhere: bool) -> String {
 }
 
 /// Which scenarios every sample is also evaluated under, if any, each with its reference.
-pub fn scenarios_line(study: &Study) -> Option<String> {
+pub(crate) fn scenarios_line(study: &Study) -> Option<String> {
     if study.scenarios.is_empty() {
         return None;
     }

@@ -52,7 +52,7 @@ fn risk(outcome: Outcome) -> String {
 /// One effect in words: "the follower's risk of vibration falls from 84.1% to 45.2% (−38.9
 /// points, 95% interval −40.9 to −36.9; 790 samples lose it, 12 gain it)"; against another
 /// scenario, the points say which: "(−4.1 points against `phi_014`, ...)".
-pub fn sentence(e: &ScenarioEffect) -> String {
+pub(crate) fn sentence(e: &ScenarioEffect) -> String {
     let (lo, hi) = e.interval();
     let width = hi - lo;
     let whose = match e.wheel {
@@ -109,7 +109,7 @@ fn p_text(p: f64) -> String {
 }
 
 /// The section "What the changes do", or nothing for a run without scenarios.
-pub fn section(a: &Analysis, figure: Option<&Path>) -> String {
+pub(crate) fn section(a: &Analysis, figure: Option<&Path>) -> String {
     let mut s = String::new();
     if a.scenarios.is_empty() {
         return s;
@@ -203,7 +203,7 @@ fn group_by_scenario(effects: &[ScenarioEffect]) -> Vec<Vec<&ScenarioEffect>> {
 }
 
 /// The table: one row per scenario, variant, wheel and outcome.
-pub fn columns(effects: &[ScenarioEffect]) -> Vec<Column> {
+pub(crate) fn columns(effects: &[ScenarioEffect]) -> Vec<Column> {
     let f = |name: &str, g: &dyn Fn(&ScenarioEffect) -> f64| {
         Column::f64(name, "-", effects.iter().map(g).collect())
     };
@@ -248,7 +248,7 @@ pub fn columns(effects: &[ScenarioEffect]) -> Vec<Column> {
 
 /// The picture: every scenario's effect on each wheel with its interval, in percentage points,
 /// one panel per outcome (and variant).
-pub fn figure(file: &FigureFile, effects: &[ScenarioEffect]) -> Result<(), RenderError> {
+pub(crate) fn figure(file: &FigureFile, effects: &[ScenarioEffect]) -> Result<(), RenderError> {
     let mut keys: Vec<(Outcome, polywear_core::model::Variant)> = Vec::new();
     for e in effects {
         if !keys.contains(&(e.outcome, e.variant)) {

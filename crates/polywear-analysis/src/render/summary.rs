@@ -11,7 +11,7 @@ use polywear_core::wording::plain;
 
 /// Why an analysis has no probability to give, with its `report`: every row failed or had no
 /// traction. None where some row has a verdict.
-pub fn no_verdict(a: &Analysis, report: &Path) -> Option<String> {
+pub(crate) fn no_verdict(a: &Analysis, report: &Path) -> Option<String> {
     if !a.nothing_classified() {
         return None;
     }

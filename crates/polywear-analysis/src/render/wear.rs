@@ -19,13 +19,13 @@ use polywear_core::params::ParamId;
 use polywear_core::wording::plain;
 use polywear_study::stats::format_p;
 
-pub use polywear_core::wording::km;
+pub(crate) use polywear_core::wording::km;
 
 /// The line a report without the wear stage carries instead of the wear answer.
 pub(crate) const NO_WEAR_LINE: &str = "> The wear stage was left out of this run (`polywear explore --no-wear`, or `wear = false` in the study): there is no distance to a visible polygon, so this report answers for vibration only.";
 
 /// The wear answer's sections, or `NO_WEAR_LINE` for a run without them.
-pub fn section(s: &mut String, a: &Analysis, figures: &Figures) {
+pub(crate) fn section(s: &mut String, a: &Analysis, figures: &Figures) {
     let Some(w) = &a.wear else {
         let _ = writeln!(s, "{NO_WEAR_LINE}\n");
         return;

@@ -16,7 +16,7 @@ use polywear_core::params::ParamId;
 /// P(visible polygon within the headline distance | parameter) along every axis of one
 /// variant, both wheels, 95% Wilson bands; bins with fewer than `min_count` wheels with a
 /// distance are left out.
-pub fn conditional(
+pub(crate) fn conditional(
     file: &FigureFile,
     variant: Variant,
     axes: &[ParamId],
@@ -42,7 +42,7 @@ pub fn conditional(
 
 /// A risk map of polygonal-wear likelihood: each wheel's P(visible polygon within
 /// `HEADLINE_WITHIN_KM`) per cell and the difference, with the nominal tire's Hopf curves.
-pub fn risk_map(
+pub(crate) fn risk_map(
     file: &FigureFile,
     map: &RiskMap<WithinCounts>,
     label: &dyn Fn(ParamId) -> String,
@@ -62,7 +62,11 @@ pub fn risk_map(
 
 /// The dominant orders' shares per wheel among the wheels with a visible polygon within
 /// `ORDERS_WITHIN_KM`, as bars (a step line per wheel).
-pub fn orders(file: &FigureFile, variant: Variant, w: &WearAnalysis) -> Result<(), RenderError> {
+pub(crate) fn orders(
+    file: &FigureFile,
+    variant: Variant,
+    w: &WearAnalysis,
+) -> Result<(), RenderError> {
     let series: Vec<(Wheel, Vec<(f64, f64)>)> = Wheel::BOTH
         .iter()
         .map(|wh| {

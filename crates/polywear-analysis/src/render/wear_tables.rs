@@ -13,7 +13,7 @@ use polywear_core::model::Wheel;
 use polywear_study::parquet_out::Column;
 
 /// Every wear table: (file stem, columns).
-pub fn tables(w: &WearAnalysis, min_count: u64) -> Vec<(String, Vec<Column>)> {
+pub(crate) fn tables(w: &WearAnalysis, min_count: u64) -> Vec<(String, Vec<Column>)> {
     let mut out = Vec::new();
     let occurrence = w.occurrence_rows();
     out.push((

@@ -15,7 +15,7 @@ use polywear_study::parquet_out::{write_csv, write_table, Column};
 
 /// Writes every figure and table of `r` into `dir` (created if missing), figures in `format`
 /// (the stability charts in PNG), then `report.md`; returns the files in that order.
-pub fn write(
+pub(crate) fn write(
     r: &Reproduction,
     dir: &Path,
     format: FigureFormat,

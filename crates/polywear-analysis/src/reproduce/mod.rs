@@ -4,7 +4,7 @@
 //! default study and why the literal equations cannot carry the paper's conclusion.
 //!
 //! Problem → result → render, as the analysis is: a [`Request`] says what to regenerate,
-//! [`solve`] computes it into a [`Reproduction`] (no file is written), and [`write()`] draws the
+//! `solve` computes it into a [`Reproduction`] (no file is written), and `write()` draws the
 //! figures, writes the tables and composes `report.md` from the result.
 
 mod figures;
@@ -23,7 +23,7 @@ use polywear_core::records::WheelRecord;
 use polywear_study::bifurcation::{linspace, sweep, Sweep};
 use polywear_study::trajectory::{time_series, Samples};
 
-pub use figures::write;
+pub(crate) use figures::write;
 
 /// The four axes of the paper's bifurcation diagrams and Table 3, with their sweep ranges.
 pub(crate) const AXES: [(ParamId, f64, f64); 4] = [
@@ -199,7 +199,7 @@ impl ReproduceError {
 }
 
 /// Computes every analysis of the paper (no file is written).
-pub fn solve(request: &Request) -> Result<Reproduction, ReproduceError> {
+pub(crate) fn solve(request: &Request) -> Result<Reproduction, ReproduceError> {
     let base = &request.base;
     let opts = ClassifierOptions::default();
     let adhesion = adhesion_ellipse(base)?;
@@ -227,8 +227,8 @@ pub fn solve(request: &Request) -> Result<Reproduction, ReproduceError> {
     })
 }
 
-/// Regenerates the paper's analyses into `dir`, figures in `format`: [`solve`],
-/// then [`write()`]. Returns the result and every file written.
+/// Regenerates the paper's analyses into `dir`, figures in `format`: `solve`,
+/// then `write()`. Returns the result and every file written.
 pub fn reproduce(
     request: &Request,
     dir: &Path,

@@ -15,7 +15,7 @@ use polywear_study::calibration_band::evaluate::set_column;
 
 /// One group's weights.
 #[derive(Debug, Clone, PartialEq)]
-pub struct BandCount {
+pub(crate) struct BandCount {
     /// The scenario (`baseline` for the baseline).
     pub scenario: String,
     /// The friction variant.
@@ -35,7 +35,7 @@ pub struct BandCount {
 /// polygon before the tire is worn out (+inf: none; NaN: unknown).
 ///
 /// [`RUN_SET`]: polywear_study::calibration_band::evaluate::RUN_SET
-pub fn band_counts(
+pub(crate) fn band_counts(
     file: &Path,
     within_km: &[f64],
     weight: SampleWeight,

@@ -43,7 +43,7 @@ pub(super) fn with_new_names(lf: LazyFrame) -> Result<LazyFrame, AnalysisError> 
 }
 
 /// "deprecated: ..." for each column the files carry only under its old name.
-pub fn deprecation_notes(files: &[PathBuf]) -> Result<Vec<String>, AnalysisError> {
+pub(crate) fn deprecation_notes(files: &[PathBuf]) -> Result<Vec<String>, AnalysisError> {
     let Some(first) = files.first() else {
         return Ok(Vec::new());
     };

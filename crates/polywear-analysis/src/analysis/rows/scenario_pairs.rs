@@ -18,7 +18,7 @@ use polywear_study::study::BASELINE;
 /// of [`crate::analysis::counts::outcome_code`]: 0 no, 1 yes, 2 unclassified; the scenario
 /// index counts the scenarios from 0, the baseline not included. The reference is the baseline
 /// unless [`scenario_pairs`] is given another.
-pub type ScenarioPairCounts = BTreeMap<(usize, Variant, Wheel, i64, i64), u64>;
+pub(crate) type ScenarioPairCounts = BTreeMap<(usize, Variant, Wheel, i64, i64), u64>;
 
 /// What a row's outcome is.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -75,7 +75,7 @@ pub(super) fn code_expr(outcome: OutcomeColumn<'_>) -> Expr {
 /// group-by never holds more than one batch's samples; each sample's blocks are then in one
 /// group, so any reference costs the same query. A sample missing a row counts as unclassified
 /// under its block.
-pub fn scenario_pairs(
+pub(crate) fn scenario_pairs(
     files: &[PathBuf],
     batch_rows: u64,
     scenarios: &[&str],
@@ -152,4 +152,63 @@ pub fn scenario_pairs(
         start = end;
     }
     Ok(counts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The wear comparison counts a visible polygon within the distance, from the rows' distance
+    /// column: synthetic rows with known outcomes (moved from the integration tests, scenarios.rs).
+    #[test]
+    fn the_wear_comparison_reads_the_distance_column() {
+        use polywear_study::parquet_out::{write_table, Column};
+        let dir =
+            std::env::temp_dir().join(format!("polywear-scenario-pairs-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("chunk-0000000.parquet");
+        // Samples 0..4, follower only; (baseline distance, scenario distance, scenario class).
+        let cases = [
+            (10_000.0, 90_000.0, "stable"),           // 1 -> 0
+            (50_000.0, 20_000.0, "limit_cycle"),      // 0 -> 1
+            (f64::INFINITY, f64::INFINITY, "stable"), // 0 -> 0
+            (30_000.0, f64::NAN, "stable"),           // 1 -> unclassified (NaN)
+            (30_000.0, 30_000.0, "failed"),           // 1 -> unclassified (failed)
+        ];
+        let mut cols = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for (i, (b, s, class)) in cases.iter().enumerate() {
+            for (scenario, d, c) in [("baseline", *b, "stable"), ("s", *s, *class)] {
+                cols.0.push(i as i64);
+                cols.1.push(scenario.to_string());
+                cols.2.push(d);
+                cols.3.push(c.to_string());
+            }
+        }
+        let n = cols.0.len();
+        let columns = [
+            Column::i64("sample_id", "", cols.0),
+            Column::str("scenario", cols.1),
+            Column::str("variant", vec!["sliding_share".into(); n]),
+            Column::str("wheel", vec!["follower".into(); n]),
+            Column::str("class", cols.3),
+            Column::f64("distance_to_visible_km", "km", cols.2),
+        ];
+        write_table(&file, &columns, &[]).unwrap();
+        let outcome = OutcomeColumn::WithinKm {
+            column: "distance_to_visible_km",
+            km: 40_000.0,
+        };
+        let counts = scenario_pairs(&[file], 1000, &["s"], &[0], outcome).unwrap();
+        let key = |b, s| (0usize, Variant::SlidingShare, Wheel::Follower, b, s);
+        let expected: BTreeMap<_, u64> = [
+            (key(1, 0), 1),
+            (key(0, 1), 1),
+            (key(0, 0), 1),
+            (key(1, 2), 2),
+        ]
+        .into();
+        assert_eq!(counts, expected);
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }

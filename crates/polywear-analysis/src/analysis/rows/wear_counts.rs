@@ -24,15 +24,15 @@ pub enum SampleWeight {
     Equal,
     /// In proportion to the row's `speed_kmh`: the samples of a fleet weighted by hours stand
     /// for time, and distance = hours × speed. Weights are whole tenths of a km/h
-    /// ([`WEIGHT_UNITS_PER_KMH`]), so sums are exact.
+    /// (`WEIGHT_UNITS_PER_KMH`), so sums are exact.
     SpeedKmh,
 }
 
 /// Weight units per km/h of a [`SampleWeight::SpeedKmh`] weight.
-pub const WEIGHT_UNITS_PER_KMH: f64 = 10.0;
+pub(crate) const WEIGHT_UNITS_PER_KMH: f64 = 10.0;
 
 /// The wear counts of one group, one per distance asked for, in that order.
-pub type WearGroup = Group<Vec<WithinCounts>>;
+pub(crate) type WearGroup = Group<Vec<WithinCounts>>;
 
 /// How one wear quantity spreads over one variant and wheel's rows.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -74,12 +74,12 @@ pub struct NearMisses {
     pub wheel: Wheel,
     /// Wheels with a peak share (finite; NaN on the new tire's level and for unknown wheels).
     pub known: u64,
-    /// Wheels whose peak share reached each threshold of [`NEAR_MISS_SHARES`].
+    /// Wheels whose peak share reached each threshold of `NEAR_MISS_SHARES`.
     pub at_least: Vec<u64>,
 }
 
 /// The shares of the visible depth the near-miss table counts the wheels at or above.
-pub const NEAR_MISS_SHARES: [f64; 4] = [0.1, 0.25, 0.5, 1.0];
+pub(crate) const NEAR_MISS_SHARES: [f64; 4] = [0.1, 0.25, 0.5, 1.0];
 
 const DISTANCE: &str = WearColumn::DistanceToVisibleKm.name();
 const SPEED: &str = RecordColumn::SpeedKmh.name();
@@ -104,16 +104,16 @@ fn within_code(km: f64) -> Expr {
 /// Fine bins of a quantity that spans decades: each decade \[10^d, 10^(d+1)) from `decades.0`
 /// to `decades.1` split into [`BINS_PER_DECADE`] equal widths (a value below the first decade in
 /// the first bin), so the quantiles of a distance are exact to 0.9% of its value at any size.
-pub const BINS_PER_DECADE: usize = 1000;
+pub(crate) const BINS_PER_DECADE: usize = 1000;
 
 /// The decades `(first, last)` that hold `[lo, hi]`, at least the decade of 1 km.
-pub fn decades(lo: f64, hi: f64) -> (i32, i32) {
+pub(crate) fn decades(lo: f64, hi: f64) -> (i32, i32) {
     let d = |x: f64| x.max(1.0).log10().floor() as i32;
     (d(lo), d(hi).max(d(lo)))
 }
 
 /// The edges of the decade bins of [`BINS_PER_DECADE`].
-pub fn decade_bins((d0, d1): (i32, i32)) -> Bins {
+pub(crate) fn decade_bins((d0, d1): (i32, i32)) -> Bins {
     let m = BINS_PER_DECADE;
     let mut edges: Vec<f64> = (d0..=d1)
         .flat_map(|d| (0..m).map(move |j| 10f64.powi(d) * (1.0 + 9.0 * j as f64 / m as f64)))

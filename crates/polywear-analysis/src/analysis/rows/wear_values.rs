@@ -18,7 +18,7 @@ const REASON: &str = WearColumn::WearReason.name();
 
 /// Refuses the first file of `files` whose wear columns hold a value the wear stage never
 /// writes.
-pub fn check_wear_values(files: &[PathBuf]) -> Result<(), AnalysisError> {
+pub(crate) fn check_wear_values(files: &[PathBuf]) -> Result<(), AnalysisError> {
     for f in files {
         let lf = Rows::scan(std::slice::from_ref(f))?.lf;
         let count = |e: Expr, name: &str| e.cast(DataType::Int64).sum().alias(name);

@@ -21,13 +21,16 @@ use super::fleet::WeightKind;
 use super::outcome::{self, AnswerPlan, MapAxes, Occurrence, OutcomeAnswer, VisibleWithin};
 use super::paired::Paired;
 use super::risk_map::RiskMap;
-use super::rows::{NearMisses, OrderCount, Rows, SampleWeight};
+use super::rows::Rows;
 use super::{AnalysisError, RunInfo, Step};
 use polywear_core::model::{Variant, Wheel};
 use polywear_core::params::ParamId;
 use polywear_core::records::WearColumn;
 
-pub use severity::{WearSeverity, WEAR_QUANTITIES};
+/// What [`WearAnalysis`] and [`WearSeverity`] hold beside their probabilities: how the samples
+/// are weighed, the dominant orders, the near misses and the spread of a severity quantity.
+pub use super::rows::{NearMisses, OrderCount, SampleWeight, WearSpread};
+pub use severity::{WearQuantity, WearSeverity};
 
 /// The distance of the headline, the conditional probabilities and the wear risk maps \[km\].
 pub(crate) const HEADLINE_WITHIN_KM: f64 = 40_000.0;
@@ -39,7 +42,7 @@ pub(crate) const ORDERS_WITHIN_KM: f64 = 60_000.0;
 /// The distances of `--within-km` by default \[km\].
 pub(crate) const DEFAULT_WITHIN_KM: [f64; 4] = [10_000.0, 25_000.0, 40_000.0, 60_000.0];
 
-/// The wear answer at one distance: [`OutcomeAnswer`] of [`VisibleWithin`] `within_km`.
+/// The wear answer at one distance: [`OutcomeAnswer`] of `VisibleWithin` `within_km`.
 #[derive(Debug, Clone)]
 pub struct DistanceAnswer {
     /// The distance \[km\].
@@ -132,7 +135,7 @@ impl WearAnalysis {
 
 /// The distances to ask for: `asked` with `HEADLINE_WITHIN_KM` added, increasing, without
 /// repeats.
-pub fn distances(asked: &[f64]) -> Vec<f64> {
+pub(crate) fn distances(asked: &[f64]) -> Vec<f64> {
     let mut d: Vec<f64> = asked.to_vec();
     d.push(HEADLINE_WITHIN_KM);
     d.sort_by(f64::total_cmp);
@@ -164,7 +167,7 @@ pub(crate) fn has_wear(rows: &Rows) -> Result<bool, AnalysisError> {
 
 /// What the wear answer is computed from: the drawn axes' bins of the conditional
 /// probabilities, and the vibration risk maps that are drawn.
-pub struct WearInputs<'a> {
+pub(crate) struct WearInputs<'a> {
     /// Per drawn parameter, its bins.
     pub axis_bins: &'a [(ParamId, Bins)],
     /// The drawn vibration maps (their axes, bins and Hopf curves).
@@ -176,7 +179,7 @@ pub struct WearInputs<'a> {
 /// The wear answer at the distances `within_km` (with `HEADLINE_WITHIN_KM` added): one
 /// [`outcome::answer`] per distance, the headline's over the bins, the drawn vibration maps'
 /// cells (each keeps its map's Hopf curves) and the rows of an operating-point file.
-pub fn wear(
+pub(crate) fn wear(
     rows: &Rows,
     info: &RunInfo,
     within_km: &[f64],

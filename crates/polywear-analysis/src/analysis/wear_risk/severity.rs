@@ -20,12 +20,12 @@ pub struct WearQuantity {
     pub column: WearColumn,
     /// What it is, in words.
     pub title: &'static str,
-    /// Whether its histogram has bins per decade ([`crate::analysis::rows::decade_bins`]).
+    /// Whether its histogram has bins per decade (`crate::analysis::rows::decade_bins`).
     pub log: bool,
 }
 
 /// The wear quantities of the severity table.
-pub const WEAR_QUANTITIES: [WearQuantity; 2] = [
+pub(crate) const WEAR_QUANTITIES: [WearQuantity; 2] = [
     WearQuantity {
         column: WearColumn::GrowthRatePer1000km,
         title: "Growth rate of the dominant order (> 0 grows)",
@@ -62,7 +62,7 @@ impl WearSeverity {
 }
 
 /// The severity table of every wear quantity, per variant and wheel.
-pub fn wear_severity(rows: &Rows) -> Result<Vec<WearSeverity>, AnalysisError> {
+pub(crate) fn wear_severity(rows: &Rows) -> Result<Vec<WearSeverity>, AnalysisError> {
     let mut out = Vec::new();
     for q in WEAR_QUANTITIES {
         let name = q.column.name();
