@@ -47,6 +47,10 @@ pub(crate) struct CycleArgs {
     /// (`--set toe_mm=2`, across rim_diameter_mm) or as total toe (`--set toe_total_deg=0.6`)
     #[arg(long = "set", value_name = "NAME=VALUE", value_parser = super::common::parse_assignment)]
     pub(crate) set: Vec<(String, f64)>,
+    /// Which axle the engine drives: `fwd` (default; the follower is a rear wheel) or `rwd`.
+    /// Each wheel reads its own axle's toe-in, load and pressure (`--set toe_rear_deg=0.4`)
+    #[arg(long, value_name = "fwd|rwd", value_parser = super::common::drivetrains())]
+    pub(crate) drivetrain: Option<polywear_core::params::axle::Drivetrain>,
     /// Parameter file (TOML `[params]`, e.g. from `polywear calibrate`), applied first; a
     /// parameter the cycle file or --study also sets is refused
     #[arg(long, value_name = "FILE")]
@@ -107,6 +111,7 @@ pub(crate) fn run(args: &CycleArgs) -> CliResult {
         params: args.params.as_deref(),
         accept_implausible: args.accept_implausible,
         study: args.study.as_deref().zip(args.structure_samples),
+        drivetrain: args.drivetrain,
     };
     let budget = |b| args.budget.apply(b);
     let request = CycleRequest::new(&input, &budget, &|note| eprintln!("{note}"))?;

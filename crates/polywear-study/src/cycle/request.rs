@@ -39,6 +39,9 @@ pub struct CycleInput<'a> {
     /// A study and how many tire structures to draw from it (`--study`,
     /// `--structure-samples`).
     pub study: Option<(&'a Path, u64)>,
+    /// Which axle is driven (`--drivetrain`; MODEL.md#the-car-axles-and-drivetrain); `None`:
+    /// front-wheel drive, the default.
+    pub drivetrain: Option<polywear_core::params::axle::Drivetrain>,
 }
 
 /// One cycle run, checked: the cycle, variant, options, tire structures and the outputs'
@@ -107,6 +110,9 @@ impl CycleRequest {
                 return Err(Refusal::CycleSpread { id: t.id }.into());
             }
             base.try_set(t.id, t.value).map_err(Refusal::from)?;
+        }
+        if let Some(d) = input.drivetrain {
+            base.drivetrain = d;
         }
         let mut metadata = run_metadata(&base, input.variant);
         metadata.push(("cycle".into(), input.cycle.display().to_string()));
