@@ -194,21 +194,7 @@ fn analyze_bad_input_exits_2() {
 
 /// Writes `study` into `dir` and runs `explore --quiet --no-report` on it; panics on failure.
 fn explore_study(dir: &std::path::Path, name: &str, study: &str, extra: &[&str]) -> PathBuf {
-    let path = dir.join(format!("{name}.toml"));
-    std::fs::write(&path, study).unwrap();
-    let out = dir.join(name);
-    let mut args = vec![
-        "explore",
-        "--quiet",
-        "--no-report",
-        path.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ];
-    args.extend_from_slice(extra);
-    let (code, _, stderr) = polywear(&args);
-    assert_eq!(code, 0, "{stderr}");
-    out
+    crate::common::explore_study(dir, name, study, &[&["--no-report"], extra].concat())
 }
 
 /// A cheap study: 3 chunks of 100 samples, both variants.

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use parquet::record::Field;
 
 use crate::common::{self, polywear};
-use crate::parquet_rows::{rows, rows_in_dir};
+use crate::parquet_rows::{chunk_rows, rows_in_dir};
 
 fn tmp(name: &str) -> PathBuf {
     let d = common::fresh_dir(&format!("car-{name}"));
@@ -17,36 +17,8 @@ fn tmp(name: &str) -> PathBuf {
     d
 }
 
-/// Writes `study` as `dir/name.toml` and explores it into `dir/name`; returns the output.
 fn explore(dir: &Path, name: &str, study: &str, extra: &[&str]) -> PathBuf {
-    let path = dir.join(format!("{name}.toml"));
-    std::fs::write(&path, study).unwrap();
-    let out = dir.join(name);
-    let mut args = vec![
-        "explore",
-        "--quiet",
-        path.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ];
-    args.extend_from_slice(extra);
-    let (code, _, stderr) = polywear(&args);
-    assert_eq!(code, 0, "{stderr}");
-    out
-}
-
-/// Every row of the run's chunks.
-fn all_rows(out: &Path) -> Vec<HashMap<String, Field>> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(out)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| {
-            p.extension().is_some_and(|e| e == "parquet")
-                && !p.file_name().unwrap().to_string_lossy().starts_with('_')
-        })
-        .collect();
-    files.sort();
-    files.iter().flat_map(|f| rows(f)).collect()
+    common::explore_study(dir, name, study, extra)
 }
 
 fn text(row: &HashMap<String, Field>, key: &str) -> String {
@@ -84,7 +56,7 @@ fn each_axles_toe_reaches_its_wheels_rows_under_either_drivetrain() {
         ("rwd", &["--drivetrain", "rwd"][..], "rear"),
     ] {
         let out = explore(&dir, name, AXLES, extra);
-        let rows = all_rows(&out);
+        let rows = chunk_rows(&out);
         assert_eq!(rows.len(), 32, "{name}: 16 samples, both wheels");
         for r in &rows {
             let (axle, wheel, toe) = (text(r, "axle"), text(r, "wheel"), number(r, "toe_deg"));

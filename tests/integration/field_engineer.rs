@@ -215,16 +215,7 @@ fn wear_run(dir: &std::path::Path) -> PathBuf {
 }
 
 fn chunk_files(dir: &std::path::Path) -> Vec<PathBuf> {
-    let mut f: Vec<PathBuf> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| {
-            p.extension().is_some_and(|e| e == "parquet")
-                && !p.file_name().unwrap().to_string_lossy().starts_with('_')
-        })
-        .collect();
-    f.sort();
-    f
+    crate::parquet_rows::chunk_files(&[dir])
 }
 
 #[test]

@@ -17,21 +17,7 @@ fn tmp(name: &str) -> PathBuf {
 
 /// Writes `study` as `dir/name.toml` and explores it into `dir/name`; returns the output.
 fn explore(dir: &Path, name: &str, study: &str, extra: &[&str]) -> PathBuf {
-    let path = dir.join(format!("{name}.toml"));
-    std::fs::write(&path, study).unwrap();
-    let out = dir.join(name);
-    let mut args = vec![
-        "explore",
-        "--quiet",
-        "--no-report",
-        path.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ];
-    args.extend_from_slice(extra);
-    let (code, _, stderr) = polywear(&args);
-    assert_eq!(code, 0, "{stderr}");
-    out
+    common::explore_study(dir, name, study, &[&["--no-report"], extra].concat())
 }
 
 /// Two variants, three chunks, a drawn structure parameter that is not an operating axis.

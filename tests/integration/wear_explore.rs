@@ -408,16 +408,7 @@ mod along_a_cycle {
 
 /// Every row of every chunk file of `dir`.
 fn all_rows(dir: &std::path::Path) -> Vec<std::collections::HashMap<String, Field>> {
-    let mut files: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| {
-            p.extension().is_some_and(|e| e == "parquet")
-                && !p.file_name().unwrap().to_string_lossy().starts_with('_')
-        })
-        .collect();
-    files.sort();
-    files.iter().flat_map(|f| rows(f)).collect()
+    crate::parquet_rows::chunk_rows(dir)
 }
 
 /// Samples where only the follower, and only the driving wheel, has a visible polygon within

@@ -151,3 +151,28 @@ impl Drop for Mount {
 }
 
 pub mod svg;
+
+/// Writes `study` as `dir/name.toml` and runs `explore --quiet` on it into `dir/name`, with
+/// `extra` flags; panics on failure. Returns the output folder.
+#[allow(dead_code)]
+pub fn explore_study(
+    dir: &std::path::Path,
+    name: &str,
+    study: &str,
+    extra: &[&str],
+) -> std::path::PathBuf {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, study).unwrap();
+    let out = dir.join(name);
+    let mut args = vec![
+        "explore",
+        "--quiet",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let (code, _, stderr) = polywear(&args);
+    assert_eq!(code, 0, "{stderr}");
+    out
+}

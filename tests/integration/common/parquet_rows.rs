@@ -4,26 +4,37 @@ use std::path::Path;
 
 use parquet::file::reader::{FileReader, SerializedFileReader};
 
-/// Every row of every chunk (`*.parquet` not named `_*`) in `dir`, sorted by file name, as text.
-pub fn rows_in_dir(dirs: &[&Path]) -> Vec<String> {
+/// The chunk files (`*.parquet` not named `_*`) of `dirs`, sorted by file name: the run's own
+/// files (`_calibration_band.parquet`) are not rows, as pandas reads it.
+pub fn chunk_files(dirs: &[&Path]) -> Vec<std::path::PathBuf> {
     let mut files: Vec<std::path::PathBuf> = dirs
         .iter()
         .flat_map(|d| std::fs::read_dir(d).unwrap().map(|e| e.unwrap().path()))
-        // The run's own files (`_calibration_band.parquet`) are not rows, as pandas reads it.
         .filter(|p| {
             p.extension().is_some_and(|e| e == "parquet")
                 && !p.file_name().unwrap().to_string_lossy().starts_with('_')
         })
         .collect();
     files.sort_by_key(|p| p.file_name().unwrap().to_owned());
+    files
+}
+
+/// Every row of every chunk in `dir`, sorted by file name, as text.
+pub fn rows_in_dir(dirs: &[&Path]) -> Vec<String> {
     let mut rows = Vec::new();
-    for f in files {
+    for f in chunk_files(dirs) {
         let reader = SerializedFileReader::new(std::fs::File::open(&f).unwrap()).unwrap();
         for row in reader.get_row_iter(None).unwrap() {
             rows.push(row.unwrap().to_string());
         }
     }
     rows
+}
+
+/// Every row of every chunk in `dir`, each as a map from column name to value.
+#[allow(dead_code)]
+pub fn chunk_rows(dir: &Path) -> Vec<std::collections::HashMap<String, parquet::record::Field>> {
+    chunk_files(&[dir]).iter().flat_map(|f| rows(f)).collect()
 }
 
 /// Every row of one Parquet file as a map from column name to value.
