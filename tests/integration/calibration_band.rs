@@ -375,7 +375,7 @@ fn a_scenario_study_reports_the_band_beside_each_interval() {
             .unwrap_or_else(|| panic!("no line with {what}: {stdout}"))
             .to_string()
     };
-    let headline = line("follower within  40,000 km");
+    let headline = line("rear (follower) within  40,000 km");
     assert!(
         headline.contains('[') && headline.contains("(calibration band "),
         "{headline}"

@@ -295,8 +295,8 @@ fn bad_chart_requests_are_refused_before_work() {
         &["corner", "mu_s"],
     );
     let mut v = base("speed_kmh", "60", "200", "toe_deg", "0.1", "0.5");
-    v.extend(["--wheel".to_string(), "front".to_string()]);
-    check(v, &["front"]);
+    v.extend(["--wheel".to_string(), "left".to_string()]);
+    check(v, &["left", "front", "rear"]);
     assert!(
         std::fs::read_dir(&d).unwrap().next().is_none(),
         "nothing written"

@@ -155,7 +155,6 @@ define_record! {
         wear: Option<WearRecord>,
     }
     Wheel wheel: Wheel, Str, "", "The wheel: follower (free rolling) or driving.";
-    Axle axle: Axle, Str, "", "The wheel's axle, front or rear, under the run's drivetrain (MODEL.md#the-car-axles-and-drivetrain); toe_deg, load_n and pressure_kpa are this axle's.";
     Variant variant: Variant, Str, "", "The friction variant (MODEL.md#variants).";
     SpeedKmh speed_kmh: f64, F64, "km/h", "Vehicle speed V.";
     ToeDeg toe_deg: f64, F64, "deg", "Toe-in angle alpha.";
@@ -179,6 +178,7 @@ define_record! {
     AmpVMps amp_v_mps: f64, F64, "m/s", "Half peak-to-peak of v over the cycle; 0 without a cycle, NaN when failed.";
     FreqHz freq_hz: f64, F64, "Hz", "The cycle's frequency 1/T.";
     PolygonOrder polygon_order: f64, F64, "-", "Wear facets n = f / f_rot of the vibration (MODEL.md#step-9-attractor); the wear's own order is polygon_order_wear.";
+    Axle axle: Axle, Str, "", "The wheel's axle, front or rear, under the run's drivetrain (MODEL.md#the-car-axles-and-drivetrain); toe_deg, load_n and pressure_kpa are this axle's.";
     ToeMm toe_mm: f64, F64, "mm", "The toe-in toe_deg in mm at the rim's edge across rim_diameter_mm: D_rim tan(alpha).";
     ToeTotalDeg toe_total_deg: f64, F64, "deg", "The toe-in as the axle's total toe, both wheels: 2 alpha.";
     EnergyPerCycleJ energy_per_cycle_j: f64, F64, "J", "Energy friction feeds into the tread per cycle.";
