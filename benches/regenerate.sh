@@ -239,7 +239,7 @@ if want decoding; then
   say "Command: \`polywear explore studies/decoding.toml --samples $DECODING_N\` (robustness to the lost digits)."
   say ""
   timed "$bin" explore studies/decoding.toml --samples "$DECODING_N" --out "$work/decoding" > "$work/decoding.out" 2> "$work/decoding.err"
-  { grep -E "samples evaluated|sliding_share (follower|paired| driving)|lost digits" "$work/decoding.out" || true; echo "wall: $(tail -1 "$work/decoding.err")"; } | block
+  { grep -E "samples evaluated|sliding_share (rear \(follower\)|paired|front \(driving\))|lost digits" "$work/decoding.out" || true; echo "wall: $(tail -1 "$work/decoding.err")"; } | block
 fi
 
 if want scenarios; then
