@@ -45,8 +45,10 @@ pub struct ManifestReadError {
     pub path: PathBuf,
     /// What is wrong.
     pub message: String,
-    /// The run was answered on a retired wear level: it can neither continue nor be read, and
-    /// no other check of the directory says more (MODEL.md#one-wear-answer).
+    /// The run cannot continue with this build, and no other check of the directory says
+    /// more: it was answered on a retired wear level (MODEL.md#one-wear-answer), or written
+    /// before rows named their axle (its chunks lack the `axle` column, which new chunks would
+    /// have: MODEL.md#the-car-axles-and-drivetrain).
     pub retired_level: bool,
 }
 
@@ -86,6 +88,12 @@ impl RecordedRun {
             Err(e) => return Err(bad(e.to_string())),
         };
         let m = RunManifest::from_json_text(&text).map_err(|e| bad(e.to_string()))?;
+        if written_before_axles(&text) {
+            return Err(ManifestReadError {
+                retired_level: true,
+                ..bad("the run was written before polywear knew the car's axles: its rows have no `axle` column, and chunks written now would; start it again with another --out".into())
+            });
+        }
         Ok(Some(RecordedRun {
             study: m
                 .study
@@ -133,6 +141,15 @@ impl RecordedRun {
             samples_owned: owned().map(|c| self.chunk_len(c)).sum(),
         }
     }
+}
+
+/// Whether a manifest's parameters lack the drivetrain, as every run's before the car's axles
+/// did (a run that cannot be resumed without mixing rows with and without `axle`).
+fn written_before_axles(manifest: &str) -> bool {
+    serde_json::from_str::<serde_json::Value>(manifest)
+        .ok()
+        .and_then(|v| v.get("params").map(|p| p.get("drivetrain").is_none()))
+        .unwrap_or(false)
 }
 
 /// What a non-empty output directory holds, for the message that refuses it to a new run.
