@@ -88,13 +88,7 @@ impl RecordedRun {
             Err(e) => return Err(bad(e.to_string())),
         };
         let m = RunManifest::from_json_text(&text).map_err(|e| bad(e.to_string()))?;
-        if written_before_axles(&text) {
-            return Err(ManifestReadError {
-                retired_level: true,
-                ..bad("the run was written before polywear knew the car's axles: its rows have no `axle` column, and chunks written now would; start it again with another --out".into())
-            });
-        }
-        Ok(Some(RecordedRun {
+        let run = RecordedRun {
             study: m
                 .study
                 .clone()
@@ -118,7 +112,15 @@ impl RecordedRun {
                     None => Some(w.settings()),
                 },
             },
-        }))
+        };
+        // After the retired level, which says more of an old run.
+        if written_before_axles(&text) {
+            return Err(ManifestReadError {
+                retired_level: true,
+                ..bad("the run was written before polywear knew the car's axles: its rows have no `axle` column, and chunks written now would; start it again with another --out".into())
+            });
+        }
+        Ok(Some(run))
     }
 
     /// Samples in chunk `c` (the last one may be short).
