@@ -17,20 +17,9 @@ pub use tire::{ContactPatch, TreadBlock};
 pub use tread::{LinearStability, State, TreadOde};
 pub use variational::{SectionVariational, Variational};
 
-named_enum! {
-    /// Driving wheels transmit the drive force through a slip ratio; followers roll freely (S = 0).
-    pub enum Wheel: "wheel" {
-        /// Rolls freely: slip ratio S = 0.
-        Follower,
-        /// Transmits the drive force through a slip ratio S > 0.
-        Driving,
-    }
-}
-
-impl Wheel {
-    /// Both wheels, follower first.
-    pub const BOTH: [Wheel; 2] = [Wheel::Follower, Wheel::Driving];
-}
+// The wheel's role is declared beside the axles and drivetrain that place it on the car
+// (params::axle), which the model reads and never the other way round.
+pub use crate::params::axle::Wheel;
 
 named_enum! {
     /// How the Stribeck curve sees sliding (MODEL.md#step-6-tread-ode).

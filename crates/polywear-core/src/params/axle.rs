@@ -6,7 +6,21 @@
 //! takes the shared one, so that a study without per-axle keys is the paper's pair.
 
 use super::{ParamError, ParamId, Params};
-use crate::model::Wheel;
+
+named_enum! {
+    /// A wheel's role (re-exported as `model::Wheel`). Driving wheels transmit the drive force through a slip ratio; followers roll freely (S = 0).
+    pub enum Wheel: "wheel" {
+        /// Rolls freely: slip ratio S = 0.
+        Follower,
+        /// Transmits the drive force through a slip ratio S > 0.
+        Driving,
+    }
+}
+
+impl Wheel {
+    /// Both wheels, follower first.
+    pub const BOTH: [Wheel; 2] = [Wheel::Follower, Wheel::Driving];
+}
 
 named_enum! {
     /// Where a wheel sits on the car.
