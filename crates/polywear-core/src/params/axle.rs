@@ -149,11 +149,15 @@ pub fn check_one_place(given: &[ParamId], place: &str) -> Result<(), ParamError>
 impl Params {
     /// The value of `quantity` on `axle`: the axle's own, or the shared one where it has none.
     pub fn on_axle(&self, quantity: AxleQuantity, axle: Axle) -> f64 {
-        let own = self[quantity.of(axle)];
-        if own.is_nan() {
-            self[quantity.shared]
-        } else {
-            own
+        self.value_or_shared(quantity.of(axle))
+    }
+
+    /// The value of `id`, an axle's absent own value read as the shared one it stands for (a
+    /// scenario's change of `toe_rear_deg` in a study that gives only `toe_deg` starts there).
+    pub fn value_or_shared(&self, id: ParamId) -> f64 {
+        match id.axle_quantity() {
+            Some(q) if self[id].is_nan() && q.shared != id => self[q.shared],
+            _ => self[id],
         }
     }
 

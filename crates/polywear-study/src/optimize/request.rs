@@ -274,12 +274,7 @@ fn axes(
         }
     }
     for given in vary {
-        let q = given.0.axle_quantity().filter(|q| q.shared == given.0);
-        if let Some(own) = q.and_then(|q| {
-            [q.front, q.rear]
-                .into_iter()
-                .find(|&o| study.sets(o).is_some())
-        }) {
+        if let Some(own) = study.per_axle_beside(given.0) {
             return Err(Refusal::Vary {
                 by: vary_key(given),
                 why: Box::new(VaryError::PerAxle {

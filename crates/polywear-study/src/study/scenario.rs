@@ -92,7 +92,7 @@ impl Scenario {
     pub fn apply(&self, p: &Params) -> Params {
         let mut q = *p;
         for c in &self.changes {
-            q[c.param] = c.change.apply(value_on_axle(&q, c.param));
+            q[c.param] = c.change.apply(q.value_or_shared(c.param));
         }
         q
     }
@@ -496,16 +496,6 @@ fn hull(values: &[f64]) -> ValueRange {
             (a.min(x), b.max(x))
         });
     ValueRange { lo, hi, hard: true }
-}
-
-/// `p`'s value of `id`, an axle's absent own value read as the shared one it stands for
-/// (MODEL.md#the-car-axles-and-drivetrain): a change of `toe_rear_deg` in a study that gives
-/// only `toe_deg` starts from `toe_deg`.
-fn value_on_axle(p: &Params, id: ParamId) -> f64 {
-    match id.axle_quantity() {
-        Some(q) if p[id].is_nan() && q.shared != id => p[q.shared],
-        _ => p[id],
-    }
 }
 
 #[cfg(test)]

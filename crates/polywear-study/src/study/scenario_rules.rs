@@ -83,7 +83,7 @@ impl Study {
 
     /// An axle's own key of `shared`'s quantity that the study gives, when `shared` is a shared
     /// key (`toe_rear_deg` beside `toe_deg`; MODEL.md#the-car-axles-and-drivetrain).
-    fn per_axle_beside(&self, shared: ParamId) -> Option<ParamId> {
+    pub(crate) fn per_axle_beside(&self, shared: ParamId) -> Option<ParamId> {
         let q = shared.axle_quantity().filter(|q| q.shared == shared)?;
         [q.front, q.rear]
             .into_iter()
