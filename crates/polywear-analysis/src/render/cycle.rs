@@ -69,7 +69,7 @@ pub fn summary_lines(
                 .and_then(|s| s.first())
                 .map_or_else(
                     || polywear_core::model::Wheel::BOTH[w].to_string(),
-                    |step| format!("{} ({})", step[w].record.axle, step[w].record.wheel)
+                    |step| step[w].record.axle.with_role(step[w].record.wheel)
                 ),
             pick(&|s| s.time_share),
             pick(&|s| s.distance_share),

@@ -13,7 +13,7 @@ use polywear_study::long_term_request::LongTermPlan;
 
 /// The wheel by its axle and role: "rear (follower)" (MODEL.md#the-car-axles-and-drivetrain).
 fn who(w: &WheelLongTerm) -> String {
-    format!("{} ({})", w.solution.record.axle, w.wheel)
+    w.solution.record.axle.with_role(w.wheel)
 }
 
 /// The verdict of one wheel in words.

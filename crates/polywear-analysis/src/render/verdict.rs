@@ -28,7 +28,7 @@ pub(crate) fn verdict_line(r: &WheelRecord) -> String {
         Class::Failed => format!("no verdict ({})", r.reason),
         Class::Standstill => format!("standing still ({})", r.reason),
     };
-    format!("{} ({}): {verdict}", r.axle, r.wheel)
+    format!("{}: {verdict}", r.axle.with_role(r.wheel))
 }
 
 /// The verdicts and the table of every figure per wheel, as `simulate` prints them.

@@ -47,6 +47,14 @@ named_enum! {
     }
 }
 
+impl Axle {
+    /// A wheel on this axle in words with its role, as every summary names it:
+    /// "rear (follower)".
+    pub fn with_role(self, wheel: Wheel) -> String {
+        format!("{self} ({wheel})")
+    }
+}
+
 impl Drivetrain {
     /// The axle that `wheel` sits on under this drivetrain.
     pub fn axle_of(self, wheel: Wheel) -> Axle {
@@ -66,7 +74,7 @@ impl Drivetrain {
 
     /// The wheel in words with its axle: "rear (follower)", "front (driving)".
     pub fn words(self, wheel: Wheel) -> String {
-        format!("{} ({wheel})", self.axle_of(wheel))
+        self.axle_of(wheel).with_role(wheel)
     }
 }
 
